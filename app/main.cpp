@@ -1,0 +1,45 @@
+// sphsplat: the command-line program. Thin: parses arguments and hands over to one subcommand.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+#include <functional>
+#include <vector>
+
+#include "app/Commands.h"
+#include "app/Version.h"
+#include "io/InputError.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"sphsplat " SPHSPLAT_VERSION_STRING
+               ": SPH fluid simulation with an image-based collision pass and splat rendering.\n"
+               "Scenes are JSON files (scenes/, docs/scene-format.md)."};
+  app.set_version_flag("--version", "sphsplat " SPHSPLAT_VERSION_STRING);
+  app.require_subcommand(1, 1);
+  app.footer("Run 'sphsplat COMMAND --help' for a command's options.\n"
+             "Example: sphsplat run scenes/dam_break.json --threads 2");
+
+  std::vector<std::function<int()>> commands;
+  commands.push_back(sph::app::addRunCommand(app));
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return sph::app::kBadInput;
+  }
+  try {
+    for (auto& command : commands) {
+      const int code = command();
+      if (code >= 0) return code;
+    }
+  } catch (const sph::io::InputError& e) {
+    std::fprintf(stderr, "sphsplat: %s\n", e.what());
+    return sph::app::kBadInput;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "sphsplat: internal error: %s\n", e.what());
+    return sph::app::kInternalError;
+  }
+  return sph::app::kInternalError;
+}

@@ -1,0 +1,283 @@
+#include "io/SceneLoader.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "io/JsonReader.h"
+#include "sim/SceneSetup.h"
+
+namespace sph::io {
+namespace {
+
+using nlohmann::json;
+
+std::string formatVec(const Vec3& v) {
+  std::ostringstream s;
+  s << "[" << v.x() << ", " << v.y() << ", " << v.z() << "]";
+  return s.str();
+}
+
+// Line and column of a byte offset, for JSON syntax errors.
+std::string lineColumn(const std::string& text, std::size_t offset) {
+  std::size_t line = 1, column = 1;
+  for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
+    if (text[i] == '\n') ++line, column = 1;
+    else ++column;
+  }
+  return std::to_string(line) + ":" + std::to_string(column);
+}
+
+// Applies one "a.b[2].c=value" override to the document.
+void applyOverride(json& doc, const std::string& edit, const std::string& file) {
+  const std::size_t eq = edit.find('=');
+  if (eq == std::string::npos || eq == 0) {
+    throw InputError("--set " + edit + ": expected KEY.PATH=VALUE, e.g. solver.spacing=0.01");
+  }
+  const std::string keyPath = edit.substr(0, eq), text = edit.substr(eq + 1);
+  json value = json::parse(text, nullptr, false);
+  if (value.is_discarded()) value = text;
+  json* node = &doc;
+  std::size_t pos = 0;
+  while (pos < keyPath.size()) {
+    std::size_t end = keyPath.find_first_of(".[", pos);
+    if (end == std::string::npos) end = keyPath.size();
+    const std::string key = keyPath.substr(pos, end - pos);
+    if (!key.empty()) {
+      if (!node->is_object()) throw InputError(file + ": --set " + keyPath + ": '" + key + "' is not inside an object");
+      node = &(*node)[key];
+    }
+    pos = end;
+    while (pos < keyPath.size() && keyPath[pos] == '[') {
+      const std::size_t close = keyPath.find(']', pos);
+      if (close == std::string::npos) throw InputError("--set " + keyPath + ": missing ']'");
+      const std::size_t index = std::stoul(keyPath.substr(pos + 1, close - pos - 1));
+      if (!node->is_array() || index >= node->size()) {
+        throw InputError(file + ": --set " + keyPath + ": index " + std::to_string(index) + " is out of range");
+      }
+      node = &(*node)[index];
+      pos = close + 1;
+    }
+    if (pos < keyPath.size() && keyPath[pos] == '.') ++pos;
+  }
+  *node = value;
+}
+
+SolverParams readSolver(JsonReader r) {
+  SolverParams s;
+  s.spacing = static_cast<float>(r.number("spacing", std::nullopt, "a positive number (m)", positive));
+  s.support = static_cast<float>(r.number("support", 2.0, "a number in [1, 4] (kernel support radius / spacing)",
+                                          [](double v) { return v >= 1 && v <= 4; }));
+  s.restDensity = static_cast<float>(r.number("rest_density", 1000.0, "a positive number (kg/m^3)", positive));
+  s.viscosity = static_cast<float>(r.number("viscosity", -1.0, "a number >= 0 (m^2/s)", nonNegative));
+  s.noSlipWalls = r.string("walls", std::string("no-slip"), {"no-slip", "slip"}) == "no-slip";
+  const std::string eos = r.string("eos", std::string("tait"), {"tait", "linear"});
+  s.eos = eos == "tait" ? EquationOfState::Tait : EquationOfState::Linear;
+  const std::string kernel = r.string("density_kernel", std::string("spiky"), {"spiky", "poly6"});
+  s.densityKernel = kernel == "spiky" ? DensityKernel::Spiky : DensityKernel::Poly6;
+  if (r.has("speed_of_sound") && r.has("stiffness")) {
+    r.fail("stiffness", "give either speed_of_sound or stiffness, not both");
+  }
+  s.speedOfSound = static_cast<float>(r.number("speed_of_sound", 0.0, "a positive number (m/s)", positive));
+  s.stiffness = static_cast<float>(r.number("stiffness", 0.0, "a positive number (Pa for tait, m^2/s^2 for linear)", positive));
+  s.clampNegativePressure = r.boolean("clamp_negative_pressure", true);
+  s.cfl = static_cast<float>(r.number("cfl", s.cfl, "a positive number", positive));
+  s.maxTimeStep = static_cast<float>(r.number("max_time_step", s.maxTimeStep, "a positive number (s)", positive));
+  s.gravity = r.vec3("gravity", s.gravity, "3 numbers (m/s^2)");
+  s.endTime = r.number("end_time", 1.0, "a positive number (s)", positive);
+  s.boundaryLayers = static_cast<int>(r.number("boundary_layers", 0.0, "an integer in [0, 8] (0 = automatic)",
+                                               [](double v) { return v >= 0 && v <= 8 && v == std::floor(v); }));
+  r.finish();
+  return s;
+}
+
+void requireOrdered(JsonReader& r, const Vec3& lo, const Vec3& hi) {
+  if (!(lo.array() < hi.array()).all()) {
+    r.fail("max", "expected max > min on every axis, got min " + formatVec(lo) + " and max " + formatVec(hi));
+  }
+}
+
+FluidBlock readFluid(JsonReader r) {
+  FluidBlock f;
+  const std::string type = r.string("type", std::string("box"), {"box", "sphere"});
+  if (type == "box") {
+    f.shape = FluidBlock::Shape::Box;
+    f.lo = r.vec3("min", std::nullopt, "3 numbers (m)");
+    f.hi = r.vec3("max", std::nullopt, "3 numbers (m)");
+    requireOrdered(r, f.lo, f.hi);
+  } else {
+    f.shape = FluidBlock::Shape::Sphere;
+    f.centre = r.vec3("centre", std::nullopt, "3 numbers (m)");
+    f.radius = static_cast<float>(r.number("radius", std::nullopt, "a positive number (m)", positive));
+  }
+  f.velocity = r.vec3("velocity", Vec3::Zero(), "3 numbers (m/s)");
+  r.finish();
+  return f;
+}
+
+BoundaryShape readBoundary(JsonReader r) {
+  BoundaryShape b;
+  const std::string type = r.string("type", std::nullopt, {"tank", "block", "cup", "plane", "sphere"});
+  if (type == "tank" || type == "block") {
+    b.kind = type == "tank" ? BoundaryShape::Kind::Tank : BoundaryShape::Kind::Block;
+    b.lo = r.vec3("min", std::nullopt, "3 numbers (m)");
+    b.hi = r.vec3("max", std::nullopt, "3 numbers (m)");
+    requireOrdered(r, b.lo, b.hi);
+    if (type == "tank") b.openTop = r.boolean("open_top", true);
+  } else if (type == "cup") {
+    b.kind = BoundaryShape::Kind::Cup;
+    b.centre = r.vec3("centre", std::nullopt, "3 numbers (m): the centre of the cup's inner floor");
+    b.radius = static_cast<float>(r.number("radius", std::nullopt, "a positive number (m): inner radius", positive));
+    b.height = static_cast<float>(r.number("height", std::nullopt, "a positive number (m): wall height", positive));
+  } else if (type == "plane") {
+    b.kind = BoundaryShape::Kind::Plane;
+    b.point = r.vec3("point", Vec3::Zero(), "3 numbers (m)");
+    b.normal = r.vec3("normal", Vec3::UnitY(), "3 numbers, not all zero");
+    if (b.normal.norm() == 0) r.fail("normal", "expected a non-zero vector, got [0, 0, 0]");
+    b.normal.normalize();
+  } else {
+    b.kind = BoundaryShape::Kind::Sphere;
+    b.centre = r.vec3("centre", std::nullopt, "3 numbers (m)");
+    b.radius = static_cast<float>(r.number("radius", std::nullopt, "a positive number (m)", positive));
+  }
+  r.finish();
+  return b;
+}
+
+EmitterDesc readEmitter(JsonReader r, float spacing) {
+  EmitterDesc e;
+  r.string("type", std::string("nozzle"), {"nozzle"});
+  e.position = r.vec3("position", std::nullopt, "3 numbers (m)");
+  e.direction = r.vec3("direction", std::nullopt, "3 numbers, not all zero");
+  if (e.direction.norm() == 0) r.fail("direction", "expected a non-zero vector, got [0, 0, 0]");
+  e.direction.normalize();
+  e.radius = static_cast<float>(r.number("radius", std::nullopt, "a positive number (m)", positive));
+  if (e.radius < 0.5f * spacing) {
+    std::ostringstream m;
+    m << "expected a nozzle radius of at least half the particle spacing (" << 0.5f * spacing
+      << " m) so it emits particles, got " << e.radius;
+    r.fail("radius", m.str());
+  }
+  e.speed = static_cast<float>(r.number("speed", std::nullopt, "a positive number (m/s)", positive));
+  e.start = r.number("start", 0.0, "a number >= 0 (s)", nonNegative);
+  e.stop = r.number("stop", std::numeric_limits<double>::infinity(), "a number > start (s)");
+  if (r.has("stop") && e.stop <= e.start) r.fail("stop", "expected a time after start (" + std::to_string(e.start) + " s)");
+  e.maxParticles = static_cast<std::size_t>(r.number("max_particles", 0.0, "an integer >= 0 (0 = no limit)", nonNegative));
+  r.finish();
+  return e;
+}
+
+OutputDesc readOutput(JsonReader r) {
+  OutputDesc o;
+  o.fps = r.number("fps", o.fps, "a positive number (frames per simulated second)", positive);
+  o.path = r.string("path", std::string(""));
+  r.finish();
+  return o;
+}
+
+CameraDesc readCamera(JsonReader r) {
+  CameraDesc c;
+  c.position = r.vec3("position", std::nullopt, "3 numbers (m)");
+  c.target = r.vec3("target", std::nullopt, "3 numbers (m)");
+  c.up = r.vec3("up", c.up, "3 numbers, not all zero");
+  c.fovYDegrees = static_cast<float>(r.number("fov", c.fovYDegrees, "a number in (0, 180) (degrees, vertical)",
+                                              [](double v) { return v > 0 && v < 180; }));
+  c.near = static_cast<float>(r.number("near", c.near, "a positive number (m)", positive));
+  c.far = static_cast<float>(r.number("far", c.far, "a positive number (m)", positive));
+  if ((c.position - c.target).norm() == 0) r.fail("target", "expected a target different from position");
+  if (c.up.norm() == 0 || c.up.cross(c.target - c.position).norm() == 0) r.fail("up", "expected a vector not parallel to the view direction");
+  if (c.far <= c.near) r.fail("far", "expected far > near");
+  r.finish();
+  return c;
+}
+
+// Geometric checks that need the whole scene.
+void validate(const Scene& s, const std::string& file) {
+  auto fail = [&](const std::string& path, const std::string& msg) { throw InputError(file + ": " + path + ": " + msg); };
+  if (s.fluids.empty() && s.emitters.empty()) {
+    fail("fluids", "the scene has no fluid; expected at least one entry in \"fluids\" or \"emitters\"");
+  }
+  const float dx = s.solver.spacing;
+  for (std::size_t i = 0; i < s.fluids.size(); ++i) {
+    const FluidBlock& f = s.fluids[i];
+    Aabb b;
+    if (f.shape == FluidBlock::Shape::Box) b.lo = f.lo, b.hi = f.hi;
+    else b.lo = f.centre - Vec3::Constant(f.radius), b.hi = f.centre + Vec3::Constant(f.radius);
+    const std::string path = "fluids[" + std::to_string(i) + "]";
+    if (!s.domain.contains(b.lo) || !s.domain.contains(b.hi)) {
+      fail(path, "fluid outside the domain: expected it inside " + formatVec(s.domain.lo) + " - " + formatVec(s.domain.hi) + " (m)");
+    }
+    if ((b.hi - b.lo).minCoeff() < dx) {
+      fail(path, "expected a block at least one particle spacing (" + std::to_string(dx) + " m) across");
+    }
+  }
+  for (std::size_t i = 0; i < s.emitters.size(); ++i) {
+    if (!s.domain.contains(s.emitters[i].position)) {
+      fail("emitters[" + std::to_string(i) + "].position", "nozzle outside the domain " + formatVec(s.domain.lo) + " - " + formatVec(s.domain.hi));
+    }
+  }
+  // Refuse runs that would not fit in memory before allocating anything (~100 B per particle).
+  double estimate = 0;
+  for (const FluidBlock& f : s.fluids) {
+    estimate += f.shape == FluidBlock::Shape::Box ? (f.hi - f.lo).prod() / (dx * dx * dx)
+                                                  : 4.18879 * std::pow(f.radius / dx, 3.0);
+  }
+  if (estimate > 2e8) fail("solver.spacing", "the fluid blocks would hold " + std::to_string(static_cast<long long>(estimate)) + " particles; expected at most 2e8 (raise the spacing)");
+}
+
+}  // namespace
+
+Scene parseScene(const std::string& text, const std::string& path,
+                 const std::vector<std::string>& overrides) {
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::parse_error& e) {
+    std::string what = e.what();
+    const std::size_t colon = what.find("syntax error");
+    throw InputError(path + ":" + lineColumn(text, e.byte > 0 ? e.byte - 1 : 0) + ": invalid JSON: " +
+                     (colon != std::string::npos ? what.substr(colon) : what));
+  }
+  for (const std::string& edit : overrides) applyOverride(doc, edit, path);
+
+  JsonReader root(doc, "", path);
+  Scene scene;
+  scene.sourcePath = path;
+  scene.sourceText = text;
+  std::string stem = path.substr(path.find_last_of('/') + 1);
+  stem = stem.substr(0, stem.rfind('.'));
+  scene.name = root.string("name", stem);
+  scene.description = root.string("description", std::string(""));
+  scene.solver = readSolver(root.object("solver"));
+  for (JsonReader& f : root.objectArray("fluids")) scene.fluids.push_back(readFluid(f));
+  for (JsonReader& b : root.objectArray("boundaries")) scene.boundaries.push_back(readBoundary(b));
+  for (JsonReader& e : root.objectArray("emitters")) scene.emitters.push_back(readEmitter(e, scene.solver.spacing));
+  if (auto o = root.optionalObject("output")) scene.output = readOutput(*o);
+  if (auto c = root.optionalObject("camera")) scene.camera = readCamera(*c);
+  if (auto d = root.optionalObject("domain")) {
+    scene.domain.lo = d->vec3("min", std::nullopt, "3 numbers (m)");
+    scene.domain.hi = d->vec3("max", std::nullopt, "3 numbers (m)");
+    requireOrdered(*d, scene.domain.lo, scene.domain.hi);
+    d->finish();
+  } else {
+    scene.domain = defaultDomain(scene);
+  }
+  root.finish();
+  validate(scene, path);
+  return scene;
+}
+
+Scene loadScene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open the scene file (" + std::strerror(errno) + ")");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw InputError(path + ": cannot read the scene file (" + std::strerror(errno) + ")");
+  return parseScene(text.str(), path, overrides);
+}
+
+}  // namespace sph::io

@@ -1,0 +1,21 @@
+// Reads a scene file (JSON, docs/scene-format.md) into sph::Scene. Nothing runs on a bad scene:
+// every problem is an InputError naming the file and the key path.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "io/InputError.h"
+#include "sim/Scene.h"
+
+namespace sph::io {
+
+// Loads and validates `path`. `overrides` are "key.path=value" edits applied to the JSON before
+// validation (value parsed as JSON, else taken as a string), e.g. "solver.spacing=0.01".
+Scene loadScene(const std::string& path, const std::vector<std::string>& overrides = {});
+
+// Same, from text already in memory; `path` is only used in messages and for the default name.
+Scene parseScene(const std::string& text, const std::string& path,
+                 const std::vector<std::string>& overrides = {});
+
+}  // namespace sph::io

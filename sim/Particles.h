@@ -1,0 +1,68 @@
+// The fluid state as a structure of arrays (STYLE.md rule 3): each per-particle quantity is one
+// contiguous array so passes stream through memory and vectorise. Every array is listed once in
+// forEachField(); resize, append and permute go through it, so a field added to the struct but not
+// to that list is caught by the static_assert below (and by tests/test_particles.cpp).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "sim/Types.h"
+
+namespace sph {
+
+struct Particles {
+  // Position (m).
+  std::vector<float> x, y, z;
+  // Velocity (m/s).
+  std::vector<float> vx, vy, vz;
+  // Acceleration of the last force evaluation (m/s^2).
+  std::vector<float> ax, ay, az;
+  // SPH density (kg/m^3) and pressure (Pa).
+  std::vector<float> rho, p;
+  // Cooldown of the CDT collision response (s); a particle may collide again once it is < 0
+  // (seed 000, section 3.2, a_CollideTime).
+  std::vector<float> collideTime;
+  // Stable identity: survives sorting, written to caches (uint32).
+  std::vector<std::uint32_t> id;
+
+  static constexpr int kFieldCount = 13;
+
+  template <class F>
+  void forEachField(F&& f) {
+    f(x), f(y), f(z), f(vx), f(vy), f(vz), f(ax), f(ay), f(az), f(rho), f(p), f(collideTime),
+        f(id);
+  }
+  template <class F>
+  void forEachField(F&& f) const {
+    f(x), f(y), f(z), f(vx), f(vy), f(vz), f(ax), f(ay), f(az), f(rho), f(p), f(collideTime),
+        f(id);
+  }
+
+  std::size_t size() const { return x.size(); }
+  bool empty() const { return x.empty(); }
+  void resize(std::size_t n);
+  void reserve(std::size_t n);
+  void clear() { resize(0); }
+
+  // Appends one particle at rest density and zero pressure/acceleration.
+  void append(const Vec3& position, const Vec3& velocity, std::uint32_t particleId,
+              float restDensity);
+
+  // Reorders every field so that new[i] = old[order[i]]. `scratch` is reused between calls so a
+  // sort every step allocates nothing.
+  void permute(const std::vector<std::uint32_t>& order, std::vector<std::uint32_t>& scratch);
+
+  Vec3 position(std::size_t i) const { return {x[i], y[i], z[i]}; }
+  Vec3 velocity(std::size_t i) const { return {vx[i], vy[i], vz[i]}; }
+  void setPosition(std::size_t i, const Vec3& v) { x[i] = v.x(), y[i] = v.y(), z[i] = v.z(); }
+  void setVelocity(std::size_t i, const Vec3& v) { vx[i] = v.x(), vy[i] = v.y(), vz[i] = v.z(); }
+};
+
+// A field added to Particles must be added to forEachField() and kFieldCount too.
+static_assert(sizeof(std::vector<float>) == sizeof(std::vector<std::uint32_t>));
+static_assert(sizeof(Particles) == Particles::kFieldCount * sizeof(std::vector<float>),
+              "Particles has a field that forEachField() does not list");
+
+}  // namespace sph

@@ -1,0 +1,155 @@
+#include "sim/SceneSetup.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "sim/Boundary.h"
+
+namespace sph {
+namespace {
+
+// Sum of the density kernel over an infinite cubic lattice of spacing dx around one of its points.
+double latticeKernelSum(const Kernels& k, DensityKernel kernel, float dx) {
+  const int reach = static_cast<int>(std::ceil(k.h / dx));
+  double sum = 0;
+  for (int a = -reach; a <= reach; ++a)
+    for (int b = -reach; b <= reach; ++b)
+      for (int c = -reach; c <= reach; ++c) {
+        const float r2 = dx * dx * static_cast<float>(a * a + b * b + c * c);
+        sum += kernel == DensityKernel::Spiky ? k.spiky(std::sqrt(r2)) : k.poly6(r2);
+      }
+  return sum;
+}
+
+// First moment of the spiky gradient over the rest lattice, K = sum_j V (x_j - x_i)_x
+// d/dx W(x_i - x_j) with V = m / rho0: the factor by which the SPH gradient of a linear field
+// differs from the exact one on that lattice (1 for a perfect quadrature).
+double latticeGradientMoment(const Kernels& k, float dx, double volume) {
+  const int reach = static_cast<int>(std::ceil(k.h / dx));
+  double sum = 0;
+  for (int a = -reach; a <= reach; ++a)
+    for (int b = -reach; b <= reach; ++b)
+      for (int c = -reach; c <= reach; ++c) {
+        const double xj = a * dx;
+        const float r = dx * std::sqrt(static_cast<float>(a * a + b * b + c * c));
+        // gradW(x_i - x_j) = s (x_i - x_j) with x_i = 0: its x component is -s xj.
+        sum += volume * xj * (-k.spikyGradScale(r) * -xj);
+      }
+  return -sum;
+}
+
+}  // namespace
+
+float expectedMaxSpeed(const Scene& scene) {
+  const Vec3 g = scene.solver.gravity;
+  const float gNorm = g.norm();
+  const Vec3 down = gNorm > 0 ? Vec3(g / gNorm) : Vec3(-Vec3::UnitY());
+  // Height of a point above the domain's lowest corner along gravity.
+  float floor = std::numeric_limits<float>::max();
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 p((corner & 1) ? scene.domain.hi.x() : scene.domain.lo.x(),
+                 (corner & 2) ? scene.domain.hi.y() : scene.domain.lo.y(),
+                 (corner & 4) ? scene.domain.hi.z() : scene.domain.lo.z());
+    floor = std::min(floor, -p.dot(down));
+  }
+  float top = floor, speed = 0;
+  for (const FluidBlock& f : scene.fluids) {
+    const Vec3 hi = f.shape == FluidBlock::Shape::Box ? Vec3(f.hi) : Vec3(f.centre + Vec3::Constant(f.radius));
+    const Vec3 lo = f.shape == FluidBlock::Shape::Box ? Vec3(f.lo) : Vec3(f.centre - Vec3::Constant(f.radius));
+    top = std::max({top, -hi.dot(down), -lo.dot(down)});
+    speed = std::max(speed, f.velocity.norm());
+  }
+  for (const EmitterDesc& e : scene.emitters) {
+    top = std::max(top, -e.position.dot(down));
+    speed = std::max(speed, e.speed);
+  }
+  // Energy bound: a particle starting at the top with the largest initial speed.
+  return std::max(std::sqrt(speed * speed + 2.0f * gNorm * std::max(0.0f, top - floor)), 0.1f);
+}
+
+DerivedParams deriveParams(const Scene& scene) {
+  const SolverParams& s = scene.solver;
+  DerivedParams d;
+  d.h = s.supportRadius();
+  d.kernels = Kernels(d.h);
+  const double cell = static_cast<double>(s.spacing) * s.spacing * s.spacing;
+  d.mass = static_cast<float>(s.restDensity * cell);
+  d.densityNormalisation =
+      static_cast<float>(1.0 / (cell * latticeKernelSum(d.kernels, s.densityKernel, s.spacing)));
+  d.gradientCorrection = static_cast<float>(1.0 / latticeGradientMoment(d.kernels, s.spacing, cell));
+  const float gamma = s.eos == EquationOfState::Tait ? 7.0f : 1.0f;
+  if (s.stiffness > 0) {
+    d.stiffness = s.stiffness;
+    d.speedOfSound = s.eos == EquationOfState::Tait ? std::sqrt(gamma * s.stiffness / s.restDensity)
+                                                     : std::sqrt(s.stiffness);
+  } else {
+    d.speedOfSound = s.speedOfSound > 0 ? s.speedOfSound : 10.0f * expectedMaxSpeed(scene);
+    const float c2 = d.speedOfSound * d.speedOfSound;
+    d.stiffness = s.eos == EquationOfState::Tait ? s.restDensity * c2 / gamma : c2;
+  }
+  d.viscosity = s.viscosity >= 0 ? s.viscosity : 0.002f * d.h * d.speedOfSound;
+  d.boundaryLayers = s.boundaryLayers > 0 ? s.boundaryLayers
+                                          : std::max(1, static_cast<int>(std::ceil(s.support)));
+  return d;
+}
+
+Aabb defaultDomain(const Scene& scene) {
+  Aabb box;
+  const float layers = std::max(1.0f, std::ceil(scene.solver.support));
+  const float thickness = layers * scene.solver.spacing;
+  for (const FluidBlock& f : scene.fluids) {
+    if (f.shape == FluidBlock::Shape::Box) {
+      box.grow(f.lo), box.grow(f.hi);
+    } else {
+      box.grow(f.centre - Vec3::Constant(f.radius)), box.grow(f.centre + Vec3::Constant(f.radius));
+    }
+  }
+  for (const EmitterDesc& e : scene.emitters) {
+    box.grow(e.position - Vec3::Constant(e.radius)), box.grow(e.position + Vec3::Constant(e.radius));
+  }
+  for (const BoundaryShape& b : scene.boundaries) {
+    const Aabb sb = Solid(b, thickness).bounds();
+    if (!sb.empty()) box.grow(sb);
+  }
+  if (box.empty()) box.grow(Vec3::Zero());
+  const float h = scene.solver.supportRadius();
+  const Vec3 size = box.size();
+  const Vec3 margin = (0.1f * size).cwiseMax(Vec3::Constant(4 * h));
+  box.lo -= margin, box.hi += margin;
+  // Headroom against gravity (splashes rise above the containers).
+  const Vec3 g = scene.solver.gravity;
+  for (int a = 0; a < 3; ++a) {
+    if (g[a] < 0) box.hi[a] += size[a];
+    if (g[a] > 0) box.lo[a] -= size[a];
+  }
+  return box;
+}
+
+Particles initialFluid(const Scene& scene, const Boundary& boundary, float restDensity) {
+  Particles fluid;
+  const float dx = scene.solver.spacing;
+  std::uint32_t nextId = 0;
+  auto add = [&](const Vec3& p, const Vec3& v) {
+    if (boundary.distance(p) < 0.4f * dx) return;
+    fluid.append(p, v, nextId++, restDensity);
+  };
+  for (const FluidBlock& f : scene.fluids) {
+    Vec3 lo = f.lo, hi = f.hi;
+    if (f.shape == FluidBlock::Shape::Sphere) {
+      lo = f.centre - Vec3::Constant(f.radius), hi = f.centre + Vec3::Constant(f.radius);
+    }
+    int n[3];
+    for (int a = 0; a < 3; ++a) n[a] = std::max(0, static_cast<int>(std::lround((hi[a] - lo[a]) / dx)));
+    for (int k = 0; k < n[2]; ++k)
+      for (int j = 0; j < n[1]; ++j)
+        for (int i = 0; i < n[0]; ++i) {
+          const Vec3 p = lo + dx * Vec3(i + 0.5f, j + 0.5f, k + 0.5f);
+          if (f.shape == FluidBlock::Shape::Sphere && (p - f.centre).norm() > f.radius) continue;
+          add(p, f.velocity);
+        }
+  }
+  return fluid;
+}
+
+}  // namespace sph

@@ -1,0 +1,100 @@
+// One SPH run: the state and the step (DESIGN.md, "The SPH stage"). A step is the short list of
+// named, timed passes in step(); each pass lives in its own function below and writes only its
+// own particles' slots, so a run is bit-identical for a given scene.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "sim/Boundary.h"
+#include "sim/CollisionPass.h"
+#include "sim/Emitter.h"
+#include "sim/NeighbourGrid.h"
+#include "sim/Particles.h"
+#include "sim/Scene.h"
+#include "sim/SceneSetup.h"
+#include "sim/StepProfile.h"
+
+namespace sph {
+
+// Everything needed to continue a run exactly where it stopped (restart/resume).
+struct RunState {
+  double time = 0;
+  std::uint64_t step = 0;
+  float lastDt = 0;
+  float maxSpeed = 0, maxAcceleration = 0;  // drive the next step size
+  std::uint32_t nextId = 0;
+  std::vector<EmitterState> emitters;
+};
+
+class Simulation {
+ public:
+  explicit Simulation(const Scene& scene);
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  // Advances by one adaptive step, never past `limit` (s): the step is shortened to land on it.
+  // Throws StabilityError if the state stops being finite or leaves the domain.
+  void step(double limit = 1e300);
+  // Steps until time() == t exactly.
+  void advanceTo(double t);
+
+  double time() const { return state_.time; }
+  std::uint64_t stepCount() const { return state_.step; }
+  float lastTimeStep() const { return state_.lastDt; }
+  // The step size the next step() will take (before shortening to a limit).
+  float nextTimeStep() const;
+
+  const Scene& scene() const { return scene_; }
+  const DerivedParams& params() const { return derived_; }
+  const Particles& fluid() const { return fluid_; }
+  Particles& fluid() { return fluid_; }
+  const Boundary& boundary() const { return boundary_; }
+  // Density (kg/m^3) of each boundary particle at the last step (rest-like values away from fluid).
+  const std::vector<float>& boundaryDensity() const { return boundaryDensity_; }
+  const StepProfile& profile() const { return profile_; }
+  void resetProfile() { profile_ = StepProfile{}; }
+  const std::vector<Emitter>& emitters() const { return emitters_; }
+
+  void setCollisionPass(std::unique_ptr<CollisionPass> pass);
+  const CollisionPass* collisionPass() const { return collision_.get(); }
+
+  RunState runState() const;
+  // Replaces state and fluid with a saved one (the same scene must be loaded).
+  void restore(const RunState& state, Particles fluid);
+
+ private:
+  float chooseTimeStep() const;
+  void computeStaticBoundaryDensity();
+  void emitParticles(double dt);
+  void sortParticles();
+  void computeDensity();
+  void computePressure();
+  void computeForces();
+  void integrate(float dt);
+  void collide(float dt);
+  void enforceBoundaries(float dt);
+  void checkStability() const;
+
+  Scene scene_;
+  DerivedParams derived_;
+  Boundary boundary_;
+  Particles fluid_;
+  std::vector<Emitter> emitters_;
+  NeighbourGrid grid_;
+  std::unique_ptr<CollisionPass> collision_;
+  StepProfile profile_;
+  RunState state_;
+  // Per-step scratch (not part of the state): sort permutation, pressure terms.
+  std::vector<std::uint32_t> order_, permuteScratch_;
+  std::vector<float> pressureTerm_;    // fluid p / rho^2 (m^5 / (kg s^2))
+  std::vector<float> inverseDensity_;  // fluid 1 / rho (m^3/kg)
+  // Boundary particles' density (kg/m^3): the part from other boundary particles is fixed and
+  // computed once; the fluid's part is added each step for the particles near the fluid.
+  std::vector<float> boundaryStaticDensity_, boundaryDensity_, boundaryPressureTerm_;
+};
+
+}  // namespace sph

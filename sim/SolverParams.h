@@ -1,0 +1,43 @@
+// Resolved solver parameters of one run. Every field carries its unit; the scene format
+// (docs/scene-format.md) documents the same names and defaults.
+#pragma once
+
+#include "sim/Types.h"
+
+namespace sph {
+
+enum class EquationOfState {
+  Tait,    // p = B((rho/rho0)^7 - 1), B = rho0 c^2 / 7 (Monaghan 1994; Becker & Teschner 2007)
+  Linear,  // p = k (rho - rho0), k = c^2 (Müller et al. 2003)
+};
+
+// Kernel of the density sum. The pressure force always uses the spiky gradient (Müller et al.
+// 2003); with the spiky density the force is the exact gradient of the density it comes from, so
+// the discrete system conserves energy. Poly6 density with the spiky gradient (Müller's original
+// recipe, seed 003) is kept as an option: with a stiff EOS that mismatch gains energy in a closed
+// tank unless viscosity damps it (tests/test_energy.cpp measures both).
+enum class DensityKernel { Spiky, Poly6 };
+
+struct SolverParams {
+  float spacing = 0.01f;        // m, particle spacing dx of the initial lattice
+  float support = 2.0f;         // kernel support radius h as a multiple of spacing (h = support dx)
+  float restDensity = 1000.0f;  // kg/m^3, rho0
+  float viscosity = -1.0f;      // m^2/s, kinematic viscosity of the Müller Laplacian term;
+                                // < 0 = automatic: 0.002 h c, i.e. Monaghan's artificial
+                                // viscosity alpha = 0.02 (nu = alpha h c / 10)
+  bool noSlipWalls = true;      // walls drag the fluid with the same viscosity (v_wall = 0)
+  EquationOfState eos = EquationOfState::Tait;
+  DensityKernel densityKernel = DensityKernel::Spiky;
+  float speedOfSound = 0.0f;    // m/s, c; 0 = automatic (10x the largest expected speed)
+  float stiffness = 0.0f;       // Tait: B (Pa); linear: k (m^2/s^2); 0 = derived from c
+  bool clampNegativePressure = true;  // p = max(p, 0): no tensile instability at the surface
+  float cfl = 0.4f;             // dimensionless, dt <= cfl h / (c + v_max)
+  float maxTimeStep = 1e-3f;    // s, upper bound of the adaptive step
+  Vec3 gravity = Vec3(0.0f, -9.81f, 0.0f);  // m/s^2
+  double endTime = 1.0;         // s, simulated time of a run
+  int boundaryLayers = 0;       // boundary particle layers; 0 = enough to cover the support
+
+  float supportRadius() const { return support * spacing; }  // h (m)
+};
+
+}  // namespace sph

@@ -1,0 +1,65 @@
+#include "tests/TestSupport.h"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <numeric>
+#include <stdexcept>
+
+#include "io/SceneLoader.h"
+
+namespace sph::test {
+
+std::string sourcePath(const std::string& relative) {
+  return std::string(SPHSPLAT_SOURCE_DIR) + "/" + relative;
+}
+
+Scene shippedScene(const std::string& name, const std::vector<std::string>& overrides) {
+  return io::loadScene(sourcePath("scenes/" + name + ".json"), overrides);
+}
+
+std::uint64_t stateHash(const Particles& p) {
+  std::vector<std::size_t> byId(p.size());
+  std::iota(byId.begin(), byId.end(), 0);
+  std::sort(byId.begin(), byId.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+  std::uint64_t h = 1469598103934665603ull;
+  auto mix = [&](const void* data, std::size_t n) {
+    const unsigned char* c = static_cast<const unsigned char*>(data);
+    for (std::size_t k = 0; k < n; ++k) h = (h ^ c[k]) * 1099511628211ull;
+  };
+  p.forEachField([&](const auto& field) {
+    for (std::size_t i : byId) mix(&field[i], sizeof(field[i]));
+  });
+  return h;
+}
+
+CommandResult runSphsplat(const std::string& arguments) {
+  const std::string command = std::string(SPHSPLAT_BINARY) + " " + arguments + " 2>&1";
+  CommandResult result;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) throw std::runtime_error("popen failed: " + command);
+  std::array<char, 4096> buffer;
+  std::size_t n;
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+  const int status = pclose(pipe);
+  result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return result;
+}
+
+std::string writeTempFile(const std::string& text, const std::string& suffix) {
+  std::string pattern = "/tmp/sphsplat-test-XXXXXX" + suffix;
+  std::vector<char> name(pattern.begin(), pattern.end());
+  name.push_back('\0');
+  const int fd = mkstemps(name.data(), static_cast<int>(suffix.size()));
+  if (fd < 0) throw std::runtime_error("mkstemps failed");
+  close(fd);
+  std::ofstream(name.data()) << text;
+  return name.data();
+}
+
+}  // namespace sph::test

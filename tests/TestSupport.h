@@ -1,0 +1,29 @@
+// Helpers shared by the test suites: shipped scenes by name, the sphsplat binary, state hashes.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sim/Particles.h"
+#include "sim/Scene.h"
+
+namespace sph::test {
+
+// Absolute path of a file in the source tree ("scenes/dam_break.json").
+std::string sourcePath(const std::string& relative);
+// Loads a shipped scene with overrides ("solver.spacing=0.01").
+Scene shippedScene(const std::string& name, const std::vector<std::string>& overrides = {});
+// FNV-1a over the bytes of every particle field, in id order (independent of the sort).
+std::uint64_t stateHash(const Particles& p);
+
+struct CommandResult {
+  int exitCode = -1;
+  std::string output;  // stdout and stderr together
+};
+// Runs the sphsplat binary with the given argument string (shell-quoted by the caller).
+CommandResult runSphsplat(const std::string& arguments);
+// Writes `text` to a fresh temporary file with the given suffix and returns its path.
+std::string writeTempFile(const std::string& text, const std::string& suffix = ".json");
+
+}  // namespace sph::test

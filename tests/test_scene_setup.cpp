@@ -1,0 +1,94 @@
+// The derived constants: a fluid at rest on its lattice has exactly the rest density and zero
+// acceleration in the bulk, and the corrected pressure gradient is exact for a linear pressure.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sim/Simulation.h"
+#include "tests/TestSupport.h"
+
+namespace sph {
+namespace {
+
+Scene restingBlock(DensityKernel kernel) {
+  Scene s;
+  s.solver.spacing = 0.01f;
+  s.solver.densityKernel = kernel;
+  s.solver.gravity = Vec3::Zero();
+  FluidBlock b;
+  b.lo = Vec3::Zero();
+  b.hi = Vec3::Constant(0.1f);
+  s.fluids.push_back(b);
+  s.domain.lo = Vec3::Constant(-1), s.domain.hi = Vec3::Constant(1);
+  return s;
+}
+
+TEST(SceneSetup, ParticleMassIsTheWaterOfOneLatticeCell) {
+  const Scene s = restingBlock(DensityKernel::Spiky);
+  const DerivedParams d = deriveParams(s);
+  EXPECT_FLOAT_EQ(d.mass, 1000.0f * 1e-6f);
+  EXPECT_FLOAT_EQ(d.h, 0.02f);
+}
+
+class RestingLattice : public ::testing::TestWithParam<DensityKernel> {};
+
+TEST_P(RestingLattice, HasRestDensityAndNoForceInTheBulk) {
+  Simulation sim(restingBlock(GetParam()));
+  sim.step(1e-6);
+  const Particles& p = sim.fluid();
+  int interior = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec3 x = p.position(i);
+    if ((x.array() < 0.025f).any() || (x.array() > 0.075f).any()) continue;  // 2 cells from faces
+    ++interior;
+    EXPECT_NEAR(p.rho[i], 1000.0f, 1e-2f);
+    EXPECT_NEAR(Vec3(p.ax[i], p.ay[i], p.az[i]).norm(), 0.0f, 1e-3f);
+  }
+  EXPECT_EQ(interior, 5 * 5 * 5);
+}
+
+INSTANTIATE_TEST_SUITE_P(Kernels, RestingLattice,
+                         ::testing::Values(DensityKernel::Spiky, DensityKernel::Poly6));
+
+TEST(SceneSetup, CorrectedPressureGradientIsExactForALinearPressure) {
+  // Impose p = G y on the lattice through the EOS-free route: the force pass reads p via the
+  // pressure term, so use the linear EOS with k = 1 and densities rho0 + G y.
+  Scene s = restingBlock(DensityKernel::Spiky);
+  s.solver.eos = EquationOfState::Linear;
+  s.solver.stiffness = 1.0f;
+  s.solver.clampNegativePressure = false;
+  s.solver.viscosity = 0;
+  Simulation sim(s);
+  sim.step(1e-6);  // sorts and fills every array
+  // Expected acceleration of -grad(p)/rho = -G/rho0 along y for the pressure from the densities.
+  // We cannot set densities between passes, so check the constant directly: K * correction = 1.
+  const DerivedParams& d = sim.params();
+  double moment = 0;
+  const int reach = 2;
+  const float dx = s.solver.spacing;
+  for (int a = -reach; a <= reach; ++a)
+    for (int b = -reach; b <= reach; ++b)
+      for (int c = -reach; c <= reach; ++c) {
+        const Vec3 r = dx * Vec3(static_cast<float>(a), static_cast<float>(b), static_cast<float>(c));
+        const Vec3 grad = d.kernels.spikyGradScale(r.norm()) * (-r);  // gradW(x_i - x_j), x_i = 0
+        moment += dx * dx * dx * r.y() * grad.y();  // sum V (y_j - y_i) dW/dy
+      }
+  EXPECT_NEAR(moment * d.gradientCorrection, 1.0, 1e-5);
+}
+
+TEST(SceneSetup, AutomaticSpeedOfSoundAndViscosityFollowTheScene) {
+  const Scene dam = test::shippedScene("dam_break");
+  const DerivedParams d = deriveParams(dam);
+  // Free fall from the top of the 0.292 m column to the domain floor, times 10.
+  const float fall = std::sqrt(2 * 9.81f * (0.292f - dam.domain.lo.y()));
+  EXPECT_NEAR(d.speedOfSound, 10 * fall, 1e-3f * d.speedOfSound);
+  EXPECT_NEAR(d.viscosity, 0.002f * d.h * d.speedOfSound, 1e-9f);
+  const Scene given = test::shippedScene("dam_break", {"solver.speed_of_sound=50", "solver.viscosity=0.01"});
+  EXPECT_FLOAT_EQ(deriveParams(given).speedOfSound, 50.0f);
+  EXPECT_FLOAT_EQ(deriveParams(given).viscosity, 0.01f);
+  // Tait: B = rho0 c^2 / 7.
+  EXPECT_NEAR(deriveParams(given).stiffness, 1000.0f * 2500.0f / 7.0f, 1.0f);
+}
+
+}  // namespace
+}  // namespace sph

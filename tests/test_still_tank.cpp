@@ -1,0 +1,61 @@
+// Hydrostatic validation (DESIGN.md): water at rest in the shipped still tank (narrowed to a few
+// thousand particles) must carry the pressure rho0 g depth at the bottom, stay within 1% of the
+// rest density and lose no particle.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sim/Simulation.h"
+#include "tests/TestSupport.h"
+
+namespace sph {
+namespace {
+
+TEST(StillTank, HydrostaticPressureAndDensityAfterSettling) {
+  const Scene scene = test::shippedScene(
+      "still_tank", {"fluids[0].max=[0.12,0.3,0.12]", "boundaries[0].max=[0.12,0.4,0.12]"});
+  Simulation sim(scene);
+  const std::size_t count = sim.fluid().size();
+  ASSERT_EQ(count, 12u * 30u * 12u);
+  const double dx = scene.solver.spacing, rho0 = scene.solver.restDensity, g = 9.81;
+  // Depth from the free surface of the water at rest density: the tank's cross-section holds
+  // `count` cells of spacing^3.
+  const double surface = count * dx * dx * dx / (0.12 * 0.12);
+
+  sim.advanceTo(0.75);  // settle: the initial lattice is unloaded and falls into place
+  // WCSPH pressure is noisy step to step; average the bottom layer over 15 frames of 0.05 s.
+  double pressure = 0, expected = 0, densityDeviation = 0;
+  int frames = 0;
+  for (double t = 0.8; t <= 1.5 + 1e-9; t += 0.05, ++frames) {
+    sim.advanceTo(t);
+    const Particles& p = sim.fluid();
+    double sumP = 0, sumY = 0, sumDev = 0;
+    int n = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      sumDev += std::abs(p.rho[i] - rho0) / rho0;
+      if (p.y[i] < dx) sumP += p.p[i], sumY += p.y[i], ++n;  // the bottom layer
+    }
+    ASSERT_GT(n, 100);
+    pressure += sumP / n;
+    expected += rho0 * g * (surface - sumY / n);
+    densityDeviation += sumDev / p.size();
+  }
+  pressure /= frames, expected /= frames, densityDeviation /= frames;
+  EXPECT_NEAR(pressure, expected, 0.03 * expected) << "bottom pressure " << pressure << " Pa";
+  EXPECT_LT(densityDeviation, 0.01);
+
+  const Particles& p = sim.fluid();
+  ASSERT_EQ(p.size(), count);  // none lost
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    ASSERT_TRUE(p.x[i] >= 0 && p.x[i] <= 0.12f && p.z[i] >= 0 && p.z[i] <= 0.12f && p.y[i] >= 0 &&
+                p.y[i] <= 0.4f)
+        << "particle " << p.id[i] << " escaped to " << p.position(i).transpose();
+  }
+  // And it is still: settled speeds are tiny compared with sqrt(g depth) ~ 1.7 m/s.
+  float vmax = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) vmax = std::max(vmax, p.velocity(i).norm());
+  EXPECT_LT(vmax, 0.1f);
+}
+
+}  // namespace
+}  // namespace sph
