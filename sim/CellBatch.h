@@ -9,9 +9,12 @@
 // not depend on the thread count.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
+#include <new>
 #include <vector>
 
 #include "sim/NeighbourGrid.h"
@@ -19,27 +22,56 @@
 
 namespace sph {
 
+// Batch storage starts on a 64-byte boundary: vectorised loops peel a number of scalar
+// iterations that depends on the start address, and that would change the order of the simd
+// reductions (and so the last bits of the sums) with the heap layout of each thread.
+template <class T>
+struct CacheLineAllocator {
+  using value_type = T;
+  CacheLineAllocator() = default;
+  template <class U>
+  CacheLineAllocator(const CacheLineAllocator<U>&) {}
+  T* allocate(std::size_t n) {
+    const std::size_t bytes = (n * sizeof(T) + 63) / 64 * 64;
+    void* p = std::aligned_alloc(64, bytes);
+    if (!p) throw std::bad_alloc();
+    return static_cast<T*>(p);
+  }
+  void deallocate(T* p, std::size_t) { std::free(p); }
+  template <class U>
+  bool operator==(const CacheLineAllocator<U>&) const { return true; }
+  template <class U>
+  bool operator!=(const CacheLineAllocator<U>&) const { return false; }
+};
+
 // Padding lanes hold a point this far away: outside any support, and its square stays finite.
 constexpr float kFarAway = 1e15f;
 constexpr std::size_t kBatchLanes = 16;  // a multiple of every SIMD width we build for
 
 template <int N>
 struct CandidateBatch {
-  std::array<std::vector<float>, N> field;  // field[0..2] are x, y, z
+  std::array<std::vector<float, CacheLineAllocator<float>>, N> field;  // field[0..2]: x, y, z
   std::size_t count = 0;    // real candidates
   std::size_t padded = 0;   // count rounded up to kBatchLanes
 
   void clear() { count = 0; }
-  // Appends [begin, end) of the source arrays.
-  void append(const std::array<const float*, N>& src, std::uint32_t begin, std::uint32_t end) {
-    const std::size_t n = end - begin;
-    reserve(count + n + kBatchLanes);
-    for (int f = 0; f < N; ++f) {
-      const float* s = src[f] + begin;
-      float* d = field[f].data() + count;
-      for (std::size_t k = 0; k < n; ++k) d[k] = s[k];
+  // Appends those of [begin, end) whose position lies within sqrt(reach2) of the box [lo, hi]:
+  // the candidates some particle of the cell can actually reach. At support 2 spacings this drops
+  // the far corners of the 27-cell block, about a quarter of it.
+  void appendNear(const std::array<const float*, N>& src, std::uint32_t begin, std::uint32_t end,
+                  const float lo[3], const float hi[3], float reach2) {
+    reserve(count + (end - begin) + kBatchLanes);
+    for (std::uint32_t q = begin; q < end; ++q) {
+      float d2 = 0;
+      for (int a = 0; a < 3; ++a) {
+        const float v = src[a][q];
+        const float d = std::max(std::max(lo[a] - v, v - hi[a]), 0.0f);
+        d2 += d * d;
+      }
+      if (d2 >= reach2) continue;
+      for (int f = 0; f < N; ++f) field[f][count] = src[f][q];
+      ++count;
     }
-    count += n;
   }
   // Pads to a multiple of kBatchLanes: positions far away, every other field 0.
   void pad() {
@@ -73,9 +105,9 @@ void forEachCellWithCandidates(const NeighbourGrid& grid, const std::array<const
   const int threads = threadCount();
   std::vector<CandidateBatch<N>> fluidBatches(threads);
   std::vector<CandidateBatch<M>> boundaryBatches(threads);
-  const float c = grid.cellSize();
-  const bool sameLattice = boundaryGrid.cellSize() == c;
-  reach *= 1.001f;  // generous: an extra cell costs time, a missing one correctness
+  const bool sameLattice = boundaryGrid.cellSize() == grid.cellSize();
+  reach *= 1.0001f;  // generous: an extra candidate costs time, a missing one correctness
+  const float reach2 = reach * reach;
   parallelForDynamic(rows, 4, [&](std::size_t row) {
     CandidateBatch<N>& fb = fluidBatches[threadIndex()];
     CandidateBatch<M>& bb = boundaryBatches[threadIndex()];
@@ -85,17 +117,23 @@ void forEachCellWithCandidates(const NeighbourGrid& grid, const std::array<const
       const std::uint32_t begin = grid.cellBegin(cell), end = grid.cellEnd(cell);
       if (begin == end) continue;
       const CellCoord g = {origin[0] + i, origin[1] + j, origin[2] + k};
+      // The cell's own particles bound the box the candidates are culled against (tighter than
+      // the cell, and immune to the rounding of cell borders).
+      float lo[3] = {fluid[0][begin], fluid[1][begin], fluid[2][begin]}, hi[3] = {lo[0], lo[1], lo[2]};
+      for (std::uint32_t q = begin + 1; q < end; ++q) {
+        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], fluid[a][q]), hi[a] = std::max(hi[a], fluid[a][q]);
+      }
       fb.clear();
-      grid.forEachNeighbourRange(g, [&](std::uint32_t b, std::uint32_t e) { fb.append(fluid, b, e); });
+      grid.forEachNeighbourRange(g, [&](std::uint32_t b, std::uint32_t e) { fb.appendNear(fluid, b, e, lo, hi, reach2); });
       fb.pad();
       bb.clear();
-      auto appendBoundary = [&](std::uint32_t b, std::uint32_t e) { bb.append(boundary, b, e); };
+      auto appendBoundary = [&](std::uint32_t b, std::uint32_t e) { bb.appendNear(boundary, b, e, lo, hi, reach2); };
       if (sameLattice) {
         boundaryGrid.forEachNeighbourRange(g, appendBoundary);
       } else {  // one grid grew its cells: take every boundary cell the support can reach
-        const float lo[3] = {g[0] * c - reach, g[1] * c - reach, g[2] * c - reach};
-        const float hi[3] = {(g[0] + 1) * c + reach, (g[1] + 1) * c + reach, (g[2] + 1) * c + reach};
-        boundaryGrid.forEachRangeInBox(lo, hi, appendBoundary);
+        const float blo[3] = {lo[0] - reach, lo[1] - reach, lo[2] - reach};
+        const float bhi[3] = {hi[0] + reach, hi[1] + reach, hi[2] + reach};
+        boundaryGrid.forEachRangeInBox(blo, bhi, appendBoundary);
       }
       bb.pad();
       body(begin, end, fb, bb);

@@ -1,8 +1,14 @@
-// The three SPH passes of a step (DESIGN.md, "The SPH stage"; Müller, Charypar & Gross 2003):
-// density, equation of state, forces. Particles are sorted by cell, so the neighbours of a
+// The neighbour passes of a step (DESIGN.md, "The SPH stage"; Müller, Charypar & Gross 2003):
+// density and forces (the equation of state between them is in EquationOfState.cpp). Particles are sorted by cell, so the neighbours of a
 // particle are the 9 contiguous index ranges forEachNeighbourRange() hands out; the inner loops
 // run over such a range with `omp simd` so they vectorise, and each particle sums only into its
 // own slot, in a fixed order, so runs are bit-reproducible.
+//
+// This file is built with -ffast-math (sim/CMakeLists.txt): reciprocal square roots are estimated
+// in vector code but exact in scalar code, so every loop here must take the same path whatever
+// the thread split. The batch loops run over padded lengths (always vector); the range loops run
+// over cell ranges (the same split for any thread count). Element-wise loops, whose vector/scalar
+// split moves with the thread chunks, live in files built without it.
 //
 // Boundary particles are fluid particles that do not move (Boundary.h): they have the fluid
 // mass, a summation density and an EOS pressure, and enter the force as ordinary neighbours at
@@ -51,19 +57,25 @@ float kernelSum(float xi, float yi, float zi, const NeighbourGrid& grid, const f
   return sum;
 }
 
-// Sum over a padded candidate batch of shape(|x - p|^2); padding lanes contribute 0.
+// Density sum of a candidate batch and, alongside, its share of the particle's gradient moment:
+// sum (h - r)^2 r, the trace of sum_j (x_j - x_i) (x) gradW_spiky(x_i - x_j) up to -G.
 template <class Shape, int N>
-float batchSum(float xi, float yi, float zi, const CandidateBatch<N>& c, Shape shape) {
+void batchDensityAndMoment(float xi, float yi, float zi, float h, const CandidateBatch<N>& c,
+                           Shape shape, float& density, float& moment) {
   const float* px = c.field[0].data();
   const float* py = c.field[1].data();
   const float* pz = c.field[2].data();
-  float s = 0;
-#pragma omp simd reduction(+ : s)
+  float s = 0, t = 0;
+#pragma omp simd reduction(+ : s, t)
   for (std::size_t j = 0; j < c.padded; ++j) {
     const float dx = xi - px[j], dy = yi - py[j], dz = zi - pz[j];
-    s += shape(dx * dx + dy * dy + dz * dz);
+    const float r2 = dx * dx + dy * dy + dz * dz;
+    const float r = std::sqrt(r2);
+    const float hr = std::max(h - r, 0.0f);
+    s += shape(r2);
+    t += hr * hr * r;
   }
-  return s;
+  density += s, moment += t;
 }
 
 // Calls f(shape, factor) with the solver's density kernel.
@@ -72,23 +84,6 @@ void withDensityKernel(const SolverParams& s, const Kernels& k, F&& f) {
   if (s.densityKernel == DensityKernel::Spiky) f(SpikyShape{k.h}, k.spikyFactor);
   else f(Poly6Shape{k.h2}, k.poly6Factor);
 }
-
-// Equation of state (DESIGN.md): Tait p = B((rho/rho0)^7 - 1) or linear p = k(rho - rho0),
-// clamped at 0 unless the scene allows tension.
-struct Eos {
-  float rho0, k;
-  bool tait, clamp;
-  float operator()(float rho) const {
-    float p;
-    if (tait) {
-      const float r = rho / rho0, r2 = r * r, r3 = r2 * r;
-      p = k * (r3 * r3 * r - 1.0f);
-    } else {
-      p = k * (rho - rho0);
-    }
-    return clamp ? std::max(p, 0.0f) : p;
-  }
-};
 
 }  // namespace
 
@@ -114,6 +109,11 @@ void Simulation::computeDensity() {
   Particles& f = fluid_;
   const BoundaryParticles& b = boundary_.particles();
   const NeighbourGrid& bgrid = boundary_.grid();
+  const float h = derived_.h;
+  // K_i = (1/3) sum_j V (x_j - x_i) . gradW(x_i - x_j), V = spacing^3: 1 on the rest lattice
+  // once corrected (SceneSetup.h), a little off once the particles have rearranged.
+  const float momentScale = -derived_.kernels.spikyGradFactor * derived_.mass / scene_.solver.restDensity / 3;
+  gradientMoment_.resize(f.size());
   withDensityKernel(scene_.solver, derived_.kernels, [&](auto shape, float factor) {
     const float scale = factor * derived_.mass * derived_.densityNormalisation;
     forEachCellWithCandidates<3, 3>(
@@ -121,10 +121,14 @@ void Simulation::computeDensity() {
         derived_.h, [&](std::uint32_t begin, std::uint32_t end, const CandidateBatch<3>& fb,
                         const CandidateBatch<3>& bb) {
           for (std::uint32_t i = begin; i < end; ++i) {
-            f.rho[i] = scale * (batchSum(f.x[i], f.y[i], f.z[i], fb, shape) +
-                                batchSum(f.x[i], f.y[i], f.z[i], bb, shape));
+            float density = 0, moment = 0;
+            batchDensityAndMoment(f.x[i], f.y[i], f.z[i], h, fb, shape, density, moment);
+            batchDensityAndMoment(f.x[i], f.y[i], f.z[i], h, bb, shape, density, moment);
+            f.rho[i] = scale * density;
+            gradientMoment_[i] = momentScale * moment;
           }
         });
+    updateGradientCorrection();
     if (b.size() == 0 || f.size() == 0) return;
     // Boundary particles within reach of the fluid: the boundary cells overlapping the fluid
     // grid's box grown by one cell. The others keep their last values; no fluid particle is close
@@ -154,33 +158,30 @@ void Simulation::computeDensity() {
   });
 }
 
-// Equation of state for fluid and boundary particles; also caches p / rho^2 and 1 / rho, the
-// per-neighbour factors of the force pass, so that pass does no division per pair.
-void Simulation::computePressure() {
-  Particles& f = fluid_;
-  const std::size_t n = f.size();
-  pressureTerm_.resize(n);
-  inverseDensity_.resize(n);
-  const Eos eos{scene_.solver.restDensity, derived_.stiffness,
-                scene_.solver.eos == EquationOfState::Tait, scene_.solver.clampNegativePressure};
-  parallelFor(n, [&](std::size_t i) {
-    const float p = eos(f.rho[i]);
-    const float inv = 1.0f / f.rho[i];
-    f.p[i] = p;
-    inverseDensity_[i] = inv;
-    pressureTerm_[i] = p * inv * inv;
-  });
-  parallelFor(boundaryDensity_.size(), [&](std::size_t q) {
-    const float rho = boundaryDensity_[q];
-    boundaryPressureTerm_[q] = rho > 0 ? eos(rho) / (rho * rho) : 0.0f;
-  });
+// The pressure force's scale c = 1 / mean K over the particles with a full neighbourhood (at
+// least rest density): the lattice value (SceneSetup.h) corrected for how the particles are
+// actually arranged. One factor for all pairs keeps momentum conserved; it drifts slowly, so
+// energy is conserved as well as before. Without it a settled still tank carries ~3% excess
+// pressure (the disordered packing's discrete gradient is that much weaker than the lattice's).
+void Simulation::updateGradientCorrection() {
+  const Particles& f = fluid_;
+  const float rho0 = scene_.solver.restDensity;
+  double sum = 0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < f.size(); ++i) {  // serial: a fixed summation order
+    if (f.rho[i] < rho0) continue;
+    sum += gradientMoment_[i];
+    ++count;
+  }
+  constexpr std::size_t kMinimumSample = 64;  // fewer: a spray or a drop; trust the lattice
+  gradientCorrection_ = count >= kMinimumSample ? static_cast<float>(count / sum) : derived_.gradientCorrection;
 }
 
 // a_i = - c sum_j m (p_i/rho_i^2 + p_j/rho_j^2) gradW_spiky(x_i - x_j)  fluid and boundary j
 //       + nu (rho0/rho_i) sum_j m/rho_j (v_j - v_i) lapW_visc           fluid j (Müller 2003),
 //                                                                        and walls if no-slip
 //       + g
-// with c the lattice gradient correction (SceneSetup.h).
+// with c the gradient correction (updateGradientCorrection()).
 // Pairs are antisymmetric term by term, so total momentum is conserved up to round-off.
 void Simulation::computeForces() {
   Particles& f = fluid_;
@@ -188,7 +189,7 @@ void Simulation::computeForces() {
   const NeighbourGrid& bgrid = boundary_.grid();
   const Kernels& kern = derived_.kernels;
   const float h = kern.h, h2 = kern.h2;
-  const float pressureScale = -derived_.gradientCorrection * derived_.mass * kern.spikyGradFactor;
+  const float pressureScale = -gradientCorrection_ * derived_.mass * kern.spikyGradFactor;
   const float viscScale = derived_.viscosity * scene_.solver.restDensity * derived_.mass *
                           kern.viscLapFactor;
   const Vec3 g = scene_.solver.gravity;
@@ -223,9 +224,8 @@ void Simulation::computeForces() {
             const float dx = xi - fx[j], dy = yi - fy[j], dz = zi - fz[j];
             const float r2 = dx * dx + dy * dy + dz * dz;
             const bool inside = r2 < h2 && r2 > 0.0f;
-            const float r = std::sqrt(r2);
-            const float hr = inside ? h - r : 0.0f;
-            const float invR = inside ? 1.0f / r : 0.0f;
+            const float invR = inside ? 1.0f / std::sqrt(r2) : 0.0f;
+            const float hr = inside ? h - r2 * invR : 0.0f;
             const float sp = (pi + pterm[j]) * hr * hr * invR;
             const float sv = invRho[j] * hr;
             px += sp * dx, py += sp * dy, pz += sp * dz;
@@ -237,9 +237,8 @@ void Simulation::computeForces() {
             const float dx = xi - bx[j], dy = yi - by[j], dz = zi - bz[j];
             const float r2 = dx * dx + dy * dy + dz * dz;
             const bool inside = r2 < h2 && r2 > 0.0f;
-            const float r = std::sqrt(r2);
-            const float hr = inside ? h - r : 0.0f;
-            const float invR = inside ? 1.0f / r : 0.0f;
+            const float invR = inside ? 1.0f / std::sqrt(r2) : 0.0f;
+            const float hr = inside ? h - r2 * invR : 0.0f;
             const float sp = (pi + bterm[j]) * hr * hr * invR;
             px += sp * dx, py += sp * dy, pz += sp * dz;
             w += hr;
