@@ -1,0 +1,118 @@
+// `sphsplat info CACHE`: what an HDF5 cache holds (frames, time range, particle counts, fields,
+// scene, size, whether its run finished), read from the file alone.
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "app/Commands.h"
+#include "app/Progress.h"
+#include "io/CacheReader.h"
+#include "io/CacheWriter.h"
+#include "io/XdmfWriter.h"
+
+namespace sph::app {
+namespace {
+
+struct InfoOptions {
+  std::string cache;
+  bool listFrames = false;
+};
+
+std::string describeStatus(const io::CacheSummary& s) {
+  if (s.status.rfind("running", 0) != 0) return s.status;
+  const std::string last =
+      s.frames.empty() ? std::string("no frame") : "frame " + std::to_string(s.frames.size() - 1);
+  if (io::cacheIsLocked(s.path))
+    return "running: a sphsplat run is writing it now (" + last + " so far)";
+  return "unfinished: its run was killed or crashed after " + last +
+         " (every frame listed is complete; continue with sphsplat run SCENE --resume " + s.path +
+         ")";
+}
+
+int info(const InfoOptions& o) {
+  const io::CacheReader reader(o.cache);
+  const io::CacheSummary& s = reader.summary();
+  const std::size_t n = s.frames.size();
+  std::printf("%s: sphsplat cache (format %lld, written by sphsplat %s, created %s)\n",
+              s.path.c_str(), static_cast<long long>(s.formatVersion), s.programVersion.c_str(),
+              s.created.c_str());
+  std::printf("  scene      %s (%s)%s\n", s.sceneName.c_str(), s.scenePath.c_str(),
+              s.sceneOverrides.empty() ? "" : (", --set " + s.sceneOverrides).c_str());
+  std::printf("  status     %s\n", describeStatus(s).c_str());
+  if (n == 0) {
+    std::printf("  frames     none complete\n");
+  } else {
+    std::printf("  frames     %zu (Step#0 - Step#%zu), t = %g - %g s at %g frames/s\n", n, n - 1,
+                s.frames.front().time, s.frames.back().time, s.fps);
+    std::size_t lo = s.frames[0].particles, hi = lo;
+    double total = 0;
+    for (const io::CacheFrame& f : s.frames) {
+      lo = std::min(lo, f.particles), hi = std::max(hi, f.particles);
+      total += static_cast<double>(f.particles);
+    }
+    std::printf("  particles  %zu - %zu fluid per frame (%zu in the last), %zu boundary\n", lo, hi,
+                s.frames.back().particles, s.boundaryParticles);
+    if (total > 0) {
+      const double data = static_cast<double>(reader.frameDataBytes());
+      std::printf(
+          "  size       %sB = %.3g bytes per particle per frame; the frames' datasets alone %.3g\n",
+          humanCount(static_cast<double>(s.fileBytes)).c_str(),
+          static_cast<double>(s.fileBytes) / total, data / total);
+    }
+  }
+  if (n == 0)
+    std::printf("  size       %sB\n", humanCount(static_cast<double>(s.fileBytes)).c_str());
+  std::printf(
+      "  fields     %s (float%s, id uint32), %s\n", io::cache::describeFields(s.fields).c_str(),
+      s.doublePositions ? "32; x y z float64" : "32",
+      s.compression > 0 ? ("deflate " + std::to_string(s.compression) + " + shuffle").c_str()
+                        : "uncompressed");
+  const auto resumable = std::count_if(s.frames.begin(), s.frames.end(),
+                                       [](const io::CacheFrame& f) { return f.hasRestart; });
+  std::printf("  resume     %s\n",
+              s.restart ? (std::to_string(resumable) + " frames have a resume record").c_str()
+                        : "no resume records (output.restart = false)");
+  std::string solver;
+  for (const io::cache::Parameter& p : s.parameters) {
+    char value[64];
+    if (p.isText)
+      std::snprintf(value, sizeof value, "%s", p.text.c_str());
+    else
+      std::snprintf(value, sizeof value, "%g", p.number);
+    solver += (solver.empty() ? "" : ", ") + p.name.substr(p.name.find('.') + 1) + " " + value;
+  }
+  std::printf("  solver     %s; written with %lld thread%s\n", solver.c_str(),
+              static_cast<long long>(s.threads), s.threads == 1 ? "" : "s");
+  std::string rendered;
+  for (const auto& [name, frames] : s.renderers)
+    rendered += (rendered.empty() ? "" : ", ") + name + " " + std::to_string(frames) + " frames";
+  std::printf("  rendered   %s\n", rendered.empty() ? "none" : rendered.c_str());
+  if (!s.damagedFrame.empty())
+    std::printf("  damaged    %s (frames after it are not listed)\n", s.damagedFrame.c_str());
+  std::printf("  ParaView   paraview %s   (or open %s with the H5Part reader)\n",
+              io::XdmfWriter::sidecarPath(s.path).c_str(), s.path.c_str());
+  if (o.listFrames) {
+    std::printf("  frame        time (s)   particles       steps  resume\n");
+    for (const io::CacheFrame& f : s.frames) {
+      std::printf("  %5zu %15.9g %11zu %11llu  %s\n", f.index, f.time, f.particles,
+                  static_cast<unsigned long long>(f.step), f.hasRestart ? "yes" : "no");
+    }
+  }
+  return kOk;
+}
+
+}  // namespace
+
+std::function<int()> addInfoCommand(CLI::App& app) {
+  auto o = std::make_shared<InfoOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "info", "Describe an HDF5 cache: frames, times, particles, fields, status");
+  cmd->add_option("cache", o->cache, "Cache file written by sphsplat run --output")->required();
+  cmd->add_flag("--frames", o->listFrames,
+                "Also list every frame: time, particle count, solver steps");
+  cmd->footer("Exit codes: 0 done, 2 missing, damaged or foreign file (one line says what).");
+  return [o, cmd]() { return cmd->parsed() ? info(*o) : -1; };
+}
+
+}  // namespace sph::app

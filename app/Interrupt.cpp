@@ -1,0 +1,42 @@
+#include "app/Interrupt.h"
+
+#include <csignal>
+
+namespace sph::app {
+namespace {
+
+volatile std::sig_atomic_t received = 0;
+
+extern "C" void onInterrupt(int signal) {
+  received = signal;
+}
+
+}  // namespace
+
+void installInterruptHandlers() {
+  struct sigaction action {};
+  action.sa_handler = onInterrupt;
+  sigemptyset(&action.sa_mask);
+  // SA_RESTART: HDF5's and stdio's write() calls go on undisturbed. SA_RESETHAND: a second
+  // signal takes the default action (terminate) in case the run does not stop soon enough.
+  action.sa_flags = SA_RESTART | SA_RESETHAND;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+int interruptSignal() {
+  return received;
+}
+
+const char* signalName(int signal) {
+  switch (signal) {
+    case SIGINT:
+      return "SIGINT";
+    case SIGTERM:
+      return "SIGTERM";
+    default:
+      return "a signal";
+  }
+}
+
+}  // namespace sph::app

@@ -1,0 +1,176 @@
+#include "io/CacheFormat.h"
+
+#include <cstring>
+#include <sstream>
+
+namespace sph::io::cache {
+namespace {
+
+struct FieldEntry {
+  Field field;
+  const char* name;
+  FloatArray member;  // nullptr for id
+};
+
+constexpr FieldEntry kFields[kFieldCount] = {
+    {Field::X, "x", &Particles::x},
+    {Field::Y, "y", &Particles::y},
+    {Field::Z, "z", &Particles::z},
+    {Field::VX, "vx", &Particles::vx},
+    {Field::VY, "vy", &Particles::vy},
+    {Field::VZ, "vz", &Particles::vz},
+    {Field::AX, "ax", &Particles::ax},
+    {Field::AY, "ay", &Particles::ay},
+    {Field::AZ, "az", &Particles::az},
+    {Field::Rho, "rho", &Particles::rho},
+    {Field::P, "p", &Particles::p},
+    {Field::CollideTime, "collide_time", &Particles::collideTime},
+    {Field::Id, "id", nullptr},
+};
+
+FieldSet setOf(std::initializer_list<Field> fields) {
+  FieldSet s;
+  for (Field f : fields) s.set(static_cast<std::size_t>(f));
+  return s;
+}
+
+// Mixes raw bytes into a 64-bit FNV-1a hash.
+class Fingerprint {
+ public:
+  template <class T>
+  void add(const T& v) {
+    unsigned char bytes[sizeof(T)];
+    std::memcpy(bytes, &v, sizeof(T));
+    for (unsigned char b : bytes) hash_ = (hash_ ^ b) * 1099511628211ull;
+  }
+  void add(const Vec3& v) { add(v.x()), add(v.y()), add(v.z()); }
+  std::string hex() const {
+    std::ostringstream s;
+    s.width(16);
+    s.fill('0');
+    s << std::hex << hash_;
+    return s.str();
+  }
+
+ private:
+  std::uint64_t hash_ = 1469598103934665603ull;
+};
+
+}  // namespace
+
+const char* fieldName(Field f) {
+  return kFields[static_cast<std::size_t>(f)].name;
+}
+
+std::optional<Field> fieldByName(const std::string& name) {
+  for (const FieldEntry& e : kFields) {
+    if (name == e.name) return e.field;
+  }
+  return std::nullopt;
+}
+
+FloatArray floatMember(Field f) {
+  return kFields[static_cast<std::size_t>(f)].member;
+}
+
+FieldSet defaultFields() {
+  return setOf({Field::X, Field::Y, Field::Z, Field::VX, Field::VY, Field::VZ, Field::Rho, Field::P,
+                Field::Id});
+}
+
+FieldSet restartFields() {
+  return setOf({Field::X, Field::Y, Field::Z, Field::VX, Field::VY, Field::VZ, Field::CollideTime,
+                Field::Id});
+}
+
+FieldSet parseFields(const std::vector<std::string>& names, std::string& error) {
+  FieldSet set;
+  error.clear();
+  for (const std::string& name : names) {
+    if (name == "position")
+      set |= setOf({Field::X, Field::Y, Field::Z});
+    else if (name == "velocity")
+      set |= setOf({Field::VX, Field::VY, Field::VZ});
+    else if (name == "acceleration")
+      set |= setOf({Field::AX, Field::AY, Field::AZ});
+    else if (auto f = fieldByName(name))
+      set.set(static_cast<std::size_t>(*f));
+    else {
+      std::string known;
+      for (const FieldEntry& e : kFields) known += std::string(known.empty() ? "" : ", ") + e.name;
+      error =
+          "unknown field \"" + name + "\"; known: " + known + ", position, velocity, acceleration";
+      return set;
+    }
+  }
+  const FieldSet xyz = setOf({Field::X, Field::Y, Field::Z});
+  if ((set & xyz) != xyz) {
+    error =
+        "expected \"x\", \"y\" and \"z\" (or \"position\") among the fields: every frame needs "
+        "positions";
+  }
+  return set;
+}
+
+std::string describeFields(const FieldSet& fields) {
+  std::string out;
+  for (const FieldEntry& e : kFields) {
+    if (fields[static_cast<std::size_t>(e.field)])
+      out += std::string(out.empty() ? "" : " ") + e.name;
+  }
+  return out;
+}
+
+std::vector<Parameter> solverParameters(const Scene& scene, const DerivedParams& d) {
+  const SolverParams& s = scene.solver;
+  auto number = [](const char* name, double v) { return Parameter{name, v, "", false}; };
+  auto text = [](const char* name, const char* v) { return Parameter{name, 0, v, true}; };
+  return {
+      number("solver.spacing", s.spacing),
+      number("solver.support_radius", d.h),
+      number("solver.particle_mass", d.mass),
+      number("solver.rest_density", s.restDensity),
+      number("solver.speed_of_sound", d.speedOfSound),
+      number("solver.stiffness", d.stiffness),
+      number("solver.viscosity", d.viscosity),
+      number("solver.cfl", s.cfl),
+      number("solver.max_time_step", s.maxTimeStep),
+      number("solver.gravity_x", s.gravity.x()),
+      number("solver.gravity_y", s.gravity.y()),
+      number("solver.gravity_z", s.gravity.z()),
+      number("solver.boundary_layers", d.boundaryLayers),
+      text("solver.eos", s.eos == EquationOfState::Tait ? "tait" : "linear"),
+      text("solver.density_kernel", s.densityKernel == DensityKernel::Spiky ? "spiky" : "poly6"),
+      text("solver.walls", s.noSlipWalls ? "no-slip" : "slip"),
+      text("solver.clamp_negative_pressure", s.clampNegativePressure ? "true" : "false"),
+  };
+}
+
+std::string dynamicsFingerprint(const Scene& scene) {
+  Fingerprint f;
+  const SolverParams& s = scene.solver;
+  f.add(static_cast<int>(s.model)), f.add(s.spacing), f.add(s.support), f.add(s.restDensity),
+      f.add(s.viscosity), f.add(s.noSlipWalls);
+  f.add(static_cast<int>(s.eos)), f.add(static_cast<int>(s.densityKernel)), f.add(s.speedOfSound);
+  f.add(s.stiffness), f.add(s.clampNegativePressure), f.add(s.cfl), f.add(s.maxTimeStep),
+      f.add(s.gravity);
+  f.add(s.boundaryLayers);
+  f.add(scene.domain.lo), f.add(scene.domain.hi);
+  for (const FluidBlock& b : scene.fluids) {
+    f.add(static_cast<int>(b.shape)), f.add(b.lo), f.add(b.hi), f.add(b.centre), f.add(b.radius),
+        f.add(b.velocity);
+  }
+  for (const BoundaryShape& b : scene.boundaries) {
+    f.add(static_cast<int>(b.kind)), f.add(b.lo), f.add(b.hi), f.add(b.openTop), f.add(b.centre),
+        f.add(b.radius);
+    f.add(b.height), f.add(b.point), f.add(b.normal);
+  }
+  for (const EmitterDesc& e : scene.emitters) {
+    f.add(e.position), f.add(e.direction), f.add(e.radius), f.add(e.speed), f.add(e.start),
+        f.add(e.stop);
+    f.add(static_cast<std::uint64_t>(e.maxParticles));
+  }
+  return f.hex();
+}
+
+}  // namespace sph::io::cache

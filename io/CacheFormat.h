@@ -1,0 +1,88 @@
+// Names and numbers of the HDF5 cache layout (docs/cache-format.md), shared by the writer, the
+// reader, the scene loader (which validates output.fields) and the tests. One place, so a name
+// cannot drift between the file and its readers.
+#pragma once
+
+#include <bitset>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sim/Particles.h"
+#include "sim/Scene.h"
+#include "sim/SceneSetup.h"
+
+namespace sph::io::cache {
+
+// What identifies a sphsplat cache among HDF5 files (root attributes).
+inline constexpr const char* kFormatAttr = "sphsplat_format";
+inline constexpr const char* kFormatName = "sphsplat-cache";
+inline constexpr const char* kFormatVersionAttr = "sphsplat_format_version";
+inline constexpr std::int64_t kFormatVersion = 1;
+
+// Root groups that are not frames. None starts with "Step": H5Part readers count every root
+// group whose name starts with "Step" as a time step.
+inline constexpr const char* kBoundaryGroup = "Boundary";
+inline constexpr const char* kRenderGroup = "Render";
+
+// Attributes of the root group.
+inline constexpr const char* kStatusAttr = "run_status";  // rewritten in place, kStatusWidth bytes
+inline constexpr std::size_t kStatusWidth = 512;
+
+// H5Part names: the frame group and its time attribute (exactly these, ParaView looks them up).
+inline constexpr const char* kStepPrefix = "Step#";
+inline constexpr const char* kTimeAttr = "TimeValue";
+inline std::string stepName(std::size_t frame) {
+  return kStepPrefix + std::to_string(frame);
+}
+// The resume record of a frame, a root group beside its Step group.
+inline std::string restartName(std::size_t frame) {
+  return "Restart#" + std::to_string(frame);
+}
+// A rendered frame in /Render/<renderer>/.
+inline std::string renderedFrameName(std::size_t frame) {
+  return "Frame#" + std::to_string(frame);
+}
+
+// The per-particle arrays a frame can hold, in the order they are written and listed.
+enum class Field : unsigned { X, Y, Z, VX, VY, VZ, AX, AY, AZ, Rho, P, CollideTime, Id, Count };
+inline constexpr std::size_t kFieldCount = static_cast<std::size_t>(Field::Count);
+using FieldSet = std::bitset<kFieldCount>;
+
+// Dataset name of each field (H5Part: x y z vx vy vz rho p id).
+const char* fieldName(Field f);
+std::optional<Field> fieldByName(const std::string& name);
+// The float array of Particles behind a float field (every field but Id).
+using FloatArray = std::vector<float> Particles::*;
+FloatArray floatMember(Field f);
+
+// x y z vx vy vz rho p id: what a scene writes unless its output section says otherwise.
+FieldSet defaultFields();
+// x y z vx vy vz id collide_time: what a resume needs. The other fields (acceleration, density,
+// pressure) are recomputed by the first step before anything reads them.
+FieldSet restartFields();
+// Parses the scene's output.fields ("x", "position" = x y z, "velocity", "acceleration").
+// Returns an error text for the first unknown name, in `error`.
+FieldSet parseFields(const std::vector<std::string>& names, std::string& error);
+// "x y z vx ..." in the canonical order.
+std::string describeFields(const FieldSet& fields);
+
+// One resolved solver parameter, recorded as a root attribute ("solver.spacing" = 0.005).
+struct Parameter {
+  std::string name;
+  double number = 0;  // exact: every solver value is a float or an int
+  std::string text;   // for the named choices ("tait"); then number is unused
+  bool isText = false;
+};
+// The parameters the run actually used (automatic values resolved). A resume compares them with
+// the scene it is given, to name what differs.
+std::vector<Parameter> solverParameters(const Scene& scene, const DerivedParams& derived);
+
+// A hash of everything in a scene that changes the motion (solver, domain, fluids, boundaries,
+// emitters; not the end time nor the output section), as 16 hex digits. A resume refuses a scene
+// whose fingerprint differs from the cache's.
+std::string dynamicsFingerprint(const Scene& scene);
+
+}  // namespace sph::io::cache

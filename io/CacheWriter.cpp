@@ -1,0 +1,469 @@
+#include "io/CacheWriter.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+
+#include "io/CacheJournal.h"
+#include "io/InputError.h"
+
+namespace sph::io {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using h5::check;
+using h5::checked;
+
+double since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+std::string isoTimeNow() {
+  const std::time_t t = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&t, &utc);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return text;
+}
+
+std::string joined(const std::vector<std::string>& lines) {
+  std::string out;
+  for (const std::string& l : lines) out += (out.empty() ? "" : "\n") + l;
+  return out;
+}
+
+// Links the root's object header is sized for: a Step and a Restart group per frame, four times
+// over so that resumed runs can extend the cache well past its planned end, Boundary and Render,
+// plus room for the root attributes (they share the header with the links and HDF5 puts them
+// into the space reserved for links, so it is reserved for them too, in link-sized units).
+// A link costs about 30 bytes and the header is rewritten at each commit, so this stays cheap:
+// 20 kB for a 60-frame run. Past it HDF5 chains a second header block, and the moment it does so
+// is the one commit that is not a single write (docs/cache-format.md, "Crash safety").
+unsigned rootLinkEstimate(std::size_t expectedFrames, std::size_t attributeBytes) {
+  const std::size_t links = 4 * 2 * expectedFrames + 256 + attributeBytes / 16;
+  return static_cast<unsigned>(std::min<std::size_t>(links, h5::kMaxCompactLinks));
+}
+
+// User block for the journal: room for the root header (about 32 bytes a link), a power of two
+// as HDF5 requires.
+std::uint64_t userBlockBytes(unsigned rootLinks, std::size_t attributeBytes) {
+  const std::uint64_t need = 32ull * rootLinks + attributeBytes + 8192;
+  std::uint64_t size = 512;
+  while (size < need) size *= 2;
+  return size;
+}
+
+}  // namespace
+
+int lockCacheFile(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
+  if (fd < 0)
+    throw InputError(path + ": cannot open the cache for writing (" + std::strerror(errno) + ")");
+  struct flock lock {};
+  lock.l_type = F_WRLCK;
+  lock.l_whence = SEEK_SET;
+  if (fcntl(fd, F_OFD_SETLK, &lock) != 0) {
+    const int error = errno;
+    ::close(fd);
+    if (error == EAGAIN || error == EACCES) {
+      throw InputError(
+          path + ": another sphsplat run is writing this cache; wait for it or stop it first");
+    }
+    throw InputError(path + ": cannot lock the cache (" + std::strerror(error) + ")");
+  }
+  return fd;
+}
+
+bool cacheIsLocked(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  struct flock lock {};
+  lock.l_type = F_WRLCK;
+  lock.l_whence = SEEK_SET;
+  const bool locked = fcntl(fd, F_OFD_GETLK, &lock) == 0 && lock.l_type != F_UNLCK;
+  ::close(fd);
+  return locked;
+}
+
+CacheWriter::CacheWriter(std::string path, h5::Handle file, int lockFd)
+    : path_(std::move(path)), file_(std::move(file)), fd_(lockFd) {}
+
+CacheWriter::~CacheWriter() {
+  file_.reset();
+  if (fd_ >= 0) ::close(fd_);
+}
+
+std::unique_ptr<CacheWriter> CacheWriter::create(const std::string& path, const Scene& scene,
+                                                 const DerivedParams& derived,
+                                                 const BoundaryParticles& boundary,
+                                                 const CacheProvenance& provenance,
+                                                 std::size_t expectedFrames) {
+  h5::silence();
+  const std::vector<cache::Parameter> parameters = cache::solverParameters(scene, derived);
+  const std::size_t attributeBytes = scene.sourceText.size() + joined(provenance.overrides).size() +
+                                     scene.sourcePath.size() + cache::kStatusWidth +
+                                     64 * (parameters.size() + 24);
+  const unsigned rootLinks = rootLinkEstimate(expectedFrames, attributeBytes);
+  h5::Handle fcpl = h5::fileCreateProps(rootLinks);
+  const std::uint64_t userBlock = userBlockBytes(rootLinks, attributeBytes);
+  h5::check(H5Pset_userblock(fcpl.get(), userBlock), "reserve the journal");
+  h5::Handle fapl = h5::fileAccessProps();
+  // Our own open() first, for a plain message (HDF5's for a missing directory is a paragraph).
+  const int probe = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (probe < 0)
+    throw InputError(path + ": cannot create the cache (" + std::strerror(errno) + ")");
+  ::close(probe);
+  h5::Handle file;
+  try {
+    file =
+        checked(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()), "create the cache");
+  } catch (const h5::Error& e) {
+    throw InputError(path + ": cannot create the cache (" + e.detail() + ")");
+  }
+  std::unique_ptr<CacheWriter> w(new CacheWriter(path, std::move(file), lockCacheFile(path)));
+  w->userBlock_ = userBlock;
+  const OutputDesc& out = scene.output;
+  std::string error;
+  w->fields_ = cache::parseFields(out.fields, error);
+  if (!error.empty()) throw InputError(path + ": output.fields: " + error);
+  w->restart_ = out.restart;
+  w->doublePositions_ = out.doublePositions;
+  w->storage_.deflateLevel = out.compression;
+
+  try {
+    const hid_t root = w->file_.get();
+    h5::writeAttribute(root, cache::kFormatAttr, std::string(cache::kFormatName));
+    h5::writeAttribute(root, cache::kFormatVersionAttr, cache::kFormatVersion);
+    h5::writeAttribute(root, "sphsplat_version", provenance.programVersion);
+    h5::writeAttribute(root, "created", isoTimeNow());
+    h5::writeAttribute(root, "scene_name", scene.name);
+    h5::writeAttribute(root, "scene_path", scene.sourcePath);
+    h5::writeAttribute(root, "scene_text", scene.sourceText);
+    h5::writeAttribute(root, "scene_overrides", joined(provenance.overrides));
+    h5::writeAttribute(root, "scene_fingerprint", cache::dynamicsFingerprint(scene));
+    h5::writeAttribute(root, "threads", static_cast<std::int64_t>(provenance.threads));
+    for (const cache::Parameter& p : parameters) {
+      if (p.isText)
+        h5::writeAttribute(root, p.name, p.text);
+      else
+        h5::writeAttribute(root, p.name, p.number);
+    }
+    h5::writeAttribute(root, "output.fps", out.fps);
+    h5::writeAttribute(root, "output.fields", cache::describeFields(w->fields_));
+    h5::writeAttribute(root, "output.compression", static_cast<std::int64_t>(out.compression));
+    h5::writeAttribute(root, "output.restart", static_cast<std::int64_t>(out.restart));
+    h5::writeAttribute(root, "output.double_positions",
+                       static_cast<std::int64_t>(out.doublePositions));
+    h5::writeAttribute(root, cache::kStatusAttr, std::string("running"), cache::kStatusWidth);
+
+    // The boundary particles never move: once, in a group H5Part readers do not count as a step.
+    h5::Handle b = checked(H5Gcreate2(root, cache::kBoundaryGroup, H5P_DEFAULT,
+                                      h5::groupCreateProps(4).get(), H5P_DEFAULT),
+                           "create /Boundary");
+    const std::vector<float>* xyz[3] = {&boundary.x, &boundary.y, &boundary.z};
+    const char* names[3] = {"x", "y", "z"};
+    for (int a = 0; a < 3; ++a) {
+      h5::writeDataset(b.get(), names[a], H5T_NATIVE_FLOAT, H5T_IEEE_F32LE, xyz[a]->data(),
+                       xyz[a]->size(), w->storage_);
+    }
+    h5::writeAttribute(b.get(), "particles", static_cast<std::uint64_t>(boundary.size()));
+    h5::writeAttribute(b.get(), "particle_mass", static_cast<double>(derived.mass));
+    // Rendered frames: /Render/<renderer>/Frame#N, filled by the renderer (writeRenderedFrame).
+    h5::Handle r = checked(H5Gcreate2(root, cache::kRenderGroup, H5P_DEFAULT,
+                                      h5::groupCreateProps(16).get(), H5P_DEFAULT),
+                           "create /Render");
+    b.reset(), r.reset();
+    w->commitObjects();
+  } catch (const h5::Error& e) {
+    throw InputError(path + ": cannot write the cache header (" + e.what() + ")");
+  }
+  return w;
+}
+
+std::unique_ptr<CacheWriter> CacheWriter::append(const std::string& path, std::size_t frames) {
+  h5::silence();
+  const int fd = lockCacheFile(path);
+  h5::Handle fapl = h5::fileAccessProps();
+  h5::Handle file;
+  try {
+    file = checked(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get()), "open the cache");
+  } catch (const h5::Error& e) {
+    ::close(fd);
+    throw InputError(path + ": cannot open the cache for writing (" + e.detail() + ")");
+  }
+  std::unique_ptr<CacheWriter> w(new CacheWriter(path, std::move(file), fd));
+  w->frames_ = frames;
+  w->readSettings();
+  h5::Handle fcpl =
+      checked(H5Fget_create_plist(w->file_.get()), "read the file creation properties");
+  hsize_t userBlock = 0;
+  h5::check(H5Pget_userblock(fcpl.get(), &userBlock), "read the user block size");
+  w->userBlock_ = userBlock;
+  return w;
+}
+
+void CacheWriter::readSettings() {
+  try {
+    const hid_t root = file_.get();
+    std::string error;
+    std::vector<std::string> names;
+    const std::string list = h5::readStringAttribute(root, "output.fields");
+    for (std::size_t pos = 0; pos < list.size();) {
+      const std::size_t end = std::min(list.find(' ', pos), list.size());
+      if (end > pos) names.push_back(list.substr(pos, end - pos));
+      pos = end + 1;
+    }
+    fields_ = cache::parseFields(names, error);
+    if (!error.empty()) throw InputError(path_ + ": root attribute output.fields: " + error);
+    restart_ = h5::readIntAttribute(root, "output.restart") != 0;
+    doublePositions_ = h5::readIntAttribute(root, "output.double_positions") != 0;
+    storage_.deflateLevel = static_cast<int>(h5::readIntAttribute(root, "output.compression"));
+  } catch (const h5::Error& e) {
+    throw InputError(path_ + ": cannot read the cache's output settings (" + e.what() + ")");
+  }
+}
+
+// Commits what was written since the last commit. HDF5 1.10 has no transactions, and kill -9 can
+// strike between any two of its write() calls, so the cache is written so that every such moment
+// leaves a file whose committed frames read back exactly:
+//
+// 1. A frame's objects are created anonymous (H5Gcreate_anon): nothing the file already links
+//    refers to them. commitObjects() writes them out (H5Fflush) while the file on disk still
+//    shows the previous state. Dying here leaves unreferenced bytes past the old data.
+// 2. Only then are they linked into the root (H5Olink) and committed again. The root's links
+//    live in its object header ("compact" storage) which was sized at creation for the expected
+//    frames, so the link lands in free space of the header's one block and the flush rewrites
+//    that block with a single write(): the file shows the new frame or the old state (a write
+//    cut short: point 6). The header carries a checksum, so a mix is never misread as data.
+// 3. The metadata cache may evict (write) dirty entries before a flush; between commits the only
+//    dirty entries are the new, unlinked objects, so such early writes land in new space. And
+//    space never comes from freed blocks (file space strategy NONE, Hdf5.cpp): new data cannot
+//    overwrite anything the last committed state still points to.
+// 4. Before each flush the file is grown to HDF5's end-of-allocation address: the superblock
+//    written by the flush records that address and a reader refuses a file shorter than it
+//    ("truncated file"). HDF5 1.10.8 happens to write everything below it first (the crash test
+//    passes without this step); this keeps it so whatever the order of its writes.
+// 5. Superblock version 2 (the 1.8 format) has no "open for writing" flag, so the killed file
+//    opens without h5clear.
+// 6. The one in-place write of step 2 can still be cut short at a page boundary by SIGKILL;
+//    `rewritten` (the header that commit rewrites) is first copied to the journal
+//    (CacheJournal.h), from which a reader restores it.
+// tests/test_cache_crash.cpp kills the writer at every write() of a run, and also tears each
+// write that spans pages, and checks all of this.
+void CacheWriter::commitObjects(hid_t rewritten) {
+  haddr_t eoa = 0;
+  check(H5Fget_eoa(file_.get(), &eoa), "read the end of allocation");
+  struct stat st {};
+  if (fstat(fd_, &st) != 0) throw h5::Error("stat the cache", std::strerror(errno));
+  // EOA counts from HDF5's base address, after the user block.
+  const auto eof = static_cast<std::uint64_t>(eoa) + userBlock_;
+  if (static_cast<std::uint64_t>(st.st_size) < eof &&
+      ftruncate(fd_, static_cast<off_t>(eof)) != 0) {
+    throw h5::Error("grow the cache file", std::strerror(errno));
+  }
+  if (rewritten >= 0) journalHeader(rewritten);
+  check(H5Fflush(file_.get(), H5F_SCOPE_LOCAL), "flush the cache");
+}
+
+void CacheWriter::journalHeader(hid_t object) {
+  H5O_info_t info;
+  check(H5Oget_info2(object, &info, H5O_INFO_BASIC | H5O_INFO_HDR), "read an object header's size");
+  // A header of one block, as the root is sized to stay (more blocks would be more writes).
+  if (info.hdr.nchunks != 1 || userBlock_ == 0) return;
+  journalRegion(fd_, userBlock_ + info.addr, info.hdr.space.total, userBlock_);
+}
+
+void CacheWriter::writeField(hid_t group, cache::Field field, const Particles& fluid) {
+  const char* name = cache::fieldName(field);
+  const std::size_t n = fluid.size();
+  if (field == cache::Field::Id) {
+    frameDataBytes_ += h5::writeDataset(group, name, H5T_NATIVE_UINT32, H5T_STD_U32LE,
+                                        fluid.id.data(), n, storage_);
+    return;
+  }
+  const std::vector<float>& values = fluid.*cache::floatMember(field);
+  const bool position =
+      field == cache::Field::X || field == cache::Field::Y || field == cache::Field::Z;
+  if (position && doublePositions_) {
+    const std::vector<double> wide(values.begin(), values.end());
+    frameDataBytes_ +=
+        h5::writeDataset(group, name, H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, wide.data(), n, storage_);
+  } else {
+    frameDataBytes_ +=
+        h5::writeDataset(group, name, H5T_NATIVE_FLOAT, H5T_IEEE_F32LE, values.data(), n, storage_);
+  }
+}
+
+void CacheWriter::writeFrame(const Particles& fluid, const RunState& state) {
+  const auto start = Clock::now();
+  const std::size_t frame = frames_;
+  const std::string step = cache::stepName(frame);
+  try {
+    const hid_t root = file_.get();
+    h5::Handle group = checked(H5Gcreate_anon(root, h5::groupCreateProps(16).get(), H5P_DEFAULT),
+                               "create " + step);
+    h5::writeAttribute(group.get(), cache::kTimeAttr, state.time);
+    h5::writeAttribute(group.get(), "step", static_cast<std::uint64_t>(state.step));
+    for (std::size_t f = 0; f < cache::kFieldCount; ++f) {
+      if (fields_[f]) writeField(group.get(), static_cast<cache::Field>(f), fluid);
+    }
+    h5::Handle restart;
+    if (restart_) {
+      restart = checked(H5Gcreate_anon(root, h5::groupCreateProps(16).get(), H5P_DEFAULT),
+                        "create the resume record");
+      const hid_t r = restart.get();
+      h5::writeAttribute(r, "time", state.time);
+      h5::writeAttribute(r, "step", static_cast<std::uint64_t>(state.step));
+      h5::writeAttribute(r, "last_dt", state.lastDt);
+      h5::writeAttribute(r, "max_speed", state.maxSpeed);
+      h5::writeAttribute(r, "max_acceleration", state.maxAcceleration);
+      h5::writeAttribute(r, "next_id", static_cast<std::uint64_t>(state.nextId));
+      h5::writeAttribute(r, "particles", static_cast<std::uint64_t>(fluid.size()));
+      std::vector<double> travelled;
+      std::vector<std::uint64_t> emitted, started;
+      for (const EmitterState& e : state.emitters) {
+        travelled.push_back(e.travelled), emitted.push_back(e.emitted),
+            started.push_back(e.started ? 1 : 0);
+      }
+      h5::writeAttribute(r, "emitter_travelled", travelled);
+      h5::writeAttribute(r, "emitter_emitted", emitted);
+      h5::writeAttribute(r, "emitter_started", started);
+      // Arrays the Step group already holds are not repeated (fields are stored exactly), and an
+      // array holding one value throughout (collide_time without a collision pass) is that value.
+      const cache::FieldSet missing = cache::restartFields() & ~fields_;
+      for (std::size_t f = 0; f < cache::kFieldCount; ++f) {
+        if (!missing[f]) continue;
+        const auto field = static_cast<cache::Field>(f);
+        if (field != cache::Field::Id && fluid.size() > 0) {
+          const std::vector<float>& v = fluid.*cache::floatMember(field);
+          const bool constant = std::all_of(
+              v.begin(), v.end(), [&](float x) { return std::memcmp(&x, &v[0], 4) == 0; });
+          if (constant) {
+            h5::writeAttribute(r, std::string(cache::fieldName(field)) + "_constant", v[0]);
+            continue;
+          }
+        }
+        writeField(r, field, fluid);
+      }
+    }
+    commitObjects();
+    if (restart) {
+      check(
+          H5Olink(restart.get(), root, cache::restartName(frame).c_str(), H5P_DEFAULT, H5P_DEFAULT),
+          "link " + cache::restartName(frame));
+    }
+    check(H5Olink(group.get(), root, step.c_str(), H5P_DEFAULT, H5P_DEFAULT), "link " + step);
+    group.reset(), restart.reset();
+    commitObjects(root);
+  } catch (const h5::Error& e) {
+    throw InputError(path_ + ": cannot write frame " + std::to_string(frame) + " (" + e.what() +
+                     ")");
+  }
+  frames_ = frame + 1;
+  secondsWriting_ += since(start);
+}
+
+void CacheWriter::writeRenderedFrame(const std::string& renderer, std::size_t frame, int width,
+                                     int height, const std::uint8_t* rgb) {
+  const bool nameOk =
+      !renderer.empty() && std::all_of(renderer.begin(), renderer.end(), [](char c) {
+        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+               c == '_' || c == '-';
+      });
+  if (!nameOk)
+    throw InputError(path_ + ": renderer name '" + renderer +
+                     "': expected letters, digits, '_' or '-'");
+  if (frame >= frames_) {
+    throw InputError(path_ + ": cannot store a rendered frame " + std::to_string(frame) +
+                     ": the cache has frames 0-" + std::to_string(frames_ - 1));
+  }
+  if (width <= 0 || height <= 0) throw InputError(path_ + ": rendered frame size must be positive");
+  const auto start = Clock::now();
+  const std::string where = std::string("/") + cache::kRenderGroup + "/" + renderer;
+  try {
+    const hid_t root = file_.get();
+    h5::Handle render = checked(H5Gopen2(root, cache::kRenderGroup, H5P_DEFAULT), "open /Render");
+    if (!h5::hasLink(render.get(), renderer)) {
+      // Same two-phase commit as a frame: the renderer's group is written, then linked.
+      h5::Handle g = checked(
+          H5Gcreate_anon(root, h5::groupCreateProps(static_cast<unsigned>(frames_ * 2 + 64)).get(),
+                         H5P_DEFAULT),
+          "create " + where);
+      commitObjects();
+      check(H5Olink(g.get(), render.get(), renderer.c_str(), H5P_DEFAULT, H5P_DEFAULT),
+            "link " + where);
+      commitObjects(render.get());
+    }
+    h5::Handle g = checked(H5Gopen2(render.get(), renderer.c_str(), H5P_DEFAULT), "open " + where);
+    const std::string name = cache::renderedFrameName(frame);
+    if (h5::hasLink(g.get(), name))
+      throw InputError(path_ + ": " + where + "/" + name + " is already written");
+    const std::vector<hsize_t> dims = {static_cast<hsize_t>(height), static_cast<hsize_t>(width),
+                                       3};
+    h5::Handle image = h5::createDataset(root, "", H5T_STD_U8LE, dims, storage_);
+    check(H5Dwrite(image.get(), H5T_NATIVE_UINT8, H5S_ALL, H5S_ALL, H5P_DEFAULT, rgb),
+          "write " + name);
+    // The HDF5 Image specification's attributes, so HDFView and h5py tools show it as a picture.
+    h5::writeAttribute(image.get(), "CLASS", std::string("IMAGE"));
+    h5::writeAttribute(image.get(), "IMAGE_VERSION", std::string("1.2"));
+    h5::writeAttribute(image.get(), "IMAGE_SUBCLASS", std::string("IMAGE_TRUECOLOR"));
+    h5::writeAttribute(image.get(), "INTERLACE_MODE", std::string("INTERLACE_PIXEL"));
+    h5::Handle step = checked(H5Gopen2(root, cache::stepName(frame).c_str(), H5P_DEFAULT),
+                              "open the frame's step");
+    h5::writeAttribute(image.get(), cache::kTimeAttr,
+                       h5::readDoubleAttribute(step.get(), cache::kTimeAttr));
+    h5::writeAttribute(image.get(), "frame", static_cast<std::uint64_t>(frame));
+    commitObjects();
+    check(H5Olink(image.get(), g.get(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT),
+          "link " + where + "/" + name);
+    image.reset();
+    commitObjects(g.get());
+  } catch (const h5::Error& e) {
+    throw InputError(path_ + ": cannot write rendered frame " + std::to_string(frame) + " of '" +
+                     renderer + "' (" + e.what() + ")");
+  }
+  secondsWriting_ += since(start);
+}
+
+void CacheWriter::setStatus(const std::string& status) {
+  const auto start = Clock::now();
+  try {
+    h5::rewriteAttribute(file_.get(), cache::kStatusAttr, status.substr(0, cache::kStatusWidth));
+    commitObjects(file_.get());
+  } catch (const h5::Error& e) {
+    throw InputError(path_ + ": cannot record the run status (" + e.what() + ")");
+  }
+  secondsWriting_ += since(start);
+}
+
+void CacheWriter::publishAs(const std::string& finalPath) {
+  if (std::rename(path_.c_str(), finalPath.c_str()) != 0) {
+    throw InputError(finalPath + ": cannot move the new cache into place from " + path_ + " (" +
+                     std::strerror(errno) + ")");
+  }
+  path_ = finalPath;
+}
+
+std::uint64_t CacheWriter::fileBytes() const {
+  struct stat st {};
+  return fstat(fd_, &st) == 0 ? static_cast<std::uint64_t>(st.st_size) : 0;
+}
+
+void CacheWriter::close() {
+  try {
+    file_.close("close the cache");
+  } catch (const h5::Error& e) {
+    throw InputError(path_ + ": " + e.what());
+  }
+  if (fd_ >= 0) ::close(fd_), fd_ = -1;
+}
+
+}  // namespace sph::io

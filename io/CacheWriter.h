@@ -1,0 +1,106 @@
+// Writes a run's HDF5 cache as the run goes (DESIGN.md, "HDF5 cache"; layout in
+// docs/cache-format.md): the scene and resolved parameters as root attributes, the boundary
+// particles once, then one H5Part `Step#N` group per output frame, a `Restart#N` resume record
+// beside it, and rendered images under /Render.
+//
+// Crash safety: every frame is committed before writeFrame() returns, and a process killed at any
+// moment (SIGKILL included) leaves a file whose committed frames all read back bit-exact. How:
+// see the comment on commitObjects() in CacheWriter.cpp.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "io/CacheFormat.h"
+#include "io/Hdf5.h"
+#include "sim/Boundary.h"
+#include "sim/Simulation.h"
+
+namespace sph::io {
+
+// What the root records about the program and the run besides the scene.
+struct CacheProvenance {
+  std::string programVersion;  // "0.1.0"
+  int threads = 0;             // worker threads of the run (bit-exact resume needs the same)
+  std::vector<std::string> overrides;  // the --set edits applied to the scene file
+};
+
+class CacheWriter {
+ public:
+  // Creates a new cache at `path`, truncating whatever is there (the caller decides whether that
+  // is allowed). Records the scene (its output section says which fields, the compression and
+  // whether resume records are written), the resolved parameters and the boundary particles, and
+  // commits. `expectedFrames` sizes the root group (see CacheWriter.cpp); more frames still work.
+  static std::unique_ptr<CacheWriter> create(const std::string& path, const Scene& scene,
+                                             const DerivedParams& derived,
+                                             const BoundaryParticles& boundary,
+                                             const CacheProvenance& provenance,
+                                             std::size_t expectedFrames);
+  // Opens an existing cache whose frames 0..frames-1 are complete to append frame `frames` on
+  // (resume). The fields, compression and resume records follow the cache's own settings.
+  static std::unique_ptr<CacheWriter> append(const std::string& path, std::size_t frames);
+
+  ~CacheWriter();
+  CacheWriter(const CacheWriter&) = delete;
+  CacheWriter& operator=(const CacheWriter&) = delete;
+
+  // Writes and commits frame frameCount(): the fields asked for, the frame time as TimeValue and,
+  // if enabled, the resume record (RunState + the fields the frame lacks of restartFields()).
+  void writeFrame(const Particles& fluid, const RunState& state);
+
+  // Stores one rendered image of frame `frame` (which must already be written) for `renderer`
+  // (letters, digits, '_' and '-'): `rgb` holds height rows of width RGB triplets, top row first.
+  // Lands in /Render/<renderer>/Frame#<frame> (docs/cache-format.md). For the renderer issue.
+  void writeRenderedFrame(const std::string& renderer, std::size_t frame, int width, int height,
+                          const std::uint8_t* rgb);
+
+  // Rewrites the root attribute run_status ("running", "finished", "stopped: ...") and commits.
+  void setStatus(const std::string& status);
+
+  // Renames the file to `finalPath` (atomically replacing what is there); writing goes on. A new
+  // cache is written under a temporary name until its first frame is in, then published.
+  void publishAs(const std::string& finalPath);
+
+  std::size_t frameCount() const { return frames_; }
+  const std::string& path() const { return path_; }
+  // Wall time spent in writeFrame and setStatus (s), for the write share of a run.
+  double secondsWriting() const { return secondsWriting_; }
+  // Bytes the datasets of the frames written by this writer take in the file (compressed).
+  std::uint64_t frameDataBytes() const { return frameDataBytes_; }
+  // Bytes the file takes now.
+  std::uint64_t fileBytes() const;
+
+  // Closes the file; errors surface here rather than in the destructor.
+  void close();
+
+ private:
+  CacheWriter(std::string path, h5::Handle file, int lockFd);
+  void readSettings();
+  void commitObjects(hid_t rewritten = H5I_INVALID_HID);
+  void journalHeader(hid_t object);
+  void writeField(hid_t group, cache::Field field, const Particles& fluid);
+
+  std::string path_;
+  h5::Handle file_;
+  int fd_ = -1;  // same file, for the write lock and for growing the file ahead of a flush
+  std::uint64_t userBlock_ = 0;  // bytes before HDF5's superblock: the journal (CacheJournal.h)
+  std::size_t frames_ = 0;
+  cache::FieldSet fields_;
+  bool restart_ = true;
+  bool doublePositions_ = false;
+  h5::Storage storage_;
+  double secondsWriting_ = 0;
+  std::uint64_t frameDataBytes_ = 0;
+};
+
+// Takes an exclusive advisory lock (open file description lock, which HDF5's own flock()
+// ignores) on `path` and returns its descriptor; throws InputError naming the file if another
+// sphsplat run holds it.
+int lockCacheFile(const std::string& path);
+// Whether a sphsplat run holds that lock on `path` now (a run is writing it).
+bool cacheIsLocked(const std::string& path);
+
+}  // namespace sph::io

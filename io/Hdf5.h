@@ -1,0 +1,151 @@
+// A thin RAII layer over the HDF5 C API (libhdf5 1.10), just what the cache writer and reader
+// need: move-only handles that close themselves, checked calls that turn HDF5's error stack into
+// one line, attributes and 1-D datasets of plain numbers and strings.
+//
+// HDF5 prints its error stack to stderr by default; silence() turns that off so a broken cache
+// gives the user one line (STYLE.md rule 10), built from the innermost HDF5 message.
+#pragma once
+
+#include <hdf5.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace sph::io::h5 {
+
+// A failed HDF5 call: `what` we tried, then HDF5's own innermost description.
+class Error : public std::runtime_error {
+ public:
+  Error(const std::string& what, std::string detail)
+      : std::runtime_error(detail.empty() ? what : what + " (" + detail + ")"),
+        detail_(std::move(detail)) {}
+  // HDF5's description alone, e.g. "truncated file: eof = 4096, ... stored_eof = 81920".
+  const std::string& detail() const { return detail_; }
+
+ private:
+  std::string detail_;
+};
+
+// Turns off HDF5's automatic error printing for this process (idempotent).
+void silence();
+// The innermost message of the current thread's HDF5 error stack ("" if empty).
+std::string errorText();
+
+// Owns one HDF5 identifier of any kind and closes it with the matching H5?close.
+class Handle {
+ public:
+  Handle() = default;
+  explicit Handle(hid_t id) : id_(id) {}
+  ~Handle() { reset(); }
+  Handle(Handle&& o) noexcept : id_(o.id_) { o.id_ = -1; }
+  Handle& operator=(Handle&& o) noexcept {
+    if (this != &o) reset(), id_ = o.id_, o.id_ = -1;
+    return *this;
+  }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+
+  hid_t get() const { return id_; }
+  explicit operator bool() const { return id_ >= 0; }
+  void reset();
+  // Closes now and reports a failure (a file's close writes what is left).
+  void close(const std::string& what);
+
+ private:
+  hid_t id_ = -1;
+};
+
+// Wraps an identifier returned by the C API; throws Error(what) if it is negative.
+Handle checked(hid_t id, const std::string& what);
+// Throws Error(what) if an herr_t/htri_t status is negative.
+void check(long long status, const std::string& what);
+
+// Most links a group keeps in its object header (HDF5's limit for compact link storage).
+inline constexpr unsigned kMaxCompactLinks = 65535;
+
+// Property lists.
+Handle fileCreateProps(unsigned expectedRootLinks);
+Handle fileAccessProps();
+Handle groupCreateProps(unsigned expectedLinks);
+
+// Does `name` (one path component) exist as a link in `loc`?
+bool hasLink(hid_t loc, const std::string& name);
+bool hasAttribute(hid_t obj, const std::string& name);
+// H5O_TYPE_GROUP, H5O_TYPE_DATASET... of the object `name` in `loc`, or H5O_TYPE_UNKNOWN.
+H5O_type_t objectType(hid_t loc, const std::string& name);
+
+// Attributes. Strings are fixed-length UTF-8 (what h5dump and h5py print as text); `width`
+// reserves room so the attribute can later be rewritten in place with a longer value.
+void writeAttribute(hid_t obj, const std::string& name, const std::string& value,
+                    std::size_t width = 0);
+void writeAttribute(hid_t obj, const std::string& name, double value);
+void writeAttribute(hid_t obj, const std::string& name, float value);
+void writeAttribute(hid_t obj, const std::string& name, std::int64_t value);
+void writeAttribute(hid_t obj, const std::string& name, std::uint64_t value);
+void writeAttribute(hid_t obj, const std::string& name, const std::vector<double>& values);
+void writeAttribute(hid_t obj, const std::string& name, const std::vector<std::uint64_t>& values);
+// Overwrites an existing fixed-length string attribute in place (truncated to its width).
+void rewriteAttribute(hid_t obj, const std::string& name, const std::string& value);
+
+std::string readStringAttribute(hid_t obj, const std::string& name);
+double readDoubleAttribute(hid_t obj, const std::string& name);
+float readFloatAttribute(hid_t obj, const std::string& name);
+std::int64_t readIntAttribute(hid_t obj, const std::string& name);
+std::uint64_t readUintAttribute(hid_t obj, const std::string& name);
+std::vector<double> readDoubleArrayAttribute(hid_t obj, const std::string& name);
+std::vector<std::uint64_t> readUintArrayAttribute(hid_t obj, const std::string& name);
+std::vector<std::string> attributeNames(hid_t obj);
+
+// How a dataset is stored. Chunked datasets get the byte shuffle before deflate (it groups the
+// bytes of equal significance, which is what makes float arrays compress).
+struct Storage {
+  int deflateLevel = 0;              // 0 = no compression
+  std::size_t chunkBytes = 1 << 20;  // upper bound of one chunk (bytes)
+};
+
+// Creates a dataset of shape `dims` in `loc` named `name`, or an anonymous one (linked later with
+// H5Olink) if `name` is empty. Chunk shape: the whole extent, cut along the first axis to at most
+// storage.chunkBytes.
+Handle createDataset(hid_t loc, const std::string& name, hid_t fileType,
+                     const std::vector<hsize_t>& dims, const Storage& storage);
+
+// Writes a 1-D dataset `name` in `loc` from `count` values of `memType` (a native type),
+// stored as `fileType` (e.g. H5T_IEEE_F32LE). Returns the bytes it takes in the file.
+std::uint64_t writeDataset(hid_t loc, const std::string& name, hid_t memType, hid_t fileType,
+                           const void* data, std::size_t count, const Storage& storage);
+
+// A 1-D dataset's element count; throws Error if it is not a 1-D numeric dataset.
+std::size_t datasetLength(hid_t loc, const std::string& name);
+// Reads a whole 1-D dataset converted to `memType`; `out` must hold datasetLength() values.
+void readDataset(hid_t loc, const std::string& name, hid_t memType, void* out);
+
+template <class T>
+hid_t nativeType();
+template <>
+inline hid_t nativeType<float>() {
+  return H5T_NATIVE_FLOAT;
+}
+template <>
+inline hid_t nativeType<double>() {
+  return H5T_NATIVE_DOUBLE;
+}
+template <>
+inline hid_t nativeType<std::uint32_t>() {
+  return H5T_NATIVE_UINT32;
+}
+template <>
+inline hid_t nativeType<std::uint8_t>() {
+  return H5T_NATIVE_UINT8;
+}
+
+template <class T>
+std::vector<T> readDataset(hid_t loc, const std::string& name) {
+  std::vector<T> out(datasetLength(loc, name));
+  if (!out.empty()) readDataset(loc, name, nativeType<T>(), out.data());
+  return out;
+}
+
+}  // namespace sph::io::h5

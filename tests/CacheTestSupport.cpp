@@ -1,0 +1,95 @@
+#include "tests/CacheTestSupport.h"
+
+#include <sys/stat.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+namespace sph::test {
+
+std::string tinyCacheScene(double endTime, double fps, const std::string& extraOutput) {
+  std::ostringstream s;
+  s.precision(17);
+  s << R"({
+  "name": "tiny",
+  "solver": {"spacing": 0.025, "end_time": )"
+    << endTime << R"(},
+  "boundaries": [{"type": "tank", "min": [0, 0, 0], "max": [0.2, 0.2, 0.15]}],
+  "fluids": [{"min": [0, 0, 0], "max": [0.1, 0.1, 0.15]}],
+  "emitters": [{"type": "nozzle", "position": [0.15, 0.17, 0.075], "direction": [0, -1, 0], "radius": 0.02,
+                "speed": 0.5, "start": 0, "stop": 1}],
+  "output": {"fps": )"
+    << fps << (extraOutput.empty() ? "" : ", " + extraOutput) << R"(}
+}
+)";
+  return s.str();
+}
+
+std::string makeTempDir() {
+  char pattern[] = "/tmp/sphsplat-cache-test-XXXXXX";
+  if (!mkdtemp(pattern)) throw std::runtime_error("mkdtemp failed");
+  return pattern;
+}
+
+CommandResult runShell(const std::string& command) {
+  CommandResult result;
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) throw std::runtime_error("popen failed: " + command);
+  std::array<char, 4096> buffer;
+  std::size_t n;
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
+    result.output.append(buffer.data(), n);
+  const int status = pclose(pipe);
+  result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return result;
+}
+
+std::string sphsplatBinary() {
+  return std::string("'") + SPHSPLAT_BINARY + "'";
+}
+
+::testing::AssertionResult sameBits(const Particles& expected, const Particles& actual) {
+  const char* names[Particles::kFieldCount] = {"x",  "y",  "z",   "vx", "vy",           "vz", "ax",
+                                               "ay", "az", "rho", "p",  "collide_time", "id"};
+  std::vector<std::pair<const void*, std::size_t>> a, b;
+  expected.forEachField([&](const auto& f) { a.emplace_back(f.data(), f.size() * sizeof(f[0])); });
+  actual.forEachField([&](const auto& f) { b.emplace_back(f.data(), f.size() * sizeof(f[0])); });
+  if (expected.x.size() != actual.x.size()) {
+    return ::testing::AssertionFailure()
+           << "particle counts differ: " << expected.x.size() << " vs " << actual.x.size();
+  }
+  int compared = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    if (a[k].second == 0 || b[k].second == 0) continue;  // not held by one side
+    if (a[k].second != b[k].second)
+      return ::testing::AssertionFailure() << names[k] << ": sizes differ";
+    if (std::memcmp(a[k].first, b[k].first, a[k].second) != 0) {
+      return ::testing::AssertionFailure() << names[k] << ": values differ";
+    }
+    ++compared;
+  }
+  if (compared == 0 && !expected.x.empty())
+    return ::testing::AssertionFailure() << "no field in common";
+  return ::testing::AssertionSuccess();
+}
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+bool fileExists(const std::string& path) {
+  struct stat st {};
+  return stat(path.c_str(), &st) == 0;
+}
+
+}  // namespace sph::test

@@ -1,0 +1,35 @@
+// Helpers of the HDF5 cache suites (tests/test_cache_*.cpp): a scene small enough that a cached
+// run takes a fraction of a second, temporary directories, shell commands with an environment,
+// and bit-for-bit comparison of particle arrays.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "sim/Particles.h"
+#include "tests/TestSupport.h"
+
+namespace sph::test {
+
+// 96 particles in a box tank plus a nozzle adding a few more (so counts change between frames):
+// about 0.3 ms a step. `extraOutput` is spliced into the output section (e.g. "\"restart\":
+// false").
+std::string tinyCacheScene(double endTime = 0.1, double fps = 100,
+                           const std::string& extraOutput = "");
+
+// A fresh empty directory under /tmp.
+std::string makeTempDir();
+
+// Runs `command` with /bin/sh, stdout and stderr together.
+CommandResult runShell(const std::string& command);
+// The sphsplat binary, quoted for the shell.
+std::string sphsplatBinary();
+
+// Every array present (non-empty or sized) in both, compared byte for byte.
+::testing::AssertionResult sameBits(const Particles& expected, const Particles& actual);
+
+std::string readFile(const std::string& path);
+bool fileExists(const std::string& path);
+
+}  // namespace sph::test

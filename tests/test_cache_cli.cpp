@@ -1,0 +1,283 @@
+// The cache commands as a user meets them: `run --output` with its summary, `info`, `export`,
+// refusing to overwrite, every kind of bad cache refused with one line and exit code 2, a blow-up
+// keeping its finished frames and naming the last good one, Ctrl-C stopping with a resumable cache.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include "io/CacheReader.h"
+#include "tests/CacheTestSupport.h"
+
+namespace sph {
+namespace {
+
+using test::readFile;
+using test::runShell;
+
+std::string sphsplat(const std::string& args) {
+  return "OMP_WAIT_POLICY=PASSIVE " + test::sphsplatBinary() + " " + args;
+}
+
+std::size_t lineCount(const std::string& s) {
+  std::size_t n = 0;
+  for (char c : s) n += c == '\n';
+  return n + (!s.empty() && s.back() != '\n');
+}
+
+class CacheCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = test::makeTempDir();
+    scene_ = dir_ + "/tiny.json";
+    std::ofstream(scene_) << test::tinyCacheScene(0.1, 100);
+    cache_ = dir_ + "/tiny.h5";
+    runOutput_ = runShell(sphsplat("run '" + scene_ + "' --threads 1 -o '" + cache_ + "'"));
+  }
+  static std::string dir_, scene_, cache_;
+  static test::CommandResult runOutput_;
+};
+std::string CacheCli::dir_, CacheCli::scene_, CacheCli::cache_;
+test::CommandResult CacheCli::runOutput_;
+
+TEST_F(CacheCli, RunWritesTheCacheAndSaysWhere) {
+  ASSERT_EQ(runOutput_.exitCode, 0) << runOutput_.output;
+  EXPECT_NE(runOutput_.output.find("cache: " + cache_ + " (+ " + dir_ +
+                                   "/tiny.xdmf for ParaView): 11 frames"),
+            std::string::npos)
+      << runOutput_.output;
+  EXPECT_NE(runOutput_.output.find("; frame datasets "), std::string::npos);
+  EXPECT_NE(runOutput_.output.find(" bytes per particle per frame; writing took "),
+            std::string::npos);
+  EXPECT_TRUE(test::fileExists(dir_ + "/tiny.xdmf"));
+  EXPECT_FALSE(test::fileExists(cache_ + ".partial"));
+  const auto help = runShell(sphsplat("run --help"));
+  for (const char* flag : {"--output", "--overwrite", "--no-compress", "--resume"}) {
+    EXPECT_NE(help.output.find(flag), std::string::npos) << flag;
+  }
+}
+
+TEST_F(CacheCli, InfoDescribesTheCache) {
+  const auto r = runShell(sphsplat("info '" + cache_ + "' --frames"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  for (const std::string& expected : std::vector<std::string>{
+           cache_ + ": sphsplat cache (format 1", "scene      tiny (" + scene_ + ")",
+           "status     finished at t = 0.1 s",
+           "frames     11 (Step#0 - Step#10), t = 0 - 0.1 s at 100 frames/s",
+           "particles  96 - 98 fluid per frame (98 in the last), ",
+           "fields     x y z vx vy vz rho p id (float32, id uint32), deflate 4 + shuffle",
+           "resume     11 frames have a resume record", "solver     ", "spacing 0.025",
+           "rendered   none", "ParaView   paraview " + dir_ + "/tiny.xdmf",
+           "bytes per particle per frame"}) {
+    EXPECT_NE(r.output.find(expected), std::string::npos) << "missing: " << expected << "\n"
+                                                          << r.output;
+  }
+}
+
+TEST_F(CacheCli, ExportWritesExactCsvAndPly) {
+  const io::CacheReader reader(cache_);
+  const Particles frame = reader.readFrame(7);
+  const std::string csv = dir_ + "/f7.csv", ply = dir_ + "/f7.ply";
+  auto r = runShell(sphsplat("export '" + cache_ + "' --frame 7 --format csv -o '" + csv + "'"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  std::istringstream in(readFile(csv));
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "x,y,z,vx,vy,vz,rho,p,id");
+  std::size_t rows = 0;
+  while (std::getline(in, line)) {
+    float values[8];
+    unsigned id = 0;
+    ASSERT_EQ(
+        std::sscanf(line.c_str(), "%f,%f,%f,%f,%f,%f,%f,%f,%u", &values[0], &values[1], &values[2],
+                    &values[3], &values[4], &values[5], &values[6], &values[7], &id),
+        9)
+        << line;
+    EXPECT_EQ(std::memcmp(&values[0], &frame.x[rows], 4), 0)
+        << "row " << rows;  // the same float bits
+    EXPECT_EQ(values[6], frame.rho[rows]);
+    EXPECT_EQ(id, frame.id[rows]);
+    ++rows;
+  }
+  EXPECT_EQ(rows, frame.size());
+  r = runShell(
+      sphsplat("export '" + cache_ + "' --frame last --format ply --fields rho -o '" + ply + "'"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const std::string text = readFile(ply);
+  EXPECT_EQ(text.rfind("ply\nformat ascii 1.0\n", 0), 0u);
+  EXPECT_NE(text.find("element vertex 98\nproperty float x\nproperty float y\nproperty float "
+                      "z\nproperty float rho\nend_header\n"),
+            std::string::npos)
+      << text.substr(0, 300);
+  r = runShell(sphsplat("export '" + cache_ + "' --boundary --format csv -o -"));
+  EXPECT_EQ(r.exitCode, 0);
+  EXPECT_EQ(lineCount(r.output), 1 + reader.summary().boundaryParticles);
+}
+
+TEST_F(CacheCli, RefusesToOverwriteUnlessAsked) {
+  const std::string before = readFile(cache_);
+  auto r = runShell(sphsplat("run '" + scene_ + "' --threads 1 -o '" + cache_ + "'"));
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_EQ(r.output, "sphsplat: " + cache_ +
+                          ": already exists; pass --overwrite to replace it, or --resume " +
+                          cache_ + " to continue that run\n");
+  EXPECT_EQ(readFile(cache_), before) << "the existing cache was touched";
+  // Pointing the cache at the scene file itself.
+  const std::string sceneText = readFile(scene_);
+  r = runShell(sphsplat("run '" + scene_ + "' -o '" + scene_ + "'"));
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_EQ(readFile(scene_), sceneText);
+  // --overwrite replaces it (a new creation time, same frames).
+  const std::string copy = dir_ + "/copy.h5";
+  std::ofstream(copy) << "old contents";
+  r = runShell(sphsplat("run '" + scene_ + "' --threads 1 --quiet --overwrite -o '" + copy + "'"));
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(io::CacheReader(copy).frameCount(), 11u);
+  r = runShell(sphsplat("run '" + scene_ + "' -o '" + dir_ + "/no/such/dir/c.h5'"));
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_EQ(r.output, "sphsplat: " + dir_ + "/no/such/dir/c.h5: cannot create the cache in " +
+                          dir_ + "/no/such/dir (No such file or directory)\n");
+}
+
+struct BadCache {
+  std::string what, command, message;  // message: the whole expected line after "sphsplat: "
+};
+
+TEST_F(CacheCli, EveryBadCacheGivesOneLineAndExitTwo) {
+  const std::string text = dir_ + "/notes.txt";
+  std::ofstream(text) << "not a cache\n";
+  // A cache cut in half (an interrupted copy).
+  const std::string truncated = dir_ + "/truncated.h5";
+  const std::string whole = readFile(cache_);
+  std::ofstream(truncated, std::ios::binary) << whole.substr(0, whole.size() / 2);
+  // An HDF5 file from another program.
+  const std::string foreign = dir_ + "/foreign.h5";
+  {
+    const hid_t f = H5Fcreate(foreign.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hsize_t n = 4;
+    const hid_t space = H5Screate_simple(1, &n, nullptr);
+    const hid_t d = H5Dcreate2(f, "temperature", H5T_NATIVE_FLOAT, space, H5P_DEFAULT, H5P_DEFAULT,
+                               H5P_DEFAULT);
+    H5Dclose(d), H5Sclose(space), H5Fclose(f);
+  }
+  // A cache with positions only, asked for densities.
+  const std::string positions = dir_ + "/positions.h5";
+  const std::string posScene = dir_ + "/positions.json";
+  std::ofstream(posScene) << test::tinyCacheScene(0.02, 100,
+                                                  R"("fields": ["position"], "restart": false)");
+  ASSERT_EQ(runShell(sphsplat("run '" + posScene + "' --threads 1 --quiet -o '" + positions + "'"))
+                .exitCode,
+            0);
+
+  const std::vector<BadCache> cases = {
+      {"missing", "info '" + dir_ + "/nope.h5'",
+       dir_ + "/nope.h5: cannot open the cache (No such file or directory)"},
+      {"directory", "info '" + dir_ + "'", dir_ + ": is a directory, expected an HDF5 cache file"},
+      {"not HDF5", "info '" + text + "'",
+       text + ": not an HDF5 file (no HDF5 signature); expected a sphsplat cache"},
+      {"truncated", "info '" + truncated + "'",
+       truncated + ": truncated HDF5 file: " + std::to_string(whole.size() / 2) +
+           " bytes, but its superblock says " + std::to_string(whole.size()) +
+           " (an interrupted copy or download?)"},
+      {"foreign HDF5", "export '" + foreign + "' --frame 0 --format csv -o -",
+       foreign + ": an HDF5 file but not a sphsplat cache (no root attribute 'sphsplat_format'; "
+                 "written by another program?)"},
+      {"missing dataset", "export '" + positions + "' --frame 1 --format csv --fields rho -o -",
+       positions + ": frame 1 has no dataset /Step#1/rho (it holds x y z)"},
+      {"frame out of range", "export '" + cache_ + "' --frame 11 --format ply -o -",
+       cache_ + ": frame 11 is out of range: the cache has frames 0-10"},
+      {"bad frame text", "export '" + cache_ + "' --frame two --format csv -o -",
+       "--frame: expected a frame index (0, 1, ...) or 'last', got 'two'"},
+      {"resume a foreign file", "run '" + scene_ + "' --resume '" + foreign + "'",
+       foreign + ": an HDF5 file but not a sphsplat cache (no root attribute 'sphsplat_format'; "
+                 "written by another program?)"},
+      {"resume a truncated file", "run '" + scene_ + "' --resume '" + truncated + "'",
+       truncated + ": truncated HDF5 file: " + std::to_string(whole.size() / 2) +
+           " bytes, but its superblock says " + std::to_string(whole.size()) +
+           " (an interrupted copy or download?)"},
+      {"resume without records", "run '" + posScene + "' --end 0.05 --resume '" + positions + "'",
+       positions + ": frame 2 has no resume record (/Restart#2): the run was written with "
+                   "output.restart = false"},
+  };
+  for (const BadCache& c : cases) {
+    const auto r = runShell(sphsplat(c.command));
+    EXPECT_EQ(r.exitCode, 2) << c.what << "\n" << r.output;
+    EXPECT_EQ(r.output, "sphsplat: " + c.message + "\n") << c.what;
+  }
+  EXPECT_EQ(readFile(truncated).size(), whole.size() / 2)
+      << "a failed resume must not touch the file";
+}
+
+TEST_F(CacheCli, BlowUpKeepsTheFinishedFramesAndNamesTheLastGoodOne) {
+  // A block flung sideways leaves the domain after about 0.3 s: the guard stops the run.
+  const std::string scene = dir_ + "/fling.json";
+  std::ofstream(scene)
+      << R"({"solver": {"spacing": 0.025, "end_time": 1}, "domain": {"min": [-1, -1, -1], "max": [1, 1, 1]},
+    "fluids": [{"min": [0, 0, 0], "max": [0.1, 0.1, 0.1], "velocity": [3, 0, 0]}], "output": {"fps": 100}})";
+  const std::string cache = dir_ + "/fling.h5";
+  const auto r = runShell(sphsplat("run '" + scene + "' --threads 1 --quiet -o '" + cache + "'"));
+  ASSERT_EQ(r.exitCode, 3) << r.output;
+  const io::CacheReader reader(cache);
+  const std::size_t frames = reader.frameCount();
+  ASSERT_GT(frames, 10u);
+  const std::string last = std::to_string(frames - 1);
+  EXPECT_NE(r.output.find("the cache " + cache + " keeps frames 0-" + last), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("the last good frame is " + last + " (t = "), std::string::npos)
+      << r.output;
+  EXPECT_EQ(reader.summary().status.rfind("stopped: numerical blow-up at step ", 0), 0u)
+      << reader.summary().status;
+  EXPECT_NE(reader.summary().status.find("; last good frame " + last), std::string::npos);
+  for (std::size_t k = 0; k < frames; ++k) EXPECT_EQ(reader.readFrame(k).size(), 64u);
+  const auto info = runShell(sphsplat("info '" + cache + "'"));
+  EXPECT_NE(info.output.find("status     stopped: numerical blow-up"), std::string::npos)
+      << info.output;
+}
+
+TEST_F(CacheCli, InterruptStopsBetweenStepsAndTheRunResumes) {
+  const std::string scene = dir_ + "/long.json";
+  std::ofstream(scene) << test::tinyCacheScene(1.0, 100);
+  const std::string cache = dir_ + "/interrupted.h5";
+  const std::string out = dir_ + "/interrupted.log";
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    setenv("OMP_WAIT_POLICY", "PASSIVE", 1);
+    if (!freopen(out.c_str(), "w", stderr)) _exit(126);
+    execl(SPHSPLAT_BINARY, SPHSPLAT_BINARY, "run", scene.c_str(), "--threads", "1", "--quiet", "-o",
+          cache.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  ASSERT_EQ(WEXITSTATUS(status), 130) << readFile(out);
+  const std::string log = readFile(out);
+  EXPECT_NE(log.find("sphsplat: interrupted by SIGINT at t = "), std::string::npos) << log;
+  EXPECT_NE(log.find("continue with: sphsplat run " + scene + " --threads 1 --resume " + cache),
+            std::string::npos)
+      << log;
+  const std::size_t frames = io::CacheReader(cache).frameCount();
+  EXPECT_GT(frames, 0u);
+  EXPECT_LT(frames, 101u) << "the run should have been stopped before its end";
+  EXPECT_NE(io::CacheReader(cache).summary().status.find("interrupted by SIGINT"),
+            std::string::npos);
+  const auto resumed =
+      runShell(sphsplat("run '" + scene + "' --threads 1 --quiet --resume '" + cache + "'"));
+  EXPECT_EQ(resumed.exitCode, 0) << resumed.output;
+  EXPECT_EQ(io::CacheReader(cache).frameCount(), 101u);
+}
+
+}  // namespace
+}  // namespace sph

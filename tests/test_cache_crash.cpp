@@ -1,0 +1,243 @@
+// Crash safety of the HDF5 cache (issue 3): a run killed with SIGKILL at any moment leaves a file
+// that opens, with the project's reader and with h5dump, and whose complete frames all read back
+// bit for bit as an uninterrupted run wrote them; a killed run resumed to the end equals the
+// uninterrupted run.
+//
+// Two ways of killing, both for real (no mocks): (1) a preload library (KillAtWrite.cpp) sends
+// SIGKILL just before the N-th write to the cache, for every N of a run, which visits every state
+// kill -9 can leave on disk (a process dies between system calls); (2) kill -9 from outside at
+// moments spread over a run.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "io/CacheReader.h"
+#include "io/InputError.h"
+#include "tests/CacheTestSupport.h"
+
+namespace sph {
+namespace {
+
+using test::fileExists;
+using test::readFile;
+using test::runShell;
+
+std::vector<Particles> readAllFrames(const std::string& path) {
+  io::CacheReader reader(path);
+  std::vector<Particles> frames;
+  for (std::size_t k = 0; k < reader.frameCount(); ++k) frames.push_back(reader.readFrame(k));
+  return frames;
+}
+
+// What a killed run left at `path`: a readable cache whose frames are a prefix of `reference`,
+// h5dump reads all of it, and the sidecar is well-formed and lists no frame the file lacks.
+// Returns the number of frames (0 when no cache was published yet).
+std::size_t checkKilledCache(const std::string& path, const std::vector<Particles>& reference,
+                             const std::string& label, bool* repaired = nullptr) {
+  if (!fileExists(path)) return 0;  // killed before frame 0 was in: only PATH.partial exists
+  std::size_t frames = 0;
+  try {
+    io::CacheReader reader(path);
+    frames = reader.frameCount();
+    if (repaired) *repaired = reader.summary().repaired;
+    EXPECT_GE(frames, 1u) << label << ": a published cache holds frame 0";
+    EXPECT_TRUE(reader.summary().damagedFrame.empty())
+        << label << ": " << reader.summary().damagedFrame;
+    EXPECT_LE(frames, reference.size()) << label;
+    for (std::size_t k = 0; k < frames && k < reference.size(); ++k) {
+      EXPECT_TRUE(test::sameBits(reference[k], reader.readFrame(k))) << label << ", frame " << k;
+      const auto [state, fluid] = reader.readRestart(k);
+      EXPECT_EQ(fluid.size(), reference[k].size()) << label << ", resume record " << k;
+    }
+  } catch (const io::InputError& e) {
+    ADD_FAILURE() << label << ": the project's reader refused the killed cache: " << e.what();
+  }
+  const auto dump = runShell("h5dump '" + path + "' > /dev/null");
+  EXPECT_EQ(dump.exitCode, 0) << label << ": h5dump failed:\n" << dump.output;
+  const std::string xdmfPath = path.substr(0, path.size() - 3) + ".xdmf";
+  if (fileExists(xdmfPath)) {
+    const std::string xdmf = readFile(xdmfPath);
+    const std::string end = "</Xdmf>\n";
+    EXPECT_TRUE(xdmf.size() > end.size() &&
+                xdmf.compare(xdmf.size() - end.size(), end.size(), end) == 0)
+        << label << ": the sidecar is cut short";
+    std::size_t listed = 0;
+    for (std::size_t pos = 0; (pos = xdmf.find("<Grid Name=\"Step#", pos)) != std::string::npos;
+         ++pos)
+      ++listed;
+    EXPECT_LE(listed, frames) << label << ": the sidecar lists frames the cache does not hold";
+  }
+  return frames;
+}
+
+class CacheCrash : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = test::makeTempDir();
+    scene_ = dir_ + "/tiny.json";
+    std::ofstream(scene_) << test::tinyCacheScene(0.05, 100);
+#if defined(__SANITIZE_ADDRESS__)
+    return;  // the preload library cannot come before the AddressSanitizer runtime: no reference
+#endif
+    const std::string countFile = dir_ + "/count", logFile = dir_ + "/writes.log";
+    const auto ref = runShell(preload() + " SPHSPLAT_WRITE_COUNT_FILE='" + countFile +
+                              "' SPHSPLAT_WRITE_LOG='" + logFile + "' " + run("ref.h5"));
+    ASSERT_EQ(ref.exitCode, 0) << ref.output;
+    writes_ = std::stol(readFile(countFile));
+    reference_ = readAllFrames(dir_ + "/ref.h5");
+    std::istringstream log(readFile(logFile));
+    long n = 0;
+    unsigned long long bytes = 0, offset = 0;
+    while (log >> n >> bytes >> offset) {
+      if (bytes > 0 && offset / 4096 != (offset + bytes - 1) / 4096) multiPageWrites_.push_back(n);
+    }
+    std::printf(
+        "reference run: %ld writes to the cache and its sidecar, %zu of them across pages\n",
+        writes_, multiPageWrites_.size());
+  }
+
+  static std::string preload() {
+    return std::string("LD_PRELOAD='") + SPHSPLAT_KILL_SHIM + "'";
+  }
+  // The command line of the run, writing `cache` in the test directory.
+  static std::string run(const std::string& cache, const std::string& extra = "") {
+    return "OMP_WAIT_POLICY=PASSIVE " + test::sphsplatBinary() + " run '" + scene_ +
+           "' --threads 1 --quiet -o '" + dir_ + "/" + cache + "' " + extra;
+  }
+
+  static std::string dir_, scene_;
+  static long writes_;
+  static std::vector<Particles> reference_;
+  static std::vector<long> multiPageWrites_;  // numbers of the writes that span a page boundary
+};
+
+std::string CacheCrash::dir_, CacheCrash::scene_;
+long CacheCrash::writes_ = 0;
+std::vector<Particles> CacheCrash::reference_;
+std::vector<long> CacheCrash::multiPageWrites_;
+
+TEST_F(CacheCrash, KilledBeforeEveryWriteOfARunLeavesItsFramesExact) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "a preload library cannot come before the AddressSanitizer runtime";
+#endif
+  ASSERT_EQ(reference_.size(), 6u);  // 0.05 s at 100 frames/s
+  ASSERT_GT(writes_, 30) << "the write counter saw too few writes to mean anything";
+  std::map<std::size_t, int> framesSeen;
+  for (long n = 1; n <= writes_; ++n) {
+    const std::string cache = "kill" + std::to_string(n) + ".h5";
+    const auto r =
+        runShell(preload() + " SPHSPLAT_KILL_AT_WRITE=" + std::to_string(n) + " " + run(cache));
+    ASSERT_EQ(r.exitCode, 128 + SIGKILL)
+        << "write " << n << " of " << writes_ << ": the run was not killed\n"
+        << r.output;
+    const std::size_t frames = checkKilledCache(dir_ + "/" + cache, reference_,
+                                                "killed before write " + std::to_string(n));
+    framesSeen[frames]++;
+    if (HasFailure()) break;
+  }
+  // Every stage of the run was hit: before the cache existed and with each frame count.
+  for (std::size_t k = 0; k <= reference_.size(); ++k)
+    EXPECT_GT(framesSeen[k], 0) << k << " frames never seen";
+}
+
+TEST_F(CacheCrash, AWriteTornAtAPageBoundaryLosesNoCommittedFrame) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "a preload library cannot come before the AddressSanitizer runtime";
+#endif
+  // SIGKILL in the middle of a write that spans pages leaves its first page written: for each
+  // such write of the run, the commits' root header rewrites among them, the reader restores the
+  // root header from the journal where needed and every committed frame is still there.
+  ASSERT_GE(multiPageWrites_.size(), reference_.size())
+      << "expected a root header rewrite per frame at least";
+  int repairs = 0;
+  for (const char* keep : {"first", "last"}) {  // the page boundary where the write stops
+    for (long n : multiPageWrites_) {
+      const std::string cache = std::string("tear_") + keep + std::to_string(n) + ".h5";
+      const auto r = runShell(preload() + " SPHSPLAT_TEAR_KEEP=" + keep +
+                              " SPHSPLAT_TEAR_AT_WRITE=" + std::to_string(n) + " " + run(cache));
+      ASSERT_EQ(r.exitCode, 128 + SIGKILL) << "write " << n << "\n" << r.output;
+      bool repaired = false;
+      const std::string label =
+          std::string("write ") + std::to_string(n) + " torn at its " + keep + " page boundary";
+      const std::size_t frames = checkKilledCache(dir_ + "/" + cache, reference_, label, &repaired);
+      repairs += repaired;
+      if (fileExists(dir_ + "/" + cache)) {
+        EXPECT_GE(frames, 1u) << label;
+      }
+      if (HasFailure()) return;
+    }
+  }
+  // Torn at its last boundary, each commit's root header misses its checksum: one repair a frame.
+  EXPECT_GE(repairs, static_cast<int>(reference_.size()) - 1) << "the journal was not exercised";
+}
+
+TEST_F(CacheCrash, ResumingAKilledRunGivesTheUninterruptedRun) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "a preload library cannot come before the AddressSanitizer runtime";
+#endif
+  // A few kill points across the run, each resumed to the end and compared frame by frame.
+  int resumed = 0;
+  for (long n = writes_ / 7; n < writes_; n += writes_ / 7) {
+    const std::string cache = "resume" + std::to_string(n) + ".h5";
+    runShell(preload() + " SPHSPLAT_KILL_AT_WRITE=" + std::to_string(n) + " " + run(cache));
+    const std::string path = dir_ + "/" + cache;
+    if (!fileExists(path)) continue;
+    const auto r = runShell("OMP_WAIT_POLICY=PASSIVE " + test::sphsplatBinary() + " run '" +
+                            scene_ + "' --threads 1 --quiet --resume '" + path + "'");
+    ASSERT_EQ(r.exitCode, 0) << "killed at write " << n << ", resume failed:\n" << r.output;
+    const std::vector<Particles> frames = readAllFrames(path);
+    ASSERT_EQ(frames.size(), reference_.size()) << "killed at write " << n;
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      EXPECT_TRUE(test::sameBits(reference_[k], frames[k]))
+          << "killed at write " << n << ", frame " << k;
+    }
+    ++resumed;
+  }
+  EXPECT_GE(resumed, 4);
+}
+
+TEST_F(CacheCrash, KillNineFromOutsideAtMomentsSpreadOverARun) {
+  // A longer run of the same scene (0.4 s, about 0.3 s of wall time), killed by another process.
+  const std::string scene = dir_ + "/long.json";
+  std::ofstream(scene) << test::tinyCacheScene(0.4, 100);
+  const std::string refPath = dir_ + "/long_ref.h5";
+  const auto ref = runShell("OMP_WAIT_POLICY=PASSIVE " + test::sphsplatBinary() + " run '" + scene +
+                            "' --threads 1 --quiet -o '" + refPath + "'");
+  ASSERT_EQ(ref.exitCode, 0) << ref.output;
+  const std::vector<Particles> reference = readAllFrames(refPath);
+  int midRun = 0;
+  for (int delayMs : {5, 15, 30, 45, 60, 80, 100, 130, 160, 200, 250, 300}) {
+    const std::string path = dir_ + "/outside" + std::to_string(delayMs) + ".h5";
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      setenv("OMP_WAIT_POLICY", "PASSIVE", 1);
+      execl(SPHSPLAT_BINARY, SPHSPLAT_BINARY, "run", scene.c_str(), "--threads", "1", "--quiet",
+            "-o", path.c_str(), static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(delayMs));
+    kill(pid, SIGKILL);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    const bool killed = WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
+    const std::size_t frames =
+        checkKilledCache(path, reference, "kill -9 after " + std::to_string(delayMs) + " ms");
+    if (killed && frames > 0 && frames < reference.size()) ++midRun;
+  }
+  EXPECT_GE(midRun, 3)
+      << "too few kills landed while frames were being written (machine too slow or fast?)";
+}
+
+}  // namespace
+}  // namespace sph
