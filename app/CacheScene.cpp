@@ -1,0 +1,63 @@
+#include "app/CacheScene.h"
+
+#include <sstream>
+
+#include "io/InputError.h"
+#include "io/SceneLoader.h"
+
+namespace sph::app {
+
+Scene sceneOfCache(const io::CacheSummary& summary, const std::vector<std::string>& extraEdits) {
+  std::vector<std::string> edits;
+  std::istringstream lines(summary.sceneOverrides);
+  for (std::string line; std::getline(lines, line);) {
+    if (!line.empty()) edits.push_back(line);
+  }
+  edits.insert(edits.end(), extraEdits.begin(), extraEdits.end());
+  try {
+    return io::parseScene(summary.sceneText, summary.scenePath, edits);
+  } catch (const io::InputError& e) {
+    throw io::InputError(summary.path + ": the scene recorded in the cache: " + e.what());
+  }
+}
+
+namespace {
+
+long long parseIndex(const std::string& text, std::size_t frames, const std::string& flag) {
+  if (text == "last" || text == "-1") return static_cast<long long>(frames) - 1;
+  std::size_t used = 0;
+  long long v = -1;
+  try {
+    v = std::stoll(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || v < 0) {
+    throw io::InputError(flag + ": expected a frame index (0, 1, ...), 'last' or -1, got '" + text + "'");
+  }
+  return v;
+}
+
+}  // namespace
+
+std::vector<std::size_t> parseFrameRange(const std::string& text, std::size_t frames,
+                                         const std::string& flag) {
+  if (frames == 0) throw io::InputError(flag + ": the cache has no complete frame");
+  long long first = 0, last = static_cast<long long>(frames) - 1;
+  const std::size_t colon = text.find(':');
+  if (colon == std::string::npos) {
+    first = last = parseIndex(text, frames, flag);
+  } else {
+    if (colon > 0) first = parseIndex(text.substr(0, colon), frames, flag);
+    if (colon + 1 < text.size()) last = parseIndex(text.substr(colon + 1), frames, flag);
+  }
+  if (first > last || last >= static_cast<long long>(frames)) {
+    throw io::InputError(flag + ": frames " + text + " are not in the cache (it has frames 0 to " +
+                         std::to_string(frames - 1) + ")");
+  }
+  std::vector<std::size_t> out;
+  for (long long f = first; f <= last; ++f) out.push_back(static_cast<std::size_t>(f));
+  return out;
+}
+
+}  // namespace sph::app

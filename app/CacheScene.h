@@ -1,0 +1,20 @@
+// The scene a cache was made from, rebuilt from the text and the --set edits the cache records
+// (so a cache renders the same on a machine without the scene file), plus a reader's extra edits.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "io/CacheReader.h"
+#include "sim/Scene.h"
+
+namespace sph::app {
+
+Scene sceneOfCache(const io::CacheSummary& summary, const std::vector<std::string>& extraEdits);
+
+// "7", "last", "-1" (the last), "2:9" (inclusive), "3:" and ":4" over a cache of `frames` frames.
+// Throws InputError naming the flag.
+std::vector<std::size_t> parseFrameRange(const std::string& text, std::size_t frames,
+                                         const std::string& flag);
+
+}  // namespace sph::app

@@ -1,0 +1,238 @@
+// `sphsplat render CACHE` (frames to PNGs and, if asked, into the cache) and `sphsplat compare
+// CACHE --frame N` (point splats, quad splats and the reference side by side, with times and
+// error figures). No simulation: the particles come from the cache.
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/CacheScene.h"
+#include "app/Commands.h"
+#include "app/RenderOutput.h"
+#include "io/CacheReader.h"
+#include "io/CacheWriter.h"
+#include "io/InputError.h"
+#include "io/Png.h"
+#include "render/Annotate.h"
+#include "render/FrameRenderer.h"
+#include "render/GlContext.h"
+
+namespace sph::app {
+namespace {
+
+using io::InputError;
+
+struct RenderOptions {
+  std::string cache;
+  std::string frames = "0:";
+  std::string splat;
+  std::string size;
+  std::string out = "results/render";
+  bool toCache = false;
+  bool quiet = false;
+  std::vector<std::string> overrides;
+};
+
+void applySize(const std::string& size, RenderDesc& d) {
+  if (size.empty()) return;
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(size.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
+      w < 16 || h < 16 || w > 8192 || h > 8192) {
+    throw InputError("--size: expected WIDTHxHEIGHT between 16 and 8192 pixels, e.g. 960x540, got '" + size + "'");
+  }
+  d.width = w, d.height = h;
+}
+
+std::vector<render::SplatKind> kindsOf(RenderDesc::Splat s) {
+  if (s == RenderDesc::Splat::Point) return {render::SplatKind::Point};
+  if (s == RenderDesc::Splat::Quad) return {render::SplatKind::Quad};
+  return {render::SplatKind::Point, render::SplatKind::Quad};
+}
+const char* nameOf(render::SplatKind k) { return k == render::SplatKind::Point ? "point" : "quad"; }
+
+// Everything a command needs to draw frames of a cache.
+struct CacheRendering {
+  std::string path;
+  std::unique_ptr<io::CacheReader> open;  // released while the cache is written (HDF5 allows one mode)
+  io::CacheSummary summary;
+  Scene scene;
+  RenderDesc desc;
+  CameraDesc camera;
+  bool cameraFromScene = false;
+
+  CacheRendering(const std::string& path_, const std::vector<std::string>& overrides, const std::string& splat,
+                 const std::string& size)
+      : path(path_), open(std::make_unique<io::CacheReader>(path_)), summary(open->summary()),
+        scene(sceneOfCache(summary, overrides)) {
+    desc = scene.render ? *scene.render : RenderDesc{};
+    if (!splat.empty()) {
+      desc.splat = splat == "point" ? RenderDesc::Splat::Point : splat == "quad" ? RenderDesc::Splat::Quad : RenderDesc::Splat::Both;
+    }
+    applySize(size, desc);
+    cameraFromScene = scene.camera.has_value();
+    if (cameraFromScene) camera = *scene.camera;
+  }
+  io::CacheReader& reader() {
+    if (!open) open = std::make_unique<io::CacheReader>(path);
+    return *open;
+  }
+  std::size_t frameCount() const { return summary.frames.size(); }
+  Particles positions(std::size_t frame) {
+    io::cache::FieldSet xyz;
+    for (auto f : {io::cache::Field::X, io::cache::Field::Y, io::cache::Field::Z}) xyz.set(static_cast<std::size_t>(f));
+    return reader().readFrame(frame, xyz);
+  }
+  // Stores an image in the cache: the reader lets go of the file meanwhile.
+  void store(const std::string& renderer, std::size_t frame, const render::RenderImage& image) {
+    open.reset();
+    std::unique_ptr<io::CacheWriter> writer = io::CacheWriter::append(path, frameCount());
+    writer->writeRenderedFrame(renderer, frame, image.width, image.height, image.rgb.data());
+    writer->close();
+  }
+};
+
+int render(const RenderOptions& o) {
+  CacheRendering c(o.cache, o.overrides, o.splat, o.size);
+  const std::vector<std::size_t> frames = parseFrameRange(o.frames, c.frameCount(), "--frames");
+  makeDirectory(o.out);
+  render::GlContext context = render::GlContext::headless();
+  render::FrameRenderer renderer(c.desc, c.scene.solver.spacing, c.scene.solver.restDensity);
+  if (c.desc.showBoundary) {
+    const auto b = c.reader().readBoundary();
+    renderer.setBoundary(b[0], b[1], b[2]);
+  }
+  if (!o.quiet) {
+    std::printf("%s: rendering %zu frame%s of %s at %dx%d with %s splats on %s\n", c.scene.name.c_str(), frames.size(),
+                frames.size() == 1 ? "" : "s", o.cache.c_str(), c.desc.width, c.desc.height,
+                c.desc.splat == RenderDesc::Splat::Both ? "point and quad" : nameOf(kindsOf(c.desc.splat)[0]),
+                context.info().renderer.c_str());
+  }
+  double seconds = 0;
+  std::size_t images = 0;
+  std::string first, last;
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const std::size_t f = frames[k];
+    const Particles p = c.positions(f);
+    if (!c.cameraFromScene && k == 0) c.camera = render::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
+    renderer.prepare(p);
+    for (render::SplatKind kind : kindsOf(c.desc.splat)) {
+      const render::RenderedSplats r = renderer.render(kind, c.camera);
+      seconds += r.timings.total();
+      char name[64];
+      std::snprintf(name, sizeof name, "/%s_%s_%05zu.png", c.scene.name.c_str(), nameOf(kind), f);
+      const std::string path = o.out + name;
+      io::writePng(path, r.image.width, r.image.height, r.image.rgb.data());
+      if (o.toCache) c.store(nameOf(kind), f, r.image);
+      if (first.empty()) first = path;
+      last = path;
+      ++images;
+    }
+    // A line every tenth of the frames (and for the last one).
+    if (!o.quiet && frames.size() > 1 && ((k + 1) * 10 / frames.size() != k * 10 / frames.size() || k + 1 == frames.size())) {
+      std::fprintf(stderr, "%s %3zu%%  frame %zu (%zu of %zu), %zu particles, %.0f ms per image\n", c.scene.name.c_str(),
+                   100 * (k + 1) / frames.size(), f, k + 1, frames.size(), p.size(), images ? 1e3 * seconds / images : 0.0);
+    }
+  }
+  if (!o.quiet) {
+    std::printf("done: %zu image%s in %s (%s .. %s), %.1f ms per image to build and draw\n", images,
+                images == 1 ? "" : "s", o.out.c_str(), first.c_str(), last.c_str(), images ? 1e3 * seconds / images : 0.0);
+    if (o.toCache) std::printf("  also stored in %s under /Render/<point|quad>/Frame#N\n", o.cache.c_str());
+  }
+  return kOk;
+}
+
+struct CompareOptions {
+  std::string cache;
+  std::string frame = "last";
+  std::string out = "results/compare";
+  std::string size = "640x480";
+  std::vector<std::string> overrides;
+};
+
+std::string fmt(const char* format, double a, double b = 0, double c = 0, double d = 0) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, format, a, b, c, d);
+  return buf;
+}
+
+int compare(const CompareOptions& o) {
+  CacheRendering c(o.cache, o.overrides, "both", o.size);
+  const std::size_t f = parseFrameRange(o.frame, c.frameCount(), "--frame").front();
+  makeDirectory(o.out);
+  render::GlContext context = render::GlContext::headless();
+  render::FrameRenderer renderer(c.desc, c.scene.solver.spacing, c.scene.solver.restDensity);
+  const Particles p = c.positions(f);
+  if (!c.cameraFromScene) c.camera = render::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
+  renderer.prepare(p);
+  const render::RenderedSplats point = renderer.render(render::SplatKind::Point, c.camera);
+  const render::RenderedSplats quad = renderer.render(render::SplatKind::Quad, c.camera);
+  const render::RenderImage reference = renderer.reference(c.camera);
+  const render::ImageError ep = render::compareImages(point.image, reference);
+  const render::ImageError eq = render::compareImages(quad.image, reference);
+
+  const double time = c.summary.frames[f].time;
+  std::printf("%s frame %zu (t = %.3f s): %zu particles, %zu surface (SD = %.3f x ID)\n", c.scene.name.c_str(), f, time,
+              point.particles, point.surface, point.SD / point.ID);
+  std::printf("  %-6s %9s %9s %9s %9s %9s | %8s %8s %11s\n", "splats", "field ms", "surf ms", "normal ms", "build ms",
+              "draw ms", "PSNR dB", "holes %", "normal deg");
+  auto row = [&](const char* name, const render::RenderedSplats& r, const render::ImageError& e) {
+    std::printf("  %-6s %9.1f %9.1f %9.1f %9.1f %9.1f | %8.2f %8.2f %11.1f\n", name, 1e3 * r.timings.field,
+                1e3 * r.timings.splats.surface, 1e3 * r.timings.splats.normals, 1e3 * r.timings.splats.build,
+                1e3 * r.timings.draw, e.psnr, 100 * e.holeFraction, e.normalErrorDegrees);
+  };
+  row("point", point, ep);
+  row("quad", quad, eq);
+  std::printf("  reference ray-marched in %.2f s\n", reference.seconds);
+
+  const std::string method = c.desc.newtonProjection ? "newton" : "eq. (6)";
+  std::vector<render::Panel> panels = {
+      {&point.image, {"point splats", fmt("%.1f ms build + draw", 1e3 * point.timings.total()),
+                      fmt("psnr %.2f db  holes %.2f%%", ep.psnr, 100 * ep.holeFraction), fmt("normal error %.1f deg", ep.normalErrorDegrees)}},
+      {&quad.image, {"quad splats (" + method + ")", fmt("%.1f ms build + draw", 1e3 * quad.timings.total()),
+                     fmt("psnr %.2f db  holes %.2f%%", eq.psnr, 100 * eq.holeFraction), fmt("normal error %.1f deg", eq.normalErrorDegrees)}},
+      {&reference, {"reference (ray-marched)", fmt("%.2f s", reference.seconds), fmt("sd = %.3f x id", point.SD / point.ID),
+                    fmt("frame %.0f, t = %.3f s", static_cast<double>(f), time)}},
+  };
+  const render::RenderImage sheet = render::composePanels(panels);
+  char name[96];
+  std::snprintf(name, sizeof name, "/%s_compare_%05zu.png", c.scene.name.c_str(), f);
+  const std::string path = o.out + name;
+  io::writePng(path, sheet.width, sheet.height, sheet.rgb.data());
+  std::printf("wrote %s\n", path.c_str());
+  return kOk;
+}
+
+}  // namespace
+
+std::function<int()> addRenderCommand(CLI::App& app) {
+  auto o = std::make_shared<RenderOptions>();
+  CLI::App* cmd = app.add_subcommand("render", "Render frames of a cache with point or quad splats (no simulation)");
+  cmd->add_option("cache", o->cache, "HDF5 cache written by `sphsplat run`")->required();
+  cmd->add_option("--frames", o->frames, "Frames: N, A:B (inclusive), A:, :B, last (default: all)");
+  cmd->add_option("--splat", o->splat, "point, quad or both (default: the scene's render.splat, else quad)")
+      ->check(CLI::IsMember({"point", "quad", "both"}));
+  cmd->add_option("--size", o->size, "Image size WIDTHxHEIGHT (default: the scene's render section, else 960x540)");
+  cmd->add_option("--out", o->out, "Directory for the PNGs (created)")->capture_default_str();
+  cmd->add_flag("--to-cache", o->toCache, "Also store the images in the cache under /Render");
+  cmd->add_option("--set", o->overrides, "Edit the recorded scene, e.g. --set render.projection=newton (repeatable)");
+  cmd->add_flag("--quiet,-q", o->quiet, "No progress and no summary");
+  cmd->footer("The camera is the scene's; without one, a camera framing the first frame's particles.\n"
+              "Needs OpenGL 4.5 (headless EGL; Mesa's llvmpipe works without a GPU).");
+  return [o, cmd]() { return cmd->parsed() ? render(*o) : -1; };
+}
+
+std::function<int()> addCompareCommand(CLI::App& app) {
+  auto o = std::make_shared<CompareOptions>();
+  CLI::App* cmd = app.add_subcommand("compare", "Point vs quad splats vs the ray-marched reference, side by side with times and errors");
+  cmd->add_option("cache", o->cache, "HDF5 cache written by `sphsplat run`")->required();
+  cmd->add_option("--frame", o->frame, "Frame index, or last / -1 (default: last)");
+  cmd->add_option("--out", o->out, "Directory for the PNG (created)")->capture_default_str();
+  cmd->add_option("--size", o->size, "Size of each panel, WIDTHxHEIGHT")->capture_default_str();
+  cmd->add_option("--set", o->overrides, "Edit the recorded scene, e.g. --set render.projection=newton (repeatable)");
+  cmd->footer("Errors are against a CPU ray-marcher of the same SPH iso-surface: PSNR of the colours,\n"
+              "holes (surface pixels a renderer leaves empty) and the mean normal angle error.");
+  return [o, cmd]() { return cmd->parsed() ? compare(*o) : -1; };
+}
+
+}  // namespace sph::app

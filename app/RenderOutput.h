@@ -1,0 +1,44 @@
+// Pictures while simulating (`sphsplat run` of a scene with a render section): each output frame
+// (or every n-th, render.every) is drawn with the scene's splats and camera, written as PNG and,
+// with a cache, stored in it under /Render. The GL context exists only in such runs.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "app/CacheOutput.h"
+#include "render/FrameRenderer.h"
+#include "render/GlContext.h"
+#include "sim/Scene.h"
+
+namespace sph::app {
+
+class RenderOutput {
+ public:
+  // nullptr if the scene has no render section. `cachePath` ("" for none) names the default
+  // picture directory: next to the cache, else results/<scene>_frames.
+  static std::unique_ptr<RenderOutput> prepare(const Scene& scene, const BoundaryParticles& boundary,
+                                               const std::string& cachePath);
+
+  // Draws output frame `frame` of the run (the current state of `fluid`).
+  void frame(const Particles& fluid, std::size_t frame, CacheOutput* cache);
+
+  const std::string& directory() const { return directory_; }
+  std::size_t images() const { return images_; }
+  double seconds() const { return seconds_; }
+
+ private:
+  RenderOutput(const Scene& scene, std::string directory);
+  render::GlContext context_;  // first: outlives the GL objects below
+  render::FrameRenderer renderer_;
+  RenderDesc desc_;
+  CameraDesc camera_;
+  std::string name_, directory_;
+  std::size_t images_ = 0;
+  double seconds_ = 0;
+};
+
+// Creates `dir` and its parents; throws InputError naming it if that fails.
+void makeDirectory(const std::string& dir);
+
+}  // namespace sph::app

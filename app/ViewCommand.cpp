@@ -1,0 +1,205 @@
+// `sphsplat view CACHE`: a window that plays a cache with the splat renderer. Space plays and
+// pauses, Left/Right step, PageUp/PageDown jump 10 frames, Home/End go to the ends, a click on the
+// timeline bar seeks, M switches point/quad splats, dragging orbits, the wheel zooms, S saves a
+// screenshot, Esc or Q quits. The frame, time and mode are in the title bar.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/CacheScene.h"
+#include "app/Commands.h"
+#include "io/CacheReader.h"
+#include "io/InputError.h"
+#include "io/Png.h"
+#include "render/FrameRenderer.h"
+#include "render/GlContext.h"
+
+namespace sph::app {
+namespace {
+
+using io::InputError;
+
+struct ViewOptions {
+  std::string cache;
+  std::string splat = "quad";
+  std::string frame = "0";
+  double speed = 1.0;
+  std::string screenshot;
+  int exitAfter = 0;
+  int width = 1280, height = 720;
+  std::vector<std::string> overrides;
+};
+
+// What the user controls; everything else follows from it.
+struct ViewerState {
+  std::size_t frame = 0, frames = 1;
+  bool playing = false;
+  render::SplatKind kind = render::SplatKind::Quad;
+  // Orbit around `target`: distance (m), yaw and pitch (rad).
+  Vec3 target = Vec3::Zero();
+  float distance = 1, yaw = 0, pitch = 0;
+  bool dragging = false;
+  double lastX = 0, lastY = 0;
+  bool quit = false, screenshot = false;
+  bool frameChanged = true;
+
+  void seek(long long f) {
+    const long long last = static_cast<long long>(frames) - 1;
+    const std::size_t next = static_cast<std::size_t>(std::max(0LL, std::min(f, last)));
+    frameChanged |= next != frame;
+    frame = next;
+  }
+  CameraDesc camera(const CameraDesc& lens) const {
+    CameraDesc c = lens;
+    c.target = target;
+    c.position = target + distance * Vec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
+    c.up = Vec3::UnitY();
+    c.near = std::max(1e-4f, 0.01f * distance);
+    c.far = 100.0f * distance;
+    return c;
+  }
+};
+
+void saveScreenshot(const std::string& path, int width, int height) {
+  std::vector<std::uint8_t> rgb(static_cast<std::size_t>(width) * height * 3), flipped(rgb.size());
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadBuffer(GL_BACK);
+  glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
+  for (int row = 0; row < height; ++row) {
+    std::copy_n(&rgb[static_cast<std::size_t>(height - 1 - row) * width * 3], width * 3, &flipped[static_cast<std::size_t>(row) * width * 3]);
+  }
+  io::writePng(path, width, height, flipped.data());
+  std::printf("wrote %s\n", path.c_str());
+}
+
+int view(const ViewOptions& o) {
+  io::CacheReader reader(o.cache);
+  const Scene scene = sceneOfCache(reader.summary(), o.overrides);
+  if (reader.frameCount() == 0) throw InputError(o.cache + ": the cache has no complete frame to show");
+  RenderDesc desc = scene.render ? *scene.render : RenderDesc{};
+  render::GlWindowOptions wo;
+  wo.width = o.width, wo.height = o.height;
+  wo.title = "sphsplat view - " + scene.name;
+  render::GlContext window = render::GlContext::window(wo);
+  render::FrameRenderer renderer(desc, scene.solver.spacing, scene.solver.restDensity);
+  if (desc.showBoundary) {
+    const auto b = reader.readBoundary();
+    renderer.setBoundary(b[0], b[1], b[2]);
+  }
+
+  io::cache::FieldSet xyz;
+  for (auto f : {io::cache::Field::X, io::cache::Field::Y, io::cache::Field::Z}) xyz.set(static_cast<std::size_t>(f));
+  ViewerState s;
+  s.frames = reader.frameCount();
+  s.frame = parseFrameRange(o.frame, s.frames, "--frame").front();
+  s.kind = o.splat == "point" ? render::SplatKind::Point : render::SplatKind::Quad;
+  const Particles first = reader.readFrame(s.frame, xyz);
+  const CameraDesc lens = scene.camera ? *scene.camera : render::framingCamera(first, static_cast<float>(o.width) / o.height);
+  s.target = lens.target;
+  const Vec3 offset = lens.position - lens.target;
+  s.distance = offset.norm();
+  s.yaw = std::atan2(offset.x(), offset.z());
+  s.pitch = std::asin(std::clamp(offset.y() / s.distance, -1.0f, 1.0f));
+
+  const int timeline = 6;  // pixels: the seek bar at the bottom
+  window.setInputHandler([&](const render::InputEvent& e) {
+    using T = render::InputEvent::Type;
+    const auto size = window.framebufferSize();
+    if (e.type == T::Key && e.press) {
+      switch (e.key) {
+        case render::keys::kSpace: s.playing = !s.playing; break;
+        case render::keys::kRight: s.playing = false, s.seek(static_cast<long long>(s.frame) + 1); break;
+        case render::keys::kLeft: s.playing = false, s.seek(static_cast<long long>(s.frame) - 1); break;
+        case render::keys::kPageUp: s.seek(static_cast<long long>(s.frame) + 10); break;
+        case render::keys::kPageDown: s.seek(static_cast<long long>(s.frame) - 10); break;
+        case render::keys::kHome: s.seek(0); break;
+        case render::keys::kEnd: s.seek(static_cast<long long>(s.frames) - 1); break;
+        case 'M': s.kind = s.kind == render::SplatKind::Quad ? render::SplatKind::Point : render::SplatKind::Quad; break;
+        case 'S': s.screenshot = true; break;
+        case 'Q': case render::keys::kEscape: s.quit = true; break;
+        default: break;
+      }
+    } else if (e.type == T::MouseButton && e.key == 0) {
+      if (e.press && size[1] > 0 && e.y >= size[1] - 3 * timeline) {  // click on the timeline: seek
+        s.seek(std::lround(e.x / std::max(size[0], 1) * (static_cast<double>(s.frames) - 1)));
+      } else {
+        s.dragging = e.press, s.lastX = e.x, s.lastY = e.y;
+      }
+    } else if (e.type == T::CursorMove && s.dragging) {
+      s.yaw -= static_cast<float>(e.x - s.lastX) * 0.01f;
+      s.pitch = std::clamp(s.pitch + static_cast<float>(e.y - s.lastY) * 0.01f, -1.5f, 1.5f);
+      s.lastX = e.x, s.lastY = e.y;
+    } else if (e.type == T::Scroll) {
+      s.distance *= std::pow(0.9f, static_cast<float>(e.y));
+    }
+  });
+  std::printf("%s: %zu frames. Space play/pause, Left/Right step, PgUp/PgDn 10 frames, Home/End, click the\n"
+              "  bottom bar to seek, M point/quad, drag to orbit, wheel to zoom, S screenshot, Esc quit.\n",
+              scene.name.c_str(), s.frames);
+
+  const double frameSeconds = 1.0 / (reader.summary().fps > 0 ? reader.summary().fps : 30.0) / o.speed;
+  auto lastAdvance = std::chrono::steady_clock::now();
+  int drawn = 0;
+  while (!window.shouldClose() && !s.quit) {
+    window.pollEvents();
+    const auto now = std::chrono::steady_clock::now();
+    if (s.playing && std::chrono::duration<double>(now - lastAdvance).count() >= frameSeconds) {
+      s.seek(s.frame + 1 < s.frames ? static_cast<long long>(s.frame) + 1 : 0);
+      lastAdvance = now;
+    }
+    if (s.frameChanged) {
+      renderer.prepare(reader.readFrame(s.frame, xyz));
+      s.frameChanged = false;
+    }
+    const auto size = window.framebufferSize();
+    const render::FrameTimings t = renderer.drawToScreen(s.kind, s.camera(lens), size[0], size[1]);
+    // The timeline: a grey bar with the played part in blue (scissored clears, no shader).
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(0, 0, size[0], timeline);
+    glClearColor(0.75f, 0.77f, 0.8f, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glScissor(0, 0, static_cast<int>(size[0] * (s.frame + 1.0) / s.frames), timeline);
+    glClearColor(0.16f, 0.42f, 0.78f, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glDisable(GL_SCISSOR_TEST);
+    char title[256];
+    std::snprintf(title, sizeof title, "sphsplat view - %s - frame %zu/%zu, t = %.3f s - %s splats - %.0f ms%s",
+                  scene.name.c_str(), s.frame, s.frames - 1, reader.summary().frames[s.frame].time,
+                  s.kind == render::SplatKind::Quad ? "quad" : "point", 1e3 * t.total(), s.playing ? "" : " - paused");
+    window.setTitle(title);
+    ++drawn;
+    const bool last = o.exitAfter > 0 && drawn >= o.exitAfter;
+    if (s.screenshot || (last && !o.screenshot.empty())) {
+      char name[64];
+      std::snprintf(name, sizeof name, "sphsplat_view_%05zu.png", s.frame);
+      saveScreenshot(o.screenshot.empty() ? name : o.screenshot, size[0], size[1]);
+      s.screenshot = false;
+    }
+    window.swapBuffers();
+    if (last) break;
+  }
+  return kOk;
+}
+
+}  // namespace
+
+std::function<int()> addViewCommand(CLI::App& app) {
+  auto o = std::make_shared<ViewOptions>();
+  CLI::App* cmd = app.add_subcommand("view", "Play a cache in a window (needs a display): play/pause, step, scrub, orbit, zoom, point/quad");
+  cmd->add_option("cache", o->cache, "HDF5 cache written by `sphsplat run`")->required();
+  cmd->add_option("--splat", o->splat, "Splats to start with: quad or point")->check(CLI::IsMember({"point", "quad"}))->capture_default_str();
+  cmd->add_option("--frame", o->frame, "Frame to start at (index or last)")->capture_default_str();
+  cmd->add_option("--speed", o->speed, "Playback speed (1 = the cache's frame rate)")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--width", o->width, "Window width")->check(CLI::Range(64, 8192))->capture_default_str();
+  cmd->add_option("--height", o->height, "Window height")->check(CLI::Range(64, 8192))->capture_default_str();
+  cmd->add_option("--screenshot", o->screenshot, "File for the S key's screenshot (default: sphsplat_view_NNNNN.png)");
+  cmd->add_option("--exit-after", o->exitAfter, "Quit after drawing N frames (scripts and tests; with --screenshot, saves the last)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--set", o->overrides, "Edit the recorded scene, e.g. --set render.projection=newton (repeatable)");
+  return [o, cmd]() { return cmd->parsed() ? view(*o) : -1; };
+}
+
+}  // namespace sph::app

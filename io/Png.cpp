@@ -1,0 +1,90 @@
+#include "io/Png.h"
+
+#include <png.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+
+#include "io/InputError.h"
+
+namespace sph::io {
+namespace {
+
+struct FileCloser {
+  void operator()(FILE* f) const {
+    if (f) std::fclose(f);
+  }
+};
+using File = std::unique_ptr<FILE, FileCloser>;
+
+}  // namespace
+
+void writePng(const std::string& path, int width, int height, const std::uint8_t* rgb) {
+  const std::string temporary = path + ".part";
+  {
+    File file(std::fopen(temporary.c_str(), "wb"));
+    if (!file) throw InputError(path + ": cannot write the image (" + std::strerror(errno) + ")");
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+    png_infop info = png ? png_create_info_struct(png) : nullptr;
+    if (!png || !info) {
+      png_destroy_write_struct(&png, &info);
+      throw InputError(path + ": cannot write the image (libpng could not start)");
+    }
+    if (setjmp(png_jmpbuf(png))) {
+      png_destroy_write_struct(&png, &info);
+      std::remove(temporary.c_str());
+      throw InputError(path + ": cannot write the image (libpng error, disk full?)");
+    }
+    png_init_io(png, file.get());
+    png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8,
+                 PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    for (int row = 0; row < height; ++row) {
+      png_write_row(png, const_cast<png_bytep>(rgb + static_cast<std::size_t>(row) * width * 3));
+    }
+    png_write_end(png, nullptr);
+    png_destroy_write_struct(&png, &info);
+    if (std::fflush(file.get()) != 0) {
+      std::remove(temporary.c_str());
+      throw InputError(path + ": cannot write the image (" + std::strerror(errno) + ")");
+    }
+  }
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+    std::remove(temporary.c_str());
+    throw InputError(path + ": cannot write the image (" + std::strerror(errno) + ")");
+  }
+}
+
+std::vector<std::uint8_t> readPng(const std::string& path, int& width, int& height) {
+  File file(std::fopen(path.c_str(), "rb"));
+  if (!file) throw InputError(path + ": cannot open the image (" + std::strerror(errno) + ")");
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!png || !info) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw InputError(path + ": cannot read the image (libpng could not start)");
+  }
+  std::vector<std::uint8_t> rgb;
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw InputError(path + ": not a readable PNG file");
+  }
+  png_init_io(png, file.get());
+  png_read_info(png, info);
+  width = static_cast<int>(png_get_image_width(png, info));
+  height = static_cast<int>(png_get_image_height(png, info));
+  png_set_strip_16(png);
+  png_set_strip_alpha(png);
+  png_set_palette_to_rgb(png);
+  png_set_gray_to_rgb(png);
+  png_read_update_info(png, info);
+  rgb.resize(static_cast<std::size_t>(width) * height * 3);
+  for (int row = 0; row < height; ++row) png_read_row(png, rgb.data() + static_cast<std::size_t>(row) * width * 3, nullptr);
+  png_destroy_read_struct(&png, &info, nullptr);
+  return rgb;
+}
+
+}  // namespace sph::io

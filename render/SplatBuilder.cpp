@@ -1,0 +1,154 @@
+#include "render/SplatBuilder.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "sim/Parallel.h"
+
+namespace sph::render {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+// The six planes of the frustum of a projection*view matrix (Gribb & Hartmann): a point p is
+// inside when a.p + d >= 0 for all of them, with (a, d) normalised so that value is a distance.
+struct Frustum {
+  std::array<Eigen::Vector4f, 6> planes;
+  explicit Frustum(const cdt::Mat4& m) {
+    auto row = [&](int r) { return Eigen::Vector4f(m(r, 0), m(r, 1), m(r, 2), m(r, 3)); };
+    const Eigen::Vector4f r0 = row(0), r1 = row(1), r2 = row(2), r3 = row(3);
+    planes = {r3 + r0, r3 - r0, r3 + r1, r3 - r1, r3 + r2, r3 - r2};
+    for (auto& p : planes) p /= p.head<3>().norm();
+  }
+  bool sphereVisible(const Vec3& c, float radius) const {
+    for (const auto& p : planes) {
+      if (p.head<3>().dot(c) + p.w() < -radius) return false;
+    }
+    return true;
+  }
+};
+
+// Two unit vectors spanning the plane perpendicular to unit n.
+void tangents(const Vec3& n, Vec3& t1, Vec3& t2) {
+  const Vec3 helper = std::abs(n.x()) < 0.9f ? Vec3::UnitX() : Vec3::UnitY();
+  t1 = n.cross(helper).normalized();
+  t2 = n.cross(t1);
+}
+
+void store(SplatVertex& v, const Vec3& p, const Vec3& outward) {
+  for (int a = 0; a < 3; ++a) v.position[a] = p[a], v.normal[a] = outward[a];
+}
+
+}  // namespace
+
+float surfaceThresholdAuto(const DensityField& field) {
+  const float SD = 0.5f * (1.0f + field.flatSurfaceFraction()) * field.restDensity();
+  return field.meanDensity() > 0 ? SD / field.meanDensity() : 1.0f;
+}
+
+SplatFrame buildSplats(const DensityField& field, const SplatParams& params, SplatKind kind,
+                       const cdt::Mat4& projView, const Vec3& eye) {
+  SplatFrame frame;
+  frame.particles = field.size();
+  frame.ID = field.meanDensity();
+  const float threshold =
+      params.surfaceThreshold > 0 ? params.surfaceThreshold : surfaceThresholdAuto(field);
+  frame.SD = threshold * frame.ID;
+  frame.halfSize = params.splatSize * field.spacing();
+  const float R = field.kernelRadius();
+
+  // 1. Surface particles inside the frustum (sorted slots, in order: deterministic).
+  auto t0 = Clock::now();
+  const Frustum frustum(projView);
+  const auto& x = field.sortedX();
+  const auto& y = field.sortedY();
+  const auto& z = field.sortedZ();
+  const auto& rho = field.sortedDensity();
+  std::vector<std::uint32_t> surface;
+  for (std::size_t s = 0; s < field.size(); ++s) {
+    if (rho[s] >= frame.SD) continue;
+    if (!frustum.sphereVisible(Vec3(x[s], y[s], z[s]), frame.halfSize + R)) {
+      ++frame.culled;
+      continue;
+    }
+    surface.push_back(static_cast<std::uint32_t>(s));
+  }
+  frame.surface = surface.size();
+  frame.timings.surface = since(t0);
+
+  // 2. Normals at the particles (inward; the viewer's direction where the field is flat).
+  t0 = Clock::now();
+  std::vector<Vec3> normal(surface.size());
+  parallelFor(surface.size(), [&](std::size_t k) {
+    const Vec3 p(x[surface[k]], y[surface[k]], z[surface[k]]);
+    const Vec3 g = field.gradient(p);
+    const float len = g.norm();
+    normal[k] = len > 1e-12f ? Vec3(g / len) : Vec3((p - eye).normalized());
+  });
+  frame.timings.normals = since(t0);
+
+  // 3. Geometry.
+  t0 = Clock::now();
+  if (kind == SplatKind::Point) {
+    frame.points.resize(surface.size());
+    parallelFor(surface.size(), [&](std::size_t k) {
+      store(frame.points[k], Vec3(x[surface[k]], y[surface[k]], z[surface[k]]), -normal[k]);
+    });
+  } else {
+    frame.quads.resize(5 * surface.size());
+    frame.indices.resize(12 * surface.size());
+    const float ID = frame.ID, SD = frame.SD;
+    parallelFor(surface.size(), [&](std::size_t k) {
+      const std::uint32_t s = surface[k];
+      const Vec3 p(x[s], y[s], z[s]);
+      const Vec3 n = normal[k];
+      Vec3 t1, t2;
+      tangents(n, t1, t2);
+      const float particlePD = rho[s];
+      for (int v = 0; v < 5; ++v) {
+        Vec3 q = p;
+        if (v > 0) {
+          const float angle = static_cast<float>(kPi) * (0.25f + 0.5f * (v - 1));
+          q += frame.halfSize * (std::cos(angle) * t1 + std::sin(angle) * t2);
+        }
+        float PD;
+        Vec3 g, gD;
+        field.densityAndGradients(q, PD, g, gD);
+        const Vec3 nv = g.norm() > 1e-12f ? Vec3(g.normalized()) : n;
+        if (!params.perVertexDensity) PD = particlePD;
+        float distance = 0;  // along nv, m
+        if (!params.pyramid) {
+          distance = 0;
+        } else if (params.projection == SplatParams::Projection::Newton) {
+          const float slope = gD.dot(nv);  // dD/ds along the normal (> 0 into the fluid)
+          const float reach = frame.halfSize;  // further, thin jets turn into star-shaped shards
+          distance = slope > 1e-6f * ID / R ? std::clamp((SD - PD) / slope, -reach, reach) : 0.0f;
+        } else {
+          // eq. (6). The paper's denominator ID - PD assumes the vertex is less dense than the
+          // mean; where it is denser (compressed fluid) the sign flips and the vertex would move
+          // the wrong way, so we take its size: the move always points at the SD surface.
+          const float denominator = std::max(std::abs(ID - PD), 0.05f * ID);
+          distance = R * std::clamp((SD - PD) / denominator, -1.0f, 1.0f);
+        }
+        // Shaded with the normal from where the vertex started (the paper's order): evaluated
+        // again where it lands, on the SD surface, the normal came out noisier (the field is
+        // flat near SD ~ ID), 42 deg against 17 deg mean error on the dam break.
+        store(frame.quads[5 * k + v], q + distance * nv, -nv);
+      }
+      const std::uint32_t base = static_cast<std::uint32_t>(5 * k);
+      for (std::uint32_t tri = 0; tri < 4; ++tri) {
+        frame.indices[12 * k + 3 * tri + 0] = base;
+        frame.indices[12 * k + 3 * tri + 1] = base + 1 + tri;
+        frame.indices[12 * k + 3 * tri + 2] = base + 1 + (tri + 1) % 4;
+      }
+    });
+  }
+  frame.timings.build = since(t0);
+  return frame;
+}
+
+}  // namespace sph::render

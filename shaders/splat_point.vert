@@ -1,0 +1,25 @@
+#version 450 core
+// Point splats (the baseline of seed 003's comparison): one camera-facing square per surface
+// particle, drawn as an instanced 4-vertex strip; the particle's one normal lights the whole
+// square (flat shading).
+#include "splat_shading.glsl"
+
+layout(location = 0) in vec3 a_centre;  // per instance (render/SplatBuilder.h, SplatVertex)
+layout(location = 1) in vec3 a_normal;  // outward unit
+
+uniform mat4 u_projView;
+uniform vec3 u_eye;
+uniform vec3 u_cameraRight;
+uniform vec3 u_cameraUp;
+uniform float u_halfSide;  // m, half the side of the square
+
+out vec3 v_colour;
+out vec3 v_normal;
+
+void main() {
+  vec2 corner = vec2((gl_VertexID & 1) != 0 ? 1.0 : -1.0, (gl_VertexID & 2) != 0 ? 1.0 : -1.0);
+  vec3 p = a_centre + u_halfSide * (corner.x * u_cameraRight + corner.y * u_cameraUp);
+  v_colour = shadeSurface(a_normal, normalize(u_eye - a_centre));
+  v_normal = a_normal;
+  gl_Position = u_projView * vec4(p, 1.0);
+}

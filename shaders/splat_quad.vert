@@ -1,0 +1,20 @@
+#version 450 core
+// Quadrangular-pyramid splats (seed 003, sections 4-5): the vertices were placed on the CPU by
+// eq. (6) (render/SplatBuilder.cpp), each with its own SPH normal; lighting is evaluated here, per
+// vertex, and interpolated across the 4 triangles (Gouraud shading).
+#include "splat_shading.glsl"
+
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;  // outward unit
+
+uniform mat4 u_projView;
+uniform vec3 u_eye;
+
+out vec3 v_colour;
+out vec3 v_normal;
+
+void main() {
+  v_colour = shadeSurface(a_normal, normalize(u_eye - a_position));
+  v_normal = a_normal;
+  gl_Position = u_projView * vec4(a_position, 1.0);
+}

@@ -1,0 +1,25 @@
+// The scene's `render` section (docs/scene-format.md): how frames are drawn by the splat renderer
+// (render/SplatBuilder.h, render/Lighting.h). Plain data; render/ turns it into its parameters.
+#pragma once
+
+#include <string>
+
+namespace sph {
+
+struct RenderDesc {
+  enum class Splat { Point, Quad, Both } splat = Splat::Quad;
+  int width = 960, height = 540;   // pixels
+  int every = 1;                   // render every n-th output frame
+  float kernelRadius = 2.5f;       // spacings, R of the renderer's density field
+  float surfaceThreshold = 0;      // SD / ID; 0 = automatic
+  float splatSize = 1.5f;          // spacings, centre to corner
+  bool perVertexDensity = true;    // eq. (6) PD per vertex (false: per particle, the paper)
+  bool newtonProjection = false;   // move vertices by a Newton step instead of eq. (6)
+  bool environment = true;         // sky reflection
+  float alpha = 1.0f;              // splat opacity
+  bool showBoundary = true;        // draw the walls, translucent (not in `compare`)
+  std::string directory;           // PNGs of rendered frames ("" = next to the cache, or none)
+  bool toCache = true;             // also store the frames in the HDF5 cache
+};
+
+}  // namespace sph

@@ -1,0 +1,117 @@
+// The renderer's commands as a user meets them: `compare` writes its picture and numbers,
+// `render` writes PNGs (and into the cache), `view` opens a window under Xvfb whose screenshot
+// is not blank and changes with the splat mode, and bad input gets one line and exit code 2.
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+
+#include <cstdlib>
+#include <regex>
+
+#include "io/Png.h"
+#include "tests/TestSupport.h"
+
+namespace sph {
+namespace {
+
+using test::runSphsplat;
+
+bool exists(const std::string& path) {
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0;
+}
+
+// A small cache of the shipped dam break (it has a camera), made once for the suite.
+class RenderCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = test::writeTempFile("", "") + "-dir";
+    ::mkdir(dir_.c_str(), 0755);
+    const auto r = runSphsplat("run " + test::sourcePath("scenes/dam_break.json") +
+                               " --set solver.spacing=0.012 --end 0.1 -q --output " + dir_ + "/dam.h5");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+  }
+  static std::string cache() { return dir_ + "/dam.h5"; }
+  static std::string dir_;
+};
+std::string RenderCli::dir_;
+
+TEST_F(RenderCli, CompareWritesThePanelsAndTheNumbers) {
+  const auto r = runSphsplat("compare " + cache() + " --frame last --size 320x240 --out " + dir_ +
+                             " --set render.projection=newton");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  std::smatch m;
+  const std::regex point("point +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ \\| +([0-9.]+) +([0-9.]+) +([0-9.]+)");
+  const std::regex quad("quad +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ \\| +([0-9.]+) +([0-9.]+) +([0-9.]+)");
+  ASSERT_TRUE(std::regex_search(r.output, m, point)) << r.output;
+  const double pointPsnr = std::stod(m[1]), pointNormal = std::stod(m[3]);
+  ASSERT_TRUE(std::regex_search(r.output, m, quad)) << r.output;
+  const double quadPsnr = std::stod(m[1]), quadNormal = std::stod(m[3]);
+  // The point of the paper: per-vertex normals on the iso-surface beat one normal per square.
+  EXPECT_GT(quadPsnr, pointPsnr);
+  EXPECT_LT(quadNormal, pointNormal);
+  int w = 0, h = 0;
+  const auto rgb = io::readPng(dir_ + "/dam_break_compare_00006.png", w, h);
+  EXPECT_GT(w, 3 * 320);  // three panels side by side
+  EXPECT_GT(h, 240);      // with captions below
+}
+
+TEST_F(RenderCli, RenderWritesPngsAndStoresThemInTheCache) {
+  const auto r = runSphsplat("render " + cache() + " --frames 1:2 --splat both --size 160x120 --to-cache --out " + dir_ + "/frames");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  for (const char* kind : {"point", "quad"}) {
+    for (int f : {1, 2}) {
+      char name[96];
+      std::snprintf(name, sizeof name, "/frames/dam_break_%s_%05d.png", kind, f);
+      EXPECT_TRUE(exists(dir_ + name)) << name;
+    }
+  }
+  EXPECT_FALSE(exists(dir_ + "/frames/dam_break_quad_00000.png"));
+  const auto info = runSphsplat("info " + cache());
+  EXPECT_NE(info.output.find("point"), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("quad"), std::string::npos) << info.output;
+}
+
+TEST_F(RenderCli, BadInputIsOneLineAndExitTwo) {
+  const auto missing = runSphsplat("render /nonexistent/x.h5");
+  EXPECT_EQ(missing.exitCode, 2);
+  EXPECT_NE(missing.output.find("/nonexistent/x.h5"), std::string::npos) << missing.output;
+  const auto range = runSphsplat("render " + cache() + " --frames 99");
+  EXPECT_EQ(range.exitCode, 2);
+  EXPECT_NE(range.output.find("--frames: frames 99 are not in the cache (it has frames 0 to 6)"), std::string::npos)
+      << range.output;
+  const auto size = runSphsplat("compare " + cache() + " --size 10x10");
+  EXPECT_EQ(size.exitCode, 2);
+  EXPECT_NE(size.output.find("--size: expected WIDTHxHEIGHT"), std::string::npos) << size.output;
+}
+
+// Fraction of pixels of a PNG that differ from its top-left pixel (the background).
+double nonBackground(const std::string& path) {
+  int w = 0, h = 0;
+  const auto rgb = io::readPng(path, w, h);
+  std::size_t n = 0;
+  for (std::size_t p = 0; p < static_cast<std::size_t>(w) * h; ++p) {
+    n += rgb[3 * p] != rgb[0] || rgb[3 * p + 1] != rgb[1] || rgb[3 * p + 2] != rgb[2];
+  }
+  return static_cast<double>(n) / (static_cast<double>(w) * h);
+}
+
+TEST_F(RenderCli, ViewerWindowUnderXvfbShowsTheFluidAndSwitchesModes) {
+  if (std::system("command -v xvfb-run > /dev/null") != 0) GTEST_SKIP() << "xvfb-run not installed";
+  std::string shots[2];
+  const char* modes[2] = {"point", "quad"};
+  for (int k = 0; k < 2; ++k) {
+    shots[k] = dir_ + "/view_" + modes[k] + ".png";
+    const std::string command = std::string("xvfb-run -a -s '-screen 0 800x600x24' ") + SPHSPLAT_BINARY +
+                                " view " + cache() + " --frame last --width 400 --height 300 --exit-after 2 --splat " +
+                                modes[k] + " --screenshot " + shots[k] + " 2>&1";
+    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+    ASSERT_TRUE(exists(shots[k]));
+    EXPECT_GT(nonBackground(shots[k]), 0.05) << shots[k] << " is blank";
+  }
+  int w = 0, h = 0;
+  EXPECT_NE(io::readPng(shots[0], w, h), io::readPng(shots[1], w, h)) << "switching the splat mode changed nothing";
+}
+
+}  // namespace
+}  // namespace sph
