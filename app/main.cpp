@@ -8,6 +8,7 @@
 #include "app/Commands.h"
 #include "app/Version.h"
 #include "io/InputError.h"
+#include "render/GlError.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"sphsplat " SPHSPLAT_VERSION_STRING
@@ -20,6 +21,12 @@ int main(int argc, char** argv) {
 
   std::vector<std::function<int()>> commands;
   commands.push_back(sph::app::addRunCommand(app));
+  commands.push_back(sph::app::addInfoCommand(app));
+  commands.push_back(sph::app::addExportCommand(app));
+  commands.push_back(sph::app::addBenchCommand(app));
+  commands.push_back(sph::app::addRenderCommand(app));
+  commands.push_back(sph::app::addCompareCommand(app));
+  commands.push_back(sph::app::addViewCommand(app));
 
   try {
     app.parse(argc, argv);
@@ -37,6 +44,9 @@ int main(int argc, char** argv) {
   } catch (const sph::io::InputError& e) {
     std::fprintf(stderr, "sphsplat: %s\n", e.what());
     return sph::app::kBadInput;
+  } catch (const sph::render::GlError& e) {
+    std::fprintf(stderr, "sphsplat: %s\n", e.what());
+    return sph::app::kNoGraphics;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "sphsplat: internal error: %s\n", e.what());
     return sph::app::kInternalError;

@@ -115,6 +115,21 @@ Vec3 JsonReader::vec3(const std::string& key, std::optional<Vec3> def, const cha
   return Vec3(v[0].get<float>(), v[1].get<float>(), v[2].get<float>());
 }
 
+std::vector<std::string> JsonReader::stringArray(const std::string& key,
+                                                 std::optional<std::vector<std::string>> def,
+                                                 const char* expected) {
+  used_.insert(key);
+  if (!has(key)) {
+    if (!def) fail(key, std::string("missing; expected ") + expected);
+    return *def;
+  }
+  const nlohmann::json& v = (*value_)[key];
+  bool ok = v.is_array() && !v.empty();
+  for (std::size_t i = 0; ok && i < v.size(); ++i) ok = v[i].is_string();
+  if (!ok) fail(key, std::string("expected ") + expected + ", got " + describeJson(v));
+  return v.get<std::vector<std::string>>();
+}
+
 JsonReader JsonReader::object(const std::string& key) {
   used_.insert(key);
   if (!has(key)) fail(key, "missing; expected an object {...}");

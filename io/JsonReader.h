@@ -19,6 +19,7 @@ class JsonReader {
   JsonReader(const nlohmann::json& value, std::string path, std::string file);
 
   const std::string& path() const { return path_; }
+  const nlohmann::json* raw() const { return value_; }
   bool has(const std::string& key) const;
 
   // Scalars. `def` empty = required. The constraint text goes into the error ("a positive
@@ -29,6 +30,9 @@ class JsonReader {
                      const std::vector<std::string>& allowed = {});
   bool boolean(const std::string& key, std::optional<bool> def);
   Vec3 vec3(const std::string& key, std::optional<Vec3> def, const char* expected = "3 numbers");
+  // A non-empty array of strings, e.g. ["x", "y", "z"].
+  std::vector<std::string> stringArray(const std::string& key, std::optional<std::vector<std::string>> def,
+                                       const char* expected);
 
   JsonReader object(const std::string& key);
   std::optional<JsonReader> optionalObject(const std::string& key);

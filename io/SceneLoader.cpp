@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "io/CacheFormat.h"
 #include "io/JsonReader.h"
 #include "sim/SceneSetup.h"
 
@@ -48,6 +49,7 @@ void applyOverride(json& doc, const std::string& edit, const std::string& file) 
     if (end == std::string::npos) end = keyPath.size();
     const std::string key = keyPath.substr(pos, end - pos);
     if (!key.empty()) {
+      if (node->is_null()) *node = json::object();  // --set may create a section the file lacks
       if (!node->is_object()) throw InputError(file + ": --set " + keyPath + ": '" + key + "' is not inside an object");
       node = &(*node)[key];
     }
@@ -67,9 +69,27 @@ void applyOverride(json& doc, const std::string& edit, const std::string& file) 
   *node = value;
 }
 
-SolverParams readSolver(JsonReader r) {
+// Solver defaults of a `quality` preset (docs/scene-format.md, "quality"). The values come from
+// the dam-break sweep (bench/sweeps/dam_break.json, docs/benchmarks.md): "fast" and "accurate" are
+// points on its Pareto front of wall time against surge-front error. A preset only changes
+// defaults, so keys the scene gives explicitly still win.
+struct QualityPreset {
+  double cfl;               // see SolverParams::cfl
+  double soundSpeedFactor;  // see SolverParams::soundSpeedFactor
+};
+
+QualityPreset qualityPreset(const std::string& quality) {
+  const SolverParams defaults;
+  if (quality == "fast") return {0.8, 5.0};
+  if (quality == "accurate") return {0.4, 20.0};
+  return {defaults.cfl, defaults.soundSpeedFactor};
+}
+
+SolverParams readSolver(JsonReader r, const std::string& quality) {
   SolverParams s;
+  const QualityPreset preset = qualityPreset(quality);
   s.spacing = static_cast<float>(r.number("spacing", std::nullopt, "a positive number (m)", positive));
+  s.model = r.string("model", std::string("sph"), {"sph", "particles"}) == "sph" ? SolverModel::Sph : SolverModel::Particles;
   s.support = static_cast<float>(r.number("support", 2.0, "a number in [1, 4] (kernel support radius / spacing)",
                                           [](double v) { return v >= 1 && v <= 4; }));
   s.restDensity = static_cast<float>(r.number("rest_density", 1000.0, "a positive number (kg/m^3)", positive));
@@ -82,10 +102,17 @@ SolverParams readSolver(JsonReader r) {
   if (r.has("speed_of_sound") && r.has("stiffness")) {
     r.fail("stiffness", "give either speed_of_sound or stiffness, not both");
   }
+  if (r.has("speed_of_sound_factor") && (r.has("speed_of_sound") || r.has("stiffness"))) {
+    r.fail("speed_of_sound_factor", std::string("only used when the speed of sound is automatic; the scene also gives ") +
+                                        (r.has("speed_of_sound") ? "speed_of_sound" : "stiffness"));
+  }
+  s.soundSpeedFactor = static_cast<float>(r.number("speed_of_sound_factor", preset.soundSpeedFactor,
+                                                   "a number >= 1 (automatic speed of sound / largest expected speed)",
+                                                   [](double v) { return v >= 1; }));
   s.speedOfSound = static_cast<float>(r.number("speed_of_sound", 0.0, "a positive number (m/s)", positive));
   s.stiffness = static_cast<float>(r.number("stiffness", 0.0, "a positive number (Pa for tait, m^2/s^2 for linear)", positive));
   s.clampNegativePressure = r.boolean("clamp_negative_pressure", true);
-  s.cfl = static_cast<float>(r.number("cfl", s.cfl, "a positive number", positive));
+  s.cfl = static_cast<float>(r.number("cfl", preset.cfl, "a positive number", positive));
   s.maxTimeStep = static_cast<float>(r.number("max_time_step", s.maxTimeStep, "a positive number (s)", positive));
   s.gravity = r.vec3("gravity", s.gravity, "3 numbers (m/s^2)");
   s.endTime = r.number("end_time", 1.0, "a positive number (s)", positive);
@@ -175,6 +202,19 @@ OutputDesc readOutput(JsonReader r) {
   OutputDesc o;
   o.fps = r.number("fps", o.fps, "a positive number (frames per simulated second)", positive);
   o.path = r.string("path", std::string(""));
+  // The cache's per-frame datasets (docs/cache-format.md): names checked and put in canonical order.
+  const std::vector<std::string> names = r.stringArray("fields", o.fields, "an array of field names, e.g. [\"x\", \"y\", \"z\"]");
+  std::string error;
+  const cache::FieldSet fields = cache::parseFields(names, error);
+  if (!error.empty()) r.fail("fields", error);
+  o.fields.clear();
+  for (std::size_t f = 0; f < cache::kFieldCount; ++f) {
+    if (fields[f]) o.fields.push_back(cache::fieldName(static_cast<cache::Field>(f)));
+  }
+  o.compression = static_cast<int>(r.number("compression", o.compression, "an integer deflate level 0-9 (0 = none)",
+                                            [](double v) { return v >= 0 && v <= 9 && v == std::floor(v); }));
+  o.restart = r.boolean("restart", o.restart);
+  o.doublePositions = r.boolean("double_positions", o.doublePositions);
   r.finish();
   return o;
 }
@@ -191,6 +231,69 @@ CameraDesc readCamera(JsonReader r) {
   if ((c.position - c.target).norm() == 0) r.fail("target", "expected a target different from position");
   if (c.up.norm() == 0 || c.up.cross(c.target - c.position).norm() == 0) r.fail("up", "expected a vector not parallel to the view direction");
   if (c.far <= c.near) r.fail("far", "expected far > near");
+  r.finish();
+  return c;
+}
+
+bool integerIn(double v, double lo, double hi) { return v >= lo && v <= hi && v == std::floor(v); }
+
+// The `collision` section (docs/scene-format.md, "collision"; DESIGN.md, "The CDT collision pass").
+RenderDesc readRender(JsonReader r) {
+  RenderDesc d;
+  const std::string splat = r.string("splat", std::string("quad"), {"quad", "point", "both"});
+  d.splat = splat == "quad" ? RenderDesc::Splat::Quad : splat == "point" ? RenderDesc::Splat::Point : RenderDesc::Splat::Both;
+  auto pixels = [](double v) { return v >= 16 && v <= 8192 && v == std::floor(v); };
+  d.width = static_cast<int>(r.number("width", d.width, "an integer in [16, 8192] (pixels)", pixels));
+  d.height = static_cast<int>(r.number("height", d.height, "an integer in [16, 8192] (pixels)", pixels));
+  d.every = static_cast<int>(r.number("every", 1.0, "an integer >= 1 (output frames)", [](double v) { return v >= 1 && v == std::floor(v); }));
+  d.kernelRadius = static_cast<float>(r.number("kernel_radius", d.kernelRadius, "a number in [1, 5] (spacings)", [](double v) { return v >= 1 && v <= 5; }));
+  if (r.has("surface_threshold") && (*r.raw())["surface_threshold"].is_string()) {
+    r.string("surface_threshold", std::nullopt, {"auto"});
+  } else {
+    d.surfaceThreshold = static_cast<float>(r.number("surface_threshold", 0.0, "\"auto\" or a number in (0, 1.5) (SD / mean density)", [](double v) { return v > 0 && v < 1.5; }));
+  }
+  d.splatSize = static_cast<float>(r.number("splat_size", d.splatSize, "a number in [0.5, 4] (spacings)", [](double v) { return v >= 0.5 && v <= 4; }));
+  d.perVertexDensity = r.string("vertex_density", std::string("per-vertex"), {"per-vertex", "per-particle"}) == "per-vertex";
+  d.newtonProjection = r.string("projection", std::string("eq6"), {"eq6", "newton"}) == "newton";
+  d.environment = r.boolean("environment", true);
+  d.alpha = static_cast<float>(r.number("alpha", 1.0, "a number in (0, 1]", [](double v) { return v > 0 && v <= 1; }));
+  d.showBoundary = r.boolean("show_boundary", true);
+  d.directory = r.string("directory", std::string(""));
+  d.toCache = r.boolean("to_cache", true);
+  r.finish();
+  return d;
+}
+
+CollisionDesc readCollision(JsonReader r, const SolverParams& solver) {
+  CollisionDesc c;
+  const std::string method = r.string("method", std::nullopt, {"none", "exact", "octree", "cdt-cpu", "cdt-gl"});
+  c.method = method == "none" ? CollisionMethod::None
+             : method == "exact" ? CollisionMethod::Exact
+             : method == "octree" ? CollisionMethod::Octree
+             : method == "cdt-cpu" ? CollisionMethod::CdtCpu
+                                   : CollisionMethod::CdtGl;
+  c.range = static_cast<float>(r.number("range", 0.5 * solver.spacing, "a positive number (m)", positive));
+  const bool paper = r.string("response", std::string("separate"), {"separate", "paper"}) == "paper";
+  c.response = paper ? CollisionResponse::Paper : CollisionResponse::Separate;
+  c.speedFactor = static_cast<float>(r.number("speed_factor", 0.2, "a number in [0, 1]", [](double v) { return v >= 0 && v <= 1; }));
+  c.cooldown = static_cast<float>(r.number("cooldown", paper ? 0.05 : 0.0, "a number >= 0 (s)", nonNegative));
+  const bool texel = r.string("position_source", std::string(paper ? "texel" : "particle"), {"particle", "texel"}) == "texel";
+  c.positionSource = texel ? CdtPositionSource::Texel : CdtPositionSource::Particle;
+  const int resolution = static_cast<int>(r.number("resolution", 500.0, "an integer in [16, 8192] (texels per side)",
+                                                   [](double v) { return integerIn(v, 16, 8192); }));
+  c.resolution = {resolution, resolution};
+  c.texelRange = static_cast<int>(r.number("texel_range", 1.0, "an integer in [0, 16]", [](double v) { return integerIn(v, 0, 16); }));
+  c.adaptiveTexelRange = r.boolean("adaptive_texel_range", false);
+  c.maxTexelRange = static_cast<int>(r.number("max_texel_range", 4.0, "an integer in [1, 16]", [](double v) { return integerIn(v, 1, 16); }));
+  c.layers = static_cast<int>(r.number("layers", 1.0, "an integer in [1, 4]", [](double v) { return integerIn(v, 1, 4); }));
+  const std::string camera = r.string("camera", std::string("render"), {"render", "fixed", "offset"});
+  c.camera = camera == "render" ? CdtCameraMode::Render : camera == "fixed" ? CdtCameraMode::Fixed : CdtCameraMode::Offset;
+  c.offset = static_cast<float>(r.number("offset", 0.0, "a number (m, along the camera's z axis)"));
+  if (auto pose = r.optionalObject("pose")) c.pose = readCamera(*pose), c.hasPose = true;
+  if (c.camera == CdtCameraMode::Fixed && !c.hasPose) r.fail("pose", "missing; camera \"fixed\" needs its pose {position, target, ...}");
+  if (c.camera != CdtCameraMode::Offset && r.has("offset")) r.fail("offset", "only used with \"camera\": \"offset\"");
+  c.octreeDepth = static_cast<int>(r.number("octree_depth", 3.0, "an integer in [1, 6]", [](double v) { return integerIn(v, 1, 6); }));
+  c.octreeRootSize = static_cast<float>(r.number("octree_root", 0.0, "a positive number (m)", positive));
   r.finish();
   return c;
 }
@@ -252,12 +355,24 @@ Scene parseScene(const std::string& text, const std::string& path,
   stem = stem.substr(0, stem.rfind('.'));
   scene.name = root.string("name", stem);
   scene.description = root.string("description", std::string(""));
-  scene.solver = readSolver(root.object("solver"));
+  const std::string quality = root.string("quality", std::string("default"), {"default", "fast", "accurate"});
+  scene.solver = readSolver(root.object("solver"), quality);
   for (JsonReader& f : root.objectArray("fluids")) scene.fluids.push_back(readFluid(f));
   for (JsonReader& b : root.objectArray("boundaries")) scene.boundaries.push_back(readBoundary(b));
   for (JsonReader& e : root.objectArray("emitters")) scene.emitters.push_back(readEmitter(e, scene.solver.spacing));
   if (auto o = root.optionalObject("output")) scene.output = readOutput(*o);
   if (auto c = root.optionalObject("camera")) scene.camera = readCamera(*c);
+  if (auto rd = root.optionalObject("render")) {
+    scene.render = readRender(*rd);
+    if (!scene.camera) root.fail("render", "needs a \"camera\" section at the top level too (where to look from)");
+  }
+  if (auto c = root.optionalObject("collision")) {
+    scene.collision = readCollision(*c, scene.solver);
+    const bool cdt = scene.collision->method == CollisionMethod::CdtCpu || scene.collision->method == CollisionMethod::CdtGl;
+    if (cdt && scene.collision->camera != CdtCameraMode::Fixed && !scene.camera) {
+      c->fail("camera", "the collision camera follows the scene's camera, but the scene has no \"camera\"; add one or use \"camera\": \"fixed\" with a \"pose\"");
+    }
+  }
   if (auto d = root.optionalObject("domain")) {
     scene.domain.lo = d->vec3("min", std::nullopt, "3 numbers (m)");
     scene.domain.hi = d->vec3("max", std::nullopt, "3 numbers (m)");

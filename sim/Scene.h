@@ -7,6 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "sim/CameraDesc.h"
+#include "sim/CollisionDesc.h"
+#include "sim/RenderDesc.h"
 #include "sim/SolverParams.h"
 #include "sim/Types.h"
 
@@ -50,18 +53,18 @@ struct EmitterDesc {
   std::size_t maxParticles = 0;     // 0 = unlimited
 };
 
+// The HDF5 cache of a run (docs/cache-format.md); `sphsplat run --output` overrides the path.
 struct OutputDesc {
   double fps = 30;               // output frames per simulated second
-  std::string path;              // cache path ("" = none); later: HDF5 cache
+  std::string path;              // HDF5 cache file ("" = no cache)
+  // Per-frame datasets, canonical names (x y z vx vy vz ax ay az rho p collide_time id); the
+  // loader expands "position", "velocity", "acceleration". Only these are written.
+  std::vector<std::string> fields = {"x", "y", "z", "vx", "vy", "vz", "rho", "p", "id"};
+  int compression = 4;           // deflate level 0-9 (0 = none), with the byte shuffle filter
+  bool restart = true;           // record each frame's resume state (what fields lack of it)
+  bool doublePositions = false;  // x, y, z stored as float64 (converted from the solver's float32)
 };
 
-struct CameraDesc {
-  Vec3 position = Vec3(0, 0, 1);  // m
-  Vec3 target = Vec3::Zero();     // m
-  Vec3 up = Vec3::UnitY();
-  float fovYDegrees = 45;         // vertical field of view
-  float near = 0.01f, far = 100;  // m
-};
 
 struct Scene {
   std::string name;         // from the file name unless given
@@ -75,8 +78,8 @@ struct Scene {
   std::vector<EmitterDesc> emitters;
   OutputDesc output;
   std::optional<CameraDesc> camera;
-  bool hasCollisionSection = false;  // filled by the CDT issue
-  bool hasRenderSection = false;     // filled by the renderer issue
+  std::optional<CollisionDesc> collision;  // the `collision` section; none = no collision pass
+  std::optional<RenderDesc> render;  // draw frames while simulating
 };
 
 }  // namespace sph

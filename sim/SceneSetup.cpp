@@ -84,7 +84,7 @@ DerivedParams deriveParams(const Scene& scene) {
     d.speedOfSound = s.eos == EquationOfState::Tait ? std::sqrt(gamma * s.stiffness / s.restDensity)
                                                      : std::sqrt(s.stiffness);
   } else {
-    d.speedOfSound = s.speedOfSound > 0 ? s.speedOfSound : 10.0f * expectedMaxSpeed(scene);
+    d.speedOfSound = s.speedOfSound > 0 ? s.speedOfSound : s.soundSpeedFactor * expectedMaxSpeed(scene);
     const float c2 = d.speedOfSound * d.speedOfSound;
     d.stiffness = s.eos == EquationOfState::Tait ? s.restDensity * c2 / gamma : c2;
   }

@@ -15,6 +15,7 @@ Simulation::Simulation(const Scene& scene)
       boundary_(scene.boundaries, scene.domain, scene.solver.spacing, derived_.boundaryLayers,
                 derived_.h) {
   computeStaticBoundaryDensity();
+  gradientCorrection_ = derived_.gradientCorrection;
   fluid_ = initialFluid(scene_, boundary_, scene_.solver.restDensity);
   state_.nextId = static_cast<std::uint32_t>(fluid_.size());
   for (const EmitterDesc& e : scene_.emitters) emitters_.emplace_back(e, scene_.solver.spacing);
@@ -34,6 +35,8 @@ float Simulation::nextTimeStep() const { return chooseTimeStep(); }
 // a viscous condition (Monaghan 1992), bounded by the scene's maximum.
 float Simulation::chooseTimeStep() const {
   const SolverParams& s = scene_.solver;
+  // The paper's particle system advances by a fixed tick (seed 000, pseudo-code g_tick).
+  if (s.model == SolverModel::Particles) return s.maxTimeStep;
   const float h = derived_.h;
   float dt = s.cfl * h / (derived_.speedOfSound + state_.maxSpeed);
   if (state_.maxAcceleration > 0) dt = std::min(dt, 0.25f * std::sqrt(h / state_.maxAcceleration));
@@ -51,21 +54,24 @@ void Simulation::step(double limit) {
     PassTimer t(profile_, Pass::Emit);
     emitParticles(dt);
   }
-  {
+  // The paper's particle model has no neighbour passes, so nothing to sort for.
+  const bool sph = scene_.solver.model == SolverModel::Sph;
+  if (sph) {
     PassTimer t(profile_, Pass::Sort);
     sortParticles();
   }
-  {
+  if (sph) {
     PassTimer t(profile_, Pass::Density);
     computeDensity();
   }
-  {
+  if (sph) {
     PassTimer t(profile_, Pass::Pressure);
     computePressure();
   }
   {
     PassTimer t(profile_, Pass::Forces);
-    computeForces();
+    if (sph) computeForces();
+    else applyGravityOnly();
   }
   {
     PassTimer t(profile_, Pass::Integrate);
@@ -104,6 +110,13 @@ void Simulation::emitParticles(double dt) {
 void Simulation::sortParticles() {
   grid_.build(fluid_.x.data(), fluid_.y.data(), fluid_.z.data(), fluid_.size(), derived_.h, order_);
   fluid_.permute(order_, permuteScratch_);
+}
+
+// The paper's particles feel gravity only; they interact through the collision pass alone.
+void Simulation::applyGravityOnly() {
+  Particles& f = fluid_;
+  const Vec3 g = scene_.solver.gravity;
+  parallelFor(f.size(), [&](std::size_t i) { f.ax[i] = g.x(), f.ay[i] = g.y(), f.az[i] = g.z(); });
 }
 
 // Symplectic Euler: velocities first, then positions with the new velocities.
@@ -168,6 +181,9 @@ void Simulation::checkStability() const {
     if ((finite && d.contains(x)) || (worst < n && f.id[i] > f.id[worst])) continue;
     worst = i, worstFinite = finite;
   }
+  // The screen sums six values: finite ones near FLT_MAX can overflow it with every particle
+  // finite and inside. Nothing to report then (and no index n to read).
+  if (worst == n) return;
   const Vec3 x = f.position(worst), v = f.velocity(worst);
   std::ostringstream msg;
   msg.precision(6);

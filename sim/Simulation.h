@@ -56,6 +56,8 @@ class Simulation {
   // Density (kg/m^3) of each boundary particle at the last step (rest-like values away from fluid).
   const std::vector<float>& boundaryDensity() const { return boundaryDensity_; }
   const StepProfile& profile() const { return profile_; }
+  // Scale of the pressure force at the last step (1 / mean discrete gradient moment).
+  float gradientCorrection() const { return gradientCorrection_; }
   void resetProfile() { profile_ = StepProfile{}; }
   const std::vector<Emitter>& emitters() const { return emitters_; }
 
@@ -72,8 +74,10 @@ class Simulation {
   void emitParticles(double dt);
   void sortParticles();
   void computeDensity();
+  void updateGradientCorrection();
   void computePressure();
   void computeForces();
+  void applyGravityOnly();  // SolverModel::Particles instead of density/pressure/forces
   void integrate(float dt);
   void collide(float dt);
   void enforceBoundaries(float dt);
@@ -92,6 +96,8 @@ class Simulation {
   std::vector<std::uint32_t> order_, permuteScratch_;
   std::vector<float> pressureTerm_;    // fluid p / rho^2 (m^5 / (kg s^2))
   std::vector<float> inverseDensity_;  // fluid 1 / rho (m^3/kg)
+  std::vector<float> gradientMoment_;  // K_i, see updateGradientCorrection()
+  float gradientCorrection_ = 1;       // scale of the pressure force this step
   // Boundary particles' density (kg/m^3): the part from other boundary particles is fixed and
   // computed once; the fluid's part is added each step for the particles near the fluid.
   std::vector<float> boundaryStaticDensity_, boundaryDensity_, boundaryPressureTerm_;

@@ -18,7 +18,14 @@ enum class EquationOfState {
 // tank unless viscosity damps it (tests/test_energy.cpp measures both).
 enum class DensityKernel { Spiky, Poly6 };
 
+// What moves the particles between collision passes.
+enum class SolverModel {
+  Sph,        // the SPH stage (DESIGN.md)
+  Particles,  // the paper's plain particle system (seed 000): gravity only, fixed step max_time_step
+};
+
 struct SolverParams {
+  SolverModel model = SolverModel::Sph;
   float spacing = 0.01f;        // m, particle spacing dx of the initial lattice
   float support = 2.0f;         // kernel support radius h as a multiple of spacing (h = support dx)
   float restDensity = 1000.0f;  // kg/m^3, rho0
@@ -28,7 +35,9 @@ struct SolverParams {
   bool noSlipWalls = true;      // walls drag the fluid with the same viscosity (v_wall = 0)
   EquationOfState eos = EquationOfState::Tait;
   DensityKernel densityKernel = DensityKernel::Spiky;
-  float speedOfSound = 0.0f;    // m/s, c; 0 = automatic (10x the largest expected speed)
+  float speedOfSound = 0.0f;    // m/s, c; 0 = automatic (soundSpeedFactor x the largest expected speed)
+  float soundSpeedFactor = 10.0f;  // dimensionless, automatic c over the largest expected speed;
+                                   // density varies ~1/factor^2 (10 -> ~1%, Monaghan 1994)
   float stiffness = 0.0f;       // Tait: B (Pa); linear: k (m^2/s^2); 0 = derived from c
   bool clampNegativePressure = true;  // p = max(p, 0): no tensile instability at the surface
   float cfl = 0.4f;             // dimensionless, dt <= cfl h / (c + v_max)
