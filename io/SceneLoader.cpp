@@ -254,7 +254,7 @@ RenderDesc readRender(JsonReader r) {
   }
   d.splatSize = static_cast<float>(r.number("splat_size", d.splatSize, "a number in [0.5, 4] (spacings)", [](double v) { return v >= 0.5 && v <= 4; }));
   d.perVertexDensity = r.string("vertex_density", std::string("per-vertex"), {"per-vertex", "per-particle"}) == "per-vertex";
-  d.newtonProjection = r.string("projection", std::string("eq6"), {"eq6", "newton"}) == "newton";
+  d.newtonProjection = r.string("projection", std::string("newton"), {"eq6", "newton"}) == "newton";
   d.environment = r.boolean("environment", true);
   d.alpha = static_cast<float>(r.number("alpha", 1.0, "a number in (0, 1]", [](double v) { return v > 0 && v <= 1; }));
   d.showBoundary = r.boolean("show_boundary", true);

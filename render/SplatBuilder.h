@@ -34,7 +34,7 @@ struct SplatParams {
   // How far eq. (6) moves a vertex: `Equation6` assumes the density rises linearly from PD to ID
   // over the kernel radius (the paper); `Newton` takes one Newton step on the field itself,
   // (SD - PD) / |gradD| along the normal, clamped to the kernel radius (ours).
-  enum class Projection { Equation6, Newton } projection = Projection::Equation6;
+  enum class Projection { Equation6, Newton } projection = Projection::Newton;
 };
 
 // The automatic SD: halfway between the density of a particle on a flat free surface and the

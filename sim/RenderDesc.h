@@ -14,7 +14,7 @@ struct RenderDesc {
   float surfaceThreshold = 0;      // SD / ID; 0 = automatic
   float splatSize = 1.5f;          // spacings, centre to corner
   bool perVertexDensity = true;    // eq. (6) PD per vertex (false: per particle, the paper)
-  bool newtonProjection = false;   // move vertices by a Newton step instead of eq. (6)
+  bool newtonProjection = true;    // a Newton step onto SD (default), or the paper's eq. (6)
   bool environment = true;         // sky reflection
   float alpha = 1.0f;              // splat opacity
   bool showBoundary = true;        // draw the walls, translucent (not in `compare`)

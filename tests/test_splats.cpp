@@ -89,7 +89,9 @@ TEST(SplatBuilder, EquationSixMovesVerticesTowardsTheIsoSurface) {
   ASSERT_GT(before, 0.0);
   // The paper's eq. (6) moves them towards the surface (it overshoots: it assumes the density
   // rises over a whole kernel radius, the field does so over about one spacing)...
-  const SplatFrame eq6 = buildSplats(f, SplatParams{}, SplatKind::Quad, cf.projView, cf.eye);
+  SplatParams eq6Params;
+  eq6Params.projection = SplatParams::Projection::Equation6;
+  const SplatFrame eq6 = buildSplats(f, eq6Params, SplatKind::Quad, cf.projView, cf.eye);
   ASSERT_EQ(eq6.quads.size(), flat.quads.size());
   EXPECT_LT(gap(eq6), 0.9 * before);
   // ...and the Newton step puts them on it.
