@@ -18,16 +18,18 @@ namespace {
 using io::InputError;
 
 bool exists(const std::string& path) {
-  struct stat st{};
+  struct stat st {};
   return lstat(path.c_str(), &st) == 0;
 }
 
 bool isDirectory(const std::string& path) {
-  struct stat st{};
+  struct stat st {};
   return stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
 }
 
-std::string baseName(const std::string& path) { return path.substr(path.find_last_of('/') + 1); }
+std::string baseName(const std::string& path) {
+  return path.substr(path.find_last_of('/') + 1);
+}
 
 std::string number(double v) {
   std::ostringstream s;
@@ -50,21 +52,27 @@ std::unique_ptr<CacheOutput> CacheOutput::prepare(const CacheFlags& flags, Scene
   out->overwrite_ = flags.overwrite;
   if (!flags.resume.empty()) {
     if (!flags.output.empty() && flags.output != flags.resume) {
-      throw InputError("--resume " + flags.resume + " appends to that cache; leave out --output " + flags.output);
+      throw InputError("--resume " + flags.resume + " appends to that cache; leave out --output " +
+                       flags.output);
     }
-    if (flags.overwrite) throw InputError("--resume and --overwrite exclude each other (resume appends to the cache)");
+    if (flags.overwrite)
+      throw InputError("--resume and --overwrite exclude each other (resume appends to the cache)");
     out->path_ = flags.resume;
     out->resume_ = true;
     out->reader_ = std::make_unique<io::CacheReader>(flags.resume);
     const io::CacheSummary& s = out->reader_->summary();
-    if (s.frames.empty()) throw InputError(flags.resume + ": the cache has no complete frame to resume from");
+    if (s.frames.empty())
+      throw InputError(flags.resume + ": the cache has no complete frame to resume from");
     if (!s.damagedFrame.empty()) {
-      throw InputError(flags.resume + ": cannot resume past a damaged frame (" + s.damagedFrame + ")");
+      throw InputError(flags.resume + ": cannot resume past a damaged frame (" + s.damagedFrame +
+                       ")");
     }
     // A resume needs the last frame's resume record: say so before anything runs.
     if (!s.frames.back().hasRestart) out->reader_->readRestart(s.frames.size() - 1);
     if (io::cacheIsLocked(flags.resume)) {
-      throw InputError(flags.resume + ": another sphsplat run is writing this cache; wait for it or stop it first");
+      throw InputError(
+          flags.resume +
+          ": another sphsplat run is writing this cache; wait for it or stop it first");
     }
     // Frames stay evenly spaced: the cache's rate wins over the scene's.
     scene.output.fps = s.fps;
@@ -74,21 +82,25 @@ std::unique_ptr<CacheOutput> CacheOutput::prepare(const CacheFlags& flags, Scene
   out->path_ = flags.output.empty() ? scene.output.path : flags.output;
   if (out->path_.empty()) return nullptr;
   const std::size_t slash = out->path_.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? "." : out->path_.substr(0, std::max<std::size_t>(slash, 1));
+  const std::string dir =
+      slash == std::string::npos ? "." : out->path_.substr(0, std::max<std::size_t>(slash, 1));
   if (access(dir.c_str(), W_OK) != 0) {
-    throw InputError(out->path_ + ": cannot create the cache in " + dir + " (" + std::strerror(errno) + ")");
+    throw InputError(out->path_ + ": cannot create the cache in " + dir + " (" +
+                     std::strerror(errno) + ")");
   }
   out->xdmfPath_ = io::XdmfWriter::sidecarPath(out->path_);
   if (out->xdmfPath_ == out->path_) out->xdmfPath_ += ".xdmf";
   for (const std::string& p : {out->path_, out->xdmfPath_}) {
     if (isDirectory(p)) throw InputError(p + ": is a directory; expected a cache file name");
     if (exists(p) && !flags.overwrite) {
-      throw InputError(p + ": already exists; pass --overwrite to replace it" +
-                       (p == out->path_ ? ", or --resume " + p + " to continue that run" : std::string("")));
+      throw InputError(
+          p + ": already exists; pass --overwrite to replace it" +
+          (p == out->path_ ? ", or --resume " + p + " to continue that run" : std::string("")));
     }
   }
   if (io::cacheIsLocked(out->path_)) {
-    throw InputError(out->path_ + ": another sphsplat run is writing this cache; wait for it or stop it first");
+    throw InputError(out->path_ +
+                     ": another sphsplat run is writing this cache; wait for it or stop it first");
   }
   return out;
 }
@@ -103,18 +115,24 @@ std::size_t CacheOutput::restore(Simulation& sim, const io::CacheProvenance& pro
       for (const io::cache::Parameter& theirs : s.parameters) {
         if (!what.empty() || mine.name != theirs.name) continue;
         if (mine.isText && mine.text != theirs.text) {
-          what = mine.name + " is \"" + mine.text + "\" here but \"" + theirs.text + "\" in the cache";
+          what =
+              mine.name + " is \"" + mine.text + "\" here but \"" + theirs.text + "\" in the cache";
         } else if (!mine.isText && mine.number != theirs.number) {
-          what = mine.name + " is " + number(mine.number) + " here but " + number(theirs.number) + " in the cache";
+          what = mine.name + " is " + number(mine.number) + " here but " + number(theirs.number) +
+                 " in the cache";
         }
       }
     }
     if (what.empty()) what = "its fluids, boundaries, emitters or domain differ";
-    throw InputError(scene.sourcePath + ": not the scene the cache " + path_ + " was written with (" + what +
-                     "); resume with the same scene and --set edits (the cache keeps them: sphsplat info " + path_ + ")");
+    throw InputError(
+        scene.sourcePath + ": not the scene the cache " + path_ + " was written with (" + what +
+        "); resume with the same scene and --set edits (the cache keeps them: sphsplat info " +
+        path_ + ")");
   }
   if (provenance.threads != s.threads) {
-    std::fprintf(stderr, "sphsplat: note: %s was written with %lld threads, this run uses %d; a resumed run matches an "
+    std::fprintf(stderr,
+                 "sphsplat: note: %s was written with %lld threads, this run uses %d; a resumed "
+                 "run matches an "
                  "uninterrupted one bit for bit only with the same thread count\n",
                  path_.c_str(), static_cast<long long>(s.threads), provenance.threads);
   }
@@ -134,8 +152,8 @@ std::size_t CacheOutput::restore(Simulation& sim, const io::CacheProvenance& pro
   reader_.reset();  // HDF5 opens a file once per process: read-only first, now for writing
   writer_ = io::CacheWriter::append(path_, frames_.size());
   writer_->setStatus("running (resumed from frame " + std::to_string(last) + ")");
-  xdmf_ = std::make_unique<io::XdmfWriter>(xdmfPath_, baseName(path_), fields_, doublePositions_, boundaryParticles_,
-                                           frames_);
+  xdmf_ = std::make_unique<io::XdmfWriter>(xdmfPath_, baseName(path_), fields_, doublePositions_,
+                                           boundaryParticles_, frames_);
   return last;
 }
 
@@ -144,14 +162,15 @@ double CacheOutput::lastFrameTime() const {
   return frames.empty() ? 0.0 : frames.back().time;
 }
 
-void CacheOutput::create(const Simulation& sim, const io::CacheProvenance& provenance, std::size_t expectedFrames) {
+void CacheOutput::create(const Simulation& sim, const io::CacheProvenance& provenance,
+                         std::size_t expectedFrames) {
   const Scene& scene = sim.scene();
   std::string error;
   fields_ = io::cache::parseFields(scene.output.fields, error);
   doublePositions_ = scene.output.doublePositions;
   boundaryParticles_ = sim.boundary().particles().size();
-  writer_ = io::CacheWriter::create(path_ + ".partial", scene, sim.params(), sim.boundary().particles(), provenance,
-                                    expectedFrames);
+  writer_ = io::CacheWriter::create(path_ + ".partial", scene, sim.params(),
+                                    sim.boundary().particles(), provenance, expectedFrames);
 }
 
 void CacheOutput::writeFrame(const Simulation& sim) {
@@ -189,9 +208,10 @@ std::string CacheOutput::stop(const std::string& reason) {
   const std::string last = std::to_string(frames_.size() - 1);
   const std::string lastTime = number(frames_.back().time);
   if (xdmf_) xdmf_->flush();
-  writer_->setStatus("stopped: " + reason + "; last good frame " + last + " (t = " + lastTime + " s)");
-  const std::string text = "the cache " + path_ + " keeps " + framesText() + "; the last good frame is " + last +
-                           " (t = " + lastTime + " s)";
+  writer_->setStatus("stopped: " + reason + "; last good frame " + last + " (t = " + lastTime +
+                     " s)");
+  const std::string text = "the cache " + path_ + " keeps " + framesText() +
+                           "; the last good frame is " + last + " (t = " + lastTime + " s)";
   close();
   return text;
 }
@@ -206,12 +226,14 @@ void CacheOutput::close() {
   if (!published) ::unlink(partial.c_str());
 }
 
-std::size_t CacheOutput::frameCount() const { return frames_.size(); }
+std::size_t CacheOutput::frameCount() const {
+  return frames_.size();
+}
 
 std::string CacheOutput::framesText() const {
   if (frames_.empty()) return "no frame";
-  return "frames 0-" + std::to_string(frames_.size() - 1) + " (t = " + number(frames_.front().time) + " - " +
-         number(frames_.back().time) + " s)";
+  return "frames 0-" + std::to_string(frames_.size() - 1) +
+         " (t = " + number(frames_.front().time) + " - " + number(frames_.back().time) + " s)";
 }
 
 std::string CacheOutput::summary(double runSeconds) const {
@@ -219,19 +241,20 @@ std::string CacheOutput::summary(double runSeconds) const {
   const double writing = writer_ ? writer_->secondsWriting() : 0.0;
   std::ostringstream s;
   s.precision(3);
-  s << "cache: " << path_ << " (+ " << xdmfPath_ << " for ParaView): " << frames_.size() << " frames, "
-    << megabytes(bytes);
+  s << "cache: " << path_ << " (+ " << xdmfPath_ << " for ParaView): " << frames_.size()
+    << " frames, " << megabytes(bytes);
   if (writer_ && particleFramesWritten_ > 0) {
-    s << "; frame datasets " << static_cast<double>(writer_->frameDataBytes()) / particleFramesWritten_
+    s << "; frame datasets "
+      << static_cast<double>(writer_->frameDataBytes()) / particleFramesWritten_
       << " bytes per particle per frame";
   }
-  s << "; writing took " << humanSeconds(writing) << " = " << (runSeconds > 0 ? 100 * writing / runSeconds : 0.0)
-    << "% of the run";
+  s << "; writing took " << humanSeconds(writing) << " = "
+    << (runSeconds > 0 ? 100 * writing / runSeconds : 0.0) << "% of the run";
   return s.str();
 }
 
-void CacheOutput::writeRenderedFrame(const std::string& renderer, std::size_t frame, int width, int height,
-                                     const std::uint8_t* rgb) {
+void CacheOutput::writeRenderedFrame(const std::string& renderer, std::size_t frame, int width,
+                                     int height, const std::uint8_t* rgb) {
   writer_->writeRenderedFrame(renderer, frame, width, height, rgb);
 }
 

@@ -17,10 +17,10 @@
 namespace sph::app {
 
 struct CacheFlags {
-  std::string output;      // --output PATH
-  bool overwrite = false;  // --overwrite
-  bool noCompress = false; // --no-compress
-  std::string resume;      // --resume CACHE
+  std::string output;       // --output PATH
+  bool overwrite = false;   // --overwrite
+  bool noCompress = false;  // --no-compress
+  std::string resume;       // --resume CACHE
 };
 
 class CacheOutput {
@@ -38,7 +38,8 @@ class CacheOutput {
   double lastFrameTime() const;
 
   // New cache: written under PATH.partial until writeFrame() has committed frame 0, then renamed.
-  void create(const Simulation& sim, const io::CacheProvenance& provenance, std::size_t expectedFrames);
+  void create(const Simulation& sim, const io::CacheProvenance& provenance,
+              std::size_t expectedFrames);
   // Writes and commits the current state as the next frame and adds it to the sidecar.
   void writeFrame(const Simulation& sim);
   // Stores a rendered image of frame `frame` (already written) under /Render/<renderer>.
@@ -70,7 +71,7 @@ class CacheOutput {
   bool doublePositions_ = false;
   std::size_t boundaryParticles_ = 0;
   std::vector<io::CacheFrame> frames_;
-  double particleFrames_ = 0;  // sum over frames of the particle count
+  double particleFrames_ = 0;         // sum over frames of the particle count
   double particleFramesWritten_ = 0;  // the same, of the frames this run wrote
 };
 

@@ -33,7 +33,8 @@ long long parseIndex(const std::string& text, std::size_t frames, const std::str
     used = 0;
   }
   if (used != text.size() || v < 0) {
-    throw io::InputError(flag + ": expected a frame index (0, 1, ...), 'last' or -1, got '" + text + "'");
+    throw io::InputError(flag + ": expected a frame index (0, 1, ...), 'last' or -1, got '" + text +
+                         "'");
   }
   return v;
 }

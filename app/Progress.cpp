@@ -13,23 +13,32 @@ Progress::Mode Progress::detect(bool quiet) {
 }
 
 Progress::Progress(Mode mode, std::string label)
-    : mode_(mode), label_(std::move(label)), start_(std::chrono::steady_clock::now()),
+    : mode_(mode),
+      label_(std::move(label)),
+      start_(std::chrono::steady_clock::now()),
       lastDraw_(start_) {}
 
 std::string humanCount(double v) {
   char buf[32];
-  if (v >= 1e6) std::snprintf(buf, sizeof buf, "%.2fM", v / 1e6);
-  else if (v >= 1e4) std::snprintf(buf, sizeof buf, "%.1fk", v / 1e3);
-  else std::snprintf(buf, sizeof buf, "%.0f", v);
+  if (v >= 1e6)
+    std::snprintf(buf, sizeof buf, "%.2fM", v / 1e6);
+  else if (v >= 1e4)
+    std::snprintf(buf, sizeof buf, "%.1fk", v / 1e3);
+  else
+    std::snprintf(buf, sizeof buf, "%.0f", v);
   return buf;
 }
 
 std::string humanSeconds(double s) {
   char buf[32];
-  if (s < 1e-3) std::snprintf(buf, sizeof buf, "%.1f us", s * 1e6);
-  else if (s < 1) std::snprintf(buf, sizeof buf, "%.1f ms", s * 1e3);
-  else if (s < 120) std::snprintf(buf, sizeof buf, "%.1f s", s);
-  else std::snprintf(buf, sizeof buf, "%dm%02ds", static_cast<int>(s / 60), static_cast<int>(s) % 60);
+  if (s < 1e-3)
+    std::snprintf(buf, sizeof buf, "%.1f us", s * 1e6);
+  else if (s < 1)
+    std::snprintf(buf, sizeof buf, "%.1f ms", s * 1e3);
+  else if (s < 120)
+    std::snprintf(buf, sizeof buf, "%.1f s", s);
+  else
+    std::snprintf(buf, sizeof buf, "%dm%02ds", static_cast<int>(s / 60), static_cast<int>(s) % 60);
   return buf;
 }
 
@@ -53,13 +62,16 @@ void Progress::update(const ProgressSample& s) {
 void Progress::draw(const ProgressSample& s) {
   drawn_ = true;
   lastDrawnFraction_ = s.endTime > 0 ? s.time / s.endTime : 1;
-  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const double fraction = s.endTime > 0 ? std::min(1.0, s.time / s.endTime) : 1;
   const double eta = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0;
   char stats[256];
-  const std::string tail = fraction >= 1 ? "in " + humanSeconds(elapsed) : "ETA " + humanSeconds(eta);
-  std::snprintf(stats, sizeof stats, "t %.3f/%.3f s  step %llu  %s particles  %s particle-steps/s  %s",
-                s.time, s.endTime, static_cast<unsigned long long>(s.steps),
+  const std::string tail =
+      fraction >= 1 ? "in " + humanSeconds(elapsed) : "ETA " + humanSeconds(eta);
+  std::snprintf(stats, sizeof stats,
+                "t %.3f/%.3f s  step %llu  %s particles  %s particle-steps/s  %s", s.time,
+                s.endTime, static_cast<unsigned long long>(s.steps),
                 humanCount(static_cast<double>(s.particles)).c_str(),
                 humanCount(s.particleStepsPerSecond).c_str(), tail.c_str());
   if (mode_ == Mode::Bar) {

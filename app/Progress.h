@@ -23,7 +23,7 @@ class Progress {
 
   explicit Progress(Mode mode, std::string label);
   void update(const ProgressSample& s);  // cheap to call every step; redraws at most ~10 Hz
-  void finish(const ProgressSample& s);   // draws the final state once and ends the bar's line
+  void finish(const ProgressSample& s);  // draws the final state once and ends the bar's line
 
  private:
   void draw(const ProgressSample& s);

@@ -39,7 +39,9 @@ void applySize(const std::string& size, RenderDesc& d) {
   char x = 0, extra = 0;
   if (std::sscanf(size.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
       w < 16 || h < 16 || w > 8192 || h > 8192) {
-    throw InputError("--size: expected WIDTHxHEIGHT between 16 and 8192 pixels, e.g. 960x540, got '" + size + "'");
+    throw InputError(
+        "--size: expected WIDTHxHEIGHT between 16 and 8192 pixels, e.g. 960x540, got '" + size +
+        "'");
   }
   d.width = w, d.height = h;
 }
@@ -49,25 +51,32 @@ std::vector<render::SplatKind> kindsOf(RenderDesc::Splat s) {
   if (s == RenderDesc::Splat::Quad) return {render::SplatKind::Quad};
   return {render::SplatKind::Point, render::SplatKind::Quad};
 }
-const char* nameOf(render::SplatKind k) { return k == render::SplatKind::Point ? "point" : "quad"; }
+const char* nameOf(render::SplatKind k) {
+  return k == render::SplatKind::Point ? "point" : "quad";
+}
 
 // Everything a command needs to draw frames of a cache.
 struct CacheRendering {
   std::string path;
-  std::unique_ptr<io::CacheReader> open;  // released while the cache is written (HDF5 allows one mode)
+  std::unique_ptr<io::CacheReader>
+      open;  // released while the cache is written (HDF5 allows one mode)
   io::CacheSummary summary;
   Scene scene;
   RenderDesc desc;
   CameraDesc camera;
   bool cameraFromScene = false;
 
-  CacheRendering(const std::string& path_, const std::vector<std::string>& overrides, const std::string& splat,
-                 const std::string& size)
-      : path(path_), open(std::make_unique<io::CacheReader>(path_)), summary(open->summary()),
+  CacheRendering(const std::string& path_, const std::vector<std::string>& overrides,
+                 const std::string& splat, const std::string& size)
+      : path(path_),
+        open(std::make_unique<io::CacheReader>(path_)),
+        summary(open->summary()),
         scene(sceneOfCache(summary, overrides)) {
     desc = scene.render ? *scene.render : RenderDesc{};
     if (!splat.empty()) {
-      desc.splat = splat == "point" ? RenderDesc::Splat::Point : splat == "quad" ? RenderDesc::Splat::Quad : RenderDesc::Splat::Both;
+      desc.splat = splat == "point"  ? RenderDesc::Splat::Point
+                   : splat == "quad" ? RenderDesc::Splat::Quad
+                                     : RenderDesc::Splat::Both;
     }
     applySize(size, desc);
     cameraFromScene = scene.camera.has_value();
@@ -80,7 +89,8 @@ struct CacheRendering {
   std::size_t frameCount() const { return summary.frames.size(); }
   Particles positions(std::size_t frame) {
     io::cache::FieldSet xyz;
-    for (auto f : {io::cache::Field::X, io::cache::Field::Y, io::cache::Field::Z}) xyz.set(static_cast<std::size_t>(f));
+    for (auto f : {io::cache::Field::X, io::cache::Field::Y, io::cache::Field::Z})
+      xyz.set(static_cast<std::size_t>(f));
     return reader().readFrame(frame, xyz);
   }
   // Stores an image in the cache: the reader lets go of the file meanwhile.
@@ -103,9 +113,11 @@ int render(const RenderOptions& o) {
     renderer.setBoundary(b[0], b[1], b[2]);
   }
   if (!o.quiet) {
-    std::printf("%s: rendering %zu frame%s of %s at %dx%d with %s splats on %s\n", c.scene.name.c_str(), frames.size(),
-                frames.size() == 1 ? "" : "s", o.cache.c_str(), c.desc.width, c.desc.height,
-                c.desc.splat == RenderDesc::Splat::Both ? "point and quad" : nameOf(kindsOf(c.desc.splat)[0]),
+    std::printf("%s: rendering %zu frame%s of %s at %dx%d with %s splats on %s\n",
+                c.scene.name.c_str(), frames.size(), frames.size() == 1 ? "" : "s", o.cache.c_str(),
+                c.desc.width, c.desc.height,
+                c.desc.splat == RenderDesc::Splat::Both ? "point and quad"
+                                                        : nameOf(kindsOf(c.desc.splat)[0]),
                 context.info().renderer.c_str());
   }
   double seconds = 0;
@@ -114,7 +126,8 @@ int render(const RenderOptions& o) {
   for (std::size_t k = 0; k < frames.size(); ++k) {
     const std::size_t f = frames[k];
     const Particles p = c.positions(f);
-    if (!c.cameraFromScene && k == 0) c.camera = render::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
+    if (!c.cameraFromScene && k == 0)
+      c.camera = render::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
     renderer.prepare(p);
     for (render::SplatKind kind : kindsOf(c.desc.splat)) {
       const render::RenderedSplats r = renderer.render(kind, c.camera);
@@ -129,15 +142,19 @@ int render(const RenderOptions& o) {
       ++images;
     }
     // A line every tenth of the frames (and for the last one).
-    if (!o.quiet && frames.size() > 1 && ((k + 1) * 10 / frames.size() != k * 10 / frames.size() || k + 1 == frames.size())) {
-      std::fprintf(stderr, "%s %3zu%%  frame %zu (%zu of %zu), %zu particles, %.0f ms per image\n", c.scene.name.c_str(),
-                   100 * (k + 1) / frames.size(), f, k + 1, frames.size(), p.size(), images ? 1e3 * seconds / images : 0.0);
+    if (!o.quiet && frames.size() > 1 &&
+        ((k + 1) * 10 / frames.size() != k * 10 / frames.size() || k + 1 == frames.size())) {
+      std::fprintf(stderr, "%s %3zu%%  frame %zu (%zu of %zu), %zu particles, %.0f ms per image\n",
+                   c.scene.name.c_str(), 100 * (k + 1) / frames.size(), f, k + 1, frames.size(),
+                   p.size(), images ? 1e3 * seconds / images : 0.0);
     }
   }
   if (!o.quiet) {
     std::printf("done: %zu image%s in %s (%s .. %s), %.1f ms per image to build and draw\n", images,
-                images == 1 ? "" : "s", o.out.c_str(), first.c_str(), last.c_str(), images ? 1e3 * seconds / images : 0.0);
-    if (o.toCache) std::printf("  also stored in %s under /Render/<point|quad>/Frame#N\n", o.cache.c_str());
+                images == 1 ? "" : "s", o.out.c_str(), first.c_str(), last.c_str(),
+                images ? 1e3 * seconds / images : 0.0);
+    if (o.toCache)
+      std::printf("  also stored in %s under /Render/<point|quad>/Frame#N\n", o.cache.c_str());
   }
   return kOk;
 }
@@ -163,7 +180,8 @@ int compare(const CompareOptions& o) {
   render::GlContext context = render::GlContext::headless();
   render::FrameRenderer renderer(c.desc, c.scene.solver.spacing, c.scene.solver.restDensity);
   const Particles p = c.positions(f);
-  if (!c.cameraFromScene) c.camera = render::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
+  if (!c.cameraFromScene)
+    c.camera = render::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
   renderer.prepare(p);
   const render::RenderedSplats point = renderer.render(render::SplatKind::Point, c.camera);
   const render::RenderedSplats quad = renderer.render(render::SplatKind::Quad, c.camera);
@@ -172,14 +190,15 @@ int compare(const CompareOptions& o) {
   const render::ImageError eq = render::compareImages(quad.image, reference);
 
   const double time = c.summary.frames[f].time;
-  std::printf("%s frame %zu (t = %.3f s): %zu particles, %zu surface (SD = %.3f x ID)\n", c.scene.name.c_str(), f, time,
-              point.particles, point.surface, point.SD / point.ID);
-  std::printf("  %-6s %9s %9s %9s %9s %9s | %8s %8s %11s\n", "splats", "field ms", "surf ms", "normal ms", "build ms",
-              "draw ms", "PSNR dB", "holes %", "normal deg");
+  std::printf("%s frame %zu (t = %.3f s): %zu particles, %zu surface (SD = %.3f x ID)\n",
+              c.scene.name.c_str(), f, time, point.particles, point.surface, point.SD / point.ID);
+  std::printf("  %-6s %9s %9s %9s %9s %9s | %8s %8s %11s\n", "splats", "field ms", "surf ms",
+              "normal ms", "build ms", "draw ms", "PSNR dB", "holes %", "normal deg");
   auto row = [&](const char* name, const render::RenderedSplats& r, const render::ImageError& e) {
-    std::printf("  %-6s %9.1f %9.1f %9.1f %9.1f %9.1f | %8.2f %8.2f %11.1f\n", name, 1e3 * r.timings.field,
-                1e3 * r.timings.splats.surface, 1e3 * r.timings.splats.normals, 1e3 * r.timings.splats.build,
-                1e3 * r.timings.draw, e.psnr, 100 * e.holeFraction, e.normalErrorDegrees);
+    std::printf("  %-6s %9.1f %9.1f %9.1f %9.1f %9.1f | %8.2f %8.2f %11.1f\n", name,
+                1e3 * r.timings.field, 1e3 * r.timings.splats.surface,
+                1e3 * r.timings.splats.normals, 1e3 * r.timings.splats.build, 1e3 * r.timings.draw,
+                e.psnr, 100 * e.holeFraction, e.normalErrorDegrees);
   };
   row("point", point, ep);
   row("quad", quad, eq);
@@ -187,12 +206,18 @@ int compare(const CompareOptions& o) {
 
   const std::string method = c.desc.newtonProjection ? "newton" : "eq. (6)";
   std::vector<render::Panel> panels = {
-      {&point.image, {"point splats", fmt("%.1f ms build + draw", 1e3 * point.timings.total()),
-                      fmt("psnr %.2f db  holes %.2f%%", ep.psnr, 100 * ep.holeFraction), fmt("normal error %.1f deg", ep.normalErrorDegrees)}},
-      {&quad.image, {"quad splats (" + method + ")", fmt("%.1f ms build + draw", 1e3 * quad.timings.total()),
-                     fmt("psnr %.2f db  holes %.2f%%", eq.psnr, 100 * eq.holeFraction), fmt("normal error %.1f deg", eq.normalErrorDegrees)}},
-      {&reference, {"reference (ray-marched)", fmt("%.2f s", reference.seconds), fmt("sd = %.3f x id", point.SD / point.ID),
-                    fmt("frame %.0f, t = %.3f s", static_cast<double>(f), time)}},
+      {&point.image,
+       {"point splats", fmt("%.1f ms build + draw", 1e3 * point.timings.total()),
+        fmt("psnr %.2f db  holes %.2f%%", ep.psnr, 100 * ep.holeFraction),
+        fmt("normal error %.1f deg", ep.normalErrorDegrees)}},
+      {&quad.image,
+       {"quad splats (" + method + ")", fmt("%.1f ms build + draw", 1e3 * quad.timings.total()),
+        fmt("psnr %.2f db  holes %.2f%%", eq.psnr, 100 * eq.holeFraction),
+        fmt("normal error %.1f deg", eq.normalErrorDegrees)}},
+      {&reference,
+       {"reference (ray-marched)", fmt("%.2f s", reference.seconds),
+        fmt("sd = %.3f x id", point.SD / point.ID),
+        fmt("frame %.0f, t = %.3f s", static_cast<double>(f), time)}},
   };
   const render::RenderImage sheet = render::composePanels(panels);
   char name[96];
@@ -207,31 +232,40 @@ int compare(const CompareOptions& o) {
 
 std::function<int()> addRenderCommand(CLI::App& app) {
   auto o = std::make_shared<RenderOptions>();
-  CLI::App* cmd = app.add_subcommand("render", "Render frames of a cache with point or quad splats (no simulation)");
+  CLI::App* cmd = app.add_subcommand(
+      "render", "Render frames of a cache with point or quad splats (no simulation)");
   cmd->add_option("cache", o->cache, "HDF5 cache written by `sphsplat run`")->required();
   cmd->add_option("--frames", o->frames, "Frames: N, A:B (inclusive), A:, :B, last (default: all)");
-  cmd->add_option("--splat", o->splat, "point, quad or both (default: the scene's render.splat, else quad)")
+  cmd->add_option("--splat", o->splat,
+                  "point, quad or both (default: the scene's render.splat, else quad)")
       ->check(CLI::IsMember({"point", "quad", "both"}));
-  cmd->add_option("--size", o->size, "Image size WIDTHxHEIGHT (default: the scene's render section, else 960x540)");
+  cmd->add_option("--size", o->size,
+                  "Image size WIDTHxHEIGHT (default: the scene's render section, else 960x540)");
   cmd->add_option("--out", o->out, "Directory for the PNGs (created)")->capture_default_str();
   cmd->add_flag("--to-cache", o->toCache, "Also store the images in the cache under /Render");
-  cmd->add_option("--set", o->overrides, "Edit the recorded scene, e.g. --set render.projection=newton (repeatable)");
+  cmd->add_option("--set", o->overrides,
+                  "Edit the recorded scene, e.g. --set render.projection=newton (repeatable)");
   cmd->add_flag("--quiet,-q", o->quiet, "No progress and no summary");
-  cmd->footer("The camera is the scene's; without one, a camera framing the first frame's particles.\n"
-              "Needs OpenGL 4.5 (headless EGL; Mesa's llvmpipe works without a GPU).");
+  cmd->footer(
+      "The camera is the scene's; without one, a camera framing the first frame's particles.\n"
+      "Needs OpenGL 4.5 (headless EGL; Mesa's llvmpipe works without a GPU).");
   return [o, cmd]() { return cmd->parsed() ? render(*o) : -1; };
 }
 
 std::function<int()> addCompareCommand(CLI::App& app) {
   auto o = std::make_shared<CompareOptions>();
-  CLI::App* cmd = app.add_subcommand("compare", "Point vs quad splats vs the ray-marched reference, side by side with times and errors");
+  CLI::App* cmd = app.add_subcommand(
+      "compare",
+      "Point vs quad splats vs the ray-marched reference, side by side with times and errors");
   cmd->add_option("cache", o->cache, "HDF5 cache written by `sphsplat run`")->required();
   cmd->add_option("--frame", o->frame, "Frame index, or last / -1 (default: last)");
   cmd->add_option("--out", o->out, "Directory for the PNG (created)")->capture_default_str();
   cmd->add_option("--size", o->size, "Size of each panel, WIDTHxHEIGHT")->capture_default_str();
-  cmd->add_option("--set", o->overrides, "Edit the recorded scene, e.g. --set render.projection=newton (repeatable)");
-  cmd->footer("Errors are against a CPU ray-marcher of the same SPH iso-surface: PSNR of the colours,\n"
-              "holes (surface pixels a renderer leaves empty) and the mean normal angle error.");
+  cmd->add_option("--set", o->overrides,
+                  "Edit the recorded scene, e.g. --set render.projection=newton (repeatable)");
+  cmd->footer(
+      "Errors are against a CPU ray-marcher of the same SPH iso-surface: PSNR of the colours,\n"
+      "holes (surface pixels a renderer leaves empty) and the mean normal angle error.");
   return [o, cmd]() { return cmd->parsed() ? compare(*o) : -1; };
 }
 

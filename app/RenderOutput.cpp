@@ -21,14 +21,18 @@ void makeDirectory(const std::string& dir) {
   }
 }
 
-std::unique_ptr<RenderOutput> RenderOutput::prepare(const Scene& scene, const BoundaryParticles& boundary,
+std::unique_ptr<RenderOutput> RenderOutput::prepare(const Scene& scene,
+                                                    const BoundaryParticles& boundary,
                                                     const std::string& cachePath) {
   if (!scene.render) return nullptr;
   std::string dir = scene.render->directory;
   if (dir.empty()) {
     if (!cachePath.empty()) {
       const std::size_t dot = cachePath.rfind('.');
-      dir = (dot == std::string::npos || cachePath.find('/', dot) != std::string::npos ? cachePath : cachePath.substr(0, dot)) + "_frames";
+      dir = (dot == std::string::npos || cachePath.find('/', dot) != std::string::npos
+                 ? cachePath
+                 : cachePath.substr(0, dot)) +
+            "_frames";
     } else {
       dir = "results/" + scene.name + "_frames";
     }
@@ -42,14 +46,18 @@ std::unique_ptr<RenderOutput> RenderOutput::prepare(const Scene& scene, const Bo
 RenderOutput::RenderOutput(const Scene& scene, std::string directory)
     : context_(render::GlContext::headless()),
       renderer_(*scene.render, scene.solver.spacing, scene.solver.restDensity),
-      desc_(*scene.render), camera_(*scene.camera), name_(scene.name), directory_(std::move(directory)) {}
+      desc_(*scene.render),
+      camera_(*scene.camera),
+      name_(scene.name),
+      directory_(std::move(directory)) {}
 
 void RenderOutput::frame(const Particles& fluid, std::size_t frame, CacheOutput* cache) {
   if (frame % static_cast<std::size_t>(desc_.every) != 0) return;
   renderer_.prepare(fluid);
   const bool both = desc_.splat == RenderDesc::Splat::Both;
   for (render::SplatKind kind : {render::SplatKind::Point, render::SplatKind::Quad}) {
-    const bool wanted = both || (kind == render::SplatKind::Point) == (desc_.splat == RenderDesc::Splat::Point);
+    const bool wanted =
+        both || (kind == render::SplatKind::Point) == (desc_.splat == RenderDesc::Splat::Point);
     if (!wanted) continue;
     const char* kindName = kind == render::SplatKind::Point ? "point" : "quad";
     const render::RenderedSplats r = renderer_.render(kind, camera_);
@@ -57,7 +65,8 @@ void RenderOutput::frame(const Particles& fluid, std::size_t frame, CacheOutput*
     char name[96];
     std::snprintf(name, sizeof name, "/%s_%s_%05zu.png", name_.c_str(), kindName, frame);
     io::writePng(directory_ + name, r.image.width, r.image.height, r.image.rgb.data());
-    if (cache && desc_.toCache) cache->writeRenderedFrame(kindName, frame, r.image.width, r.image.height, r.image.rgb.data());
+    if (cache && desc_.toCache)
+      cache->writeRenderedFrame(kindName, frame, r.image.width, r.image.height, r.image.rgb.data());
     ++images_;
   }
 }

@@ -17,7 +17,8 @@ class RenderOutput {
  public:
   // nullptr if the scene has no render section. `cachePath` ("" for none) names the default
   // picture directory: next to the cache, else results/<scene>_frames.
-  static std::unique_ptr<RenderOutput> prepare(const Scene& scene, const BoundaryParticles& boundary,
+  static std::unique_ptr<RenderOutput> prepare(const Scene& scene,
+                                               const BoundaryParticles& boundary,
                                                const std::string& cachePath);
 
   // Draws output frame `frame` of the run (the current state of `fluid`).

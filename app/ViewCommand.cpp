@@ -55,7 +55,8 @@ struct ViewerState {
   CameraDesc camera(const CameraDesc& lens) const {
     CameraDesc c = lens;
     c.target = target;
-    c.position = target + distance * Vec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
+    c.position = target + distance * Vec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch),
+                                          std::cos(pitch) * std::cos(yaw));
     c.up = Vec3::UnitY();
     c.near = std::max(1e-4f, 0.01f * distance);
     c.far = 100.0f * distance;
@@ -69,7 +70,8 @@ void saveScreenshot(const std::string& path, int width, int height) {
   glReadBuffer(GL_BACK);
   glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
   for (int row = 0; row < height; ++row) {
-    std::copy_n(&rgb[static_cast<std::size_t>(height - 1 - row) * width * 3], width * 3, &flipped[static_cast<std::size_t>(row) * width * 3]);
+    std::copy_n(&rgb[static_cast<std::size_t>(height - 1 - row) * width * 3], width * 3,
+                &flipped[static_cast<std::size_t>(row) * width * 3]);
   }
   io::writePng(path, width, height, flipped.data());
   std::printf("wrote %s\n", path.c_str());
@@ -78,7 +80,8 @@ void saveScreenshot(const std::string& path, int width, int height) {
 int view(const ViewOptions& o) {
   io::CacheReader reader(o.cache);
   const Scene scene = sceneOfCache(reader.summary(), o.overrides);
-  if (reader.frameCount() == 0) throw InputError(o.cache + ": the cache has no complete frame to show");
+  if (reader.frameCount() == 0)
+    throw InputError(o.cache + ": the cache has no complete frame to show");
   RenderDesc desc = scene.render ? *scene.render : RenderDesc{};
   render::GlWindowOptions wo;
   wo.width = o.width, wo.height = o.height;
@@ -91,13 +94,16 @@ int view(const ViewOptions& o) {
   }
 
   io::cache::FieldSet xyz;
-  for (auto f : {io::cache::Field::X, io::cache::Field::Y, io::cache::Field::Z}) xyz.set(static_cast<std::size_t>(f));
+  for (auto f : {io::cache::Field::X, io::cache::Field::Y, io::cache::Field::Z})
+    xyz.set(static_cast<std::size_t>(f));
   ViewerState s;
   s.frames = reader.frameCount();
   s.frame = parseFrameRange(o.frame, s.frames, "--frame").front();
   s.kind = o.splat == "point" ? render::SplatKind::Point : render::SplatKind::Quad;
   const Particles first = reader.readFrame(s.frame, xyz);
-  const CameraDesc lens = scene.camera ? *scene.camera : render::framingCamera(first, static_cast<float>(o.width) / o.height);
+  const CameraDesc lens =
+      scene.camera ? *scene.camera
+                   : render::framingCamera(first, static_cast<float>(o.width) / o.height);
   s.target = lens.target;
   const Vec3 offset = lens.position - lens.target;
   s.distance = offset.norm();
@@ -110,17 +116,40 @@ int view(const ViewOptions& o) {
     const auto size = window.framebufferSize();
     if (e.type == T::Key && e.press) {
       switch (e.key) {
-        case render::keys::kSpace: s.playing = !s.playing; break;
-        case render::keys::kRight: s.playing = false, s.seek(static_cast<long long>(s.frame) + 1); break;
-        case render::keys::kLeft: s.playing = false, s.seek(static_cast<long long>(s.frame) - 1); break;
-        case render::keys::kPageUp: s.seek(static_cast<long long>(s.frame) + 10); break;
-        case render::keys::kPageDown: s.seek(static_cast<long long>(s.frame) - 10); break;
-        case render::keys::kHome: s.seek(0); break;
-        case render::keys::kEnd: s.seek(static_cast<long long>(s.frames) - 1); break;
-        case 'M': s.kind = s.kind == render::SplatKind::Quad ? render::SplatKind::Point : render::SplatKind::Quad; break;
-        case 'S': s.screenshot = true; break;
-        case 'Q': case render::keys::kEscape: s.quit = true; break;
-        default: break;
+        case render::keys::kSpace:
+          s.playing = !s.playing;
+          break;
+        case render::keys::kRight:
+          s.playing = false, s.seek(static_cast<long long>(s.frame) + 1);
+          break;
+        case render::keys::kLeft:
+          s.playing = false, s.seek(static_cast<long long>(s.frame) - 1);
+          break;
+        case render::keys::kPageUp:
+          s.seek(static_cast<long long>(s.frame) + 10);
+          break;
+        case render::keys::kPageDown:
+          s.seek(static_cast<long long>(s.frame) - 10);
+          break;
+        case render::keys::kHome:
+          s.seek(0);
+          break;
+        case render::keys::kEnd:
+          s.seek(static_cast<long long>(s.frames) - 1);
+          break;
+        case 'M':
+          s.kind = s.kind == render::SplatKind::Quad ? render::SplatKind::Point
+                                                     : render::SplatKind::Quad;
+          break;
+        case 'S':
+          s.screenshot = true;
+          break;
+        case 'Q':
+        case render::keys::kEscape:
+          s.quit = true;
+          break;
+        default:
+          break;
       }
     } else if (e.type == T::MouseButton && e.key == 0) {
       if (e.press && size[1] > 0 && e.y >= size[1] - 3 * timeline) {  // click on the timeline: seek
@@ -136,11 +165,14 @@ int view(const ViewOptions& o) {
       s.distance *= std::pow(0.9f, static_cast<float>(e.y));
     }
   });
-  std::printf("%s: %zu frames. Space play/pause, Left/Right step, PgUp/PgDn 10 frames, Home/End, click the\n"
-              "  bottom bar to seek, M point/quad, drag to orbit, wheel to zoom, S screenshot, Esc quit.\n",
-              scene.name.c_str(), s.frames);
+  std::printf(
+      "%s: %zu frames. Space play/pause, Left/Right step, PgUp/PgDn 10 frames, Home/End, click "
+      "the\n"
+      "  bottom bar to seek, M point/quad, drag to orbit, wheel to zoom, S screenshot, Esc quit.\n",
+      scene.name.c_str(), s.frames);
 
-  const double frameSeconds = 1.0 / (reader.summary().fps > 0 ? reader.summary().fps : 30.0) / o.speed;
+  const double frameSeconds =
+      1.0 / (reader.summary().fps > 0 ? reader.summary().fps : 30.0) / o.speed;
   auto lastAdvance = std::chrono::steady_clock::now();
   int drawn = 0;
   while (!window.shouldClose() && !s.quit) {
@@ -166,9 +198,11 @@ int view(const ViewOptions& o) {
     glClear(GL_COLOR_BUFFER_BIT);
     glDisable(GL_SCISSOR_TEST);
     char title[256];
-    std::snprintf(title, sizeof title, "sphsplat view - %s - frame %zu/%zu, t = %.3f s - %s splats - %.0f ms%s",
+    std::snprintf(title, sizeof title,
+                  "sphsplat view - %s - frame %zu/%zu, t = %.3f s - %s splats - %.0f ms%s",
                   scene.name.c_str(), s.frame, s.frames - 1, reader.summary().frames[s.frame].time,
-                  s.kind == render::SplatKind::Quad ? "quad" : "point", 1e3 * t.total(), s.playing ? "" : " - paused");
+                  s.kind == render::SplatKind::Quad ? "quad" : "point", 1e3 * t.total(),
+                  s.playing ? "" : " - paused");
     window.setTitle(title);
     ++drawn;
     const bool last = o.exitAfter > 0 && drawn >= o.exitAfter;
@@ -188,17 +222,31 @@ int view(const ViewOptions& o) {
 
 std::function<int()> addViewCommand(CLI::App& app) {
   auto o = std::make_shared<ViewOptions>();
-  CLI::App* cmd = app.add_subcommand("view", "Play a cache in a window (needs a display): play/pause, step, scrub, orbit, zoom, point/quad");
+  CLI::App* cmd = app.add_subcommand("view",
+                                     "Play a cache in a window (needs a display): play/pause, "
+                                     "step, scrub, orbit, zoom, point/quad");
   cmd->add_option("cache", o->cache, "HDF5 cache written by `sphsplat run`")->required();
-  cmd->add_option("--splat", o->splat, "Splats to start with: quad or point")->check(CLI::IsMember({"point", "quad"}))->capture_default_str();
+  cmd->add_option("--splat", o->splat, "Splats to start with: quad or point")
+      ->check(CLI::IsMember({"point", "quad"}))
+      ->capture_default_str();
   cmd->add_option("--frame", o->frame, "Frame to start at (index or last)")->capture_default_str();
-  cmd->add_option("--speed", o->speed, "Playback speed (1 = the cache's frame rate)")->check(CLI::PositiveNumber)->capture_default_str();
-  cmd->add_option("--width", o->width, "Window width")->check(CLI::Range(64, 8192))->capture_default_str();
-  cmd->add_option("--height", o->height, "Window height")->check(CLI::Range(64, 8192))->capture_default_str();
-  cmd->add_option("--screenshot", o->screenshot, "File for the S key's screenshot (default: sphsplat_view_NNNNN.png)");
-  cmd->add_option("--exit-after", o->exitAfter, "Quit after drawing N frames (scripts and tests; with --screenshot, saves the last)")
+  cmd->add_option("--speed", o->speed, "Playback speed (1 = the cache's frame rate)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--width", o->width, "Window width")
+      ->check(CLI::Range(64, 8192))
+      ->capture_default_str();
+  cmd->add_option("--height", o->height, "Window height")
+      ->check(CLI::Range(64, 8192))
+      ->capture_default_str();
+  cmd->add_option("--screenshot", o->screenshot,
+                  "File for the S key's screenshot (default: sphsplat_view_NNNNN.png)");
+  cmd->add_option(
+         "--exit-after", o->exitAfter,
+         "Quit after drawing N frames (scripts and tests; with --screenshot, saves the last)")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--set", o->overrides, "Edit the recorded scene, e.g. --set render.projection=newton (repeatable)");
+  cmd->add_option("--set", o->overrides,
+                  "Edit the recorded scene, e.g. --set render.projection=newton (repeatable)");
   return [o, cmd]() { return cmd->parsed() ? view(*o) : -1; };
 }
 

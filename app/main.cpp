@@ -16,8 +16,9 @@ int main(int argc, char** argv) {
                "Scenes are JSON files (scenes/, docs/scene-format.md)."};
   app.set_version_flag("--version", "sphsplat " SPHSPLAT_VERSION_STRING);
   app.require_subcommand(1, 1);
-  app.footer("Run 'sphsplat COMMAND --help' for a command's options.\n"
-             "Example: sphsplat run scenes/dam_break.json --threads 2");
+  app.footer(
+      "Run 'sphsplat COMMAND --help' for a command's options.\n"
+      "Example: sphsplat run scenes/dam_break.json --threads 2");
 
   std::vector<std::function<int()>> commands;
   commands.push_back(sph::app::addRunCommand(app));

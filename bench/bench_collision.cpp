@@ -576,26 +576,30 @@ void printImprovements(const Options& o) {
   FILE* csv = o.csv.empty() ? nullptr : std::fopen(o.csv.c_str(), "w");
   if (!o.csv.empty() && !csv) throw std::runtime_error("cannot write " + o.csv);
   if (csv)
-    std::fprintf(csv, "variant,method,options,status,threads,pair_recall,particle_recall,miss_rate,ms_least,ms_median\n");
+    std::fprintf(csv,
+                 "variant,method,options,status,threads,pair_recall,particle_recall,miss_rate,ms_"
+                 "least,ms_median\n");
   int row = 0;
-  auto csvRow = [&](const char* method, const char* options, const collision::Recall& r, const Timing& t) {
+  auto csvRow = [&](const char* method, const char* options, const collision::Recall& r,
+                    const Timing& t) {
     if (csv)
-      std::fprintf(csv, "%d,%s,\"%s\",stable,%d,%.4f,%.4f,%.4f,%.3f,%.3f\n", ++row, method, options, threadCount(),
-                   r.pairRecall(), r.particleRecall(), 1.0 - r.pairRecall(), t.minMs, t.medianMs);
+      std::fprintf(csv, "%d,%s,\"%s\",stable,%d,%.4f,%.4f,%.4f,%.3f,%.3f\n", ++row, method, options,
+                   threadCount(), r.pairRecall(), r.particleRecall(), 1.0 - r.pairRecall(), t.minMs,
+                   t.medianMs);
   };
   {  // the baselines: exact is 1 by construction, the octree misses pairs across leaf faces
     collision::ExactDetector exact;
     const collision::Recall re = detectWith(exact, p, range, truth);
     const Timing te = timeMethod(snap, CollisionMethod::Exact, o.steps);
-    std::printf("| exact | %.3f | %.3f | %.3f | %s (exact) | - |\n", re.pairRecall(), re.particleRecall(),
-                re.unansweredFraction(), format(te).c_str());
+    std::printf("| exact | %.3f | %.3f | %.3f | %s (exact) | - |\n", re.pairRecall(),
+                re.particleRecall(), re.unansweredFraction(), format(te).c_str());
     csvRow("exact", "", re, te);
     const Vec3 centre = 0.5f * (snap.scene.domain.lo + snap.scene.domain.hi);
     collision::OctreeDetector octree(centre, snap.scene.domain.size().maxCoeff(), 3);
     const collision::Recall ro = detectWith(octree, p, range, truth);
     const Timing to = timeMethod(snap, CollisionMethod::Octree, std::max(2, o.steps / 3));
-    std::printf("| octree (depth 3) | %.3f | %.3f | %.3f | %s (octree) | - |\n", ro.pairRecall(), ro.particleRecall(),
-                ro.unansweredFraction(), format(to).c_str());
+    std::printf("| octree (depth 3) | %.3f | %.3f | %.3f | %s (octree) | - |\n", ro.pairRecall(),
+                ro.particleRecall(), ro.unansweredFraction(), format(to).c_str());
     csvRow("octree", "depth 3", ro, to);
   }
   struct Variant {

@@ -26,15 +26,18 @@ namespace {
 // that gives about n particles (bisection on the spacing; within 1%).
 Particles wavyPool(std::size_t n, float& spacing) {
   auto fill = [](float dx, bool keep, Particles* p) {
-    const int nx = static_cast<int>(0.8f / dx), ny = static_cast<int>(0.2f / dx), nz = static_cast<int>(0.4f / dx);
+    const int nx = static_cast<int>(0.8f / dx), ny = static_cast<int>(0.2f / dx),
+              nz = static_cast<int>(0.4f / dx);
     std::size_t count = 0;
     for (int k = 0; k < nz; ++k)
       for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
           const float x = (i + 0.5f) * dx, y = (j + 0.5f) * dx, z = (k + 0.5f) * dx;
-          const float top = 0.2f * (0.85f + 0.15f * std::sin(6.283f * x / 0.4f) * std::cos(6.283f * z / 0.4f));
+          const float top =
+              0.2f * (0.85f + 0.15f * std::sin(6.283f * x / 0.4f) * std::cos(6.283f * z / 0.4f));
           if (y > top) continue;
-          if (keep) p->append(Vec3(x, y, z), Vec3::Zero(), static_cast<std::uint32_t>(count), 1000.0f);
+          if (keep)
+            p->append(Vec3(x, y, z), Vec3::Zero(), static_cast<std::uint32_t>(count), 1000.0f);
           ++count;
         }
     return count;
@@ -76,7 +79,10 @@ int main(int argc, char** argv) {
     } else if (!std::strcmp(argv[a], "--no-reference")) {
       reference = false;
     } else {
-      std::fprintf(stderr, "usage: %s [--counts N,N,...] [--size WxH] [--repeat N] [--no-reference] [--csv FILE]\n", argv[0]);
+      std::fprintf(
+          stderr,
+          "usage: %s [--counts N,N,...] [--size WxH] [--repeat N] [--no-reference] [--csv FILE]\n",
+          argv[0]);
       return 2;
     }
   }
@@ -85,11 +91,16 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_render: cannot write %s\n", csvPath.c_str());
     return 2;
   }
-  if (csv) std::fprintf(csv, "variant,particles,splats,status,threads,total_ms,psnr_db,rmse,holes_pct,normal_deg\n");
+  if (csv)
+    std::fprintf(
+        csv,
+        "variant,particles,splats,status,threads,total_ms,psnr_db,rmse,holes_pct,normal_deg\n");
   render::GlContext context = render::GlContext::headless();
-  std::printf("renderer: %s, %d threads, %dx%d, median of %d\n\n", context.info().renderer.c_str(), threadCount(),
-              width, height, repeat);
-  std::printf("| particles | surface | splats | field ms | surface ms | normals ms | build ms | draw ms | total ms | PSNR dB | holes %% | normal deg |\n");
+  std::printf("renderer: %s, %d threads, %dx%d, median of %d\n\n", context.info().renderer.c_str(),
+              threadCount(), width, height, repeat);
+  std::printf(
+      "| particles | surface | splats | field ms | surface ms | normals ms | build ms | draw ms | "
+      "total ms | PSNR dB | holes %% | normal deg |\n");
   std::printf("|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (std::size_t n : counts) {
     float spacing = 0;
@@ -110,24 +121,31 @@ int main(int argc, char** argv) {
           r.prepare(pool);
           last = r.render(kind, camera);
           field.push_back(last.timings.field), surface.push_back(last.timings.splats.surface);
-          normals.push_back(last.timings.splats.normals), build.push_back(last.timings.splats.build);
+          normals.push_back(last.timings.splats.normals),
+              build.push_back(last.timings.splats.build);
           draw.push_back(last.timings.draw), total.push_back(last.timings.total());
         }
         render::ImageError e;
         if (reference) e = render::compareImages(last.image, ref);
-        const char* name = kind == render::SplatKind::Point ? "point" : newton ? "quad (newton)" : "quad (eq. 6)";
-        std::printf("| %zu | %zu | %s | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %s | %s | %s |\n", pool.size(), last.surface, name,
-                    1e3 * median(field), 1e3 * median(surface), 1e3 * median(normals), 1e3 * median(build),
-                    1e3 * median(draw), 1e3 * median(total), reference ? std::to_string(e.psnr).substr(0, 5).c_str() : "-",
+        const char* name = kind == render::SplatKind::Point ? "point"
+                           : newton                         ? "quad (newton)"
+                                                            : "quad (eq. 6)";
+        std::printf("| %zu | %zu | %s | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %s | %s | %s |\n",
+                    pool.size(), last.surface, name, 1e3 * median(field), 1e3 * median(surface),
+                    1e3 * median(normals), 1e3 * median(build), 1e3 * median(draw),
+                    1e3 * median(total),
+                    reference ? std::to_string(e.psnr).substr(0, 5).c_str() : "-",
                     reference ? std::to_string(100 * e.holeFraction).substr(0, 4).c_str() : "-",
                     reference ? std::to_string(e.normalErrorDegrees).substr(0, 4).c_str() : "-");
         std::fflush(stdout);
         // rmse: the colour RMS error on [0, 1] that the PSNR is made of (lower is better, so the
         // Pareto front of time and error is one of two minimised columns).
         if (csv)
-          std::fprintf(csv, "%.0fk %s,%zu,%s,stable,%d,%.3f,%.3f,%.5f,%.3f,%.2f\n", pool.size() / 1e3, name, pool.size(), name, threadCount(),
-                       1e3 * median(total), reference ? e.psnr : NAN, reference ? std::pow(10.0, -e.psnr / 20.0) : NAN,
-                       reference ? 100 * e.holeFraction : NAN, reference ? e.normalErrorDegrees : NAN);
+          std::fprintf(
+              csv, "%.0fk %s,%zu,%s,stable,%d,%.3f,%.3f,%.5f,%.3f,%.2f\n", pool.size() / 1e3, name,
+              pool.size(), name, threadCount(), 1e3 * median(total), reference ? e.psnr : NAN,
+              reference ? std::pow(10.0, -e.psnr / 20.0) : NAN,
+              reference ? 100 * e.holeFraction : NAN, reference ? e.normalErrorDegrees : NAN);
       }
     }
   }

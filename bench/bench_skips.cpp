@@ -95,12 +95,13 @@ void Splats(benchmark::State& state) {
   const float spacing = sim.scene().solver.spacing;
   sph::render::SplatParams params;
   params.surfaceThreshold = static_cast<float>(state.range(0)) / 100.0f;
-  const sph::render::DensityField field(p.x.data(), p.y.data(), p.z.data(), p.size(), spacing, params.kernelRadius);
+  const sph::render::DensityField field(p.x.data(), p.y.data(), p.z.data(), p.size(), spacing,
+                                        params.kernelRadius);
   // The scene's camera looks at the tank's middle; a narrow field of view keeps part of it.
   const sph::Vec3 eye(0.5f, 0.32f, 0.62f), target(0.27f, 0.08f, 0.03f);
-  const sph::cdt::Mat4 projView =
-      sph::cdt::multiply(sph::cdt::perspective(static_cast<float>(state.range(1)), 4.0f / 3.0f, 0.01f, 10.0f),
-                         sph::cdt::lookAt(eye, target, sph::Vec3::UnitY()));
+  const sph::cdt::Mat4 projView = sph::cdt::multiply(
+      sph::cdt::perspective(static_cast<float>(state.range(1)), 4.0f / 3.0f, 0.01f, 10.0f),
+      sph::cdt::lookAt(eye, target, sph::Vec3::UnitY()));
   sph::render::SplatFrame frame;
   for (auto _ : state) {
     frame = sph::render::buildSplats(field, params, sph::render::SplatKind::Quad, projView, eye);
@@ -114,9 +115,24 @@ void Splats(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(Splats)->Name("Splats/surface")->Args({0, 60})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
-BENCHMARK(Splats)->Name("Splats/every_particle")->Args({149, 60})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
-BENCHMARK(Splats)->Name("Splats/surface_narrow_view")->Args({0, 12})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK(Splats)
+    ->Name("Splats/surface")
+    ->Args({0, 60})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
+BENCHMARK(Splats)
+    ->Name("Splats/every_particle")
+    ->Args({149, 60})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
+BENCHMARK(Splats)
+    ->Name("Splats/surface_narrow_view")
+    ->Args({0, 12})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
 BENCHMARK(GlContextHeadless)
     ->Name("GlContext/headless")
     ->Iterations(5)

@@ -22,7 +22,8 @@ std::string spacingFor(double n) {
 }
 
 sph::Scene damBreak(double n) {
-  return sph::io::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/dam_break.json", {spacingFor(n)});
+  return sph::io::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/dam_break.json",
+                            {spacingFor(n)});
 }
 
 void NeighbourGridBuild(benchmark::State& state) {
@@ -47,18 +48,20 @@ void NeighbourGridQuery(benchmark::State& state) {
   std::vector<std::uint32_t> order;
   grid.build(p.x.data(), p.y.data(), p.z.data(), p.size(), sim.params().h, order);
   std::vector<float> x(p.size()), y(p.size()), z(p.size());
-  for (std::size_t i = 0; i < p.size(); ++i) x[i] = p.x[order[i]], y[i] = p.y[order[i]], z[i] = p.z[order[i]];
+  for (std::size_t i = 0; i < p.size(); ++i)
+    x[i] = p.x[order[i]], y[i] = p.y[order[i]], z[i] = p.z[order[i]];
   const float h2 = sim.params().h * sim.params().h;
   std::vector<std::uint32_t> counts(p.size());
   for (auto _ : state) {
     sph::parallelFor(p.size(), [&](std::size_t i) {
       std::uint32_t c = 0;
-      grid.forEachNeighbourRange(grid.cellOf(x[i], y[i], z[i]), [&](std::uint32_t b, std::uint32_t e) {
-        for (std::uint32_t j = b; j < e; ++j) {
-          const float dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
-          c += dx * dx + dy * dy + dz * dz < h2;
-        }
-      });
+      grid.forEachNeighbourRange(
+          grid.cellOf(x[i], y[i], z[i]), [&](std::uint32_t b, std::uint32_t e) {
+            for (std::uint32_t j = b; j < e; ++j) {
+              const float dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
+              c += dx * dx + dy * dy + dz * dz < h2;
+            }
+          });
       counts[i] = c;
     });
     benchmark::DoNotOptimize(counts.data());
@@ -82,8 +85,21 @@ void Step(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(NeighbourGridBuild)->Arg(20000)->Arg(100000)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(NeighbourGridQuery)->Arg(20000)->Arg(100000)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(Step)->Arg(20000)->Arg(100000)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(5.0);
+BENCHMARK(NeighbourGridBuild)
+    ->Arg(20000)
+    ->Arg(100000)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(NeighbourGridQuery)
+    ->Arg(20000)
+    ->Arg(100000)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(Step)
+    ->Arg(20000)
+    ->Arg(100000)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(5.0);
 
 BENCHMARK_MAIN();

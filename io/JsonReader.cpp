@@ -24,19 +24,29 @@ std::size_t editDistance(const std::string& a, const std::string& b) {
 
 }  // namespace
 
-bool positive(double v) { return v > 0; }
-bool nonNegative(double v) { return v >= 0; }
+bool positive(double v) {
+  return v > 0;
+}
+bool nonNegative(double v) {
+  return v >= 0;
+}
 
 std::string describeJson(const nlohmann::json& v) {
   std::string text = v.dump();
   if (text.size() > 40) text = text.substr(0, 37) + "...";
   switch (v.type()) {
-    case nlohmann::json::value_t::string: return "the string " + text;
-    case nlohmann::json::value_t::boolean: return "the boolean " + text;
-    case nlohmann::json::value_t::null: return "null";
-    case nlohmann::json::value_t::array: return "the array " + text;
-    case nlohmann::json::value_t::object: return "an object";
-    default: return text;
+    case nlohmann::json::value_t::string:
+      return "the string " + text;
+    case nlohmann::json::value_t::boolean:
+      return "the boolean " + text;
+    case nlohmann::json::value_t::null:
+      return "null";
+    case nlohmann::json::value_t::array:
+      return "the array " + text;
+    case nlohmann::json::value_t::object:
+      return "an object";
+    default:
+      return text;
   }
 }
 
@@ -56,7 +66,9 @@ void JsonReader::fail(const std::string& key, const std::string& message) const 
   throw InputError(file_ + ": " + keyPath(key) + ": " + message);
 }
 
-bool JsonReader::has(const std::string& key) const { return value_->contains(key); }
+bool JsonReader::has(const std::string& key) const {
+  return value_->contains(key);
+}
 
 double JsonReader::number(const std::string& key, std::optional<double> def, const char* expected,
                           bool (*valid)(double)) {
@@ -110,7 +122,8 @@ Vec3 JsonReader::vec3(const std::string& key, std::optional<Vec3> def, const cha
   }
   const nlohmann::json& v = (*value_)[key];
   bool ok = v.is_array() && v.size() == 3;
-  for (std::size_t i = 0; ok && i < 3; ++i) ok = v[i].is_number() && std::isfinite(v[i].get<double>());
+  for (std::size_t i = 0; ok && i < 3; ++i)
+    ok = v[i].is_number() && std::isfinite(v[i].get<double>());
   if (!ok) fail(key, std::string("expected ") + expected + " [x, y, z], got " + describeJson(v));
   return Vec3(v[0].get<float>(), v[1].get<float>(), v[2].get<float>());
 }

@@ -31,7 +31,8 @@ class JsonReader {
   bool boolean(const std::string& key, std::optional<bool> def);
   Vec3 vec3(const std::string& key, std::optional<Vec3> def, const char* expected = "3 numbers");
   // A non-empty array of strings, e.g. ["x", "y", "z"].
-  std::vector<std::string> stringArray(const std::string& key, std::optional<std::vector<std::string>> def,
+  std::vector<std::string> stringArray(const std::string& key,
+                                       std::optional<std::vector<std::string>> def,
                                        const char* expected);
 
   JsonReader object(const std::string& key);

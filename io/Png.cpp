@@ -82,7 +82,8 @@ std::vector<std::uint8_t> readPng(const std::string& path, int& width, int& heig
   png_set_gray_to_rgb(png);
   png_read_update_info(png, info);
   rgb.resize(static_cast<std::size_t>(width) * height * 3);
-  for (int row = 0; row < height; ++row) png_read_row(png, rgb.data() + static_cast<std::size_t>(row) * width * 3, nullptr);
+  for (int row = 0; row < height; ++row)
+    png_read_row(png, rgb.data() + static_cast<std::size_t>(row) * width * 3, nullptr);
   png_destroy_read_struct(&png, &info, nullptr);
   return rgb;
 }

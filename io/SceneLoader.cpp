@@ -27,8 +27,10 @@ std::string formatVec(const Vec3& v) {
 std::string lineColumn(const std::string& text, std::size_t offset) {
   std::size_t line = 1, column = 1;
   for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
-    if (text[i] == '\n') ++line, column = 1;
-    else ++column;
+    if (text[i] == '\n')
+      ++line, column = 1;
+    else
+      ++column;
   }
   return std::to_string(line) + ":" + std::to_string(column);
 }
@@ -50,7 +52,8 @@ void applyOverride(json& doc, const std::string& edit, const std::string& file) 
     const std::string key = keyPath.substr(pos, end - pos);
     if (!key.empty()) {
       if (node->is_null()) *node = json::object();  // --set may create a section the file lacks
-      if (!node->is_object()) throw InputError(file + ": --set " + keyPath + ": '" + key + "' is not inside an object");
+      if (!node->is_object())
+        throw InputError(file + ": --set " + keyPath + ": '" + key + "' is not inside an object");
       node = &(*node)[key];
     }
     pos = end;
@@ -59,7 +62,8 @@ void applyOverride(json& doc, const std::string& edit, const std::string& file) 
       if (close == std::string::npos) throw InputError("--set " + keyPath + ": missing ']'");
       const std::size_t index = std::stoul(keyPath.substr(pos + 1, close - pos - 1));
       if (!node->is_array() || index >= node->size()) {
-        throw InputError(file + ": --set " + keyPath + ": index " + std::to_string(index) + " is out of range");
+        throw InputError(file + ": --set " + keyPath + ": index " + std::to_string(index) +
+                         " is out of range");
       }
       node = &(*node)[index];
       pos = close + 1;
@@ -88,12 +92,18 @@ QualityPreset qualityPreset(const std::string& quality) {
 SolverParams readSolver(JsonReader r, const std::string& quality) {
   SolverParams s;
   const QualityPreset preset = qualityPreset(quality);
-  s.spacing = static_cast<float>(r.number("spacing", std::nullopt, "a positive number (m)", positive));
-  s.model = r.string("model", std::string("sph"), {"sph", "particles"}) == "sph" ? SolverModel::Sph : SolverModel::Particles;
-  s.support = static_cast<float>(r.number("support", 2.0, "a number in [1, 4] (kernel support radius / spacing)",
+  s.spacing =
+      static_cast<float>(r.number("spacing", std::nullopt, "a positive number (m)", positive));
+  s.model = r.string("model", std::string("sph"), {"sph", "particles"}) == "sph"
+                ? SolverModel::Sph
+                : SolverModel::Particles;
+  s.support = static_cast<float>(r.number("support", 2.0,
+                                          "a number in [1, 4] (kernel support radius / spacing)",
                                           [](double v) { return v >= 1 && v <= 4; }));
-  s.restDensity = static_cast<float>(r.number("rest_density", 1000.0, "a positive number (kg/m^3)", positive));
-  s.viscosity = static_cast<float>(r.number("viscosity", -1.0, "a number >= 0 (m^2/s)", nonNegative));
+  s.restDensity =
+      static_cast<float>(r.number("rest_density", 1000.0, "a positive number (kg/m^3)", positive));
+  s.viscosity =
+      static_cast<float>(r.number("viscosity", -1.0, "a number >= 0 (m^2/s)", nonNegative));
   s.noSlipWalls = r.string("walls", std::string("no-slip"), {"no-slip", "slip"}) == "no-slip";
   const std::string eos = r.string("eos", std::string("tait"), {"tait", "linear"});
   s.eos = eos == "tait" ? EquationOfState::Tait : EquationOfState::Linear;
@@ -103,28 +113,35 @@ SolverParams readSolver(JsonReader r, const std::string& quality) {
     r.fail("stiffness", "give either speed_of_sound or stiffness, not both");
   }
   if (r.has("speed_of_sound_factor") && (r.has("speed_of_sound") || r.has("stiffness"))) {
-    r.fail("speed_of_sound_factor", std::string("only used when the speed of sound is automatic; the scene also gives ") +
-                                        (r.has("speed_of_sound") ? "speed_of_sound" : "stiffness"));
+    r.fail("speed_of_sound_factor",
+           std::string("only used when the speed of sound is automatic; the scene also gives ") +
+               (r.has("speed_of_sound") ? "speed_of_sound" : "stiffness"));
   }
-  s.soundSpeedFactor = static_cast<float>(r.number("speed_of_sound_factor", preset.soundSpeedFactor,
-                                                   "a number >= 1 (automatic speed of sound / largest expected speed)",
-                                                   [](double v) { return v >= 1; }));
-  s.speedOfSound = static_cast<float>(r.number("speed_of_sound", 0.0, "a positive number (m/s)", positive));
-  s.stiffness = static_cast<float>(r.number("stiffness", 0.0, "a positive number (Pa for tait, m^2/s^2 for linear)", positive));
+  s.soundSpeedFactor = static_cast<float>(
+      r.number("speed_of_sound_factor", preset.soundSpeedFactor,
+               "a number >= 1 (automatic speed of sound / largest expected speed)",
+               [](double v) { return v >= 1; }));
+  s.speedOfSound =
+      static_cast<float>(r.number("speed_of_sound", 0.0, "a positive number (m/s)", positive));
+  s.stiffness = static_cast<float>(
+      r.number("stiffness", 0.0, "a positive number (Pa for tait, m^2/s^2 for linear)", positive));
   s.clampNegativePressure = r.boolean("clamp_negative_pressure", true);
   s.cfl = static_cast<float>(r.number("cfl", preset.cfl, "a positive number", positive));
-  s.maxTimeStep = static_cast<float>(r.number("max_time_step", s.maxTimeStep, "a positive number (s)", positive));
+  s.maxTimeStep = static_cast<float>(
+      r.number("max_time_step", s.maxTimeStep, "a positive number (s)", positive));
   s.gravity = r.vec3("gravity", s.gravity, "3 numbers (m/s^2)");
   s.endTime = r.number("end_time", 1.0, "a positive number (s)", positive);
-  s.boundaryLayers = static_cast<int>(r.number("boundary_layers", 0.0, "an integer in [0, 8] (0 = automatic)",
-                                               [](double v) { return v >= 0 && v <= 8 && v == std::floor(v); }));
+  s.boundaryLayers =
+      static_cast<int>(r.number("boundary_layers", 0.0, "an integer in [0, 8] (0 = automatic)",
+                                [](double v) { return v >= 0 && v <= 8 && v == std::floor(v); }));
   r.finish();
   return s;
 }
 
 void requireOrdered(JsonReader& r, const Vec3& lo, const Vec3& hi) {
   if (!(lo.array() < hi.array()).all()) {
-    r.fail("max", "expected max > min on every axis, got min " + formatVec(lo) + " and max " + formatVec(hi));
+    r.fail("max", "expected max > min on every axis, got min " + formatVec(lo) + " and max " +
+                      formatVec(hi));
   }
 }
 
@@ -139,7 +156,8 @@ FluidBlock readFluid(JsonReader r) {
   } else {
     f.shape = FluidBlock::Shape::Sphere;
     f.centre = r.vec3("centre", std::nullopt, "3 numbers (m)");
-    f.radius = static_cast<float>(r.number("radius", std::nullopt, "a positive number (m)", positive));
+    f.radius =
+        static_cast<float>(r.number("radius", std::nullopt, "a positive number (m)", positive));
   }
   f.velocity = r.vec3("velocity", Vec3::Zero(), "3 numbers (m/s)");
   r.finish();
@@ -148,7 +166,8 @@ FluidBlock readFluid(JsonReader r) {
 
 BoundaryShape readBoundary(JsonReader r) {
   BoundaryShape b;
-  const std::string type = r.string("type", std::nullopt, {"tank", "block", "cup", "plane", "sphere"});
+  const std::string type =
+      r.string("type", std::nullopt, {"tank", "block", "cup", "plane", "sphere"});
   if (type == "tank" || type == "block") {
     b.kind = type == "tank" ? BoundaryShape::Kind::Tank : BoundaryShape::Kind::Block;
     b.lo = r.vec3("min", std::nullopt, "3 numbers (m)");
@@ -158,8 +177,10 @@ BoundaryShape readBoundary(JsonReader r) {
   } else if (type == "cup") {
     b.kind = BoundaryShape::Kind::Cup;
     b.centre = r.vec3("centre", std::nullopt, "3 numbers (m): the centre of the cup's inner floor");
-    b.radius = static_cast<float>(r.number("radius", std::nullopt, "a positive number (m): inner radius", positive));
-    b.height = static_cast<float>(r.number("height", std::nullopt, "a positive number (m): wall height", positive));
+    b.radius = static_cast<float>(
+        r.number("radius", std::nullopt, "a positive number (m): inner radius", positive));
+    b.height = static_cast<float>(
+        r.number("height", std::nullopt, "a positive number (m): wall height", positive));
   } else if (type == "plane") {
     b.kind = BoundaryShape::Kind::Plane;
     b.point = r.vec3("point", Vec3::Zero(), "3 numbers (m)");
@@ -169,7 +190,8 @@ BoundaryShape readBoundary(JsonReader r) {
   } else {
     b.kind = BoundaryShape::Kind::Sphere;
     b.centre = r.vec3("centre", std::nullopt, "3 numbers (m)");
-    b.radius = static_cast<float>(r.number("radius", std::nullopt, "a positive number (m)", positive));
+    b.radius =
+        static_cast<float>(r.number("radius", std::nullopt, "a positive number (m)", positive));
   }
   r.finish();
   return b;
@@ -182,18 +204,22 @@ EmitterDesc readEmitter(JsonReader r, float spacing) {
   e.direction = r.vec3("direction", std::nullopt, "3 numbers, not all zero");
   if (e.direction.norm() == 0) r.fail("direction", "expected a non-zero vector, got [0, 0, 0]");
   e.direction.normalize();
-  e.radius = static_cast<float>(r.number("radius", std::nullopt, "a positive number (m)", positive));
+  e.radius =
+      static_cast<float>(r.number("radius", std::nullopt, "a positive number (m)", positive));
   if (e.radius < 0.5f * spacing) {
     std::ostringstream m;
     m << "expected a nozzle radius of at least half the particle spacing (" << 0.5f * spacing
       << " m) so it emits particles, got " << e.radius;
     r.fail("radius", m.str());
   }
-  e.speed = static_cast<float>(r.number("speed", std::nullopt, "a positive number (m/s)", positive));
+  e.speed =
+      static_cast<float>(r.number("speed", std::nullopt, "a positive number (m/s)", positive));
   e.start = r.number("start", 0.0, "a number >= 0 (s)", nonNegative);
   e.stop = r.number("stop", std::numeric_limits<double>::infinity(), "a number > start (s)");
-  if (r.has("stop") && e.stop <= e.start) r.fail("stop", "expected a time after start (" + std::to_string(e.start) + " s)");
-  e.maxParticles = static_cast<std::size_t>(r.number("max_particles", 0.0, "an integer >= 0 (0 = no limit)", nonNegative));
+  if (r.has("stop") && e.stop <= e.start)
+    r.fail("stop", "expected a time after start (" + std::to_string(e.start) + " s)");
+  e.maxParticles = static_cast<std::size_t>(
+      r.number("max_particles", 0.0, "an integer >= 0 (0 = no limit)", nonNegative));
   r.finish();
   return e;
 }
@@ -202,8 +228,10 @@ OutputDesc readOutput(JsonReader r) {
   OutputDesc o;
   o.fps = r.number("fps", o.fps, "a positive number (frames per simulated second)", positive);
   o.path = r.string("path", std::string(""));
-  // The cache's per-frame datasets (docs/cache-format.md): names checked and put in canonical order.
-  const std::vector<std::string> names = r.stringArray("fields", o.fields, "an array of field names, e.g. [\"x\", \"y\", \"z\"]");
+  // The cache's per-frame datasets (docs/cache-format.md): names checked and put in canonical
+  // order.
+  const std::vector<std::string> names =
+      r.stringArray("fields", o.fields, "an array of field names, e.g. [\"x\", \"y\", \"z\"]");
   std::string error;
   const cache::FieldSet fields = cache::parseFields(names, error);
   if (!error.empty()) r.fail("fields", error);
@@ -211,8 +239,9 @@ OutputDesc readOutput(JsonReader r) {
   for (std::size_t f = 0; f < cache::kFieldCount; ++f) {
     if (fields[f]) o.fields.push_back(cache::fieldName(static_cast<cache::Field>(f)));
   }
-  o.compression = static_cast<int>(r.number("compression", o.compression, "an integer deflate level 0-9 (0 = none)",
-                                            [](double v) { return v >= 0 && v <= 9 && v == std::floor(v); }));
+  o.compression = static_cast<int>(
+      r.number("compression", o.compression, "an integer deflate level 0-9 (0 = none)",
+               [](double v) { return v >= 0 && v <= 9 && v == std::floor(v); }));
   o.restart = r.boolean("restart", o.restart);
   o.doublePositions = r.boolean("double_positions", o.doublePositions);
   r.finish();
@@ -224,39 +253,57 @@ CameraDesc readCamera(JsonReader r) {
   c.position = r.vec3("position", std::nullopt, "3 numbers (m)");
   c.target = r.vec3("target", std::nullopt, "3 numbers (m)");
   c.up = r.vec3("up", c.up, "3 numbers, not all zero");
-  c.fovYDegrees = static_cast<float>(r.number("fov", c.fovYDegrees, "a number in (0, 180) (degrees, vertical)",
-                                              [](double v) { return v > 0 && v < 180; }));
+  c.fovYDegrees =
+      static_cast<float>(r.number("fov", c.fovYDegrees, "a number in (0, 180) (degrees, vertical)",
+                                  [](double v) { return v > 0 && v < 180; }));
   c.near = static_cast<float>(r.number("near", c.near, "a positive number (m)", positive));
   c.far = static_cast<float>(r.number("far", c.far, "a positive number (m)", positive));
-  if ((c.position - c.target).norm() == 0) r.fail("target", "expected a target different from position");
-  if (c.up.norm() == 0 || c.up.cross(c.target - c.position).norm() == 0) r.fail("up", "expected a vector not parallel to the view direction");
+  if ((c.position - c.target).norm() == 0)
+    r.fail("target", "expected a target different from position");
+  if (c.up.norm() == 0 || c.up.cross(c.target - c.position).norm() == 0)
+    r.fail("up", "expected a vector not parallel to the view direction");
   if (c.far <= c.near) r.fail("far", "expected far > near");
   r.finish();
   return c;
 }
 
-bool integerIn(double v, double lo, double hi) { return v >= lo && v <= hi && v == std::floor(v); }
+bool integerIn(double v, double lo, double hi) {
+  return v >= lo && v <= hi && v == std::floor(v);
+}
 
 // The `collision` section (docs/scene-format.md, "collision"; DESIGN.md, "The CDT collision pass").
 RenderDesc readRender(JsonReader r) {
   RenderDesc d;
   const std::string splat = r.string("splat", std::string("quad"), {"quad", "point", "both"});
-  d.splat = splat == "quad" ? RenderDesc::Splat::Quad : splat == "point" ? RenderDesc::Splat::Point : RenderDesc::Splat::Both;
+  d.splat = splat == "quad"    ? RenderDesc::Splat::Quad
+            : splat == "point" ? RenderDesc::Splat::Point
+                               : RenderDesc::Splat::Both;
   auto pixels = [](double v) { return v >= 16 && v <= 8192 && v == std::floor(v); };
-  d.width = static_cast<int>(r.number("width", d.width, "an integer in [16, 8192] (pixels)", pixels));
-  d.height = static_cast<int>(r.number("height", d.height, "an integer in [16, 8192] (pixels)", pixels));
-  d.every = static_cast<int>(r.number("every", 1.0, "an integer >= 1 (output frames)", [](double v) { return v >= 1 && v == std::floor(v); }));
-  d.kernelRadius = static_cast<float>(r.number("kernel_radius", d.kernelRadius, "a number in [1, 5] (spacings)", [](double v) { return v >= 1 && v <= 5; }));
+  d.width =
+      static_cast<int>(r.number("width", d.width, "an integer in [16, 8192] (pixels)", pixels));
+  d.height =
+      static_cast<int>(r.number("height", d.height, "an integer in [16, 8192] (pixels)", pixels));
+  d.every = static_cast<int>(r.number("every", 1.0, "an integer >= 1 (output frames)",
+                                      [](double v) { return v >= 1 && v == std::floor(v); }));
+  d.kernelRadius =
+      static_cast<float>(r.number("kernel_radius", d.kernelRadius, "a number in [1, 5] (spacings)",
+                                  [](double v) { return v >= 1 && v <= 5; }));
   if (r.has("surface_threshold") && (*r.raw())["surface_threshold"].is_string()) {
     r.string("surface_threshold", std::nullopt, {"auto"});
   } else {
-    d.surfaceThreshold = static_cast<float>(r.number("surface_threshold", 0.0, "\"auto\" or a number in (0, 1.5) (SD / mean density)", [](double v) { return v > 0 && v < 1.5; }));
+    d.surfaceThreshold = static_cast<float>(
+        r.number("surface_threshold", 0.0, "\"auto\" or a number in (0, 1.5) (SD / mean density)",
+                 [](double v) { return v > 0 && v < 1.5; }));
   }
-  d.splatSize = static_cast<float>(r.number("splat_size", d.splatSize, "a number in [0.5, 4] (spacings)", [](double v) { return v >= 0.5 && v <= 4; }));
-  d.perVertexDensity = r.string("vertex_density", std::string("per-vertex"), {"per-vertex", "per-particle"}) == "per-vertex";
+  d.splatSize =
+      static_cast<float>(r.number("splat_size", d.splatSize, "a number in [0.5, 4] (spacings)",
+                                  [](double v) { return v >= 0.5 && v <= 4; }));
+  d.perVertexDensity = r.string("vertex_density", std::string("per-vertex"),
+                                {"per-vertex", "per-particle"}) == "per-vertex";
   d.newtonProjection = r.string("projection", std::string("newton"), {"eq6", "newton"}) == "newton";
   d.environment = r.boolean("environment", true);
-  d.alpha = static_cast<float>(r.number("alpha", 1.0, "a number in (0, 1]", [](double v) { return v > 0 && v <= 1; }));
+  d.alpha = static_cast<float>(
+      r.number("alpha", 1.0, "a number in (0, 1]", [](double v) { return v > 0 && v <= 1; }));
   d.showBoundary = r.boolean("show_boundary", true);
   d.directory = r.string("directory", std::string(""));
   d.toCache = r.boolean("to_cache", true);
@@ -266,61 +313,86 @@ RenderDesc readRender(JsonReader r) {
 
 CollisionDesc readCollision(JsonReader r, const SolverParams& solver) {
   CollisionDesc c;
-  const std::string method = r.string("method", std::nullopt, {"none", "exact", "octree", "cdt-cpu", "cdt-gl"});
-  c.method = method == "none" ? CollisionMethod::None
-             : method == "exact" ? CollisionMethod::Exact
-             : method == "octree" ? CollisionMethod::Octree
+  const std::string method =
+      r.string("method", std::nullopt, {"none", "exact", "octree", "cdt-cpu", "cdt-gl"});
+  c.method = method == "none"      ? CollisionMethod::None
+             : method == "exact"   ? CollisionMethod::Exact
+             : method == "octree"  ? CollisionMethod::Octree
              : method == "cdt-cpu" ? CollisionMethod::CdtCpu
                                    : CollisionMethod::CdtGl;
-  c.range = static_cast<float>(r.number("range", 0.5 * solver.spacing, "a positive number (m)", positive));
-  const bool paper = r.string("response", std::string("separate"), {"separate", "paper"}) == "paper";
+  c.range = static_cast<float>(
+      r.number("range", 0.5 * solver.spacing, "a positive number (m)", positive));
+  const bool paper =
+      r.string("response", std::string("separate"), {"separate", "paper"}) == "paper";
   c.response = paper ? CollisionResponse::Paper : CollisionResponse::Separate;
-  c.speedFactor = static_cast<float>(r.number("speed_factor", 0.2, "a number in [0, 1]", [](double v) { return v >= 0 && v <= 1; }));
-  c.cooldown = static_cast<float>(r.number("cooldown", paper ? 0.05 : 0.0, "a number >= 0 (s)", nonNegative));
-  const bool texel = r.string("position_source", std::string(paper ? "texel" : "particle"), {"particle", "texel"}) == "texel";
+  c.speedFactor = static_cast<float>(r.number("speed_factor", 0.2, "a number in [0, 1]",
+                                              [](double v) { return v >= 0 && v <= 1; }));
+  c.cooldown = static_cast<float>(
+      r.number("cooldown", paper ? 0.05 : 0.0, "a number >= 0 (s)", nonNegative));
+  const bool texel = r.string("position_source", std::string(paper ? "texel" : "particle"),
+                              {"particle", "texel"}) == "texel";
   c.positionSource = texel ? CdtPositionSource::Texel : CdtPositionSource::Particle;
-  const int resolution = static_cast<int>(r.number("resolution", 500.0, "an integer in [16, 8192] (texels per side)",
-                                                   [](double v) { return integerIn(v, 16, 8192); }));
+  const int resolution =
+      static_cast<int>(r.number("resolution", 500.0, "an integer in [16, 8192] (texels per side)",
+                                [](double v) { return integerIn(v, 16, 8192); }));
   c.resolution = {resolution, resolution};
-  c.texelRange = static_cast<int>(r.number("texel_range", 1.0, "an integer in [0, 16]", [](double v) { return integerIn(v, 0, 16); }));
+  c.texelRange = static_cast<int>(r.number("texel_range", 1.0, "an integer in [0, 16]",
+                                           [](double v) { return integerIn(v, 0, 16); }));
   c.adaptiveTexelRange = r.boolean("adaptive_texel_range", false);
-  c.maxTexelRange = static_cast<int>(r.number("max_texel_range", 4.0, "an integer in [1, 16]", [](double v) { return integerIn(v, 1, 16); }));
-  c.layers = static_cast<int>(r.number("layers", 1.0, "an integer in [1, 4]", [](double v) { return integerIn(v, 1, 4); }));
-  const std::string camera = r.string("camera", std::string("render"), {"render", "fixed", "offset"});
-  c.camera = camera == "render" ? CdtCameraMode::Render : camera == "fixed" ? CdtCameraMode::Fixed : CdtCameraMode::Offset;
+  c.maxTexelRange = static_cast<int>(r.number("max_texel_range", 4.0, "an integer in [1, 16]",
+                                              [](double v) { return integerIn(v, 1, 16); }));
+  c.layers = static_cast<int>(
+      r.number("layers", 1.0, "an integer in [1, 4]", [](double v) { return integerIn(v, 1, 4); }));
+  const std::string camera =
+      r.string("camera", std::string("render"), {"render", "fixed", "offset"});
+  c.camera = camera == "render"  ? CdtCameraMode::Render
+             : camera == "fixed" ? CdtCameraMode::Fixed
+                                 : CdtCameraMode::Offset;
   c.offset = static_cast<float>(r.number("offset", 0.0, "a number (m, along the camera's z axis)"));
   if (auto pose = r.optionalObject("pose")) c.pose = readCamera(*pose), c.hasPose = true;
-  if (c.camera == CdtCameraMode::Fixed && !c.hasPose) r.fail("pose", "missing; camera \"fixed\" needs its pose {position, target, ...}");
-  if (c.camera != CdtCameraMode::Offset && r.has("offset")) r.fail("offset", "only used with \"camera\": \"offset\"");
-  c.octreeDepth = static_cast<int>(r.number("octree_depth", 3.0, "an integer in [1, 6]", [](double v) { return integerIn(v, 1, 6); }));
-  c.octreeRootSize = static_cast<float>(r.number("octree_root", 0.0, "a positive number (m)", positive));
+  if (c.camera == CdtCameraMode::Fixed && !c.hasPose)
+    r.fail("pose", "missing; camera \"fixed\" needs its pose {position, target, ...}");
+  if (c.camera != CdtCameraMode::Offset && r.has("offset"))
+    r.fail("offset", "only used with \"camera\": \"offset\"");
+  c.octreeDepth = static_cast<int>(r.number("octree_depth", 3.0, "an integer in [1, 6]",
+                                            [](double v) { return integerIn(v, 1, 6); }));
+  c.octreeRootSize =
+      static_cast<float>(r.number("octree_root", 0.0, "a positive number (m)", positive));
   r.finish();
   return c;
 }
 
 // Geometric checks that need the whole scene.
 void validate(const Scene& s, const std::string& file) {
-  auto fail = [&](const std::string& path, const std::string& msg) { throw InputError(file + ": " + path + ": " + msg); };
+  auto fail = [&](const std::string& path, const std::string& msg) {
+    throw InputError(file + ": " + path + ": " + msg);
+  };
   if (s.fluids.empty() && s.emitters.empty()) {
-    fail("fluids", "the scene has no fluid; expected at least one entry in \"fluids\" or \"emitters\"");
+    fail("fluids",
+         "the scene has no fluid; expected at least one entry in \"fluids\" or \"emitters\"");
   }
   const float dx = s.solver.spacing;
   for (std::size_t i = 0; i < s.fluids.size(); ++i) {
     const FluidBlock& f = s.fluids[i];
     Aabb b;
-    if (f.shape == FluidBlock::Shape::Box) b.lo = f.lo, b.hi = f.hi;
-    else b.lo = f.centre - Vec3::Constant(f.radius), b.hi = f.centre + Vec3::Constant(f.radius);
+    if (f.shape == FluidBlock::Shape::Box)
+      b.lo = f.lo, b.hi = f.hi;
+    else
+      b.lo = f.centre - Vec3::Constant(f.radius), b.hi = f.centre + Vec3::Constant(f.radius);
     const std::string path = "fluids[" + std::to_string(i) + "]";
     if (!s.domain.contains(b.lo) || !s.domain.contains(b.hi)) {
-      fail(path, "fluid outside the domain: expected it inside " + formatVec(s.domain.lo) + " - " + formatVec(s.domain.hi) + " (m)");
+      fail(path, "fluid outside the domain: expected it inside " + formatVec(s.domain.lo) + " - " +
+                     formatVec(s.domain.hi) + " (m)");
     }
     if ((b.hi - b.lo).minCoeff() < dx) {
-      fail(path, "expected a block at least one particle spacing (" + std::to_string(dx) + " m) across");
+      fail(path,
+           "expected a block at least one particle spacing (" + std::to_string(dx) + " m) across");
     }
   }
   for (std::size_t i = 0; i < s.emitters.size(); ++i) {
     if (!s.domain.contains(s.emitters[i].position)) {
-      fail("emitters[" + std::to_string(i) + "].position", "nozzle outside the domain " + formatVec(s.domain.lo) + " - " + formatVec(s.domain.hi));
+      fail("emitters[" + std::to_string(i) + "].position",
+           "nozzle outside the domain " + formatVec(s.domain.lo) + " - " + formatVec(s.domain.hi));
     }
   }
   // Refuse runs that would not fit in memory before allocating anything (~100 B per particle).
@@ -329,7 +401,10 @@ void validate(const Scene& s, const std::string& file) {
     estimate += f.shape == FluidBlock::Shape::Box ? (f.hi - f.lo).prod() / (dx * dx * dx)
                                                   : 4.18879 * std::pow(f.radius / dx, 3.0);
   }
-  if (estimate > 2e8) fail("solver.spacing", "the fluid blocks would hold " + std::to_string(static_cast<long long>(estimate)) + " particles; expected at most 2e8 (raise the spacing)");
+  if (estimate > 2e8)
+    fail("solver.spacing", "the fluid blocks would hold " +
+                               std::to_string(static_cast<long long>(estimate)) +
+                               " particles; expected at most 2e8 (raise the spacing)");
 }
 
 }  // namespace
@@ -342,8 +417,8 @@ Scene parseScene(const std::string& text, const std::string& path,
   } catch (const json::parse_error& e) {
     std::string what = e.what();
     const std::size_t colon = what.find("syntax error");
-    throw InputError(path + ":" + lineColumn(text, e.byte > 0 ? e.byte - 1 : 0) + ": invalid JSON: " +
-                     (colon != std::string::npos ? what.substr(colon) : what));
+    throw InputError(path + ":" + lineColumn(text, e.byte > 0 ? e.byte - 1 : 0) +
+                     ": invalid JSON: " + (colon != std::string::npos ? what.substr(colon) : what));
   }
   for (const std::string& edit : overrides) applyOverride(doc, edit, path);
 
@@ -355,22 +430,28 @@ Scene parseScene(const std::string& text, const std::string& path,
   stem = stem.substr(0, stem.rfind('.'));
   scene.name = root.string("name", stem);
   scene.description = root.string("description", std::string(""));
-  const std::string quality = root.string("quality", std::string("default"), {"default", "fast", "accurate"});
+  const std::string quality =
+      root.string("quality", std::string("default"), {"default", "fast", "accurate"});
   scene.solver = readSolver(root.object("solver"), quality);
   for (JsonReader& f : root.objectArray("fluids")) scene.fluids.push_back(readFluid(f));
   for (JsonReader& b : root.objectArray("boundaries")) scene.boundaries.push_back(readBoundary(b));
-  for (JsonReader& e : root.objectArray("emitters")) scene.emitters.push_back(readEmitter(e, scene.solver.spacing));
+  for (JsonReader& e : root.objectArray("emitters"))
+    scene.emitters.push_back(readEmitter(e, scene.solver.spacing));
   if (auto o = root.optionalObject("output")) scene.output = readOutput(*o);
   if (auto c = root.optionalObject("camera")) scene.camera = readCamera(*c);
   if (auto rd = root.optionalObject("render")) {
     scene.render = readRender(*rd);
-    if (!scene.camera) root.fail("render", "needs a \"camera\" section at the top level too (where to look from)");
+    if (!scene.camera)
+      root.fail("render", "needs a \"camera\" section at the top level too (where to look from)");
   }
   if (auto c = root.optionalObject("collision")) {
     scene.collision = readCollision(*c, scene.solver);
-    const bool cdt = scene.collision->method == CollisionMethod::CdtCpu || scene.collision->method == CollisionMethod::CdtGl;
+    const bool cdt = scene.collision->method == CollisionMethod::CdtCpu ||
+                     scene.collision->method == CollisionMethod::CdtGl;
     if (cdt && scene.collision->camera != CdtCameraMode::Fixed && !scene.camera) {
-      c->fail("camera", "the collision camera follows the scene's camera, but the scene has no \"camera\"; add one or use \"camera\": \"fixed\" with a \"pose\"");
+      c->fail("camera",
+              "the collision camera follows the scene's camera, but the scene has no \"camera\"; "
+              "add one or use \"camera\": \"fixed\" with a \"pose\"");
     }
   }
   if (auto d = root.optionalObject("domain")) {
@@ -391,7 +472,8 @@ Scene loadScene(const std::string& path, const std::vector<std::string>& overrid
   if (!in) throw InputError(path + ": cannot open the scene file (" + std::strerror(errno) + ")");
   std::ostringstream text;
   text << in.rdbuf();
-  if (in.bad()) throw InputError(path + ": cannot read the scene file (" + std::strerror(errno) + ")");
+  if (in.bad())
+    throw InputError(path + ": cannot read the scene file (" + std::strerror(errno) + ")");
   return parseScene(text.str(), path, overrides);
 }
 

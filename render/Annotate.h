@@ -19,8 +19,8 @@ struct Panel {
 RenderImage composePanels(const std::vector<Panel>& panels, int scale = 2);
 
 // Draws `text` at (x, y) (top-left of the first glyph) with glyphs `scale` pixels per dot.
-void drawText(RenderImage& image, int x, int y, const std::string& text, int scale,
-              std::uint8_t r, std::uint8_t g, std::uint8_t b);
+void drawText(RenderImage& image, int x, int y, const std::string& text, int scale, std::uint8_t r,
+              std::uint8_t g, std::uint8_t b);
 
 // Width in pixels of `text` drawn at `scale`.
 int textWidth(const std::string& text, int scale);

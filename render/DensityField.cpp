@@ -68,21 +68,22 @@ void DensityField::densityAndGradients(const Vec3& p, float& density, Vec3& grad
                                        Vec3& densityGradient) const {
   const float h2 = kernels_.h2;
   float sum = 0, gx = 0, gy = 0, gz = 0, dgx = 0, dgy = 0, dgz = 0;
-  grid_.forEachNeighbourRange(grid_.cellOf(p.x(), p.y(), p.z()), [&](std::uint32_t b, std::uint32_t e) {
-    float s = 0, ax = 0, ay = 0, az = 0, bx = 0, by = 0, bz = 0;
+  grid_.forEachNeighbourRange(
+      grid_.cellOf(p.x(), p.y(), p.z()), [&](std::uint32_t b, std::uint32_t e) {
+        float s = 0, ax = 0, ay = 0, az = 0, bx = 0, by = 0, bz = 0;
 #pragma omp simd reduction(+ : s, ax, ay, az, bx, by, bz)
-    for (std::uint32_t j = b; j < e; ++j) {
-      const float dx = p.x() - x_[j], dy = p.y() - y_[j], dz = p.z() - z_[j];
-      const float d = std::max(h2 - (dx * dx + dy * dy + dz * dz), 0.0f);
-      s += d * d * d;
-      // gradW = -6 c (h^2 - r^2)^2 r_vec; eq. (4) weights it by 1 / rho_j.
-      const float w = d * d;
-      bx += w * dx, by += w * dy, bz += w * dz;
-      const float wc = w * inverseDensity_[j];
-      ax += wc * dx, ay += wc * dy, az += wc * dz;
-    }
-    sum += s, gx += ax, gy += ay, gz += az, dgx += bx, dgy += by, dgz += bz;
-  });
+        for (std::uint32_t j = b; j < e; ++j) {
+          const float dx = p.x() - x_[j], dy = p.y() - y_[j], dz = p.z() - z_[j];
+          const float d = std::max(h2 - (dx * dx + dy * dy + dz * dz), 0.0f);
+          s += d * d * d;
+          // gradW = -6 c (h^2 - r^2)^2 r_vec; eq. (4) weights it by 1 / rho_j.
+          const float w = d * d;
+          bx += w * dx, by += w * dy, bz += w * dz;
+          const float wc = w * inverseDensity_[j];
+          ax += wc * dx, ay += wc * dy, az += wc * dz;
+        }
+        sum += s, gx += ax, gy += ay, gz += az, dgx += bx, dgy += by, dgz += bz;
+      });
   density = massNorm_ * kernels_.poly6Factor * sum;
   gradient = (massNorm_ * kernels_.poly6GradFactor) * Vec3(gx, gy, gz);
   densityGradient = (massNorm_ * kernels_.poly6GradFactor) * Vec3(dgx, dgy, dgz);

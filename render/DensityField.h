@@ -38,7 +38,8 @@ class DensityField {
   Vec3 gradient(const Vec3& p) const;
   void densityAndGradient(const Vec3& p, float& density, Vec3& gradient) const;
   // Also gradD(p) = sum_j m gradW_poly6(p - x_j), the gradient of the density itself.
-  void densityAndGradients(const Vec3& p, float& density, Vec3& gradient, Vec3& densityGradient) const;
+  void densityAndGradients(const Vec3& p, float& density, Vec3& gradient,
+                           Vec3& densityGradient) const;
 
   // D of a point just above a flat free surface of the rest lattice, as a fraction of the bulk:
   // the density a particle of the top layer sees (used for the automatic surface threshold).

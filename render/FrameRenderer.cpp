@@ -14,7 +14,8 @@ SplatParams splatParams(const RenderDesc& d) {
   p.surfaceThreshold = d.surfaceThreshold;
   p.splatSize = d.splatSize;
   p.perVertexDensity = d.perVertexDensity;
-  p.projection = d.newtonProjection ? SplatParams::Projection::Newton : SplatParams::Projection::Equation6;
+  p.projection =
+      d.newtonProjection ? SplatParams::Projection::Newton : SplatParams::Projection::Equation6;
   return p;
 }
 
@@ -27,13 +28,15 @@ Lighting lighting(const RenderDesc& d) {
 
 CameraDesc framingCamera(const Particles& p, float aspect) {
   Vec3 lo = Vec3::Constant(std::numeric_limits<float>::max()), hi = -lo;
-  for (std::size_t i = 0; i < p.size(); ++i) lo = lo.cwiseMin(p.position(i)), hi = hi.cwiseMax(p.position(i));
+  for (std::size_t i = 0; i < p.size(); ++i)
+    lo = lo.cwiseMin(p.position(i)), hi = hi.cwiseMax(p.position(i));
   if (p.empty()) lo = hi = Vec3::Zero();
   CameraDesc c;
   c.target = 0.5f * (lo + hi);
   const float radius = std::max(0.5f * (hi - lo).norm(), 1e-3f);
   c.fovYDegrees = 40;
-  const float fov = std::min(c.fovYDegrees, c.fovYDegrees * aspect) * static_cast<float>(kPi) / 180.0f;
+  const float fov =
+      std::min(c.fovYDegrees, c.fovYDegrees * aspect) * static_cast<float>(kPi) / 180.0f;
   const float distance = radius / std::sin(0.5f * fov) * 1.05f;
   c.position = c.target + distance * Vec3(0.55f, 0.45f, 0.7f).normalized();
   c.near = std::max(1e-4f, distance - 2 * radius);
@@ -43,8 +46,12 @@ CameraDesc framingCamera(const Particles& p, float aspect) {
 
 FrameRenderer::FrameRenderer(const RenderDesc& desc, float spacing, float restDensity,
                              const ShaderLibrary& shaders)
-    : desc_(desc), spacing_(spacing), restDensity_(restDensity), params_(splatParams(desc)),
-      lighting_(lighting(desc)), renderer_(desc.width, desc.height, shaders) {}
+    : desc_(desc),
+      spacing_(spacing),
+      restDensity_(restDensity),
+      params_(splatParams(desc)),
+      lighting_(lighting(desc)),
+      renderer_(desc.width, desc.height, shaders) {}
 
 void FrameRenderer::setBoundary(const std::vector<float>& x, const std::vector<float>& y,
                                 const std::vector<float>& z) {
@@ -55,7 +62,8 @@ void FrameRenderer::setBoundary(const std::vector<float>& x, const std::vector<f
 
 void FrameRenderer::prepare(const Particles& p) {
   const auto start = std::chrono::steady_clock::now();
-  field_.emplace(p.x.data(), p.y.data(), p.z.data(), p.size(), spacing_, params_.kernelRadius, restDensity_);
+  field_.emplace(p.x.data(), p.y.data(), p.z.data(), p.size(), spacing_, params_.kernelRadius,
+                 restDensity_);
   fieldSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -72,7 +80,8 @@ RenderedSplats FrameRenderer::render(SplatKind kind, const CameraDesc& camera) {
   return out;
 }
 
-FrameTimings FrameRenderer::drawToScreen(SplatKind kind, const CameraDesc& camera, int width, int height) {
+FrameTimings FrameRenderer::drawToScreen(SplatKind kind, const CameraDesc& camera, int width,
+                                         int height) {
   const CameraFrame cf = cameraFrame(camera, static_cast<float>(width) / std::max(height, 1));
   const SplatFrame splats = buildSplats(*field_, params_, kind, cf.projView, cf.eye);
   FrameTimings t;
@@ -85,10 +94,12 @@ FrameTimings FrameRenderer::drawToScreen(SplatKind kind, const CameraDesc& camer
 }
 
 RenderImage FrameRenderer::reference(const CameraDesc& camera) {
-  const float threshold = params_.surfaceThreshold > 0 ? params_.surfaceThreshold : surfaceThresholdAuto(*field_);
+  const float threshold =
+      params_.surfaceThreshold > 0 ? params_.surfaceThreshold : surfaceThresholdAuto(*field_);
   Lighting opaque = lighting_;
   opaque.alpha = 1;
-  return raymarchReference(*field_, threshold * field_->meanDensity(), camera, desc_.width, desc_.height, opaque);
+  return raymarchReference(*field_, threshold * field_->meanDensity(), camera, desc_.width,
+                           desc_.height, opaque);
 }
 
 }  // namespace sph::render

@@ -25,9 +25,9 @@ Lighting lighting(const RenderDesc& desc);
 CameraDesc framingCamera(const Particles& particles, float aspect);
 
 struct FrameTimings {
-  double field = 0;   // grid + particle densities (part of surface detection)
+  double field = 0;  // grid + particle densities (part of surface detection)
   SplatTimings splats;
-  double draw = 0;    // upload + draw until finished
+  double draw = 0;  // upload + draw until finished
   double total() const { return field + splats.surface + splats.normals + splats.build + draw; }
 };
 
@@ -45,7 +45,8 @@ class FrameRenderer {
 
   // Walls to show behind and around the fluid (boundary particle positions, m), translucent;
   // they do not enter the error figures. Empty vectors: none.
-  void setBoundary(const std::vector<float>& x, const std::vector<float>& y, const std::vector<float>& z);
+  void setBoundary(const std::vector<float>& x, const std::vector<float>& y,
+                   const std::vector<float>& z);
 
   // Builds the field of `particles` (kept for the calls below until the next prepare()).
   void prepare(const Particles& particles);

@@ -108,7 +108,9 @@ void GlContext::pollEvents() {
 void GlContext::setInputHandler(std::function<void(const InputEvent&)> handler) {
   impl_->setInputHandler(std::move(handler));
 }
-void GlContext::setTitle(const std::string& title) { impl_->setTitle(title); }
+void GlContext::setTitle(const std::string& title) {
+  impl_->setTitle(title);
+}
 std::array<int, 2> GlContext::framebufferSize() const {
   return impl_->framebufferSize();
 }

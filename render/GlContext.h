@@ -31,8 +31,8 @@ struct GlWindowOptions : GlContextOptions {
 // upper-case ASCII code, see the constants below).
 struct InputEvent {
   enum class Type { Key, MouseButton, CursorMove, Scroll } type = Type::Key;
-  int key = 0;        // Key: the key; MouseButton: 0 left, 1 right, 2 middle
-  bool press = false; // Key / MouseButton: pressed (or repeated) rather than released
+  int key = 0;          // Key: the key; MouseButton: 0 left, 1 right, 2 middle
+  bool press = false;   // Key / MouseButton: pressed (or repeated) rather than released
   double x = 0, y = 0;  // CursorMove: window position; Scroll: offsets
 };
 namespace keys {

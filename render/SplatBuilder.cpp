@@ -124,7 +124,7 @@ SplatFrame buildSplats(const DensityField& field, const SplatParams& params, Spl
         if (!params.pyramid) {
           distance = 0;
         } else if (params.projection == SplatParams::Projection::Newton) {
-          const float slope = gD.dot(nv);  // dD/ds along the normal (> 0 into the fluid)
+          const float slope = gD.dot(nv);      // dD/ds along the normal (> 0 into the fluid)
           const float reach = frame.halfSize;  // further, thin jets turn into star-shaped shards
           distance = slope > 1e-6f * ID / R ? std::clamp((SD - PD) / slope, -reach, reach) : 0.0f;
         } else {

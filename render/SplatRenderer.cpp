@@ -179,7 +179,8 @@ double SplatRenderer::draw(const SplatFrame& frame, SplatKind kind, const Camera
   if (boundaryCount_) {
     // The point program also draws the walls: give it this frame's camera first.
     const GLuint p = pointProgram_.id();
-    glProgramUniformMatrix4fv(p, glGetUniformLocation(p, "u_projView"), 1, GL_FALSE, cam.projView.m.data());
+    glProgramUniformMatrix4fv(p, glGetUniformLocation(p, "u_projView"), 1, GL_FALSE,
+                              cam.projView.m.data());
     setVec3(p, "u_eye", cam.eye);
     setVec3(p, "u_cameraRight", cam.right);
     setVec3(p, "u_cameraUp", cam.up);

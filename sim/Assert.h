@@ -6,13 +6,13 @@
 #include <cstdlib>
 
 #ifndef NDEBUG
-#define SPH_ASSERT(cond)                                                                 \
-  do {                                                                                   \
-    if (!(cond)) {                                                                       \
-      std::fprintf(stderr, "%s:%d: internal error: assertion '%s' failed\n", __FILE__, \
-                   __LINE__, #cond);                                                     \
-      std::abort();                                                                      \
-    }                                                                                    \
+#define SPH_ASSERT(cond)                                                                         \
+  do {                                                                                           \
+    if (!(cond)) {                                                                               \
+      std::fprintf(stderr, "%s:%d: internal error: assertion '%s' failed\n", __FILE__, __LINE__, \
+                   #cond);                                                                       \
+      std::abort();                                                                              \
+    }                                                                                            \
   } while (0)
 #else
 #define SPH_ASSERT(cond) ((void)0)

@@ -112,7 +112,8 @@ void sampleSphere(const BoundaryShape& s, float spacing, int layers, std::vector
   for (int layer = 0; layer < layers; ++layer) {
     const double r = s.radius - (layer + 0.5) * spacing;
     if (r <= 0) break;
-    const int count = std::max(1, static_cast<int>(std::lround(4 * kPi * r * r / (spacing * spacing))));
+    const int count =
+        std::max(1, static_cast<int>(std::lround(4 * kPi * r * r / (spacing * spacing))));
     for (int i = 0; i < count; ++i) {
       const double yy = 1.0 - 2.0 * (i + 0.5) / count;
       const double ring = std::sqrt(std::max(0.0, 1.0 - yy * yy));

@@ -39,9 +39,13 @@ struct CacheLineAllocator {
   }
   void deallocate(T* p, std::size_t) { std::free(p); }
   template <class U>
-  bool operator==(const CacheLineAllocator<U>&) const { return true; }
+  bool operator==(const CacheLineAllocator<U>&) const {
+    return true;
+  }
   template <class U>
-  bool operator!=(const CacheLineAllocator<U>&) const { return false; }
+  bool operator!=(const CacheLineAllocator<U>&) const {
+    return false;
+  }
 };
 
 // Padding lanes hold a point this far away: outside any support, and its square stays finite.
@@ -51,8 +55,8 @@ constexpr std::size_t kBatchLanes = 16;  // a multiple of every SIMD width we bu
 template <int N>
 struct CandidateBatch {
   std::array<std::vector<float, CacheLineAllocator<float>>, N> field;  // field[0..2]: x, y, z
-  std::size_t count = 0;    // real candidates
-  std::size_t padded = 0;   // count rounded up to kBatchLanes
+  std::size_t count = 0;                                               // real candidates
+  std::size_t padded = 0;  // count rounded up to kBatchLanes
 
   void clear() { count = 0; }
   // Appends those of [begin, end) whose position lies within sqrt(reach2) of the box [lo, hi]:
@@ -119,15 +123,20 @@ void forEachCellWithCandidates(const NeighbourGrid& grid, const std::array<const
       const CellCoord g = {origin[0] + i, origin[1] + j, origin[2] + k};
       // The cell's own particles bound the box the candidates are culled against (tighter than
       // the cell, and immune to the rounding of cell borders).
-      float lo[3] = {fluid[0][begin], fluid[1][begin], fluid[2][begin]}, hi[3] = {lo[0], lo[1], lo[2]};
+      float lo[3] = {fluid[0][begin], fluid[1][begin], fluid[2][begin]},
+            hi[3] = {lo[0], lo[1], lo[2]};
       for (std::uint32_t q = begin + 1; q < end; ++q) {
-        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], fluid[a][q]), hi[a] = std::max(hi[a], fluid[a][q]);
+        for (int a = 0; a < 3; ++a)
+          lo[a] = std::min(lo[a], fluid[a][q]), hi[a] = std::max(hi[a], fluid[a][q]);
       }
       fb.clear();
-      grid.forEachNeighbourRange(g, [&](std::uint32_t b, std::uint32_t e) { fb.appendNear(fluid, b, e, lo, hi, reach2); });
+      grid.forEachNeighbourRange(
+          g, [&](std::uint32_t b, std::uint32_t e) { fb.appendNear(fluid, b, e, lo, hi, reach2); });
       fb.pad();
       bb.clear();
-      auto appendBoundary = [&](std::uint32_t b, std::uint32_t e) { bb.appendNear(boundary, b, e, lo, hi, reach2); };
+      auto appendBoundary = [&](std::uint32_t b, std::uint32_t e) {
+        bb.appendNear(boundary, b, e, lo, hi, reach2);
+      };
       if (sameLattice) {
         boundaryGrid.forEachNeighbourRange(g, appendBoundary);
       } else {  // one grid grew its cells: take every boundary cell the support can reach

@@ -11,8 +11,8 @@
 namespace sph {
 
 struct CollisionContext {
-  double time = 0;   // s, time at the end of the step
-  double dt = 0;     // s, the step just integrated
+  double time = 0;  // s, time at the end of the step
+  double dt = 0;    // s, the step just integrated
   std::uint64_t step = 0;
 };
 

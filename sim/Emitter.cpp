@@ -13,7 +13,8 @@ Emitter::Emitter(const EmitterDesc& desc, float spacing)
   for (int k = -n; k <= n; ++k) {
     for (int i = -n; i <= n; ++i) {
       const float u = i * spacing, w = k * spacing;
-      if (u * u + w * w <= desc.radius * desc.radius * (1 + 1e-6f)) layer_.push_back(u * t1 + w * t2);
+      if (u * u + w * w <= desc.radius * desc.radius * (1 + 1e-6f))
+        layer_.push_back(u * t1 + w * t2);
     }
   }
 }

@@ -14,8 +14,8 @@ namespace sph {
 
 // What must be saved to resume an emitter exactly.
 struct EmitterState {
-  double travelled = 0;      // m the newest layer has moved since it was released
-  std::uint64_t emitted = 0; // particles released so far
+  double travelled = 0;       // m the newest layer has moved since it was released
+  std::uint64_t emitted = 0;  // particles released so far
   bool started = false;
 };
 

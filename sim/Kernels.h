@@ -16,12 +16,12 @@ constexpr double kPi = 3.14159265358979323846;
 
 struct Kernels {
   float h = 0, h2 = 0;
-  float poly6Factor = 0;     // 315/(64 pi h^9)
-  float poly6GradFactor = 0; // -6 * 315/(64 pi h^9): gradW = poly6GradFactor (h^2-r^2)^2 r_vec
-  float spikyFactor = 0;     // 15/(pi h^6)
-  float spikyGradFactor = 0; // -45/(pi h^6)
-  float viscFactor = 0;      // 15/(2 pi h^3)
-  float viscLapFactor = 0;   // 45/(pi h^6)
+  float poly6Factor = 0;      // 315/(64 pi h^9)
+  float poly6GradFactor = 0;  // -6 * 315/(64 pi h^9): gradW = poly6GradFactor (h^2-r^2)^2 r_vec
+  float spikyFactor = 0;      // 15/(pi h^6)
+  float spikyGradFactor = 0;  // -45/(pi h^6)
+  float viscFactor = 0;       // 15/(2 pi h^3)
+  float viscLapFactor = 0;    // 45/(pi h^6)
 
   Kernels() = default;
   explicit Kernels(float supportRadius) {

@@ -9,8 +9,7 @@
 namespace sph {
 
 void NeighbourGrid::build(const float* x, const float* y, const float* z, std::size_t n,
-                          float cellSize, std::vector<std::uint32_t>& order,
-                          std::size_t maxCells) {
+                          float cellSize, std::vector<std::uint32_t>& order, std::size_t maxCells) {
   SPH_ASSERT(cellSize > 0);
   order.resize(n);
   if (n == 0) {

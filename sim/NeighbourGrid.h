@@ -100,17 +100,17 @@ class NeighbourGrid {
   double invCell_ = 0;
   int ox_ = 0, oy_ = 0, oz_ = 0;  // global coordinate of local cell (0, 0, 0)
   int nx_ = 0, ny_ = 0, nz_ = 0;
-  std::vector<std::uint32_t> cellStart_;   // cellCount + 1 prefix sums
-  std::vector<std::uint32_t> cellOfPoint_; // scratch: local cell of each unsorted point
-  std::vector<std::uint32_t> cursor_;      // scratch: next free slot per cell while scattering
+  std::vector<std::uint32_t> cellStart_;    // cellCount + 1 prefix sums
+  std::vector<std::uint32_t> cellOfPoint_;  // scratch: local cell of each unsorted point
+  std::vector<std::uint32_t> cursor_;       // scratch: next free slot per cell while scattering
 };
 
 // The neighbour predicate shared by tests and non-hot code: |xi - xj| < h with the coordinate
 // differences taken in float (as the solver does) and the squares summed in double, where float
 // products are exact, so the answer never depends on FMA contraction.
 inline bool withinRadius(float dx, float dy, float dz, float h) {
-  const double r2 = static_cast<double>(dx) * dx + static_cast<double>(dy) * dy +
-                    static_cast<double>(dz) * dz;
+  const double r2 =
+      static_cast<double>(dx) * dx + static_cast<double>(dy) * dy + static_cast<double>(dz) * dz;
   return r2 < static_cast<double>(h) * h;
 }
 

@@ -3,8 +3,8 @@
 // fixed scene (and, since no reduction crosses threads, for any thread count).
 #pragma once
 
-#include <cstddef>
 #include <omp.h>
+#include <cstddef>
 
 namespace sph {
 
@@ -26,8 +26,12 @@ void parallelForDynamic(std::size_t n, std::size_t chunk, Body&& body) {
   for (long long i = 0; i < count; ++i) body(static_cast<std::size_t>(i));
 }
 
-inline int threadCount() { return omp_get_max_threads(); }
-inline int threadIndex() { return omp_get_thread_num(); }
+inline int threadCount() {
+  return omp_get_max_threads();
+}
+inline int threadIndex() {
+  return omp_get_thread_num();
+}
 inline void setThreadCount(int n) {
   if (n > 0) omp_set_num_threads(n);
 }

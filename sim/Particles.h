@@ -31,13 +31,11 @@ struct Particles {
 
   template <class F>
   void forEachField(F&& f) {
-    f(x), f(y), f(z), f(vx), f(vy), f(vz), f(ax), f(ay), f(az), f(rho), f(p), f(collideTime),
-        f(id);
+    f(x), f(y), f(z), f(vx), f(vy), f(vz), f(ax), f(ay), f(az), f(rho), f(p), f(collideTime), f(id);
   }
   template <class F>
   void forEachField(F&& f) const {
-    f(x), f(y), f(z), f(vx), f(vy), f(vz), f(ax), f(ay), f(az), f(rho), f(p), f(collideTime),
-        f(id);
+    f(x), f(y), f(z), f(vx), f(vy), f(vz), f(ax), f(ay), f(az), f(rho), f(p), f(collideTime), f(id);
   }
 
   std::size_t size() const { return x.size(); }

@@ -27,11 +27,11 @@ struct FluidBlock {
 // A static solid, sampled once with boundary particles (DESIGN.md, "Boundaries").
 struct BoundaryShape {
   enum class Kind {
-    Tank,      // box container, fluid inside [lo, hi]; open at max y unless closed
-    Block,     // solid box obstacle [lo, hi], fluid outside
-    Cup,       // open-top cylinder: inner radius, wall height above its bottom centre
-    Plane,     // infinite plane through `point`, fluid on the side `normal` points to
-    Sphere,    // solid sphere obstacle
+    Tank,    // box container, fluid inside [lo, hi]; open at max y unless closed
+    Block,   // solid box obstacle [lo, hi], fluid outside
+    Cup,     // open-top cylinder: inner radius, wall height above its bottom centre
+    Plane,   // infinite plane through `point`, fluid on the side `normal` points to
+    Sphere,  // solid sphere obstacle
   } kind = Kind::Tank;
   Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // m (Tank, Block)
   bool openTop = true;                        // Tank: no lid at max y
@@ -55,8 +55,8 @@ struct EmitterDesc {
 
 // The HDF5 cache of a run (docs/cache-format.md); `sphsplat run --output` overrides the path.
 struct OutputDesc {
-  double fps = 30;               // output frames per simulated second
-  std::string path;              // HDF5 cache file ("" = no cache)
+  double fps = 30;   // output frames per simulated second
+  std::string path;  // HDF5 cache file ("" = no cache)
   // Per-frame datasets, canonical names (x y z vx vy vz ax ay az rho p collide_time id); the
   // loader expands "position", "velocity", "acceleration". Only these are written.
   std::vector<std::string> fields = {"x", "y", "z", "vx", "vy", "vz", "rho", "p", "id"};
@@ -65,21 +65,20 @@ struct OutputDesc {
   bool doublePositions = false;  // x, y, z stored as float64 (converted from the solver's float32)
 };
 
-
 struct Scene {
-  std::string name;         // from the file name unless given
+  std::string name;  // from the file name unless given
   std::string description;
-  std::string sourcePath;   // file the scene came from ("" when built in code)
-  std::string sourceText;   // its full text (recorded in caches)
+  std::string sourcePath;  // file the scene came from ("" when built in code)
+  std::string sourceText;  // its full text (recorded in caches)
   SolverParams solver;
-  Aabb domain;              // particles leaving it stop the run
+  Aabb domain;  // particles leaving it stop the run
   std::vector<FluidBlock> fluids;
   std::vector<BoundaryShape> boundaries;
   std::vector<EmitterDesc> emitters;
   OutputDesc output;
   std::optional<CameraDesc> camera;
   std::optional<CollisionDesc> collision;  // the `collision` section; none = no collision pass
-  std::optional<RenderDesc> render;  // draw frames while simulating
+  std::optional<RenderDesc> render;        // draw frames while simulating
 };
 
 }  // namespace sph

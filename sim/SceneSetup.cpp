@@ -55,8 +55,10 @@ float expectedMaxSpeed(const Scene& scene) {
   }
   float top = floor, speed = 0;
   for (const FluidBlock& f : scene.fluids) {
-    const Vec3 hi = f.shape == FluidBlock::Shape::Box ? Vec3(f.hi) : Vec3(f.centre + Vec3::Constant(f.radius));
-    const Vec3 lo = f.shape == FluidBlock::Shape::Box ? Vec3(f.lo) : Vec3(f.centre - Vec3::Constant(f.radius));
+    const Vec3 hi =
+        f.shape == FluidBlock::Shape::Box ? Vec3(f.hi) : Vec3(f.centre + Vec3::Constant(f.radius));
+    const Vec3 lo =
+        f.shape == FluidBlock::Shape::Box ? Vec3(f.lo) : Vec3(f.centre - Vec3::Constant(f.radius));
     top = std::max({top, -hi.dot(down), -lo.dot(down)});
     speed = std::max(speed, f.velocity.norm());
   }
@@ -77,20 +79,22 @@ DerivedParams deriveParams(const Scene& scene) {
   d.mass = static_cast<float>(s.restDensity * cell);
   d.densityNormalisation =
       static_cast<float>(1.0 / (cell * latticeKernelSum(d.kernels, s.densityKernel, s.spacing)));
-  d.gradientCorrection = static_cast<float>(1.0 / latticeGradientMoment(d.kernels, s.spacing, cell));
+  d.gradientCorrection =
+      static_cast<float>(1.0 / latticeGradientMoment(d.kernels, s.spacing, cell));
   const float gamma = s.eos == EquationOfState::Tait ? 7.0f : 1.0f;
   if (s.stiffness > 0) {
     d.stiffness = s.stiffness;
     d.speedOfSound = s.eos == EquationOfState::Tait ? std::sqrt(gamma * s.stiffness / s.restDensity)
-                                                     : std::sqrt(s.stiffness);
+                                                    : std::sqrt(s.stiffness);
   } else {
-    d.speedOfSound = s.speedOfSound > 0 ? s.speedOfSound : s.soundSpeedFactor * expectedMaxSpeed(scene);
+    d.speedOfSound =
+        s.speedOfSound > 0 ? s.speedOfSound : s.soundSpeedFactor * expectedMaxSpeed(scene);
     const float c2 = d.speedOfSound * d.speedOfSound;
     d.stiffness = s.eos == EquationOfState::Tait ? s.restDensity * c2 / gamma : c2;
   }
   d.viscosity = s.viscosity >= 0 ? s.viscosity : 0.002f * d.h * d.speedOfSound;
-  d.boundaryLayers = s.boundaryLayers > 0 ? s.boundaryLayers
-                                          : std::max(1, static_cast<int>(std::ceil(s.support)));
+  d.boundaryLayers =
+      s.boundaryLayers > 0 ? s.boundaryLayers : std::max(1, static_cast<int>(std::ceil(s.support)));
   return d;
 }
 
@@ -106,7 +110,8 @@ Aabb defaultDomain(const Scene& scene) {
     }
   }
   for (const EmitterDesc& e : scene.emitters) {
-    box.grow(e.position - Vec3::Constant(e.radius)), box.grow(e.position + Vec3::Constant(e.radius));
+    box.grow(e.position - Vec3::Constant(e.radius)),
+        box.grow(e.position + Vec3::Constant(e.radius));
   }
   for (const BoundaryShape& b : scene.boundaries) {
     const Aabb sb = Solid(b, thickness).bounds();
@@ -140,7 +145,8 @@ Particles initialFluid(const Scene& scene, const Boundary& boundary, float restD
       lo = f.centre - Vec3::Constant(f.radius), hi = f.centre + Vec3::Constant(f.radius);
     }
     int n[3];
-    for (int a = 0; a < 3; ++a) n[a] = std::max(0, static_cast<int>(std::lround((hi[a] - lo[a]) / dx)));
+    for (int a = 0; a < 3; ++a)
+      n[a] = std::max(0, static_cast<int>(std::lround((hi[a] - lo[a]) / dx)));
     for (int k = 0; k < n[2]; ++k)
       for (int j = 0; j < n[1]; ++j)
         for (int i = 0; i < n[0]; ++i) {

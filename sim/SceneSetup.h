@@ -12,8 +12,8 @@
 namespace sph {
 
 struct DerivedParams {
-  float h = 0;             // m, kernel support radius
-  float mass = 0;          // kg, per particle: rho0 spacing^3 (the water a lattice cell holds)
+  float h = 0;     // m, kernel support radius
+  float mass = 0;  // kg, per particle: rho0 spacing^3 (the water a lattice cell holds)
   // Constant that makes the density sum read rho0 on the rest lattice: 1 / (spacing^3 sum_j W)
   // over a full cubic lattice. At support 2 spacings the plain sum is off by ~20%.
   float densityNormalisation = 1;

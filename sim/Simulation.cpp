@@ -27,9 +27,13 @@ Simulation::Simulation(const Scene& scene)
 
 Simulation::~Simulation() = default;
 
-void Simulation::setCollisionPass(std::unique_ptr<CollisionPass> pass) { collision_ = std::move(pass); }
+void Simulation::setCollisionPass(std::unique_ptr<CollisionPass> pass) {
+  collision_ = std::move(pass);
+}
 
-float Simulation::nextTimeStep() const { return chooseTimeStep(); }
+float Simulation::nextTimeStep() const {
+  return chooseTimeStep();
+}
 
 // Step size (DESIGN.md, "Time"): the CFL condition with the speed of sound, a force condition and
 // a viscous condition (Monaghan 1992), bounded by the scene's maximum.
@@ -48,7 +52,8 @@ void Simulation::step(double limit) {
   double dt = chooseTimeStep();
   if (state_.time + dt > limit) dt = limit - state_.time;
   // Avoid a sliver step right before the limit: split the remainder into two equal steps.
-  else if (state_.time + 1.5 * dt > limit) dt = 0.5 * (limit - state_.time);
+  else if (state_.time + 1.5 * dt > limit)
+    dt = 0.5 * (limit - state_.time);
   const float dtf = static_cast<float>(dt);
   {
     PassTimer t(profile_, Pass::Emit);
@@ -70,8 +75,10 @@ void Simulation::step(double limit) {
   }
   {
     PassTimer t(profile_, Pass::Forces);
-    if (sph) computeForces();
-    else applyGravityOnly();
+    if (sph)
+      computeForces();
+    else
+      applyGravityOnly();
   }
   {
     PassTimer t(profile_, Pass::Integrate);
@@ -197,9 +204,9 @@ void Simulation::checkStability() const {
   }
   msg << " (position " << x.x() << ", " << x.y() << ", " << x.z() << " m; velocity " << v.x()
       << ", " << v.y() << ", " << v.z() << " m/s; last dt " << state_.lastDt << " s)";
-  throw StabilityError(worstFinite ? StabilityError::Kind::LeftDomain
-                                   : StabilityError::Kind::NonFinite,
-                       state_.step, state_.time, f.id[worst], x, v, msg.str());
+  throw StabilityError(
+      worstFinite ? StabilityError::Kind::LeftDomain : StabilityError::Kind::NonFinite, state_.step,
+      state_.time, f.id[worst], x, v, msg.str());
 }
 
 RunState Simulation::runState() const {

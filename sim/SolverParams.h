@@ -21,7 +21,8 @@ enum class DensityKernel { Spiky, Poly6 };
 // What moves the particles between collision passes.
 enum class SolverModel {
   Sph,        // the SPH stage (DESIGN.md)
-  Particles,  // the paper's plain particle system (seed 000): gravity only, fixed step max_time_step
+  Particles,  // the paper's plain particle system (seed 000): gravity only, fixed step
+              // max_time_step
 };
 
 struct SolverParams {
@@ -35,16 +36,17 @@ struct SolverParams {
   bool noSlipWalls = true;      // walls drag the fluid with the same viscosity (v_wall = 0)
   EquationOfState eos = EquationOfState::Tait;
   DensityKernel densityKernel = DensityKernel::Spiky;
-  float speedOfSound = 0.0f;    // m/s, c; 0 = automatic (soundSpeedFactor x the largest expected speed)
-  float soundSpeedFactor = 10.0f;  // dimensionless, automatic c over the largest expected speed;
-                                   // density varies ~1/factor^2 (10 -> ~1%, Monaghan 1994)
-  float stiffness = 0.0f;       // Tait: B (Pa); linear: k (m^2/s^2); 0 = derived from c
+  float speedOfSound =
+      0.0f;  // m/s, c; 0 = automatic (soundSpeedFactor x the largest expected speed)
+  float soundSpeedFactor = 10.0f;     // dimensionless, automatic c over the largest expected speed;
+                                      // density varies ~1/factor^2 (10 -> ~1%, Monaghan 1994)
+  float stiffness = 0.0f;             // Tait: B (Pa); linear: k (m^2/s^2); 0 = derived from c
   bool clampNegativePressure = true;  // p = max(p, 0): no tensile instability at the surface
-  float cfl = 0.4f;             // dimensionless, dt <= cfl h / (c + v_max)
-  float maxTimeStep = 1e-3f;    // s, upper bound of the adaptive step
+  float cfl = 0.4f;                   // dimensionless, dt <= cfl h / (c + v_max)
+  float maxTimeStep = 1e-3f;          // s, upper bound of the adaptive step
   Vec3 gravity = Vec3(0.0f, -9.81f, 0.0f);  // m/s^2
-  double endTime = 1.0;         // s, simulated time of a run
-  int boundaryLayers = 0;       // boundary particle layers; 0 = enough to cover the support
+  double endTime = 1.0;                     // s, simulated time of a run
+  int boundaryLayers = 0;  // boundary particle layers; 0 = enough to cover the support
 
   float supportRadius() const { return support * spacing; }  // h (m)
 };

@@ -1,8 +1,9 @@
 // The neighbour passes of a step (DESIGN.md, "The SPH stage"; Müller, Charypar & Gross 2003):
-// density and forces (the equation of state between them is in EquationOfState.cpp). Particles are sorted by cell, so the neighbours of a
-// particle are the 9 contiguous index ranges forEachNeighbourRange() hands out; the inner loops
-// run over such a range with `omp simd` so they vectorise, and each particle sums only into its
-// own slot, in a fixed order, so runs are bit-reproducible.
+// density and forces (the equation of state between them is in EquationOfState.cpp). Particles are
+// sorted by cell, so the neighbours of a particle are the 9 contiguous index ranges
+// forEachNeighbourRange() hands out; the inner loops run over such a range with `omp simd` so they
+// vectorise, and each particle sums only into its own slot, in a fixed order, so runs are
+// bit-reproducible.
 //
 // This file is built with -ffast-math (sim/CMakeLists.txt): reciprocal square roots are estimated
 // in vector code but exact in scalar code, so every loop here must take the same path whatever
@@ -81,8 +82,10 @@ void batchDensityAndMoment(float xi, float yi, float zi, float h, const Candidat
 // Calls f(shape, factor) with the solver's density kernel.
 template <class F>
 void withDensityKernel(const SolverParams& s, const Kernels& k, F&& f) {
-  if (s.densityKernel == DensityKernel::Spiky) f(SpikyShape{k.h}, k.spikyFactor);
-  else f(Poly6Shape{k.h2}, k.poly6Factor);
+  if (s.densityKernel == DensityKernel::Spiky)
+    f(SpikyShape{k.h}, k.spikyFactor);
+  else
+    f(Poly6Shape{k.h2}, k.poly6Factor);
 }
 
 }  // namespace
@@ -95,8 +98,8 @@ void Simulation::computeStaticBoundaryDensity() {
   withDensityKernel(scene_.solver, derived_.kernels, [&](auto shape, float factor) {
     const float scale = factor * derived_.mass * derived_.densityNormalisation;
     parallelFor(b.size(), [&](std::size_t i) {
-      boundaryStaticDensity_[i] =
-          scale * kernelSum(b.x[i], b.y[i], b.z[i], bgrid, b.x.data(), b.y.data(), b.z.data(), shape);
+      boundaryStaticDensity_[i] = scale * kernelSum(b.x[i], b.y[i], b.z[i], bgrid, b.x.data(),
+                                                    b.y.data(), b.z.data(), shape);
     });
   });
   boundaryDensity_ = boundaryStaticDensity_;
@@ -112,14 +115,16 @@ void Simulation::computeDensity() {
   const float h = derived_.h;
   // K_i = (1/3) sum_j V (x_j - x_i) . gradW(x_i - x_j), V = spacing^3: 1 on the rest lattice
   // once corrected (SceneSetup.h), a little off once the particles have rearranged.
-  const float momentScale = -derived_.kernels.spikyGradFactor * derived_.mass / scene_.solver.restDensity / 3;
+  const float momentScale =
+      -derived_.kernels.spikyGradFactor * derived_.mass / scene_.solver.restDensity / 3;
   gradientMoment_.resize(f.size());
   withDensityKernel(scene_.solver, derived_.kernels, [&](auto shape, float factor) {
     const float scale = factor * derived_.mass * derived_.densityNormalisation;
     forEachCellWithCandidates<3, 3>(
         grid_, {f.x.data(), f.y.data(), f.z.data()}, bgrid, {b.x.data(), b.y.data(), b.z.data()},
-        derived_.h, [&](std::uint32_t begin, std::uint32_t end, const CandidateBatch<3>& fb,
-                        const CandidateBatch<3>& bb) {
+        derived_.h,
+        [&](std::uint32_t begin, std::uint32_t end, const CandidateBatch<3>& fb,
+            const CandidateBatch<3>& bb) {
           for (std::uint32_t i = begin; i < end; ++i) {
             float density = 0, moment = 0;
             batchDensityAndMoment(f.x[i], f.y[i], f.z[i], h, fb, shape, density, moment);
@@ -136,7 +141,8 @@ void Simulation::computeDensity() {
     const CellCoord o = grid_.origin(), n = grid_.dims();
     const float c = grid_.cellSize();
     const CellCoord lo = bgrid.cellOf((o[0] - 1) * c, (o[1] - 1) * c, (o[2] - 1) * c);
-    const CellCoord hi = bgrid.cellOf((o[0] + n[0] + 1) * c, (o[1] + n[1] + 1) * c, (o[2] + n[2] + 1) * c);
+    const CellCoord hi =
+        bgrid.cellOf((o[0] + n[0] + 1) * c, (o[1] + n[1] + 1) * c, (o[2] + n[2] + 1) * c);
     const CellCoord bo = bgrid.origin(), bn = bgrid.dims();
     int from[3], to[3];
     for (int a = 0; a < 3; ++a) {
@@ -146,13 +152,14 @@ void Simulation::computeDensity() {
     }
     const int rowsY = to[1] - from[1] + 1, rows = rowsY * (to[2] - from[2] + 1);
     parallelFor(static_cast<std::size_t>(rows), [&](std::size_t row) {
-      const int j = from[1] + static_cast<int>(row) % rowsY, k = from[2] + static_cast<int>(row) / rowsY;
+      const int j = from[1] + static_cast<int>(row) % rowsY,
+                k = from[2] + static_cast<int>(row) / rowsY;
       const std::uint32_t begin = bgrid.cellBegin(bgrid.localIndex(from[0], j, k));
       const std::uint32_t end = bgrid.cellEnd(bgrid.localIndex(to[0], j, k));
       for (std::uint32_t q = begin; q < end; ++q) {
-        boundaryDensity_[q] = boundaryStaticDensity_[q] +
-                              scale * kernelSum(b.x[q], b.y[q], b.z[q], grid_, f.x.data(), f.y.data(),
-                                                f.z.data(), shape);
+        boundaryDensity_[q] =
+            boundaryStaticDensity_[q] + scale * kernelSum(b.x[q], b.y[q], b.z[q], grid_, f.x.data(),
+                                                          f.y.data(), f.z.data(), shape);
       }
     });
   });
@@ -174,7 +181,8 @@ void Simulation::updateGradientCorrection() {
     ++count;
   }
   constexpr std::size_t kMinimumSample = 64;  // fewer: a spray or a drop; trust the lattice
-  gradientCorrection_ = count >= kMinimumSample ? static_cast<float>(count / sum) : derived_.gradientCorrection;
+  gradientCorrection_ =
+      count >= kMinimumSample ? static_cast<float>(count / sum) : derived_.gradientCorrection;
 }
 
 // a_i = - c sum_j m (p_i/rho_i^2 + p_j/rho_j^2) gradW_spiky(x_i - x_j)  fluid and boundary j
@@ -190,8 +198,8 @@ void Simulation::computeForces() {
   const Kernels& kern = derived_.kernels;
   const float h = kern.h, h2 = kern.h2;
   const float pressureScale = -gradientCorrection_ * derived_.mass * kern.spikyGradFactor;
-  const float viscScale = derived_.viscosity * scene_.solver.restDensity * derived_.mass *
-                          kern.viscLapFactor;
+  const float viscScale =
+      derived_.viscosity * scene_.solver.restDensity * derived_.mass * kern.viscLapFactor;
   const Vec3 g = scene_.solver.gravity;
   const float noSlip = scene_.solver.noSlipWalls ? 1.0f / scene_.solver.restDensity : 0.0f;
 

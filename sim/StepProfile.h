@@ -9,13 +9,22 @@
 namespace sph {
 
 enum class Pass : int {
-  Emit, Sort, Density, Pressure, Forces, Integrate, Collide, Boundaries, Guard, Count
+  Emit,
+  Sort,
+  Density,
+  Pressure,
+  Forces,
+  Integrate,
+  Collide,
+  Boundaries,
+  Guard,
+  Count
 };
 
 inline const char* passName(Pass p) {
-  static constexpr const char* names[] = {"emit",      "sort",    "density",    "pressure",
-                                          "forces",    "integrate", "collide", "boundaries",
-                                          "guard"};
+  static constexpr const char* names[] = {"emit",     "sort",       "density",
+                                          "pressure", "forces",     "integrate",
+                                          "collide",  "boundaries", "guard"};
   return names[static_cast<int>(p)];
 }
 

@@ -26,7 +26,8 @@ Scene shippedScene(const std::string& name, const std::vector<std::string>& over
 std::uint64_t stateHash(const Particles& p) {
   std::vector<std::size_t> byId(p.size());
   std::iota(byId.begin(), byId.end(), 0);
-  std::sort(byId.begin(), byId.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+  std::sort(byId.begin(), byId.end(),
+            [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
   std::uint64_t h = 1469598103934665603ull;
   auto mix = [&](const void* data, std::size_t n) {
     const unsigned char* c = static_cast<const unsigned char*>(data);
@@ -45,7 +46,8 @@ CommandResult runSphsplat(const std::string& arguments) {
   if (!pipe) throw std::runtime_error("popen failed: " + command);
   std::array<char, 4096> buffer;
   std::size_t n;
-  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
+    result.output.append(buffer.data(), n);
   const int status = pclose(pipe);
   result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   return result;

@@ -25,15 +25,15 @@ BoundaryShape cup() {
 
 TEST(Solid, SignedDistancesOfEachShape) {
   const Solid t(tank(), 0.02f);
-  EXPECT_NEAR(t.distance(Vec3(0.5f, 0.2f, 0.2f)), 0.2f, 1e-6f);    // inside the tank: to the floor
+  EXPECT_NEAR(t.distance(Vec3(0.5f, 0.2f, 0.2f)), 0.2f, 1e-6f);  // inside the tank: to the floor
   EXPECT_NEAR(t.distance(Vec3(-0.01f, 0.2f, 0.2f)), -0.01f, 1e-6f);  // inside the left wall
   EXPECT_NEAR(t.distance(Vec3(-0.05f, 0.2f, 0.2f)), 0.03f, 1e-6f);   // outside, beyond the wall
-  EXPECT_GT(t.distance(Vec3(0.5f, 3.0f, 0.2f)), 0.0f);              // open top: far above is free
+  EXPECT_GT(t.distance(Vec3(0.5f, 3.0f, 0.2f)), 0.0f);               // open top: far above is free
 
   const Solid c(cup(), 0.01f);
-  EXPECT_NEAR(c.distance(Vec3(0, 0.05f, 0)), 0.05f, 1e-6f);          // centre: to the inner wall/floor
-  EXPECT_NEAR(c.distance(Vec3(0.055f, 0.05f, 0)), -0.005f, 1e-6f);   // in the wall
-  EXPECT_NEAR(c.distance(Vec3(0, -0.004f, 0)), -0.004f, 1e-6f);      // in the floor
+  EXPECT_NEAR(c.distance(Vec3(0, 0.05f, 0)), 0.05f, 1e-6f);  // centre: to the inner wall/floor
+  EXPECT_NEAR(c.distance(Vec3(0.055f, 0.05f, 0)), -0.005f, 1e-6f);  // in the wall
+  EXPECT_NEAR(c.distance(Vec3(0, -0.004f, 0)), -0.004f, 1e-6f);     // in the floor
   EXPECT_GT(c.distance(Vec3(0.055f, 0.12f, 0)), 0.0f);              // above the rim
 
   BoundaryShape sphere;
@@ -96,14 +96,19 @@ void fireAtWalls(const BoundaryShape& shape, const Vec3& inside, float speed) {
     } else {
       ASSERT_GE(x.y(), shape.centre.y());
       if (x.y() < shape.centre.y() + shape.height) {
-        ASSERT_LE(std::hypot(x.x() - shape.centre.x(), x.z() - shape.centre.z()), shape.radius + 1e-5f);
+        ASSERT_LE(std::hypot(x.x() - shape.centre.x(), x.z() - shape.centre.z()),
+                  shape.radius + 1e-5f);
       }
     }
   }
 }
 
-TEST(Boundary, NoParticleCrossesATankWall) { fireAtWalls(tank(), Vec3(0.5f, 0.25f, 0.2f), 3.0f); }
-TEST(Boundary, NoParticleCrossesACupWall) { fireAtWalls(cup(), Vec3(0, 0.03f, 0), 3.0f); }
+TEST(Boundary, NoParticleCrossesATankWall) {
+  fireAtWalls(tank(), Vec3(0.5f, 0.25f, 0.2f), 3.0f);
+}
+TEST(Boundary, NoParticleCrossesACupWall) {
+  fireAtWalls(cup(), Vec3(0, 0.03f, 0), 3.0f);
+}
 
 }  // namespace
 }  // namespace sph

@@ -50,21 +50,27 @@ struct BadScene {
 
 TEST(Cli, EveryClassOfBadSceneIsRefusedWithOneLineAndExitTwo) {
   const std::vector<BadScene> cases = {
-      {"unknown key", R"({"solver": {"spacing": 0.01, "cfll": 1}, "fluids": [{"min": [0,0,0], "max": [0.1,0.1,0.1]}]})",
+      {"unknown key",
+       R"({"solver": {"spacing": 0.01, "cfll": 1}, "fluids": [{"min": [0,0,0], "max": [0.1,0.1,0.1]}]})",
        "solver.cfll: unknown key (did you mean \"cfl\"?)"},
-      {"wrong type", R"({"solver": {"spacing": 0.01, "cfl": "fast"}, "fluids": [{"min": [0,0,0], "max": [0.1,0.1,0.1]}]})",
+      {"wrong type",
+       R"({"solver": {"spacing": 0.01, "cfl": "fast"}, "fluids": [{"min": [0,0,0], "max": [0.1,0.1,0.1]}]})",
        "solver.cfl: expected a positive number, got the string \"fast\""},
-      {"negative spacing", R"({"solver": {"spacing": -0.01}, "fluids": [{"min": [0,0,0], "max": [0.1,0.1,0.1]}]})",
+      {"negative spacing",
+       R"({"solver": {"spacing": -0.01}, "fluids": [{"min": [0,0,0], "max": [0.1,0.1,0.1]}]})",
        "solver.spacing: expected a positive number (m), got -0.01"},
-      {"fluid outside the domain", R"({"solver": {"spacing": 0.01}, "domain": {"min": [0,0,0], "max": [1,1,1]},
+      {"fluid outside the domain",
+       R"({"solver": {"spacing": 0.01}, "domain": {"min": [0,0,0], "max": [1,1,1]},
         "fluids": [{"min": [0,0,0], "max": [2,0.1,0.1]}]})",
        "fluids[0]: fluid outside the domain"},
       {"zero-size emitter", R"({"solver": {"spacing": 0.01},
         "emitters": [{"position": [0,1,0], "direction": [0,-1,0], "radius": 0, "speed": 1}]})",
        "emitters[0].radius: expected a positive number (m), got 0"},
-      {"inverted box", R"({"solver": {"spacing": 0.01}, "fluids": [{"min": [0,0,0], "max": [0.1,-0.1,0.1]}]})",
+      {"inverted box",
+       R"({"solver": {"spacing": 0.01}, "fluids": [{"min": [0,0,0], "max": [0.1,-0.1,0.1]}]})",
        "fluids[0].max: expected max > min on every axis"},
-      {"bad enum", R"({"solver": {"spacing": 0.01, "eos": "ideal-gas"}, "fluids": [{"min": [0,0,0], "max": [0.1,0.1,0.1]}]})",
+      {"bad enum",
+       R"({"solver": {"spacing": 0.01, "eos": "ideal-gas"}, "fluids": [{"min": [0,0,0], "max": [0.1,0.1,0.1]}]})",
        "solver.eos: expected one of \"tait\", \"linear\", got the string \"ideal-gas\""},
   };
   for (const BadScene& c : cases) {
@@ -72,27 +78,34 @@ TEST(Cli, EveryClassOfBadSceneIsRefusedWithOneLineAndExitTwo) {
     const auto r = runSphsplat("run " + path);
     EXPECT_EQ(r.exitCode, 2) << c.what << "\n" << r.output;
     EXPECT_EQ(lastLine(r.output).rfind("sphsplat: " + path + ": " + c.message, 0), 0u)
-        << c.what << ": got\n" << r.output;
+        << c.what << ": got\n"
+        << r.output;
     EXPECT_EQ(r.output.find("done"), std::string::npos) << c.what << ": something ran";
   }
   const auto missing = runSphsplat("run /nonexistent/nope.json");
   EXPECT_EQ(missing.exitCode, 2);
-  EXPECT_EQ(lastLine(missing.output),
-            "sphsplat: /nonexistent/nope.json: cannot open the scene file (No such file or directory)");
+  EXPECT_EQ(
+      lastLine(missing.output),
+      "sphsplat: /nonexistent/nope.json: cannot open the scene file (No such file or directory)");
   const auto syntax = runSphsplat("run " + writeTempFile("{\"solver\": {\"spacing\": 0.01,,}}"));
   EXPECT_EQ(syntax.exitCode, 2);
   EXPECT_NE(syntax.output.find(":1:"), std::string::npos) << syntax.output;
-  const auto badSet = runSphsplat("run " + test::sourcePath("scenes/dam_break.json") + " --set solver.spacing=-1");
+  const auto badSet =
+      runSphsplat("run " + test::sourcePath("scenes/dam_break.json") + " --set solver.spacing=-1");
   EXPECT_EQ(badSet.exitCode, 2);
-  EXPECT_NE(badSet.output.find("solver.spacing: expected a positive number (m), got -1"), std::string::npos);
+  EXPECT_NE(badSet.output.find("solver.spacing: expected a positive number (m), got -1"),
+            std::string::npos);
 }
 
 TEST(Cli, RunPrintsProgressLinesAndASummary) {
   const auto r = runSphsplat("run " + test::sourcePath("scenes/dam_break.json") +
                              " --set solver.spacing=0.02 --end 0.05 --threads 2");
   EXPECT_EQ(r.exitCode, 0) << r.output;
-  EXPECT_TRUE(std::regex_search(r.output, std::regex("dam_break: [0-9]+ fluid particles, [0-9]+ boundary"))) << r.output;
-  EXPECT_NE(r.output.find("dam_break 100%"), std::string::npos) << r.output;  // plain progress lines
+  EXPECT_TRUE(
+      std::regex_search(r.output, std::regex("dam_break: [0-9]+ fluid particles, [0-9]+ boundary")))
+      << r.output;
+  EXPECT_NE(r.output.find("dam_break 100%"), std::string::npos)
+      << r.output;  // plain progress lines
   EXPECT_NE(r.output.find("done: simulated 0.05 s"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("particle-steps/s"), std::string::npos);
   EXPECT_EQ(r.output.find('\r'), std::string::npos) << "no bar redraws when not a terminal";
@@ -104,14 +117,19 @@ TEST(Cli, RunPrintsProgressLinesAndASummary) {
 
 TEST(Cli, BlowUpStopsWithStepTimeParticleAndExitThree) {
   // A block thrown at 80 m/s in a small open domain: the guard stops it when it leaves.
-  const std::string path = writeTempFile(R"({"solver": {"spacing": 0.01, "gravity": [0,0,0], "speed_of_sound": 20},
+  const std::string path =
+      writeTempFile(R"({"solver": {"spacing": 0.01, "gravity": [0,0,0], "speed_of_sound": 20},
     "domain": {"min": [-0.1,-0.1,-0.1], "max": [0.3,0.3,0.3]},
     "fluids": [{"min": [0,0,0], "max": [0.05,0.05,0.05], "velocity": [80,0,0]}]})");
   const auto r = runSphsplat("run " + path);
   EXPECT_EQ(r.exitCode, 3) << r.output;
-  EXPECT_TRUE(std::regex_search(r.output, std::regex("numerical blow-up at step [0-9]+, t = [0-9.e-]+ s: particle [0-9]+ left the domain")))
+  EXPECT_TRUE(std::regex_search(
+      r.output,
+      std::regex(
+          "numerical blow-up at step [0-9]+, t = [0-9.e-]+ s: particle [0-9]+ left the domain")))
       << r.output;
-  EXPECT_NE(r.output.find("reproduce: sphsplat run " + path + " --end"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("reproduce: sphsplat run " + path + " --end"), std::string::npos)
+      << r.output;
 }
 
 }  // namespace

@@ -43,8 +43,8 @@ TEST(Energy, DecaysInAClosedSloshingTankWithTheDefaultKernels) {
     sim.advanceTo(t);
     peak = std::max(peak, kineticEnergy(sim.fluid(), m));
   }
-  EXPECT_LT(peak, 1.05 * start);                              // never gains energy
-  EXPECT_LT(kineticEnergy(sim.fluid(), m), 0.5 * start);      // and loses it to viscosity
+  EXPECT_LT(peak, 1.05 * start);                          // never gains energy
+  EXPECT_LT(kineticEnergy(sim.fluid(), m), 0.5 * start);  // and loses it to viscosity
   EXPECT_EQ(sim.fluid().size(), 1000u);
 }
 

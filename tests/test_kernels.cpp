@@ -19,11 +19,15 @@ struct Poly6 {
   static double ref(double h, double r) {
     return r < h ? 315.0 / (64.0 * kPi * std::pow(h, 9)) * std::pow(h * h - r * r, 3) : 0.0;
   }
-  static Vec3 grad(const Kernels& k, const Vec3& r) { return k.poly6GradScale(r.squaredNorm()) * r; }
+  static Vec3 grad(const Kernels& k, const Vec3& r) {
+    return k.poly6GradScale(r.squaredNorm()) * r;
+  }
 };
 struct Spiky {
   static double W(const Kernels& k, double r) { return k.spiky(static_cast<float>(r)); }
-  static double ref(double h, double r) { return r < h ? 15.0 / (kPi * std::pow(h, 6)) * std::pow(h - r, 3) : 0.0; }
+  static double ref(double h, double r) {
+    return r < h ? 15.0 / (kPi * std::pow(h, 6)) * std::pow(h - r, 3) : 0.0;
+  }
   static Vec3 grad(const Kernels& k, const Vec3& r) { return k.spikyGradScale(r.norm()) * r; }
 };
 struct Viscosity {
@@ -38,7 +42,8 @@ struct Viscosity {
     const float d = r.norm();
     if (d >= k.h || d == 0) return Vec3::Zero();
     const float h = k.h;
-    const float dWdr = k.viscFactor * (-1.5f * d * d / (h * h * h) + 2 * d / (h * h) - h / (2 * d * d));
+    const float dWdr =
+        k.viscFactor * (-1.5f * d * d / (h * h * h) + 2 * d / (h * h) - h / (2 * d * d));
     return dWdr / d * r;
   }
 };
@@ -78,14 +83,16 @@ TYPED_TEST(KernelTest, MatchesItsFormula) {
   const Kernels k(kH);
   for (double q = 0.05; q < 0.99; q += 0.01) {
     const double ref = TypeParam::ref(kH, q * kH);
-    EXPECT_NEAR(TypeParam::W(k, q * kH), ref, 1e-5 * std::abs(ref) + 1e-6 * TypeParam::ref(kH, 0.5 * kH))
+    EXPECT_NEAR(TypeParam::W(k, q * kH), ref,
+                1e-5 * std::abs(ref) + 1e-6 * TypeParam::ref(kH, 0.5 * kH))
         << "r/h = " << q;
   }
 }
 
 TYPED_TEST(KernelTest, GradientIsAntisymmetricAndMatchesTheDerivative) {
   const Kernels k(kH);
-  const Vec3 dirs[] = {Vec3(1, 0, 0), Vec3(0.3f, -0.8f, 0.52f).normalized(), Vec3(-1, 1, 1).normalized()};
+  const Vec3 dirs[] = {Vec3(1, 0, 0), Vec3(0.3f, -0.8f, 0.52f).normalized(),
+                       Vec3(-1, 1, 1).normalized()};
   for (const Vec3& d : dirs) {
     for (double q = 0.1; q < 0.99; q += 0.07) {
       const Vec3 r = static_cast<float>(q * kH) * d;
@@ -93,7 +100,8 @@ TYPED_TEST(KernelTest, GradientIsAntisymmetricAndMatchesTheDerivative) {
       EXPECT_EQ(TypeParam::grad(k, -r), -g);  // bit-exact: momentum conservation relies on it
       // Central difference of the reference W along the direction.
       const double e = 1e-5 * kH;
-      const double dWdr = (TypeParam::ref(kH, q * kH + e) - TypeParam::ref(kH, q * kH - e)) / (2 * e);
+      const double dWdr =
+          (TypeParam::ref(kH, q * kH + e) - TypeParam::ref(kH, q * kH - e)) / (2 * e);
       EXPECT_NEAR(g.dot(d), dWdr, 1e-4 * std::abs(dWdr) + 1e-3) << "r/h = " << q;
     }
   }
@@ -104,9 +112,11 @@ TEST(ViscosityKernel, LaplacianMatchesTheNumericalLaplacian) {
   for (double q = 0.1; q < 0.95; q += 0.05) {
     // Radial Laplacian: W'' + 2 W' / r.
     const double r = q * kH, e = 1e-4 * kH;
-    const double w0 = Viscosity::ref(kH, r), wp = Viscosity::ref(kH, r + e), wm = Viscosity::ref(kH, r - e);
+    const double w0 = Viscosity::ref(kH, r), wp = Viscosity::ref(kH, r + e),
+                 wm = Viscosity::ref(kH, r - e);
     const double lap = (wp - 2 * w0 + wm) / (e * e) + (wp - wm) / (e * r);
-    EXPECT_NEAR(k.viscosityLaplacian(static_cast<float>(r)), lap, 1e-4 * std::abs(lap)) << "r/h = " << q;
+    EXPECT_NEAR(k.viscosityLaplacian(static_cast<float>(r)), lap, 1e-4 * std::abs(lap))
+        << "r/h = " << q;
   }
   EXPECT_EQ(k.viscosityLaplacian(kH), 0.0f);
 }

@@ -43,8 +43,8 @@ TEST(Momentum, IsConservedOverAThousandStepsWithoutGravityOrWalls) {
   for (int step = 0; step < 1000; ++step) sim.step();
   const Vec3d after = momentum(sim.fluid(), m);
   // Float accumulation over ~1000 steps: a few ulps of the largest terms per step.
-  EXPECT_LT((after - before).norm(), 1e-5 * scale) << "before " << before.transpose() << " after "
-                                                    << after.transpose();
+  EXPECT_LT((after - before).norm(), 1e-5 * scale)
+      << "before " << before.transpose() << " after " << after.transpose();
   // And the particles did interact: their velocities changed a lot, only the sum did not.
   double change = 0;
   const Particles& q = sim.fluid();

@@ -34,15 +34,15 @@ std::vector<std::set<std::uint32_t>> fromGrid(const Cloud& c, float h, std::size
   for (std::uint32_t o : order) sorted.add(c.x[o], c.y[o], c.z[o]);
   std::vector<std::set<std::uint32_t>> out(c.x.size());
   for (std::size_t i = 0; i < order.size(); ++i) {
-    grid.forEachNeighbourRange(grid.cellOf(sorted.x[i], sorted.y[i], sorted.z[i]),
-                               [&](std::uint32_t b, std::uint32_t e) {
-                                 for (std::uint32_t j = b; j < e; ++j) {
-                                   if (withinRadius(sorted.x[i] - sorted.x[j], sorted.y[i] - sorted.y[j],
-                                                    sorted.z[i] - sorted.z[j], h)) {
-                                     out[order[i]].insert(order[j]);
-                                   }
-                                 }
-                               });
+    grid.forEachNeighbourRange(
+        grid.cellOf(sorted.x[i], sorted.y[i], sorted.z[i]), [&](std::uint32_t b, std::uint32_t e) {
+          for (std::uint32_t j = b; j < e; ++j) {
+            if (withinRadius(sorted.x[i] - sorted.x[j], sorted.y[i] - sorted.y[j],
+                             sorted.z[i] - sorted.z[j], h)) {
+              out[order[i]].insert(order[j]);
+            }
+          }
+        });
   }
   return out;
 }

@@ -41,7 +41,8 @@ TEST(Particles, PermuteMovesEveryFieldWithItsParticle) {
     for (std::size_t i = 0; i < n; ++i) {
       float v;
       std::memcpy(&v, &values[i], 4);
-      ASSERT_EQ(v, static_cast<float>(field * 100000 + p.id[i])) << "field " << field << " slot " << i;
+      ASSERT_EQ(v, static_cast<float>(field * 100000 + p.id[i]))
+          << "field " << field << " slot " << i;
     }
   });
   for (std::size_t i = 0; i < n; ++i) EXPECT_EQ(p.id[i], order[i]);

@@ -27,8 +27,9 @@ class RenderCli : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = test::writeTempFile("", "") + "-dir";
     ::mkdir(dir_.c_str(), 0755);
-    const auto r = runSphsplat("run " + test::sourcePath("scenes/dam_break.json") +
-                               " --set solver.spacing=0.012 --end 0.1 -q --output " + dir_ + "/dam.h5");
+    const auto r =
+        runSphsplat("run " + test::sourcePath("scenes/dam_break.json") +
+                    " --set solver.spacing=0.012 --end 0.1 -q --output " + dir_ + "/dam.h5");
     ASSERT_EQ(r.exitCode, 0) << r.output;
   }
   static std::string cache() { return dir_ + "/dam.h5"; }
@@ -41,8 +42,10 @@ TEST_F(RenderCli, CompareWritesThePanelsAndTheNumbers) {
                              " --set render.projection=newton");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   std::smatch m;
-  const std::regex point("point +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ \\| +([0-9.]+) +([0-9.]+) +([0-9.]+)");
-  const std::regex quad("quad +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ \\| +([0-9.]+) +([0-9.]+) +([0-9.]+)");
+  const std::regex point(
+      "point +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ \\| +([0-9.]+) +([0-9.]+) +([0-9.]+)");
+  const std::regex quad(
+      "quad +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ \\| +([0-9.]+) +([0-9.]+) +([0-9.]+)");
   ASSERT_TRUE(std::regex_search(r.output, m, point)) << r.output;
   const double pointPsnr = std::stod(m[1]), pointNormal = std::stod(m[3]);
   ASSERT_TRUE(std::regex_search(r.output, m, quad)) << r.output;
@@ -57,7 +60,9 @@ TEST_F(RenderCli, CompareWritesThePanelsAndTheNumbers) {
 }
 
 TEST_F(RenderCli, RenderWritesPngsAndStoresThemInTheCache) {
-  const auto r = runSphsplat("render " + cache() + " --frames 1:2 --splat both --size 160x120 --to-cache --out " + dir_ + "/frames");
+  const auto r =
+      runSphsplat("render " + cache() +
+                  " --frames 1:2 --splat both --size 160x120 --to-cache --out " + dir_ + "/frames");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   for (const char* kind : {"point", "quad"}) {
     for (int f : {1, 2}) {
@@ -78,7 +83,8 @@ TEST_F(RenderCli, BadInputIsOneLineAndExitTwo) {
   EXPECT_NE(missing.output.find("/nonexistent/x.h5"), std::string::npos) << missing.output;
   const auto range = runSphsplat("render " + cache() + " --frames 99");
   EXPECT_EQ(range.exitCode, 2);
-  EXPECT_NE(range.output.find("--frames: frames 99 are not in the cache (it has frames 0 to 6)"), std::string::npos)
+  EXPECT_NE(range.output.find("--frames: frames 99 are not in the cache (it has frames 0 to 6)"),
+            std::string::npos)
       << range.output;
   const auto size = runSphsplat("compare " + cache() + " --size 10x10");
   EXPECT_EQ(size.exitCode, 2);
@@ -102,15 +108,17 @@ TEST_F(RenderCli, ViewerWindowUnderXvfbShowsTheFluidAndSwitchesModes) {
   const char* modes[2] = {"point", "quad"};
   for (int k = 0; k < 2; ++k) {
     shots[k] = dir_ + "/view_" + modes[k] + ".png";
-    const std::string command = std::string("xvfb-run -a -s '-screen 0 800x600x24' ") + SPHSPLAT_BINARY +
-                                " view " + cache() + " --frame last --width 400 --height 300 --exit-after 2 --splat " +
+    const std::string command = std::string("xvfb-run -a -s '-screen 0 800x600x24' ") +
+                                SPHSPLAT_BINARY + " view " + cache() +
+                                " --frame last --width 400 --height 300 --exit-after 2 --splat " +
                                 modes[k] + " --screenshot " + shots[k] + " 2>&1";
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
     ASSERT_TRUE(exists(shots[k]));
     EXPECT_GT(nonBackground(shots[k]), 0.05) << shots[k] << " is blank";
   }
   int w = 0, h = 0;
-  EXPECT_NE(io::readPng(shots[0], w, h), io::readPng(shots[1], w, h)) << "switching the splat mode changed nothing";
+  EXPECT_NE(io::readPng(shots[0], w, h), io::readPng(shots[1], w, h))
+      << "switching the splat mode changed nothing";
 }
 
 }  // namespace

@@ -50,9 +50,12 @@ TEST(SceneLoader, MinimalSceneGetsDocumentedDefaults) {
 TEST(SceneLoader, UnknownKeyNamesItsPathAndSuggestsTheNearMiss) {
   const std::string e = errorOf(R"({"solver": {"spacing": 0.01, "spacng": 2},
     "fluids": [{"min": [0,0,0], "max": [1,1,1]}]})");
-  EXPECT_NE(e.find("bad.json: solver.spacng: unknown key (did you mean \"spacing\"?)"), std::string::npos) << e;
+  EXPECT_NE(e.find("bad.json: solver.spacng: unknown key (did you mean \"spacing\"?)"),
+            std::string::npos)
+      << e;
   const std::string top = errorOf(R"({"solver": {"spacing": 0.01}, "fluid": []})");
-  EXPECT_NE(top.find("bad.json: fluid: unknown key (did you mean \"fluids\"?)"), std::string::npos) << top;
+  EXPECT_NE(top.find("bad.json: fluid: unknown key (did you mean \"fluids\"?)"), std::string::npos)
+      << top;
 }
 
 TEST(SceneLoader, WrongTypeNamesTheKeyAndWhatWasExpected) {
@@ -78,16 +81,19 @@ TEST(SceneLoader, FluidOutsideTheDomainIsRefused) {
 TEST(SceneLoader, ZeroSizeEmitterIsRefused) {
   const std::string e = errorOf(R"({"solver": {"spacing": 0.01},
     "emitters": [{"position": [0,1,0], "direction": [0,-1,0], "radius": 0.001, "speed": 1}]})");
-  EXPECT_NE(e.find("bad.json: emitters[0].radius: expected a nozzle radius of at least half the particle spacing"),
-            std::string::npos) << e;
+  EXPECT_NE(e.find("bad.json: emitters[0].radius: expected a nozzle radius of at least half the "
+                   "particle spacing"),
+            std::string::npos)
+      << e;
   const std::string d = errorOf(R"({"solver": {"spacing": 0.01},
     "emitters": [{"position": [0,1,0], "direction": [0,0,0], "radius": 0.02, "speed": 1}]})");
   EXPECT_EQ(d, "bad.json: emitters[0].direction: expected a non-zero vector, got [0, 0, 0]");
 }
 
 TEST(SceneLoader, SceneWithoutFluidIsRefused) {
-  EXPECT_NE(errorOf(R"({"solver": {"spacing": 0.01}})").find("bad.json: fluids: the scene has no fluid"),
-            std::string::npos);
+  EXPECT_NE(
+      errorOf(R"({"solver": {"spacing": 0.01}})").find("bad.json: fluids: the scene has no fluid"),
+      std::string::npos);
 }
 
 TEST(SceneLoader, MissingAndUnreadableFilesAreRefused) {
@@ -95,7 +101,8 @@ TEST(SceneLoader, MissingAndUnreadableFilesAreRefused) {
     io::loadScene("/nonexistent/scene.json");
     FAIL() << "no error";
   } catch (const io::InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "/nonexistent/scene.json: cannot open the scene file (No such file or directory)");
+    EXPECT_EQ(std::string(e.what()),
+              "/nonexistent/scene.json: cannot open the scene file (No such file or directory)");
   }
 }
 
@@ -111,7 +118,8 @@ TEST(SceneLoader, OverridesEditNestedKeysAndArrays) {
   EXPECT_EQ(s.solver.cfl, 0.2f);
   EXPECT_EQ(s.fluids[0].velocity, Vec3(1, 0, 0));
   EXPECT_EQ(s.name, "custom");
-  EXPECT_NE(errorOf(kMinimal, {"fluids[3].velocity=[1,0,0]"}).find("index 3 is out of range"), std::string::npos);
+  EXPECT_NE(errorOf(kMinimal, {"fluids[3].velocity=[1,0,0]"}).find("index 3 is out of range"),
+            std::string::npos);
   EXPECT_NE(errorOf(kMinimal, {"nonsense"}).find("expected KEY.PATH=VALUE"), std::string::npos);
 }
 

@@ -69,9 +69,10 @@ TEST(SceneSetup, CorrectedPressureGradientIsExactForALinearPressure) {
   for (int a = -reach; a <= reach; ++a)
     for (int b = -reach; b <= reach; ++b)
       for (int c = -reach; c <= reach; ++c) {
-        const Vec3 r = dx * Vec3(static_cast<float>(a), static_cast<float>(b), static_cast<float>(c));
+        const Vec3 r =
+            dx * Vec3(static_cast<float>(a), static_cast<float>(b), static_cast<float>(c));
         const Vec3 grad = d.kernels.spikyGradScale(r.norm()) * (-r);  // gradW(x_i - x_j), x_i = 0
-        moment += dx * dx * dx * r.y() * grad.y();  // sum V (y_j - y_i) dW/dy
+        moment += dx * dx * dx * r.y() * grad.y();                    // sum V (y_j - y_i) dW/dy
       }
   EXPECT_NEAR(moment * d.gradientCorrection, 1.0, 1e-5);
 }
@@ -83,7 +84,8 @@ TEST(SceneSetup, AutomaticSpeedOfSoundAndViscosityFollowTheScene) {
   const float fall = std::sqrt(2 * 9.81f * (0.292f - dam.domain.lo.y()));
   EXPECT_NEAR(d.speedOfSound, 10 * fall, 1e-3f * d.speedOfSound);
   EXPECT_NEAR(d.viscosity, 0.002f * d.h * d.speedOfSound, 1e-9f);
-  const Scene given = test::shippedScene("dam_break", {"solver.speed_of_sound=50", "solver.viscosity=0.01"});
+  const Scene given =
+      test::shippedScene("dam_break", {"solver.speed_of_sound=50", "solver.viscosity=0.01"});
   EXPECT_FLOAT_EQ(deriveParams(given).speedOfSound, 50.0f);
   EXPECT_FLOAT_EQ(deriveParams(given).viscosity, 0.01f);
   // Tait: B = rho0 c^2 / 7.

@@ -7,20 +7,12 @@
 #include "render/GlContext.h"
 #include "render/ReferenceRaymarcher.h"
 #include "render/SplatRenderer.h"
+#include "tests/LatticeBlock.h"
 
 namespace sph::render {
 namespace {
 
-struct Block {
-  std::vector<float> x, y, z;
-  Block(int nx, int ny, int nz, float dx) {
-    for (int k = 0; k < nz; ++k)
-      for (int j = 0; j < ny; ++j)
-        for (int i = 0; i < nx; ++i) {
-          x.push_back((i + 0.5f) * dx), y.push_back((j + 0.5f) * dx), z.push_back((k + 0.5f) * dx);
-        }
-  }
-};
+using test::Block;
 
 class SplatGl : public ::testing::Test {
  protected:
@@ -74,15 +66,19 @@ TEST_F(SplatGl, BlockSeenFromAboveScoresAgainstTheReference) {
   SplatRenderer r(96, 96);
   const CameraFrame cf = cameraFrame(cam, 1.0f);
   const Lighting light;
-  const RenderImage ref = raymarchReference(f, surfaceThresholdAuto(f) * f.meanDensity(), cam, 96, 96, light);
+  const RenderImage ref =
+      raymarchReference(f, surfaceThresholdAuto(f) * f.meanDensity(), cam, 96, 96, light);
   SplatParams newton;
   newton.projection = SplatParams::Projection::Newton;
   const SplatFrame points = buildSplats(f, SplatParams{}, SplatKind::Point, cf.projView, cf.eye);
   const SplatFrame quads = buildSplats(f, newton, SplatKind::Quad, cf.projView, cf.eye);
   const ImageError ep = compareImages(r.render(points, SplatKind::Point, cam, light), ref);
   const ImageError eq = compareImages(r.render(quads, SplatKind::Quad, cam, light), ref);
-  std::printf("block from above: point PSNR %.2f holes %.4f normal %.2f deg; quad PSNR %.2f holes %.4f normal %.2f deg\n",
-              ep.psnr, ep.holeFraction, ep.normalErrorDegrees, eq.psnr, eq.holeFraction, eq.normalErrorDegrees);
+  std::printf(
+      "block from above: point PSNR %.2f holes %.4f normal %.2f deg; quad PSNR %.2f holes %.4f "
+      "normal %.2f deg\n",
+      ep.psnr, ep.holeFraction, ep.normalErrorDegrees, eq.psnr, eq.holeFraction,
+      eq.normalErrorDegrees);
   // Thresholds: the measured figures (llvmpipe, 2026-11-22) with a margin for other drivers'
   // rasterisation rules. The splats cover what the reference covers, and the pyramids' vertex
   // normals follow the surface better than the points' one normal.

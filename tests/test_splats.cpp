@@ -8,22 +8,12 @@
 #include "render/ReferenceRaymarcher.h"
 #include "render/SplatBuilder.h"
 #include "render/SplatRenderer.h"
+#include "tests/LatticeBlock.h"
 
 namespace sph::render {
 namespace {
 
-// A lattice block of nx x ny x nz particles at spacing dx from the origin.
-struct Block {
-  std::vector<float> x, y, z;
-  Block(int nx, int ny, int nz, float dx) {
-    for (int k = 0; k < nz; ++k)
-      for (int j = 0; j < ny; ++j)
-        for (int i = 0; i < nx; ++i) {
-          x.push_back((i + 0.5f) * dx), y.push_back((j + 0.5f) * dx), z.push_back((k + 0.5f) * dx);
-        }
-  }
-  DensityField field(float dx, float radius = 2.5f) const { return DensityField(x.data(), y.data(), z.data(), x.size(), dx, radius); }
-};
+using test::Block;
 
 CameraDesc lookingDownAt(const Vec3& target, float distance) {
   CameraDesc c;
@@ -80,7 +70,8 @@ TEST(SplatBuilder, EquationSixMovesVerticesTowardsTheIsoSurface) {
     for (std::size_t v = 0; v < frame.quads.size(); ++v) {
       const SplatVertex& a = flat.quads[v];  // the same vertices, before eq. (6)
       const SplatVertex& c = frame.quads[v];
-      if (std::max({std::abs(a.normal[0]), std::abs(a.normal[1]), std::abs(a.normal[2])}) < 0.99f) continue;
+      if (std::max({std::abs(a.normal[0]), std::abs(a.normal[1]), std::abs(a.normal[2])}) < 0.99f)
+        continue;
       sum += std::abs(f.density(Vec3(c.position[0], c.position[1], c.position[2])) - frame.SD);
     }
     return sum;

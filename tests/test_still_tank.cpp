@@ -42,8 +42,9 @@ TEST(StillTank, HydrostaticPressureAndDensityAfterSettling) {
     densityDeviation += sumDev / p.size();
   }
   pressure /= frames, expected /= frames, densityDeviation /= frames;
-  std::printf("bottom layer: %.1f Pa, rho0 g depth %.1f Pa (%+.2f%%); mean |rho - rho0| / rho0 %.3f%%\n",
-              pressure, expected, 100 * (pressure - expected) / expected, 100 * densityDeviation);
+  std::printf(
+      "bottom layer: %.1f Pa, rho0 g depth %.1f Pa (%+.2f%%); mean |rho - rho0| / rho0 %.3f%%\n",
+      pressure, expected, 100 * (pressure - expected) / expected, 100 * densityDeviation);
   EXPECT_NEAR(pressure, expected, 0.03 * expected) << "bottom pressure " << pressure << " Pa";
   EXPECT_LT(densityDeviation, 0.01);
 
