@@ -52,7 +52,7 @@ CommandResult runShell(const std::string& command) {
 }
 
 std::string sphsplatBinary() {
-  return std::string("'") + SPHSPLAT_BINARY + "'";
+  return sphsplatCommand();  // with the sanitizer options a sanitizer build needs (TestSupport.h)
 }
 
 ::testing::AssertionResult sameBits(const Particles& expected, const Particles& actual) {

@@ -21,6 +21,9 @@ struct CommandResult {
   int exitCode = -1;
   std::string output;  // stdout and stderr together
 };
+// The command line that starts the sphsplat binary under test (with the sanitizer options the
+// binary needs in sanitizer builds); runSphsplat and the tests that spawn it themselves use it.
+std::string sphsplatCommand();
 // Runs the sphsplat binary with the given argument string (shell-quoted by the caller).
 CommandResult runSphsplat(const std::string& arguments);
 // Writes `text` to a fresh temporary file with the given suffix and returns its path.

@@ -40,7 +40,8 @@ std::string rain() {
 test::CommandResult runWithEnvironment(const std::string& environment,
                                        const std::string& arguments) {
   FILE* pipe = popen(
-      ("env " + environment + " " + SPHSPLAT_BINARY + " " + arguments + " 2>&1").c_str(), "r");
+      ("env " + environment + " " + test::sphsplatCommand() + " " + arguments + " 2>&1").c_str(),
+      "r");
   test::CommandResult r;
   char buffer[4096];
   std::size_t n;

@@ -109,7 +109,7 @@ TEST_F(RenderCli, ViewerWindowUnderXvfbShowsTheFluidAndSwitchesModes) {
   for (int k = 0; k < 2; ++k) {
     shots[k] = dir_ + "/view_" + modes[k] + ".png";
     const std::string command = std::string("xvfb-run -a -s '-screen 0 800x600x24' ") +
-                                SPHSPLAT_BINARY + " view " + cache() +
+                                test::sphsplatCommand() + " view " + cache() +
                                 " --frame last --width 400 --height 300 --exit-after 2 --splat " +
                                 modes[k] + " --screenshot " + shots[k] + " 2>&1";
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
