@@ -21,9 +21,7 @@ std::string tinyCacheScene(double endTime = 0.1, double fps = 100,
 // A fresh empty directory under /tmp.
 std::string makeTempDir();
 
-// Runs `command` with /bin/sh, stdout and stderr together.
-CommandResult runShell(const std::string& command);
-// The sphsplat binary, quoted for the shell.
+// The command that starts the sphsplat binary (sphsplatCommand, TestSupport.h).
 std::string sphsplatBinary();
 
 // Every array present (non-empty or sized) in both, compared byte for byte.

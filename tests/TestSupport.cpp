@@ -50,10 +50,9 @@ std::string sphsplatCommand() {
 #endif
 }
 
-CommandResult runSphsplat(const std::string& arguments) {
-  const std::string command = sphsplatCommand() + " " + arguments + " 2>&1";
+CommandResult runShell(const std::string& command) {
   CommandResult result;
-  FILE* pipe = popen(command.c_str(), "r");
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
   if (!pipe) throw std::runtime_error("popen failed: " + command);
   std::array<char, 4096> buffer;
   std::size_t n;
@@ -62,6 +61,10 @@ CommandResult runSphsplat(const std::string& arguments) {
   const int status = pclose(pipe);
   result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   return result;
+}
+
+CommandResult runSphsplat(const std::string& arguments) {
+  return runShell(sphsplatCommand() + " " + arguments);
 }
 
 std::string writeTempFile(const std::string& text, const std::string& suffix) {

@@ -24,6 +24,8 @@ struct CommandResult {
 // The command line that starts the sphsplat binary under test (with the sanitizer options the
 // binary needs in sanitizer builds); runSphsplat and the tests that spawn it themselves use it.
 std::string sphsplatCommand();
+// Runs a shell command line; its exit code and its stdout and stderr together.
+CommandResult runShell(const std::string& command);
 // Runs the sphsplat binary with the given argument string (shell-quoted by the caller).
 CommandResult runSphsplat(const std::string& arguments);
 // Writes `text` to a fresh temporary file with the given suffix and returns its path.
