@@ -244,7 +244,8 @@ std::function<int()> addRenderCommand(CLI::App& app) {
   cmd->add_option("--out", o->out, "Directory for the PNGs (created)")->capture_default_str();
   cmd->add_flag("--to-cache", o->toCache, "Also store the images in the cache under /Render");
   cmd->add_option("--set", o->overrides,
-                  "Edit the recorded scene, e.g. --set render.projection=newton (repeatable)");
+                  "Edit the recorded scene, e.g. --set render.projection=eq6 for the paper's rule "
+                  "(repeatable)");
   cmd->add_flag("--quiet,-q", o->quiet, "No progress and no summary");
   cmd->footer(
       "The camera is the scene's; without one, a camera framing the first frame's particles.\n"
@@ -262,7 +263,8 @@ std::function<int()> addCompareCommand(CLI::App& app) {
   cmd->add_option("--out", o->out, "Directory for the PNG (created)")->capture_default_str();
   cmd->add_option("--size", o->size, "Size of each panel, WIDTHxHEIGHT")->capture_default_str();
   cmd->add_option("--set", o->overrides,
-                  "Edit the recorded scene, e.g. --set render.projection=newton (repeatable)");
+                  "Edit the recorded scene, e.g. --set render.projection=eq6 for the paper's rule "
+                  "(repeatable)");
   cmd->footer(
       "Errors are against a CPU ray-marcher of the same SPH iso-surface: PSNR of the colours,\n"
       "holes (surface pixels a renderer leaves empty) and the mean normal angle error.");

@@ -246,7 +246,8 @@ std::function<int()> addViewCommand(CLI::App& app) {
          "Quit after drawing N frames (scripts and tests; with --screenshot, saves the last)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--set", o->overrides,
-                  "Edit the recorded scene, e.g. --set render.projection=newton (repeatable)");
+                  "Edit the recorded scene, e.g. --set render.projection=eq6 for the paper's rule "
+                  "(repeatable)");
   return [o, cmd]() { return cmd->parsed() ? view(*o) : -1; };
 }
 
