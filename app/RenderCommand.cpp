@@ -183,8 +183,8 @@ int compare(const CompareOptions& o) {
   if (!c.cameraFromScene)
     c.camera = render::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
   renderer.prepare(p);
-  const render::RenderedSplats point = renderer.render(render::SplatKind::Point, c.camera);
-  const render::RenderedSplats quad = renderer.render(render::SplatKind::Quad, c.camera);
+  const render::RenderedSplats point = renderer.renderScored(render::SplatKind::Point, c.camera);
+  const render::RenderedSplats quad = renderer.renderScored(render::SplatKind::Quad, c.camera);
   const render::RenderImage reference = renderer.reference(c.camera);
   const render::ImageError ep = render::compareImages(point.image, reference);
   const render::ImageError eq = render::compareImages(quad.image, reference);

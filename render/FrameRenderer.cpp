@@ -16,6 +16,7 @@ SplatParams splatParams(const RenderDesc& d) {
   p.perVertexDensity = d.perVertexDensity;
   p.projection =
       d.newtonProjection ? SplatParams::Projection::Newton : SplatParams::Projection::Equation6;
+  p.translucent = d.alpha < 1.0f;
   return p;
 }
 
@@ -68,14 +69,27 @@ void FrameRenderer::prepare(const Particles& p) {
 }
 
 RenderedSplats FrameRenderer::render(SplatKind kind, const CameraDesc& camera) {
+  return render(kind, camera, ImageContents::Colour);
+}
+
+RenderedSplats FrameRenderer::renderScored(SplatKind kind, const CameraDesc& camera) {
+  RenderedSplats timed = render(kind, camera, ImageContents::Colour);
+  RenderedSplats scored = render(kind, camera, ImageContents::ColourAndNormals);
+  scored.timings = timed.timings;
+  scored.image.seconds = timed.image.seconds;
+  return scored;
+}
+
+RenderedSplats FrameRenderer::render(SplatKind kind, const CameraDesc& camera,
+                                     ImageContents contents) {
   const CameraFrame cf = cameraFrame(camera, static_cast<float>(desc_.width) / desc_.height);
   const SplatFrame splats = buildSplats(*field_, params_, kind, cf.projView, cf.eye);
   RenderedSplats out;
-  out.image = renderer_.render(splats, kind, camera, lighting_);
+  out.image = renderer_.render(splats, kind, camera, lighting_, contents);
   out.timings.field = fieldSeconds_;
   out.timings.splats = splats.timings;
   out.timings.draw = out.image.seconds;
-  out.particles = splats.particles, out.surface = splats.surface;
+  out.particles = splats.particles, out.surface = splats.surface, out.splats = splats.splats();
   out.SD = splats.SD, out.ID = splats.ID;
   return out;
 }

@@ -34,7 +34,7 @@ struct FrameTimings {
 struct RenderedSplats {
   RenderImage image;
   FrameTimings timings;
-  std::size_t particles = 0, surface = 0;
+  std::size_t particles = 0, surface = 0, splats = 0;  // splats drawn (SplatFrame::splats())
   float SD = 0, ID = 0;
 };
 
@@ -53,8 +53,13 @@ class FrameRenderer {
   const DensityField& field() const { return *field_; }
   double fieldSeconds() const { return fieldSeconds_; }
 
-  // Splats of `kind` for the prepared particles, drawn offscreen and read back.
+  // Splats of `kind` for the prepared particles, drawn offscreen and read back (colour only: the
+  // pictures `render` and `run` write).
   RenderedSplats render(SplatKind kind, const CameraDesc& camera);
+  // The same frame for the error figures: the image with its normals and coverage, and the
+  // timings of render() (the frame is drawn twice; the normal target it adds is not part of
+  // making a picture, and would cost llvmpipe ~3 ms of the draw).
+  RenderedSplats renderScored(SplatKind kind, const CameraDesc& camera);
   // The same into the current window's framebuffer.
   FrameTimings drawToScreen(SplatKind kind, const CameraDesc& camera, int width, int height);
   // The reference ray-marched image of the same SD surface.
@@ -64,6 +69,7 @@ class FrameRenderer {
   SplatRenderer& renderer() { return renderer_; }
 
  private:
+  RenderedSplats render(SplatKind kind, const CameraDesc& camera, ImageContents contents);
   RenderDesc desc_;
   float spacing_, restDensity_;
   SplatParams params_;

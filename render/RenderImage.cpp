@@ -10,6 +10,10 @@ ImageError compareImages(const RenderImage& image, const RenderImage& reference)
   if (image.width != reference.width || image.height != reference.height) {
     throw std::invalid_argument("compareImages: images of different sizes");
   }
+  if (!image.hasNormals() || !reference.hasNormals()) {
+    throw std::invalid_argument(
+        "compareImages: an image without normals (render it with ImageContents::ColourAndNormals)");
+  }
   ImageError e;
   const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
   double squared = 0;

@@ -43,6 +43,52 @@ void store(SplatVertex& v, const Vec3& p, const Vec3& outward) {
   for (int a = 0; a < 3; ++a) v.position[a] = p[a], v.normal[a] = outward[a];
 }
 
+// Opaque water: drops the splats that face away from the eye (they lie behind the front surface
+// that faces it) and sorts the rest near to far, so the depth test rejects hidden fragments
+// before they are shaded. On llvmpipe at 960x540 the two cut the draw of the 25,503-particle
+// pool from 18 to 11 ms with the same error figures (docs/benchmarks.md). A splat is back-facing
+// when its outward normal is more than ~107 deg from the eye direction, not 90: the SPH normals
+// are smoothed, and at the outline a splat tilted slightly away still shows.
+// Translucent water (alpha < 1) shows its back: keep every splat and sort far to near, the order
+// blending needs.
+constexpr float kBackFacingCosine = -0.3f;
+
+void orderForDrawing(const std::vector<float>& x, const std::vector<float>& y,
+                     const std::vector<float>& z, const Vec3& eye, bool translucent,
+                     std::vector<std::uint32_t>& surface, std::vector<Vec3>& normal,
+                     SplatFrame& frame) {
+  struct Keyed {
+    float distance2;
+    std::uint32_t k;
+  };
+  std::vector<Keyed> keyed;
+  keyed.reserve(surface.size());
+  for (std::uint32_t k = 0; k < surface.size(); ++k) {
+    const Vec3 toEye = eye - Vec3(x[surface[k]], y[surface[k]], z[surface[k]]);
+    const float distance2 = toEye.squaredNorm();
+    // -normal is outward: back-facing when -n . toEye / |toEye| < kBackFacingCosine.
+    if (!translucent && normal[k].dot(toEye) > -kBackFacingCosine * std::sqrt(distance2)) {
+      ++frame.backFacing;
+      continue;
+    }
+    keyed.push_back({distance2, k});
+  }
+  // Ties broken by slot, so the order (and the image) never depends on the sort.
+  std::sort(keyed.begin(), keyed.end(), [&](const Keyed& a, const Keyed& b) {
+    if (a.distance2 != b.distance2)
+      return translucent ? a.distance2 > b.distance2 : a.distance2 < b.distance2;
+    return a.k < b.k;
+  });
+  std::vector<std::uint32_t> orderedSurface(keyed.size());
+  std::vector<Vec3> orderedNormal(keyed.size());
+  for (std::size_t i = 0; i < keyed.size(); ++i) {
+    orderedSurface[i] = surface[keyed[i].k];
+    orderedNormal[i] = normal[keyed[i].k];
+  }
+  surface.swap(orderedSurface);
+  normal.swap(orderedNormal);
+}
+
 }  // namespace
 
 float surfaceThresholdAuto(const DensityField& field) {
@@ -89,6 +135,7 @@ SplatFrame buildSplats(const DensityField& field, const SplatParams& params, Spl
     const float len = g.norm();
     normal[k] = len > 1e-12f ? Vec3(g / len) : Vec3((p - eye).normalized());
   });
+  orderForDrawing(x, y, z, eye, params.translucent, surface, normal, frame);
   frame.timings.normals = since(t0);
 
   // 3. Geometry.

@@ -7,7 +7,8 @@
 //        P' = P + R (SD - PD) / (ID - PD) n,   the fraction clamped to [-1, 1]
 //     onto the estimated SD iso-surface (R the kernel radius). PD is the density at the vertex
 //     (ours: it turns the flat square into a pyramid) or at the particle (the paper's reading).
-// Splats of particles outside the view frustum are not built.
+// Splats of particles outside the view frustum are not built, nor (opaque water) those that face
+// away from the eye.
 #pragma once
 
 #include <cstdint>
@@ -35,6 +36,9 @@ struct SplatParams {
   // over the kernel radius (the paper); `Newton` takes one Newton step on the field itself,
   // (SD - PD) / |gradD| along the normal, clamped to the kernel radius (ours).
   enum class Projection { Equation6, Newton } projection = Projection::Newton;
+  // The splats are blended (render.alpha < 1): the back of the water shows through, so keep the
+  // back-facing splats and draw far to near. Opaque (false): drop them, draw near to far.
+  bool translucent = false;
 };
 
 // The automatic SD: halfway between the density of a particle on a flat free surface and the
@@ -58,7 +62,12 @@ struct SplatFrame {
   std::vector<SplatVertex> points;     // one per point splat: centre + normal
   std::vector<SplatVertex> quads;      // 5 per quad splat: centre, then 4 corners
   std::vector<std::uint32_t> indices;  // 12 per quad splat: 4 triangles
-  std::size_t particles = 0, surface = 0, culled = 0;
+  // surface: surface particles inside the frustum; culled: surface particles outside it;
+  // backFacing: surface particles whose splat faces away from the eye, dropped when opaque.
+  // Splats built: surface - backFacing, ordered for drawing (near to far; translucent: far to
+  // near).
+  std::size_t particles = 0, surface = 0, culled = 0, backFacing = 0;
+  std::size_t splats() const { return surface - backFacing; }
   float ID = 0, SD = 0;  // mean and surface densities (kg/m^3)
   float halfSize = 0;    // m, centre-to-corner of a splat
   SplatTimings timings;

@@ -82,8 +82,7 @@ SplatRenderer::SplatRenderer(int width, int height, const ShaderLibrary& shaders
   glNamedFramebufferTexture(framebuffer_.id(), GL_COLOR_ATTACHMENT1, normal_.id(), 0);
   glNamedFramebufferRenderbuffer(framebuffer_.id(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
                                  depth_.id());
-  const GLenum attachments[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-  glNamedFramebufferDrawBuffers(framebuffer_.id(), 2, attachments);
+  selectDrawBuffers(ImageContents::ColourAndNormals);
   if (glCheckNamedFramebufferStatus(framebuffer_.id(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
     throw GlError("the splat framebuffer (RGBA8 + RGBA32F + depth) is incomplete on this driver");
   }
@@ -116,20 +115,20 @@ void SplatRenderer::drawBoundary(bool offscreen) {
   glEnable(GL_BLEND);
   glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
   glDepthMask(GL_FALSE);
-  if (offscreen) {
-    const GLenum colourOnly = GL_COLOR_ATTACHMENT0;
-    glNamedFramebufferDrawBuffers(framebuffer_.id(), 1, &colourOnly);
-  }
+  if (offscreen) selectDrawBuffers(ImageContents::Colour);
   glUseProgram(p);
   glBindVertexArray(boundaryVao_.id());
   glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(boundaryCount_));
   glBindVertexArray(0);
   glDepthMask(GL_TRUE);
   glDisable(GL_BLEND);
-  if (offscreen) {
-    const GLenum both[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glNamedFramebufferDrawBuffers(framebuffer_.id(), 2, both);
-  }
+  if (offscreen) selectDrawBuffers(contents_);
+}
+
+void SplatRenderer::selectDrawBuffers(ImageContents contents) {
+  const GLenum attachments[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+  glNamedFramebufferDrawBuffers(framebuffer_.id(), contents == ImageContents::Colour ? 1 : 2,
+                                attachments);
 }
 
 SplatRenderer::~SplatRenderer() = default;
@@ -191,35 +190,40 @@ double SplatRenderer::draw(const SplatFrame& frame, SplatKind kind, const Camera
 }
 
 RenderImage SplatRenderer::render(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
-                                  const Lighting& lighting) {
+                                  const Lighting& lighting, ImageContents contents) {
+  const bool withNormals = contents == ImageContents::ColourAndNormals;
+  contents_ = contents;
+  selectDrawBuffers(contents);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   // The background in the same sRGB encoding the shaders write.
   float bgEncoded[4] = {0, 0, 0, 1};
   for (int k = 0; k < 3; ++k) bgEncoded[k] = toSrgb8(lighting.background[k]) / 255.0f;
   const float zero[4] = {0, 0, 0, 0};
   glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 0, bgEncoded);
-  glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 1, zero);
+  if (withNormals) glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 1, zero);
   glClearNamedFramebufferfi(framebuffer_.id(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
   RenderImage image;
-  image.resize(width_, height_);
+  image.resize(width_, height_, withNormals);
   image.seconds = draw(frame, kind, camera, lighting, width_, height_, true);
 
   // Read back, flipping rows (GL's row 0 is the bottom).
   std::vector<std::uint8_t> rgba(static_cast<std::size_t>(width_) * height_ * 4);
-  std::vector<float> normal(static_cast<std::size_t>(width_) * height_ * 4);
   glNamedFramebufferReadBuffer(framebuffer_.id(), GL_COLOR_ATTACHMENT0);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-  glNamedFramebufferReadBuffer(framebuffer_.id(), GL_COLOR_ATTACHMENT1);
-  glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, normal.data());
+  std::vector<float> normal;
+  if (withNormals) {
+    normal.resize(static_cast<std::size_t>(width_) * height_ * 4);
+    glNamedFramebufferReadBuffer(framebuffer_.id(), GL_COLOR_ATTACHMENT1);
+    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, normal.data());
+  }
   for (int row = 0; row < height_; ++row) {
     const std::size_t src = static_cast<std::size_t>(height_ - 1 - row) * width_;
     const std::size_t dst = static_cast<std::size_t>(row) * width_;
     for (int col = 0; col < width_; ++col) {
-      for (int k = 0; k < 3; ++k) {
-        image.rgb[3 * (dst + col) + k] = rgba[4 * (src + col) + k];
-        image.normal[3 * (dst + col) + k] = normal[4 * (src + col) + k];
-      }
+      for (int k = 0; k < 3; ++k) image.rgb[3 * (dst + col) + k] = rgba[4 * (src + col) + k];
+      if (!withNormals) continue;
+      for (int k = 0; k < 3; ++k) image.normal[3 * (dst + col) + k] = normal[4 * (src + col) + k];
       image.covered[dst + col] = normal[4 * (src + col) + 3] > 0.5f ? 1 : 0;
     }
   }

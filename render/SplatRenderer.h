@@ -1,6 +1,7 @@
-// Draws a frame's splats with OpenGL into an offscreen framebuffer (colour + normal/coverage)
-// and reads it back as a RenderImage. Needs a current context (render/GlContext.h): headless
-// for `sphsplat render` / `compare`, the window's for `sphsplat view` (drawToScreen).
+// Draws a frame's splats with OpenGL into an offscreen framebuffer (colour, and on request the
+// normal/coverage target of the error figures) and reads it back as a RenderImage. Needs a current
+// context (render/GlContext.h): headless for `sphsplat render` / `compare`, the window's for
+// `sphsplat view` (drawToScreen).
 #pragma once
 
 #include <vector>
@@ -35,8 +36,10 @@ class SplatRenderer {
 
   // Uploads and draws `frame` (its points or its quads) into the offscreen framebuffer and reads
   // it back. `seconds` of the result: upload + draw until finished (not the read-back).
+  // ColourAndNormals also draws the normal/coverage target the error figures need (it costs
+  // llvmpipe ~3 ms a frame at 960x540, so pictures are drawn without it).
   RenderImage render(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
-                     const Lighting& lighting);
+                     const Lighting& lighting, ImageContents contents = ImageContents::Colour);
   // The walls and containers, drawn after the fluid as translucent grey squares into the colour
   // only (the error figures see the fluid alone). Empty: none.
   void setBoundary(std::vector<SplatVertex> points, float halfSide);
@@ -58,6 +61,8 @@ class SplatRenderer {
   std::size_t boundaryCount_ = 0;
   float boundaryHalfSide_ = 0;
   void drawBoundary(bool offscreen);
+  void selectDrawBuffers(ImageContents contents);
+  ImageContents contents_ = ImageContents::ColourAndNormals;
 };
 
 }  // namespace sph::render

@@ -2,7 +2,9 @@
 // as render/Lighting.h says, and the quad splats score against the reference ray-marcher.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <stdexcept>
 
 #include "render/GlContext.h"
 #include "render/ReferenceRaymarcher.h"
@@ -49,7 +51,8 @@ TEST_F(SplatGl, ShadersLightASplatExactlyAsTheLightingModel) {
     light.environment = environment;
     const Vec3 expected = shade(light, Vec3::UnitY(), Vec3::UnitY());
     for (SplatKind kind : {SplatKind::Point, SplatKind::Quad}) {
-      const RenderImage img = r.render(kind == SplatKind::Point ? point : quad, kind, top, light);
+      const RenderImage img = r.render(kind == SplatKind::Point ? point : quad, kind, top, light,
+                                       ImageContents::ColourAndNormals);
       const std::size_t centre = 4 * 8 + 4;
       ASSERT_TRUE(img.covered[centre]);
       for (int k = 0; k < 3; ++k) EXPECT_NEAR(img.rgb[3 * centre + k], toSrgb8(expected[k]), 1);
@@ -72,8 +75,10 @@ TEST_F(SplatGl, BlockSeenFromAboveScoresAgainstTheReference) {
   newton.projection = SplatParams::Projection::Newton;
   const SplatFrame points = buildSplats(f, SplatParams{}, SplatKind::Point, cf.projView, cf.eye);
   const SplatFrame quads = buildSplats(f, newton, SplatKind::Quad, cf.projView, cf.eye);
-  const ImageError ep = compareImages(r.render(points, SplatKind::Point, cam, light), ref);
-  const ImageError eq = compareImages(r.render(quads, SplatKind::Quad, cam, light), ref);
+  const ImageError ep = compareImages(
+      r.render(points, SplatKind::Point, cam, light, ImageContents::ColourAndNormals), ref);
+  const ImageError eq = compareImages(
+      r.render(quads, SplatKind::Quad, cam, light, ImageContents::ColourAndNormals), ref);
   std::printf(
       "block from above: point PSNR %.2f holes %.4f normal %.2f deg; quad PSNR %.2f holes %.4f "
       "normal %.2f deg\n",
@@ -88,9 +93,29 @@ TEST_F(SplatGl, BlockSeenFromAboveScoresAgainstTheReference) {
   EXPECT_GT(eq.psnr, ep.psnr);
 }
 
+TEST_F(SplatGl, PicturesSkipTheNormalTargetAndKeepTheSameColours) {
+  const float dx = 0.01f;
+  const Block b(8, 8, 8, dx);
+  const DensityField f(b.x.data(), b.y.data(), b.z.data(), b.x.size(), dx, 2.5f);
+  const CameraDesc cam = topView();
+  const CameraFrame cf = cameraFrame(cam, 1.0f);
+  const SplatFrame quads = buildSplats(f, SplatParams{}, SplatKind::Quad, cf.projView, cf.eye);
+  ASSERT_GT(quads.splats(), 0u);
+  SplatRenderer r(64, 64);
+  const RenderImage scored =
+      r.render(quads, SplatKind::Quad, cam, Lighting{}, ImageContents::ColourAndNormals);
+  const RenderImage picture = r.render(quads, SplatKind::Quad, cam, Lighting{});
+  EXPECT_TRUE(scored.hasNormals());
+  EXPECT_FALSE(picture.hasNormals());
+  EXPECT_EQ(picture.rgb, scored.rgb);
+  EXPECT_GT(std::count(scored.covered.begin(), scored.covered.end(), 1), 100);
+  EXPECT_THROW(compareImages(picture, scored), std::invalid_argument);
+}
+
 TEST_F(SplatGl, EmptyFrameDrawsOnlyBackground) {
   SplatRenderer r(16, 16);
-  const RenderImage img = r.render(SplatFrame{}, SplatKind::Quad, topView(), Lighting{});
+  const RenderImage img = r.render(SplatFrame{}, SplatKind::Quad, topView(), Lighting{},
+                                   ImageContents::ColourAndNormals);
   for (std::uint8_t c : img.covered) EXPECT_EQ(c, 0);
   EXPECT_EQ(img.rgb[0], toSrgb8(Lighting{}.background.x()));
 }

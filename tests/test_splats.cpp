@@ -47,10 +47,10 @@ TEST(SplatBuilder, SurfaceIsTheOuterLayerAndInteriorParticlesMakeNothing) {
   // Every particle of the outer shell, and none deeper than the second layer.
   EXPECT_GE(quads.surface, 10u * 10u * 10u - 8u * 8u * 8u);
   EXPECT_LE(quads.surface, 10u * 10u * 10u - 6u * 6u * 6u);
-  EXPECT_EQ(quads.quads.size(), 5 * quads.surface);
-  EXPECT_EQ(quads.indices.size(), 12 * quads.surface);
+  EXPECT_EQ(quads.quads.size(), 5 * quads.splats());
+  EXPECT_EQ(quads.indices.size(), 12 * quads.splats());
   const SplatFrame points = buildSplats(f, SplatParams{}, SplatKind::Point, cf.projView, cf.eye);
-  EXPECT_EQ(points.points.size(), quads.surface);
+  EXPECT_EQ(points.points.size(), quads.splats());
   EXPECT_NEAR(quads.SD / quads.ID, surfaceThresholdAuto(f), 1e-6f);
   EXPECT_NEAR(quads.SD, 0.5f * (1 + f.flatSurfaceFraction()) * 1000.0f, 0.01f);
 }
@@ -90,6 +90,38 @@ TEST(SplatBuilder, EquationSixMovesVerticesTowardsTheIsoSurface) {
   newtonParams.projection = SplatParams::Projection::Newton;
   const SplatFrame newton = buildSplats(f, newtonParams, SplatKind::Quad, cf.projView, cf.eye);
   EXPECT_LT(gap(newton), 0.2 * before) << "flat " << before << ", eq. (6) " << gap(eq6);
+}
+
+TEST(SplatBuilder, OpaqueWaterDropsBackFacingSplatsAndDrawsNearToFar) {
+  const float dx = 0.01f;
+  const Block b(10, 10, 10, dx);
+  const DensityField f = b.field(dx);
+  const CameraDesc cam = lookingDownAt(Vec3(0.05f, 0.05f, 0.05f), 0.5f);
+  const CameraFrame cf = cameraFrame(cam, 4.0f / 3.0f);
+  const SplatFrame opaque = buildSplats(f, SplatParams{}, SplatKind::Point, cf.projView, cf.eye);
+  SplatParams translucentParams;
+  translucentParams.translucent = true;
+  const SplatFrame translucent =
+      buildSplats(f, translucentParams, SplatKind::Point, cf.projView, cf.eye);
+  // The camera sees three faces of the cube from above-front-right: the bottom and the three
+  // faces away from it (about half the shell) face away and are dropped; blended, all stay.
+  ASSERT_EQ(opaque.surface, translucent.surface);
+  EXPECT_EQ(translucent.backFacing, 0u);
+  EXPECT_EQ(translucent.points.size(), translucent.surface);
+  EXPECT_GT(opaque.backFacing, opaque.surface / 3);
+  EXPECT_LT(opaque.backFacing, 2 * opaque.surface / 3);
+  EXPECT_EQ(opaque.points.size(), opaque.surface - opaque.backFacing);
+  for (const SplatVertex& v : opaque.points) {
+    const Vec3 toEye = (cf.eye - Vec3(v.position[0], v.position[1], v.position[2])).normalized();
+    EXPECT_GE(Vec3(v.normal[0], v.normal[1], v.normal[2]).dot(toEye), -0.3f);
+  }
+  auto distance = [&](const SplatVertex& v) {
+    return (cf.eye - Vec3(v.position[0], v.position[1], v.position[2])).norm();
+  };
+  for (std::size_t k = 1; k < opaque.points.size(); ++k)
+    EXPECT_LE(distance(opaque.points[k - 1]), distance(opaque.points[k]));
+  for (std::size_t k = 1; k < translucent.points.size(); ++k)
+    EXPECT_GE(distance(translucent.points[k - 1]), distance(translucent.points[k]));
 }
 
 TEST(SplatBuilder, SplatsOutsideTheFrustumAreNotBuilt) {
