@@ -115,6 +115,10 @@ TEST(Guard, StopsAParticleLeavingTheDomain) {
 struct BlowUp {
   const char* name;
   std::vector<std::string> edits;  // on the coarse dam break
+  // At the edge of stability: whether the guard stops it depends on the machine's floating-point
+  // code (cfl 1.5 stopped on the AVX-512 Xeons and ran to the end on an AVX2 AMD EPYC). Either is
+  // fine; a bad frame is not.
+  bool marginal = false;
 };
 
 class GuardStops : public ::testing::TestWithParam<BlowUp> {};
@@ -123,6 +127,10 @@ TEST_P(GuardStops, BeforeABadFrame) {
   Simulation sim(damBreak(GetParam().edits));
   const std::optional<StabilityError> e = runChecked(sim, sim.scene().solver.endTime);
   ASSERT_FALSE(::testing::Test::HasFailure());
+  if (GetParam().marginal && !e) {
+    std::printf("%s: ran to the end with every frame good\n", GetParam().name);
+    return;
+  }
   ASSERT_TRUE(e.has_value()) << GetParam().name << " ran to the end: update docs/benchmarks.md";
   std::printf("%s: guard stopped it at step %llu, t = %.4g s\n", GetParam().name,
               static_cast<unsigned long long>(e->step), e->time);
@@ -130,7 +138,7 @@ TEST_P(GuardStops, BeforeABadFrame) {
 
 INSTANTIATE_TEST_SUITE_P(
     StressTables, GuardStops,
-    ::testing::Values(BlowUp{"cfl 1.5", {"solver.max_time_step=0.01", "solver.cfl=1.5"}},
+    ::testing::Values(BlowUp{"cfl 1.5", {"solver.max_time_step=0.01", "solver.cfl=1.5"}, true},
                       BlowUp{"cfl 2.0", {"solver.max_time_step=0.01", "solver.cfl=2.0"}},
                       BlowUp{"zero viscosity", {"solver.viscosity=0"}}),
     [](const ::testing::TestParamInfo<BlowUp>& param) {
