@@ -9,8 +9,10 @@
 #include "app/Version.h"
 #include "io/InputError.h"
 #include "render/GlError.h"
+#include "render/OpenMpSpinLimit.h"
 
 int main(int argc, char** argv) {
+  sph::render::relaunchWithOpenMpSpinLimit(argv);
   CLI::App app{"sphsplat " SPHSPLAT_VERSION_STRING
                ": SPH fluid simulation with an image-based collision pass and splat rendering.\n"
                "Scenes are JSON files (scenes/, docs/scene-format.md)."};

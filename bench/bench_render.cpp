@@ -16,6 +16,7 @@
 
 #include "render/FrameRenderer.h"
 #include "render/GlContext.h"
+#include "render/OpenMpSpinLimit.h"
 #include "sim/Parallel.h"
 
 using namespace sph;
@@ -61,6 +62,7 @@ double median(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  render::relaunchWithOpenMpSpinLimit(argv);
   std::vector<std::size_t> counts = {3555, 10962, 25503, 100000, 1000000};
   int width = 960, height = 540, repeat = 5;
   bool reference = true;
