@@ -101,9 +101,9 @@ int main(int argc, char** argv) {
   std::printf("renderer: %s, %d threads, %dx%d, median of %d\n\n", context.info().renderer.c_str(),
               threadCount(), width, height, repeat);
   std::printf(
-      "| particles | surface | splats | field ms | surface ms | normals ms | build ms | draw ms | "
-      "total ms | PSNR dB | holes %% | normal deg |\n");
-  std::printf("|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+      "| particles | surface | drawn | splats | field ms | surface ms | normals ms | build ms | "
+      "draw ms | total ms | PSNR dB | holes %% | normal deg |\n");
+  std::printf("|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (std::size_t n : counts) {
     float spacing = 0;
     const Particles pool = wavyPool(n, spacing);
@@ -133,13 +133,13 @@ int main(int argc, char** argv) {
         const char* name = kind == render::SplatKind::Point ? "point"
                            : newton                         ? "quad (newton)"
                                                             : "quad (eq. 6)";
-        std::printf("| %zu | %zu | %s | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %s | %s | %s |\n",
-                    pool.size(), last.surface, name, 1e3 * median(field), 1e3 * median(surface),
-                    1e3 * median(normals), 1e3 * median(build), 1e3 * median(draw),
-                    1e3 * median(total),
-                    reference ? std::to_string(e.psnr).substr(0, 5).c_str() : "-",
-                    reference ? std::to_string(100 * e.holeFraction).substr(0, 4).c_str() : "-",
-                    reference ? std::to_string(e.normalErrorDegrees).substr(0, 4).c_str() : "-");
+        std::printf(
+            "| %zu | %zu | %zu | %s | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %s | %s | %s |\n",
+            pool.size(), last.surface, last.splats, name, 1e3 * median(field),
+            1e3 * median(surface), 1e3 * median(normals), 1e3 * median(build), 1e3 * median(draw),
+            1e3 * median(total), reference ? std::to_string(e.psnr).substr(0, 5).c_str() : "-",
+            reference ? std::to_string(100 * e.holeFraction).substr(0, 4).c_str() : "-",
+            reference ? std::to_string(e.normalErrorDegrees).substr(0, 4).c_str() : "-");
         std::fflush(stdout);
         // rmse: the colour RMS error on [0, 1] that the PSNR is made of (lower is better, so the
         // Pareto front of time and error is one of two minimised columns).

@@ -57,8 +57,8 @@ class FrameRenderer {
   // pictures `render` and `run` write).
   RenderedSplats render(SplatKind kind, const CameraDesc& camera);
   // The same frame for the error figures: the image with its normals and coverage, and the
-  // timings of render() (the frame is drawn twice; the normal target it adds is not part of
-  // making a picture, and would cost llvmpipe ~3 ms of the draw).
+  // timings of a warm render() (the normal target is not part of making a picture, and would
+  // cost llvmpipe ~3 ms of the draw; the first draw of a run compiles shaders).
   RenderedSplats renderScored(SplatKind kind, const CameraDesc& camera);
   // The same into the current window's framebuffer.
   FrameTimings drawToScreen(SplatKind kind, const CameraDesc& camera, int width, int height);
