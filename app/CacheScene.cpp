@@ -52,7 +52,12 @@ std::vector<std::size_t> parseFrameRange(const std::string& text, std::size_t fr
     if (colon > 0) first = parseIndex(text.substr(0, colon), frames, flag);
     if (colon + 1 < text.size()) last = parseIndex(text.substr(colon + 1), frames, flag);
   }
-  if (first > last || last >= static_cast<long long>(frames)) {
+  if (first > last) {
+    throw io::InputError(flag + ": frames " + text +
+                         " run backwards (write the first frame first, " + std::to_string(last) +
+                         ":" + std::to_string(first) + ")");
+  }
+  if (last >= static_cast<long long>(frames)) {
     throw io::InputError(flag + ": frames " + text + " are not in the cache (it has frames 0 to " +
                          std::to_string(frames - 1) + ")");
   }

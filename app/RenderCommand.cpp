@@ -191,10 +191,10 @@ int compare(const CompareOptions& o) {
 
   const double time = c.summary.frames[f].time;
   std::printf(
-      "%s frame %zu (t = %.3f s): %zu particles, %zu surface (SD = %.3f x ID), %zu facing the "
-      "camera\n",
+      "%s frame %zu (t = %.3f s): %zu particles, %zu surface (SD = %.3f x ID), %zu splats drawn "
+      "(%s)\n",
       c.scene.name.c_str(), f, time, point.particles, point.surface, point.SD / point.ID,
-      point.splats);
+      point.splats, point.splats < point.surface ? "the rest face away" : "back faces too");
   std::printf("  %-6s %9s %9s %9s %9s %9s | %8s %8s %11s\n", "splats", "field ms", "surf ms",
               "normal ms", "build ms", "draw ms", "PSNR dB", "holes %", "normal deg");
   auto row = [&](const char* name, const render::RenderedSplats& r, const render::ImageError& e) {

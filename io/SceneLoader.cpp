@@ -304,6 +304,7 @@ RenderDesc readRender(JsonReader r) {
   d.environment = r.boolean("environment", true);
   d.alpha = static_cast<float>(
       r.number("alpha", 1.0, "a number in (0, 1]", [](double v) { return v > 0 && v <= 1; }));
+  d.cullBackFaces = r.boolean("cull_back_faces", true);
   d.showBoundary = r.boolean("show_boundary", true);
   d.directory = r.string("directory", std::string(""));
   d.toCache = r.boolean("to_cache", true);

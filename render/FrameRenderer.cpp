@@ -17,6 +17,7 @@ SplatParams splatParams(const RenderDesc& d) {
   p.projection =
       d.newtonProjection ? SplatParams::Projection::Newton : SplatParams::Projection::Equation6;
   p.translucent = d.alpha < 1.0f;
+  p.cullBackFacing = d.cullBackFaces;
   return p;
 }
 

@@ -63,7 +63,7 @@ struct SurfaceParticle {
 // blending needs.
 constexpr float kBackFacingCosine = -0.3f;
 
-void orderForDrawing(const DensityField& field, const Vec3& eye, bool translucent,
+void orderForDrawing(const DensityField& field, const Vec3& eye, bool translucent, bool cull,
                      std::vector<SurfaceParticle>& surface, SplatFrame& frame) {
   struct Keyed {
     float distance2;
@@ -76,7 +76,7 @@ void orderForDrawing(const DensityField& field, const Vec3& eye, bool translucen
     const Vec3 toEye = eye - Vec3(field.sortedX()[s], field.sortedY()[s], field.sortedZ()[s]);
     const float distance2 = toEye.squaredNorm();
     // -normal is outward: back-facing when -n . toEye / |toEye| < kBackFacingCosine.
-    if (!translucent && surface[k].normal.dot(toEye) > -kBackFacingCosine * std::sqrt(distance2)) {
+    if (cull && surface[k].normal.dot(toEye) > -kBackFacingCosine * std::sqrt(distance2)) {
       ++frame.backFacing;
       continue;
     }
@@ -141,7 +141,8 @@ SplatFrame buildSplats(const DensityField& field, const SplatParams& params, Spl
     const float len = sp.gradient.norm();
     sp.normal = len > 1e-12f ? Vec3(sp.gradient / len) : Vec3((p - eye).normalized());
   });
-  orderForDrawing(field, eye, params.translucent, surface, frame);
+  orderForDrawing(field, eye, params.translucent, params.cullBackFacing && !params.translucent,
+                  surface, frame);
   frame.timings.normals = since(t0);
 
   // 3. Geometry.

@@ -37,8 +37,10 @@ struct SplatParams {
   // (SD - PD) / |gradD| along the normal, clamped to the kernel radius (ours).
   enum class Projection { Equation6, Newton } projection = Projection::Newton;
   // The splats are blended (render.alpha < 1): the back of the water shows through, so keep the
-  // back-facing splats and draw far to near. Opaque (false): drop them, draw near to far.
+  // back-facing splats and draw far to near. Opaque (false): drop them (unless cullBackFacing is
+  // false: render.cull_back_faces), draw near to far.
   bool translucent = false;
+  bool cullBackFacing = true;
 };
 
 // The automatic SD: halfway between the density of a particle on a flat free surface and the

@@ -17,6 +17,7 @@ struct RenderDesc {
   bool newtonProjection = true;   // a Newton step onto SD (default), or the paper's eq. (6)
   bool environment = true;        // sky reflection
   float alpha = 1.0f;             // splat opacity
+  bool cullBackFaces = true;      // opaque: skip splats facing away from the camera
   bool showBoundary = true;       // draw the walls, translucent (not in `compare`)
   std::string directory;          // PNGs of rendered frames ("" = next to the cache, or none)
   bool toCache = true;            // also store the frames in the HDF5 cache

@@ -59,6 +59,21 @@ TEST_F(RenderCli, CompareWritesThePanelsAndTheNumbers) {
   EXPECT_GT(h, 240);      // with captions below
 }
 
+TEST_F(RenderCli, CompareSaysHowManySplatsItDrewAndBackFacesCanBeKept) {
+  const std::regex header("([0-9]+) surface \\(SD = [0-9.]+ x ID\\), ([0-9]+) splats drawn");
+  std::smatch m;
+  const auto culled =
+      runSphsplat("compare " + cache() + " --frame last --size 160x120 --out " + dir_);
+  ASSERT_EQ(culled.exitCode, 0) << culled.output;
+  ASSERT_TRUE(std::regex_search(culled.output, m, header)) << culled.output;
+  EXPECT_LT(std::stoul(m[2]), std::stoul(m[1]));  // the default drops those facing away
+  const auto all = runSphsplat("compare " + cache() + " --frame last --size 160x120 --out " + dir_ +
+                               " --set render.cull_back_faces=false");
+  ASSERT_EQ(all.exitCode, 0) << all.output;
+  ASSERT_TRUE(std::regex_search(all.output, m, header)) << all.output;
+  EXPECT_EQ(std::stoul(m[2]), std::stoul(m[1]));
+}
+
 TEST_F(RenderCli, RenderWritesPngsAndStoresThemInTheCache) {
   const auto r =
       runSphsplat("render " + cache() +
@@ -86,6 +101,12 @@ TEST_F(RenderCli, BadInputIsOneLineAndExitTwo) {
   EXPECT_NE(range.output.find("--frames: frames 99 are not in the cache (it has frames 0 to 6)"),
             std::string::npos)
       << range.output;
+  const auto backwards = runSphsplat("render " + cache() + " --frames 5:2");
+  EXPECT_EQ(backwards.exitCode, 2);
+  EXPECT_NE(backwards.output.find(
+                "--frames: frames 5:2 run backwards (write the first frame first, 2:5)"),
+            std::string::npos)
+      << backwards.output;
   const auto size = runSphsplat("compare " + cache() + " --size 10x10");
   EXPECT_EQ(size.exitCode, 2);
   EXPECT_NE(size.output.find("--size: expected WIDTHxHEIGHT"), std::string::npos) << size.output;

@@ -122,6 +122,14 @@ TEST(SplatBuilder, OpaqueWaterDropsBackFacingSplatsAndDrawsNearToFar) {
     EXPECT_LE(distance(opaque.points[k - 1]), distance(opaque.points[k]));
   for (std::size_t k = 1; k < translucent.points.size(); ++k)
     EXPECT_GE(distance(translucent.points[k - 1]), distance(translucent.points[k]));
+  // render.cull_back_faces = false: opaque, every splat, still near to far.
+  SplatParams keepAll;
+  keepAll.cullBackFacing = false;
+  const SplatFrame all = buildSplats(f, keepAll, SplatKind::Point, cf.projView, cf.eye);
+  EXPECT_EQ(all.backFacing, 0u);
+  EXPECT_EQ(all.points.size(), all.surface);
+  for (std::size_t k = 1; k < all.points.size(); ++k)
+    EXPECT_LE(distance(all.points[k - 1]), distance(all.points[k]));
 }
 
 TEST(SplatBuilder, SplatsOutsideTheFrustumAreNotBuilt) {
