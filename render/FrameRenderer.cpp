@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "render/ReferenceRaymarcher.h"
 
@@ -70,26 +71,30 @@ void FrameRenderer::prepare(const Particles& p) {
 }
 
 RenderedSplats FrameRenderer::render(SplatKind kind, const CameraDesc& camera) {
-  return render(kind, camera, ImageContents::Colour);
+  const SplatFrame splats = build(kind, camera);
+  return result(splats, renderer_.render(splats, kind, camera, lighting_));
 }
 
 RenderedSplats FrameRenderer::renderScored(SplatKind kind, const CameraDesc& camera) {
+  const SplatFrame splats = build(kind, camera);
   // The first draw of a program compiles llvmpipe's shader variants for it (5-15 ms, once per
-  // run): not part of a frame's time, so the timed frame is the second.
-  render(kind, camera, ImageContents::Colour);
-  RenderedSplats timed = render(kind, camera, ImageContents::Colour);
-  RenderedSplats scored = render(kind, camera, ImageContents::ColourAndNormals);
-  scored.timings = timed.timings;
-  scored.image.seconds = timed.image.seconds;
-  return scored;
+  // run): not part of a frame's time, so the timed draw is the second.
+  renderer_.render(splats, kind, camera, lighting_);
+  const double drawSeconds = renderer_.render(splats, kind, camera, lighting_).seconds;
+  RenderImage scored =
+      renderer_.render(splats, kind, camera, lighting_, ImageContents::ColourAndNormals);
+  scored.seconds = drawSeconds;
+  return result(splats, std::move(scored));
 }
 
-RenderedSplats FrameRenderer::render(SplatKind kind, const CameraDesc& camera,
-                                     ImageContents contents) {
+SplatFrame FrameRenderer::build(SplatKind kind, const CameraDesc& camera) const {
   const CameraFrame cf = cameraFrame(camera, static_cast<float>(desc_.width) / desc_.height);
-  const SplatFrame splats = buildSplats(*field_, params_, kind, cf.projView, cf.eye);
+  return buildSplats(*field_, params_, kind, cf.projView, cf.eye);
+}
+
+RenderedSplats FrameRenderer::result(const SplatFrame& splats, RenderImage image) const {
   RenderedSplats out;
-  out.image = renderer_.render(splats, kind, camera, lighting_, contents);
+  out.image = std::move(image);
   out.timings.field = fieldSeconds_;
   out.timings.splats = splats.timings;
   out.timings.draw = out.image.seconds;

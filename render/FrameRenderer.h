@@ -57,8 +57,9 @@ class FrameRenderer {
   // pictures `render` and `run` write).
   RenderedSplats render(SplatKind kind, const CameraDesc& camera);
   // The same frame for the error figures: the image with its normals and coverage, and the
-  // timings of a warm render() (the normal target is not part of making a picture, and would
-  // cost llvmpipe ~3 ms of the draw; the first draw of a run compiles shaders).
+  // timings of render() with a warm draw (the splats are built once and drawn three times: to
+  // compile shaders, timed as a picture, and with the normal target, which is not part of making
+  // a picture and would cost llvmpipe ~3 ms of the draw).
   RenderedSplats renderScored(SplatKind kind, const CameraDesc& camera);
   // The same into the current window's framebuffer.
   FrameTimings drawToScreen(SplatKind kind, const CameraDesc& camera, int width, int height);
@@ -69,7 +70,8 @@ class FrameRenderer {
   SplatRenderer& renderer() { return renderer_; }
 
  private:
-  RenderedSplats render(SplatKind kind, const CameraDesc& camera, ImageContents contents);
+  SplatFrame build(SplatKind kind, const CameraDesc& camera) const;
+  RenderedSplats result(const SplatFrame& splats, RenderImage image) const;
   RenderDesc desc_;
   float spacing_, restDensity_;
   SplatParams params_;

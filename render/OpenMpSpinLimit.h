@@ -1,8 +1,8 @@
 // libgomp's idle threads spin after every parallel region, 300,000 `pause` iterations by default
-// (about 6.5 ms of a core on the Xeons of our CI machines), before they sleep. In a program that
-// also draws with llvmpipe, that spinning takes a core from the rasteriser threads while they draw
-// the frame the region just built: at 25,503 particles on 2 cores libgomp was 27% of all CPU
-// samples of bench_render, and the quad splats' draw took ~10 ms instead of ~8
+// (about 6.5 ms of a core on the 2-core AMD EPYC we measured, 2026-11-23), before they sleep. In a
+// program that also draws with llvmpipe, that spinning takes a core from the rasteriser threads
+// while they draw the frame the region just built: at 25,503 particles on 2 cores libgomp was 27%
+// of all CPU samples of bench_render, and the quad splats' draw took ~10 ms instead of ~8
 // (docs/benchmarks.md, "Splat renderer"). The SPH step measured the same either way (bench_sph).
 //
 // libgomp reads GOMP_SPINCOUNT once, while it is loaded, before main() runs; setting it later has
