@@ -245,7 +245,7 @@ TEST_F(CacheCli, BlowUpKeepsTheFinishedFramesAndNamesTheLastGoodOne) {
 
 TEST_F(CacheCli, InterruptStopsBetweenStepsAndTheRunResumes) {
   const std::string scene = dir_ + "/long.json";
-  std::ofstream(scene) << test::tinyCacheScene(1.0, 100);
+  std::ofstream(scene) << test::tinyCacheScene(3.0, 100);
   const std::string cache = dir_ + "/interrupted.h5";
   const std::string out = dir_ + "/interrupted.log";
   const pid_t pid = fork();
@@ -257,7 +257,10 @@ TEST_F(CacheCli, InterruptStopsBetweenStepsAndTheRunResumes) {
           cache.c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  // Interrupt once the run is under way (its cache is published after frame 0), not after a fixed
+  // delay: on a fast machine the whole second of simulated time takes less than 300 ms.
+  for (int waited = 0; waited < 20000 && access(cache.c_str(), F_OK) != 0; ++waited)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
   kill(pid, SIGINT);
   int status = 0;
   waitpid(pid, &status, 0);
@@ -270,13 +273,13 @@ TEST_F(CacheCli, InterruptStopsBetweenStepsAndTheRunResumes) {
       << log;
   const std::size_t frames = io::CacheReader(cache).frameCount();
   EXPECT_GT(frames, 0u);
-  EXPECT_LT(frames, 101u) << "the run should have been stopped before its end";
+  EXPECT_LT(frames, 301u) << "the run should have been stopped before its end";
   EXPECT_NE(io::CacheReader(cache).summary().status.find("interrupted by SIGINT"),
             std::string::npos);
   const auto resumed =
       runShell(sphsplat("run '" + scene + "' --threads 1 --quiet --resume '" + cache + "'"));
   EXPECT_EQ(resumed.exitCode, 0) << resumed.output;
-  EXPECT_EQ(io::CacheReader(cache).frameCount(), 101u);
+  EXPECT_EQ(io::CacheReader(cache).frameCount(), 301u);
 }
 
 }  // namespace
