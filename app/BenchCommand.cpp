@@ -1,5 +1,5 @@
-// `sphsplat bench SWEEP.json`: run a sweep of scene variants (app/Sweep.h) and write the CSV, the
-// markdown table and the plot of wall time against error (docs/benchmarks.md).
+// `sphsplat bench SWEEP.json`: run a sweep of scene variants (bench/sweep/Sweep.h) and write the
+// CSV, the markdown table and the plot of wall time against error (docs/benchmarks.md).
 #include <unistd.h>
 
 #include <cmath>
@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "app/Commands.h"
-#include "app/SweepReport.h"
-#include "app/SweepRunner.h"
-#include "io/InputError.h"
+#include "bench/sweep/SweepReport.h"
+#include "bench/sweep/SweepRunner.h"
+#include "sim/InputError.h"
 
 namespace sph::app {
 namespace {
@@ -41,10 +41,11 @@ std::string reproduceCommand(const BenchOptions& o, const std::string& output) {
   return c + " --output " + output;
 }
 
-void printVariant(const VariantResult& r, const std::vector<std::string>& columns,
+void printVariant(const sweep::VariantResult& r, const std::vector<std::string>& columns,
                   std::size_t index, std::size_t count) {
-  std::printf("[%zu/%zu] %s: %s", index + 1, count, r.variant.label.c_str(), statusName(r.status));
-  if (r.status == RunStatus::Guard)
+  std::printf("[%zu/%zu] %s: %s", index + 1, count, r.variant.label.c_str(),
+              sweep::statusName(r.status));
+  if (r.status == sweep::RunStatus::Guard)
     std::printf(" at step %llu", static_cast<unsigned long long>(r.guardStep));
   std::printf(", %zu particles, %llu steps, %.3g s (%.3g ms/step)", r.particles,
               static_cast<unsigned long long>(r.steps), r.wallSeconds, r.msPerStep());
@@ -56,29 +57,30 @@ void printVariant(const VariantResult& r, const std::vector<std::string>& column
 }
 
 int bench(const BenchOptions& o) {
-  const SweepSpec spec = loadSweep(o.sweep, o.overrides);
+  const sweep::SweepSpec spec = sweep::loadSweep(o.sweep, o.overrides);
   const std::string output = o.output.empty() ? "results/" + spec.name : o.output;
   std::error_code error;
   std::filesystem::create_directories(output, error);
   if (error)
-    throw io::InputError(output + ": cannot create the output folder (" + error.message() + ")");
+    throw InputError(output + ": cannot create the output folder (" + error.message() + ")");
 
-  SweepRunOptions run;
+  sweep::SweepRunOptions run;
   run.outputDir = output;
   run.threads = o.threads;
   run.only = o.only;
   if (!o.quiet) run.onVariant = printVariant;
-  const SweepResult result = runSweep(spec, run);
+  const sweep::SweepResult result = sweep::runSweep(spec, run);
 
   const std::string csv = output + "/" + spec.name + ".csv", md = output + "/" + spec.name + ".md";
   const std::string png = output + "/" + spec.name + ".png";
-  writeCsv(result, csv);
+  sweep::writeCsv(result, csv);
   const bool plot = spec.plot && !o.noPlot;
   const std::string plotError =
-      plot ? runPlot(result, o.python.empty() ? defaultPython() : o.python, o.plotScript, csv, png)
+      plot ? sweep::runPlot(result, o.python.empty() ? defaultPython() : o.python, o.plotScript,
+                            csv, png)
            : "";
-  writeMarkdown(result, currentReportContext(reproduceCommand(o, output)), md,
-                plot && plotError.empty() ? spec.name + ".png" : "");
+  sweep::writeMarkdown(result, sweep::currentReportContext(reproduceCommand(o, output)), md,
+                       plot && plotError.empty() ? spec.name + ".png" : "");
   if (!o.quiet) {
     std::printf("wrote %s, %s%s\n", csv.c_str(), md.c_str(),
                 plot && plotError.empty() ? (", " + png).c_str() : "");

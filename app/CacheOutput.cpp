@@ -10,12 +10,10 @@
 #include <sstream>
 
 #include "app/Progress.h"
-#include "io/InputError.h"
+#include "sim/InputError.h"
 
 namespace sph::app {
 namespace {
-
-using io::InputError;
 
 bool exists(const std::string& path) {
   struct stat st {};

@@ -2,8 +2,8 @@
 
 #include <sstream>
 
-#include "io/InputError.h"
 #include "io/SceneLoader.h"
+#include "sim/InputError.h"
 
 namespace sph::app {
 
@@ -16,8 +16,8 @@ Scene sceneOfCache(const io::CacheSummary& summary, const std::vector<std::strin
   edits.insert(edits.end(), extraEdits.begin(), extraEdits.end());
   try {
     return io::parseScene(summary.sceneText, summary.scenePath, edits);
-  } catch (const io::InputError& e) {
-    throw io::InputError(summary.path + ": the scene recorded in the cache: " + e.what());
+  } catch (const InputError& e) {
+    throw InputError(summary.path + ": the scene recorded in the cache: " + e.what());
   }
 }
 
@@ -33,8 +33,8 @@ long long parseIndex(const std::string& text, std::size_t frames, const std::str
     used = 0;
   }
   if (used != text.size() || v < 0) {
-    throw io::InputError(flag + ": expected a frame index (0, 1, ...), 'last' or -1, got '" + text +
-                         "'");
+    throw InputError(flag + ": expected a frame index (0, 1, ...), 'last' or -1, got '" + text +
+                     "'");
   }
   return v;
 }
@@ -43,7 +43,7 @@ long long parseIndex(const std::string& text, std::size_t frames, const std::str
 
 std::vector<std::size_t> parseFrameRange(const std::string& text, std::size_t frames,
                                          const std::string& flag) {
-  if (frames == 0) throw io::InputError(flag + ": the cache has no complete frame");
+  if (frames == 0) throw InputError(flag + ": the cache has no complete frame");
   long long first = 0, last = static_cast<long long>(frames) - 1;
   const std::size_t colon = text.find(':');
   if (colon == std::string::npos) {
@@ -53,13 +53,12 @@ std::vector<std::size_t> parseFrameRange(const std::string& text, std::size_t fr
     if (colon + 1 < text.size()) last = parseIndex(text.substr(colon + 1), frames, flag);
   }
   if (first > last) {
-    throw io::InputError(flag + ": frames " + text +
-                         " run backwards (write the first frame first, " + std::to_string(last) +
-                         ":" + std::to_string(first) + ")");
+    throw InputError(flag + ": frames " + text + " run backwards (write the first frame first, " +
+                     std::to_string(last) + ":" + std::to_string(first) + ")");
   }
   if (last >= static_cast<long long>(frames)) {
-    throw io::InputError(flag + ": frames " + text + " are not in the cache (it has frames 0 to " +
-                         std::to_string(frames - 1) + ")");
+    throw InputError(flag + ": frames " + text + " are not in the cache (it has frames 0 to " +
+                     std::to_string(frames - 1) + ")");
   }
   std::vector<std::size_t> out;
   for (long long f = first; f <= last; ++f) out.push_back(static_cast<std::size_t>(f));

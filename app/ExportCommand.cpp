@@ -8,12 +8,11 @@
 
 #include "app/Commands.h"
 #include "io/CacheReader.h"
-#include "io/InputError.h"
+#include "sim/InputError.h"
 
 namespace sph::app {
 namespace {
 
-using io::InputError;
 namespace cache = io::cache;
 
 struct ExportOptions {

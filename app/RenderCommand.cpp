@@ -11,16 +11,14 @@
 #include "app/RenderOutput.h"
 #include "io/CacheReader.h"
 #include "io/CacheWriter.h"
-#include "io/InputError.h"
 #include "io/Png.h"
-#include "render/Annotate.h"
-#include "render/FrameRenderer.h"
-#include "render/GlContext.h"
+#include "render/gl/GlContext.h"
+#include "render/splat/Annotate.h"
+#include "render/splat/FrameRenderer.h"
+#include "sim/InputError.h"
 
 namespace sph::app {
 namespace {
-
-using io::InputError;
 
 struct RenderOptions {
   std::string cache;
@@ -46,13 +44,13 @@ void applySize(const std::string& size, RenderDesc& d) {
   d.width = w, d.height = h;
 }
 
-std::vector<render::SplatKind> kindsOf(RenderDesc::Splat s) {
-  if (s == RenderDesc::Splat::Point) return {render::SplatKind::Point};
-  if (s == RenderDesc::Splat::Quad) return {render::SplatKind::Quad};
-  return {render::SplatKind::Point, render::SplatKind::Quad};
+std::vector<render::splat::SplatKind> kindsOf(RenderDesc::Splat s) {
+  if (s == RenderDesc::Splat::Point) return {render::splat::SplatKind::Point};
+  if (s == RenderDesc::Splat::Quad) return {render::splat::SplatKind::Quad};
+  return {render::splat::SplatKind::Point, render::splat::SplatKind::Quad};
 }
-const char* nameOf(render::SplatKind k) {
-  return k == render::SplatKind::Point ? "point" : "quad";
+const char* nameOf(render::splat::SplatKind k) {
+  return k == render::splat::SplatKind::Point ? "point" : "quad";
 }
 
 // Everything a command needs to draw frames of a cache.
@@ -94,7 +92,8 @@ struct CacheRendering {
     return reader().readFrame(frame, xyz);
   }
   // Stores an image in the cache: the reader lets go of the file meanwhile.
-  void store(const std::string& renderer, std::size_t frame, const render::RenderImage& image) {
+  void store(const std::string& renderer, std::size_t frame,
+             const render::splat::RenderImage& image) {
     open.reset();
     std::unique_ptr<io::CacheWriter> writer = io::CacheWriter::append(path, frameCount());
     writer->writeRenderedFrame(renderer, frame, image.width, image.height, image.rgb.data());
@@ -106,8 +105,8 @@ int render(const RenderOptions& o) {
   CacheRendering c(o.cache, o.overrides, o.splat, o.size);
   const std::vector<std::size_t> frames = parseFrameRange(o.frames, c.frameCount(), "--frames");
   makeDirectory(o.out);
-  render::GlContext context = render::GlContext::headless();
-  render::FrameRenderer renderer(c.desc, c.scene.solver.spacing, c.scene.solver.restDensity);
+  render::gl::GlContext context = render::gl::GlContext::headless();
+  render::splat::FrameRenderer renderer(c.desc, c.scene.solver.spacing, c.scene.solver.restDensity);
   if (c.desc.showBoundary) {
     const auto b = c.reader().readBoundary();
     renderer.setBoundary(b[0], b[1], b[2]);
@@ -127,10 +126,10 @@ int render(const RenderOptions& o) {
     const std::size_t f = frames[k];
     const Particles p = c.positions(f);
     if (!c.cameraFromScene && k == 0)
-      c.camera = render::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
+      c.camera = render::splat::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
     renderer.prepare(p);
-    for (render::SplatKind kind : kindsOf(c.desc.splat)) {
-      const render::RenderedSplats r = renderer.render(kind, c.camera);
+    for (render::splat::SplatKind kind : kindsOf(c.desc.splat)) {
+      const render::splat::RenderedSplats r = renderer.render(kind, c.camera);
       seconds += r.timings.total();
       char name[64];
       std::snprintf(name, sizeof name, "/%s_%s_%05zu.png", c.scene.name.c_str(), nameOf(kind), f);
@@ -177,17 +176,19 @@ int compare(const CompareOptions& o) {
   CacheRendering c(o.cache, o.overrides, "both", o.size);
   const std::size_t f = parseFrameRange(o.frame, c.frameCount(), "--frame").front();
   makeDirectory(o.out);
-  render::GlContext context = render::GlContext::headless();
-  render::FrameRenderer renderer(c.desc, c.scene.solver.spacing, c.scene.solver.restDensity);
+  render::gl::GlContext context = render::gl::GlContext::headless();
+  render::splat::FrameRenderer renderer(c.desc, c.scene.solver.spacing, c.scene.solver.restDensity);
   const Particles p = c.positions(f);
   if (!c.cameraFromScene)
-    c.camera = render::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
+    c.camera = render::splat::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
   renderer.prepare(p);
-  const render::RenderedSplats point = renderer.renderScored(render::SplatKind::Point, c.camera);
-  const render::RenderedSplats quad = renderer.renderScored(render::SplatKind::Quad, c.camera);
-  const render::RenderImage reference = renderer.reference(c.camera);
-  const render::ImageError ep = render::compareImages(point.image, reference);
-  const render::ImageError eq = render::compareImages(quad.image, reference);
+  const render::splat::RenderedSplats point =
+      renderer.renderScored(render::splat::SplatKind::Point, c.camera);
+  const render::splat::RenderedSplats quad =
+      renderer.renderScored(render::splat::SplatKind::Quad, c.camera);
+  const render::splat::RenderImage reference = renderer.reference(c.camera);
+  const render::splat::ImageError ep = render::splat::compareImages(point.image, reference);
+  const render::splat::ImageError eq = render::splat::compareImages(quad.image, reference);
 
   const double time = c.summary.frames[f].time;
   std::printf(
@@ -197,7 +198,8 @@ int compare(const CompareOptions& o) {
       point.splats, point.splats < point.surface ? "the rest face away" : "back faces too");
   std::printf("  %-6s %9s %9s %9s %9s %9s | %8s %8s %11s\n", "splats", "field ms", "surf ms",
               "normal ms", "build ms", "draw ms", "PSNR dB", "holes %", "normal deg");
-  auto row = [&](const char* name, const render::RenderedSplats& r, const render::ImageError& e) {
+  auto row = [&](const char* name, const render::splat::RenderedSplats& r,
+                 const render::splat::ImageError& e) {
     std::printf("  %-6s %9.1f %9.1f %9.1f %9.1f %9.1f | %8.2f %8.2f %11.1f\n", name,
                 1e3 * r.timings.field, 1e3 * r.timings.splats.surface,
                 1e3 * r.timings.splats.normals, 1e3 * r.timings.splats.build, 1e3 * r.timings.draw,
@@ -208,7 +210,7 @@ int compare(const CompareOptions& o) {
   std::printf("  reference ray-marched in %.2f s\n", reference.seconds);
 
   const std::string method = c.desc.newtonProjection ? "newton" : "eq. (6)";
-  std::vector<render::Panel> panels = {
+  std::vector<render::splat::Panel> panels = {
       {&point.image,
        {"point splats", fmt("%.1f ms build + draw", 1e3 * point.timings.total()),
         fmt("psnr %.2f db  holes %.2f%%", ep.psnr, 100 * ep.holeFraction),
@@ -222,7 +224,7 @@ int compare(const CompareOptions& o) {
         fmt("sd = %.3f x id", point.SD / point.ID),
         fmt("frame %.0f, t = %.3f s", static_cast<double>(f), time)}},
   };
-  const render::RenderImage sheet = render::composePanels(panels);
+  const render::splat::RenderImage sheet = render::splat::composePanels(panels);
   char name[96];
   std::snprintf(name, sizeof name, "/%s_compare_%05zu.png", c.scene.name.c_str(), f);
   const std::string path = o.out + name;

@@ -4,8 +4,8 @@
 
 #include <cstdio>
 
-#include "io/InputError.h"
 #include "io/Png.h"
+#include "sim/InputError.h"
 
 namespace sph::app {
 
@@ -17,7 +17,7 @@ void makeDirectory(const std::string& dir) {
   }
   struct stat st {};
   if (::stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) {
-    throw io::InputError(dir + ": cannot create the output directory");
+    throw InputError(dir + ": cannot create the output directory");
   }
 }
 
@@ -44,7 +44,7 @@ std::unique_ptr<RenderOutput> RenderOutput::prepare(const Scene& scene,
 }
 
 RenderOutput::RenderOutput(const Scene& scene, std::string directory)
-    : context_(render::GlContext::headless()),
+    : context_(render::gl::GlContext::headless()),
       renderer_(*scene.render, scene.solver.spacing, scene.solver.restDensity),
       desc_(*scene.render),
       camera_(*scene.camera),
@@ -55,12 +55,13 @@ void RenderOutput::frame(const Particles& fluid, std::size_t frame, CacheOutput*
   if (frame % static_cast<std::size_t>(desc_.every) != 0) return;
   renderer_.prepare(fluid);
   const bool both = desc_.splat == RenderDesc::Splat::Both;
-  for (render::SplatKind kind : {render::SplatKind::Point, render::SplatKind::Quad}) {
-    const bool wanted =
-        both || (kind == render::SplatKind::Point) == (desc_.splat == RenderDesc::Splat::Point);
+  for (render::splat::SplatKind kind :
+       {render::splat::SplatKind::Point, render::splat::SplatKind::Quad}) {
+    const bool wanted = both || (kind == render::splat::SplatKind::Point) ==
+                                    (desc_.splat == RenderDesc::Splat::Point);
     if (!wanted) continue;
-    const char* kindName = kind == render::SplatKind::Point ? "point" : "quad";
-    const render::RenderedSplats r = renderer_.render(kind, camera_);
+    const char* kindName = kind == render::splat::SplatKind::Point ? "point" : "quad";
+    const render::splat::RenderedSplats r = renderer_.render(kind, camera_);
     seconds_ += r.timings.total();
     char name[96];
     std::snprintf(name, sizeof name, "/%s_%s_%05zu.png", name_.c_str(), kindName, frame);

@@ -7,8 +7,8 @@
 #include <string>
 
 #include "app/CacheOutput.h"
-#include "render/FrameRenderer.h"
-#include "render/GlContext.h"
+#include "render/gl/GlContext.h"
+#include "render/splat/FrameRenderer.h"
 #include "sim/Scene.h"
 
 namespace sph::app {
@@ -30,8 +30,8 @@ class RenderOutput {
 
  private:
   RenderOutput(const Scene& scene, std::string directory);
-  render::GlContext context_;  // first: outlives the GL objects below
-  render::FrameRenderer renderer_;
+  render::gl::GlContext context_;  // first: outlives the GL objects below
+  render::splat::FrameRenderer renderer_;
   RenderDesc desc_;
   CameraDesc camera_;
   std::string name_, directory_;

@@ -7,13 +7,13 @@
 #include <vector>
 
 #include "app/CacheOutput.h"
-#include "app/CollisionSetup.h"
 #include "app/Commands.h"
 #include "app/Interrupt.h"
 #include "app/Progress.h"
 #include "app/RenderOutput.h"
 #include "app/Version.h"
 #include "io/SceneLoader.h"
+#include "render/cdt/CollisionSetup.h"
 #include "sim/Parallel.h"
 #include "sim/Simulation.h"
 #include "sim/StabilityError.h"
@@ -53,7 +53,7 @@ int run(const RunOptions& o) {
   Simulation sim(scene);  // samples the boundaries, once for the whole run
   const double setupSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - setupStart).count();
-  sim.setCollisionPass(makeCollisionPass(scene));
+  sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
   const DerivedParams& d = sim.params();
   const double end = scene.solver.endTime;
   const double frameInterval = 1.0 / scene.output.fps;
@@ -73,7 +73,7 @@ int run(const RunOptions& o) {
       if (!scene.collision)
         std::printf("  skipped: collision pass (no collision section)\n");
       else
-        std::printf("  collision: %s\n", describeCollision(scene).c_str());
+        std::printf("  collision: %s\n", render::cdt::describeCollision(scene).c_str());
       if (!scene.render) std::printf("  skipped: render, GL context (no render section)\n");
       // The other skips (docs/benchmarks.md, "What a scene skips").
       std::printf(

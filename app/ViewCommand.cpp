@@ -12,15 +12,13 @@
 #include "app/CacheScene.h"
 #include "app/Commands.h"
 #include "io/CacheReader.h"
-#include "io/InputError.h"
 #include "io/Png.h"
-#include "render/FrameRenderer.h"
-#include "render/GlContext.h"
+#include "render/gl/GlContext.h"
+#include "render/splat/FrameRenderer.h"
+#include "sim/InputError.h"
 
 namespace sph::app {
 namespace {
-
-using io::InputError;
 
 struct ViewOptions {
   std::string cache;
@@ -37,7 +35,7 @@ struct ViewOptions {
 struct ViewerState {
   std::size_t frame = 0, frames = 1;
   bool playing = false;
-  render::SplatKind kind = render::SplatKind::Quad;
+  render::splat::SplatKind kind = render::splat::SplatKind::Quad;
   // Orbit around `target`: distance (m), yaw and pitch (rad).
   Vec3 target = Vec3::Zero();
   float distance = 1, yaw = 0, pitch = 0;
@@ -83,11 +81,11 @@ int view(const ViewOptions& o) {
   if (reader.frameCount() == 0)
     throw InputError(o.cache + ": the cache has no complete frame to show");
   RenderDesc desc = scene.render ? *scene.render : RenderDesc{};
-  render::GlWindowOptions wo;
+  render::gl::GlWindowOptions wo;
   wo.width = o.width, wo.height = o.height;
   wo.title = "sphsplat view - " + scene.name;
-  render::GlContext window = render::GlContext::window(wo);
-  render::FrameRenderer renderer(desc, scene.solver.spacing, scene.solver.restDensity);
+  render::gl::GlContext window = render::gl::GlContext::window(wo);
+  render::splat::FrameRenderer renderer(desc, scene.solver.spacing, scene.solver.restDensity);
   if (desc.showBoundary) {
     const auto b = reader.readBoundary();
     renderer.setBoundary(b[0], b[1], b[2]);
@@ -99,11 +97,11 @@ int view(const ViewOptions& o) {
   ViewerState s;
   s.frames = reader.frameCount();
   s.frame = parseFrameRange(o.frame, s.frames, "--frame").front();
-  s.kind = o.splat == "point" ? render::SplatKind::Point : render::SplatKind::Quad;
+  s.kind = o.splat == "point" ? render::splat::SplatKind::Point : render::splat::SplatKind::Quad;
   const Particles first = reader.readFrame(s.frame, xyz);
   const CameraDesc lens =
       scene.camera ? *scene.camera
-                   : render::framingCamera(first, static_cast<float>(o.width) / o.height);
+                   : render::splat::framingCamera(first, static_cast<float>(o.width) / o.height);
   s.target = lens.target;
   const Vec3 offset = lens.position - lens.target;
   s.distance = offset.norm();
@@ -111,41 +109,41 @@ int view(const ViewOptions& o) {
   s.pitch = std::asin(std::clamp(offset.y() / s.distance, -1.0f, 1.0f));
 
   const int timeline = 6;  // pixels: the seek bar at the bottom
-  window.setInputHandler([&](const render::InputEvent& e) {
-    using T = render::InputEvent::Type;
+  window.setInputHandler([&](const render::gl::InputEvent& e) {
+    using T = render::gl::InputEvent::Type;
     const auto size = window.framebufferSize();
     if (e.type == T::Key && e.press) {
       switch (e.key) {
-        case render::keys::kSpace:
+        case render::gl::keys::kSpace:
           s.playing = !s.playing;
           break;
-        case render::keys::kRight:
+        case render::gl::keys::kRight:
           s.playing = false, s.seek(static_cast<long long>(s.frame) + 1);
           break;
-        case render::keys::kLeft:
+        case render::gl::keys::kLeft:
           s.playing = false, s.seek(static_cast<long long>(s.frame) - 1);
           break;
-        case render::keys::kPageUp:
+        case render::gl::keys::kPageUp:
           s.seek(static_cast<long long>(s.frame) + 10);
           break;
-        case render::keys::kPageDown:
+        case render::gl::keys::kPageDown:
           s.seek(static_cast<long long>(s.frame) - 10);
           break;
-        case render::keys::kHome:
+        case render::gl::keys::kHome:
           s.seek(0);
           break;
-        case render::keys::kEnd:
+        case render::gl::keys::kEnd:
           s.seek(static_cast<long long>(s.frames) - 1);
           break;
         case 'M':
-          s.kind = s.kind == render::SplatKind::Quad ? render::SplatKind::Point
-                                                     : render::SplatKind::Quad;
+          s.kind = s.kind == render::splat::SplatKind::Quad ? render::splat::SplatKind::Point
+                                                            : render::splat::SplatKind::Quad;
           break;
         case 'S':
           s.screenshot = true;
           break;
         case 'Q':
-        case render::keys::kEscape:
+        case render::gl::keys::kEscape:
           s.quit = true;
           break;
         default:
@@ -187,7 +185,8 @@ int view(const ViewOptions& o) {
       s.frameChanged = false;
     }
     const auto size = window.framebufferSize();
-    const render::FrameTimings t = renderer.drawToScreen(s.kind, s.camera(lens), size[0], size[1]);
+    const render::splat::FrameTimings t =
+        renderer.drawToScreen(s.kind, s.camera(lens), size[0], size[1]);
     // The timeline: a grey bar with the played part in blue (scissored clears, no shader).
     glEnable(GL_SCISSOR_TEST);
     glScissor(0, 0, size[0], timeline);
@@ -201,7 +200,7 @@ int view(const ViewOptions& o) {
     std::snprintf(title, sizeof title,
                   "sphsplat view - %s - frame %zu/%zu, t = %.3f s - %s splats - %.0f ms%s",
                   scene.name.c_str(), s.frame, s.frames - 1, reader.summary().frames[s.frame].time,
-                  s.kind == render::SplatKind::Quad ? "quad" : "point", 1e3 * t.total(),
+                  s.kind == render::splat::SplatKind::Quad ? "quad" : "point", 1e3 * t.total(),
                   s.playing ? "" : " - paused");
     window.setTitle(title);
     ++drawn;

@@ -6,13 +6,13 @@
 #include <vector>
 
 #include "app/Commands.h"
+#include "app/OpenMpSpinLimit.h"
 #include "app/Version.h"
-#include "io/InputError.h"
-#include "render/GlError.h"
-#include "render/OpenMpSpinLimit.h"
+#include "render/gl/GlError.h"
+#include "sim/InputError.h"
 
 int main(int argc, char** argv) {
-  sph::render::relaunchWithOpenMpSpinLimit(argv);
+  sph::app::relaunchWithOpenMpSpinLimit(argv);
   CLI::App app{"sphsplat " SPHSPLAT_VERSION_STRING
                ": SPH fluid simulation with an image-based collision pass and splat rendering.\n"
                "Scenes are JSON files (scenes/, docs/scene-format.md)."};
@@ -44,10 +44,10 @@ int main(int argc, char** argv) {
       const int code = command();
       if (code >= 0) return code;
     }
-  } catch (const sph::io::InputError& e) {
+  } catch (const sph::InputError& e) {
     std::fprintf(stderr, "sphsplat: %s\n", e.what());
     return sph::app::kBadInput;
-  } catch (const sph::render::GlError& e) {
+  } catch (const sph::render::gl::GlError& e) {
     std::fprintf(stderr, "sphsplat: %s\n", e.what());
     return sph::app::kNoGraphics;
   } catch (const std::exception& e) {

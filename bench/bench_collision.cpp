@@ -27,16 +27,16 @@
 #include <string>
 #include <vector>
 
-#include "app/CollisionSetup.h"
 #include "io/SceneLoader.h"
-#include "render/CdtGl.h"
-#include "render/GlContext.h"
-#include "sim/CdtCpu.h"
-#include "sim/CollisionExact.h"
-#include "sim/CollisionOctree.h"
-#include "sim/CollisionRecall.h"
+#include "render/cdt/CdtGl.h"
+#include "render/cdt/CollisionSetup.h"
+#include "render/gl/GlContext.h"
 #include "sim/Parallel.h"
 #include "sim/Simulation.h"
+#include "sim/cdt/CdtCpu.h"
+#include "sim/collision/Exact.h"
+#include "sim/collision/Octree.h"
+#include "sim/collision/Recall.h"
 
 namespace {
 
@@ -85,7 +85,7 @@ Snapshot takeSnapshot(char density, std::size_t n, double warm) {
   Scene scene = s.scene;
   scene.collision->method = CollisionMethod::Exact;
   Simulation sim(scene);
-  sim.setCollisionPass(app::makeCollisionPass(scene));
+  sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
   sim.advanceTo(warm);
   s.state = sim.runState();
   s.particles = sim.fluid();
@@ -127,7 +127,7 @@ Timing timeMethod(const Snapshot& snap, CollisionMethod method, int steps,
   Scene scene = overrides.empty() ? snap.scene : rainScene(snap.density, snap.n, overrides);
   scene.collision->method = method;
   Simulation sim(scene);
-  sim.setCollisionPass(app::makeCollisionPass(scene));
+  sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
   sim.restore(snap.state, snap.particles);
   sim.step();
   std::vector<double> ms;
@@ -142,10 +142,10 @@ Timing timeMethod(const Snapshot& snap, CollisionMethod method, int steps,
 // cdt-gl as the paper runs it: the particle system lives on the GPU (integrate in the shader),
 // nothing crosses to the CPU between steps (glFinish after each step, for the clock).
 Timing timeGlResident(const Snapshot& snap, int steps, bool rasterWrite = false) {
-  render::GlContext context = render::GlContext::headless();
+  render::gl::GlContext context = render::gl::GlContext::headless();
   CollisionDesc desc = *snap.scene.collision;
   desc.textureWrite = rasterWrite ? CdtTextureWrite::Raster : CdtTextureWrite::Atomic;
-  render::CdtGl gl(cdt::makeSettings(desc, snap.scene.camera));
+  render::cdt::CdtGl gl(cdt::makeSettings(desc, snap.scene.camera));
   gl.upload(snap.particles);
   const float dt = snap.scene.solver.maxTimeStep;
   gl.step(dt, true);
@@ -322,8 +322,8 @@ void printRecall(const Options& o) {
                    detectCdt(best, snap.scene.camera, p, truth).recall);
     // cdt-gl finds the same partners as cdt-cpu on the same texture: checked, not assumed.
     {
-      render::GlContext context = render::GlContext::headless();
-      render::CdtGl gl(cdt::makeSettings(paper, snap.scene.camera));
+      render::gl::GlContext context = render::gl::GlContext::headless();
+      render::cdt::CdtGl gl(cdt::makeSettings(paper, snap.scene.camera));
       Particles q = p;
       for (float& t : q.collideTime) t = -1;
       gl.upload(q);
@@ -691,7 +691,7 @@ int main(int argc, char** argv) {
   }
   try {
     {
-      render::GlContext probe = render::GlContext::headless();
+      render::gl::GlContext probe = render::gl::GlContext::headless();
       std::printf("cdt-gl on %s (%s); %d OpenMP threads; load average %.2f at the start\n",
                   probe.info().renderer.c_str(), probe.info().version.c_str(), threadCount(),
                   loadAverage());

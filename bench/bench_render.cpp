@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "render/FrameRenderer.h"
-#include "render/GlContext.h"
-#include "render/OpenMpSpinLimit.h"
+#include "app/OpenMpSpinLimit.h"
+#include "render/gl/GlContext.h"
+#include "render/splat/FrameRenderer.h"
 #include "sim/Parallel.h"
 
 using namespace sph;
@@ -62,7 +62,7 @@ double median(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  render::relaunchWithOpenMpSpinLimit(argv);
+  app::relaunchWithOpenMpSpinLimit(argv);
   std::vector<std::size_t> counts = {3555, 10962, 25503, 100000, 1000000};
   int width = 960, height = 540, repeat = 5;
   bool reference = true;
@@ -97,7 +97,7 @@ int main(int argc, char** argv) {
     std::fprintf(
         csv,
         "variant,particles,splats,status,threads,total_ms,psnr_db,rmse,holes_pct,normal_deg\n");
-  render::GlContext context = render::GlContext::headless();
+  render::gl::GlContext context = render::gl::GlContext::headless();
   std::printf("renderer: %s, %d threads, %dx%d, median of %d\n\n", context.info().renderer.c_str(),
               threadCount(), width, height, repeat);
   std::printf(
@@ -110,15 +110,18 @@ int main(int argc, char** argv) {
     for (bool newton : {false, true}) {
       RenderDesc desc;
       desc.width = width, desc.height = height, desc.newtonProjection = newton;
-      render::FrameRenderer r(desc, spacing, 1000.0f);
-      const CameraDesc camera = render::framingCamera(pool, static_cast<float>(width) / height);
-      render::RenderImage ref;
+      render::splat::FrameRenderer r(desc, spacing, 1000.0f);
+      const CameraDesc camera =
+          render::splat::framingCamera(pool, static_cast<float>(width) / height);
+      render::splat::RenderImage ref;
       r.prepare(pool);
       if (reference) ref = r.reference(camera);
-      for (render::SplatKind kind : {render::SplatKind::Point, render::SplatKind::Quad}) {
-        if (kind == render::SplatKind::Point && newton) continue;  // the projection is the quads'
+      for (render::splat::SplatKind kind :
+           {render::splat::SplatKind::Point, render::splat::SplatKind::Quad}) {
+        if (kind == render::splat::SplatKind::Point && newton)
+          continue;  // the projection is the quads'
         std::vector<double> field, surface, normals, build, draw, total;
-        render::RenderedSplats last;
+        render::splat::RenderedSplats last;
         for (int k = 0; k < repeat; ++k) {
           r.prepare(pool);
           last = r.render(kind, camera);
@@ -128,11 +131,11 @@ int main(int argc, char** argv) {
           draw.push_back(last.timings.draw), total.push_back(last.timings.total());
         }
         // The error figures from the same frame drawn again with its normal target (untimed).
-        render::ImageError e;
-        if (reference) e = render::compareImages(r.renderScored(kind, camera).image, ref);
-        const char* name = kind == render::SplatKind::Point ? "point"
-                           : newton                         ? "quad (newton)"
-                                                            : "quad (eq. 6)";
+        render::splat::ImageError e;
+        if (reference) e = render::splat::compareImages(r.renderScored(kind, camera).image, ref);
+        const char* name = kind == render::splat::SplatKind::Point ? "point"
+                           : newton                                ? "quad (newton)"
+                                                                   : "quad (eq. 6)";
         std::printf(
             "| %zu | %zu | %zu | %s | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %s | %s | %s |\n",
             pool.size(), last.surface, last.splats, name, 1e3 * median(field),

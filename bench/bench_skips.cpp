@@ -9,7 +9,8 @@
 //   Simulation/setup        the whole setup (derived constants, boundary, static boundary
 //                           density, fluid lattice)
 //   Simulation/step         one step of the same scene, for the ratio
-//   Splats/...              building one frame's quad splats on the CPU (render/SplatBuilder.h):
+//   Splats/...              building one frame's quad splats on the CPU
+//   (render/splat/SplatBuilder.h):
 //                           surface particles only (the default) against every particle
 //                           (surface threshold 1.49 x the mean density: all count as surface),
 //                           and a view that frames a third of the tank (the rest is culled)
@@ -21,11 +22,11 @@
 #include <string>
 
 #include "io/SceneLoader.h"
-#include "render/DensityField.h"
-#include "render/GlContext.h"
-#include "render/SplatBuilder.h"
-#include "sim/CdtCamera.h"
+#include "render/gl/GlContext.h"
+#include "render/splat/DensityField.h"
+#include "render/splat/SplatBuilder.h"
 #include "sim/Simulation.h"
+#include "sim/cdt/CdtCamera.h"
 
 namespace {
 
@@ -47,7 +48,7 @@ void GlContextHeadless(benchmark::State& state) {
   double after = before;
   for (auto _ : state) {
     try {
-      sph::render::GlContext context = sph::render::GlContext::headless();
+      sph::render::gl::GlContext context = sph::render::gl::GlContext::headless();
       benchmark::DoNotOptimize(&context);
       after = std::max(after, residentMb());
     } catch (const std::exception& e) {
@@ -93,18 +94,19 @@ void Splats(benchmark::State& state) {
   sim.advanceTo(0.2);
   const sph::Particles& p = sim.fluid();
   const float spacing = sim.scene().solver.spacing;
-  sph::render::SplatParams params;
+  sph::render::splat::SplatParams params;
   params.surfaceThreshold = static_cast<float>(state.range(0)) / 100.0f;
-  const sph::render::DensityField field(p.x.data(), p.y.data(), p.z.data(), p.size(), spacing,
-                                        params.kernelRadius);
+  const sph::render::splat::DensityField field(p.x.data(), p.y.data(), p.z.data(), p.size(),
+                                               spacing, params.kernelRadius);
   // The scene's camera looks at the tank's middle; a narrow field of view keeps part of it.
   const sph::Vec3 eye(0.5f, 0.32f, 0.62f), target(0.27f, 0.08f, 0.03f);
-  const sph::cdt::Mat4 projView = sph::cdt::multiply(
-      sph::cdt::perspective(static_cast<float>(state.range(1)), 4.0f / 3.0f, 0.01f, 10.0f),
-      sph::cdt::lookAt(eye, target, sph::Vec3::UnitY()));
-  sph::render::SplatFrame frame;
+  const sph::Mat4 projView =
+      sph::multiply(sph::perspective(static_cast<float>(state.range(1)), 4.0f / 3.0f, 0.01f, 10.0f),
+                    sph::lookAt(eye, target, sph::Vec3::UnitY()));
+  sph::render::splat::SplatFrame frame;
   for (auto _ : state) {
-    frame = sph::render::buildSplats(field, params, sph::render::SplatKind::Quad, projView, eye);
+    frame = sph::render::splat::buildSplats(field, params, sph::render::splat::SplatKind::Quad,
+                                            projView, eye);
     benchmark::DoNotOptimize(frame.quads.data());
   }
   state.counters["particles"] = static_cast<double>(frame.particles);

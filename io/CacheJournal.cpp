@@ -8,7 +8,7 @@
 #include <cstring>
 #include <vector>
 
-#include "io/InputError.h"
+#include "sim/InputError.h"
 
 namespace sph::io {
 namespace {

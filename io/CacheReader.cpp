@@ -7,7 +7,7 @@
 #include <set>
 
 #include "io/CacheJournal.h"
-#include "io/InputError.h"
+#include "sim/InputError.h"
 
 namespace sph::io {
 namespace {

@@ -12,7 +12,7 @@
 #include <ctime>
 
 #include "io/CacheJournal.h"
-#include "io/InputError.h"
+#include "sim/InputError.h"
 
 namespace sph::io {
 namespace {

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "io/InputError.h"
+#include "sim/InputError.h"
 #include "sim/Types.h"
 
 namespace sph::io {

@@ -7,7 +7,7 @@
 #include <cstring>
 #include <memory>
 
-#include "io/InputError.h"
+#include "sim/InputError.h"
 
 namespace sph::io {
 namespace {

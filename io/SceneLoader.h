@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "io/InputError.h"
+#include "sim/InputError.h"
 #include "sim/Scene.h"
 
 namespace sph::io {

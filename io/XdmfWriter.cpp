@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "io/InputError.h"
+#include "sim/InputError.h"
 
 namespace sph::io {
 namespace {

@@ -7,11 +7,11 @@
 // texture). With the paper's raster write it also rasterises the new position into its texel of
 // the next texture (cdt_write.frag); otherwise the rasteriser is off and cdt_write.comp writes.
 //
-// Mirror of sph::cdt::CdtCpu::step in sim/CdtCpu.cpp: the same double arithmetic on float inputs,
+// Mirror of sph::cdt::CdtCpu::step in sim/cdt/CdtCpu.cpp: the same double arithmetic on float inputs,
 // rounded to float at the same places; `precise` keeps the compiler from fusing or reordering.
 #include "cdt_common.glsl"
 
-// Vertex layout = transform feedback layout: render/CdtGl.h, CdtParticleGpu (48 bytes).
+// Vertex layout = transform feedback layout: render/cdt/CdtGl.h, CdtParticleGpu (48 bytes).
 layout(location = CDT_ATTRIB_POSITION_TIME) in vec4 a_PositionTime;  // m, a_CollideTime (s)
 layout(location = CDT_ATTRIB_VELOCITY) in vec3 a_Velocity;           // m/s
 layout(location = CDT_ATTRIB_ID) in uint a_Id;

@@ -1,10 +1,10 @@
 // Shared by the CDT shaders: the parameter block and the texel addressing of seed 000, section
-// 3.2 (pseudo-code lines 2-4). cdtTexelOf() mirrors sph::cdt::texelOf() in sim/CdtCamera.cpp
+// 3.2 (pseudo-code lines 2-4). cdtTexelOf() mirrors sph::cdt::texelOf() in sim/cdt/CdtCamera.cpp
 // operation for operation: double arithmetic on float inputs (every product exact), `precise` so
 // the compiler neither fuses nor reorders, so cdt-gl and cdt-cpu agree on every texel.
 #include "cdt_constants.glsl"
 
-// The C++ mirror is render/CdtGl.h, CdtParamsGpu (static_assert on its 128 bytes).
+// The C++ mirror is render/cdt/CdtGl.h, CdtParamsGpu (static_assert on its 128 bytes).
 layout(std140, binding = CDT_PARAMS_BINDING) uniform CdtParams {
   mat4 u_ProjView;   // collision camera: projection * view
   ivec4 u_Texture;   // width, height (texels), layers, texel_collide_range r

@@ -1,5 +1,5 @@
 // Constants of the CDT algorithm shared with C++: the other definition of each is in
-// sim/CdtConstants.h, and tests/test_cdt_cpu.cpp fails if the two differ. Values only here.
+// sim/cdt/CdtConstants.h, and tests/test_cdt_cpu.cpp fails if the two differ. Values only here.
 const int CDT_MAX_LAYERS = 4;
 const int CDT_MAX_TEXEL_RANGE = 16;
 const float CDT_EMPTY_TEXEL = -1.0;

@@ -14,7 +14,7 @@
 
 layout(local_size_x = CDT_WRITE_GROUP_SIZE) in;
 
-// The transform feedback outputs: render/CdtGl.h, CdtParticleGpu (48 bytes, std430), and the
+// The transform feedback outputs: render/cdt/CdtGl.h, CdtParticleGpu (48 bytes, std430), and the
 // write keys (8 bytes).
 struct CdtParticle {
   vec4 positionTime;

@@ -1,6 +1,6 @@
 #version 450 core
-// Writes the interpolated colour (sRGB-encoded, as render/ReferenceRaymarcher.cpp does) and the
-// normal with coverage, for the error figures (render/RenderImage.h).
+// Writes the interpolated colour (sRGB-encoded, as render/splat/ReferenceRaymarcher.cpp does) and the
+// normal with coverage, for the error figures (render/splat/RenderImage.h).
 in vec3 v_colour;
 in vec3 v_normal;
 

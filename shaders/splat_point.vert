@@ -4,7 +4,7 @@
 // square (flat shading).
 #include "splat_shading.glsl"
 
-layout(location = 0) in vec3 a_centre;  // per instance (render/SplatBuilder.h, SplatVertex)
+layout(location = 0) in vec3 a_centre;  // per instance (render/splat/SplatBuilder.h, SplatVertex)
 layout(location = 1) in vec3 a_normal;  // outward unit
 
 uniform mat4 u_projView;

@@ -1,6 +1,6 @@
 #version 450 core
 // Quadrangular-pyramid splats (seed 003, sections 4-5): the vertices were placed on the CPU by
-// eq. (6) (render/SplatBuilder.cpp), each with its own SPH normal; lighting is evaluated here, per
+// eq. (6) (render/splat/SplatBuilder.cpp), each with its own SPH normal; lighting is evaluated here, per
 // vertex, and interpolated across the 4 triangles (Gouraud shading).
 #include "splat_shading.glsl"
 

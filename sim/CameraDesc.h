@@ -1,5 +1,5 @@
 // A camera pose and lens (scene key `camera`, and `collision.pose` for the fixed collision
-// camera). Plain data; the matrices are built where they are used (sim/CdtCamera.h).
+// camera). Plain data; the matrices are built where they are used (sim/cdt/CdtCamera.h).
 #pragma once
 
 #include "sim/Types.h"

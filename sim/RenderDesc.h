@@ -1,5 +1,6 @@
 // The scene's `render` section (docs/scene-format.md): how frames are drawn by the splat renderer
-// (render/SplatBuilder.h, render/Lighting.h). Plain data; render/ turns it into its parameters.
+// (render/splat/SplatBuilder.h, render/splat/Lighting.h). Plain data; render/ turns it into its
+// parameters.
 #pragma once
 
 #include <string>

@@ -7,9 +7,9 @@
 #include <numeric>
 #include <random>
 
-#include "sim/CdtCpu.h"
 #include "sim/CollisionDesc.h"
 #include "sim/Particles.h"
+#include "sim/cdt/CdtCpu.h"
 
 namespace sph::test {
 

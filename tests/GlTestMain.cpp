@@ -3,8 +3,8 @@
 // Under AddressSanitizer the suites end with _exit, which skips LeakSanitizer's exit check: Mesa
 // llvmpipe keeps about 100 bytes per context that ran a transform feedback draw until the process
 // ends, allocated from JIT code that LeakSanitizer can neither symbolise nor suppress by module.
-// Our own GL code owns every object through RAII handles (render/GlHandle.h); the CPU suites keep
-// the leak check.
+// Our own GL code owns every object through RAII handles (render/gl/GlHandle.h); the CPU suites
+// keep the leak check.
 #include <gtest/gtest.h>
 
 #include <unistd.h>

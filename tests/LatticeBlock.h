@@ -5,9 +5,9 @@
 
 #include <vector>
 
-#include "render/DensityField.h"
+#include "render/splat/DensityField.h"
 
-namespace sph::render::test {
+namespace sph::render::splat::test {
 
 struct Block {
   std::vector<float> x, y, z;
@@ -23,4 +23,4 @@ struct Block {
   }
 };
 
-}  // namespace sph::render::test
+}  // namespace sph::render::splat::test

@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "io/CacheReader.h"
-#include "io/InputError.h"
+#include "sim/InputError.h"
 #include "tests/CacheTestSupport.h"
 
 namespace sph {
@@ -59,7 +59,7 @@ std::size_t checkKilledCache(const std::string& path, const std::vector<Particle
       const auto [state, fluid] = reader.readRestart(k);
       EXPECT_EQ(fluid.size(), reference[k].size()) << label << ", resume record " << k;
     }
-  } catch (const io::InputError& e) {
+  } catch (const InputError& e) {
     ADD_FAILURE() << label << ": the project's reader refused the killed cache: " << e.what();
   }
   const auto dump = runShell("h5dump '" + path + "' > /dev/null");

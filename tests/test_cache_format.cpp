@@ -14,9 +14,9 @@
 
 #include "io/CacheReader.h"
 #include "io/CacheWriter.h"
-#include "io/InputError.h"
 #include "io/SceneLoader.h"
 #include "io/XdmfWriter.h"
+#include "sim/InputError.h"
 #include "sim/Parallel.h"
 #include "tests/CacheTestSupport.h"
 
@@ -254,7 +254,7 @@ TEST_F(CacheFormat, OnlyTheFieldsAskedForAreWritten) {
   try {
     io::CacheReader(bare).readRestart(2);
     ADD_FAILURE() << "a cache without resume records was resumed";
-  } catch (const io::InputError& e) {
+  } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("output.restart = false"), std::string::npos) << e.what();
   }
 }
@@ -353,11 +353,11 @@ TEST_F(CacheFormat, RenderedFramesRoundTripUnderTheirRenderer) {
     auto writer = io::CacheWriter::append(path, 2);
     writer->writeRenderedFrame("point", 1, w, h, image.data());
     writer->writeRenderedFrame("pyramid", 0, w, h, image.data());
-    EXPECT_THROW(writer->writeRenderedFrame("point", 1, w, h, image.data()), io::InputError)
+    EXPECT_THROW(writer->writeRenderedFrame("point", 1, w, h, image.data()), InputError)
         << "written twice";
-    EXPECT_THROW(writer->writeRenderedFrame("po int", 0, w, h, image.data()), io::InputError)
+    EXPECT_THROW(writer->writeRenderedFrame("po int", 0, w, h, image.data()), InputError)
         << "bad name";
-    EXPECT_THROW(writer->writeRenderedFrame("point", 2, w, h, image.data()), io::InputError)
+    EXPECT_THROW(writer->writeRenderedFrame("point", 2, w, h, image.data()), InputError)
         << "no such frame";
     writer->close();
   }
@@ -386,7 +386,7 @@ TEST_F(CacheFormat, SceneFieldsAreValidated) {
   auto message = [&](const std::string& output) {
     try {
       load(output);
-    } catch (const io::InputError& e) {
+    } catch (const InputError& e) {
       return std::string(e.what());
     }
     return std::string("accepted");

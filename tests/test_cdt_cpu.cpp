@@ -9,9 +9,9 @@
 #include <map>
 #include <sstream>
 
-#include "sim/CdtCamera.h"
-#include "sim/CdtConstants.h"
-#include "sim/CdtCpu.h"
+#include "sim/cdt/CdtCamera.h"
+#include "sim/cdt/CdtConstants.h"
+#include "sim/cdt/CdtCpu.h"
 #include "tests/CdtTestScenes.h"
 #include "tests/TestSupport.h"
 
@@ -80,7 +80,7 @@ TEST(CdtConstants, GlslAndCppAgree) {
     const auto it = glsl.find(name);
     ASSERT_NE(it, glsl.end()) << name << " is not defined in shaders/cdt_constants.glsl";
     EXPECT_EQ(it->second, value)
-        << name << " differs between sim/CdtConstants.h and shaders/cdt_constants.glsl";
+        << name << " differs between sim/cdt/CdtConstants.h and shaders/cdt_constants.glsl";
   }
   for (const auto& [name, value] : glsl) {
     EXPECT_TRUE(expected.count(name)) << name << " (GLSL) has no C++ counterpart checked here";

@@ -7,9 +7,9 @@
 
 #include <cmath>
 
-#include "render/CdtGl.h"
-#include "render/GlContext.h"
-#include "sim/CdtCpu.h"
+#include "render/cdt/CdtGl.h"
+#include "render/gl/GlContext.h"
+#include "sim/cdt/CdtCpu.h"
 #include "tests/CdtTestScenes.h"
 
 namespace sph {
@@ -68,12 +68,12 @@ class CdtGlAgreement : public ::testing::TestWithParam<Variant> {};
 
 TEST_P(CdtGlAgreement, SameTextureCollisionsAndOutputs) {
   const Variant& v = GetParam();
-  render::GlContext context = render::GlContext::headless();
+  render::gl::GlContext context = render::gl::GlContext::headless();
   CollisionDesc desc = test::testCollision();
   v.configure(desc);
   const cdt::Settings settings = cdt::makeSettings(desc, std::nullopt);
   cdt::CdtCpu cpu(settings);
-  render::CdtGl gl(settings);
+  render::cdt::CdtGl gl(settings);
   Particles pc = test::randomParticles(20000, 0.5f, 11);
   Particles pg = pc;
   const float dt = 0.004f;

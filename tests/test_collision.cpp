@@ -8,12 +8,12 @@
 #include <algorithm>
 #include <random>
 
-#include "app/CollisionSetup.h"
-#include "sim/CdtCpu.h"
-#include "sim/CollisionExact.h"
-#include "sim/CollisionOctree.h"
-#include "sim/CollisionRecall.h"
+#include "render/cdt/CollisionSetup.h"
 #include "sim/Simulation.h"
+#include "sim/cdt/CdtCpu.h"
+#include "sim/collision/Exact.h"
+#include "sim/collision/Octree.h"
+#include "sim/collision/Recall.h"
 #include "tests/CdtTestScenes.h"
 #include "tests/TestSupport.h"
 
@@ -195,7 +195,7 @@ TEST(ParticleModel, RainFallsAndCollidesWithEveryCpuMethod) {
         "cdt_rain", {"solver.spacing=0.03", std::string("collision.method=") + method,
                      "fluids[0].min=[-0.3,0.62,-0.3]"});
     Simulation sim(scene);
-    sim.setCollisionPass(app::makeCollisionPass(scene));
+    sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
     ASSERT_NE(sim.collisionPass(), nullptr);
     EXPECT_EQ(sim.collisionPass()->name(), method);
     const std::size_t n = sim.fluid().size();

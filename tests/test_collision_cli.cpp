@@ -13,8 +13,8 @@
 #include <cstdlib>
 #include <iterator>
 
-#include "app/CollisionSetup.h"
-#include "render/GlContext.h"
+#include "render/cdt/CollisionSetup.h"
+#include "render/gl/GlContext.h"
 #include "sim/Simulation.h"
 #include "tests/TestSupport.h"
 
@@ -52,26 +52,27 @@ test::CommandResult runWithEnvironment(const std::string& environment,
 }
 
 TEST(CollisionSetup, NoGlContextUnlessTheSceneAsksForCdtGl) {
-  const int before = render::GlContext::createdCount();
+  const int before = render::gl::GlContext::createdCount();
   // No collision section at all: no pass.
-  EXPECT_EQ(app::makeCollisionPass(test::shippedScene("dam_break")), nullptr);
+  EXPECT_EQ(render::cdt::makeCollisionPass(test::shippedScene("dam_break")), nullptr);
   for (const char* method : {"none", "exact", "octree", "cdt-cpu"}) {
     Scene scene = test::shippedScene(
         "cdt_rain", {"solver.spacing=0.03", std::string("collision.method=") + method});
     Simulation sim(scene);
-    sim.setCollisionPass(app::makeCollisionPass(scene));
+    sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
     for (int s = 0; s < 3; ++s) sim.step();
-    EXPECT_EQ(render::GlContext::createdCount(), before)
+    EXPECT_EQ(render::gl::GlContext::createdCount(), before)
         << method << " must not create a GL context";
   }
   {
     Scene scene = test::shippedScene("cdt_rain", {"solver.spacing=0.03"});
-    auto pass = app::makeCollisionPass(scene);
+    auto pass = render::cdt::makeCollisionPass(scene);
     EXPECT_EQ(pass->name(), "cdt-gl");
-    EXPECT_EQ(render::GlContext::createdCount(), before + 1) << "cdt-gl makes exactly one context";
-    EXPECT_EQ(render::GlContext::liveCount(), 1);
+    EXPECT_EQ(render::gl::GlContext::createdCount(), before + 1)
+        << "cdt-gl makes exactly one context";
+    EXPECT_EQ(render::gl::GlContext::liveCount(), 1);
   }
-  EXPECT_EQ(render::GlContext::liveCount(), 0);
+  EXPECT_EQ(render::gl::GlContext::liveCount(), 0);
 }
 
 TEST(CollisionCli, VerboseSaysWhatRuns) {
@@ -154,7 +155,7 @@ TEST(CollisionCli, CdtGlRunEqualsCdtCpuRun) {
         test::shippedScene("cdt_rain", {"solver.spacing=0.03", "fluids[0].min=[-0.3,0.62,-0.3]",
                                         std::string("collision.method=") + method});
     Simulation sim(scene);
-    sim.setCollisionPass(app::makeCollisionPass(scene));
+    sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
     sim.advanceTo(0.16);
     std::size_t cooling = 0;
     for (float t : sim.fluid().collideTime) cooling += t >= 0;

@@ -13,12 +13,12 @@
 #include <thread>
 #include <type_traits>
 
-#include "render/GlContext.h"
-#include "render/GlError.h"
-#include "render/GlHandle.h"
-#include "render/Shader.h"
+#include "render/gl/GlContext.h"
+#include "render/gl/GlError.h"
+#include "render/gl/GlHandle.h"
+#include "render/gl/Shader.h"
 
-namespace sph::render {
+namespace sph::render::gl {
 namespace {
 
 std::string tempDirectory() {
@@ -209,4 +209,4 @@ TEST(Shader, CompileErrorNamesFileAndLineThroughIncludes) {
 }
 
 }  // namespace
-}  // namespace sph::render
+}  // namespace sph::render::gl

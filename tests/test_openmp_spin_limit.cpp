@@ -1,4 +1,4 @@
-// render/OpenMpSpinLimit.cpp: ctest starts this suite with neither OMP_WAIT_POLICY nor
+// app/OpenMpSpinLimit.cpp: ctest starts this suite with neither OMP_WAIT_POLICY nor
 // GOMP_SPINCOUNT set; main() relaunches it with the cap, as sphsplat's does, and libgomp must
 // then stop spinning soon after a parallel region.
 #include <gtest/gtest.h>
@@ -9,9 +9,9 @@
 #include <ctime>
 #include <string>
 
-#include "render/OpenMpSpinLimit.h"
+#include "app/OpenMpSpinLimit.h"
 
-namespace sph::render {
+namespace sph::app {
 namespace {
 
 double processCpuSeconds() {
@@ -60,10 +60,10 @@ TEST(OpenMpSpinLimit, TheUsersChoiceWins) {
 }
 
 }  // namespace
-}  // namespace sph::render
+}  // namespace sph::app
 
 int main(int argc, char** argv) {
-  sph::render::relaunchWithOpenMpSpinLimit(argv);
+  sph::app::relaunchWithOpenMpSpinLimit(argv);
   ::testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
 }

@@ -17,7 +17,7 @@ const char* kMinimal = R"({"solver": {"spacing": 0.01},
 std::string errorOf(const std::string& text, const std::vector<std::string>& overrides = {}) {
   try {
     io::parseScene(text, "bad.json", overrides);
-  } catch (const io::InputError& e) {
+  } catch (const InputError& e) {
     return e.what();
   }
   return "";
@@ -100,7 +100,7 @@ TEST(SceneLoader, MissingAndUnreadableFilesAreRefused) {
   try {
     io::loadScene("/nonexistent/scene.json");
     FAIL() << "no error";
-  } catch (const io::InputError& e) {
+  } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()),
               "/nonexistent/scene.json: cannot open the scene file (No such file or directory)");
   }

@@ -1,25 +1,25 @@
 // The GL splat renderer on a real context (llvmpipe in CI): it draws what the CPU built, shades
-// as render/Lighting.h says, and the quad splats score against the reference ray-marcher.
+// as render/splat/Lighting.h says, and the quad splats score against the reference ray-marcher.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <stdexcept>
 
-#include "render/GlContext.h"
-#include "render/ReferenceRaymarcher.h"
-#include "render/SplatRenderer.h"
+#include "render/gl/GlContext.h"
+#include "render/splat/ReferenceRaymarcher.h"
+#include "render/splat/SplatRenderer.h"
 #include "tests/LatticeBlock.h"
 
-namespace sph::render {
+namespace sph::render::splat {
 namespace {
 
 using test::Block;
 
 class SplatGl : public ::testing::Test {
  protected:
-  void SetUp() override { context_ = std::make_unique<GlContext>(GlContext::headless()); }
-  std::unique_ptr<GlContext> context_;
+  void SetUp() override { context_ = std::make_unique<gl::GlContext>(gl::GlContext::headless()); }
+  std::unique_ptr<gl::GlContext> context_;
 };
 
 CameraDesc topView() {
@@ -121,4 +121,4 @@ TEST_F(SplatGl, EmptyFrameDrawsOnlyBackground) {
 }
 
 }  // namespace
-}  // namespace sph::render
+}  // namespace sph::render::splat

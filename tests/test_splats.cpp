@@ -4,13 +4,13 @@
 
 #include <cmath>
 
-#include "render/DensityField.h"
-#include "render/ReferenceRaymarcher.h"
-#include "render/SplatBuilder.h"
-#include "render/SplatRenderer.h"
+#include "render/splat/DensityField.h"
+#include "render/splat/ReferenceRaymarcher.h"
+#include "render/splat/SplatBuilder.h"
+#include "render/splat/SplatRenderer.h"
 #include "tests/LatticeBlock.h"
 
-namespace sph::render {
+namespace sph::render::splat {
 namespace {
 
 using test::Block;
@@ -188,4 +188,4 @@ TEST(RenderImage, ErrorFiguresOfKnownImages) {
 }
 
 }  // namespace
-}  // namespace sph::render
+}  // namespace sph::render::splat

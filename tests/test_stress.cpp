@@ -8,8 +8,8 @@
 #include <limits>
 #include <optional>
 
-#include "app/Sweep.h"
-#include "app/SweepRunner.h"
+#include "bench/sweep/Sweep.h"
+#include "bench/sweep/SweepRunner.h"
 #include "io/SceneLoader.h"
 #include "sim/Simulation.h"
 #include "sim/StabilityError.h"
@@ -222,17 +222,17 @@ TEST(Stress, AnEmitterOverflowingASmallCupStaysStable) {
 // has settled (viscosity takes its kinetic energy over ~1.5 s), the total energy (kinetic +
 // potential + EOS elastic) and the mean density of the still tank hold still.
 TEST(Stress, StillTankHoldsItsEnergyAndDensity) {
-  const app::SweepSpec spec =
-      app::parseSweep(R"({"scene": ")" + test::sourcePath("scenes/still_tank.json") + R"(",
+  const sweep::SweepSpec spec =
+      sweep::parseSweep(R"({"scene": ")" + test::sourcePath("scenes/still_tank.json") + R"(",
     "set": ["solver.spacing=0.02", "solver.end_time=100"], "max_steps": 4500,
     "metrics": [{"type": "energy", "every_steps": 100, "settle": 1.5}]})",
-                      "still.json");
-  app::SweepRunOptions options;
+                        "still.json");
+  sweep::SweepRunOptions options;
   options.outputDir = ::testing::TempDir();
   options.threads = 0;
-  const app::SweepResult r = app::runSweep(spec, options);
+  const sweep::SweepResult r = sweep::runSweep(spec, options);
   ASSERT_EQ(r.rows.size(), 1u);
-  ASSERT_EQ(r.rows[0].status, app::RunStatus::Stable) << r.rows[0].message;
+  ASSERT_EQ(r.rows[0].status, sweep::RunStatus::Stable) << r.rows[0].message;
   EXPECT_EQ(r.rows[0].steps, 4500u);
   ASSERT_EQ(r.metricColumns, (std::vector<std::string>{"energy_drift_pct", "rho_drift_pct"}));
   const double energyDrift = r.rows[0].metrics[0], rhoDrift = r.rows[0].metrics[1];

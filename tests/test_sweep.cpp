@@ -1,7 +1,7 @@
-// `sphsplat bench` sweeps (app/Sweep.h, SweepRunner.h, SweepReport.h): sweep files are checked
-// like scenes, variants expand as documented, a blow-up is recorded where the guard stopped it,
-// the Pareto front is the non-dominated set, and a sweep of two tiny variants leaves a well-formed
-// CSV, table and PNG. Also the `quality` presets the dam-break sweep chose
+// `sphsplat bench` sweeps (bench/sweep/Sweep.h, SweepRunner.h, SweepReport.h): sweep files are
+// checked like scenes, variants expand as documented, a blow-up is recorded where the guard stopped
+// it, the Pareto front is the non-dominated set, and a sweep of two tiny variants leaves a
+// well-formed CSV, table and PNG. Also the `quality` presets the dam-break sweep chose
 // (docs/scene-format.md, "quality").
 #include <gtest/gtest.h>
 
@@ -11,9 +11,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "app/Sweep.h"
-#include "app/SweepReport.h"
-#include "app/SweepRunner.h"
+#include "bench/sweep/Sweep.h"
+#include "bench/sweep/SweepReport.h"
+#include "bench/sweep/SweepRunner.h"
 #include "io/SceneLoader.h"
 #include "sim/SceneSetup.h"
 #include "tests/TestSupport.h"
@@ -21,7 +21,7 @@
 namespace sph {
 namespace {
 
-using app::SweepSpec;
+using sweep::SweepSpec;
 
 std::string readText(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -72,9 +72,9 @@ std::string tinySweep(const std::string& extra = "") {
 
 void expectInputError(const std::string& text, const std::string& expected) {
   try {
-    app::parseSweep(text, "sweep.json");
+    sweep::parseSweep(text, "sweep.json");
     ADD_FAILURE() << "accepted: " << text;
-  } catch (const io::InputError& e) {
+  } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
   }
 }
@@ -90,19 +90,19 @@ TEST(Sweep, BadSweepFilesNameTheKey) {
   expectInputError(R"({"scene": "x.json", "set": ["solver.cfl"]})",
                    "sweep.json: set: expected \"KEY.PATH=VALUE\"");
   // Metrics are checked when the sweep runs, before the first variant.
-  const SweepSpec spec = app::parseSweep(
+  const SweepSpec spec = sweep::parseSweep(
       tinySweep().replace(tinySweep().find("\"density\""), 9, "\"densty\""), "s.json");
-  EXPECT_THROW(app::runSweep(spec, {}), io::InputError);
+  EXPECT_THROW(sweep::runSweep(spec, {}), InputError);
 }
 
 TEST(Sweep, VariantsAreCasesTimesAxesFirstAxisSlowest) {
   const SweepSpec spec =
-      app::parseSweep(R"({"scene": {"solver": {"spacing": 0.1}}, "set": ["solver.end_time=0.5"],
+      sweep::parseSweep(R"({"scene": {"solver": {"spacing": 0.1}}, "set": ["solver.end_time=0.5"],
     "axes": [{"key": "solver.spacing", "label": "dx", "values": [0.02, 0.01]},
              {"key": "solver.eos", "values": ["tait", "linear"]}],
     "cases": [{"label": "A", "set": ["solver.cfl=0.2"]}, {"label": "B"}]})",
-                      "dir/s.json");
-  const std::vector<app::SweepVariant> v = app::expandVariants(spec);
+                        "dir/s.json");
+  const std::vector<sweep::SweepVariant> v = sweep::expandVariants(spec);
   ASSERT_EQ(v.size(), 8u);
   EXPECT_EQ(v[0].label, "A dx=0.02 eos=tait");
   EXPECT_EQ(v[1].label, "A dx=0.02 eos=linear");
@@ -115,38 +115,38 @@ TEST(Sweep, VariantsAreCasesTimesAxesFirstAxisSlowest) {
   EXPECT_EQ(v[1].axisValues, (std::vector<std::string>{"0.02", "linear"}));
   EXPECT_EQ(v[0].scenePath, "dir/s.json#scene");
   // A collision section as an axis value reads as its method.
-  EXPECT_EQ(app::shortValue(nlohmann::json::parse(R"({"method": "exact", "range": 0.01})")),
+  EXPECT_EQ(sweep::shortValue(nlohmann::json::parse(R"({"method": "exact", "range": 0.01})")),
             "exact");
-  EXPECT_EQ(app::editValue(nlohmann::json::parse(R"({"method": "exact"})")),
+  EXPECT_EQ(sweep::editValue(nlohmann::json::parse(R"({"method": "exact"})")),
             R"({"method":"exact"})");
 }
 
 TEST(Sweep, ParetoFrontIsTheNonDominatedStableRows) {
-  app::SweepResult r;
+  sweep::SweepResult r;
   r.metricColumns = {"err"};
   const double rows[][2] = {{1, 10}, {2, 5}, {3, 6}, {4, 1}, {0.5, 20}, {2, 5}};
   for (const auto& xy : rows) {
-    app::VariantResult v;
+    sweep::VariantResult v;
     v.wallSeconds = xy[0];
     v.metrics = {xy[1]};
     r.rows.push_back(v);
   }
-  r.rows[4].status = app::RunStatus::Guard;  // fastest, but it blew up: not on the front
-  const std::vector<bool> front = app::paretoFront(r, "wall_s", "err");
+  r.rows[4].status = sweep::RunStatus::Guard;  // fastest, but it blew up: not on the front
+  const std::vector<bool> front = sweep::paretoFront(r, "wall_s", "err");
   EXPECT_EQ(front, (std::vector<bool>{true, true, false, true, false, true}));
 }
 
 TEST(Sweep, ABlowUpIsRecordedWithTheGuardStep) {
   // No walls and a domain that ends 5 cm below the water: it falls out, the guard stops it.
-  const SweepSpec spec = app::parseSweep(R"({"scene": {"solver": {"spacing": 0.02, "end_time": 1},
+  const SweepSpec spec = sweep::parseSweep(R"({"scene": {"solver": {"spacing": 0.02, "end_time": 1},
       "domain": {"min": [-0.1, -0.05, -0.1], "max": [0.2, 0.2, 0.2]},
       "fluids": [{"min": [0, 0, 0], "max": [0.1, 0.1, 0.1]}]}, "threads": 1,
     "metrics": [{"type": "density"}]})",
-                                         "s.json");
-  const app::SweepResult result = app::runSweep(spec, {});
+                                           "s.json");
+  const sweep::SweepResult result = sweep::runSweep(spec, {});
   ASSERT_EQ(result.rows.size(), 1u);
-  const app::VariantResult& v = result.rows[0];
-  EXPECT_EQ(v.status, app::RunStatus::Guard);
+  const sweep::VariantResult& v = result.rows[0];
+  EXPECT_EQ(v.status, sweep::RunStatus::Guard);
   // Free fall from 1 cm (the lowest particle centre) to -5 cm takes sqrt(2 0.06 / g) = 0.11 s.
   EXPECT_NEAR(v.guardTime, 0.11, 0.01);
   EXPECT_EQ(v.guardStep, v.steps);
@@ -243,12 +243,11 @@ TEST(QualityPresets, ParseAndDifferAsDocumented) {
       io::parseScene(base, "s.json", {"quality=fast", "solver.speed_of_sound=40"});
   EXPECT_FLOAT_EQ(explicitC.solver.speedOfSound, 40.0f);
 
-  EXPECT_THROW(io::parseScene(base, "s.json", {"quality=medium"}), io::InputError);
+  EXPECT_THROW(io::parseScene(base, "s.json", {"quality=medium"}), InputError);
   EXPECT_THROW(io::parseScene(base, "s.json",
                               {"solver.speed_of_sound=40", "solver.speed_of_sound_factor=5"}),
-               io::InputError);
-  EXPECT_THROW(io::parseScene(base, "s.json", {"solver.speed_of_sound_factor=0.5"}),
-               io::InputError);
+               InputError);
+  EXPECT_THROW(io::parseScene(base, "s.json", {"solver.speed_of_sound_factor=0.5"}), InputError);
 }
 
 }  // namespace

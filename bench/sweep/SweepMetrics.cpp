@@ -1,0 +1,234 @@
+#include "bench/sweep/SweepMetrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "io/JsonReader.h"
+
+namespace sph::sweep {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string resolve(const std::string& folder, const std::string& path) {
+  return path.empty() || path[0] == '/' ? path : folder + path;
+}
+
+// Dam break against Martin & Moyce (1952), Figure 3: the surge front Z = (max x - wall) / a at
+// T = t sqrt(2 g / a), for the measured points with T <= max_T (tests/test_dam_break.cpp checks
+// the same front). Columns: RMS and max of |Z - Z_ref| / Z_ref over those points, and their mean
+// with sign (negative: the simulated front lags the experiment), in percent.
+class SurgeFrontMetric : public SweepMetric {
+ public:
+  SurgeFrontMetric(io::JsonReader& r, const std::string& folder) {
+    const std::string path = resolve(folder, r.string("reference", std::nullopt));
+    maxT_ = r.number("max_T", 3.0, "a positive number (dimensionless time)", io::positive);
+    fluid_ =
+        static_cast<std::size_t>(r.number("fluid", 0.0, "an integer >= 0 (index in fluids[])",
+                                          [](double v) { return v >= 0 && v == std::floor(v); }));
+    std::ifstream in(path);
+    if (!in) r.fail("reference", "cannot open " + path);
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.empty() || line[0] == '#' || line[0] == 'T') continue;  // comments and the header
+      double T = 0, Z = 0;
+      char comma = 0;
+      std::istringstream(line) >> T >> comma >> Z;
+      if (comma == ',' && T <= maxT_) T_.push_back(T), Zref_.push_back(Z);
+    }
+    if (T_.empty()) r.fail("reference", path + ": no \"T,Z\" rows with T <= max_T");
+  }
+
+  std::vector<std::string> columns() const override {
+    return {"front_rms_pct", "front_max_pct", "front_bias_pct"};
+  }
+
+  void start(const Simulation& sim, const MetricContext&) override {
+    const Scene& s = sim.scene();
+    if (fluid_ >= s.fluids.size() || s.fluids[fluid_].shape != FluidBlock::Shape::Box) {
+      throw InputError(s.sourcePath + ": surge_front needs fluids[" + std::to_string(fluid_) +
+                       "] to be the dam's box (the water column against the left wall)");
+    }
+    // The column the lattice holds: n = round(width / dx) particles wide (SceneSetup.cpp,
+    // initialFluid), which is the box's width only when dx divides it.
+    const double dx = s.solver.spacing;
+    wall_ = s.fluids[fluid_].lo.x();
+    a_ = dx * std::max(1L, std::lround((s.fluids[fluid_].hi.x() - wall_) / dx));
+    const double g = s.solver.gravity.norm();
+    times_.clear();
+    for (double T : T_) times_.push_back(T / std::sqrt(2 * g / a_));
+    Z_.clear();
+  }
+  std::vector<double> sampleTimes() const override { return times_; }
+  void observe(const Simulation& sim) override {
+    if (Z_.size() >= times_.size() || std::abs(sim.time() - times_[Z_.size()]) > 1e-9) return;
+    float front = -std::numeric_limits<float>::max();
+    for (float x : sim.fluid().x) front = std::max(front, x);
+    Z_.push_back((front - wall_) / a_);
+  }
+  std::vector<double> values() const override {
+    if (Z_.size() < Zref_.size()) return {kNaN, kNaN, kNaN};
+    double sum = 0, worst = 0, bias = 0;
+    for (std::size_t k = 0; k < Z_.size(); ++k) {
+      const double e = (Z_[k] - Zref_[k]) / Zref_[k];
+      sum += e * e, worst = std::max(worst, std::abs(e)), bias += e;
+    }
+    return {100 * std::sqrt(sum / Z_.size()), 100 * worst, 100 * bias / Z_.size()};
+  }
+
+ private:
+  double maxT_ = 3;
+  std::size_t fluid_ = 0;
+  std::vector<double> T_, Zref_;   // reference points
+  std::vector<double> times_, Z_;  // their simulated times (s) and the measured fronts
+  double wall_ = 0, a_ = 1;
+};
+
+// Compression (rho - rho0) / rho0 of the fluid at every output frame, in percent: the mean over
+// particles averaged over frames, and the largest value seen. Only compression counts: the
+// density deficit of free-surface particles is the kernel's missing neighbours, not an error of
+// the pressure solve, and would swamp the figure.
+class DensityMetric : public SweepMetric {
+ public:
+  std::vector<std::string> columns() const override { return {"rho_mean_pct", "rho_max_pct"}; }
+  void start(const Simulation&, const MetricContext&) override {
+    sum_ = 0, worst_ = 0, frames_ = 0;
+  }
+  bool everyFrame() const override { return true; }
+  void observe(const Simulation& sim) override {
+    const Particles& p = sim.fluid();
+    const double rho0 = sim.scene().solver.restDensity;
+    double sum = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const double c = std::max(0.0, (p.rho[i] - rho0) / rho0);
+      sum += c, worst_ = std::max(worst_, c);
+    }
+    sum_ += p.empty() ? 0 : sum / p.size();
+    ++frames_;
+  }
+  std::vector<double> values() const override {
+    if (frames_ == 0) return {kNaN, kNaN};
+    return {100 * sum_ / frames_, 100 * worst_};
+  }
+
+ private:
+  double sum_ = 0, worst_ = 0;
+  std::size_t frames_ = 0;
+};
+
+// Total energy of the fluid every N steps: kinetic, potential (above the lowest initial particle,
+// half a spacing down: the floor it rests on) and the elastic energy the EOS stores, as the
+// solver's forces see it (sum of m e(rho), e = integral of p / rho^2 d rho, scaled by the
+// gradient correction that scales the pressure force). Writes the series to
+// PREFIX-energy.csv; columns: drift of the total energy and of the mean density between the
+// first sample after `settle` seconds and the last one.
+class EnergyMetric : public SweepMetric {
+ public:
+  explicit EnergyMetric(io::JsonReader& r) {
+    every_ =
+        static_cast<std::uint64_t>(r.number("every_steps", 100.0, "an integer >= 1",
+                                            [](double v) { return v >= 1 && v == std::floor(v); }));
+    settle_ = r.number("settle", 0.0, "a number >= 0 (s)", io::nonNegative);
+  }
+  std::vector<std::string> columns() const override {
+    return {"energy_drift_pct", "rho_drift_pct"};
+  }
+  void start(const Simulation& sim, const MetricContext& context) override {
+    const Particles& p = sim.fluid();
+    const Vec3 g = sim.scene().solver.gravity;
+    floor_ = std::numeric_limits<double>::max();
+    for (std::size_t i = 0; i < p.size(); ++i)
+      floor_ = std::min(floor_, -static_cast<double>(p.position(i).dot(g)));
+    if (p.empty()) floor_ = 0;
+    floor_ -= 0.5 * sim.scene().solver.spacing * g.norm();
+    settled_ = false;
+    series_.close();
+    series_.open(context.seriesPrefix + "-energy.csv");
+    series_ << "step,time,kinetic,potential,elastic,total,mean_rho,max_rho,particles\n";
+    sample(sim);
+  }
+  std::uint64_t stepInterval() const override { return every_; }
+  void observe(const Simulation& sim) override { sample(sim); }
+  void finish(const Simulation& sim) override {
+    if (sim.stepCount() % every_ != 0) sample(sim);
+    series_.close();
+  }
+  std::vector<double> values() const override {
+    if (!settled_) return {kNaN, kNaN};
+    return {100 * (last_.total - first_.total) / std::abs(first_.total),
+            100 * (last_.meanRho - first_.meanRho) / first_.meanRho};
+  }
+
+ private:
+  struct Sample {
+    double total = 0, meanRho = 0;
+  };
+
+  void sample(const Simulation& sim) {
+    const Particles& p = sim.fluid();
+    const DerivedParams& d = sim.params();
+    const SolverParams& s = sim.scene().solver;
+    const double m = d.mass, rho0 = s.restDensity, B = d.stiffness;
+    double kinetic = 0, potential = 0, elastic = 0, rhoSum = 0, rhoMax = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      kinetic += 0.5 * m * p.velocity(i).squaredNorm();
+      potential += m * (-static_cast<double>(p.position(i).dot(s.gravity)) - floor_);
+      const double rho = p.rho[i];
+      rhoSum += rho, rhoMax = std::max(rhoMax, rho);
+      if (rho <= rho0 && s.clampNegativePressure) continue;  // p = 0 stores nothing
+      if (s.eos == EquationOfState::Tait) {
+        elastic +=
+            m * B *
+            ((std::pow(rho, 6) - std::pow(rho0, 6)) / (6 * std::pow(rho0, 7)) + 1 / rho - 1 / rho0);
+      } else {
+        elastic += m * B * (std::log(rho / rho0) + rho0 / rho - 1);
+      }
+    }
+    elastic *= sim.gradientCorrection();
+    const double total = kinetic + potential + elastic;
+    const double meanRho = p.empty() ? 0 : rhoSum / p.size();
+    char line[256];
+    std::snprintf(line, sizeof line, "%llu,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%zu\n",
+                  static_cast<unsigned long long>(sim.stepCount()), sim.time(), kinetic, potential,
+                  elastic, total, meanRho, rhoMax, p.size());
+    series_ << line;
+    if (sim.time() >= settle_ && sim.stepCount() > 0) {
+      if (!settled_) first_ = {total, meanRho}, settled_ = true;
+      last_ = {total, meanRho};
+    }
+  }
+
+  std::uint64_t every_ = 100;
+  double settle_ = 0, floor_ = 0;
+  bool settled_ = false;
+  Sample first_, last_;
+  std::ofstream series_;
+};
+
+}  // namespace
+
+std::vector<std::string> metricTypes() {
+  return {"surge_front", "density", "energy"};
+}
+
+std::unique_ptr<SweepMetric> makeMetric(const nlohmann::json& config, const std::string& file,
+                                        std::size_t index, const std::string& sweepFolder) {
+  io::JsonReader r(config, "metrics[" + std::to_string(index) + "]", file);
+  const std::vector<std::string> types = metricTypes();
+  const std::string type = r.string("type", std::nullopt, types);
+  std::unique_ptr<SweepMetric> metric;
+  if (type == "surge_front")
+    metric = std::make_unique<SurgeFrontMetric>(r, sweepFolder);
+  else if (type == "density")
+    metric = std::make_unique<DensityMetric>();
+  else
+    metric = std::make_unique<EnergyMetric>(r);
+  r.finish();
+  return metric;
+}
+
+}  // namespace sph::sweep

@@ -1,0 +1,84 @@
+// One frame from particles to a picture, the way every command does it (`run` with a render
+// section, `render`, `compare`, `view`): the density field of the particles, the splats of a
+// kind, the GL draw; with the time of each part (seed 003's Table 1 counts all of them).
+// Needs a current GL context.
+#pragma once
+
+#include <optional>
+
+#include "render/splat/DensityField.h"
+#include "render/splat/Lighting.h"
+#include "render/splat/RenderImage.h"
+#include "render/splat/SplatBuilder.h"
+#include "render/splat/SplatRenderer.h"
+#include "sim/CameraDesc.h"
+#include "sim/Particles.h"
+#include "sim/RenderDesc.h"
+
+namespace sph::render::splat {
+
+SplatParams splatParams(const RenderDesc& desc);
+Lighting lighting(const RenderDesc& desc);
+
+// A camera that frames the particles' box from the front-right-above (for caches whose scene
+// has no camera).
+CameraDesc framingCamera(const Particles& particles, float aspect);
+
+struct FrameTimings {
+  double field = 0;  // grid + particle densities (part of surface detection)
+  SplatTimings splats;
+  double draw = 0;  // upload + draw until finished
+  double total() const { return field + splats.surface + splats.normals + splats.build + draw; }
+};
+
+struct RenderedSplats {
+  RenderImage image;
+  FrameTimings timings;
+  std::size_t particles = 0, surface = 0, splats = 0;  // splats drawn (SplatFrame::splats())
+  float SD = 0, ID = 0;
+};
+
+class FrameRenderer {
+ public:
+  FrameRenderer(const RenderDesc& desc, float spacing, float restDensity,
+                const gl::ShaderLibrary& shaders = gl::ShaderLibrary::fromEnvironment());
+
+  // Walls to show behind and around the fluid (boundary particle positions, m), translucent;
+  // they do not enter the error figures. Empty vectors: none.
+  void setBoundary(const std::vector<float>& x, const std::vector<float>& y,
+                   const std::vector<float>& z);
+
+  // Builds the field of `particles` (kept for the calls below until the next prepare()).
+  void prepare(const Particles& particles);
+  const DensityField& field() const { return *field_; }
+  double fieldSeconds() const { return fieldSeconds_; }
+
+  // Splats of `kind` for the prepared particles, drawn offscreen and read back (colour only: the
+  // pictures `render` and `run` write).
+  RenderedSplats render(SplatKind kind, const CameraDesc& camera);
+  // The same frame for the error figures: the image with its normals and coverage, and the
+  // timings of render() with a warm draw (the splats are built once and drawn three times: to
+  // compile shaders, timed as a picture, and with the normal target, which is not part of making
+  // a picture and would cost llvmpipe ~3 ms of the draw).
+  RenderedSplats renderScored(SplatKind kind, const CameraDesc& camera);
+  // The same into the current window's framebuffer.
+  FrameTimings drawToScreen(SplatKind kind, const CameraDesc& camera, int width, int height);
+  // The reference ray-marched image of the same SD surface.
+  RenderImage reference(const CameraDesc& camera);
+
+  const RenderDesc& desc() const { return desc_; }
+  SplatRenderer& renderer() { return renderer_; }
+
+ private:
+  SplatFrame build(SplatKind kind, const CameraDesc& camera) const;
+  RenderedSplats result(const SplatFrame& splats, RenderImage image) const;
+  RenderDesc desc_;
+  float spacing_, restDensity_;
+  SplatParams params_;
+  Lighting lighting_;
+  SplatRenderer renderer_;
+  std::optional<DensityField> field_;
+  double fieldSeconds_ = 0;
+};
+
+}  // namespace sph::render::splat

@@ -1,0 +1,236 @@
+#include "render/splat/SplatRenderer.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+#include "render/gl/GlError.h"
+#include "render/gl/Shader.h"
+
+namespace sph::render::splat {
+namespace {
+
+void setVec3(GLuint program, const char* name, const Vec3& v) {
+  glProgramUniform3f(program, glGetUniformLocation(program, name), v.x(), v.y(), v.z());
+}
+void setFloat(GLuint program, const char* name, float v) {
+  glProgramUniform1f(program, glGetUniformLocation(program, name), v);
+}
+
+void setLighting(GLuint p, const Lighting& l) {
+  setVec3(p, "u_toLight", l.toLight.normalized());
+  setVec3(p, "u_base", l.base);
+  setFloat(p, "u_ambient", l.ambient);
+  setFloat(p, "u_diffuse", l.diffuse);
+  setFloat(p, "u_specular", l.specular);
+  setFloat(p, "u_shininess", l.shininess);
+  glProgramUniform1i(p, glGetUniformLocation(p, "u_environment"), l.environment ? 1 : 0);
+  setVec3(p, "u_horizon", l.horizon);
+  setVec3(p, "u_zenith", l.zenith);
+  setFloat(p, "u_fresnelMin", l.fresnelMin);
+  setFloat(p, "u_alpha", l.alpha);
+}
+
+// Position (location 0) and normal (location 1) of SplatVertex from binding 0.
+void describeVertices(GLuint vao, GLuint buffer, bool instanced) {
+  glVertexArrayVertexBuffer(vao, 0, buffer, 0, sizeof(SplatVertex));
+  for (GLuint a = 0; a < 2; ++a) {
+    glEnableVertexArrayAttrib(vao, a);
+    glVertexArrayAttribFormat(
+        vao, a, 3, GL_FLOAT, GL_FALSE,
+        a == 0 ? offsetof(SplatVertex, position) : offsetof(SplatVertex, normal));
+    glVertexArrayAttribBinding(vao, a, 0);
+  }
+  glVertexArrayBindingDivisor(vao, 0, instanced ? 1 : 0);
+}
+
+// Grows-or-refills a buffer with `bytes` of data.
+void upload(gl::Buffer& buffer, const void* data, std::size_t bytes) {
+  if (bytes == 0) return;
+  glNamedBufferData(buffer.id(), static_cast<GLsizeiptr>(bytes), data, GL_STREAM_DRAW);
+}
+
+}  // namespace
+
+SplatRenderer::SplatRenderer(int width, int height, const gl::ShaderLibrary& shaders)
+    : width_(width), height_(height) {
+  pointProgram_ = gl::buildProgram(
+      shaders,
+      {{gl::ShaderStage::Vertex, "splat_point.vert"}, {gl::ShaderStage::Fragment, "splat.frag"}},
+      "point splats");
+  quadProgram_ = gl::buildProgram(
+      shaders,
+      {{gl::ShaderStage::Vertex, "splat_quad.vert"}, {gl::ShaderStage::Fragment, "splat.frag"}},
+      "quad splats");
+  colour_ = gl::Texture::create(GL_TEXTURE_2D);
+  glTextureStorage2D(colour_.id(), 1, GL_RGBA8, width, height);
+  normal_ = gl::Texture::create(GL_TEXTURE_2D);
+  glTextureStorage2D(normal_.id(), 1, GL_RGBA32F, width, height);
+  depth_ = gl::Renderbuffer::create();
+  glNamedRenderbufferStorage(depth_.id(), GL_DEPTH_COMPONENT24, width, height);
+  framebuffer_ = gl::Framebuffer::create();
+  glNamedFramebufferTexture(framebuffer_.id(), GL_COLOR_ATTACHMENT0, colour_.id(), 0);
+  glNamedFramebufferTexture(framebuffer_.id(), GL_COLOR_ATTACHMENT1, normal_.id(), 0);
+  glNamedFramebufferRenderbuffer(framebuffer_.id(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
+                                 depth_.id());
+  selectDrawBuffers(ImageContents::ColourAndNormals);
+  if (glCheckNamedFramebufferStatus(framebuffer_.id(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    throw gl::GlError(
+        "the splat framebuffer (RGBA8 + RGBA32F + depth) is incomplete on this driver");
+  }
+  pointBuffer_ = gl::Buffer::create();
+  quadBuffer_ = gl::Buffer::create();
+  indexBuffer_ = gl::Buffer::create();
+  pointVao_ = gl::VertexArray::create();
+  quadVao_ = gl::VertexArray::create();
+  boundaryBuffer_ = gl::Buffer::create();
+  boundaryVao_ = gl::VertexArray::create();
+}
+
+void SplatRenderer::setBoundary(std::vector<SplatVertex> points, float halfSide) {
+  boundaryCount_ = points.size();
+  boundaryHalfSide_ = halfSide;
+  upload(boundaryBuffer_, points.data(), points.size() * sizeof(SplatVertex));
+  describeVertices(boundaryVao_.id(), boundaryBuffer_.id(), true);
+}
+
+void SplatRenderer::drawBoundary(bool offscreen) {
+  if (boundaryCount_ == 0) return;
+  // Flat grey, lit from the viewer: the points carry their normal towards the camera anyway.
+  Lighting wall;
+  wall.base = Vec3(0.55f, 0.56f, 0.6f);
+  wall.ambient = 1.0f, wall.diffuse = 0.0f, wall.specular = 0.0f, wall.environment = false;
+  wall.alpha = 0.09f;
+  const GLuint p = pointProgram_.id();
+  setLighting(p, wall);
+  setFloat(p, "u_halfSide", boundaryHalfSide_);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glDepthMask(GL_FALSE);
+  if (offscreen) selectDrawBuffers(ImageContents::Colour);
+  glUseProgram(p);
+  glBindVertexArray(boundaryVao_.id());
+  glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(boundaryCount_));
+  glBindVertexArray(0);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+  if (offscreen) selectDrawBuffers(contents_);
+}
+
+void SplatRenderer::selectDrawBuffers(ImageContents contents) {
+  const GLenum attachments[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+  glNamedFramebufferDrawBuffers(framebuffer_.id(), contents == ImageContents::Colour ? 1 : 2,
+                                attachments);
+}
+
+SplatRenderer::~SplatRenderer() = default;
+
+double SplatRenderer::draw(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
+                           const Lighting& lighting, int w, int h, bool offscreen) {
+  const auto start = std::chrono::steady_clock::now();
+  const CameraFrame cam = cameraFrame(camera, static_cast<float>(w) / h);
+  const GLuint program = kind == SplatKind::Point ? pointProgram_.id() : quadProgram_.id();
+  setLighting(program, lighting);
+  glProgramUniformMatrix4fv(program, glGetUniformLocation(program, "u_projView"), 1, GL_FALSE,
+                            cam.projView.m.data());
+  setVec3(program, "u_eye", cam.eye);
+
+  glViewport(0, 0, w, h);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_CULL_FACE);  // splats are seen from both sides
+  if (lighting.alpha < 1.0f) {
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  } else {
+    glDisable(GL_BLEND);
+  }
+  glUseProgram(program);
+  if (kind == SplatKind::Point) {
+    setVec3(program, "u_cameraRight", cam.right);
+    setVec3(program, "u_cameraUp", cam.up);
+    // Same area as a quad splat of the same size (a square with half-diagonal halfSize).
+    setFloat(program, "u_halfSide", frame.halfSize / std::sqrt(2.0f));
+    upload(pointBuffer_, frame.points.data(), frame.points.size() * sizeof(SplatVertex));
+    describeVertices(pointVao_.id(), pointBuffer_.id(), true);
+    glBindVertexArray(pointVao_.id());
+    if (!frame.points.empty())
+      glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(frame.points.size()));
+  } else {
+    upload(quadBuffer_, frame.quads.data(), frame.quads.size() * sizeof(SplatVertex));
+    upload(indexBuffer_, frame.indices.data(), frame.indices.size() * sizeof(std::uint32_t));
+    describeVertices(quadVao_.id(), quadBuffer_.id(), false);
+    glVertexArrayElementBuffer(quadVao_.id(), indexBuffer_.id());
+    glBindVertexArray(quadVao_.id());
+    if (!frame.indices.empty())
+      glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(frame.indices.size()), GL_UNSIGNED_INT,
+                     nullptr);
+  }
+  glBindVertexArray(0);
+  if (boundaryCount_) {
+    // The point program also draws the walls: give it this frame's camera first.
+    const GLuint p = pointProgram_.id();
+    glProgramUniformMatrix4fv(p, glGetUniformLocation(p, "u_projView"), 1, GL_FALSE,
+                              cam.projView.m.data());
+    setVec3(p, "u_eye", cam.eye);
+    setVec3(p, "u_cameraRight", cam.right);
+    setVec3(p, "u_cameraUp", cam.up);
+    drawBoundary(offscreen);
+  }
+  glFinish();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+RenderImage SplatRenderer::render(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
+                                  const Lighting& lighting, ImageContents contents) {
+  const bool withNormals = contents == ImageContents::ColourAndNormals;
+  contents_ = contents;
+  selectDrawBuffers(contents);
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+  // The background in the same sRGB encoding the shaders write.
+  float bgEncoded[4] = {0, 0, 0, 1};
+  for (int k = 0; k < 3; ++k) bgEncoded[k] = toSrgb8(lighting.background[k]) / 255.0f;
+  const float zero[4] = {0, 0, 0, 0};
+  glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 0, bgEncoded);
+  if (withNormals) glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 1, zero);
+  glClearNamedFramebufferfi(framebuffer_.id(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
+  RenderImage image;
+  image.resize(width_, height_, withNormals);
+  image.seconds = draw(frame, kind, camera, lighting, width_, height_, true);
+
+  // Read back, flipping rows (GL's row 0 is the bottom).
+  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(width_) * height_ * 4);
+  glNamedFramebufferReadBuffer(framebuffer_.id(), GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+  std::vector<float> normal;
+  if (withNormals) {
+    normal.resize(static_cast<std::size_t>(width_) * height_ * 4);
+    glNamedFramebufferReadBuffer(framebuffer_.id(), GL_COLOR_ATTACHMENT1);
+    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, normal.data());
+  }
+  for (int row = 0; row < height_; ++row) {
+    const std::size_t src = static_cast<std::size_t>(height_ - 1 - row) * width_;
+    const std::size_t dst = static_cast<std::size_t>(row) * width_;
+    for (int col = 0; col < width_; ++col) {
+      for (int k = 0; k < 3; ++k) image.rgb[3 * (dst + col) + k] = rgba[4 * (src + col) + k];
+      if (!withNormals) continue;
+      for (int k = 0; k < 3; ++k) image.normal[3 * (dst + col) + k] = normal[4 * (src + col) + k];
+      image.covered[dst + col] = normal[4 * (src + col) + 3] > 0.5f ? 1 : 0;
+    }
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return image;
+}
+
+void SplatRenderer::drawToScreen(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
+                                 const Lighting& lighting, int viewportWidth, int viewportHeight) {
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  // Encoded like everything the shaders write (the window's framebuffer is not sRGB).
+  glClearColor(toSrgb8(lighting.background.x()) / 255.0f, toSrgb8(lighting.background.y()) / 255.0f,
+               toSrgb8(lighting.background.z()) / 255.0f, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  draw(frame, kind, camera, lighting, viewportWidth, viewportHeight, false);
+}
+
+}  // namespace sph::render::splat

@@ -1,0 +1,61 @@
+// Draws a frame's splats with OpenGL into an offscreen framebuffer (colour, and on request the
+// normal/coverage target of the error figures) and reads it back as a RenderImage. Needs a current
+// context (render/gl/GlContext.h): headless for `sphsplat render` / `compare`, the window's for
+// `sphsplat view` (drawToScreen).
+#pragma once
+
+#include <vector>
+
+#include "render/gl/GlHandle.h"
+#include "render/gl/ShaderLibrary.h"
+#include "render/splat/Lighting.h"
+#include "render/splat/RenderImage.h"
+#include "render/splat/SplatBuilder.h"
+#include "sim/Camera.h"
+
+namespace sph::render::splat {
+
+class SplatRenderer {
+ public:
+  // Compiles the splat programs and makes a width x height framebuffer. Throws gl::ShaderError.
+  SplatRenderer(int width, int height,
+                const gl::ShaderLibrary& shaders = gl::ShaderLibrary::fromEnvironment());
+  ~SplatRenderer();
+  SplatRenderer(const SplatRenderer&) = delete;
+  SplatRenderer& operator=(const SplatRenderer&) = delete;
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+  // Uploads and draws `frame` (its points or its quads) into the offscreen framebuffer and reads
+  // it back. `seconds` of the result: upload + draw until finished (not the read-back).
+  // ColourAndNormals also draws the normal/coverage target the error figures need (it costs
+  // llvmpipe ~3 ms a frame at 960x540, so pictures are drawn without it).
+  RenderImage render(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
+                     const Lighting& lighting, ImageContents contents = ImageContents::Colour);
+  // The walls and containers, drawn after the fluid as translucent grey squares into the colour
+  // only (the error figures see the fluid alone). Empty: none.
+  void setBoundary(std::vector<SplatVertex> points, float halfSide);
+  // Draws into the default framebuffer of the current (window) context instead.
+  void drawToScreen(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
+                    const Lighting& lighting, int viewportWidth, int viewportHeight);
+
+ private:
+  double draw(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
+              const Lighting& lighting, int w, int h, bool offscreen);
+  int width_, height_;
+  gl::Program pointProgram_, quadProgram_;
+  gl::Framebuffer framebuffer_;
+  gl::Texture colour_, normal_;
+  gl::Renderbuffer depth_;
+  gl::VertexArray pointVao_, quadVao_;
+  gl::Buffer pointBuffer_, quadBuffer_, indexBuffer_, boundaryBuffer_;
+  gl::VertexArray boundaryVao_;
+  std::size_t boundaryCount_ = 0;
+  float boundaryHalfSide_ = 0;
+  void drawBoundary(bool offscreen);
+  void selectDrawBuffers(ImageContents contents);
+  ImageContents contents_ = ImageContents::ColourAndNormals;
+};
+
+}  // namespace sph::render::splat
