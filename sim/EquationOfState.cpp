@@ -4,7 +4,7 @@
 #include <algorithm>
 
 #include "sim/Parallel.h"
-#include "sim/Simulation.h"
+#include "sim/SphPasses.h"
 
 namespace sph {
 namespace {
@@ -30,23 +30,26 @@ struct Eos {
 
 // Equation of state for fluid and boundary particles; also caches p / rho^2 and 1 / rho, the
 // per-neighbour factors of the force pass, so that pass does no division per pair.
-void Simulation::computePressure() {
-  Particles& f = fluid_;
+void computePressure(StepContext& c) {
+  Particles& f = c.fluid;
   const std::size_t n = f.size();
-  pressureTerm_.resize(n);
-  inverseDensity_.resize(n);
-  const Eos eos{scene_.solver.restDensity, derived_.stiffness,
-                scene_.solver.eos == EquationOfState::Tait, scene_.solver.clampNegativePressure};
+  std::vector<float>& pressureTerm = c.scratch.pressureTerm;
+  std::vector<float>& inverseDensity = c.scratch.inverseDensity;
+  BoundaryFields& bf = c.boundaryFields;
+  pressureTerm.resize(n);
+  inverseDensity.resize(n);
+  const Eos eos{c.solver.restDensity, c.derived.stiffness, c.solver.eos == EquationOfState::Tait,
+                c.solver.clampNegativePressure};
   parallelFor(n, [&](std::size_t i) {
     const float p = eos(f.rho[i]);
     const float inv = 1.0f / f.rho[i];
     f.p[i] = p;
-    inverseDensity_[i] = inv;
-    pressureTerm_[i] = p * inv * inv;
+    inverseDensity[i] = inv;
+    pressureTerm[i] = p * inv * inv;
   });
-  parallelFor(boundaryDensity_.size(), [&](std::size_t q) {
-    const float rho = boundaryDensity_[q];
-    boundaryPressureTerm_[q] = rho > 0 ? eos(rho) / (rho * rho) : 0.0f;
+  parallelFor(bf.density.size(), [&](std::size_t q) {
+    const float rho = bf.density[q];
+    bf.pressureTerm[q] = rho > 0 ? eos(rho) / (rho * rho) : 0.0f;
   });
 }
 

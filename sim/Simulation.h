@@ -1,6 +1,7 @@
 // One SPH run: the state and the step (DESIGN.md, "The SPH stage"). A step is the short list of
-// named, timed passes in step(); each pass lives in its own function below and writes only its
-// own particles' slots, so a run is bit-identical for a given scene.
+// named, timed passes in step(); each pass is a function of an explicit StepContext
+// (sim/SphPasses.h) and writes only its own particles' slots, so a run is bit-identical for a
+// given scene.
 #pragma once
 
 #include <cstdint>
@@ -15,6 +16,7 @@
 #include "sim/Particles.h"
 #include "sim/Scene.h"
 #include "sim/SceneSetup.h"
+#include "sim/StepContext.h"
 #include "sim/StepProfile.h"
 
 namespace sph {
@@ -54,7 +56,7 @@ class Simulation {
   Particles& fluid() { return fluid_; }
   const Boundary& boundary() const { return boundary_; }
   // Density (kg/m^3) of each boundary particle at the last step (rest-like values away from fluid).
-  const std::vector<float>& boundaryDensity() const { return boundaryDensity_; }
+  const std::vector<float>& boundaryDensity() const { return boundaryFields_.density; }
   const StepProfile& profile() const { return profile_; }
   // Scale of the pressure force at the last step (1 / mean discrete gradient moment).
   float gradientCorrection() const { return gradientCorrection_; }
@@ -70,18 +72,10 @@ class Simulation {
 
  private:
   float chooseTimeStep() const;
-  void computeStaticBoundaryDensity();
+  // The context the passes of a step of `dt` seconds work on.
+  StepContext context(float dt);
   void emitParticles(double dt);
-  void sortParticles();
-  void computeDensity();
-  void updateGradientCorrection();
-  void computePressure();
-  void computeForces();
-  void applyGravityOnly();  // SolverModel::Particles instead of density/pressure/forces
-  void integrate(float dt);
   void collide(float dt);
-  void enforceBoundaries(float dt);
-  void checkStability() const;
 
   Scene scene_;
   DerivedParams derived_;
@@ -92,15 +86,9 @@ class Simulation {
   std::unique_ptr<CollisionPass> collision_;
   StepProfile profile_;
   RunState state_;
-  // Per-step scratch (not part of the state): sort permutation, pressure terms.
-  std::vector<std::uint32_t> order_, permuteScratch_;
-  std::vector<float> pressureTerm_;    // fluid p / rho^2 (m^5 / (kg s^2))
-  std::vector<float> inverseDensity_;  // fluid 1 / rho (m^3/kg)
-  std::vector<float> gradientMoment_;  // K_i, see updateGradientCorrection()
-  float gradientCorrection_ = 1;       // scale of the pressure force this step
-  // Boundary particles' density (kg/m^3): the part from other boundary particles is fixed and
-  // computed once; the fluid's part is added each step for the particles near the fluid.
-  std::vector<float> boundaryStaticDensity_, boundaryDensity_, boundaryPressureTerm_;
+  BoundaryFields boundaryFields_;
+  StepScratch scratch_;
+  float gradientCorrection_ = 1;  // scale of the pressure force this step
 };
 
 }  // namespace sph

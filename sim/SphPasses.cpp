@@ -19,7 +19,7 @@
 
 #include "sim/CellBatch.h"
 #include "sim/Parallel.h"
-#include "sim/Simulation.h"
+#include "sim/SphPasses.h"
 
 namespace sph {
 namespace {
@@ -88,41 +88,73 @@ void withDensityKernel(const SolverParams& s, const Kernels& k, F&& f) {
     f(Poly6Shape{k.h2}, k.poly6Factor);
 }
 
+// The pressure force's scale c = 1 / mean K over the particles with a full neighbourhood (at
+// least rest density): the lattice value (SceneSetup.h) corrected for how the particles are
+// actually arranged. One factor for all pairs keeps momentum conserved; it drifts slowly, so
+// energy is conserved as well as before. Without it a settled still tank carries ~3% excess
+// pressure (the disordered packing's discrete gradient is that much weaker than the lattice's).
+void updateGradientCorrection(StepContext& c) {
+  const Particles& f = c.fluid;
+  const std::vector<float>& gradientMoment = c.scratch.gradientMoment;
+  const float rho0 = c.solver.restDensity;
+  double sum = 0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < f.size(); ++i) {  // serial: a fixed summation order
+    if (f.rho[i] < rho0) continue;
+    sum += gradientMoment[i];
+    ++count;
+  }
+  constexpr std::size_t kMinimumSample = 64;  // fewer: a spray or a drop; trust the lattice
+  c.gradientCorrection =
+      count >= kMinimumSample ? static_cast<float>(count / sum) : c.derived.gradientCorrection;
+}
+
 }  // namespace
 
 // Boundary-boundary part of each boundary particle's density: fixed, so computed once.
-void Simulation::computeStaticBoundaryDensity() {
-  const BoundaryParticles& b = boundary_.particles();
-  const NeighbourGrid& bgrid = boundary_.grid();
-  boundaryStaticDensity_.resize(b.size());
-  withDensityKernel(scene_.solver, derived_.kernels, [&](auto shape, float factor) {
-    const float scale = factor * derived_.mass * derived_.densityNormalisation;
+void computeStaticBoundaryDensity(StepContext& c) {
+  const BoundaryParticles& b = c.boundary.particles();
+  const NeighbourGrid& bgrid = c.boundary.grid();
+  BoundaryFields& bf = c.boundaryFields;
+  bf.staticDensity.resize(b.size());
+  withDensityKernel(c.solver, c.derived.kernels, [&](auto shape, float factor) {
+    const float scale = factor * c.derived.mass * c.derived.densityNormalisation;
     parallelFor(b.size(), [&](std::size_t i) {
-      boundaryStaticDensity_[i] = scale * kernelSum(b.x[i], b.y[i], b.z[i], bgrid, b.x.data(),
-                                                    b.y.data(), b.z.data(), shape);
+      bf.staticDensity[i] = scale * kernelSum(b.x[i], b.y[i], b.z[i], bgrid, b.x.data(), b.y.data(),
+                                              b.z.data(), shape);
     });
   });
-  boundaryDensity_ = boundaryStaticDensity_;
-  boundaryPressureTerm_.assign(b.size(), 0.0f);
+  bf.density = bf.staticDensity;
+  bf.pressureTerm.assign(b.size(), 0.0f);
+}
+
+void sortParticles(StepContext& c) {
+  Particles& f = c.fluid;
+  c.grid.build(f.x.data(), f.y.data(), f.z.data(), f.size(), c.derived.h, c.scratch.order);
+  f.permute(c.scratch.order, c.scratch.permuteScratch);
 }
 
 // rho_i = sum_j m W(x_i - x_j) over fluid and boundary neighbours, the particle itself included
 // (seed 003, eq. (1)); then the same sum for the boundary particles the fluid can reach.
-void Simulation::computeDensity() {
-  Particles& f = fluid_;
-  const BoundaryParticles& b = boundary_.particles();
-  const NeighbourGrid& bgrid = boundary_.grid();
-  const float h = derived_.h;
+void computeDensity(StepContext& c) {
+  Particles& f = c.fluid;
+  const BoundaryParticles& b = c.boundary.particles();
+  const NeighbourGrid& bgrid = c.boundary.grid();
+  const NeighbourGrid& grid = c.grid;
+  const DerivedParams& derived = c.derived;
+  std::vector<float>& gradientMoment = c.scratch.gradientMoment;
+  BoundaryFields& bf = c.boundaryFields;
+  const float h = derived.h;
   // K_i = (1/3) sum_j V (x_j - x_i) . gradW(x_i - x_j), V = spacing^3: 1 on the rest lattice
   // once corrected (SceneSetup.h), a little off once the particles have rearranged.
   const float momentScale =
-      -derived_.kernels.spikyGradFactor * derived_.mass / scene_.solver.restDensity / 3;
-  gradientMoment_.resize(f.size());
-  withDensityKernel(scene_.solver, derived_.kernels, [&](auto shape, float factor) {
-    const float scale = factor * derived_.mass * derived_.densityNormalisation;
+      -derived.kernels.spikyGradFactor * derived.mass / c.solver.restDensity / 3;
+  gradientMoment.resize(f.size());
+  withDensityKernel(c.solver, derived.kernels, [&](auto shape, float factor) {
+    const float scale = factor * derived.mass * derived.densityNormalisation;
     forEachCellWithCandidates<3, 3>(
-        grid_, {f.x.data(), f.y.data(), f.z.data()}, bgrid, {b.x.data(), b.y.data(), b.z.data()},
-        derived_.h,
+        grid, {f.x.data(), f.y.data(), f.z.data()}, bgrid, {b.x.data(), b.y.data(), b.z.data()},
+        derived.h,
         [&](std::uint32_t begin, std::uint32_t end, const CandidateBatch<3>& fb,
             const CandidateBatch<3>& bb) {
           for (std::uint32_t i = begin; i < end; ++i) {
@@ -130,19 +162,19 @@ void Simulation::computeDensity() {
             batchDensityAndMoment(f.x[i], f.y[i], f.z[i], h, fb, shape, density, moment);
             batchDensityAndMoment(f.x[i], f.y[i], f.z[i], h, bb, shape, density, moment);
             f.rho[i] = scale * density;
-            gradientMoment_[i] = momentScale * moment;
+            gradientMoment[i] = momentScale * moment;
           }
         });
-    updateGradientCorrection();
+    updateGradientCorrection(c);
     if (b.size() == 0 || f.size() == 0) return;
     // Boundary particles within reach of the fluid: the boundary cells overlapping the fluid
     // grid's box grown by one cell. The others keep their last values; no fluid particle is close
     // enough for those to matter (their kernel weight is exactly 0).
-    const CellCoord o = grid_.origin(), n = grid_.dims();
-    const float c = grid_.cellSize();
-    const CellCoord lo = bgrid.cellOf((o[0] - 1) * c, (o[1] - 1) * c, (o[2] - 1) * c);
+    const CellCoord o = grid.origin(), n = grid.dims();
+    const float cs = grid.cellSize();
+    const CellCoord lo = bgrid.cellOf((o[0] - 1) * cs, (o[1] - 1) * cs, (o[2] - 1) * cs);
     const CellCoord hi =
-        bgrid.cellOf((o[0] + n[0] + 1) * c, (o[1] + n[1] + 1) * c, (o[2] + n[2] + 1) * c);
+        bgrid.cellOf((o[0] + n[0] + 1) * cs, (o[1] + n[1] + 1) * cs, (o[2] + n[2] + 1) * cs);
     const CellCoord bo = bgrid.origin(), bn = bgrid.dims();
     int from[3], to[3];
     for (int a = 0; a < 3; ++a) {
@@ -157,32 +189,12 @@ void Simulation::computeDensity() {
       const std::uint32_t begin = bgrid.cellBegin(bgrid.localIndex(from[0], j, k));
       const std::uint32_t end = bgrid.cellEnd(bgrid.localIndex(to[0], j, k));
       for (std::uint32_t q = begin; q < end; ++q) {
-        boundaryDensity_[q] =
-            boundaryStaticDensity_[q] + scale * kernelSum(b.x[q], b.y[q], b.z[q], grid_, f.x.data(),
-                                                          f.y.data(), f.z.data(), shape);
+        bf.density[q] =
+            bf.staticDensity[q] + scale * kernelSum(b.x[q], b.y[q], b.z[q], grid, f.x.data(),
+                                                    f.y.data(), f.z.data(), shape);
       }
     });
   });
-}
-
-// The pressure force's scale c = 1 / mean K over the particles with a full neighbourhood (at
-// least rest density): the lattice value (SceneSetup.h) corrected for how the particles are
-// actually arranged. One factor for all pairs keeps momentum conserved; it drifts slowly, so
-// energy is conserved as well as before. Without it a settled still tank carries ~3% excess
-// pressure (the disordered packing's discrete gradient is that much weaker than the lattice's).
-void Simulation::updateGradientCorrection() {
-  const Particles& f = fluid_;
-  const float rho0 = scene_.solver.restDensity;
-  double sum = 0;
-  std::size_t count = 0;
-  for (std::size_t i = 0; i < f.size(); ++i) {  // serial: a fixed summation order
-    if (f.rho[i] < rho0) continue;
-    sum += gradientMoment_[i];
-    ++count;
-  }
-  constexpr std::size_t kMinimumSample = 64;  // fewer: a spray or a drop; trust the lattice
-  gradientCorrection_ =
-      count >= kMinimumSample ? static_cast<float>(count / sum) : derived_.gradientCorrection;
 }
 
 // a_i = - c sum_j m (p_i/rho_i^2 + p_j/rho_j^2) gradW_spiky(x_i - x_j)  fluid and boundary j
@@ -191,23 +203,25 @@ void Simulation::updateGradientCorrection() {
 //       + g
 // with c the gradient correction (updateGradientCorrection()).
 // Pairs are antisymmetric term by term, so total momentum is conserved up to round-off.
-void Simulation::computeForces() {
-  Particles& f = fluid_;
-  const BoundaryParticles& b = boundary_.particles();
-  const NeighbourGrid& bgrid = boundary_.grid();
-  const Kernels& kern = derived_.kernels;
+void computeForces(StepContext& c) {
+  Particles& f = c.fluid;
+  const BoundaryParticles& b = c.boundary.particles();
+  const NeighbourGrid& bgrid = c.boundary.grid();
+  const Kernels& kern = c.derived.kernels;
+  const std::vector<float>& pressureTerm = c.scratch.pressureTerm;
+  const std::vector<float>& inverseDensity = c.scratch.inverseDensity;
   const float h = kern.h, h2 = kern.h2;
-  const float pressureScale = -gradientCorrection_ * derived_.mass * kern.spikyGradFactor;
+  const float pressureScale = -c.gradientCorrection * c.derived.mass * kern.spikyGradFactor;
   const float viscScale =
-      derived_.viscosity * scene_.solver.restDensity * derived_.mass * kern.viscLapFactor;
-  const Vec3 g = scene_.solver.gravity;
-  const float noSlip = scene_.solver.noSlipWalls ? 1.0f / scene_.solver.restDensity : 0.0f;
+      c.derived.viscosity * c.solver.restDensity * c.derived.mass * kern.viscLapFactor;
+  const Vec3 g = c.solver.gravity;
+  const float noSlip = c.solver.noSlipWalls ? 1.0f / c.solver.restDensity : 0.0f;
 
   forEachCellWithCandidates<8, 4>(
-      grid_,
+      c.grid,
       {f.x.data(), f.y.data(), f.z.data(), f.vx.data(), f.vy.data(), f.vz.data(),
-       pressureTerm_.data(), inverseDensity_.data()},
-      bgrid, {b.x.data(), b.y.data(), b.z.data(), boundaryPressureTerm_.data()}, h,
+       pressureTerm.data(), inverseDensity.data()},
+      bgrid, {b.x.data(), b.y.data(), b.z.data(), c.boundaryFields.pressureTerm.data()}, h,
       [&](std::uint32_t begin, std::uint32_t end, const CandidateBatch<8>& fb,
           const CandidateBatch<4>& bb) {
         const float* fx = fb.field[0].data();
@@ -225,7 +239,7 @@ void Simulation::computeForces() {
         for (std::uint32_t i = begin; i < end; ++i) {
           const float xi = f.x[i], yi = f.y[i], zi = f.z[i];
           const float vxi = f.vx[i], vyi = f.vy[i], vzi = f.vz[i];
-          const float pi = pressureTerm_[i];
+          const float pi = pressureTerm[i];
           float px = 0, py = 0, pz = 0, vx = 0, vy = 0, vz = 0;
 #pragma omp simd reduction(+ : px, py, pz, vx, vy, vz)
           for (std::size_t j = 0; j < fb.padded; ++j) {
@@ -254,7 +268,7 @@ void Simulation::computeForces() {
           // No-slip: the viscosity term with the wall at rest (v_b = 0, rho_b = rho0).
           const float drag = noSlip * w;
           vx -= drag * vxi, vy -= drag * vyi, vz -= drag * vzi;
-          const float visc = viscScale * inverseDensity_[i];
+          const float visc = viscScale * inverseDensity[i];
           f.ax[i] = pressureScale * px + visc * vx + g.x();
           f.ay[i] = pressureScale * py + visc * vy + g.y();
           f.az[i] = pressureScale * pz + visc * vz + g.z();
