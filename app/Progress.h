@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <string>
 
+#include "sim/HumanText.h"
+
 namespace sph::app {
 
 struct ProgressSample {
@@ -34,9 +36,5 @@ class Progress {
   double lastDrawnFraction_ = -1;
   bool drawn_ = false;
 };
-
-// "1.23e+06" style helpers for summaries.
-std::string humanCount(double v);
-std::string humanSeconds(double s);
 
 }  // namespace sph::app

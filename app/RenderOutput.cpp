@@ -23,7 +23,8 @@ void makeDirectory(const std::string& dir) {
 
 std::unique_ptr<RenderOutput> RenderOutput::prepare(const Scene& scene,
                                                     const BoundaryParticles& boundary,
-                                                    const std::string& cachePath) {
+                                                    io::CacheSession* cache) {
+  const std::string cachePath = cache ? cache->path() : "";
   if (!scene.render) return nullptr;
   std::string dir = scene.render->directory;
   if (dir.empty()) {
@@ -38,22 +39,23 @@ std::unique_ptr<RenderOutput> RenderOutput::prepare(const Scene& scene,
     }
   }
   makeDirectory(dir);
-  std::unique_ptr<RenderOutput> out(new RenderOutput(scene, dir));
+  std::unique_ptr<RenderOutput> out(new RenderOutput(scene, dir, cache));
   if (scene.render->showBoundary) out->renderer_.setBoundary(boundary.x, boundary.y, boundary.z);
   return out;
 }
 
-RenderOutput::RenderOutput(const Scene& scene, std::string directory)
+RenderOutput::RenderOutput(const Scene& scene, std::string directory, io::CacheSession* cache)
     : context_(render::gl::GlContext::headless()),
       renderer_(*scene.render, scene.solver.spacing, scene.solver.restDensity),
       desc_(*scene.render),
       camera_(*scene.camera),
       name_(scene.name),
-      directory_(std::move(directory)) {}
+      directory_(std::move(directory)),
+      cache_(cache) {}
 
-void RenderOutput::frame(const Particles& fluid, std::size_t frame, CacheOutput* cache) {
+void RenderOutput::frame(const Simulation& sim, std::size_t frame) {
   if (frame % static_cast<std::size_t>(desc_.every) != 0) return;
-  renderer_.prepare(fluid);
+  renderer_.prepare(sim.fluid());
   const bool both = desc_.splat == RenderDesc::Splat::Both;
   for (render::splat::SplatKind kind :
        {render::splat::SplatKind::Point, render::splat::SplatKind::Quad}) {
@@ -66,8 +68,9 @@ void RenderOutput::frame(const Particles& fluid, std::size_t frame, CacheOutput*
     char name[96];
     std::snprintf(name, sizeof name, "/%s_%s_%05zu.png", name_.c_str(), kindName, frame);
     io::writePng(directory_ + name, r.image.width, r.image.height, r.image.rgb.data());
-    if (cache && desc_.toCache)
-      cache->writeRenderedFrame(kindName, frame, r.image.width, r.image.height, r.image.rgb.data());
+    if (cache_ && desc_.toCache)
+      cache_->writeRenderedFrame(kindName, frame, r.image.width, r.image.height,
+                                 r.image.rgb.data());
     ++images_;
   }
 }

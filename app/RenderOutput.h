@@ -6,35 +6,38 @@
 #include <memory>
 #include <string>
 
-#include "app/CacheOutput.h"
+#include "io/CacheSession.h"
 #include "render/gl/GlContext.h"
 #include "render/splat/FrameRenderer.h"
+#include "sim/RunLoop.h"
 #include "sim/Scene.h"
 
 namespace sph::app {
 
-class RenderOutput {
+class RenderOutput final : public FrameSink {
  public:
   // nullptr if the scene has no render section. `cachePath` ("" for none) names the default
   // picture directory: next to the cache, else results/<scene>_frames.
+  // With a cache, pictures also go into it (render.to_cache).
   static std::unique_ptr<RenderOutput> prepare(const Scene& scene,
                                                const BoundaryParticles& boundary,
-                                               const std::string& cachePath);
+                                               io::CacheSession* cache);
 
-  // Draws output frame `frame` of the run (the current state of `fluid`).
-  void frame(const Particles& fluid, std::size_t frame, CacheOutput* cache);
+  // Draws output frame `index` of the run (the current state of `sim`).
+  void frame(const Simulation& sim, std::size_t index) override;
 
   const std::string& directory() const { return directory_; }
   std::size_t images() const { return images_; }
   double seconds() const { return seconds_; }
 
  private:
-  RenderOutput(const Scene& scene, std::string directory);
+  RenderOutput(const Scene& scene, std::string directory, io::CacheSession* cache);
   render::gl::GlContext context_;  // first: outlives the GL objects below
   render::splat::FrameRenderer renderer_;
   RenderDesc desc_;
   CameraDesc camera_;
   std::string name_, directory_;
+  io::CacheSession* cache_;
   std::size_t images_ = 0;
   double seconds_ = 0;
 };

@@ -130,6 +130,17 @@ TEST(Cli, BlowUpStopsWithStepTimeParticleAndExitThree) {
       << r.output;
   EXPECT_NE(r.output.find("reproduce: sphsplat run " + path + " --end"), std::string::npos)
       << r.output;
+  // The reproduce line runs as printed and ends in the same blow-up: its --end is rounded up,
+  // never down past the failing step.
+  const std::size_t at = r.output.find("reproduce: sphsplat ");
+  ASSERT_NE(at, std::string::npos);
+  const std::size_t from = at + std::string("reproduce: sphsplat ").size();
+  const std::string arguments = r.output.substr(from, r.output.find('\n', from) - from);
+  const auto again = runSphsplat(arguments);
+  EXPECT_EQ(again.exitCode, 3) << arguments << "\n" << again.output;
+  const std::string blowUp = r.output.substr(r.output.find("numerical blow-up"));
+  EXPECT_EQ(again.output.substr(again.output.find("numerical blow-up")).substr(0, 80),
+            blowUp.substr(0, 80));
 }
 
 }  // namespace

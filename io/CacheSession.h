@@ -1,7 +1,8 @@
-// The HDF5 cache of one `sphsplat run` (DESIGN.md, "HDF5 cache"): where it goes (--output or the
-// scene's output.path), what it may replace (nothing without --overwrite), the temporary name a
-// new cache has until its first frame is in, resume (--resume), the XDMF sidecar and the summary
-// lines. The file format itself is io/'s (CacheWriter, CacheReader, XdmfWriter).
+// The HDF5 cache of one run (DESIGN.md, "HDF5 cache"): where it goes (--output or the scene's
+// output.path), what it may replace (nothing without --overwrite), the temporary name a new cache
+// has until its first frame is in, resume (--resume), the XDMF sidecar and the summary lines.
+// A FrameSink of the run loop (sim/RunLoop.h), so `sphsplat run` and tests drive the same
+// session; the file format itself is CacheWriter's, CacheReader's and XdmfWriter's.
 #pragma once
 
 #include <cstddef>
@@ -11,37 +12,39 @@
 #include "io/CacheReader.h"
 #include "io/CacheWriter.h"
 #include "io/XdmfWriter.h"
+#include "sim/RunLoop.h"
 #include "sim/Scene.h"
 #include "sim/Simulation.h"
 
-namespace sph::app {
+namespace sph::io {
 
-struct CacheFlags {
+struct CacheSessionOptions {
   std::string output;       // --output PATH
   bool overwrite = false;   // --overwrite
   bool noCompress = false;  // --no-compress
   std::string resume;       // --resume CACHE
 };
 
-class CacheOutput {
+class CacheSession final : public FrameSink {
  public:
   // Checks the flags and the files before anything is simulated; nullptr when the run writes no
   // cache. Applies --no-compress to the scene's output section and, when resuming, the cache's
   // own frame rate (its frames must stay evenly spaced).
-  static std::unique_ptr<CacheOutput> prepare(const CacheFlags& flags, Scene& scene);
+  static std::unique_ptr<CacheSession> prepare(const CacheSessionOptions& flags, Scene& scene);
 
   bool resuming() const { return resume_; }
   // Resume: checks that `sim`'s scene is the cache's, puts `sim` in the state of the cache's last
   // frame and opens the cache for appending. Returns the index of that frame.
-  std::size_t restore(Simulation& sim, const io::CacheProvenance& provenance);
+  std::size_t restore(Simulation& sim, const CacheProvenance& provenance);
   // Time of the cache's last frame (resume), s.
   double lastFrameTime() const;
 
   // New cache: written under PATH.partial until writeFrame() has committed frame 0, then renamed.
-  void create(const Simulation& sim, const io::CacheProvenance& provenance,
-              std::size_t expectedFrames);
+  void create(const Simulation& sim, const CacheProvenance& provenance, std::size_t expectedFrames);
   // Writes and commits the current state as the next frame and adds it to the sidecar.
   void writeFrame(const Simulation& sim);
+  // FrameSink: the run loop's frames go to writeFrame().
+  void frame(const Simulation& sim, std::size_t) override { writeFrame(sim); }
   // Stores a rendered image of frame `frame` (already written) under /Render/<renderer>.
   void writeRenderedFrame(const std::string& renderer, std::size_t frame, int width, int height,
                           const std::uint8_t* rgb);
@@ -64,15 +67,15 @@ class CacheOutput {
   std::string path_, xdmfPath_;
   bool overwrite_ = false;
   bool resume_ = false;
-  std::unique_ptr<io::CacheReader> reader_;  // resume only
-  std::unique_ptr<io::CacheWriter> writer_;
-  std::unique_ptr<io::XdmfWriter> xdmf_;
-  io::cache::FieldSet fields_;
+  std::unique_ptr<CacheReader> reader_;  // resume only
+  std::unique_ptr<CacheWriter> writer_;
+  std::unique_ptr<XdmfWriter> xdmf_;
+  cache::FieldSet fields_;
   bool doublePositions_ = false;
   std::size_t boundaryParticles_ = 0;
-  std::vector<io::CacheFrame> frames_;
+  std::vector<CacheFrame> frames_;
   double particleFrames_ = 0;         // sum over frames of the particle count
   double particleFramesWritten_ = 0;  // the same, of the frames this run wrote
 };
 
-}  // namespace sph::app
+}  // namespace sph::io

@@ -1,4 +1,4 @@
-#include "app/CacheOutput.h"
+#include "io/CacheSession.h"
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -9,10 +9,10 @@
 #include <cstring>
 #include <sstream>
 
-#include "app/Progress.h"
+#include "sim/HumanText.h"
 #include "sim/InputError.h"
 
-namespace sph::app {
+namespace sph::io {
 namespace {
 
 bool exists(const std::string& path) {
@@ -44,9 +44,10 @@ std::string megabytes(double bytes) {
 
 }  // namespace
 
-std::unique_ptr<CacheOutput> CacheOutput::prepare(const CacheFlags& flags, Scene& scene) {
+std::unique_ptr<CacheSession> CacheSession::prepare(const CacheSessionOptions& flags,
+                                                    Scene& scene) {
   if (flags.noCompress) scene.output.compression = 0;
-  auto out = std::unique_ptr<CacheOutput>(new CacheOutput);
+  auto out = std::unique_ptr<CacheSession>(new CacheSession);
   out->overwrite_ = flags.overwrite;
   if (!flags.resume.empty()) {
     if (!flags.output.empty() && flags.output != flags.resume) {
@@ -57,8 +58,8 @@ std::unique_ptr<CacheOutput> CacheOutput::prepare(const CacheFlags& flags, Scene
       throw InputError("--resume and --overwrite exclude each other (resume appends to the cache)");
     out->path_ = flags.resume;
     out->resume_ = true;
-    out->reader_ = std::make_unique<io::CacheReader>(flags.resume);
-    const io::CacheSummary& s = out->reader_->summary();
+    out->reader_ = std::make_unique<CacheReader>(flags.resume);
+    const CacheSummary& s = out->reader_->summary();
     if (s.frames.empty())
       throw InputError(flags.resume + ": the cache has no complete frame to resume from");
     if (!s.damagedFrame.empty()) {
@@ -67,14 +68,14 @@ std::unique_ptr<CacheOutput> CacheOutput::prepare(const CacheFlags& flags, Scene
     }
     // A resume needs the last frame's resume record: say so before anything runs.
     if (!s.frames.back().hasRestart) out->reader_->readRestart(s.frames.size() - 1);
-    if (io::cacheIsLocked(flags.resume)) {
+    if (cacheIsLocked(flags.resume)) {
       throw InputError(
           flags.resume +
           ": another sphsplat run is writing this cache; wait for it or stop it first");
     }
     // Frames stay evenly spaced: the cache's rate wins over the scene's.
     scene.output.fps = s.fps;
-    out->xdmfPath_ = io::XdmfWriter::sidecarPath(out->path_);
+    out->xdmfPath_ = XdmfWriter::sidecarPath(out->path_);
     return out;
   }
   out->path_ = flags.output.empty() ? scene.output.path : flags.output;
@@ -86,7 +87,7 @@ std::unique_ptr<CacheOutput> CacheOutput::prepare(const CacheFlags& flags, Scene
     throw InputError(out->path_ + ": cannot create the cache in " + dir + " (" +
                      std::strerror(errno) + ")");
   }
-  out->xdmfPath_ = io::XdmfWriter::sidecarPath(out->path_);
+  out->xdmfPath_ = XdmfWriter::sidecarPath(out->path_);
   if (out->xdmfPath_ == out->path_) out->xdmfPath_ += ".xdmf";
   for (const std::string& p : {out->path_, out->xdmfPath_}) {
     if (isDirectory(p)) throw InputError(p + ": is a directory; expected a cache file name");
@@ -96,21 +97,21 @@ std::unique_ptr<CacheOutput> CacheOutput::prepare(const CacheFlags& flags, Scene
           (p == out->path_ ? ", or --resume " + p + " to continue that run" : std::string("")));
     }
   }
-  if (io::cacheIsLocked(out->path_)) {
+  if (cacheIsLocked(out->path_)) {
     throw InputError(out->path_ +
                      ": another sphsplat run is writing this cache; wait for it or stop it first");
   }
   return out;
 }
 
-std::size_t CacheOutput::restore(Simulation& sim, const io::CacheProvenance& provenance) {
-  const io::CacheSummary& s = reader_->summary();
+std::size_t CacheSession::restore(Simulation& sim, const CacheProvenance& provenance) {
+  const CacheSummary& s = reader_->summary();
   const Scene& scene = sim.scene();
-  if (io::cache::dynamicsFingerprint(scene) != s.sceneFingerprint) {
+  if (cache::dynamicsFingerprint(scene) != s.sceneFingerprint) {
     // Name the first resolved parameter that differs, if one does.
     std::string what;
-    for (const io::cache::Parameter& mine : io::cache::solverParameters(scene, sim.params())) {
-      for (const io::cache::Parameter& theirs : s.parameters) {
+    for (const cache::Parameter& mine : cache::solverParameters(scene, sim.params())) {
+      for (const cache::Parameter& theirs : s.parameters) {
         if (!what.empty() || mine.name != theirs.name) continue;
         if (mine.isText && mine.text != theirs.text) {
           what =
@@ -146,34 +147,34 @@ std::size_t CacheOutput::restore(Simulation& sim, const io::CacheProvenance& pro
   doublePositions_ = s.doublePositions;
   boundaryParticles_ = s.boundaryParticles;
   frames_ = s.frames;
-  for (const io::CacheFrame& f : frames_) particleFrames_ += static_cast<double>(f.particles);
+  for (const CacheFrame& f : frames_) particleFrames_ += static_cast<double>(f.particles);
   reader_.reset();  // HDF5 opens a file once per process: read-only first, now for writing
-  writer_ = io::CacheWriter::append(path_, frames_.size());
+  writer_ = CacheWriter::append(path_, frames_.size());
   writer_->setStatus("running (resumed from frame " + std::to_string(last) + ")");
-  xdmf_ = std::make_unique<io::XdmfWriter>(xdmfPath_, baseName(path_), fields_, doublePositions_,
-                                           boundaryParticles_, frames_);
+  xdmf_ = std::make_unique<XdmfWriter>(xdmfPath_, baseName(path_), fields_, doublePositions_,
+                                       boundaryParticles_, frames_);
   return last;
 }
 
-double CacheOutput::lastFrameTime() const {
-  const std::vector<io::CacheFrame>& frames = reader_ ? reader_->summary().frames : frames_;
+double CacheSession::lastFrameTime() const {
+  const std::vector<CacheFrame>& frames = reader_ ? reader_->summary().frames : frames_;
   return frames.empty() ? 0.0 : frames.back().time;
 }
 
-void CacheOutput::create(const Simulation& sim, const io::CacheProvenance& provenance,
-                         std::size_t expectedFrames) {
+void CacheSession::create(const Simulation& sim, const CacheProvenance& provenance,
+                          std::size_t expectedFrames) {
   const Scene& scene = sim.scene();
   std::string error;
-  fields_ = io::cache::parseFields(scene.output.fields, error);
+  fields_ = cache::parseFields(scene.output.fields, error);
   doublePositions_ = scene.output.doublePositions;
   boundaryParticles_ = sim.boundary().particles().size();
-  writer_ = io::CacheWriter::create(path_ + ".partial", scene, sim.params(),
-                                    sim.boundary().particles(), provenance, expectedFrames);
+  writer_ = CacheWriter::create(path_ + ".partial", scene, sim.params(), sim.boundary().particles(),
+                                provenance, expectedFrames);
 }
 
-void CacheOutput::writeFrame(const Simulation& sim) {
+void CacheSession::writeFrame(const Simulation& sim) {
   writer_->writeFrame(sim.fluid(), sim.runState());
-  io::CacheFrame f;
+  CacheFrame f;
   f.index = writer_->frameCount() - 1;
   f.time = sim.time();
   f.particles = sim.fluid().size();
@@ -186,19 +187,19 @@ void CacheOutput::writeFrame(const Simulation& sim) {
     // Frame 0 is in: the new cache replaces PATH (and only now, so a run that fails before this
     // leaves an existing cache untouched), then the sidecar follows.
     writer_->publishAs(path_);
-    xdmf_ = std::make_unique<io::XdmfWriter>(xdmfPath_, baseName(path_), fields_, doublePositions_,
-                                             boundaryParticles_, frames_);
+    xdmf_ = std::make_unique<XdmfWriter>(xdmfPath_, baseName(path_), fields_, doublePositions_,
+                                         boundaryParticles_, frames_);
   } else {
     xdmf_->append(f);
   }
 }
 
-void CacheOutput::finish(double time) {
+void CacheSession::finish(double time) {
   writer_->setStatus("finished at t = " + number(time) + " s");
   if (xdmf_) xdmf_->flush();
 }
 
-std::string CacheOutput::stop(const std::string& reason) {
+std::string CacheSession::stop(const std::string& reason) {
   if (frames_.empty()) {
     close();
     return "no frame was written, so there is no cache at " + path_;
@@ -214,7 +215,7 @@ std::string CacheOutput::stop(const std::string& reason) {
   return text;
 }
 
-void CacheOutput::close() {
+void CacheSession::close() {
   if (!writer_) return;
   const bool published = xdmf_ != nullptr;
   const std::string partial = writer_->path();
@@ -224,17 +225,17 @@ void CacheOutput::close() {
   if (!published) ::unlink(partial.c_str());
 }
 
-std::size_t CacheOutput::frameCount() const {
+std::size_t CacheSession::frameCount() const {
   return frames_.size();
 }
 
-std::string CacheOutput::framesText() const {
+std::string CacheSession::framesText() const {
   if (frames_.empty()) return "no frame";
   return "frames 0-" + std::to_string(frames_.size() - 1) +
          " (t = " + number(frames_.front().time) + " - " + number(frames_.back().time) + " s)";
 }
 
-std::string CacheOutput::summary(double runSeconds) const {
+std::string CacheSession::summary(double runSeconds) const {
   const double bytes = writer_ ? static_cast<double>(writer_->fileBytes()) : 0.0;
   const double writing = writer_ ? writer_->secondsWriting() : 0.0;
   std::ostringstream s;
@@ -251,9 +252,9 @@ std::string CacheOutput::summary(double runSeconds) const {
   return s.str();
 }
 
-void CacheOutput::writeRenderedFrame(const std::string& renderer, std::size_t frame, int width,
-                                     int height, const std::uint8_t* rgb) {
+void CacheSession::writeRenderedFrame(const std::string& renderer, std::size_t frame, int width,
+                                      int height, const std::uint8_t* rgb) {
   writer_->writeRenderedFrame(renderer, frame, width, height, rgb);
 }
 
-}  // namespace sph::app
+}  // namespace sph::io

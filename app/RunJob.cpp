@@ -1,0 +1,240 @@
+#include "app/RunJob.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/Commands.h"
+#include "app/Interrupt.h"
+#include "app/Progress.h"
+#include "app/RenderOutput.h"
+#include "app/Version.h"
+#include "io/SceneLoader.h"
+#include "render/cdt/CollisionSetup.h"
+#include "sim/Parallel.h"
+#include "sim/RunLoop.h"
+#include "sim/Simulation.h"
+
+namespace sph::app {
+namespace {
+
+void printPassSplit(const StepProfile& profile) {
+  const double total = profile.total();
+  std::printf("  per pass:");
+  for (int p = 0; p < static_cast<int>(Pass::Count); ++p) {
+    const double s = profile.seconds[p];
+    if (s <= 0) continue;
+    std::printf(" %s %.1f%%", passName(static_cast<Pass>(p)), total > 0 ? 100 * s / total : 0.0);
+  }
+  std::printf("\n");
+}
+
+// A word for a POSIX shell: as it is when it is safe, else in single quotes.
+std::string shellQuote(const std::string& word) {
+  bool plain = !word.empty();
+  for (char ch : word) {
+    const bool safe = std::isalnum(static_cast<unsigned char>(ch)) ||
+                      std::string("/._-+=:,@%").find(ch) != std::string::npos;
+    plain = plain && safe;
+  }
+  if (plain) return word;
+  std::string quoted = "'";
+  for (char ch : word) quoted += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+  return quoted + "'";
+}
+
+// The shortest decimal text of t that reads back as at least t, so `--end TEXT` reaches it.
+std::string endTimeText(double t) {
+  char text[40];
+  for (int digits = 6; digits <= 17; ++digits) {
+    std::snprintf(text, sizeof text, "%.*g", digits, t);
+    if (std::strtod(text, nullptr) >= t) break;
+  }
+  return text;
+}
+
+// `sphsplat run SCENE [--set ...] [--end T] --threads N`: the run as the user asked for it, with
+// the end time `end` (0: the scene's own).
+std::string commandLine(const RunRequest& o, double end) {
+  std::string line = "sphsplat run " + shellQuote(o.scene);
+  for (const std::string& s : o.overrides) line += " --set " + shellQuote(s);
+  if (end > 0) line += " --end " + endTimeText(end);
+  return line + " --threads " + std::to_string(threadCount());
+}
+
+// Runs to the blow-up and no further: to the end of the output frame it happened in. The steps
+// before it are the same only if every step aims at the same frame time as the run did (the step
+// is shortened to land on frames and on the end), so the end is that frame's time, not the time
+// of the blow-up.
+std::string reproduceCommand(const RunRequest& o, const RunPlan& plan, const RunOutcome& outcome) {
+  const double frameEnd = static_cast<double>(outcome.nextFrame) * plan.frameInterval;
+  return commandLine(o, std::min(plan.endTime, frameEnd));
+}
+
+// What the run is about to do: particles, the main derived numbers and, with --verbose, the
+// domain and every piece of work the scene skips (docs/benchmarks.md, "What a scene skips").
+void printHeader(const RunRequest& o, const Scene& scene, const Simulation& sim,
+                 const io::CacheSession* cache, double setupSeconds) {
+  const DerivedParams& d = sim.params();
+  const double frameInterval = 1.0 / scene.output.fps;
+  std::printf("%s: %zu fluid particles, %zu boundary particles, %d thread%s\n", scene.name.c_str(),
+              sim.fluid().size(), sim.boundary().particles().size(), threadCount(),
+              threadCount() == 1 ? "" : "s");
+  std::printf(
+      "  spacing %g m, support radius %g m, particle mass %.4g kg, speed of sound %.3g m/s, "
+      "first dt %.3g s\n",
+      scene.solver.spacing, d.h, d.mass, d.speedOfSound, sim.nextTimeStep());
+  if (o.verbose) {
+    std::printf("  domain [%g, %g, %g] - [%g, %g, %g] m, %d boundary layer%s\n",
+                scene.domain.lo.x(), scene.domain.lo.y(), scene.domain.lo.z(), scene.domain.hi.x(),
+                scene.domain.hi.y(), scene.domain.hi.z(), d.boundaryLayers,
+                d.boundaryLayers == 1 ? "" : "s");
+    if (!scene.collision)
+      std::printf("  skipped: collision pass (no collision section)\n");
+    else
+      std::printf("  collision: %s\n", render::cdt::describeCollision(scene).c_str());
+    if (!scene.render) std::printf("  skipped: render, GL context (no render section)\n");
+    // The other skips (docs/benchmarks.md, "What a scene skips").
+    std::printf(
+        "  skipped: boundary re-sampling (%zu boundary particles sampled once; setup took %s)\n",
+        sim.boundary().particles().size(), humanSeconds(setupSeconds).c_str());
+    if (!cache) {
+      std::printf("  skipped: cache (no output path; --output or output.path writes one)\n");
+    } else {
+      std::string unwritten;
+      for (std::size_t f = 0; f < io::cache::kFieldCount; ++f) {
+        const std::string name = io::cache::fieldName(static_cast<io::cache::Field>(f));
+        bool listed = false;
+        for (const std::string& w : scene.output.fields) listed = listed || w == name;
+        if (!listed) unwritten += (unwritten.empty() ? "" : " ") + name;
+      }
+      if (!unwritten.empty()) {
+        std::printf("  skipped: cache fields not in output.fields (%s)%s\n", unwritten.c_str(),
+                    scene.output.restart
+                        ? "; resume records still keep what a resume needs (output.restart)"
+                        : "");
+      }
+      std::printf("  skipped: state between output frames (a frame every %.4g s, output.fps %g)\n",
+                  frameInterval, scene.output.fps);
+    }
+  }
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int runJob(const RunRequest& o) {
+  Scene scene = io::loadScene(o.scene, o.overrides);
+  if (o.end > 0) scene.solver.endTime = o.end;
+  setThreadCount(o.threads);
+  // The cache's paths are checked before anything runs (nothing is overwritten by surprise).
+  std::unique_ptr<io::CacheSession> cache = io::CacheSession::prepare(o.cache, scene);
+
+  const auto setupStart = std::chrono::steady_clock::now();
+  Simulation sim(scene);  // samples the boundaries, once for the whole run
+  const double setupSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - setupStart).count();
+  sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
+  const double end = scene.solver.endTime;
+  const double frameInterval = 1.0 / scene.output.fps;
+  if (!o.quiet) printHeader(o, scene, sim, cache.get(), setupSeconds);
+
+  std::uint64_t frames = 1;  // the next output frame; the initial state is frame 0
+  const io::CacheProvenance provenance{SPHSPLAT_VERSION_STRING, threadCount(), o.overrides};
+  if (cache && cache->resuming()) {
+    if (cache->lastFrameTime() >= end) {
+      std::printf("%s already reaches t = %g s; nothing to do (--end sets a later end time)\n",
+                  cache->path().c_str(), cache->lastFrameTime());
+      return kOk;
+    }
+    frames = cache->restore(sim, provenance) + 1;
+    if (!o.quiet)
+      std::printf("  resuming %s from frame %llu at t = %g s\n", cache->path().c_str(),
+                  static_cast<unsigned long long>(frames - 1), sim.time());
+  }
+  installInterruptHandlers();
+
+  Progress progress(Progress::detect(o.quiet), scene.name);
+  const auto start = std::chrono::steady_clock::now();
+  if (cache && !cache->resuming()) {
+    cache->create(sim, provenance, plannedFrameCount(end, frameInterval));
+    cache->writeFrame(sim);
+  }
+  // Pictures while simulating (scene `render` section): the GL context exists only then.
+  std::unique_ptr<RenderOutput> pictures =
+      RenderOutput::prepare(scene, sim.boundary().particles(), cache.get());
+  if (pictures && !(cache && cache->resuming())) pictures->frame(sim, 0);
+  auto sample = [&]() {
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ProgressSample s;
+    s.time = sim.time();
+    s.endTime = end;
+    s.steps = sim.stepCount();
+    s.particles = sim.fluid().size();
+    s.particleStepsPerSecond = wall > 0 ? sim.profile().particleSteps / wall : 0;
+    return s;
+  };
+  RunPlan plan;
+  plan.endTime = end;
+  plan.frameInterval = frameInterval;
+  plan.nextFrame = frames;
+  plan.stopRequested = [] { return interruptSignal() != 0; };
+  plan.afterStep = [&](const Simulation&) { progress.update(sample()); };
+  std::vector<FrameSink*> sinks;
+  if (cache) sinks.push_back(cache.get());
+  if (pictures) sinks.push_back(pictures.get());
+  const RunOutcome outcome = runFrames(sim, plan, sinks);
+  if (outcome.blowUp) {
+    const StabilityError& e = *outcome.blowUp;
+    progress.finish(sample());
+    std::fprintf(stderr, "sphsplat: %s\n", e.what());
+    std::fprintf(stderr, "  reproduce: %s\n", reproduceCommand(o, plan, outcome).c_str());
+    if (cache) {
+      char reason[96];
+      std::snprintf(reason, sizeof reason, "numerical blow-up at step %llu, t = %.6g s",
+                    static_cast<unsigned long long>(e.step), e.time);
+      std::fprintf(stderr, "  %s\n", cache->stop(reason).c_str());
+    }
+    return kBlowUp;
+  }
+  progress.finish(sample());
+  if (const int signal = interruptSignal()) {
+    std::fprintf(stderr, "sphsplat: interrupted by %s at t = %g s\n", signalName(signal),
+                 sim.time());
+    if (cache) {
+      std::fprintf(stderr, "  %s\n",
+                   cache->stop(std::string("interrupted by ") + signalName(signal)).c_str());
+      // A resume needs the same scene, edits, end and (for bit-exactness) threads.
+      std::fprintf(stderr, "  continue with: %s --resume %s\n", commandLine(o, o.end).c_str(),
+                   shellQuote(cache->path()).c_str());
+    }
+    return 128 + signal;
+  }
+  if (cache) cache->finish(sim.time());
+
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const StepProfile& prof = sim.profile();
+  if (!o.quiet) {
+    std::printf(
+        "done: simulated %.4g s in %llu steps (mean dt %.3g s), %zu fluid particles at the end\n",
+        sim.time(), static_cast<unsigned long long>(prof.steps),
+        prof.steps ? sim.time() / prof.steps : 0.0, sim.fluid().size());
+    std::printf("  wall time %s, %s particle-steps/s, %.3g ms per step\n",
+                humanSeconds(wall).c_str(),
+                humanCount(wall > 0 ? prof.particleSteps / wall : 0).c_str(),
+                prof.steps ? 1e3 * wall / prof.steps : 0.0);
+    if (o.verbose) printPassSplit(prof);
+    if (cache) std::printf("  %s\n", cache->summary(wall).c_str());
+  }
+  if (cache) cache->close();
+  return kOk;
+}
+
+}  // namespace sph::app
