@@ -9,6 +9,7 @@
 #include "app/Progress.h"
 #include "io/CacheReader.h"
 #include "io/CacheWriter.h"
+#include "io/OutputLock.h"
 #include "io/XdmfWriter.h"
 
 namespace sph::app {
@@ -23,7 +24,7 @@ std::string describeStatus(const io::CacheSummary& s) {
   if (s.status.rfind("running", 0) != 0) return s.status;
   const std::string last =
       s.frames.empty() ? std::string("no frame") : "frame " + std::to_string(s.frames.size() - 1);
-  if (io::cacheIsLocked(s.path))
+  if (io::cacheIsLocked(s.path) || io::OutputLock::isHeld(s.path))
     return "running: a sphsplat run is writing it now (" + last + " so far)";
   return "unfinished: its run was killed or crashed after " + last +
          " (every frame listed is complete; continue with sphsplat run SCENE --resume " + s.path +

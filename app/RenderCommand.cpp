@@ -104,6 +104,11 @@ struct CacheRendering {
 int render(const RenderOptions& o) {
   CacheRendering c(o.cache, o.overrides, o.splat, o.size);
   const std::vector<std::size_t> frames = parseFrameRange(o.frames, c.frameCount(), "--frames");
+  // Owned for the whole command: pictures (and, with --to-cache, the cache) are not shared with a
+  // run or another render writing there at the same time.
+  const io::OutputLock directoryLock = lockDirectory(o.out);
+  io::OutputLock cacheLock;
+  if (o.toCache) cacheLock = io::OutputLock::acquire(o.cache, "cache");
   makeDirectory(o.out);
   render::gl::GlContext context = render::gl::GlContext::headless();
   render::splat::FrameRenderer renderer(c.desc, c.scene.solver.spacing, c.scene.solver.restDensity);
@@ -175,6 +180,7 @@ std::string fmt(const char* format, double a, double b = 0, double c = 0, double
 int compare(const CompareOptions& o) {
   CacheRendering c(o.cache, o.overrides, "both", o.size);
   const std::size_t f = parseFrameRange(o.frame, c.frameCount(), "--frame").front();
+  const io::OutputLock directoryLock = lockDirectory(o.out);
   makeDirectory(o.out);
   render::gl::GlContext context = render::gl::GlContext::headless();
   render::splat::FrameRenderer renderer(c.desc, c.scene.solver.spacing, c.scene.solver.restDensity);

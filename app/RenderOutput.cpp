@@ -2,12 +2,22 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include "io/Png.h"
 #include "sim/InputError.h"
 
 namespace sph::app {
+
+io::OutputLock lockDirectory(const std::string& dir) {
+  std::string parent = dir;
+  while (parent.size() > 1 && parent.back() == '/') parent.pop_back();
+  const std::size_t slash = parent.find_last_of('/');
+  parent = slash == std::string::npos ? "." : parent.substr(0, std::max<std::size_t>(slash, 1));
+  makeDirectory(parent);
+  return io::OutputLock::acquire(dir, "frames directory");
+}
 
 void makeDirectory(const std::string& dir) {
   std::string partial;
@@ -21,23 +31,21 @@ void makeDirectory(const std::string& dir) {
   }
 }
 
+std::string RenderOutput::directoryFor(const Scene& scene, const std::string& cachePath) {
+  if (!scene.render->directory.empty()) return scene.render->directory;
+  if (cachePath.empty()) return "results/" + scene.name + "_frames";
+  const std::size_t dot = cachePath.rfind('.');
+  return (dot == std::string::npos || cachePath.find('/', dot) != std::string::npos
+              ? cachePath
+              : cachePath.substr(0, dot)) +
+         "_frames";
+}
+
 std::unique_ptr<RenderOutput> RenderOutput::prepare(const Scene& scene,
                                                     const BoundaryParticles& boundary,
                                                     io::CacheSession* cache) {
-  const std::string cachePath = cache ? cache->path() : "";
   if (!scene.render) return nullptr;
-  std::string dir = scene.render->directory;
-  if (dir.empty()) {
-    if (!cachePath.empty()) {
-      const std::size_t dot = cachePath.rfind('.');
-      dir = (dot == std::string::npos || cachePath.find('/', dot) != std::string::npos
-                 ? cachePath
-                 : cachePath.substr(0, dot)) +
-            "_frames";
-    } else {
-      dir = "results/" + scene.name + "_frames";
-    }
-  }
+  const std::string dir = directoryFor(scene, cache ? cache->path() : "");
   makeDirectory(dir);
   std::unique_ptr<RenderOutput> out(new RenderOutput(scene, dir, cache));
   if (scene.render->showBoundary) out->renderer_.setBoundary(boundary.x, boundary.y, boundary.z);

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "io/CacheSession.h"
+#include "io/OutputLock.h"
 #include "render/gl/GlContext.h"
 #include "render/splat/FrameRenderer.h"
 #include "sim/RunLoop.h"
@@ -18,6 +19,9 @@ class RenderOutput final : public FrameSink {
  public:
   // nullptr if the scene has no render section. `cachePath` ("" for none) names the default
   // picture directory: next to the cache, else results/<scene>_frames.
+  // Where the pictures of `scene` go: render.directory, else next to the cache, else
+  // results/<scene>_frames.
+  static std::string directoryFor(const Scene& scene, const std::string& cachePath);
   // With a cache, pictures also go into it (render.to_cache).
   static std::unique_ptr<RenderOutput> prepare(const Scene& scene,
                                                const BoundaryParticles& boundary,
@@ -44,5 +48,8 @@ class RenderOutput final : public FrameSink {
 
 // Creates `dir` and its parents; throws InputError naming it if that fails.
 void makeDirectory(const std::string& dir);
+// Takes the lock of a directory of frames (io/OutputLock.h) before anything is written into it,
+// creating its parent if needed (not the directory itself).
+io::OutputLock lockDirectory(const std::string& dir);
 
 }  // namespace sph::app

@@ -134,6 +134,10 @@ int runJob(const RunRequest& o) {
   setThreadCount(o.threads);
   // The cache's paths are checked before anything runs (nothing is overwritten by surprise).
   std::unique_ptr<io::CacheSession> cache = io::CacheSession::prepare(o.cache, scene);
+  // The pictures' directory is ours too before anything is written (the cache is, above).
+  io::OutputLock framesLock;
+  if (scene.render)
+    framesLock = lockDirectory(RenderOutput::directoryFor(scene, cache ? cache->path() : ""));
 
   const auto setupStart = std::chrono::steady_clock::now();
   Simulation sim(scene);  // samples the boundaries, once for the whole run

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <sstream>
 
+#include "io/OutputLock.h"
 #include "sim/HumanText.h"
 #include "sim/InputError.h"
 
@@ -58,6 +59,8 @@ std::unique_ptr<CacheSession> CacheSession::prepare(const CacheSessionOptions& f
       throw InputError("--resume and --overwrite exclude each other (resume appends to the cache)");
     out->path_ = flags.resume;
     out->resume_ = true;
+    // Before reading: a run that writes it now may be mid-commit.
+    out->lock_ = OutputLock::acquire(out->path_, "cache");
     out->reader_ = std::make_unique<CacheReader>(flags.resume);
     const CacheSummary& s = out->reader_->summary();
     if (s.frames.empty())
@@ -87,6 +90,8 @@ std::unique_ptr<CacheSession> CacheSession::prepare(const CacheSessionOptions& f
     throw InputError(out->path_ + ": cannot create the cache in " + dir + " (" +
                      std::strerror(errno) + ")");
   }
+  // Before looking at what is there: of two runs started together on this path, one gets here.
+  out->lock_ = OutputLock::acquire(out->path_, "cache");
   out->xdmfPath_ = XdmfWriter::sidecarPath(out->path_);
   if (out->xdmfPath_ == out->path_) out->xdmfPath_ += ".xdmf";
   for (const std::string& p : {out->path_, out->xdmfPath_}) {

@@ -11,6 +11,7 @@
 
 #include "io/CacheReader.h"
 #include "io/CacheWriter.h"
+#include "io/OutputLock.h"
 #include "io/XdmfWriter.h"
 #include "sim/RunLoop.h"
 #include "sim/Scene.h"
@@ -64,6 +65,7 @@ class CacheSession final : public FrameSink {
   std::string summary(double runSeconds) const;
 
  private:
+  OutputLock lock_;  // first: held until every file below is closed
   std::string path_, xdmfPath_;
   bool overwrite_ = false;
   bool resume_ = false;
