@@ -11,6 +11,7 @@
 
 #include "app/Commands.h"
 #include "app/Interrupt.h"
+#include "app/MachineMemory.h"
 #include "app/Progress.h"
 #include "app/RenderOutput.h"
 #include "app/Version.h"
@@ -79,7 +80,7 @@ std::string reproduceCommand(const RunRequest& o, const RunPlan& plan, const Run
 // What the run is about to do: particles, the main derived numbers and, with --verbose, the
 // domain and every piece of work the scene skips (docs/benchmarks.md, "What a scene skips").
 void printHeader(const RunRequest& o, const Scene& scene, const Simulation& sim,
-                 const io::CacheSession* cache, double setupSeconds) {
+                 const io::CacheSession* cache, double setupSeconds, const MemoryEstimate& memory) {
   const DerivedParams& d = sim.params();
   const double frameInterval = 1.0 / scene.output.fps;
   std::printf("%s: %zu fluid particles, %zu boundary particles, %d thread%s\n", scene.name.c_str(),
@@ -90,6 +91,7 @@ void printHeader(const RunRequest& o, const Scene& scene, const Simulation& sim,
       "first dt %.3g s\n",
       scene.solver.spacing, d.h, d.mass, d.speedOfSound, sim.nextTimeStep());
   if (o.verbose) {
+    std::printf("  memory: %s\n", describeMemory(memory, machineMemory()).c_str());
     std::printf("  domain [%g, %g, %g] - [%g, %g, %g] m, %d boundary layer%s\n",
                 scene.domain.lo.x(), scene.domain.lo.y(), scene.domain.lo.z(), scene.domain.hi.x(),
                 scene.domain.hi.y(), scene.domain.hi.z(), d.boundaryLayers,
@@ -131,6 +133,8 @@ void printHeader(const RunRequest& o, const Scene& scene, const Simulation& sim,
 int runJob(const RunRequest& o) {
   Scene scene = io::loadScene(o.scene, o.overrides);
   if (o.end > 0) scene.solver.endTime = o.end;
+  // Before anything is allocated: a scene too big for the machine stops here with one line.
+  const MemoryEstimate memory = checkMemory(scene, scene.solver.endTime);
   setThreadCount(o.threads);
   // The cache's paths are checked before anything runs (nothing is overwritten by surprise).
   std::unique_ptr<io::CacheSession> cache = io::CacheSession::prepare(o.cache, scene);
@@ -146,7 +150,7 @@ int runJob(const RunRequest& o) {
   sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
   const double end = scene.solver.endTime;
   const double frameInterval = 1.0 / scene.output.fps;
-  if (!o.quiet) printHeader(o, scene, sim, cache.get(), setupSeconds);
+  if (!o.quiet) printHeader(o, scene, sim, cache.get(), setupSeconds, memory);
 
   std::uint64_t frames = 1;  // the next output frame; the initial state is frame 0
   const io::CacheProvenance provenance{SPHSPLAT_VERSION_STRING, threadCount(), o.overrides};

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <exception>
 #include <functional>
+#include <new>
 #include <vector>
 
 #include "app/Commands.h"
@@ -50,6 +51,11 @@ int main(int argc, char** argv) {
   } catch (const sph::render::gl::GlError& e) {
     std::fprintf(stderr, "sphsplat: %s\n", e.what());
     return sph::app::kNoGraphics;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr,
+                 "sphsplat: out of memory: the job needs more memory than this process may use "
+                 "(run --verbose prints a scene's estimate; a larger solver.spacing needs less)\n");
+    return sph::app::kBadInput;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "sphsplat: internal error: %s\n", e.what());
     return sph::app::kInternalError;

@@ -148,6 +148,49 @@ std::vector<Vec3> sampleBoundaryShape(const BoundaryShape& shape, const Aabb& do
   return out;
 }
 
+double countBoundarySamples(const BoundaryShape& s, const Aabb& domain, float spacing, int layers) {
+  switch (s.kind) {
+    case BoundaryShape::Kind::Tank:
+    case BoundaryShape::Kind::Block: {  // sampleBox(): the kept cells of its lattice, in closed
+                                        // form
+      double n[3];
+      for (int a = 0; a < 3; ++a) n[a] = cellsAlong(s.lo[a], s.hi[a], spacing);
+      if (s.kind == BoundaryShape::Kind::Block) {
+        double inner = 1;
+        for (int a = 0; a < 3; ++a) inner *= std::max(0.0, n[a] - 2.0 * layers);
+        return n[0] * n[1] * n[2] - inner;
+      }
+      const double g = layers;
+      const double rows = s.openTop ? n[1] + g : n[1] + 2 * g;
+      return (n[0] + 2 * g) * rows * (n[2] + 2 * g) - n[0] * n[1] * n[2];
+    }
+    case BoundaryShape::Kind::Cup: {  // sampleCup(): rings, then the floor's disc
+      const double wallCells = cellsAlong(0, s.height, spacing);
+      double count = 0;
+      for (int layer = 0; layer < layers; ++layer) {
+        const double r = s.radius + (layer + 0.5) * spacing;
+        count += std::max(6.0, std::round(2 * kPi * r / spacing)) * (wallCells + layers);
+      }
+      return count + layers * kPi * s.radius * s.radius / (double(spacing) * spacing);
+    }
+    case BoundaryShape::Kind::Plane: {  // samplePlane(): the domain's shadow, `layers` deep
+      const Vec3 d = domain.hi - domain.lo;
+      const double diagonal = d.norm() / spacing + 4;
+      return layers * diagonal * diagonal;
+    }
+    case BoundaryShape::Kind::Sphere: {  // sampleSphere(): one shell per layer
+      double count = 0;
+      for (int layer = 0; layer < layers; ++layer) {
+        const double r = s.radius - (layer + 0.5) * spacing;
+        if (r <= 0) break;
+        count += std::max(1.0, std::round(4 * kPi * r * r / (double(spacing) * spacing)));
+      }
+      return count;
+    }
+  }
+  return 0;
+}
+
 Boundary::Boundary(const std::vector<BoundaryShape>& shapes, const Aabb& domain, float spacing,
                    int layers, float supportRadius)
     : spacing_(spacing), layers_(layers) {

@@ -50,6 +50,11 @@ class Boundary {
   int layers_ = 0;
 };
 
+// How many points sampleBoundaryShape() returns for these arguments (the plane: an upper bound),
+// computed without generating them: the memory estimate's count (sim/MemoryEstimate.h), in
+// double because a scene too big for the machine is exactly what it must describe.
+double countBoundarySamples(const BoundaryShape& shape, const Aabb& domain, float spacing,
+                            int layers);
 // Samples of one shape (exposed for tests): positions on the lattice continuation described above.
 std::vector<Vec3> sampleBoundaryShape(const BoundaryShape& shape, const Aabb& domain, float spacing,
                                       int layers);

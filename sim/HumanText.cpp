@@ -28,4 +28,19 @@ std::string humanSeconds(double s) {
   return buf;
 }
 
+std::string humanBytes(double bytes) {
+  char buf[32];
+  if (bytes < 1e3)
+    std::snprintf(buf, sizeof buf, "%.0f bytes", bytes);
+  else if (bytes < 1e6)
+    std::snprintf(buf, sizeof buf, "%.1f kB", bytes / 1e3);
+  else if (bytes < 1e9)
+    std::snprintf(buf, sizeof buf, "%.1f MB", bytes / 1e6);
+  else if (bytes < 1e12)
+    std::snprintf(buf, sizeof buf, "%.1f GB", bytes / 1e9);
+  else
+    std::snprintf(buf, sizeof buf, "%.3g TB", bytes / 1e12);
+  return buf;
+}
+
 }  // namespace sph

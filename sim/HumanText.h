@@ -10,5 +10,7 @@ namespace sph {
 std::string humanCount(double v);
 // 12.0 us, 41.3 ms, 7.2 s, 3m14s.
 std::string humanSeconds(double s);
+// 512 bytes, 41.3 MB, 15.3 GB, 2.1e+04 TB (decimal units).
+std::string humanBytes(double bytes);
 
 }  // namespace sph

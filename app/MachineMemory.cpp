@@ -1,0 +1,94 @@
+#include "app/MachineMemory.h"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "sim/HumanText.h"
+#include "sim/InputError.h"
+
+namespace sph::app {
+namespace {
+
+// The value of "Key:" in a /proc file of "Key: value kB" lines, in bytes (0 if absent).
+double procKilobytes(const char* file, const std::string& key) {
+  std::ifstream in(file);
+  std::string name;
+  double value = 0;
+  std::string unit;
+  while (in >> name >> value) {
+    std::getline(in, unit);
+    if (name == key + ":") return value * 1024;
+  }
+  return 0;
+}
+
+// A cgroup v2 memory.max (bytes), or 0 when unlimited or not there.
+double cgroupLimit() {
+  std::ifstream in("/sys/fs/cgroup/memory.max");
+  std::string text;
+  if (!(in >> text) || text == "max") return 0;
+  return std::strtod(text.c_str(), nullptr);
+}
+
+double cgroupUsage() {
+  std::ifstream in("/sys/fs/cgroup/memory.current");
+  double used = 0;
+  in >> used;
+  return used;
+}
+
+std::string count(double n) {
+  char text[32];
+  std::snprintf(text, sizeof text, n < 1e6 ? "%.0f" : "%.3g", n);
+  return text;
+}
+
+}  // namespace
+
+MachineMemory machineMemory() {
+  MachineMemory m;
+  m.totalBytes = procKilobytes("/proc/meminfo", "MemTotal");
+  m.availableBytes = procKilobytes("/proc/meminfo", "MemAvailable");
+  if (const double limit = cgroupLimit(); limit > 0) {
+    const double free = std::max(0.0, limit - cgroupUsage());
+    if (free < m.availableBytes) m.availableBytes = free, m.limitedBy = "the cgroup's memory.max";
+  }
+  struct rlimit as {};
+  if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) {
+    const double free = std::max(
+        0.0, static_cast<double>(as.rlim_cur) - procKilobytes("/proc/self/status", "VmSize"));
+    if (free < m.availableBytes) m.availableBytes = free, m.limitedBy = "ulimit -v";
+  }
+  return m;
+}
+
+std::string describeMemory(const MemoryEstimate& e, const MachineMemory& m) {
+  std::ostringstream s;
+  s << "about " << humanBytes(e.bytes) << " (" << count(e.fluidParticles) << " fluid particles";
+  if (e.emittedParticles > 0) s << " + " << count(e.emittedParticles) << " from nozzles";
+  s << ", " << count(e.boundaryParticles) << " boundary particles); ";
+  s << "the machine has " << humanBytes(m.availableBytes) << " free";
+  if (!m.limitedBy.empty()) s << " under " << m.limitedBy;
+  s << " of " << humanBytes(m.totalBytes);
+  return s.str();
+}
+
+MemoryEstimate checkMemory(const Scene& scene, double endTime) {
+  const MemoryEstimate e = estimateMemory(scene, endTime);
+  const MachineMemory m = machineMemory();
+  if (m.availableBytes > 0 && e.bytes > m.availableBytes) {
+    const bool spacing = e.largestKey == "solver.spacing";
+    throw InputError(scene.sourcePath + ": " + e.largestKey + ": this scene needs " +
+                     describeMemory(e, m) + "; " +
+                     (spacing ? "raise solver.spacing (memory falls with its cube)"
+                              : "make that nozzle smaller or stop it sooner") +
+                     " or shrink the scene");
+  }
+  return e;
+}
+
+}  // namespace sph::app

@@ -1,0 +1,77 @@
+#include "sim/MemoryEstimate.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "sim/Boundary.h"
+#include "sim/Kernels.h"
+#include "sim/SceneSetup.h"
+
+namespace sph {
+namespace {
+
+// Resident bytes of a run, fitted to the peak resident memory of real runs on llvmpipe's machine
+// (tests/test_memory_estimate.cpp keeps them within 20%): the dam break at spacings 2.5, 1.8,
+// 1.4, 0.6 and 0.3 mm (34, 64, 110 MB, 1.1 and 7.8 GB: 1.6e5 to 9.2e7 fluid particles), the pour
+// without and with pictures (15 and 114 MB) and cdt_rain with cdt-gl (123 MB). A fluid particle is
+// 13 arrays of 4 bytes (Particles), 5 of per-step scratch (sort order, p/rho^2, 1/rho, gradient
+// moment) and its grid slot; a boundary particle (counted as sampled, before those out of reach are
+// dropped) its position, three per-step fields and its grid slot.
+constexpr double kBytesPerFluidParticle = 76;
+constexpr double kBytesPerBoundaryParticle = 50;
+// The program itself: code, libraries (HDF5, OpenMP, the C++ runtime), thread stacks.
+constexpr double kBaseBytes = 15e6;
+// An OpenGL context on Mesa's llvmpipe with the renderer's or cdt-gl's buffers and shaders.
+constexpr double kGlBytes = 100e6;
+
+double fluidBlockCount(const FluidBlock& f, float dx) {
+  if (f.shape == FluidBlock::Shape::Sphere) {
+    const double r = f.radius / dx;
+    return 4.0 / 3.0 * kPi * r * r * r;
+  }
+  double count = 1;
+  for (int a = 0; a < 3; ++a) count *= std::max(0.0, std::round(double(f.hi[a] - f.lo[a]) / dx));
+  return count;
+}
+
+// Particles a nozzle releases by `endTime`: layers of a disc (Gauss's circle bound) one spacing
+// apart along a jet of `speed`, capped by max_particles.
+double emittedCount(const EmitterDesc& e, float dx, double endTime) {
+  const double r = e.radius / dx;
+  const double layer = kPi * r * r + 2 * kPi * r + 1;
+  const double active = std::max(0.0, std::min(e.stop, endTime) - e.start);
+  double count = layer * (std::floor(active * e.speed / dx) + 1);
+  if (e.maxParticles) count = std::min(count, static_cast<double>(e.maxParticles));
+  return count;
+}
+
+}  // namespace
+
+MemoryEstimate estimateMemory(const Scene& scene, double endTime) {
+  MemoryEstimate m;
+  const float dx = scene.solver.spacing;
+  for (const FluidBlock& f : scene.fluids) m.fluidParticles += fluidBlockCount(f, dx);
+  double largestEmitter = 0;
+  std::size_t largest = 0;
+  for (std::size_t k = 0; k < scene.emitters.size(); ++k) {
+    const double n = emittedCount(scene.emitters[k], dx, endTime);
+    m.emittedParticles += n;
+    if (n > largestEmitter) largestEmitter = n, largest = k;
+  }
+  const int layers = scene.solver.boundaryLayers > 0
+                         ? scene.solver.boundaryLayers
+                         : std::max(1, static_cast<int>(std::ceil(scene.solver.support)));
+  for (const BoundaryShape& b : scene.boundaries)
+    m.boundaryParticles += countBoundarySamples(b, scene.domain, dx, layers);
+  const bool gl =
+      scene.render || (scene.collision && scene.collision->method == CollisionMethod::CdtGl);
+  m.bytes = kBaseBytes + (gl ? kGlBytes : 0) +
+            kBytesPerFluidParticle * (m.fluidParticles + m.emittedParticles) +
+            kBytesPerBoundaryParticle * m.boundaryParticles;
+  // The key to change: an emitter's size when it is most of the particles, else the spacing.
+  if (largestEmitter > m.fluidParticles + m.boundaryParticles)
+    m.largestKey = "emitters[" + std::to_string(largest) + "].radius";
+  return m;
+}
+
+}  // namespace sph

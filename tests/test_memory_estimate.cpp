@@ -1,0 +1,119 @@
+// Issue 12, item 6: a scene too big for the machine is refused before anything is allocated, with
+// one line naming the estimate, the machine's memory and the key to change; and the estimate
+// (sim/MemoryEstimate.h) is within 20% of the measured peak resident memory of real runs.
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <regex>
+#include <string>
+
+#include "sim/Boundary.h"
+#include "sim/MemoryEstimate.h"
+#include "tests/CacheTestSupport.h"
+#include "tests/TestSupport.h"
+
+namespace sph {
+namespace {
+
+// Runs `sh -c COMMAND` and returns its peak resident memory (bytes) and output.
+struct Measured {
+  int exitCode = -1;
+  double peakBytes = 0;
+  std::string output;
+};
+Measured measure(const std::string& command) {
+  const std::string log = test::makeTempDir() + "/out.log";
+  const pid_t pid = fork();
+  if (pid == 0) {
+    if (!freopen(log.c_str(), "w", stdout) || !freopen(log.c_str(), "a", stderr)) _exit(126);
+    execl("/bin/sh", "sh", "-c", ("exec " + command).c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  int status = 0;
+  struct rusage usage {};
+  wait4(pid, &status, 0, &usage);
+  Measured m;
+  m.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  m.peakBytes = usage.ru_maxrss * 1024.0;
+  m.output = test::readFile(log);
+  return m;
+}
+
+double estimatedBytes(const std::string& output) {
+  std::smatch m;
+  if (!std::regex_search(output, m, std::regex("memory: about ([0-9.]+) (MB|GB)"))) return 0;
+  return std::stod(m[1]) * (m[2] == "GB" ? 1e9 : 1e6);
+}
+
+class MemoryEstimateRuns : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(MemoryEstimateRuns, IsWithinTwentyPercentOfThePeakResidentMemory) {
+  const std::string run = "env OMP_WAIT_POLICY=PASSIVE " + test::sphsplatBinary() + " run " +
+                          test::sourcePath("scenes/dam_break.json") +
+                          " --set solver.spacing=" + GetParam() + " --end 0.002 --threads 2";
+  const Measured m = measure(run + " --verbose");
+  ASSERT_EQ(m.exitCode, 0) << m.output;
+  const double estimate = estimatedBytes(m.output);
+  ASSERT_GT(estimate, 0) << m.output;
+  std::printf("spacing %s: estimate %.1f MB, peak resident %.1f MB\n", GetParam(), estimate / 1e6,
+              m.peakBytes / 1e6);
+  EXPECT_NEAR(estimate / m.peakBytes, 1.0, 0.2) << m.output;
+}
+
+// 156k, 420k and 913k fluid particles.
+INSTANTIATE_TEST_SUITE_P(DamBreak, MemoryEstimateRuns,
+                         ::testing::Values("0.0025", "0.0018", "0.0014"));
+
+TEST(MemoryEstimate, ASceneTooBigForItsMemoryIsRefusedBeforeItAllocates) {
+  // 0.6 mm: 1.1e7 fluid particles, about 1.1 GB; under `ulimit -v` of 600 MB it cannot fit.
+  const Measured m = measure("sh -c 'ulimit -v 600000; exec " + test::sphsplatBinary() + " run " +
+                             test::sourcePath("scenes/dam_break.json") +
+                             " --set solver.spacing=0.0006 --end 0.01'");
+  EXPECT_EQ(m.exitCode, 2) << m.output;
+  EXPECT_TRUE(std::regex_search(
+      m.output, std::regex("dam_break.json: solver.spacing: this scene needs about [0-9.]+ GB "
+                           "\\([0-9.e+]+ fluid particles, [0-9.e+]+ boundary particles\\); the "
+                           "machine has [0-9.]+ MB free under ulimit -v of [0-9.]+ GB; raise "
+                           "solver.spacing")))
+      << m.output;
+  EXPECT_EQ(m.output.find('\n'), m.output.size() - 1) << "one line";
+  EXPECT_LT(m.peakBytes, 100e6) << "refused before allocating";
+}
+
+TEST(MemoryEstimate, AHugeNozzleIsNamed) {
+  const Measured m =
+      measure(test::sphsplatBinary() + " run " + test::sourcePath("scenes/pour.json") +
+              " --set 'emitters[0].radius=1000' --end 0.1");
+  EXPECT_EQ(m.exitCode, 2) << m.output;
+  EXPECT_NE(m.output.find("pour.json: emitters[0].radius: this scene needs about"),
+            std::string::npos)
+      << m.output;
+  EXPECT_LT(m.peakBytes, 100e6);
+}
+
+// The counts behind the estimate follow the samplers they predict.
+TEST(MemoryEstimate, BoundaryCountsMatchTheSamplers) {
+  const Aabb domain{Vec3(-0.2f, -0.2f, -0.2f), Vec3(0.5f, 0.5f, 0.5f)};
+  std::vector<BoundaryShape> shapes(4);
+  shapes[0].kind = BoundaryShape::Kind::Tank, shapes[0].lo = Vec3(0, 0, 0),
+  shapes[0].hi = Vec3(0.3f, 0.2f, 0.1f);
+  shapes[1] = shapes[0], shapes[1].openTop = false;
+  shapes[2] = shapes[0], shapes[2].kind = BoundaryShape::Kind::Block;
+  shapes[3].kind = BoundaryShape::Kind::Cup, shapes[3].centre = Vec3(0.1f, 0, 0.1f),
+  shapes[3].radius = 0.05f, shapes[3].height = 0.08f;
+  for (const BoundaryShape& s : shapes) {
+    for (int layers : {1, 2, 3}) {
+      const double counted = countBoundarySamples(s, domain, 0.01f, layers);
+      const double sampled =
+          static_cast<double>(sampleBoundaryShape(s, domain, 0.01f, layers).size());
+      EXPECT_NEAR(counted, sampled, 0.02 * sampled) << static_cast<int>(s.kind) << " " << layers;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace sph
