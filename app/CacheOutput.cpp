@@ -11,6 +11,7 @@
 
 #include "app/Progress.h"
 #include "io/InputError.h"
+#include "io/UserFiles.h"
 
 namespace sph::app {
 namespace {
@@ -92,6 +93,17 @@ std::unique_ptr<CacheOutput> CacheOutput::prepare(const CacheFlags& flags, Scene
   if (out->xdmfPath_ == out->path_) out->xdmfPath_ += ".xdmf";
   for (const std::string& p : {out->path_, out->xdmfPath_}) {
     if (isDirectory(p)) throw InputError(p + ": is a directory; expected a cache file name");
+    // Compared by device and inode: ./x.json, /abs/x.json, a symlink or a hard link alike.
+    if (io::sameFile(p, scene.sourcePath)) {
+      throw InputError(p + ": is the scene file being run (" + scene.sourcePath +
+                       "); refusing to write the cache over it, even with --overwrite");
+    }
+    // --overwrite replaces files, never a device node, a FIFO or a socket.
+    const std::string kind = io::nonRegularKind(p);
+    if (!kind.empty()) {
+      throw InputError(p + ": is " + kind +
+                       ", not a regular file; refusing to replace it (choose a cache file name)");
+    }
     if (exists(p) && !flags.overwrite) {
       throw InputError(
           p + ": already exists; pass --overwrite to replace it" +
