@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "app/CliChecks.h"
 #include "app/Commands.h"
 #include "bench/sweep/SweepReport.h"
 #include "bench/sweep/SweepRunner.h"
@@ -99,8 +100,9 @@ std::function<int()> addBenchCommand(CLI::App& app) {
   cmd->add_option("--output,-o", o->output,
                   "Folder for NAME.csv, NAME.md and NAME.png (default results/NAME)");
   cmd->add_option("--threads,-j", o->threads,
-                  "Worker threads (default: the sweep's `threads`, else all cores)")
-      ->check(CLI::NonNegativeNumber);
+                  "Worker threads (default: the sweep's `threads`, else all cores; at most 4 x "
+                  "the cores)")
+      ->check(threadsCheck());
   cmd->add_option("--set", o->overrides,
                   "Scene edit KEY.PATH=VALUE applied to every variant, repeatable");
   cmd->add_option("--only", o->only, "Run only the variants whose label contains TEXT");

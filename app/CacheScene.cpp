@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "io/MessageText.h"
 #include "io/SceneLoader.h"
 #include "sim/InputError.h"
 
@@ -33,8 +34,8 @@ long long parseIndex(const std::string& text, std::size_t frames, const std::str
     used = 0;
   }
   if (used != text.size() || v < 0) {
-    throw InputError(flag + ": expected a frame index (0, 1, ...), 'last' or -1, got '" + text +
-                     "'");
+    throw io::InputError(flag + ": expected a frame index (0, 1, ...), 'last' or -1, got '" +
+                         io::printable(text) + "'");
   }
   return v;
 }
@@ -46,23 +47,36 @@ std::vector<std::size_t> parseFrameRange(const std::string& text, std::size_t fr
   if (frames == 0) throw InputError(flag + ": the cache has no complete frame");
   long long first = 0, last = static_cast<long long>(frames) - 1;
   const std::size_t colon = text.find(':');
-  if (colon == std::string::npos) {
+  if (text == "all") {
+    // every frame
+  } else if (colon == std::string::npos) {
     first = last = parseIndex(text, frames, flag);
   } else {
     if (colon > 0) first = parseIndex(text.substr(0, colon), frames, flag);
     if (colon + 1 < text.size()) last = parseIndex(text.substr(colon + 1), frames, flag);
   }
   if (first > last) {
-    throw InputError(flag + ": frames " + text + " run backwards (write the first frame first, " +
-                     std::to_string(last) + ":" + std::to_string(first) + ")");
+    throw io::InputError(flag + ": frames " + io::printable(text) +
+                         " run backwards (write the first frame first, " + std::to_string(last) +
+                         ":" + std::to_string(first) + ")");
   }
   if (last >= static_cast<long long>(frames)) {
-    throw InputError(flag + ": frames " + text + " are not in the cache (it has frames 0 to " +
-                     std::to_string(frames - 1) + ")");
+    throw io::InputError(flag + ": frames " + io::printable(text) +
+                         " are not in the cache (it has frames 0 to " + std::to_string(frames - 1) +
+                         ")");
   }
   std::vector<std::size_t> out;
   for (long long f = first; f <= last; ++f) out.push_back(static_cast<std::size_t>(f));
   return out;
+}
+
+std::size_t parseOneFrame(const std::string& text, std::size_t frames, const std::string& flag) {
+  const std::vector<std::size_t> range = parseFrameRange(text, frames, flag);
+  if (range.size() != 1) {
+    throw io::InputError(flag + ": expected one frame (an index, 'last' or -1), got the range '" +
+                         io::printable(text) + "'");
+  }
+  return range.front();
 }
 
 }  // namespace sph::app

@@ -12,9 +12,12 @@ namespace sph::app {
 
 Scene sceneOfCache(const io::CacheSummary& summary, const std::vector<std::string>& extraEdits);
 
-// "7", "last", "-1" (the last), "2:9" (inclusive), "3:" and ":4" over a cache of `frames` frames.
-// Throws InputError naming the flag.
+// The one frame syntax of every subcommand (render, compare, view, export): "7", "last", "-1"
+// (the last), "2:9" (inclusive), "3:", ":4" and "all" over a cache of `frames` frames. Throws
+// InputError naming the flag.
 std::vector<std::size_t> parseFrameRange(const std::string& text, std::size_t frames,
                                          const std::string& flag);
+// The same syntax where one frame is meant (compare, view): a range of several is refused.
+std::size_t parseOneFrame(const std::string& text, std::size_t frames, const std::string& flag);
 
 }  // namespace sph::app

@@ -1,13 +1,21 @@
-// `sphsplat export CACHE --frame N --format csv|ply`: one frame of a cache as a plain text file,
-// for tools that read neither HDF5 nor XDMF. Floats are printed with 9 significant digits, which
-// reads back to the same float32 bits.
+// `sphsplat export CACHE --frames F --format csv|ply|vtu -o OUT`: frames of a cache as files for
+// tools that read neither HDF5 nor XDMF (io/ParticleExport.h). One frame goes to OUT; a sequence
+// goes to numbered files, OUT being a name with %05d (or %d) where the frame number goes, or a
+// directory. Nothing existing is replaced without --overwrite, the cache itself never, and each
+// file is written under a temporary name and renamed once complete (io/UserFiles.h).
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "app/CacheScene.h"
 #include "app/Commands.h"
 #include "io/CacheReader.h"
+#include "io/MessageText.h"
+#include "io/ParticleExport.h"
+#include "io/UserFiles.h"
+#include "io/XdmfWriter.h"
 #include "sim/InputError.h"
 
 namespace sph::app {
@@ -17,118 +25,235 @@ namespace cache = io::cache;
 
 struct ExportOptions {
   std::string cache;
-  std::string frame = "last";
-  std::string format;
+  std::string frames = "last";
+  std::string format;  // "" = from the output's extension
   std::string output;
   std::vector<std::string> fields;
   bool boundary = false;
+  bool overwrite = false;
+  const CLI::Option* framesOption = nullptr;
 };
 
-// One named column of floats or ids.
-struct Column {
-  std::string name;
-  const std::vector<float>* values = nullptr;
-  const std::vector<std::uint32_t>* ids = nullptr;
-};
-
-std::size_t parseFrame(const std::string& text, std::size_t frames, const std::string& cachePath) {
-  if (text == "last") {
-    if (frames == 0) throw InputError(cachePath + ": the cache has no complete frame to export");
-    return frames - 1;
-  }
-  std::size_t used = 0;
-  unsigned long long value = 0;
-  try {
-    value = std::stoull(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || text.empty() || text[0] == '-') {
-    throw InputError("--frame: expected a frame index (0, 1, ...) or 'last', got '" + text + "'");
-  }
-  return static_cast<std::size_t>(value);
+std::string extensionOf(const std::string& path) {
+  const std::size_t dot = path.rfind('.');
+  if (dot == std::string::npos || path.find('/', dot) != std::string::npos) return "";
+  return path.substr(dot + 1);
 }
 
-void writeRows(std::FILE* out, const std::vector<Column>& columns, std::size_t rows,
-               char separator) {
-  for (std::size_t i = 0; i < rows; ++i) {
-    for (std::size_t c = 0; c < columns.size(); ++c) {
-      if (c) std::fputc(separator, out);
-      if (columns[c].ids)
-        std::fprintf(out, "%u", (*columns[c].ids)[i]);
-      else
-        std::fprintf(out, "%.9g", static_cast<double>((*columns[c].values)[i]));
+std::string formatOf(const ExportOptions& o) {
+  if (!o.format.empty()) return o.format;
+  const std::string ext = extensionOf(o.output);
+  if (ext == "csv" || ext == "ply" || ext == "vtu") return ext;
+  throw InputError("--format: expected csv, ply or vtu (the name " + io::printable(o.output) +
+                   " does not say which)");
+}
+
+// Scene names are user text: keep what is safe in a file name.
+std::string fileSafe(const std::string& name) {
+  std::string out;
+  for (const char c : name.substr(0, 64)) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                    c == '-' || c == '_' || c == '.';
+    out += ok ? c : '_';
+  }
+  return out.empty() || out[0] == '.' ? "frames" + out : out;
+}
+
+// Where each frame goes: OUT itself (one frame, or "-"), OUT with its %05d replaced by the frame
+// number, or DIR/<scene>_NNNNN.<format>.
+class OutputNames {
+ public:
+  OutputNames(const std::string& output, const std::string& format, const std::string& scene,
+              std::size_t count) {
+    const std::size_t slash = output.find_last_of('/');
+    const std::size_t percent = output.find('%', slash == std::string::npos ? 0 : slash + 1);
+    std::error_code error;
+    if (output == "-" && count > 1)
+      throw InputError("-o -: standard output takes one frame, not " + std::to_string(count));
+    if (percent != std::string::npos) {
+      parsePattern(output, percent);
+    } else if (output != "-" &&
+               (output.back() == '/' || std::filesystem::is_directory(output, error))) {
+      directory_ = output.back() == '/' ? output.substr(0, output.size() - 1) : output;
+      if (directory_.empty()) directory_ = "/";
+      prefix_ = directory_ + "/" + scene + "_";
+      suffix_ = "." + format;
+      width_ = 5;
+      pvd_ = directory_ + "/" + scene + ".pvd";
+    } else if (count > 1) {
+      throw InputError("-o " + io::printable(output) + ": " + std::to_string(count) +
+                       " frames need one file each: give a name with %05d where the frame "
+                       "number goes (e.g. out/frame_%05d." +
+                       format + ") or a directory (ending in /)");
+    } else {
+      single_ = output;
     }
-    std::fputc('\n', out);
   }
+
+  bool sequence() const { return single_.empty(); }
+  const std::string& directory() const { return directory_; }
+  // The .pvd collection beside a sequence ("" for one named file).
+  const std::string& pvd() const { return pvd_; }
+
+  std::string file(std::size_t frame) const {
+    if (!single_.empty()) return single_;
+    char digits[32];
+    std::snprintf(digits, sizeof digits, "%0*zu", width_, frame);
+    return prefix_ + digits + suffix_;
+  }
+
+ private:
+  // One %d, %Nd or %0Nd (N up to 20) in the file name; no other %.
+  void parsePattern(const std::string& output, std::size_t at) {
+    std::size_t end = at + 1;
+    if (end < output.size() && output[end] == '0') ++end;
+    std::size_t digitsStart = end;
+    while (end < output.size() && end - digitsStart < 2 && output[end] >= '0' && output[end] <= '9')
+      ++end;
+    const bool ok =
+        end < output.size() && output[end] == 'd' && output.find('%', end + 1) == std::string::npos;
+    if (!ok) {
+      throw InputError("-o " + io::printable(output) +
+                       ": expected one %d or %05d where the frame number goes, and no other %");
+    }
+    width_ = digitsStart < end ? std::stoi(output.substr(digitsStart, end - digitsStart)) : 1;
+    if (width_ > 20) width_ = 20;
+    prefix_ = output.substr(0, at);
+    suffix_ = output.substr(end + 1);
+    const std::size_t slash = output.find_last_of('/');
+    directory_ =
+        slash == std::string::npos ? "." : output.substr(0, std::max<std::size_t>(slash, 1));
+    // frame_%05d.vtu -> frame.pvd: the name without the number and its separator.
+    std::string stem = prefix_.substr(slash == std::string::npos ? 0 : slash + 1);
+    while (!stem.empty() && (stem.back() == '_' || stem.back() == '-' || stem.back() == '.'))
+      stem.pop_back();
+    if (stem.empty()) stem = "frames";
+    pvd_ = (slash == std::string::npos ? "" : output.substr(0, slash + 1)) + stem + ".pvd";
+  }
+
+  std::string single_, prefix_, suffix_, directory_, pvd_;
+  int width_ = 5;
+};
+
+std::string baseName(const std::string& path) {
+  return path.substr(path.find_last_of('/') + 1);
 }
 
-int exportFrame(const ExportOptions& o) {
-  if (o.output == o.cache)
-    throw InputError(o.output + ": refusing to write the export over the cache itself");
+void writeFile(const std::string& path, const std::string& format, const io::ExportFrame& frame) {
+  auto write = [&](std::FILE* out) {
+    if (format == "csv")
+      io::writeCsv(out, frame);
+    else if (format == "ply")
+      io::writePly(out, frame);
+    else
+      io::writeVtu(out, frame);
+  };
+  if (path == "-") {
+    write(stdout);
+    if (std::fflush(stdout) != 0 || std::ferror(stdout))
+      throw InputError("standard output: cannot write the export");
+    return;
+  }
+  io::AtomicOutput out(path);
+  write(out.file());
+  out.commit();
+}
+
+int exportFrames(const ExportOptions& o) {
+  const std::string format = formatOf(o);
   const io::CacheReader reader(o.cache);
   const io::CacheSummary& s = reader.summary();
+  // Files the export reads, which no output may replace whatever path names them.
+  const std::vector<io::ReadFile> reads = {
+      {o.cache, "the cache being exported"},
+      {io::XdmfWriter::sidecarPath(o.cache), "the cache's XDMF sidecar"}};
 
-  Particles particles;
-  std::vector<std::vector<float>> boundary;
-  std::vector<Column> columns;
-  std::size_t rows = 0;
-  std::string what;
+  std::vector<std::size_t> frames;
   if (o.boundary) {
-    boundary = reader.readBoundary();
-    for (int a = 0; a < 3; ++a)
-      columns.push_back({std::string(1, "xyz"[a]), &boundary[a], nullptr});
-    rows = boundary[0].size();
-    what = "boundary particles";
+    if (o.framesOption && o.framesOption->count() > 0)
+      throw InputError("--boundary exports the boundary, which has no frames; leave out --frames");
   } else {
-    const std::size_t frame = parseFrame(o.frame, reader.frameCount(), o.cache);
-    cache::FieldSet fields = s.fields;
-    if (!o.fields.empty()) {
-      std::string error;
-      std::vector<std::string> names = o.fields;
-      names.insert(names.end(), {"x", "y", "z"});
-      fields = cache::parseFields(names, error);
-      if (!error.empty()) throw InputError("--fields: " + error);
+    frames = parseFrameRange(o.frames, reader.frameCount(), "--frames");
+  }
+  const std::size_t files = o.boundary ? 1 : frames.size();
+  const OutputNames names(o.output, format, fileSafe(s.sceneName), files);
+  const bool pvd = format == "vtu" && names.sequence() && !o.boundary;
+
+  // Every output is checked before the first is written.
+  for (std::size_t k = 0; k < files; ++k) {
+    const std::string path = names.file(o.boundary ? 0 : frames[k]);
+    if (path != "-") io::checkOutputPath(path, o.overwrite, reads);
+  }
+  if (pvd) io::checkOutputPath(names.pvd(), o.overwrite, reads);
+  if (names.sequence()) {
+    std::error_code error;
+    std::filesystem::create_directories(names.directory(), error);
+    if (error) {
+      throw InputError(names.directory() + ": cannot create the output directory (" +
+                       error.message() + ")");
     }
-    particles = reader.readFrame(frame, fields);  // names the missing dataset if one is asked for
-    for (std::size_t f = 0; f < cache::kFieldCount; ++f) {
-      if (!fields[f]) continue;
-      const auto field = static_cast<cache::Field>(f);
-      if (field == cache::Field::Id)
-        columns.push_back({"id", nullptr, &particles.id});
-      else
-        columns.push_back(
-            {cache::fieldName(field), &(particles.*cache::floatMember(field)), nullptr});
-    }
-    rows = particles.x.size();
-    what =
-        "frame " + std::to_string(frame) + " (t = " + std::to_string(s.frames[frame].time) + " s)";
   }
 
-  const bool toStdout = o.output == "-";
-  const std::string path = toStdout ? "standard output" : o.output;
-  std::FILE* out = toStdout ? stdout : std::fopen(o.output.c_str(), "w");
-  if (!out) throw InputError(o.output + ": cannot create the export file");
-  if (o.format == "csv") {
-    for (std::size_t c = 0; c < columns.size(); ++c)
-      std::fprintf(out, "%s%s", c ? "," : "", columns[c].name.c_str());
-    std::fputc('\n', out);
-    writeRows(out, columns, rows, ',');
-  } else {
-    std::fprintf(out, "ply\nformat ascii 1.0\ncomment sphsplat cache %s, %s\nelement vertex %zu\n",
-                 o.cache.c_str(), what.c_str(), rows);
-    for (const Column& c : columns)
-      std::fprintf(out, "property %s %s\n", c.ids ? "uint" : "float", c.name.c_str());
-    std::fprintf(out, "end_header\n");
-    writeRows(out, columns, rows, ' ');
+  cache::FieldSet fields = s.fields;
+  if (!o.fields.empty()) {
+    std::string error;
+    std::vector<std::string> list = o.fields;
+    list.insert(list.end(), {"x", "y", "z"});
+    fields = cache::parseFields(list, error);
+    if (!error.empty()) throw InputError("--fields: " + io::printable(error, 240));
   }
-  const bool failed = std::ferror(out) != 0;
-  if (!toStdout && std::fclose(out) != 0)
-    throw InputError(o.output + ": cannot write the export file");
-  if (failed) throw InputError(path + ": cannot write the export");
-  if (!toStdout)
-    std::fprintf(stderr, "wrote %s: %zu %s of %s, %s\n", o.output.c_str(), rows,
-                 o.boundary ? "points" : "particles", what.c_str(), o.format.c_str());
+
+  std::vector<io::PvdEntry> collection;
+  std::size_t fewest = static_cast<std::size_t>(-1), most = 0;
+  std::string what;
+  for (std::size_t k = 0; k < files; ++k) {
+    Particles particles;
+    io::ExportFrame frame;
+    frame.particles = &particles;
+    if (o.boundary) {
+      std::vector<std::vector<float>> b = reader.readBoundary();
+      particles.x = std::move(b[0]), particles.y = std::move(b[1]), particles.z = std::move(b[2]);
+      what = "boundary points";
+      frame.source = "cache " + o.cache + ", boundary particles";
+    } else {
+      const std::size_t f = frames[k];
+      particles = reader.readFrame(f, fields);  // names the missing dataset if one is asked for
+      frame.fields = fields;
+      frame.time = s.frames[f].time;
+      frame.hasTime = true;
+      const std::string frameText =
+          "frame " + std::to_string(f) + " (t = " + io::readableNumber(frame.time) + " s)";
+      what = "particles of " + frameText;
+      frame.source = "cache " + o.cache + ", " + frameText;
+    }
+    const std::string path = names.file(o.boundary ? 0 : frames[k]);
+    writeFile(path, format, frame);
+    fewest = std::min(fewest, particles.size());
+    most = std::max(most, particles.size());
+    if (pvd) collection.push_back({frame.time, baseName(path)});
+  }
+  if (pvd) {
+    io::AtomicOutput out(names.pvd());
+    io::writePvd(out.file(), collection);
+    out.commit();
+  }
+  if (o.output == "-") return kOk;
+  const std::string forParaView = pvd ? "; open " + names.pvd() + " in ParaView" : "";
+  if (files == 1) {
+    std::fprintf(stderr, "wrote %s: %zu %s, %s%s\n", names.file(o.boundary ? 0 : frames[0]).c_str(),
+                 most, what.c_str(), format.c_str(), forParaView.c_str());
+  } else {
+    const std::string counts =
+        fewest == most ? std::to_string(most) : std::to_string(fewest) + "-" + std::to_string(most);
+    std::fprintf(stderr,
+                 "wrote %zu %s files %s .. %s: frames %zu-%zu (t = %s - %s s), %s "
+                 "particles each%s\n",
+                 files, format.c_str(), names.file(frames.front()).c_str(),
+                 baseName(names.file(frames.back())).c_str(), frames.front(), frames.back(),
+                 io::readableNumber(s.frames[frames.front()].time).c_str(),
+                 io::readableNumber(s.frames[frames.back()].time).c_str(), counts.c_str(),
+                 pvd ? (forParaView + " for the times").c_str() : "");
+  }
   return kOk;
 }
 
@@ -136,23 +261,34 @@ int exportFrame(const ExportOptions& o) {
 
 std::function<int()> addExportCommand(CLI::App& app) {
   auto o = std::make_shared<ExportOptions>();
-  CLI::App* cmd = app.add_subcommand("export", "Write one frame of an HDF5 cache as CSV or PLY");
+  CLI::App* cmd = app.add_subcommand(
+      "export", "Write frames of an HDF5 cache as CSV, PLY or VTK (.vtu, for ParaView)");
   cmd->add_option("cache", o->cache, "Cache file written by sphsplat run --output")->required();
-  cmd->add_option("--frame,-f", o->frame, "Frame index (0 = the initial state) or 'last'")
-      ->capture_default_str();
+  o->framesOption =
+      cmd->add_option("--frames,--frame,-f", o->frames,
+                      "Frames as for render: N, last or -1, A:B (inclusive), A:, :B, all")
+          ->capture_default_str();
   cmd->add_option("--format", o->format,
-                  "csv (a header row, one particle per line) or ply (ASCII point cloud)")
-      ->required()
-      ->check(CLI::IsMember({"csv", "ply"}));
-  cmd->add_option("--output,-o", o->output, "File to write; '-' for standard output")->required();
+                  "csv (a header row with units, a row per particle), ply (ASCII point cloud) or "
+                  "vtu (VTK XML: vertex cells, every field as point data; ParaView, meshio). "
+                  "Default: the output's extension")
+      ->check(CLI::IsMember({"csv", "ply", "vtu"}));
+  cmd->add_option("--output,-o", o->output,
+                  "File to write ('-' for standard output); for several frames a name with %05d "
+                  "where the frame number goes (out/frame_%05d.vtu) or a directory ending in / "
+                  "(files SCENE_NNNNN.FORMAT)")
+      ->required();
   cmd->add_option("--fields", o->fields, "Only these datasets besides x y z, e.g. --fields rho,p")
       ->delimiter(',');
   cmd->add_flag("--boundary", o->boundary,
                 "Export the (static) boundary particles instead of a frame");
+  cmd->add_flag("--overwrite", o->overwrite, "Replace existing files (never the cache itself)");
   cmd->footer(
-      "Exit codes: 0 done, 2 missing/damaged/foreign cache, missing dataset or frame out of "
-      "range.");
-  return [o, cmd]() { return cmd->parsed() ? exportFrame(*o) : -1; };
+      "A vtu sequence also gets a .pvd collection (frame.pvd for out/frame_%05d.vtu, SCENE.pvd in\n"
+      "a directory) that gives ParaView the frames' times. Each file appears complete or not at\n"
+      "all. Exit codes: 0 done, 2 missing/damaged/foreign cache, missing dataset, frames not in\n"
+      "the cache, an output that exists (without --overwrite) or is not a regular file.");
+  return [o, cmd]() { return cmd->parsed() ? exportFrames(*o) : -1; };
 }
 
 }  // namespace sph::app

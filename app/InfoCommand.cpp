@@ -9,6 +9,7 @@
 #include "app/Progress.h"
 #include "io/CacheReader.h"
 #include "io/CacheWriter.h"
+#include "io/MessageText.h"
 #include "io/OutputLock.h"
 #include "io/XdmfWriter.h"
 
@@ -100,6 +101,19 @@ int info(const InfoOptions& o) {
                   static_cast<unsigned long long>(f.step), f.hasRestart ? "yes" : "no");
     }
   }
+  // What could not be read is an error, after everything that could (a new cache is published
+  // only once frame 0 is in, so a cache without a frame is damaged too).
+  if (!s.damagedFrame.empty() || n == 0) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "sphsplat: %s: damaged cache: %s\n", s.path.c_str(),
+                 !s.damagedFrame.empty()
+                     ? ("frame " + std::to_string(n) + " does not read back (" +
+                        io::printable(s.damagedFrame, 160) + ")" +
+                        (n ? "; frames 0-" + std::to_string(n - 1) + " are complete" : ""))
+                           .c_str()
+                     : "it has no complete frame (not even the initial state, frame 0)");
+    return kBadInput;
+  }
   return kOk;
 }
 
@@ -112,7 +126,9 @@ std::function<int()> addInfoCommand(CLI::App& app) {
   cmd->add_option("cache", o->cache, "Cache file written by sphsplat run --output")->required();
   cmd->add_flag("--frames", o->listFrames,
                 "Also list every frame: time, particle count, solver steps");
-  cmd->footer("Exit codes: 0 done, 2 missing, damaged or foreign file (one line says what).");
+  cmd->footer(
+      "Exit codes: 0 done, 2 missing, damaged or foreign file (one line on stderr says what; a\n"
+      "damaged cache still gets the lines that could be read).");
   return [o, cmd]() { return cmd->parsed() ? info(*o) : -1; };
 }
 

@@ -24,6 +24,9 @@ void Progress::update(const ProgressSample& s) {
   const double sinceDraw = std::chrono::duration<double>(now - lastDraw_).count();
   const double fraction = s.endTime > 0 ? s.time / s.endTime : 1;
   if (fraction >= 1) return;  // the final state is drawn by finish()
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  if (warmSeconds_ < 0 && elapsed >= kWarmUpSeconds)
+    warmSeconds_ = elapsed, warmFraction_ = fraction;
   if (mode_ == Mode::Bar) {
     if (drawn_ && sinceDraw < 0.1) return;
   } else {
@@ -41,10 +44,8 @@ void Progress::draw(const ProgressSample& s) {
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const double fraction = s.endTime > 0 ? std::min(1.0, s.time / s.endTime) : 1;
-  const double eta = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0;
   char stats[256];
-  const std::string tail =
-      fraction >= 1 ? "in " + humanSeconds(elapsed) : "ETA " + humanSeconds(eta);
+  const std::string tail = fraction >= 1 ? "in " + humanSeconds(elapsed) : eta(elapsed, fraction);
   std::snprintf(stats, sizeof stats,
                 "t %.3f/%.3f s  step %llu  %s particles  %s particle-steps/s  %s", s.time,
                 s.endTime, static_cast<unsigned long long>(s.steps),
@@ -61,6 +62,13 @@ void Progress::draw(const ProgressSample& s) {
     std::fprintf(stderr, "%s %3d%%  %s\n", label_.c_str(), static_cast<int>(fraction * 100), stats);
   }
   std::fflush(stderr);
+}
+
+std::string Progress::eta(double elapsed, double fraction) const {
+  // The rate since the end of the warm-up, over at least as long again.
+  const double span = elapsed - warmSeconds_, done = fraction - warmFraction_;
+  if (warmSeconds_ < 0 || span < kWarmUpSeconds || done <= 0) return "ETA estimating...";
+  return "ETA " + humanSeconds((1 - fraction) * span / done);
 }
 
 void Progress::finish(const ProgressSample& s) {

@@ -29,12 +29,19 @@ class Progress {
 
  private:
   void draw(const ProgressSample& s);
+  // "ETA 12.3 s", or "ETA estimating..." until the rate is known. The first steps cost more than
+  // the rest (first touch of the arrays, threads starting, the first frame written), so the rate
+  // is measured from the end of a warm-up second on: extrapolated from the start, a 30 s run
+  // once said "ETA 51m51s" on its first line.
+  std::string eta(double elapsed, double fraction) const;
+  static constexpr double kWarmUpSeconds = 1.0;
   Mode mode_;
   std::string label_;
   std::chrono::steady_clock::time_point start_, lastDraw_;
   double lastLinedFraction_ = -1;
   double lastDrawnFraction_ = -1;
   bool drawn_ = false;
+  double warmSeconds_ = -1, warmFraction_ = 0;  // wall time and fraction at the warm-up's end
 };
 
 }  // namespace sph::app

@@ -1,7 +1,9 @@
 // `sphsplat render CACHE` (frames to PNGs and, if asked, into the cache) and `sphsplat compare
 // CACHE --frame N` (point splats, quad splats and the reference side by side, with times and
 // error figures). No simulation: the particles come from the cache.
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
@@ -11,6 +13,7 @@
 #include "app/RenderOutput.h"
 #include "io/CacheReader.h"
 #include "io/CacheWriter.h"
+#include "io/MessageText.h"
 #include "io/Png.h"
 #include "render/gl/GlContext.h"
 #include "render/splat/Annotate.h"
@@ -33,15 +36,22 @@ struct RenderOptions {
 
 void applySize(const std::string& size, RenderDesc& d) {
   if (size.empty()) return;
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(size.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
-      w < 16 || h < 16 || w > 8192 || h > 8192) {
+  // WIDTHxHEIGHT, each 16-8192: strtol with its end checked (sscanf's %d overflows silently).
+  auto dimension = [](const std::string& text, long& value) {
+    char* end = nullptr;
+    errno = 0;
+    value = std::strtol(text.c_str(), &end, 10);
+    return !text.empty() && errno == 0 && *end == 0 && value >= 16 && value <= 8192;
+  };
+  const std::size_t x = size.find_first_of("xX");
+  long w = 0, h = 0;
+  if (x == std::string::npos || !dimension(size.substr(0, x), w) ||
+      !dimension(size.substr(x + 1), h)) {
     throw InputError(
-        "--size: expected WIDTHxHEIGHT between 16 and 8192 pixels, e.g. 960x540, got '" + size +
-        "'");
+        "--size: expected WIDTHxHEIGHT between 16 and 8192 pixels, e.g. 960x540, got '" +
+        io::printable(size) + "'");
   }
-  d.width = w, d.height = h;
+  d.width = static_cast<int>(w), d.height = static_cast<int>(h);
 }
 
 std::vector<render::splat::SplatKind> kindsOf(RenderDesc::Splat s) {
@@ -179,7 +189,7 @@ std::string fmt(const char* format, double a, double b = 0, double c = 0, double
 
 int compare(const CompareOptions& o) {
   CacheRendering c(o.cache, o.overrides, "both", o.size);
-  const std::size_t f = parseFrameRange(o.frame, c.frameCount(), "--frame").front();
+  const std::size_t f = parseOneFrame(o.frame, c.frameCount(), "--frame");
   const io::OutputLock directoryLock = lockDirectory(o.out);
   makeDirectory(o.out);
   render::gl::GlContext context = render::gl::GlContext::headless();
@@ -246,7 +256,8 @@ std::function<int()> addRenderCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "render", "Render frames of a cache with point or quad splats (no simulation)");
   cmd->add_option("cache", o->cache, "HDF5 cache written by `sphsplat run`")->required();
-  cmd->add_option("--frames", o->frames, "Frames: N, A:B (inclusive), A:, :B, last (default: all)");
+  cmd->add_option("--frames", o->frames,
+                  "Frames: N, A:B (inclusive), A:, :B, last or -1, all (default: all)");
   cmd->add_option("--splat", o->splat,
                   "point, quad or both (default: the scene's render.splat, else quad)")
       ->check(CLI::IsMember({"point", "quad", "both"}));

@@ -1,8 +1,10 @@
 // `sphsplat run SCENE`: simulate a scene, report progress and a summary (app/RunJob.h).
 #include <memory>
 
+#include "app/CliChecks.h"
 #include "app/Commands.h"
 #include "app/RunJob.h"
+#include "io/SceneLoader.h"
 
 namespace sph::app {
 
@@ -11,10 +13,12 @@ std::function<int()> addRunCommand(CLI::App& app) {
   CLI::App* cmd =
       app.add_subcommand("run", "Simulate a scene file (JSON, see docs/scene-format.md)");
   cmd->add_option("scene", o->scene, "Scene file, e.g. scenes/dam_break.json")->required();
-  cmd->add_option("--threads,-j", o->threads, "Worker threads (default: all cores)")
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--end", o->end, "Simulated end time in seconds (overrides solver.end_time)")
-      ->check(CLI::PositiveNumber);
+  cmd->add_option("--threads,-j", o->threads,
+                  "Worker threads (default: all cores; at most 4 x the cores, more is refused)")
+      ->check(threadsCheck());
+  cmd->add_option("--end", o->end,
+                  "Simulated end time in seconds, up to 1e6 (overrides solver.end_time)")
+      ->check(positiveUpTo(io::kMaxEndTime, "seconds"));
   cmd->add_option("--set", o->overrides,
                   "Override a scene key before validation, KEY.PATH=VALUE, repeatable\n"
                   "(e.g. --set solver.spacing=0.01 --set fluids[0].velocity=[1,0,0])");

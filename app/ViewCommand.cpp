@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "app/CacheScene.h"
+#include "app/CliChecks.h"
 #include "app/Commands.h"
 #include "io/CacheReader.h"
 #include "io/Png.h"
@@ -96,7 +97,7 @@ int view(const ViewOptions& o) {
     xyz.set(static_cast<std::size_t>(f));
   ViewerState s;
   s.frames = reader.frameCount();
-  s.frame = parseFrameRange(o.frame, s.frames, "--frame").front();
+  s.frame = parseOneFrame(o.frame, s.frames, "--frame");
   s.kind = o.splat == "point" ? render::splat::SplatKind::Point : render::splat::SplatKind::Quad;
   const Particles first = reader.readFrame(s.frame, xyz);
   const CameraDesc lens =
@@ -229,24 +230,30 @@ std::function<int()> addViewCommand(CLI::App& app) {
       ->check(CLI::IsMember({"point", "quad"}))
       ->capture_default_str();
   cmd->add_option("--frame", o->frame, "Frame to start at (index or last)")->capture_default_str();
-  cmd->add_option("--speed", o->speed, "Playback speed (1 = the cache's frame rate)")
-      ->check(CLI::PositiveNumber)
+  cmd->add_option("--speed", o->speed, "Playback speed (1 = the cache's frame rate), up to 1000")
+      ->check(positiveUpTo(1000, "times the cache's frame rate"))
       ->capture_default_str();
   cmd->add_option("--width", o->width, "Window width")
-      ->check(CLI::Range(64, 8192))
+      ->check(integerIn(64, 8192))
       ->capture_default_str();
   cmd->add_option("--height", o->height, "Window height")
-      ->check(CLI::Range(64, 8192))
+      ->check(integerIn(64, 8192))
       ->capture_default_str();
   cmd->add_option("--screenshot", o->screenshot,
                   "File for the S key's screenshot (default: sphsplat_view_NNNNN.png)");
   cmd->add_option(
          "--exit-after", o->exitAfter,
          "Quit after drawing N frames (scripts and tests; with --screenshot, saves the last)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(integerIn(0, 1000000000));
   cmd->add_option("--set", o->overrides,
                   "Edit the recorded scene, e.g. --set render.projection=eq6 for the paper's rule "
                   "(repeatable)");
+  cmd->footer(
+      "Keys: Space play/pause, Left/Right step, PageUp/PageDown 10 frames, Home/End, M "
+      "point/quad,\n"
+      "S screenshot, Esc or Q quit; drag to orbit, wheel to zoom, click the bottom bar to seek.\n"
+      "Needs a display and OpenGL 4.5. Exit codes: 0 done, 2 bad cache or flags, 4 no usable\n"
+      "OpenGL or display.");
   return [o, cmd]() { return cmd->parsed() ? view(*o) : -1; };
 }
 

@@ -6,6 +6,7 @@
 #include <new>
 #include <vector>
 
+#include "app/CliChecks.h"
 #include "app/Commands.h"
 #include "app/OpenMpSpinLimit.h"
 #include "app/Version.h"
@@ -19,9 +20,7 @@ int main(int argc, char** argv) {
                "Scenes are JSON files (scenes/, docs/scene-format.md)."};
   app.set_version_flag("--version", "sphsplat " SPHSPLAT_VERSION_STRING);
   app.require_subcommand(1, 1);
-  app.footer(
-      "Run 'sphsplat COMMAND --help' for a command's options.\n"
-      "Example: sphsplat run scenes/dam_break.json --threads 2");
+  app.failure_message(sph::app::oneLineFailure);
 
   std::vector<std::function<int()>> commands;
   commands.push_back(sph::app::addRunCommand(app));
@@ -31,6 +30,10 @@ int main(int argc, char** argv) {
   commands.push_back(sph::app::addRenderCommand(app));
   commands.push_back(sph::app::addCompareCommand(app));
   commands.push_back(sph::app::addViewCommand(app));
+  // After the subcommands: CLI11 copies a parent's footer into each subcommand made after it.
+  app.footer(
+      "Run 'sphsplat COMMAND --help' for a command's options.\n"
+      "Example: sphsplat run scenes/dam_break.json --threads 2");
 
   try {
     app.parse(argc, argv);

@@ -12,6 +12,7 @@
 #include "io/OutputLock.h"
 #include "sim/HumanText.h"
 #include "sim/InputError.h"
+#include "io/UserFiles.h"
 
 namespace sph::io {
 namespace {
@@ -96,6 +97,17 @@ std::unique_ptr<CacheSession> CacheSession::prepare(const CacheSessionOptions& f
   if (out->xdmfPath_ == out->path_) out->xdmfPath_ += ".xdmf";
   for (const std::string& p : {out->path_, out->xdmfPath_}) {
     if (isDirectory(p)) throw InputError(p + ": is a directory; expected a cache file name");
+    // Compared by device and inode: ./x.json, /abs/x.json, a symlink or a hard link alike.
+    if (sameFile(p, scene.sourcePath)) {
+      throw InputError(p + ": is the scene file being run (" + scene.sourcePath +
+                       "); refusing to write the cache over it, even with --overwrite");
+    }
+    // --overwrite replaces files, never a device node, a FIFO or a socket.
+    const std::string kind = nonRegularKind(p);
+    if (!kind.empty()) {
+      throw InputError(p + ": is " + kind +
+                       ", not a regular file; refusing to replace it (choose a cache file name)");
+    }
     if (exists(p) && !flags.overwrite) {
       throw InputError(
           p + ": already exists; pass --overwrite to replace it" +

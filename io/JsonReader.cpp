@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "io/MessageText.h"
+
 namespace sph::io {
 namespace {
 
@@ -32,8 +34,9 @@ bool nonNegative(double v) {
 }
 
 std::string describeJson(const nlohmann::json& v) {
-  std::string text = v.dump();
-  if (text.size() > 40) text = text.substr(0, 37) + "...";
+  // ASCII only (\uXXXX escapes) and at most 40 characters, whatever the value holds.
+  const std::string text =
+      printable(v.dump(-1, ' ', true, nlohmann::json::error_handler_t::replace), 40);
   switch (v.type()) {
     case nlohmann::json::value_t::string:
       return "the string " + text;
@@ -59,7 +62,7 @@ JsonReader::JsonReader(const nlohmann::json& value, std::string path, std::strin
 }
 
 std::string JsonReader::keyPath(const std::string& key) const {
-  return path_.empty() ? key : path_ + "." + key;
+  return path_.empty() ? printable(key) : path_ + "." + printable(key);
 }
 
 void JsonReader::fail(const std::string& key, const std::string& message) const {
@@ -80,6 +83,10 @@ double JsonReader::number(const std::string& key, std::optional<double> def, con
   const nlohmann::json& v = (*value_)[key];
   if (!v.is_number() || !std::isfinite(v.get<double>()) || (valid && !valid(v.get<double>()))) {
     fail(key, std::string("expected ") + expected + ", got " + describeJson(v));
+  }
+  if (std::fabs(v.get<double>()) > kMaxSceneNumber) {
+    fail(key, std::string("expected ") + expected + " of magnitude at most " +
+                  readableNumber(kMaxSceneNumber) + ", got " + describeJson(v));
   }
   return v.get<double>();
 }
@@ -125,6 +132,13 @@ Vec3 JsonReader::vec3(const std::string& key, std::optional<Vec3> def, const cha
   for (std::size_t i = 0; ok && i < 3; ++i)
     ok = v[i].is_number() && std::isfinite(v[i].get<double>());
   if (!ok) fail(key, std::string("expected ") + expected + " [x, y, z], got " + describeJson(v));
+  for (std::size_t i = 0; i < 3; ++i) {
+    if (std::fabs(v[i].get<double>()) > kMaxSceneCoordinate) {
+      fail(key, std::string("expected ") + expected + " [x, y, z], each between -" +
+                    readableNumber(kMaxSceneCoordinate) + " and " +
+                    readableNumber(kMaxSceneCoordinate) + ", got " + describeJson(v));
+    }
+  }
   return Vec3(v[0].get<float>(), v[1].get<float>(), v[2].get<float>());
 }
 
@@ -175,6 +189,7 @@ void JsonReader::finish() const {
     std::string best;
     std::size_t bestDistance = 3;  // suggest only near misses
     for (const std::string& known : used_) {
+      if (it.key().size() > known.size() + bestDistance) continue;  // no near miss; and cheap
       const std::size_t d = editDistance(it.key(), known);
       if (d < bestDistance) best = known, bestDistance = d;
     }

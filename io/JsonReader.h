@@ -14,6 +14,13 @@
 
 namespace sph::io {
 
+// Every scene number is refused beyond this magnitude (docs/scene-format.md): past it a float
+// loses every digit that matters, and casts to integers or floats would overflow.
+constexpr double kMaxSceneNumber = 1e12;
+// Every component of a vector key ([x, y, z]: positions, velocities, gravity, directions) lies
+// within +-kMaxSceneCoordinate (m, m/s or m/s^2): a float at 1e6 m still resolves 0.06 m.
+constexpr double kMaxSceneCoordinate = 1e6;
+
 class JsonReader {
  public:
   JsonReader(const nlohmann::json& value, std::string path, std::string file);

@@ -1,4 +1,5 @@
 #include "io/Png.h"
+#include "sim/InputError.h"
 
 #include <png.h>
 
@@ -7,7 +8,7 @@
 #include <cstring>
 #include <memory>
 
-#include "sim/InputError.h"
+#include "io/UserFiles.h"
 
 namespace sph::io {
 namespace {
@@ -22,40 +23,34 @@ using File = std::unique_ptr<FILE, FileCloser>;
 }  // namespace
 
 void writePng(const std::string& path, int width, int height, const std::uint8_t* rgb) {
-  const std::string temporary = path + ".part";
-  {
-    File file(std::fopen(temporary.c_str(), "wb"));
-    if (!file) throw InputError(path + ": cannot write the image (" + std::strerror(errno) + ")");
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-    png_infop info = png ? png_create_info_struct(png) : nullptr;
-    if (!png || !info) {
-      png_destroy_write_struct(&png, &info);
-      throw InputError(path + ": cannot write the image (libpng could not start)");
-    }
-    if (setjmp(png_jmpbuf(png))) {
-      png_destroy_write_struct(&png, &info);
-      std::remove(temporary.c_str());
-      throw InputError(path + ": cannot write the image (libpng error, disk full?)");
-    }
-    png_init_io(png, file.get());
-    png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8,
-                 PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
-                 PNG_FILTER_TYPE_DEFAULT);
-    png_write_info(png, info);
-    for (int row = 0; row < height; ++row) {
-      png_write_row(png, const_cast<png_bytep>(rgb + static_cast<std::size_t>(row) * width * 3));
-    }
-    png_write_end(png, nullptr);
+  // Frames are redrawn over older frames, but never over a device node, FIFO or socket.
+  const std::string kind = nonRegularKind(path);
+  if (!kind.empty()) {
+    throw InputError(path + ": is " + kind +
+                     ", not a regular file; refusing to replace it with an image");
+  }
+  AtomicOutput file(path);
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!png || !info) {
     png_destroy_write_struct(&png, &info);
-    if (std::fflush(file.get()) != 0) {
-      std::remove(temporary.c_str());
-      throw InputError(path + ": cannot write the image (" + std::strerror(errno) + ")");
-    }
+    throw InputError(path + ": cannot write the image (libpng could not start)");
   }
-  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
-    std::remove(temporary.c_str());
-    throw InputError(path + ": cannot write the image (" + std::strerror(errno) + ")");
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    throw InputError(path + ": cannot write the image (libpng error, disk full?)");
   }
+  png_init_io(png, file.file());
+  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8,
+               PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+               PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  for (int row = 0; row < height; ++row) {
+    png_write_row(png, const_cast<png_bytep>(rgb + static_cast<std::size_t>(row) * width * 3));
+  }
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  file.commit();  // renames the temporary over `path` (a PNG that exists is complete)
 }
 
 std::vector<std::uint8_t> readPng(const std::string& path, int& width, int& height) {

@@ -1,15 +1,15 @@
 #include "io/SceneLoader.h"
 
-#include <cerrno>
 #include <cmath>
-#include <cstring>
-#include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "io/CacheFormat.h"
 #include "io/JsonReader.h"
+#include "io/JsonText.h"
+#include "io/MessageText.h"
+#include "io/UserFiles.h"
 #include "sim/SceneSetup.h"
 
 namespace sph::io {
@@ -23,54 +23,91 @@ std::string formatVec(const Vec3& v) {
   return s.str();
 }
 
-// Line and column of a byte offset, for JSON syntax errors.
-std::string lineColumn(const std::string& text, std::size_t offset) {
-  std::size_t line = 1, column = 1;
-  for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
-    if (text[i] == '\n')
-      ++line, column = 1;
-    else
-      ++column;
+// One step of a --set key path: an object key or an array index.
+struct PathStep {
+  std::string key;        // "" for an index
+  std::size_t index = 0;  // when key is ""
+};
+
+// "fluids[0].min" -> fluids, [0], min. Keys are non-empty; indices are plain decimal integers.
+std::vector<PathStep> parseKeyPath(const std::string& keyPath) {
+  const std::string quoted = "--set " + printable(keyPath);
+  std::vector<PathStep> steps;
+  std::size_t pos = 0;
+  while (pos < keyPath.size()) {
+    if (keyPath[pos] == '[') {
+      const std::size_t close = keyPath.find(']', pos);
+      if (close == std::string::npos) throw InputError(quoted + ": missing ']'");
+      const std::string digits = keyPath.substr(pos + 1, close - pos - 1);
+      const bool number = !digits.empty() && digits.size() <= 9 &&
+                          digits.find_first_not_of("0123456789") == std::string::npos;
+      if (!number) {
+        throw InputError(quoted + ": expected an array index 0, 1, 2, ... inside [ ], got '" +
+                         printable(digits) + "'");
+      }
+      steps.push_back({"", static_cast<std::size_t>(std::stoul(digits))});
+      pos = close + 1;
+      if (pos < keyPath.size() && keyPath[pos] != '.' && keyPath[pos] != '[')
+        throw InputError(quoted + ": expected '.' or '[' after ']'");
+      if (pos < keyPath.size() && keyPath[pos] == '.') {
+        ++pos;
+        if (pos == keyPath.size()) throw InputError(quoted + ": a key path cannot end with '.'");
+      }
+      continue;
+    }
+    const std::size_t end = std::min(keyPath.find_first_of(".[", pos), keyPath.size());
+    if (end == pos) {
+      throw InputError(quoted + ": empty key before '" + keyPath[pos] +
+                       "'; expected KEY.PATH such as solver.spacing or fluids[0].min");
+    }
+    steps.push_back({keyPath.substr(pos, end - pos), 0});
+    pos = end;
+    if (pos < keyPath.size() && keyPath[pos] == '.') {
+      ++pos;
+      if (pos == keyPath.size()) throw InputError(quoted + ": a key path cannot end with '.'");
+    }
   }
-  return std::to_string(line) + ":" + std::to_string(column);
+  return steps;
 }
 
 // Applies one "a.b[2].c=value" override to the document.
 void applyOverride(json& doc, const std::string& edit, const std::string& file) {
   const std::size_t eq = edit.find('=');
   if (eq == std::string::npos || eq == 0) {
-    throw InputError("--set " + edit + ": expected KEY.PATH=VALUE, e.g. solver.spacing=0.01");
+    throw InputError("--set " + printable(edit) +
+                     ": expected KEY.PATH=VALUE, e.g. solver.spacing=0.01");
   }
   const std::string keyPath = edit.substr(0, eq), text = edit.substr(eq + 1);
-  json value = json::parse(text, nullptr, false);
-  if (value.is_discarded()) value = text;
+  requireUtf8(keyPath, "--set");
+  const std::vector<PathStep> steps = parseKeyPath(keyPath);
+  // JSON if it reads as JSON (0.01, [1,0,0], {"method": "exact"}), else the text as a string.
+  std::optional<json> parsed = parseJsonIfJson(text, "--set " + printable(keyPath));
+  json value = parsed ? std::move(*parsed) : json(text);
   json* node = &doc;
-  std::size_t pos = 0;
-  while (pos < keyPath.size()) {
-    std::size_t end = keyPath.find_first_of(".[", pos);
-    if (end == std::string::npos) end = keyPath.size();
-    const std::string key = keyPath.substr(pos, end - pos);
-    if (!key.empty()) {
+  for (const PathStep& step : steps) {
+    if (!step.key.empty()) {
       if (node->is_null()) *node = json::object();  // --set may create a section the file lacks
-      if (!node->is_object())
-        throw InputError(file + ": --set " + keyPath + ": '" + key + "' is not inside an object");
-      node = &(*node)[key];
-    }
-    pos = end;
-    while (pos < keyPath.size() && keyPath[pos] == '[') {
-      const std::size_t close = keyPath.find(']', pos);
-      if (close == std::string::npos) throw InputError("--set " + keyPath + ": missing ']'");
-      const std::size_t index = std::stoul(keyPath.substr(pos + 1, close - pos - 1));
-      if (!node->is_array() || index >= node->size()) {
-        throw InputError(file + ": --set " + keyPath + ": index " + std::to_string(index) +
-                         " is out of range");
+      if (!node->is_object()) {
+        throw InputError(file + ": --set " + printable(keyPath) + ": '" + printable(step.key) +
+                         "' is not inside an object");
       }
-      node = &(*node)[index];
-      pos = close + 1;
+      node = &(*node)[step.key];
+    } else {
+      if (!node->is_array() || step.index >= node->size()) {
+        throw InputError(file + ": --set " + printable(keyPath) + ": index " +
+                         std::to_string(step.index) + " is out of range" +
+                         (node->is_array()
+                              ? " (the array has " + std::to_string(node->size()) + " entries)"
+                              : " (not an array)"));
+      }
+      node = &(*node)[step.index];
     }
-    if (pos < keyPath.size() && keyPath[pos] == '.') ++pos;
   }
-  *node = value;
+  *node = std::move(value);
+}
+
+bool integerIn(double v, double lo, double hi) {
+  return v >= lo && v <= hi && v == std::floor(v);
 }
 
 // Solver defaults of a `quality` preset (docs/scene-format.md, "quality"). The values come from
@@ -93,7 +130,8 @@ SolverParams readSolver(JsonReader r, const std::string& quality) {
   SolverParams s;
   const QualityPreset preset = qualityPreset(quality);
   s.spacing =
-      static_cast<float>(r.number("spacing", std::nullopt, "a positive number (m)", positive));
+      static_cast<float>(r.number("spacing", std::nullopt, "a positive number of at most 1000 (m)",
+                                  [](double v) { return v > 0 && v <= 1e3; }));
   s.model = r.string("model", std::string("sph"), {"sph", "particles"}) == "sph"
                 ? SolverModel::Sph
                 : SolverModel::Particles;
@@ -130,7 +168,8 @@ SolverParams readSolver(JsonReader r, const std::string& quality) {
   s.maxTimeStep = static_cast<float>(
       r.number("max_time_step", s.maxTimeStep, "a positive number (s)", positive));
   s.gravity = r.vec3("gravity", s.gravity, "3 numbers (m/s^2)");
-  s.endTime = r.number("end_time", 1.0, "a positive number (s)", positive);
+  s.endTime = r.number("end_time", 1.0, "a positive number of at most 1e6 (s)",
+                       [](double v) { return v > 0 && v <= kMaxEndTime; });
   s.boundaryLayers =
       static_cast<int>(r.number("boundary_layers", 0.0, "an integer in [0, 8] (0 = automatic)",
                                 [](double v) { return v >= 0 && v <= 8 && v == std::floor(v); }));
@@ -217,7 +256,7 @@ EmitterDesc readEmitter(JsonReader r, float spacing) {
   e.start = r.number("start", 0.0, "a number >= 0 (s)", nonNegative);
   e.stop = r.number("stop", std::numeric_limits<double>::infinity(), "a number > start (s)");
   if (r.has("stop") && e.stop <= e.start)
-    r.fail("stop", "expected a time after start (" + std::to_string(e.start) + " s)");
+    r.fail("stop", "expected a time after start (" + readableNumber(e.start) + " s)");
   e.maxParticles = static_cast<std::size_t>(
       r.number("max_particles", 0.0, "an integer >= 0 (0 = no limit)", nonNegative));
   r.finish();
@@ -234,7 +273,7 @@ OutputDesc readOutput(JsonReader r) {
       r.stringArray("fields", o.fields, "an array of field names, e.g. [\"x\", \"y\", \"z\"]");
   std::string error;
   const cache::FieldSet fields = cache::parseFields(names, error);
-  if (!error.empty()) r.fail("fields", error);
+  if (!error.empty()) r.fail("fields", printable(error, 240));
   o.fields.clear();
   for (std::size_t f = 0; f < cache::kFieldCount; ++f) {
     if (fields[f]) o.fields.push_back(cache::fieldName(static_cast<cache::Field>(f)));
@@ -267,10 +306,6 @@ CameraDesc readCamera(JsonReader r) {
   return c;
 }
 
-bool integerIn(double v, double lo, double hi) {
-  return v >= lo && v <= hi && v == std::floor(v);
-}
-
 // The `collision` section (docs/scene-format.md, "collision"; DESIGN.md, "The CDT collision pass").
 RenderDesc readRender(JsonReader r) {
   RenderDesc d;
@@ -283,8 +318,8 @@ RenderDesc readRender(JsonReader r) {
       static_cast<int>(r.number("width", d.width, "an integer in [16, 8192] (pixels)", pixels));
   d.height =
       static_cast<int>(r.number("height", d.height, "an integer in [16, 8192] (pixels)", pixels));
-  d.every = static_cast<int>(r.number("every", 1.0, "an integer >= 1 (output frames)",
-                                      [](double v) { return v >= 1 && v == std::floor(v); }));
+  d.every = static_cast<int>(r.number("every", 1.0, "an integer in [1, 1e6] (output frames)",
+                                      [](double v) { return integerIn(v, 1, 1e6); }));
   d.kernelRadius =
       static_cast<float>(r.number("kernel_radius", d.kernelRadius, "a number in [1, 5] (spacings)",
                                   [](double v) { return v >= 1 && v <= 5; }));
@@ -387,7 +422,7 @@ void validate(const Scene& s, const std::string& file) {
     }
     if ((b.hi - b.lo).minCoeff() < dx) {
       fail(path,
-           "expected a block at least one particle spacing (" + std::to_string(dx) + " m) across");
+           "expected a block at least one particle spacing (" + readableNumber(dx) + " m) across");
     }
   }
   for (std::size_t i = 0; i < s.emitters.size(); ++i) {
@@ -402,25 +437,27 @@ void validate(const Scene& s, const std::string& file) {
     estimate += f.shape == FluidBlock::Shape::Box ? (f.hi - f.lo).prod() / (dx * dx * dx)
                                                   : 4.18879 * std::pow(f.radius / dx, 3.0);
   }
-  if (estimate > 2e8)
-    fail("solver.spacing", "the fluid blocks would hold " +
-                               std::to_string(static_cast<long long>(estimate)) +
+  if (!(estimate <= 2e8)) {
+    fail("solver.spacing", "the fluid blocks would hold " + readableCount(estimate) +
                                " particles; expected at most 2e8 (raise the spacing)");
+  }
+  // Frames no closer than the solver's step at rest (its largest): a shorter frame interval would
+  // only cut every step short, and output.fps = 1e308 would crawl at 1e-308 s a step.
+  const float restStep = timeStep(s, deriveParams(s), 0, 0);
+  if (s.output.fps * restStep > 1.0) {
+    fail("output.fps",
+         "expected at most " + readableNumber(1.0 / restStep, 4) +
+             " frames per simulated second (one frame per solver step; the step at rest is " +
+             readableNumber(restStep, 3) + " s, a smaller solver.max_time_step allows more), got " +
+             readableNumber(s.output.fps));
+  }
 }
 
 }  // namespace
 
 Scene parseScene(const std::string& text, const std::string& path,
                  const std::vector<std::string>& overrides) {
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::parse_error& e) {
-    std::string what = e.what();
-    const std::size_t colon = what.find("syntax error");
-    throw InputError(path + ":" + lineColumn(text, e.byte > 0 ? e.byte - 1 : 0) +
-                     ": invalid JSON: " + (colon != std::string::npos ? what.substr(colon) : what));
-  }
+  json doc = parseJson(text, path);
   for (const std::string& edit : overrides) applyOverride(doc, edit, path);
 
   JsonReader root(doc, "", path);
@@ -469,13 +506,7 @@ Scene parseScene(const std::string& text, const std::string& path,
 }
 
 Scene loadScene(const std::string& path, const std::vector<std::string>& overrides) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open the scene file (" + std::strerror(errno) + ")");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad())
-    throw InputError(path + ": cannot read the scene file (" + std::strerror(errno) + ")");
-  return parseScene(text.str(), path, overrides);
+  return parseScene(readInputFile(path, "scene file"), path, overrides);
 }
 
 }  // namespace sph::io

@@ -10,6 +10,9 @@
 
 namespace sph::io {
 
+// Longest simulated time a scene may ask for (s): solver.end_time and `run --end`.
+constexpr double kMaxEndTime = 1e6;
+
 // Loads and validates `path`. `overrides` are "key.path=value" edits applied to the JSON before
 // validation (value parsed as JSON, else taken as a string), e.g. "solver.spacing=0.01".
 Scene loadScene(const std::string& path, const std::vector<std::string>& overrides = {});

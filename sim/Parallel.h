@@ -32,6 +32,13 @@ inline int threadCount() {
 inline int threadIndex() {
   return omp_get_thread_num();
 }
+// The most threads a run may ask for: 4 x the processors OpenMP may use here. More only costs
+// (each thread needs a stack, every barrier waits for all of them), and libgomp fails at some
+// point above (50,000 threads: "Thread creation failed"; 100,000: a crash), so `--threads` and a
+// sweep's `threads` are refused beyond this.
+inline int maxThreadCount() {
+  return 4 * omp_get_num_procs();
+}
 inline void setThreadCount(int n) {
   if (n > 0) omp_set_num_threads(n);
 }

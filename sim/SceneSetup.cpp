@@ -98,6 +98,16 @@ DerivedParams deriveParams(const Scene& scene) {
   return d;
 }
 
+float timeStep(const Scene& scene, const DerivedParams& d, float maxSpeed, float maxAcceleration) {
+  const SolverParams& s = scene.solver;
+  // The paper's particle system advances by a fixed tick (seed 000, pseudo-code g_tick).
+  if (s.model == SolverModel::Particles) return s.maxTimeStep;
+  float dt = s.cfl * d.h / (d.speedOfSound + maxSpeed);
+  if (maxAcceleration > 0) dt = std::min(dt, 0.25f * std::sqrt(d.h / maxAcceleration));
+  if (d.viscosity > 0) dt = std::min(dt, 0.125f * d.h * d.h / d.viscosity);
+  return std::min(dt, s.maxTimeStep);
+}
+
 Aabb defaultDomain(const Scene& scene) {
   Aabb box;
   const float layers = std::max(1.0f, std::ceil(scene.solver.support));

@@ -38,6 +38,12 @@ float expectedMaxSpeed(const Scene& scene);
 
 DerivedParams deriveParams(const Scene& scene);
 
+// Step size (DESIGN.md, "Time"): the CFL condition with the speed of sound, a force condition and
+// a viscous condition (Monaghan 1992), bounded by solver.max_time_step; the paper's particle
+// model takes max_time_step always. `maxSpeed` (m/s) and `maxAcceleration` (m/s^2) are the
+// fluid's now; with both 0 it is the step at rest, the largest the scene ever takes.
+float timeStep(const Scene& scene, const DerivedParams& d, float maxSpeed, float maxAcceleration);
+
 // Box holding every fluid block, emitter and bounded solid, grown by 10% (at least 4 support
 // radii) on each side and by its own height against gravity, so splashes stay inside.
 Aabb defaultDomain(const Scene& scene);

@@ -35,17 +35,9 @@ float Simulation::nextTimeStep() const {
   return chooseTimeStep();
 }
 
-// Step size (DESIGN.md, "Time"): the CFL condition with the speed of sound, a force condition and
-// a viscous condition (Monaghan 1992), bounded by the scene's maximum.
+// Step size: sim/SceneSetup.h, timeStep().
 float Simulation::chooseTimeStep() const {
-  const SolverParams& s = scene_.solver;
-  // The paper's particle system advances by a fixed tick (seed 000, pseudo-code g_tick).
-  if (s.model == SolverModel::Particles) return s.maxTimeStep;
-  const float h = derived_.h;
-  float dt = s.cfl * h / (derived_.speedOfSound + state_.maxSpeed);
-  if (state_.maxAcceleration > 0) dt = std::min(dt, 0.25f * std::sqrt(h / state_.maxAcceleration));
-  if (derived_.viscosity > 0) dt = std::min(dt, 0.125f * h * h / derived_.viscosity);
-  return std::min(dt, s.maxTimeStep);
+  return timeStep(scene_, derived_, state_.maxSpeed, state_.maxAcceleration);
 }
 
 StepContext Simulation::context(float dt) {

@@ -2,7 +2,9 @@
 // line and exit code 2, a run with its summary, and the blow-up guard's message and exit code 3.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <regex>
+#include <sstream>
 
 #include "tests/TestSupport.h"
 
@@ -58,7 +60,7 @@ TEST(Cli, EveryClassOfBadSceneIsRefusedWithOneLineAndExitTwo) {
        "solver.cfl: expected a positive number, got the string \"fast\""},
       {"negative spacing",
        R"({"solver": {"spacing": -0.01}, "fluids": [{"min": [0,0,0], "max": [0.1,0.1,0.1]}]})",
-       "solver.spacing: expected a positive number (m), got -0.01"},
+       "solver.spacing: expected a positive number of at most 1000 (m), got -0.01"},
       {"fluid outside the domain",
        R"({"solver": {"spacing": 0.01}, "domain": {"min": [0,0,0], "max": [1,1,1]},
         "fluids": [{"min": [0,0,0], "max": [2,0.1,0.1]}]})",
@@ -93,8 +95,9 @@ TEST(Cli, EveryClassOfBadSceneIsRefusedWithOneLineAndExitTwo) {
   const auto badSet =
       runSphsplat("run " + test::sourcePath("scenes/dam_break.json") + " --set solver.spacing=-1");
   EXPECT_EQ(badSet.exitCode, 2);
-  EXPECT_NE(badSet.output.find("solver.spacing: expected a positive number (m), got -1"),
-            std::string::npos);
+  EXPECT_NE(
+      badSet.output.find("solver.spacing: expected a positive number of at most 1000 (m), got -1"),
+      std::string::npos);
 }
 
 TEST(Cli, RunPrintsProgressLinesAndASummary) {
@@ -141,6 +144,139 @@ TEST(Cli, BlowUpStopsWithStepTimeParticleAndExitThree) {
   const std::string blowUp = r.output.substr(r.output.find("numerical blow-up"));
   EXPECT_EQ(again.output.substr(again.output.find("numerical blow-up")).substr(0, 80),
             blowUp.substr(0, 80));
+}
+
+// One line on stderr, printable ASCII, short: what every refusal must be (issue 12).
+::testing::AssertionResult oneShortLine(const test::CommandResult& r) {
+  const std::string& m = r.output;
+  if (r.exitCode != 2) return ::testing::AssertionFailure() << "exit " << r.exitCode << ": " << m;
+  if (m.empty() || m.back() != '\n' || m.find('\n') != m.size() - 1)
+    return ::testing::AssertionFailure() << "not one line: " << m.substr(0, 500);
+  if (m.size() > 320) return ::testing::AssertionFailure() << m.size() << " characters";
+  for (const char c : m.substr(0, m.size() - 1)) {
+    const auto b = static_cast<unsigned char>(c);
+    if (b < 0x20 || b >= 0x7f)
+      return ::testing::AssertionFailure() << "byte " << int(b) << ": " << m;
+  }
+  return ::testing::AssertionSuccess();
+}
+
+struct Hostile {
+  std::string what, path, message;  // message: the line after "sphsplat: PATH"
+};
+
+TEST(Cli, HostileScenesAreRefusedWithOneShortLine) {
+  const std::string dir = writeTempFile("", "") + ".d";
+  ASSERT_EQ(std::system(("mkdir '" + dir + "'").c_str()), 0);
+  const std::string fifo = dir + "/fifo.json";
+  ASSERT_EQ(std::system(("mkfifo '" + fifo + "'").c_str()), 0);
+  const std::string big = dir + "/big.json";
+  ASSERT_EQ(std::system(("truncate -s 65M '" + big + "'").c_str()), 0);
+  const std::vector<Hostile> cases = {
+      // Overflowed nlohmann's recursion: exit 139.
+      {"deep nesting", writeTempFile(std::string(70000, '[') + std::string(70000, ']')),
+       ":1:65: nested deeper than 64 levels of [ and {; expected at most 64"},
+      // A 10 MB number: a 10 MB "internal error" line, exit 1.
+      {"ten million digits",
+       writeTempFile("{\"solver\": {\"spacing\": 1" + std::string(10000000, '0') + "}}"),
+       ":1:24: a number of 1e7 characters; expected at most 64 (a double keeps 17 significant "
+       "digits)"},
+      {"duplicate section",
+       writeTempFile("{\"solver\": {\"spacing\": 0.01},\n \"solver\": {\"cfl\": 0.3}}"),
+       ":2:2: duplicate key solver (first given at 1:2); expected each key once (JSON keeps only "
+       "one of the two)"},
+      // "unexpected end of input" before.
+      {"a directory", dir, ": is a directory; expected a scene file"},
+      // Read forever before.
+      {"/dev/zero", "/dev/zero",
+       ": is a character device, not a regular file; expected a scene file"},
+      {"a FIFO", fifo, ": is a FIFO (named pipe), not a regular file; expected a scene file"},
+      {"65 MiB", big, ": 65 MiB is too large for a scene file (at most 64 MiB)"},
+      // Printed a raw 0xFF byte before.
+      {"UTF-16", writeTempFile(std::string("\xFF\xFE{\0\"\0s\0\"\0:\0{\0}\0}\0", 18)),
+       ": not UTF-8 text: it looks like UTF-16 little-endian (byte-order mark FF FE); save it as "
+       "UTF-8"},
+  };
+  for (const Hostile& c : cases) {
+    const auto r =
+        test::runShell("timeout 60 " + test::sphsplatCommand() + " run '" + c.path + "'");
+    EXPECT_TRUE(oneShortLine(r)) << c.what;
+    EXPECT_EQ(r.output, "sphsplat: " + c.path + c.message + "\n") << c.what;
+  }
+}
+
+TEST(Cli, ThreadsAreCappedInEverySubcommand) {
+  const std::string scene = test::sourcePath("scenes/dam_break.json");
+  const std::string sweep = test::sourcePath("bench/sweeps/dam_break.json");
+  // 100000 crashed in libgomp, 50000 printed libgomp's raw error.
+  for (const std::string& args :
+       {"run " + scene + " --threads 100000", "run " + scene + " --threads 50000",
+        "run " + scene + " -j -2", "bench " + sweep + " --threads 100000"}) {
+    const auto r = runSphsplat(args);
+    EXPECT_TRUE(oneShortLine(r)) << args;
+    EXPECT_TRUE(std::regex_search(
+        r.output, std::regex("^sphsplat: --threads: expected 0 \\(all cores\\) or a thread count "
+                             "up to [0-9]+ \\(4 x the [0-9]+ cores here\\), got '")))
+        << r.output;
+  }
+  const std::string file = writeTempFile(R"({"scene": ")" + scene + R"(", "threads": 100000})");
+  const auto r = runSphsplat("bench " + file);
+  EXPECT_TRUE(oneShortLine(r));
+  EXPECT_NE(r.output.find(": threads: expected an integer in [0, "), std::string::npos) << r.output;
+}
+
+TEST(Cli, NumericFlagsAreFiniteAndInRangeWithReadableLimits) {
+  const std::string scene = test::sourcePath("scenes/dam_break.json");
+  // --end nan was accepted and ignored; CLI11's checks printed a 300-digit upper limit.
+  for (const std::string end : {"nan", "inf", "1e300", "-1", "0"}) {
+    const auto r = runSphsplat("run " + scene + " --end " + end);
+    EXPECT_TRUE(oneShortLine(r)) << end;
+    EXPECT_EQ(r.output, "sphsplat: --end: expected a number of seconds in (0, 1e6], got '" + end +
+                            "' (see sphsplat run --help)\n");
+  }
+  for (const std::string& args :
+       {std::string("view x.h5 --speed nan"), std::string("view x.h5 --exit-after -1"),
+        std::string("view x.h5 --width 1e9"), std::string("run")}) {
+    EXPECT_TRUE(oneShortLine(runSphsplat(args))) << args;
+  }
+  const auto r = runSphsplat("run " + scene + " --set output.fps=1e308");
+  EXPECT_TRUE(oneShortLine(r));
+  EXPECT_NE(r.output.find("output.fps: expected a positive number (frames per simulated second) "
+                          "of magnitude at most 1e12, got 1e+308"),
+            std::string::npos)
+      << r.output;
+}
+
+TEST(Cli, ProgressSaysEstimatingUntilTheEtaMeansSomething) {
+  // The first line once said "ETA 51m51s" for a 30 s run: extrapolated from the first step.
+  const auto r = runSphsplat("run " + test::sourcePath("scenes/dam_break.json") +
+                             " --set solver.spacing=0.01 --end 0.4 --threads 2");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  std::istringstream lines(r.output);
+  std::vector<std::string> progress;
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind("dam_break ", 0) == 0 && line.find('%') != std::string::npos)
+      progress.push_back(line);
+  ASSERT_GE(progress.size(), 3u) << r.output;
+  EXPECT_NE(progress.front().find("ETA estimating..."), std::string::npos) << progress.front();
+  // Once a second of wall time has passed after a second of warm-up, the ETA is a number.
+  bool estimated = false;
+  for (const std::string& line : progress)
+    estimated = estimated || std::regex_search(line, std::regex("ETA [0-9.]+ (s|ms)|ETA [0-9]+m"));
+  EXPECT_TRUE(estimated) << r.output;
+  EXPECT_NE(progress.back().find("in "), std::string::npos);
+}
+
+TEST(Cli, EachSubcommandHelpEndsWithItsOwnFooter) {
+  const std::string top = "Run 'sphsplat COMMAND --help'";
+  EXPECT_NE(runSphsplat("--help").output.find(top), std::string::npos);
+  for (const char* command : {"run", "info", "export", "bench", "render", "compare", "view"}) {
+    const auto r = runSphsplat(std::string(command) + " --help");
+    EXPECT_EQ(r.exitCode, 0) << command;
+    EXPECT_EQ(r.output.find(top), std::string::npos)
+        << command << " --help ends with the top-level footer";
+  }
+  EXPECT_NE(runSphsplat("view --help").output.find("Keys: Space play/pause"), std::string::npos);
 }
 
 }  // namespace

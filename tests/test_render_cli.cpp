@@ -110,6 +110,37 @@ TEST_F(RenderCli, BadInputIsOneLineAndExitTwo) {
   const auto size = runSphsplat("compare " + cache() + " --size 10x10");
   EXPECT_EQ(size.exitCode, 2);
   EXPECT_NE(size.output.find("--size: expected WIDTHxHEIGHT"), std::string::npos) << size.output;
+  // One frame syntax for every subcommand; compare takes one frame, not the first of a range.
+  const auto several = runSphsplat("compare " + cache() + " --frame 2:5");
+  EXPECT_EQ(several.exitCode, 2);
+  EXPECT_EQ(several.output,
+            "sphsplat: --frame: expected one frame (an index, 'last' or -1), got the range "
+            "'2:5'\n");
+}
+
+// Issue 12: a frame's PNG is redrawn over an older PNG, never over a device node or FIFO.
+TEST_F(RenderCli, FramesAreNeverWrittenOverNonRegularFiles) {
+  const std::string out = dir_ + "/fifo-frames";
+  ::mkdir(out.c_str(), 0755);
+  const std::string fifo = out + "/dam_break_point_00001.png";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0644), 0);
+  const auto r =
+      runSphsplat("render " + cache() + " --frames 0:1 --splat point --size 64x48 -q --out " + out);
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_EQ(r.output, "sphsplat: " + fifo +
+                          ": is a FIFO (named pipe), not a regular file; refusing to replace it "
+                          "with an image\n");
+  struct stat st {};
+  ASSERT_EQ(lstat(fifo.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISFIFO(st.st_mode));
+  EXPECT_TRUE(exists(out + "/dam_break_point_00000.png")) << "frame 0 is drawn";
+  // All of a cache's frames, by the word.
+  const auto all = runSphsplat("render " + cache() +
+                               " --frames all --splat point --size 64x48 "
+                               "-q --out " +
+                               dir_ + "/all");
+  EXPECT_EQ(all.exitCode, 0) << all.output;
+  EXPECT_TRUE(exists(dir_ + "/all/dam_break_point_00006.png"));
 }
 
 // Fraction of pixels of a PNG that differ from its top-left pixel (the background).

@@ -2,6 +2,7 @@
 // JSON path of the bad key and what was expected. The shipped scenes load.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <string>
 
 #include "io/SceneLoader.h"
@@ -60,7 +61,9 @@ TEST(SceneLoader, UnknownKeyNamesItsPathAndSuggestsTheNearMiss) {
 
 TEST(SceneLoader, WrongTypeNamesTheKeyAndWhatWasExpected) {
   const std::string e = errorOf(R"({"solver": {"spacing": "fine"}, "fluids": []})");
-  EXPECT_EQ(e, "bad.json: solver.spacing: expected a positive number (m), got the string \"fine\"");
+  EXPECT_EQ(e,
+            "bad.json: solver.spacing: expected a positive number of at most 1000 (m), got the "
+            "string \"fine\"");
   const std::string v = errorOf(R"({"solver": {"spacing": 0.01},
     "fluids": [{"min": [0,0], "max": [1,1,1]}]})");
   EXPECT_EQ(v, "bad.json: fluids[0].min: expected 3 numbers (m) [x, y, z], got the array [0,0]");
@@ -68,7 +71,8 @@ TEST(SceneLoader, WrongTypeNamesTheKeyAndWhatWasExpected) {
 
 TEST(SceneLoader, NegativeSpacingIsRefused) {
   const std::string e = errorOf(kMinimal, {"solver.spacing=-0.01"});
-  EXPECT_EQ(e, "bad.json: solver.spacing: expected a positive number (m), got -0.01");
+  EXPECT_EQ(e,
+            "bad.json: solver.spacing: expected a positive number of at most 1000 (m), got -0.01");
 }
 
 TEST(SceneLoader, FluidOutsideTheDomainIsRefused) {
@@ -121,6 +125,103 @@ TEST(SceneLoader, OverridesEditNestedKeysAndArrays) {
   EXPECT_NE(errorOf(kMinimal, {"fluids[3].velocity=[1,0,0]"}).find("index 3 is out of range"),
             std::string::npos);
   EXPECT_NE(errorOf(kMinimal, {"nonsense"}).find("expected KEY.PATH=VALUE"), std::string::npos);
+}
+
+// Issue 12: --set key paths were read loosely (stoul: "internal error" for a long index, index 0
+// for "0.5", "solver..spacing" accepted, -1 wrapped to 18446744073709551615).
+TEST(SceneLoader, SetKeyPathsAreStrict) {
+  auto set = [](const std::string& edit) { return errorOf(kMinimal, {edit}); };
+  EXPECT_EQ(set("fluids[99999999999999999999].min=[0,0,0]"),
+            "--set fluids[99999999999999999999].min: expected an array index 0, 1, 2, ... inside "
+            "[ ], got '99999999999999999999'");
+  EXPECT_EQ(set("fluids[0.5].min=[0,0,0]"),
+            "--set fluids[0.5].min: expected an array index 0, 1, 2, ... inside [ ], got '0.5'");
+  EXPECT_EQ(set("fluids[-1].min=[0,0,0]"),
+            "--set fluids[-1].min: expected an array index 0, 1, 2, ... inside [ ], got '-1'");
+  EXPECT_EQ(set("solver..spacing=0.02"),
+            "--set solver..spacing: empty key before '.'; expected KEY.PATH such as "
+            "solver.spacing or fluids[0].min");
+  EXPECT_EQ(set("solver.=0.02"), "--set solver.: a key path cannot end with '.'");
+  EXPECT_EQ(set(".solver=0.02").rfind("--set .solver: empty key before '.'", 0), 0u);
+  EXPECT_EQ(set("fluids[0]x=1"), "--set fluids[0]x: expected '.' or '[' after ']'");
+  EXPECT_EQ(set("fluids[1].min=[0,0,0]"),
+            "bad.json: --set fluids[1].min: index 1 is out of range (the array has 1 entries)");
+  // A value nested too deep, or with a duplicate key, is refused rather than taken as a string.
+  EXPECT_EQ(set("solver=" + std::string(100, '[')).rfind("--set solver:1:65: nested deeper", 0),
+            0u);
+  EXPECT_EQ(set("solver={\"spacing\": 0.01, \"spacing\": 0.02}")
+                .rfind("--set solver:1:19: duplicate key spacing (first given at 1:2)", 0),
+            0u);
+  // A long key is quoted short.
+  const std::string longKey = errorOf(kMinimal, {"solver." + std::string(100000, 'k') + "=1"});
+  EXPECT_LT(longKey.size(), 400u) << longKey.substr(0, 400);
+  EXPECT_NE(longKey.find("unknown key"), std::string::npos);
+}
+
+// JSON parsers keep one of two equal keys silently: a second "solver" replaced the whole first.
+TEST(SceneLoader, DuplicateKeysAreRefusedWithTheirPathAndLine) {
+  EXPECT_EQ(errorOf("{\"solver\": {\"spacing\": 0.01},\n\"solver\": {\"cfl\": 0.3},\n"
+                    "\"fluids\": [{\"min\": [0,0,0], \"max\": [0.1,0.1,0.1]}]}"),
+            "bad.json:2:1: duplicate key solver (first given at 1:2); expected each key once "
+            "(JSON keeps only one of the two)");
+  EXPECT_EQ(errorOf("{\"solver\": {\"spacing\": 0.01}, \"fluids\": [{\"min\": [0,0,0],\n"
+                    "  \"max\": [0.1,0.1,0.1], \"max\": [0.2,0.2,0.2]}]}")
+                .rfind("bad.json:2:25: duplicate key fluids[0].max (first given at 2:3)", 0),
+            0u);
+}
+
+// Issue 12: numbers past what a run can use were accepted (output.fps = 1e308 crawled at 1e-304 s
+// a step) or overflowed in messages ("-9223372036854775808 particles", 300-digit limits).
+TEST(SceneLoader, NumbersHaveSaneRangesAndReadableMessages) {
+  auto set = [](const std::string& edit) { return errorOf(kMinimal, {edit}); };
+  EXPECT_EQ(set("output.fps=1e308"),
+            "bad.json: output.fps: expected a positive number (frames per simulated second) of "
+            "magnitude at most 1e12, got 1e+308");
+  const std::string fps = set("output.fps=1e6");
+  EXPECT_EQ(fps.rfind("bad.json: output.fps: expected at most ", 0), 0u) << fps;
+  EXPECT_NE(
+      fps.find(" frames per simulated second (one frame per solver step; the step at rest is "),
+      std::string::npos)
+      << fps;
+  // The limit follows the step: a smaller max_time_step allows more frames.
+  EXPECT_EQ(errorOf(kMinimal, {"output.fps=5000", "solver.max_time_step=1e-4"}), "");
+  EXPECT_NE(errorOf(kMinimal, {"output.fps=5000", "solver.max_time_step=1e-3"}), "");
+  EXPECT_EQ(set("solver.end_time=1e300"),
+            "bad.json: solver.end_time: expected a positive number of at most 1e6 (s), got 1e+300");
+  EXPECT_EQ(set("solver.spacing=1e-9"),
+            "bad.json: solver.spacing: the fluid blocks would hold 1e24 particles; expected at "
+            "most 2e8 (raise the spacing)");
+  EXPECT_EQ(set("fluids[0].velocity=[1e300,0,0]"),
+            "bad.json: fluids[0].velocity: expected 3 numbers (m/s) [x, y, z], each between -1e6 "
+            "and 1e6, got the array [1e+300,0,0]");
+  EXPECT_EQ(set("render={\"every\": 1e11}")
+                .rfind("bad.json: render.every: expected an integer in "
+                       "[1, 1e6] (output frames)",
+                       0),
+            0u);
+  EXPECT_EQ(errorOf(R"({"solver": {"spacing": 0.01}, "emitters": [{"position": [0,1,0],
+      "direction": [0,-1,0], "radius": 0.1, "speed": 1, "start": 500000, "stop": 1}]})"),
+            "bad.json: emitters[0].stop: expected a time after start (500000 s)");
+}
+
+TEST(SceneLoader, HostileFilesAreRefusedBeforeTheyAreRead) {
+  const std::string dir = test::writeTempFile("", "") + ".d";
+  ASSERT_EQ(std::system(("mkdir " + dir).c_str()), 0);
+  auto loadError = [](const std::string& path) {
+    try {
+      io::loadScene(path);
+    } catch (const io::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(loadError(dir), dir + ": is a directory; expected a scene file");
+  EXPECT_EQ(loadError("/dev/zero"),
+            "/dev/zero: is a character device, not a regular file; expected a scene file");
+  const std::string utf16 = test::writeTempFile(std::string("\xFF\xFE{\0}\0", 6));
+  EXPECT_EQ(loadError(utf16), utf16 +
+                                  ": not UTF-8 text: it looks like UTF-16 little-endian "
+                                  "(byte-order mark FF FE); save it as UTF-8");
 }
 
 }  // namespace

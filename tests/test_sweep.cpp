@@ -89,6 +89,18 @@ TEST(Sweep, BadSweepFilesNameTheKey) {
                    "sweep.json: threads: expected an integer");
   expectInputError(R"({"scene": "x.json", "set": ["solver.cfl"]})",
                    "sweep.json: set: expected \"KEY.PATH=VALUE\"");
+  // Issue 12: the sweep file goes through the same JSON checks as a scene.
+  expectInputError(
+      "{\"scene\": \"x.json\", \"axes\": " + std::string(100, '[') + std::string(100, ']') + "}",
+      "sweep.json:1:92: nested deeper than 64 levels");
+  expectInputError("{\"scene\": \"x.json\",\n \"repeats\": 2, \"repeats\": 3}",
+                   "sweep.json:2:16: duplicate key repeats (first given at 2:2)");
+  expectInputError(R"({"scene": "x.json", "threads": 100000})",
+                   "sweep.json: threads: expected an integer in [0, ");
+  expectInputError(R"({"scene": "x.json", "repeats": 1e11})",
+                   "sweep.json: repeats: expected an integer in [1, 1000]");
+  expectInputError(R"({"scene": "x.json", "end_time": 1e300})",
+                   "sweep.json: end_time: expected a positive number of at most 1e6 (s)");
   // Metrics are checked when the sweep runs, before the first variant.
   const SweepSpec spec = sweep::parseSweep(
       tinySweep().replace(tinySweep().find("\"density\""), 9, "\"densty\""), "s.json");

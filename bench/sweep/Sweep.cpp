@@ -1,12 +1,14 @@
 #include "bench/sweep/Sweep.h"
 
-#include <cerrno>
 #include <cmath>
-#include <cstring>
-#include <fstream>
 #include <sstream>
 
 #include "io/JsonReader.h"
+#include "io/JsonText.h"
+#include "io/MessageText.h"
+#include "io/SceneLoader.h"
+#include "io/UserFiles.h"
+#include "sim/Parallel.h"
 
 namespace sph::sweep {
 namespace {
@@ -20,14 +22,6 @@ std::string folderOf(const std::string& path) {
 
 std::string resolve(const std::string& folder, const std::string& path) {
   return path.empty() || path[0] == '/' ? path : folder + path;
-}
-
-std::string readFile(const std::string& path, const std::string& what) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(what + ": cannot open " + path + " (" + std::strerror(errno) + ")");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 // The raw JSON under `key` of an object that a JsonReader has checked.
@@ -63,7 +57,7 @@ std::vector<std::string> readEdits(io::JsonReader& r, const json& object, const 
       r.stringArray(key, std::vector<std::string>{}, "an array of \"KEY.PATH=VALUE\" strings");
   for (const std::string& e : edits) {
     if (e.find('=') == std::string::npos || e[0] == '=')
-      r.fail(key, "expected \"KEY.PATH=VALUE\", got \"" + e + "\"");
+      r.fail(key, "expected \"KEY.PATH=VALUE\", got \"" + io::printable(e) + "\"");
   }
   return edits;
 }
@@ -98,8 +92,7 @@ std::string shortValue(const json& value) {
 
 SweepSpec parseSweep(const std::string& text, const std::string& path,
                      const std::vector<std::string>& extraEdits) {
-  json doc = json::parse(text, nullptr, false);
-  if (doc.is_discarded()) throw InputError(path + ": invalid JSON");
+  json doc = io::parseJson(text, path);
   io::JsonReader root(doc, "", path);
   const std::string folder = folderOf(path);
   SweepSpec s;
@@ -110,14 +103,21 @@ SweepSpec parseSweep(const std::string& text, const std::string& path,
   readScene(root, doc, folder, s.scene, s.inlineScene, true);
   s.edits = readEdits(root, doc, "set");
   s.edits.insert(s.edits.end(), extraEdits.begin(), extraEdits.end());
-  s.threads = static_cast<int>(
-      root.number("threads", 0.0, "an integer >= 0 (0 = all cores)", nonNegativeInteger));
-  s.endTime = root.number("end_time", 0.0, "a positive number (s)", io::positive);
+  const std::string threads = "an integer in [0, " + std::to_string(maxThreadCount()) +
+                              "] (0 = all cores; at most 4 x the " +
+                              std::to_string(omp_get_num_procs()) + " cores here)";
+  s.threads = static_cast<int>(root.number("threads", 0.0, threads.c_str(), [](double v) {
+    return nonNegativeInteger(v) && v <= maxThreadCount();
+  }));
+  s.endTime = root.number("end_time", 0.0, "a positive number of at most 1e6 (s)",
+                          [](double v) { return v > 0 && v <= io::kMaxEndTime; });
   s.maxSteps = static_cast<std::uint64_t>(
       root.number("max_steps", 0.0, "an integer >= 0 (0 = no limit)", nonNegativeInteger));
   s.maxWallSeconds =
       root.number("max_wall_s", 0.0, "a number >= 0 (s, 0 = no limit)", io::nonNegative);
-  s.repeats = static_cast<int>(root.number("repeats", 1.0, "an integer >= 1", positiveInteger));
+  s.repeats = static_cast<int>(root.number("repeats", 1.0, "an integer in [1, 1000]", [](double v) {
+    return positiveInteger(v) && v <= 1000;
+  }));
 
   std::vector<io::JsonReader> axes = root.objectArray("axes");
   for (std::size_t i = 0; i < axes.size(); ++i) {
@@ -176,7 +176,7 @@ SweepSpec parseSweep(const std::string& text, const std::string& path,
 }
 
 SweepSpec loadSweep(const std::string& path, const std::vector<std::string>& extraEdits) {
-  return parseSweep(readFile(path, path), path, extraEdits);
+  return parseSweep(io::readInputFile(path, "sweep file"), path, extraEdits);
 }
 
 std::vector<SweepVariant> expandVariants(const SweepSpec& spec) {
@@ -202,7 +202,7 @@ std::vector<SweepVariant> expandVariants(const SweepSpec& spec) {
       base.sceneText = inlineScene.dump(2);
     } else {
       base.scenePath = file;
-      base.sceneText = readFile(file, spec.file + ": scene");
+      base.sceneText = io::readInputFile(file, "scene file");
     }
     base.edits = spec.edits;
     base.edits.insert(base.edits.end(), sc.edits.begin(), sc.edits.end());

@@ -1,0 +1,23 @@
+// Pieces of the one-line error messages (STYLE.md rule 10): user text quoted safely and numbers
+// printed readably. Input can be hostile (a 100 MB number, a UTF-16 file, a key with control
+// bytes), and a message must stay one short printable line whatever it quotes.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <string_view>
+
+namespace sph::io {
+
+// `text` for quoting in a message: bytes outside printable ASCII as \xHH, and cut to `max`
+// characters with "..." when longer. No quotes added.
+std::string printable(std::string_view text, std::size_t max = 40);
+
+// A number as a person reads it, %g style with `digits` significant digits and a short exponent:
+// 0.25, 1500, 1e6, 1.79769e308, -3.5e-5, inf, nan. Never a 300-digit expansion.
+std::string readableNumber(double v, int digits = 6);
+
+// A count that may be huge: exact up to a million, then two significant digits ("1.9e8").
+std::string readableCount(double n);
+
+}  // namespace sph::io
