@@ -146,7 +146,8 @@ std::size_t CacheOutput::restore(Simulation& sim, const io::CacheProvenance& pro
 
   fields_ = s.fields;
   doublePositions_ = s.doublePositions;
-  boundaryParticles_ = s.boundaryParticles;
+  // The sidecar shows the boundary from its [n][3] view, which caches written before it lack.
+  boundaryParticles_ = s.boundaryView ? s.boundaryParticles : 0;
   frames_ = s.frames;
   for (const io::CacheFrame& f : frames_) particleFrames_ += static_cast<double>(f.particles);
   reader_.reset();  // HDF5 opens a file once per process: read-only first, now for writing

@@ -42,7 +42,7 @@ class CacheOutput {
               std::size_t expectedFrames);
   // Writes and commits the current state as the next frame and adds it to the sidecar.
   void writeFrame(const Simulation& sim);
-  // Stores a rendered image of frame `frame` (already written) under /Render/<renderer>.
+  // Stores a rendered image of frame `frame` (already written) as /Render#<renderer>#<frame>.
   void writeRenderedFrame(const std::string& renderer, std::size_t frame, int width, int height,
                           const std::uint8_t* rgb);
   // The run reached its end time `time` (s): records "finished" in the cache.
