@@ -155,16 +155,20 @@ TEST_F(CacheConcurrent, EveryMomentOfARenderingRunIsAStateReadersCanOpen) {
 #endif
   const std::string scene = dir_ + "/render.json", cache = dir_ + "/render.h5";
   std::ofstream(scene) << test::tinyRenderingScene(0.2, 100);
-  const std::string log = dir_ + "/eof.log";
-  const auto r =
-      runShell(std::string("LD_PRELOAD='") + SPHSPLAT_KILL_SHIM + "' SPHSPLAT_READER_VIEW_LOG='" +
-               log + "' OMP_WAIT_POLICY=PASSIVE LIBGL_ALWAYS_SOFTWARE=1 " + test::sphsplatBinary() +
-               " run '" + scene + "' --threads 1 --quiet -o '" + cache + "'");
+  const std::string log = dir_ + "/view.log";
+  const std::string watched = std::string("LD_PRELOAD='") + SPHSPLAT_KILL_SHIM +
+                              "' SPHSPLAT_READER_VIEW_LOG='" + log +
+                              "' OMP_WAIT_POLICY=PASSIVE LIBGL_ALWAYS_SOFTWARE=1 " +
+                              test::sphsplatBinary() + " run '" + scene + "' --threads 1 --quiet ";
+  const auto r = runShell(watched + "-o '" + cache + "'");
   ASSERT_EQ(r.exitCode, 0) << r.output;
+  // A resume appends in the same way (the cache opened for writing rather than created).
+  const auto resumed = runShell(watched + "--resume '" + cache + "' --end 0.3");
+  ASSERT_EQ(resumed.exitCode, 0) << resumed.output;
   const io::CacheReader reader(cache);
-  ASSERT_EQ(reader.frameCount(), 21u);
+  ASSERT_EQ(reader.frameCount(), 31u);
   ASSERT_EQ(reader.summary().renderers.size(), 1u) << "the run stores its pictures";
-  EXPECT_EQ(reader.summary().renderers[0].second, 21u);
+  EXPECT_EQ(reader.summary().renderers[0].second, 31u);
   // The .partial file (before frame 0 is in, when no reader can open it) is not watched.
   EXPECT_EQ(readFile(log), "") << "rules a reader relies on, broken (tests/ReaderView.h)";
 }
