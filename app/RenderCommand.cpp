@@ -167,8 +167,7 @@ int render(const RenderOptions& o) {
     std::printf("done: %zu image%s in %s (%s .. %s), %.1f ms per image to build and draw\n", images,
                 images == 1 ? "" : "s", o.out.c_str(), first.c_str(), last.c_str(),
                 images ? 1e3 * seconds / images : 0.0);
-    if (o.toCache)
-      std::printf("  also stored in %s under /Render/<point|quad>/Frame#N\n", o.cache.c_str());
+    if (o.toCache) std::printf("  also stored in %s as Render#<point|quad>#N\n", o.cache.c_str());
   }
   return kOk;
 }

@@ -25,7 +25,6 @@ inline constexpr std::int64_t kFormatVersion = 1;
 // Root groups that are not frames. None starts with "Step": H5Part readers count every root
 // group whose name starts with "Step" as a time step.
 inline constexpr const char* kBoundaryGroup = "Boundary";
-inline constexpr const char* kRenderGroup = "Render";
 
 // Attributes of the root group.
 inline constexpr const char* kStatusAttr = "run_status";  // rewritten in place, kStatusWidth bytes
@@ -41,8 +40,17 @@ inline std::string stepName(std::size_t frame) {
 inline std::string restartName(std::size_t frame) {
   return "Restart#" + std::to_string(frame);
 }
-// A rendered frame in /Render/<renderer>/.
-inline std::string renderedFrameName(std::size_t frame) {
+
+// A rendered image of a frame: the root dataset Render#<renderer>#<frame>. Linked from the root,
+// like every object the writer adds after the first commit: the root is the one group a reader
+// loads when it opens the file, so a reader never meets a group the writer has changed since.
+inline constexpr const char* kRenderPrefix = "Render#";
+inline std::string renderedFrameName(const std::string& renderer, std::size_t frame) {
+  return kRenderPrefix + renderer + "#" + std::to_string(frame);
+}
+// Caches written before that kept them as /Render/<renderer>/Frame#N; still read.
+inline constexpr const char* kLegacyRenderGroup = "Render";
+inline std::string legacyRenderedFrameName(std::size_t frame) {
   return "Frame#" + std::to_string(frame);
 }
 
@@ -57,6 +65,29 @@ std::optional<Field> fieldByName(const std::string& name);
 // The float array of Particles behind a float field (every field but Id).
 using FloatArray = std::vector<float> Particles::*;
 FloatArray floatMember(Field f);
+
+// The group of [n][3] views of a frame's vectors: virtual datasets whose columns are the Step
+// group's components (nothing is stored twice), what XDMF readers take geometry and vectors from
+// (ParaView's Xdmf3 readers take neither separate components nor functions joining them).
+inline std::string vectorsName(std::size_t frame) {
+  return "Vectors#" + std::to_string(frame);
+}
+struct VectorView {
+  const char* name;
+  Field components[3];
+};
+// position (written for every frame that has particles; also /Boundary/position), velocity and
+// acceleration (when the frame holds their three components).
+inline constexpr VectorView kVectorViews[] = {
+    {"position", {Field::X, Field::Y, Field::Z}},
+    {"velocity", {Field::VX, Field::VY, Field::VZ}},
+    {"acceleration", {Field::AX, Field::AY, Field::AZ}},
+};
+inline bool hasAll(const FieldSet& fields, const VectorView& view) {
+  for (Field c : view.components)
+    if (!fields[static_cast<std::size_t>(c)]) return false;
+  return true;
+}
 
 // x y z vx vy vz rho p id: what a scene writes unless its output section says otherwise.
 FieldSet defaultFields();

@@ -2,11 +2,16 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
+#include <map>
 #include <set>
+#include <thread>
 
 #include "io/CacheJournal.h"
+#include "io/CacheWriter.h"
 #include "sim/InputError.h"
 
 namespace sph::io {
@@ -14,19 +19,30 @@ namespace {
 
 using h5::checked;
 
-herr_t collectName(hid_t, const char* name, const H5L_info_t*, void* data) {
-  static_cast<std::set<std::string>*>(data)->insert(name);
+struct Links {
+  std::set<std::string> names;
+  haddr_t highest = 0;  // the highest object address a hard link points to (HDF5 address)
+};
+
+herr_t collectLink(hid_t, const char* name, const H5L_info_t* info, void* data) {
+  auto* links = static_cast<Links*>(data);
+  links->names.insert(name);
+  if (info->type == H5L_TYPE_HARD) links->highest = std::max(links->highest, info->u.address);
   return 0;
 }
 
-// Names of the links in a group, read in one pass (looking each frame up by name would cost
-// O(frames) per lookup in compact link storage).
-std::set<std::string> linkNames(hid_t group) {
-  std::set<std::string> names;
+// The links of a group, read in one pass (looking each frame up by name would cost O(frames) per
+// lookup in compact link storage).
+Links groupLinks(hid_t group) {
+  Links links;
   hsize_t index = 0;
-  h5::check(H5Literate(group, H5_INDEX_NAME, H5_ITER_NATIVE, &index, collectName, &names),
+  h5::check(H5Literate(group, H5_INDEX_NAME, H5_ITER_NATIVE, &index, collectLink, &links),
             "list links");
-  return names;
+  return links;
+}
+
+std::set<std::string> linkNames(hid_t group) {
+  return groupLinks(group).names;
 }
 
 // "stored_eof = 123" out of HDF5's truncation message.
@@ -37,6 +53,14 @@ std::string numberAfter(const std::string& text, const std::string& key) {
   std::size_t end = pos;
   while (end < text.size() && text[end] >= '0' && text[end] <= '9') ++end;
   return text.substr(pos, end - pos);
+}
+
+// "12" -> 12; false for anything but decimal digits.
+bool frameNumber(const std::string& text, std::size_t& out) {
+  if (text.empty() || text.size() > 18 || text.find_first_not_of("0123456789") != std::string::npos)
+    return false;
+  out = static_cast<std::size_t>(std::stoull(text));
+  return true;
 }
 
 std::string frameRange(std::size_t frames) {
@@ -59,11 +83,32 @@ CacheReader::CacheReader(const std::string& path) : path_(path) {
   const htri_t isHdf5 = H5Fis_hdf5(path.c_str());
   if (isHdf5 < 0) fail("cannot read the file (" + h5::errorText() + ")");
   if (isHdf5 == 0) fail("not an HDF5 file (no HDF5 signature); expected a sphsplat cache");
+  // A run may be writing the cache: a reader that opens it in the middle of a commit can meet a
+  // header half rewritten (it fails HDF5's checksum) or a superblock older than the root header
+  // that links the new frame (the frame then reads past the file's end). Both pass once the
+  // commit is over, so while a run holds the cache a failed or partial read is tried again; every
+  // complete read is a committed state (docs/cache-format.md, "Reading while a run writes").
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (cacheIsLocked(path)) {
+    try {
+      load();
+      if (summary_.damagedFrame.empty()) return;
+    } catch (const InputError&) {
+      if (std::chrono::steady_clock::now() > deadline) throw;
+    }
+    if (std::chrono::steady_clock::now() > deadline) return;  // damagedFrame says what is wrong
+    file_.reset();
+    summary_ = CacheSummary{};
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  // No run writes the file: what is on disk stays as it is.
   try {
     load();
   } catch (const InputError& original) {
     // A header torn by a kill in the middle of a commit fails HDF5's checksum: put back the copy
-    // the writer journaled (CacheJournal.h) and try again; undo that if it did not help.
+    // the writer journaled (CacheJournal.h) and try again; undo that if it did not help. Only
+    // here, with no run holding the file: a run's commit in progress looks the same to a reader
+    // and must not be undone.
     if (std::string(original.what()).find("checksum") == std::string::npos) throw;
     JournalRepair repair;
     if (!repairFromJournal(path, repair)) throw;
@@ -98,10 +143,9 @@ void CacheReader::load() {
   if (file < 0) {
     const std::string detail = h5::errorText();
     if (detail.find("truncated file") != std::string::npos) {
-      const std::string stored = numberAfter(detail, "stored_eof = "),
-                        base = numberAfter(detail, "base_addr = ");
-      const unsigned long long expected =
-          (stored.empty() ? 0ull : std::stoull(stored)) + (base.empty() ? 0ull : std::stoull(base));
+      // HDF5 stores the end of file as a file offset (the user block included).
+      const std::string stored = numberAfter(detail, "stored_eof = ");
+      const unsigned long long expected = stored.empty() ? 0ull : std::stoull(stored);
       fail("truncated HDF5 file: " + std::to_string(st.st_size) +
            " bytes, but its superblock says " + std::to_string(expected) +
            " (an interrupted copy or download?)");
@@ -115,8 +159,24 @@ void CacheReader::load() {
     fail("damaged HDF5 file, cannot read its root group (HDF5: " + h5::errorText() + ")");
   }
   readHeader();
-  scanFrames();
-  scanRenderers();
+  const Links links = groupLinks(file);
+  // Opened in the middle of a run's commit, the superblock can come from before it and the root
+  // header from after it: the new frame then lies past the end of the file as this reader knows
+  // it (every object the root links is allocated before the superblock that covers it is
+  // written, and after every older one).
+  haddr_t eoa = 0;
+  hsize_t userBlock = 0;
+  h5::Handle fcpl = checked(H5Fget_create_plist(file), "read the file creation properties");
+  const bool known = H5Fget_eoa(file, &eoa) >= 0 && H5Pget_userblock(fcpl.get(), &userBlock) >= 0;
+  // A run's file is longer than its data while the run goes on (CacheWriter.cpp, point 4).
+  if (known) summary_.fileBytes = std::min<std::uint64_t>(summary_.fileBytes, eoa);
+  if (known && links.highest + userBlock >= eoa && !links.names.empty()) {
+    fail("damaged HDF5 file: the root group links an object at byte " +
+         std::to_string(links.highest + userBlock) +
+         ", past the end of the file its superblock gives (" + std::to_string(eoa) + ")");
+  }
+  scanFrames(links.names);
+  scanRenderers(links.names);
 }
 
 void CacheReader::readHeader() {
@@ -181,6 +241,7 @@ void CacheReader::readHeader() {
     if (h5::objectType(root, cache::kBoundaryGroup) == H5O_TYPE_GROUP) {
       h5::Handle b = checked(H5Gopen2(root, cache::kBoundaryGroup, H5P_DEFAULT), "open /Boundary");
       s.boundaryParticles = h5::datasetLength(b.get(), "x");
+      s.boundaryView = h5::hasLink(b.get(), cache::kVectorViews[0].name);
     }
   } catch (const h5::Error& e) {
     fail("cannot read root attribute or dataset '" + attribute + "' (" + e.what() +
@@ -188,9 +249,8 @@ void CacheReader::readHeader() {
   }
 }
 
-void CacheReader::scanFrames() {
+void CacheReader::scanFrames(const std::set<std::string>& links) {
   const hid_t root = file_.get();
-  const std::set<std::string> links = linkNames(root);
   for (std::size_t k = 0;; ++k) {
     const std::string name = cache::stepName(k);
     if (!links.count(name)) break;
@@ -210,21 +270,42 @@ void CacheReader::scanFrames() {
   }
 }
 
-void CacheReader::scanRenderers() {
+void CacheReader::scanRenderers(const std::set<std::string>& links) {
+  // renderer -> the frames it has an image of
+  std::map<std::string, std::set<std::size_t>> images;
+  const std::string prefix = cache::kRenderPrefix;
+  for (const std::string& name : links) {
+    const std::size_t hash = name.rfind('#');
+    std::size_t k = 0;
+    if (name.rfind(prefix, 0) != 0 || hash <= prefix.size() ||
+        !frameNumber(name.substr(hash + 1), k))
+      continue;
+    images[name.substr(prefix.size(), hash - prefix.size())].insert(k);
+  }
+  // Caches written before rendered frames moved to the root: /Render/<renderer>/Frame#N.
   const hid_t root = file_.get();
-  if (h5::objectType(root, cache::kRenderGroup) != H5O_TYPE_GROUP) return;
-  try {
-    h5::Handle render = checked(H5Gopen2(root, cache::kRenderGroup, H5P_DEFAULT), "open /Render");
-    for (const std::string& renderer : linkNames(render.get())) {
-      h5::Handle g = checked(H5Gopen2(render.get(), renderer.c_str(), H5P_DEFAULT),
-                             "open /Render/" + renderer);
-      const std::set<std::string> frames = linkNames(g.get());
-      std::size_t n = 0;
-      while (frames.count(cache::renderedFrameName(n))) ++n;
-      summary_.renderers.emplace_back(renderer, n);
+  if (links.count(cache::kLegacyRenderGroup) &&
+      h5::objectType(root, cache::kLegacyRenderGroup) == H5O_TYPE_GROUP) {
+    try {
+      h5::Handle render =
+          checked(H5Gopen2(root, cache::kLegacyRenderGroup, H5P_DEFAULT), "open /Render");
+      for (const std::string& renderer : linkNames(render.get())) {
+        h5::Handle g = checked(H5Gopen2(render.get(), renderer.c_str(), H5P_DEFAULT),
+                               "open /Render/" + renderer);
+        std::set<std::size_t>& frames = images[renderer];
+        for (const std::string& name : linkNames(g.get())) {
+          std::size_t k = 0;
+          if (name.rfind("Frame#", 0) == 0 && frameNumber(name.substr(6), k)) frames.insert(k);
+        }
+      }
+    } catch (const h5::Error& e) {
+      fail(std::string("cannot read /Render (") + e.what() + ")");
     }
-  } catch (const h5::Error& e) {
-    fail(std::string("cannot read /Render (") + e.what() + ")");
+  }
+  for (const auto& [renderer, frames] : images) {
+    std::size_t n = 0;  // frames 0..n-1 all rendered
+    while (frames.count(n)) ++n;
+    summary_.renderers.emplace_back(renderer, n);
   }
 }
 
@@ -352,8 +433,11 @@ RenderedFrame CacheReader::readRenderedFrame(const std::string& renderer, std::s
     fail("rendered frame " + std::to_string(frame) + " of '" + renderer +
          "' is out of range (frames 0-" + std::to_string(frames) + " exclusive)");
   }
-  const std::string path = std::string("/") + cache::kRenderGroup + "/" + renderer + "/" +
-                           cache::renderedFrameName(frame);
+  std::string path = "/" + cache::renderedFrameName(renderer, frame);
+  if (!h5::hasLink(file_.get(), path.substr(1))) {
+    path = std::string("/") + cache::kLegacyRenderGroup + "/" + renderer + "/" +
+           cache::legacyRenderedFrameName(frame);
+  }
   RenderedFrame out;
   try {
     h5::Handle set = checked(H5Dopen2(file_.get(), path.c_str(), H5P_DEFAULT), "open " + path);

@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -43,6 +44,7 @@ struct CacheSummary {
   bool restart = false, doublePositions = false;
   std::vector<cache::Parameter> parameters;  // as recorded (solver.*)
   std::size_t boundaryParticles = 0;
+  bool boundaryView = false;  // /Boundary/position exists (caches written before it lack it)
   std::vector<CacheFrame> frames;
   // Set when Step#<frames.size()> exists but does not read back (with what went wrong).
   std::string damagedFrame;
@@ -88,8 +90,8 @@ class CacheReader {
  private:
   void load();
   void readHeader();
-  void scanFrames();
-  void scanRenderers();
+  void scanFrames(const std::set<std::string>& rootLinks);
+  void scanRenderers(const std::set<std::string>& rootLinks);
   void checkFrame(std::size_t frame) const;
   [[noreturn]] void fail(const std::string& message) const;
 

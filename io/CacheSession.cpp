@@ -162,7 +162,8 @@ std::size_t CacheSession::restore(Simulation& sim, const CacheProvenance& proven
 
   fields_ = s.fields;
   doublePositions_ = s.doublePositions;
-  boundaryParticles_ = s.boundaryParticles;
+  // The sidecar shows the boundary from its [n][3] view, which caches written before it lack.
+  boundaryParticles_ = s.boundaryView ? s.boundaryParticles : 0;
   frames_ = s.frames;
   for (const CacheFrame& f : frames_) particleFrames_ += static_cast<double>(f.particles);
   reader_.reset();  // HDF5 opens a file once per process: read-only first, now for writing

@@ -46,7 +46,7 @@ class CacheSession final : public FrameSink {
   void writeFrame(const Simulation& sim);
   // FrameSink: the run loop's frames go to writeFrame().
   void frame(const Simulation& sim, std::size_t) override { writeFrame(sim); }
-  // Stores a rendered image of frame `frame` (already written) under /Render/<renderer>.
+  // Stores a rendered image of frame `frame` (already written) as /Render#<renderer>#<frame>.
   void writeRenderedFrame(const std::string& renderer, std::size_t frame, int width, int height,
                           const std::uint8_t* rgb);
   // The run reached its end time `time` (s): records "finished" in the cache.

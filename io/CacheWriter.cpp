@@ -40,17 +40,33 @@ std::string joined(const std::vector<std::string>& lines) {
   return out;
 }
 
-// Links the root's object header is sized for: a Step and a Restart group per frame, four times
-// over so that resumed runs can extend the cache well past its planned end, Boundary and Render,
-// plus room for the root attributes (they share the header with the links and HDF5 puts them
-// into the space reserved for links, so it is reserved for them too, in link-sized units).
-// A link costs about 30 bytes and the header is rewritten at each commit, so this stays cheap:
-// 20 kB for a 60-frame run. Past it HDF5 chains a second header block, and the moment it does so
-// is the one commit that is not a single write (docs/cache-format.md, "Crash safety").
-unsigned rootLinkEstimate(std::size_t expectedFrames, std::size_t attributeBytes) {
-  const std::size_t links = 4 * 2 * expectedFrames + 256 + attributeBytes / 16;
+// Links the root's object header is sized for: per frame its Step, Restart (if written) and
+// Vectors groups and its rendered images (if the scene stores them), four times over so that
+// resumed runs can extend the cache well past its planned end, plus room for the root attributes
+// (they share the header with the links and HDF5 puts them into the space reserved for links, so
+// it is reserved for them too, in link-sized units). A link costs about 30 bytes and the header
+// is rewritten at each commit, so this stays cheap: 30 kB for a 60-frame run. Past it HDF5
+// chains a second header block, and the moment it does so is the one commit that is not a
+// single write (docs/cache-format.md, "Crash safety").
+unsigned rootLinkEstimate(std::size_t expectedFrames, std::size_t linksPerFrame,
+                          std::size_t attributeBytes) {
+  const std::size_t links = 4 * linksPerFrame * expectedFrames + 256 + attributeBytes / 16;
   return static_cast<unsigned>(std::min<std::size_t>(links, h5::kMaxCompactLinks));
 }
+
+// Root links a frame adds: Step#N, Vectors#N, Restart#N, Render#<renderer>#N.
+std::size_t linksPerFrame(const Scene& scene) {
+  std::size_t links = 2 + (scene.output.restart ? 1 : 0);
+  if (scene.render && scene.render->toCache) {
+    const std::size_t renderers = scene.render->splat == RenderDesc::Splat::Both ? 2 : 1;
+    links += (renderers + static_cast<std::size_t>(scene.render->every) - 1) /
+             static_cast<std::size_t>(scene.render->every);
+  }
+  return links;
+}
+
+// How far ahead of HDF5's end of allocation the file is grown during a run (commitObjects).
+constexpr std::uint64_t kGrowthMargin = 1 << 20;
 
 // User block for the journal: room for the root header (about 32 bytes a link), a power of two
 // as HDF5 requires.
@@ -108,10 +124,10 @@ std::unique_ptr<CacheWriter> CacheWriter::create(const std::string& path, const 
                                                  std::size_t expectedFrames) {
   h5::silence();
   const std::vector<cache::Parameter> parameters = cache::solverParameters(scene, derived);
-  const std::size_t attributeBytes = scene.sourceText.size() + joined(provenance.overrides).size() +
-                                     scene.sourcePath.size() + cache::kStatusWidth +
-                                     64 * (parameters.size() + 24);
-  const unsigned rootLinks = rootLinkEstimate(expectedFrames, attributeBytes);
+  // The root header holds the status string and, for every other attribute, its name, type and
+  // (numbers) value; the text of the strings lives in the global heap.
+  const std::size_t attributeBytes = cache::kStatusWidth + 64 * (parameters.size() + 24);
+  const unsigned rootLinks = rootLinkEstimate(expectedFrames, linksPerFrame(scene), attributeBytes);
   h5::Handle fcpl = h5::fileCreateProps(rootLinks);
   const std::uint64_t userBlock = userBlockBytes(rootLinks, attributeBytes);
   h5::check(H5Pset_userblock(fcpl.get(), userBlock), "reserve the journal");
@@ -162,7 +178,9 @@ std::unique_ptr<CacheWriter> CacheWriter::create(const std::string& path, const 
     h5::writeAttribute(root, "output.restart", static_cast<std::int64_t>(out.restart));
     h5::writeAttribute(root, "output.double_positions",
                        static_cast<std::int64_t>(out.doublePositions));
-    h5::writeAttribute(root, cache::kStatusAttr, std::string("running"), cache::kStatusWidth);
+    // Fixed-length, in the root header: rewritten in place by every status change (setStatus),
+    // which a variable-length string, kept in the global heap, could not be crash-safely.
+    h5::writeFixedAttribute(root, cache::kStatusAttr, "running", cache::kStatusWidth);
 
     // The boundary particles never move: once, in a group H5Part readers do not count as a step.
     h5::Handle b = checked(H5Gcreate2(root, cache::kBoundaryGroup, H5P_DEFAULT,
@@ -174,13 +192,13 @@ std::unique_ptr<CacheWriter> CacheWriter::create(const std::string& path, const 
       h5::writeDataset(b.get(), names[a], H5T_NATIVE_FLOAT, H5T_IEEE_F32LE, xyz[a]->data(),
                        xyz[a]->size(), w->storage_);
     }
+    if (boundary.size() > 0) {
+      h5::createColumnView(b.get(), cache::kVectorViews[0].name, H5T_IEEE_F32LE, boundary.size(),
+                           {"/Boundary/x", "/Boundary/y", "/Boundary/z"});
+    }
     h5::writeAttribute(b.get(), "particles", static_cast<std::uint64_t>(boundary.size()));
     h5::writeAttribute(b.get(), "particle_mass", static_cast<double>(derived.mass));
-    // Rendered frames: /Render/<renderer>/Frame#N, filled by the renderer (writeRenderedFrame).
-    h5::Handle r = checked(H5Gcreate2(root, cache::kRenderGroup, H5P_DEFAULT,
-                                      h5::groupCreateProps(16).get(), H5P_DEFAULT),
-                           "create /Render");
-    b.reset(), r.reset();
+    b.reset();
     w->commitObjects();
   } catch (const h5::Error& e) {
     throw InputError(path + ": cannot write the cache header (" + e.what() + ")");
@@ -207,7 +225,39 @@ std::unique_ptr<CacheWriter> CacheWriter::append(const std::string& path, std::s
   hsize_t userBlock = 0;
   h5::check(H5Pget_userblock(fcpl.get(), &userBlock), "read the user block size");
   w->userBlock_ = userBlock;
+  fcpl.reset();
+  w->addMissingVectorViews();
   return w;
+}
+
+// Caches written before the views existed get them for their frames, so that the sidecar a
+// resume writes can point every frame at its views. All in one commit, linked from the root.
+void CacheWriter::addMissingVectorViews() {
+  std::vector<std::pair<std::size_t, std::size_t>> missing;  // frame, particles
+  try {
+    for (std::size_t k = 0; k < frames_; ++k) {
+      if (h5::hasLink(file_.get(), cache::vectorsName(k))) continue;
+      h5::Handle step = checked(H5Gopen2(file_.get(), cache::stepName(k).c_str(), H5P_DEFAULT),
+                                "open " + cache::stepName(k));
+      const std::size_t n = h5::datasetLength(step.get(), "x");
+      if (n > 0) missing.emplace_back(k, n);
+    }
+    if (missing.empty()) return;
+    reopen();
+    std::vector<h5::Handle> groups;
+    for (const auto& [frame, particles] : missing)
+      groups.push_back(writeVectorViews(frame, particles));
+    commitObjects();
+    for (std::size_t i = 0; i < missing.size(); ++i) {
+      const std::string name = cache::vectorsName(missing[i].first);
+      check(H5Olink(groups[i].get(), file_.get(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT),
+            "link " + name);
+    }
+    groups.clear();
+    commitObjects(file_.get());
+  } catch (const h5::Error& e) {
+    throw InputError(path_ + ": cannot add the frames' vector views (" + e.what() + ")");
+  }
 }
 
 void CacheWriter::readSettings() {
@@ -247,30 +297,48 @@ void CacheWriter::readSettings() {
 //    dirty entries are the new, unlinked objects, so such early writes land in new space. And
 //    space never comes from freed blocks (file space strategy NONE, Hdf5.cpp): new data cannot
 //    overwrite anything the last committed state still points to.
-// 4. Before each flush the file is grown to HDF5's end-of-allocation address: the superblock
-//    written by the flush records that address and a reader refuses a file shorter than it
-//    ("truncated file"). HDF5 1.10.8 happens to write everything below it first (the crash test
-//    passes without this step); this keeps it so whatever the order of its writes.
+// 4. Before each flush the file is grown past HDF5's end-of-allocation address (EOA): the
+//    superblock written by the flush records the EOA and a reader refuses a file shorter than
+//    that ("truncated file"). A reader takes the file's size when it opens it and reads the
+//    superblock a moment later, so a margin (kGrowthMargin) keeps the size ahead of the EOA of
+//    the commits that may come in between; close() cuts it off. Datasets are flushed before
+//    (writeDataset, writeRenderedFrame): the EOA read here is the one the flush records.
 // 5. Superblock version 2 (the 1.8 format) has no "open for writing" flag, so the killed file
 //    opens without h5clear.
 // 6. The one in-place write of step 2 can still be cut short at a page boundary by SIGKILL;
 //    `rewritten` (the header that commit rewrites) is first copied to the journal
 //    (CacheJournal.h), from which a reader restores it.
+// 7. For readers while the run goes on: what changes in place is only the user block, the
+//    superblock and the header of the root, which a reader reads when it opens the file; every
+//    object the root links is written before and never changes after (the one header rewrite
+//    at link time, H5Olink, writes the same bytes again). So a reader sees the file as it was at
+//    its open, for as long as it keeps it open.
 // tests/test_cache_crash.cpp kills the writer at every write() of a run, and also tears each
-// write that spans pages, and checks all of this.
+// write that spans pages, and checks 1-6; tests/test_cache_concurrent.cpp checks 4 and 7 after
+// every write of a rendering run, and reads the cache in a loop while it is written.
 void CacheWriter::commitObjects(hid_t rewritten) {
+  growFile();
+  if (rewritten >= 0) journalHeader(rewritten);
+  check(H5Fflush(file_.get(), H5F_SCOPE_LOCAL), "flush the cache");
+  // HDF5 cuts the file to its end of allocation after a flush when the last block it allocated
+  // is not written yet (a global heap block, an image's chunk): restore the margin before the
+  // next superblock is written.
+  growFile();
+}
+
+void CacheWriter::growFile() {
   haddr_t eoa = 0;
   check(H5Fget_eoa(file_.get(), &eoa), "read the end of allocation");
   struct stat st {};
   if (fstat(fd_, &st) != 0) throw h5::Error("stat the cache", std::strerror(errno));
-  // EOA counts from HDF5's base address, after the user block.
-  const auto eof = static_cast<std::uint64_t>(eoa) + userBlock_;
-  if (static_cast<std::uint64_t>(st.st_size) < eof &&
-      ftruncate(fd_, static_cast<off_t>(eof)) != 0) {
+  // H5Fget_eoa gives a file offset (the user block included), which is what the superblock
+  // records and what a reader compares with the file's size. The margin is a hole in the file:
+  // it takes no disk space.
+  const auto size = static_cast<std::uint64_t>(st.st_size), end = static_cast<std::uint64_t>(eoa);
+  if (size < end + kGrowthMargin / 2 &&
+      ftruncate(fd_, static_cast<off_t>(end + kGrowthMargin)) != 0) {
     throw h5::Error("grow the cache file", std::strerror(errno));
   }
-  if (rewritten >= 0) journalHeader(rewritten);
-  check(H5Fflush(file_.get(), H5F_SCOPE_LOCAL), "flush the cache");
 }
 
 void CacheWriter::journalHeader(hid_t object) {
@@ -307,6 +375,7 @@ void CacheWriter::writeFrame(const Particles& fluid, const RunState& state) {
   const std::size_t frame = frames_;
   const std::string step = cache::stepName(frame);
   try {
+    reopen();
     const hid_t root = file_.get();
     h5::Handle group = checked(H5Gcreate_anon(root, h5::groupCreateProps(16).get(), H5P_DEFAULT),
                                "create " + step);
@@ -354,14 +423,20 @@ void CacheWriter::writeFrame(const Particles& fluid, const RunState& state) {
         writeField(r, field, fluid);
       }
     }
+    h5::Handle vectors = writeVectorViews(frame, fluid.size());
     commitObjects();
     if (restart) {
       check(
           H5Olink(restart.get(), root, cache::restartName(frame).c_str(), H5P_DEFAULT, H5P_DEFAULT),
           "link " + cache::restartName(frame));
     }
+    if (vectors) {
+      check(
+          H5Olink(vectors.get(), root, cache::vectorsName(frame).c_str(), H5P_DEFAULT, H5P_DEFAULT),
+          "link " + cache::vectorsName(frame));
+    }
     check(H5Olink(group.get(), root, step.c_str(), H5P_DEFAULT, H5P_DEFAULT), "link " + step);
-    group.reset(), restart.reset();
+    group.reset(), restart.reset(), vectors.reset();
     commitObjects(root);
   } catch (const h5::Error& e) {
     throw InputError(path_ + ": cannot write frame " + std::to_string(frame) + " (" + e.what() +
@@ -369,6 +444,41 @@ void CacheWriter::writeFrame(const Particles& fluid, const RunState& state) {
   }
   frames_ = frame + 1;
   secondsWriting_ += since(start);
+}
+
+h5::Handle CacheWriter::writeVectorViews(std::size_t frame, std::size_t particles) {
+  // Zero-length views are of no use: the sidecar lists an empty frame without geometry.
+  if (particles == 0) return h5::Handle();
+  h5::Handle group =
+      checked(H5Gcreate_anon(file_.get(), h5::groupCreateProps(4).get(), H5P_DEFAULT),
+              "create " + cache::vectorsName(frame));
+  const std::string step = "/" + cache::stepName(frame) + "/";
+  for (const cache::VectorView& view : cache::kVectorViews) {
+    if (!cache::hasAll(fields_, view)) continue;
+    std::vector<std::string> columns;
+    for (cache::Field c : view.components) columns.push_back(step + cache::fieldName(c));
+    const bool wide = doublePositions_ && view.components[0] == cache::Field::X;
+    h5::createColumnView(group.get(), view.name, wide ? H5T_IEEE_F64LE : H5T_IEEE_F32LE, particles,
+                         columns);
+  }
+  return group;
+}
+
+void CacheWriter::reopen() {
+  // The views' mappings (and the root's strings) live in HDF5's global heap, whose blocks are
+  // rewritten in place when a new entry fits into one. HDF5 puts a new entry into a block it
+  // knows to have room, which after a commit would be a block committed frames use. A file
+  // opened afresh knows no block until it reads one, and the writer reads none: each frame's
+  // entries go to a block of their own, written once (the crash and reader-view tests check it).
+  const ssize_t open = H5Fget_obj_count(file_.get(), H5F_OBJ_ALL);
+  if (open != 1) {
+    throw h5::Error("reopen the cache",
+                    std::to_string(open - 1) + " of its objects are still open in this process");
+  }
+  file_.close("close the cache");
+  file_ = checked(H5Fopen(path_.c_str(), H5F_ACC_RDWR, h5::fileAccessProps().get()),
+                  "reopen the cache");
+  growFile();  // closing cut the file to HDF5's end of allocation
 }
 
 void CacheWriter::writeRenderedFrame(const std::string& renderer, std::size_t frame, int width,
@@ -387,45 +497,41 @@ void CacheWriter::writeRenderedFrame(const std::string& renderer, std::size_t fr
   }
   if (width <= 0 || height <= 0) throw InputError(path_ + ": rendered frame size must be positive");
   const auto start = Clock::now();
-  const std::string where = std::string("/") + cache::kRenderGroup + "/" + renderer;
+  const std::string name = cache::renderedFrameName(renderer, frame);
   try {
     const hid_t root = file_.get();
-    h5::Handle render = checked(H5Gopen2(root, cache::kRenderGroup, H5P_DEFAULT), "open /Render");
-    if (!h5::hasLink(render.get(), renderer)) {
-      // Same two-phase commit as a frame: the renderer's group is written, then linked.
-      h5::Handle g = checked(
-          H5Gcreate_anon(root, h5::groupCreateProps(static_cast<unsigned>(frames_ * 2 + 64)).get(),
-                         H5P_DEFAULT),
-          "create " + where);
-      commitObjects();
-      check(H5Olink(g.get(), render.get(), renderer.c_str(), H5P_DEFAULT, H5P_DEFAULT),
-            "link " + where);
-      commitObjects(render.get());
+    const std::string legacy = std::string(cache::kLegacyRenderGroup) + "/" + renderer + "/" +
+                               cache::legacyRenderedFrameName(frame);
+    if (h5::hasLink(root, name) || h5::hasPath(root, legacy)) {
+      throw InputError(path_ + ": rendered frame " + std::to_string(frame) + " of '" + renderer +
+                       "' is already written");
     }
-    h5::Handle g = checked(H5Gopen2(render.get(), renderer.c_str(), H5P_DEFAULT), "open " + where);
-    const std::string name = cache::renderedFrameName(frame);
-    if (h5::hasLink(g.get(), name))
-      throw InputError(path_ + ": " + where + "/" + name + " is already written");
+    // Same two-phase commit as a frame: the image is written, then linked into the root.
     const std::vector<hsize_t> dims = {static_cast<hsize_t>(height), static_cast<hsize_t>(width),
                                        3};
     h5::Handle image = h5::createDataset(root, "", H5T_STD_U8LE, dims, storage_);
     check(H5Dwrite(image.get(), H5T_NATIVE_UINT8, H5S_ALL, H5S_ALL, H5P_DEFAULT, rgb),
           "write " + name);
-    // The HDF5 Image specification's attributes, so HDFView and h5py tools show it as a picture.
-    h5::writeAttribute(image.get(), "CLASS", std::string("IMAGE"));
-    h5::writeAttribute(image.get(), "IMAGE_VERSION", std::string("1.2"));
-    h5::writeAttribute(image.get(), "IMAGE_SUBCLASS", std::string("IMAGE_TRUECOLOR"));
-    h5::writeAttribute(image.get(), "INTERLACE_MODE", std::string("INTERLACE_PIXEL"));
+    // Compress and place the chunks now: left to the commit's flush, their allocation would move
+    // the end of the file after commitObjects() has grown it (point 4 there).
+    check(H5Dflush(image.get()), "write " + name);
+    // The HDF5 Image specification's attributes, so HDFView and h5py tools show it as a picture;
+    // fixed-length strings, as that specification writes them (and none in the global heap).
+    h5::writeFixedAttribute(image.get(), "CLASS", "IMAGE");
+    h5::writeFixedAttribute(image.get(), "IMAGE_VERSION", "1.2");
+    h5::writeFixedAttribute(image.get(), "IMAGE_SUBCLASS", "IMAGE_TRUECOLOR");
+    h5::writeFixedAttribute(image.get(), "INTERLACE_MODE", "INTERLACE_PIXEL");
     h5::Handle step = checked(H5Gopen2(root, cache::stepName(frame).c_str(), H5P_DEFAULT),
                               "open the frame's step");
     h5::writeAttribute(image.get(), cache::kTimeAttr,
                        h5::readDoubleAttribute(step.get(), cache::kTimeAttr));
     h5::writeAttribute(image.get(), "frame", static_cast<std::uint64_t>(frame));
+    h5::writeFixedAttribute(image.get(), "renderer", renderer);
+    step.reset();
     commitObjects();
-    check(H5Olink(image.get(), g.get(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT),
-          "link " + where + "/" + name);
+    check(H5Olink(image.get(), root, name.c_str(), H5P_DEFAULT, H5P_DEFAULT), "link /" + name);
     image.reset();
-    commitObjects(g.get());
+    commitObjects(root);
   } catch (const h5::Error& e) {
     throw InputError(path_ + ": cannot write rendered frame " + std::to_string(frame) + " of '" +
                      renderer + "' (" + e.what() + ")");
@@ -453,6 +559,9 @@ void CacheWriter::publishAs(const std::string& finalPath) {
 }
 
 std::uint64_t CacheWriter::fileBytes() const {
+  // What the file will keep (HDF5's end of allocation), without the margin it grows by.
+  haddr_t eoa = 0;
+  if (file_ && H5Fget_eoa(file_.get(), &eoa) >= 0) return static_cast<std::uint64_t>(eoa);
   struct stat st {};
   return fstat(fd_, &st) == 0 ? static_cast<std::uint64_t>(st.st_size) : 0;
 }
@@ -463,7 +572,26 @@ void CacheWriter::close() {
   } catch (const h5::Error& e) {
     throw InputError(path_ + ": " + e.what());
   }
-  if (fd_ >= 0) ::close(fd_), fd_ = -1;
+  if (fd_ < 0) return;
+  // Cut off the growth margin (commitObjects, point 4): the file ends where its superblock says,
+  // read back from the file itself now that HDF5 has written its last.
+  // (Superblock version 2: signature, version, sizes, flags, base address, extension address,
+  // then the end-of-file address, 8 bytes little-endian.)
+  unsigned char field[8] = {0};
+  std::uint64_t end = 0;
+  const bool read = pread(fd_, field, sizeof field, static_cast<off_t>(userBlock_ + 28)) ==
+                    static_cast<ssize_t>(sizeof field);
+  for (int i = 7; i >= 0; --i) end = (end << 8) | field[i];
+  if (read && end > userBlock_) {
+    struct stat st {};
+    if (fstat(fd_, &st) == 0 && static_cast<std::uint64_t>(st.st_size) > end &&
+        ftruncate(fd_, static_cast<off_t>(end)) != 0) {
+      const int error = errno;
+      ::close(fd_), fd_ = -1;
+      throw InputError(path_ + ": cannot trim the cache file (" + std::strerror(error) + ")");
+    }
+  }
+  ::close(fd_), fd_ = -1;
 }
 
 }  // namespace sph::io

@@ -40,7 +40,8 @@ class CacheWriter {
                                              const CacheProvenance& provenance,
                                              std::size_t expectedFrames);
   // Opens an existing cache whose frames 0..frames-1 are complete to append frame `frames` on
-  // (resume). The fields, compression and resume records follow the cache's own settings.
+  // (resume). The fields, compression and resume records follow the cache's own settings. A
+  // cache written before the vector views (Vectors#N) gets them for its frames.
   static std::unique_ptr<CacheWriter> append(const std::string& path, std::size_t frames);
 
   ~CacheWriter();
@@ -79,7 +80,11 @@ class CacheWriter {
  private:
   CacheWriter(std::string path, h5::Handle file, int lockFd);
   void readSettings();
+  void reopen();
+  void addMissingVectorViews();
+  h5::Handle writeVectorViews(std::size_t frame, std::size_t particles);
   void commitObjects(hid_t rewritten = H5I_INVALID_HID);
+  void growFile();
   void journalHeader(hid_t object);
   void writeField(hid_t group, cache::Field field, const Particles& fluid);
 

@@ -157,6 +157,14 @@ bool hasLink(hid_t loc, const std::string& name) {
   return H5Lexists(loc, name.c_str(), H5P_DEFAULT) > 0;
 }
 
+bool hasPath(hid_t loc, const std::string& path) {
+  // H5Lexists fails, rather than saying no, when a component before the last is missing.
+  for (std::size_t end = path.find('/');; end = path.find('/', end + 1)) {
+    if (!hasLink(loc, path.substr(0, end))) return false;
+    if (end == std::string::npos) return true;
+  }
+}
+
 bool hasAttribute(hid_t obj, const std::string& name) {
   return H5Aexists(obj, name.c_str()) > 0;
 }
@@ -239,8 +247,16 @@ std::vector<T> readNumbers(hid_t obj, const std::string& name, hid_t memType, bo
 
 }  // namespace
 
-void writeAttribute(hid_t obj, const std::string& name, const std::string& value,
-                    std::size_t width) {
+void writeAttribute(hid_t obj, const std::string& name, const std::string& value) {
+  Handle type = checked(H5Tcopy(H5T_C_S1), "copy the string type");
+  check(H5Tset_size(type.get(), H5T_VARIABLE), "make a variable-length string type");
+  check(H5Tset_cset(type.get(), H5T_CSET_UTF8), "set UTF-8");
+  const char* text = value.c_str();
+  writeScalar(obj, name, type.get(), type.get(), &text);
+}
+
+void writeFixedAttribute(hid_t obj, const std::string& name, const std::string& value,
+                         std::size_t width) {
   const std::size_t length = std::max(width, value.size());
   Handle type = stringType(length);
   std::string padded = value;
@@ -288,10 +304,9 @@ std::string readStringAttribute(hid_t obj, const std::string& name) {
   if (H5Sget_simple_extent_npoints(space.get()) != 1)
     throw Error("attribute '" + name + "' is not one string", "");
   if (H5Tis_variable_str(type.get()) > 0) {
-    Handle mem = checked(H5Tcopy(H5T_C_S1), "copy the string type");
-    check(H5Tset_size(mem.get(), H5T_VARIABLE), "make a variable string type");
+    // Read with the attribute's own type: its character set (UTF-8 or ASCII) is kept as it is.
     char* text = nullptr;
-    check(H5Aread(attr.get(), mem.get(), &text), "read attribute '" + name + "'");
+    check(H5Aread(attr.get(), type.get(), &text), "read attribute '" + name + "'");
     std::string value = text ? text : "";
     H5free_memory(text);
     return value;
@@ -379,6 +394,28 @@ std::uint64_t writeDataset(hid_t loc, const std::string& name, hid_t memType, hi
   const std::uint64_t bytes = H5Dget_storage_size(set.get());
   set.close("write dataset '" + name + "'");
   return bytes;
+}
+
+void createColumnView(hid_t loc, const std::string& name, hid_t fileType, std::size_t count,
+                      const std::vector<std::string>& columns) {
+  const hsize_t n = count, width = columns.size();
+  const hsize_t dims[2] = {n, width};
+  Handle view = checked(H5Screate_simple(2, dims, nullptr), "create a dataspace");
+  Handle source = checked(H5Screate_simple(1, &n, nullptr), "create a dataspace");
+  Handle dcpl = checked(H5Pcreate(H5P_DATASET_CREATE), "create a dataset creation property list");
+  for (hsize_t c = 0; c < width; ++c) {
+    const hsize_t start[2] = {0, c}, block[2] = {n, 1};
+    check(H5Sselect_hyperslab(view.get(), H5S_SELECT_SET, start, nullptr, block, nullptr),
+          "select column " + std::to_string(c) + " of '" + name + "'");
+    // "." is the file the virtual dataset is in.
+    check(H5Pset_virtual(dcpl.get(), view.get(), ".", columns[c].c_str(), source.get()),
+          "map " + columns[c] + " into '" + name + "'");
+  }
+  check(H5Sselect_all(view.get()), "select all of '" + name + "'");
+  Handle set = checked(
+      H5Dcreate2(loc, name.c_str(), fileType, view.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
+      "create the view '" + name + "'");
+  set.close("create the view '" + name + "'");
 }
 
 std::size_t datasetLength(hid_t loc, const std::string& name) {

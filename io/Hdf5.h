@@ -73,14 +73,22 @@ Handle groupCreateProps(unsigned expectedLinks);
 
 // Does `name` (one path component) exist as a link in `loc`?
 bool hasLink(hid_t loc, const std::string& name);
+// Does the relative path "a/b/c" exist in `loc` (every component, checked in turn)?
+bool hasPath(hid_t loc, const std::string& path);
 bool hasAttribute(hid_t obj, const std::string& name);
 // H5O_TYPE_GROUP, H5O_TYPE_DATASET... of the object `name` in `loc`, or H5O_TYPE_UNKNOWN.
 H5O_type_t objectType(hid_t loc, const std::string& name);
 
-// Attributes. Strings are fixed-length UTF-8 (what h5dump and h5py print as text); `width`
-// reserves room so the attribute can later be rewritten in place with a longer value.
-void writeAttribute(hid_t obj, const std::string& name, const std::string& value,
-                    std::size_t width = 0);
+// Attributes. A string is written as a variable-length UTF-8 string, which h5py reads as `str`
+// (a fixed-length one comes back as `bytes`). Its characters go to HDF5's global heap, whose
+// blocks a later string can extend in place: CacheWriter writes such strings only where no
+// committed block can be touched (before the first commit, or right after reopening the file).
+void writeAttribute(hid_t obj, const std::string& name, const std::string& value);
+// A fixed-length UTF-8 string of `width` characters (at least the value's), stored in the object
+// header itself: for a value rewritten in place later (rewriteAttribute), and where a
+// specification asks for fixed-length strings (the HDF5 Image attributes).
+void writeFixedAttribute(hid_t obj, const std::string& name, const std::string& value,
+                         std::size_t width = 0);
 void writeAttribute(hid_t obj, const std::string& name, double value);
 void writeAttribute(hid_t obj, const std::string& name, float value);
 void writeAttribute(hid_t obj, const std::string& name, std::int64_t value);
@@ -90,6 +98,8 @@ void writeAttribute(hid_t obj, const std::string& name, const std::vector<std::u
 // Overwrites an existing fixed-length string attribute in place (truncated to its width).
 void rewriteAttribute(hid_t obj, const std::string& name, const std::string& value);
 
+// Either kind of string: variable-length (caches since the change to h5py-friendly strings) or
+// fixed-length, UTF-8 or ASCII (older caches, run_status, image attributes).
 std::string readStringAttribute(hid_t obj, const std::string& name);
 double readDoubleAttribute(hid_t obj, const std::string& name);
 float readFloatAttribute(hid_t obj, const std::string& name);
@@ -116,6 +126,13 @@ Handle createDataset(hid_t loc, const std::string& name, hid_t fileType,
 // stored as `fileType` (e.g. H5T_IEEE_F32LE). Returns the bytes it takes in the file.
 std::uint64_t writeDataset(hid_t loc, const std::string& name, hid_t memType, hid_t fileType,
                            const void* data, std::size_t count, const Storage& storage);
+
+// Creates `name` in `loc`: a virtual dataset of shape [count][3] whose columns are the 1-D
+// datasets `columns` (paths in the same file, `count` values each), stored as `fileType`. No data
+// is copied; readers of HDF5 1.10 and later read it like any dataset. Its mapping goes to the
+// global heap (see writeAttribute on strings).
+void createColumnView(hid_t loc, const std::string& name, hid_t fileType, std::size_t count,
+                      const std::vector<std::string>& columns);
 
 // A 1-D dataset's element count; throws Error if it is not a 1-D numeric dataset.
 std::size_t datasetLength(hid_t loc, const std::string& name);

@@ -97,100 +97,83 @@ std::string XdmfWriter::head() const {
          "<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
          "<!-- sphsplat cache " +
          cacheFile_ +
-         ": fluid particles per frame, boundary particles once.\n"
+         ": per frame, the fluid particles and the boundary particles.\n"
          "     Written by sphsplat frame by frame; see docs/cache-format.md. -->\n"
          "<Xdmf Version=\"2.0\">\n"
          "  <Domain>\n"
-         "    <Grid Name=\"fluid\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+         "    <Grid Name=\"sphsplat\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
 }
 
 std::string XdmfWriter::tail() const {
-  std::string text = "    </Grid>\n";
-  if (boundaryParticles_ > 0) {
-    const std::string n = std::to_string(boundaryParticles_);
-    text +=
-        "    <Grid Name=\"boundary\" GridType=\"Uniform\">\n"
-        "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" +
-        n +
-        "\" NodesPerElement=\"1\"/>\n"
-        "      <Geometry GeometryType=\"X_Y_Z\">\n";
-    for (const char* axis : {"x", "y", "z"}) {
-      text += "        <DataItem Dimensions=\"" + n +
-              "\" NumberType=\"Float\" Precision=\"4\" Format=\"HDF\">" + cacheFile_ + ":/" +
-              cache::kBoundaryGroup + "/" + axis + "</DataItem>\n";
-    }
-    text +=
-        "      </Geometry>\n"
-        "    </Grid>\n";
-  }
-  return text + "  </Domain>\n</Xdmf>\n";
+  return "    </Grid>\n"
+         "  </Domain>\n"
+         "</Xdmf>\n";
 }
 
-std::string XdmfWriter::dataItem(const std::string& dataset, std::size_t count, bool isId,
-                                 bool isPosition, const std::string& indent) const {
+std::string XdmfWriter::dataItem(const std::string& dataset, const std::string& dimensions,
+                                 bool isId, bool isPosition, const std::string& indent) const {
   const char* type = isId ? "UInt" : "Float";
   const char* precision = isId ? "4" : (isPosition && doublePositions_ ? "8" : "4");
-  return indent + "<DataItem Dimensions=\"" + std::to_string(count) + "\" NumberType=\"" + type +
+  return indent + "<DataItem Dimensions=\"" + dimensions + "\" NumberType=\"" + type +
          "\" Precision=\"" + precision + "\" Format=\"HDF\">" + cacheFile_ + ":" + dataset +
          "</DataItem>\n";
 }
 
+// One point set: a Polyvertex topology and XYZ geometry read from an [n][3] dataset (ParaView's
+// Xdmf3 readers accept no other way for points given as separate x, y, z).
+std::string XdmfWriter::pointGrid(const std::string& name, std::size_t count,
+                                  const std::string& positions, bool isFluid) const {
+  const std::string n = std::to_string(count);
+  return "        <Grid Name=\"" + name +
+         "\" GridType=\"Uniform\">\n"
+         "          <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" +
+         n +
+         "\" NodesPerElement=\"1\"/>\n"
+         "          <Geometry GeometryType=\"XYZ\">\n" +
+         dataItem(positions, n + " 3", false, isFluid, "            ") + "          </Geometry>\n";
+}
+
 std::string XdmfWriter::frameGrid(const CacheFrame& frame) const {
-  const std::string group = "/" + cache::stepName(frame.index) + "/";
-  const std::size_t n = frame.particles;
-  const std::string count = std::to_string(n);
-  if (n == 0) {
-    // XDMF 2 readers fail on zero-length arrays (ParaView 5.11 reports "Error in Update() of
-    // Geometry"); an empty spatial collection keeps the frame's time without any.
-    return "      <Grid Name=\"" + cache::stepName(frame.index) +
-           "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
-           "        <Time Value=\"" +
-           exact(frame.time) +
-           "\"/>\n"
-           "      </Grid>\n";
-  }
+  // Each time step is a spatial collection of the fluid and the boundary: every reader then shows
+  // both at every time (the Xdmf3 readers take only one grid at the top level, the time series).
   std::string text = "      <Grid Name=\"" + cache::stepName(frame.index) +
-                     "\" GridType=\"Uniform\">\n"
+                     "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
                      "        <Time Value=\"" +
-                     exact(frame.time) +
-                     "\"/>\n"
-                     "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" +
-                     count +
-                     "\" NodesPerElement=\"1\"/>\n"
-                     "        <Geometry GeometryType=\"X_Y_Z\">\n";
-  for (const char* axis : {"x", "y", "z"})
-    text += dataItem(group + axis, n, false, true, "          ");
-  text += "        </Geometry>\n";
-  auto has = [&](Field f) { return fields_[static_cast<std::size_t>(f)]; };
-  // Vectors whose three components are all written become one vector attribute (JOIN).
-  const struct {
-    const char* name;
-    Field c[3];
-  } vectors[] = {{"velocity", {Field::VX, Field::VY, Field::VZ}},
-                 {"acceleration", {Field::AX, Field::AY, Field::AZ}}};
-  cache::FieldSet joined;
-  for (const auto& v : vectors) {
-    if (!(has(v.c[0]) && has(v.c[1]) && has(v.c[2]))) continue;
-    text +=
-        std::string("        <Attribute Name=\"") + v.name +
-        "\" AttributeType=\"Vector\" Center=\"Node\">\n"
-        "          <DataItem ItemType=\"Function\" Function=\"JOIN($0, $1, $2)\" Dimensions=\"" +
-        count + " 3\">\n";
-    for (Field c : v.c) {
-      text += dataItem(group + cache::fieldName(c), n, false, false, "            ");
-      joined.set(static_cast<std::size_t>(c));
+                     exact(frame.time) + "\"/>\n";
+  const std::size_t n = frame.particles;
+  // A frame with no particle (a pour's first) has no fluid grid: XDMF readers fail on
+  // zero-length arrays (ParaView 5.11: "Error in Update() of Geometry").
+  if (n > 0) {
+    const std::string step = "/" + cache::stepName(frame.index) + "/";
+    const std::string vectors = "/" + cache::vectorsName(frame.index) + "/";
+    text += pointGrid("fluid", n, vectors + cache::kVectorViews[0].name, true);
+    const std::string count = std::to_string(n);
+    cache::FieldSet described;
+    for (const cache::VectorView& view : cache::kVectorViews) {
+      if (!cache::hasAll(fields_, view)) continue;
+      for (cache::Field c : view.components) described.set(static_cast<std::size_t>(c));
+      if (view.components[0] == Field::X) continue;  // the geometry
+      text += std::string("          <Attribute Name=\"") + view.name +
+              "\" AttributeType=\"Vector\" Center=\"Node\">\n" +
+              dataItem(vectors + view.name, count + " 3", false, false, "            ") +
+              "          </Attribute>\n";
     }
-    text +=
-        "          </DataItem>\n"
-        "        </Attribute>\n";
+    for (std::size_t f = 0; f < cache::kFieldCount; ++f) {
+      if (!fields_[f] || described[f]) continue;
+      const auto field = static_cast<Field>(f);
+      text += std::string("          <Attribute Name=\"") + cache::fieldName(field) +
+              "\" AttributeType=\"Scalar\" Center=\"Node\">\n" +
+              dataItem(step + cache::fieldName(field), count, field == Field::Id, false,
+                       "            ") +
+              "          </Attribute>\n";
+    }
+    text += "        </Grid>\n";
   }
-  for (std::size_t f = static_cast<std::size_t>(Field::VX); f < cache::kFieldCount; ++f) {
-    if (!fields_[f] || joined[f]) continue;
-    const auto field = static_cast<Field>(f);
-    text += std::string("        <Attribute Name=\"") + cache::fieldName(field) +
-            "\" AttributeType=\"Scalar\" Center=\"Node\">\n" +
-            dataItem(group + cache::fieldName(field), n, field == Field::Id, false, "          ") +
-            "        </Attribute>\n";
+  if (boundaryParticles_ > 0) {
+    text += pointGrid("boundary", boundaryParticles_,
+                      std::string("/") + cache::kBoundaryGroup + "/" + cache::kVectorViews[0].name,
+                      false) +
+            "        </Grid>\n";
   }
   return text + "      </Grid>\n";
 }

@@ -1,7 +1,9 @@
 // The XDMF sidecar of a cache (DESIGN.md, "HDF5 cache"): an XML file beside `run.h5` that
 // describes every frame as a Polyvertex point set with its time and point attributes, pointing
-// at the datasets in the HDF5 file, so ParaView (and VisIt) open `run.xdmf` as an animated point
-// cloud with the container's boundary particles as a second, static block.
+// at the datasets in the HDF5 file, so ParaView (its default Xdmf3 readers and the older XDMF
+// reader) and VisIt open `run.xdmf` as an animated point cloud with the container's boundary
+// particles as a second block. Points and vectors come from the cache's [n][3] views
+// (Vectors#N, CacheFormat.h), the only form ParaView's Xdmf3 readers take.
 //
 // Kept up to date frame by frame: append() writes the whole document to a temporary file and
 // renames it over the sidecar, so a reader (or a kill) only ever meets a complete document that
@@ -45,8 +47,10 @@ class XdmfWriter {
   std::string frameGrid(const CacheFrame& frame) const;
   std::string head() const;
   std::string tail() const;
-  std::string dataItem(const std::string& dataset, std::size_t count, bool isId, bool isPosition,
-                       const std::string& indent) const;
+  std::string dataItem(const std::string& dataset, const std::string& dimensions, bool isId,
+                       bool isPosition, const std::string& indent) const;
+  std::string pointGrid(const std::string& name, std::size_t count, const std::string& positions,
+                        bool isFluid) const;
 
   void rewrite();
 

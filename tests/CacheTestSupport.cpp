@@ -32,6 +32,15 @@ std::string tinyCacheScene(double endTime, double fps, const std::string& extraO
   return s.str();
 }
 
+std::string tinyRenderingScene(double endTime, double fps) {
+  std::string scene = tinyCacheScene(endTime, fps);
+  const std::string camera =
+      R"(  "camera": {"position": [0.5, 0.4, 0.5], "target": [0.1, 0.05, 0.075], "fov": 40},
+  "render": {"splat": "quad", "width": 96, "height": 64},
+)";
+  return scene.insert(scene.find("  \"output\""), camera);
+}
+
 std::string makeTempDir() {
   char pattern[] = "/tmp/sphsplat-cache-test-XXXXXX";
   if (!mkdtemp(pattern)) throw std::runtime_error("mkdtemp failed");

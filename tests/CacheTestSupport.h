@@ -18,6 +18,10 @@ namespace sph::test {
 std::string tinyCacheScene(double endTime = 0.1, double fps = 100,
                            const std::string& extraOutput = "");
 
+// The same scene with a camera and a `render` section: every frame drawn (quad splats, 96x64
+// pixels, a few milliseconds each on llvmpipe) and stored in the cache.
+std::string tinyRenderingScene(double endTime, double fps);
+
 // A fresh empty directory under /tmp.
 std::string makeTempDir();
 

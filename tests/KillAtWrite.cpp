@@ -8,9 +8,12 @@
 // arrives while a write spanning pages is being copied.
 // SPHSPLAT_WRITE_COUNT_FILE=PATH receives the number of such calls when the process exits, and
 // SPHSPLAT_WRITE_LOG=PATH one line per call: its number, bytes and file offset.
+// SPHSPLAT_READER_VIEW_LOG=PATH checks what a reader opening the cache between two calls would
+// meet (ReaderView.h).
 #include <dlfcn.h>
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/types.h>
 #include <sys/uio.h>
 #include <unistd.h>
@@ -19,23 +22,29 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <string>
+
+#include "tests/ReaderView.h"
 
 namespace {
 
 long counted = 0;
 
-bool isCacheFile(int fd) {
+// The file behind `fd` if it is a cache or its sidecar (by name), else "".
+std::string cachePath(int fd) {
   char link[64], path[4096];
   std::snprintf(link, sizeof link, "/proc/self/fd/%d", fd);
   const ssize_t n = readlink(link, path, sizeof path - 1);
-  if (n <= 0) return false;
+  if (n <= 0) return "";
   path[n] = '\0';
   const std::size_t len = static_cast<std::size_t>(n);
   auto endsWith = [&](const char* suffix) {
     const std::size_t s = std::strlen(suffix);
     return len >= s && std::strcmp(path + len - s, suffix) == 0;
   };
-  return endsWith(".h5") || endsWith(".h5.partial") || endsWith(".xdmf") || endsWith(".xdmf.tmp");
+  const bool cache =
+      endsWith(".h5") || endsWith(".h5.partial") || endsWith(".xdmf") || endsWith(".xdmf.tmp");
+  return cache ? path : "";
 }
 
 long envNumber(const char* name) {
@@ -45,8 +54,9 @@ long envNumber(const char* name) {
 
 // Called before each file-changing call on `fd` of `bytes` at `offset` (-1: the file position).
 // Returns how many bytes to write before dying when this call is to be torn, else -1.
-long beforeChange(int fd, std::size_t bytes, long long offset) {
-  if (!isCacheFile(fd)) return -1;
+long beforeChange(int fd, std::size_t bytes, long long offset, const void* data = nullptr) {
+  const std::string path = cachePath(fd);
+  if (path.empty()) return -1;
   ++counted;
   static const long killAt = envNumber("SPHSPLAT_KILL_AT_WRITE");
   static const long tearAt = envNumber("SPHSPLAT_TEAR_AT_WRITE");
@@ -57,6 +67,7 @@ long beforeChange(int fd, std::size_t bytes, long long offset) {
       std::fclose(f);
     }
   }
+  if (data) sph::test::readerview::beforeWrite(path.c_str(), fd, data, bytes, offset, counted);
   if (killAt > 0 && counted == killAt) raise(SIGKILL);
   if (tearAt > 0 && counted == tearAt) {
     const long long page = 4096, end = offset + static_cast<long long>(bytes);
@@ -67,6 +78,12 @@ long beforeChange(int fd, std::size_t bytes, long long offset) {
     return static_cast<long>(std::min(end, cut) - offset);
   }
   return -1;
+}
+
+// After a call has changed the file behind `fd`.
+void afterChange(int fd) {
+  const std::string path = cachePath(fd);
+  if (!path.empty()) sph::test::readerview::afterChange(path.c_str(), fd, counted);
 }
 
 template <class F>
@@ -91,8 +108,12 @@ extern "C" {
 
 ssize_t write(int fd, const void* buf, size_t n) {
   static auto real = next<ssize_t (*)(int, const void*, size_t)>("write");
-  const long tear = beforeChange(fd, n, -1);
-  if (tear < 0) return real(fd, buf, n);
+  const long tear = beforeChange(fd, n, -1, buf);
+  if (tear < 0) {
+    const ssize_t r = real(fd, buf, n);
+    afterChange(fd);
+    return r;
+  }
   real(fd, buf, static_cast<size_t>(tear));
   raise(SIGKILL);
   return -1;
@@ -100,8 +121,12 @@ ssize_t write(int fd, const void* buf, size_t n) {
 
 ssize_t pwrite(int fd, const void* buf, size_t n, off_t offset) {
   static auto real = next<ssize_t (*)(int, const void*, size_t, off_t)>("pwrite");
-  const long tear = beforeChange(fd, n, offset);
-  if (tear < 0) return real(fd, buf, n, offset);
+  const long tear = beforeChange(fd, n, offset, buf);
+  if (tear < 0) {
+    const ssize_t r = real(fd, buf, n, offset);
+    afterChange(fd);
+    return r;
+  }
   real(fd, buf, static_cast<size_t>(tear), offset);
   raise(SIGKILL);
   return -1;
@@ -109,8 +134,12 @@ ssize_t pwrite(int fd, const void* buf, size_t n, off_t offset) {
 
 ssize_t pwrite64(int fd, const void* buf, size_t n, off64_t offset) {
   static auto real = next<ssize_t (*)(int, const void*, size_t, off64_t)>("pwrite64");
-  const long tear = beforeChange(fd, n, offset);
-  if (tear < 0) return real(fd, buf, n, offset);
+  const long tear = beforeChange(fd, n, offset, buf);
+  if (tear < 0) {
+    const ssize_t r = real(fd, buf, n, offset);
+    afterChange(fd);
+    return r;
+  }
   real(fd, buf, static_cast<size_t>(tear), offset);
   raise(SIGKILL);
   return -1;
@@ -121,7 +150,9 @@ ssize_t pwritev(int fd, const struct iovec* iov, int count, off_t offset) {
   std::size_t n = 0;
   for (int i = 0; i < count; ++i) n += iov[i].iov_len;
   if (beforeChange(fd, n, offset) >= 0) raise(SIGKILL);  // HDF5's sec2 driver does not use it
-  return real(fd, iov, count, offset);
+  const ssize_t r = real(fd, iov, count, offset);
+  afterChange(fd);
+  return r;
 }
 
 int ftruncate(int fd, off_t length) {
@@ -129,6 +160,7 @@ int ftruncate(int fd, off_t length) {
   const long tear = beforeChange(fd, 0, 0);
   const int r = real(fd, length);
   if (tear >= 0) raise(SIGKILL);
+  afterChange(fd);
   return r;
 }
 
@@ -137,6 +169,7 @@ int ftruncate64(int fd, off64_t length) {
   const long tear = beforeChange(fd, 0, 0);
   const int r = real(fd, length);
   if (tear >= 0) raise(SIGKILL);
+  afterChange(fd);
   return r;
 }
 

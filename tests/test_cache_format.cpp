@@ -72,13 +72,30 @@ hid_t openRaw(const std::string& path) {
   return file;
 }
 
+// A string attribute of either kind, read with the C API.
 std::string stringAttribute(hid_t obj, const char* name) {
   Id attr(H5Aopen(obj, name, H5P_DEFAULT));
   Id type(H5Aget_type(attr));
   EXPECT_EQ(H5Tget_class(type), H5T_STRING) << name;
+  if (H5Tis_variable_str(type) > 0) {
+    char* text = nullptr;
+    EXPECT_GE(H5Aread(attr, type, &text), 0);
+    std::string value = text ? text : "";
+    H5free_memory(text);
+    return value;
+  }
   std::string value(H5Tget_size(type), '\0');
   EXPECT_GE(H5Aread(attr, type, value.data()), 0);
   return value.substr(0, value.find('\0'));
+}
+
+// "variable UTF-8", "fixed UTF-8", "fixed ASCII": how a string attribute is stored.
+std::string stringKind(hid_t obj, const char* name) {
+  Id attr(H5Aopen(obj, name, H5P_DEFAULT));
+  Id type(H5Aget_type(attr));
+  if (H5Tget_class(type) != H5T_STRING) return "not a string";
+  return std::string(H5Tis_variable_str(type) > 0 ? "variable " : "fixed ") +
+         (H5Tget_cset(type) == H5T_CSET_UTF8 ? "UTF-8" : "ASCII");
 }
 
 std::set<std::string> rootLinks(hid_t file) {
@@ -210,6 +227,110 @@ TEST_F(CacheFormat, H5PartLayoutAsDocumentedThroughTheHdf5Api) {
     EXPECT_GT(H5Aexists(file, name), 0) << name;
   }
   EXPECT_EQ(stringAttribute(file, "solver.eos"), "tait");
+  // Strings written once are variable-length UTF-8 (h5py reads them as str); run_status is
+  // rewritten in place, so it keeps a fixed width in the root header.
+  for (const char* name :
+       {"sphsplat_format", "sphsplat_version", "created", "scene_name", "scene_path", "scene_text",
+        "scene_overrides", "scene_fingerprint", "output.fields", "solver.eos", "solver.walls"}) {
+    EXPECT_EQ(stringKind(file, name), "variable UTF-8") << name;
+  }
+  EXPECT_EQ(stringKind(file, "run_status"), "fixed UTF-8");
+}
+
+TEST_F(CacheFormat, H5pyReadsTheRootStringsAsText) {
+  // What a Python user meets: /usr/bin/python3 with h5py (scripts/setup installs it).
+  const std::string path = dir_ + "/py.h5";
+  const WrittenRun run = writeRun(path, 2);
+  const std::string script = dir_ + "/attrs.py";
+  std::ofstream(script) << R"(import sys, h5py
+with h5py.File(sys.argv[1], 'r') as f:
+    for name in ('sphsplat_format', 'scene_text', 'scene_name', 'created', 'output.fields',
+                 'solver.eos', 'run_status'):
+        value = f.attrs[name]
+        print(name, type(value).__name__, len(value))
+    assert f.attrs['scene_text'] == open(sys.argv[2]).read(), 'scene_text differs'
+    assert f.attrs['sphsplat_format'] == 'sphsplat-cache'
+    assert f.attrs['run_status'].decode() == 'finished'
+)";
+  std::ofstream(dir_ + "/scene.txt") << run.scene.sourceText;
+  const auto r = test::runShell("/usr/bin/python3 '" + script + "' '" + path + "' '" + dir_ +
+                                "/scene.txt' 2>&1");
+  ASSERT_EQ(r.exitCode, 0) << "h5py (python3-h5py, installed by scripts/setup):\n" << r.output;
+  for (const char* name :
+       {"sphsplat_format", "scene_text", "scene_name", "created", "output.fields", "solver.eos"}) {
+    EXPECT_NE(r.output.find(std::string(name) + " str "), std::string::npos) << name << "\n"
+                                                                             << r.output;
+  }
+  // The one fixed-length string: h5py gives bytes (docs/cache-format.md says to decode it).
+  EXPECT_NE(r.output.find("run_status bytes_ "), std::string::npos) << r.output;
+}
+
+// Rewrites every variable-length string attribute of the root as a fixed-length one, in the
+// given character set: what caches written before the switch to variable-length strings hold.
+void makeStringsFixedLength(const std::string& path, H5T_cset_t cset) {
+  const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+  H5Pset_file_locking(fapl, false, true);
+  Id file(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl));
+  H5Pclose(fapl);
+  H5O_info_t info;
+  ASSERT_GE(H5Oget_info2(file, &info, H5O_INFO_NUM_ATTRS), 0);
+  std::vector<std::string> names;
+  for (hsize_t i = 0; i < info.num_attrs; ++i) {
+    char name[256] = {0};
+    H5Aget_name_by_idx(file, ".", H5_INDEX_NAME, H5_ITER_INC, i, name, sizeof name, H5P_DEFAULT);
+    if (stringKind(file, name).rfind("variable", 0) == 0) names.push_back(name);
+  }
+  ASSERT_GE(names.size(), 10u);
+  for (const std::string& name : names) {
+    const std::string value = stringAttribute(file, name.c_str());
+    ASSERT_GE(H5Adelete(file, name.c_str()), 0);
+    Id type(H5Tcopy(H5T_C_S1));
+    H5Tset_size(type, value.size() + 1);
+    H5Tset_strpad(type, H5T_STR_NULLTERM);
+    H5Tset_cset(type, cset);
+    Id space(H5Screate(H5S_SCALAR));
+    Id attr(H5Acreate2(file, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT));
+    ASSERT_GE(H5Awrite(attr, type, value.c_str()), 0);
+  }
+}
+
+TEST_F(CacheFormat, CachesWithFixedLengthStringsStillReadAndResume) {
+  for (const H5T_cset_t cset : {H5T_CSET_ASCII, H5T_CSET_UTF8}) {
+    const std::string label = cset == H5T_CSET_ASCII ? "ASCII" : "UTF-8";
+    const std::string path = dir_ + "/old" + label + ".h5";
+    const WrittenRun run = writeRun(path, 3);
+    const io::CacheSummary fresh = io::CacheReader(path).summary();
+    makeStringsFixedLength(path, cset);
+    {
+      Id file(openRaw(path));
+      EXPECT_EQ(stringKind(file, "scene_text"), "fixed " + label);
+    }
+    const io::CacheReader reader(path);
+    const io::CacheSummary& old = reader.summary();
+    EXPECT_EQ(old.sceneText, run.scene.sourceText) << label;
+    EXPECT_EQ(old.sceneText, fresh.sceneText) << label;
+    EXPECT_EQ(old.created, fresh.created) << label;
+    EXPECT_EQ(old.sceneFingerprint, fresh.sceneFingerprint) << label;
+    EXPECT_EQ(old.sceneOverrides, "solver.cfl=0.4") << label;
+    EXPECT_EQ(old.fields, cache::defaultFields()) << label;
+    ASSERT_EQ(old.parameters.size(), fresh.parameters.size()) << label;
+    for (std::size_t i = 0; i < old.parameters.size(); ++i) {
+      EXPECT_EQ(old.parameters[i].text, fresh.parameters[i].text) << old.parameters[i].name;
+      EXPECT_EQ(old.parameters[i].number, fresh.parameters[i].number) << old.parameters[i].name;
+    }
+    EXPECT_TRUE(test::sameBits(run.frames[2], reader.readFrame(2))) << label;
+  }
+  // The writer reads its settings back from such a cache to append to it (resume).
+  const std::string path = dir_ + "/oldASCII.h5";
+  const auto [state, last] = io::CacheReader(path).readRestart(2);
+  {
+    auto writer = io::CacheWriter::append(path, 3);
+    writer->writeFrame(last, state);
+    writer->close();
+  }
+  const io::CacheReader after(path);
+  ASSERT_EQ(after.frameCount(), 4u);
+  EXPECT_TRUE(test::sameBits(last, after.readFrame(3)));
 }
 
 TEST_F(CacheFormat, RootHeaderStaysOneBlockSoEachCommitIsOneWrite) {
@@ -315,7 +436,8 @@ for grid in root.iter('Grid'):
     t = grid.find('Time')
     if t is not None: print('time', grid.get('Name'), t.get('Value'))
 for item in root.iter('DataItem'):
-    if item.get('Format') == 'HDF': print('data', item.text.strip(), item.get('Dimensions'))
+    if item.get('Format') == 'HDF':
+        print('data', item.text.strip(), item.get('Dimensions').replace(' ', 'x'))
 )";
   const auto listed = test::runShell("python3 '" + script + "' '" + xdmfPath + "'");
   ASSERT_EQ(listed.exitCode, 0) << listed.output;
@@ -335,12 +457,15 @@ for item in root.iter('DataItem'):
     ASSERT_GT(H5Oexists_by_name(file, dataset.c_str(), H5P_DEFAULT), 0) << dataset;
     Id set(H5Dopen2(file, dataset.c_str(), H5P_DEFAULT));
     Id space(H5Dget_space(set));
-    EXPECT_EQ(std::to_string(H5Sget_simple_extent_npoints(space)), b) << dataset;
+    hsize_t dims[2] = {0, 0};
+    const int rank = H5Sget_simple_extent_dims(space, dims, nullptr);
+    EXPECT_EQ(std::to_string(dims[0]) + (rank == 2 ? "x" + std::to_string(dims[1]) : ""), b)
+        << dataset;
     ++items;
   }
   EXPECT_EQ(times, 5);
-  EXPECT_EQ(items,
-            5 * 3 + 5 * 6 + 3);  // per frame: x y z, velocity (3), rho, p, id; boundary x y z
+  // Per frame: the positions and velocities ([n][3] views), rho, p, id, the boundary's positions.
+  EXPECT_EQ(items, 5 * 6);
 }
 
 TEST_F(CacheFormat, RenderedFramesRoundTripUnderTheirRenderer) {
@@ -372,7 +497,7 @@ TEST_F(CacheFormat, RenderedFramesRoundTripUnderTheirRenderer) {
   EXPECT_EQ(back.rgb, image);
   EXPECT_EQ(back.time, run.states[0].time);
   Id file(openRaw(path));
-  Id set(H5Dopen2(file, "Render/point/Frame#1", H5P_DEFAULT));
+  Id set(H5Dopen2(file, "Render#point#1", H5P_DEFAULT));
   EXPECT_EQ(stringAttribute(set, "CLASS"), "IMAGE");
   EXPECT_EQ(stringAttribute(set, "IMAGE_SUBCLASS"), "IMAGE_TRUECOLOR");
 }
