@@ -16,6 +16,7 @@
 #include "io/MessageText.h"
 #include "io/Png.h"
 #include "render/gl/GlContext.h"
+#include "render/solids/SceneSolids.h"
 #include "render/splat/Annotate.h"
 #include "render/splat/FrameRenderer.h"
 #include "sim/InputError.h"
@@ -122,10 +123,10 @@ int render(const RenderOptions& o) {
   makeDirectory(o.out);
   render::gl::GlContext context = render::gl::GlContext::headless();
   render::splat::FrameRenderer renderer(c.desc, c.scene.solver.spacing, c.scene.solver.restDensity);
-  if (c.desc.showBoundary) {
+  const auto solids = render::solids::showSolids(c.scene, renderer, [&] {
     const auto b = c.reader().readBoundary();
-    renderer.setBoundary(b[0], b[1], b[2]);
-  }
+    return std::array<std::vector<float>, 3>{b[0], b[1], b[2]};
+  });
   if (!o.quiet) {
     std::printf("%s: rendering %zu frame%s of %s at %dx%d with %s splats on %s\n",
                 c.scene.name.c_str(), frames.size(), frames.size() == 1 ? "" : "s", o.cache.c_str(),

@@ -48,7 +48,9 @@ std::unique_ptr<RenderOutput> RenderOutput::prepare(const Scene& scene,
   const std::string dir = directoryFor(scene, cache ? cache->path() : "");
   makeDirectory(dir);
   std::unique_ptr<RenderOutput> out(new RenderOutput(scene, dir, cache));
-  if (scene.render->showBoundary) out->renderer_.setBoundary(boundary.x, boundary.y, boundary.z);
+  out->solids_ = render::solids::showSolids(scene, out->renderer_, [&] {
+    return std::array<std::vector<float>, 3>{boundary.x, boundary.y, boundary.z};
+  });
   return out;
 }
 

@@ -9,6 +9,7 @@
 #include "io/CacheSession.h"
 #include "io/OutputLock.h"
 #include "render/gl/GlContext.h"
+#include "render/solids/SceneSolids.h"
 #include "render/splat/FrameRenderer.h"
 #include "sim/RunLoop.h"
 #include "sim/Scene.h"
@@ -38,6 +39,7 @@ class RenderOutput final : public FrameSink {
   RenderOutput(const Scene& scene, std::string directory, io::CacheSession* cache);
   render::gl::GlContext context_;  // first: outlives the GL objects below
   render::splat::FrameRenderer renderer_;
+  std::unique_ptr<render::solids::SolidRenderer> solids_;  // a layer of renderer_
   RenderDesc desc_;
   CameraDesc camera_;
   std::string name_, directory_;

@@ -15,6 +15,7 @@
 #include "io/CacheReader.h"
 #include "io/Png.h"
 #include "render/gl/GlContext.h"
+#include "render/solids/SceneSolids.h"
 #include "render/splat/FrameRenderer.h"
 #include "sim/InputError.h"
 
@@ -87,10 +88,10 @@ int view(const ViewOptions& o) {
   wo.title = "sphsplat view - " + scene.name;
   render::gl::GlContext window = render::gl::GlContext::window(wo);
   render::splat::FrameRenderer renderer(desc, scene.solver.spacing, scene.solver.restDensity);
-  if (desc.showBoundary) {
+  const auto solids = render::solids::showSolids(scene, renderer, [&] {
     const auto b = reader.readBoundary();
-    renderer.setBoundary(b[0], b[1], b[2]);
-  }
+    return std::array<std::vector<float>, 3>{b[0], b[1], b[2]};
+  });
 
   io::cache::FieldSet xyz;
   for (auto f : {io::cache::Field::X, io::cache::Field::Y, io::cache::Field::Z})

@@ -340,7 +340,12 @@ RenderDesc readRender(JsonReader r) {
   d.alpha = static_cast<float>(
       r.number("alpha", 1.0, "a number in (0, 1]", [](double v) { return v > 0 && v <= 1; }));
   d.cullBackFaces = r.boolean("cull_back_faces", true);
-  d.showBoundary = r.boolean("show_boundary", true);
+  const std::string solids = r.string("solids", std::string("points"), {"points", "opaque", "none"});
+  d.solids = solids == "points"   ? RenderDesc::Solids::Points
+             : solids == "opaque" ? RenderDesc::Solids::Opaque
+                                  : RenderDesc::Solids::None;
+  // The older switch: false draws no walls.
+  if (!r.boolean("show_boundary", true)) d.solids = RenderDesc::Solids::None;
   d.directory = r.string("directory", std::string(""));
   d.toCache = r.boolean("to_cache", true);
   r.finish();

@@ -19,7 +19,9 @@ struct RenderDesc {
   bool environment = true;        // sky reflection
   float alpha = 1.0f;             // splat opacity
   bool cullBackFaces = true;      // opaque: skip splats facing away from the camera
-  bool showBoundary = true;       // draw the walls, translucent (not in `compare`)
+  // How the walls and containers are drawn (never in `compare`'s error figures): translucent
+  // boundary particles, lit opaque surfaces (render/solids), or not at all.
+  enum class Solids { Points, Opaque, None } solids = Solids::Points;
   std::string directory;          // PNGs of rendered frames ("" = next to the cache, or none)
   bool toCache = true;            // also store the frames in the HDF5 cache
 };

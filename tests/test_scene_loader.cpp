@@ -69,6 +69,21 @@ TEST(SceneLoader, WrongTypeNamesTheKeyAndWhatWasExpected) {
   EXPECT_EQ(v, "bad.json: fluids[0].min: expected 3 numbers (m) [x, y, z], got the array [0,0]");
 }
 
+TEST(SceneLoader, RenderSolidsChooseHowWallsAreDrawn) {
+  const std::string camera = R"(, "camera": {"position": [0, 1, 1], "target": [0, 0, 0]})";
+  auto with = [&](const std::string& render) {
+    std::string text = kMinimal;
+    text.insert(text.rfind('}'), camera + R"(, "render": )" + render);
+    return text;
+  };
+  EXPECT_EQ(io::parseScene(with("{}"), "s.json").render->solids, RenderDesc::Solids::Points);
+  EXPECT_EQ(io::parseScene(with(R"({"solids": "opaque"})"), "s.json").render->solids,
+            RenderDesc::Solids::Opaque);
+  EXPECT_EQ(io::parseScene(with(R"({"show_boundary": false})"), "s.json").render->solids,
+            RenderDesc::Solids::None);
+  EXPECT_NE(errorOf(with(R"({"solids": "glass"})")).find("render.solids"), std::string::npos);
+}
+
 TEST(SceneLoader, NegativeSpacingIsRefused) {
   const std::string e = errorOf(kMinimal, {"solver.spacing=-0.01"});
   EXPECT_EQ(e,

@@ -66,6 +66,9 @@ class FrameRenderer {
   // The reference ray-marched image of the same SD surface.
   RenderImage reference(const CameraDesc& camera);
 
+  // Layers drawn in every picture with the splats (render/splat/FrameLayer.h), not owned.
+  void setLayers(std::vector<FrameLayer*> layers) { renderer_.setLayers(std::move(layers)); }
+
   const RenderDesc& desc() const { return desc_; }
   SplatRenderer& renderer() { return renderer_; }
 

@@ -117,6 +117,15 @@ void SplatRenderer::drawBoundary(bool offscreen) {
   if (offscreen) selectDrawBuffers(contents_);
 }
 
+void SplatRenderer::drawLayers(FrameLayer::Order order, const CameraFrame& camera,
+                               const Lighting& lighting, bool offscreen) {
+  // The error figures' frame is the water alone (their reference has nothing else).
+  if (offscreen && contents_ == ImageContents::ColourAndNormals) return;
+  for (FrameLayer* layer : layers_) {
+    if (layer->order() == order) layer->draw(camera, lighting);
+  }
+}
+
 void SplatRenderer::selectDrawBuffers(ImageContents contents) {
   const GLenum attachments[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
   glNamedFramebufferDrawBuffers(framebuffer_.id(), contents == ImageContents::Colour ? 1 : 2,
@@ -136,6 +145,7 @@ double SplatRenderer::draw(const SplatFrame& frame, SplatKind kind, const Camera
   setVec3(program, "u_eye", cam.eye);
 
   glViewport(0, 0, w, h);
+  drawLayers(FrameLayer::Order::BeforeSplats, cam, lighting, offscreen);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDisable(GL_CULL_FACE);  // splats are seen from both sides
@@ -177,6 +187,7 @@ double SplatRenderer::draw(const SplatFrame& frame, SplatKind kind, const Camera
     setVec3(p, "u_cameraUp", cam.up);
     drawBoundary(offscreen);
   }
+  drawLayers(FrameLayer::Order::AfterSplats, cam, lighting, offscreen);
   glFinish();
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

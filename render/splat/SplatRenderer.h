@@ -8,6 +8,7 @@
 
 #include "render/gl/GlHandle.h"
 #include "render/gl/ShaderLibrary.h"
+#include "render/splat/FrameLayer.h"
 #include "render/splat/Lighting.h"
 #include "render/splat/RenderImage.h"
 #include "render/splat/SplatBuilder.h"
@@ -36,6 +37,9 @@ class SplatRenderer {
   // The walls and containers, drawn after the fluid as translucent grey squares into the colour
   // only (the error figures see the fluid alone). Empty: none.
   void setBoundary(std::vector<SplatVertex> points, float halfSide);
+  // Layers drawn in the same pictures (not in the normal target of the error figures): solids
+  // before the splats, rain after them. Not owned; they must outlive their use here.
+  void setLayers(std::vector<FrameLayer*> layers) { layers_ = std::move(layers); }
   // Draws into the default framebuffer of the current (window) context instead.
   void drawToScreen(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
                     const Lighting& lighting, int viewportWidth, int viewportHeight);
@@ -54,6 +58,9 @@ class SplatRenderer {
   std::size_t boundaryCount_ = 0;
   float boundaryHalfSide_ = 0;
   void drawBoundary(bool offscreen);
+  void drawLayers(FrameLayer::Order order, const CameraFrame& camera, const Lighting& lighting,
+                  bool offscreen);
+  std::vector<FrameLayer*> layers_;
   void selectDrawBuffers(ImageContents contents);
   ImageContents contents_ = ImageContents::ColourAndNormals;
 };

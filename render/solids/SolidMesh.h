@@ -1,0 +1,38 @@
+// Triangle meshes of the scene's solids (tank, block, cup, sphere, plane: sim/Scene.h's
+// BoundaryShape), for drawing them opaque and lit in the same frame as the water (issue 14: "so
+// there is something for the particles to light"; issue 12: the showcase's cup and tray). CPU
+// only: positions and unit normals pointing out of the solid (into the fluid's side), triangles
+// wound counter-clockwise seen from that side, so back-face culling removes the faces turned
+// away from the eye: a tank is drawn as a cut-away (its inside and rim only), so seen from
+// outside it shows the water, its floor and far walls through its near walls; a cup shows its
+// outside and, from above, its inside.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "sim/Scene.h"
+#include "sim/Types.h"
+
+namespace sph::render::solids {
+
+// One vertex as the solid shaders read it (shaders/solid.vert: location 0 position, 1 normal).
+struct SolidVertex {
+  float position[3];  // m
+  float normal[3];    // unit, out of the solid
+};
+static_assert(sizeof(SolidVertex) == 24, "matches shaders/solid.vert's vertex layout");
+
+struct SolidMesh {
+  std::vector<SolidVertex> vertices;
+  std::vector<std::uint32_t> indices;  // triangles, counter-clockwise seen from outside
+  void append(const SolidMesh& other);
+};
+
+// The surface of `shape`; containers (tank, cup) are shells `thickness` metres thick, as
+// sim/Solid.h has them. A plane is cut to the shadow of `domain`. `segments`: around a cup or a
+// sphere's equator.
+SolidMesh tessellate(const BoundaryShape& shape, const Aabb& domain, float thickness,
+                     int segments = 64);
+
+}  // namespace sph::render::solids

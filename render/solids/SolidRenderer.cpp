@@ -1,0 +1,76 @@
+#include "render/solids/SolidRenderer.h"
+
+#include <cstddef>
+
+#include "render/gl/Shader.h"
+
+namespace sph::render::solids {
+
+SolidRenderer::SolidRenderer(const std::vector<BoundaryShape>& shapes, const Aabb& domain,
+                             float thickness, const gl::ShaderLibrary& shaders) {
+  program_ = gl::buildProgram(
+      shaders, {{gl::ShaderStage::Vertex, "solid.vert"}, {gl::ShaderStage::Fragment, "solid.frag"}},
+      "solids");
+  SolidMesh mesh;
+  for (const BoundaryShape& s : shapes) mesh.append(tessellate(s, domain, thickness));
+  indexCount_ = mesh.indices.size();
+  vertices_ = gl::Buffer::create();
+  indices_ = gl::Buffer::create();
+  vao_ = gl::VertexArray::create();
+  if (indexCount_ == 0) return;
+  glNamedBufferData(vertices_.id(),
+                    static_cast<GLsizeiptr>(mesh.vertices.size() * sizeof(SolidVertex)),
+                    mesh.vertices.data(), GL_STATIC_DRAW);
+  glNamedBufferData(indices_.id(),
+                    static_cast<GLsizeiptr>(mesh.indices.size() * sizeof(std::uint32_t)),
+                    mesh.indices.data(), GL_STATIC_DRAW);
+  const GLuint vao = vao_.id();
+  glVertexArrayVertexBuffer(vao, 0, vertices_.id(), 0, sizeof(SolidVertex));
+  for (GLuint a = 0; a < 2; ++a) {
+    glEnableVertexArrayAttrib(vao, a);
+    glVertexArrayAttribFormat(
+        vao, a, 3, GL_FLOAT, GL_FALSE,
+        a == 0 ? offsetof(SolidVertex, position) : offsetof(SolidVertex, normal));
+    glVertexArrayAttribBinding(vao, a, 0);
+  }
+  glVertexArrayElementBuffer(vao, indices_.id());
+}
+
+void SolidRenderer::draw(const CameraFrame& camera, const splat::Lighting& lighting) {
+  if (indexCount_ == 0) return;
+  const GLuint p = program_.id();
+  auto vec3 = [&](const char* name, const Vec3& v) {
+    glProgramUniform3f(p, glGetUniformLocation(p, name), v.x(), v.y(), v.z());
+  };
+  auto scalar = [&](const char* name, float v) {
+    glProgramUniform1f(p, glGetUniformLocation(p, name), v);
+  };
+  glProgramUniformMatrix4fv(p, glGetUniformLocation(p, "u_projView"), 1, GL_FALSE,
+                            camera.projView.m.data());
+  vec3("u_eye", camera.eye);
+  // The scene's light, the solids' own material; no sky reflection (they are not water).
+  vec3("u_toLight", lighting.toLight.normalized());
+  vec3("u_base", material.colour);
+  scalar("u_ambient", material.ambient);
+  scalar("u_diffuse", material.diffuse);
+  scalar("u_specular", material.specular);
+  scalar("u_shininess", material.shininess);
+  glProgramUniform1i(p, glGetUniformLocation(p, "u_environment"), 0);
+  vec3("u_horizon", lighting.horizon);
+  vec3("u_zenith", lighting.zenith);
+  scalar("u_fresnelMin", lighting.fresnelMin);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+  glEnable(GL_CULL_FACE);  // the faces turned away: a tank's near walls, a sphere's far side
+  glCullFace(GL_BACK);
+  glFrontFace(GL_CCW);
+  glUseProgram(p);
+  glBindVertexArray(vao_.id());
+  glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(indexCount_), GL_UNSIGNED_INT, nullptr);
+  glBindVertexArray(0);
+  glDisable(GL_CULL_FACE);
+}
+
+}  // namespace sph::render::solids

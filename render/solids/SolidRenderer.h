@@ -1,0 +1,41 @@
+// Draws the scene's solids (render/solids/SolidMesh.h) opaque and lit, per pixel, with the
+// renderers' one lighting model (render/splat/Lighting.h, shaders/splat_shading.glsl) and a
+// material of their own, as a layer of the splat frame (render/splat/FrameLayer.h): depth
+// tested and written before the splats, so water in a cup is hidden by its near wall and the
+// floor of a tank is behind the water.
+#pragma once
+
+#include <vector>
+
+#include "render/gl/GlHandle.h"
+#include "render/gl/ShaderLibrary.h"
+#include "render/solids/SolidMesh.h"
+#include "render/splat/FrameLayer.h"
+#include "sim/Scene.h"
+
+namespace sph::render::solids {
+
+struct SolidMaterial {
+  Vec3 colour = Vec3(0.78f, 0.76f, 0.72f);  // linear RGB
+  float ambient = 0.35f, diffuse = 0.65f, specular = 0.15f, shininess = 24.0f;
+};
+
+class SolidRenderer final : public splat::FrameLayer {
+ public:
+  // Tessellates `shapes` (walls `thickness` m thick) and uploads them. Needs a current context.
+  SolidRenderer(const std::vector<BoundaryShape>& shapes, const Aabb& domain, float thickness,
+                const gl::ShaderLibrary& shaders = gl::ShaderLibrary::fromEnvironment());
+  Order order() const override { return Order::BeforeSplats; }
+  void draw(const CameraFrame& camera, const splat::Lighting& lighting) override;
+
+  std::size_t triangles() const { return indexCount_ / 3; }
+  SolidMaterial material;
+
+ private:
+  gl::Program program_;
+  gl::Buffer vertices_, indices_;
+  gl::VertexArray vao_;
+  std::size_t indexCount_ = 0;
+};
+
+}  // namespace sph::render::solids

@@ -1,0 +1,21 @@
+// Something drawn into the same frame as the water's splats, with the same camera and lighting:
+// the solids (opaque, before the splats: render/solids), rain streaks (blended, after them). A
+// layer draws into the colour picture only; the error figures' normal target is the water's
+// alone, as the reference ray-marcher's is.
+#pragma once
+
+#include "render/splat/Lighting.h"
+#include "sim/Camera.h"
+
+namespace sph::render::splat {
+
+class FrameLayer {
+ public:
+  enum class Order { BeforeSplats, AfterSplats };
+  virtual ~FrameLayer() = default;
+  virtual Order order() const = 0;
+  // Draws with the current framebuffer, viewport and depth buffer (a GL context is current).
+  virtual void draw(const CameraFrame& camera, const Lighting& lighting) = 0;
+};
+
+}  // namespace sph::render::splat

@@ -1,0 +1,175 @@
+// render/solids: the scene's solids as triangle meshes (CPU) and drawn lit and opaque in the
+// splat frame (GL on llvmpipe): every triangle lies on the solid's surface with its winding and
+// normals pointing out of it, closed solids are closed, the picture shows a solid in front of
+// the water and not behind it, and the error figures' frame never sees a solid.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <tuple>
+
+#include "render/gl/GlContext.h"
+#include "render/solids/SolidMesh.h"
+#include "render/solids/SolidRenderer.h"
+#include "render/splat/SplatRenderer.h"
+#include "sim/Solid.h"
+
+namespace sph::render::solids {
+namespace {
+
+const Aabb kDomain{Vec3(-1, -1, -1), Vec3(1, 1, 1)};
+
+std::vector<BoundaryShape> everyShape() {
+  std::vector<BoundaryShape> shapes(6);
+  shapes[0].kind = BoundaryShape::Kind::Tank;  // open top
+  shapes[0].lo = Vec3(0, 0, 0), shapes[0].hi = Vec3(0.4f, 0.3f, 0.2f);
+  shapes[1] = shapes[0], shapes[1].openTop = false;
+  shapes[2].kind = BoundaryShape::Kind::Block;
+  shapes[2].lo = Vec3(0.1f, 0, 0.1f), shapes[2].hi = Vec3(0.2f, 0.05f, 0.15f);
+  shapes[3].kind = BoundaryShape::Kind::Cup;
+  shapes[3].centre = Vec3(0.2f, 0.01f, 0.1f), shapes[3].radius = 0.05f, shapes[3].height = 0.08f;
+  shapes[4].kind = BoundaryShape::Kind::Sphere;
+  shapes[4].centre = Vec3(0.1f, 0.2f, 0.1f), shapes[4].radius = 0.04f;
+  shapes[5].kind = BoundaryShape::Kind::Plane;
+  shapes[5].point = Vec3(0, -0.1f, 0), shapes[5].normal = Vec3(0.1f, 1, 0).normalized();
+  return shapes;
+}
+
+Vec3 at(const SolidVertex& v) {
+  return Vec3(v.position[0], v.position[1], v.position[2]);
+}
+Vec3 normalOf(const SolidVertex& v) {
+  return Vec3(v.normal[0], v.normal[1], v.normal[2]);
+}
+
+TEST(SolidMesh, EveryTriangleLiesOnTheSurfaceFacingOutOfTheSolid) {
+  const float thickness = 0.02f;
+  for (const BoundaryShape& shape : everyShape()) {
+    const SolidMesh m = tessellate(shape, kDomain, thickness, 48);
+    const Solid solid(shape, thickness);
+    ASSERT_FALSE(m.indices.empty());
+    ASSERT_EQ(m.indices.size() % 3, 0u);
+    std::size_t degenerate = 0;
+    for (std::size_t t = 0; t < m.indices.size(); t += 3) {
+      const SolidVertex &a = m.vertices[m.indices[t]], &b = m.vertices[m.indices[t + 1]],
+                        &c = m.vertices[m.indices[t + 2]];
+      const Vec3 face = (at(b) - at(a)).cross(at(c) - at(a));
+      if (face.norm() < 1e-12f) {
+        ++degenerate;  // a fan's centre (the cup's floor)
+        continue;
+      }
+      // Counter-clockwise seen from where the normals point.
+      EXPECT_GT(face.normalized().dot(normalOf(a)), 0.5f) << static_cast<int>(shape.kind);
+      // On the surface, with the normal pointing out of the solid: a little way along it is
+      // outside, a little way against it inside (the sphere's facets sit inside the sphere).
+      const Vec3 centre = (at(a) + at(b) + at(c)) / 3;
+      const Vec3 n = normalOf(a);
+      EXPECT_NEAR(solid.distance(centre), 0.0f, 2e-3f) << static_cast<int>(shape.kind);
+      EXPECT_GT(solid.distance(centre + 4e-3f * n), 0.0f) << static_cast<int>(shape.kind);
+      if (shape.kind != BoundaryShape::Kind::Plane) {
+        EXPECT_LT(solid.distance(centre - 4e-3f * n), 0.0f) << static_cast<int>(shape.kind);
+      }
+    }
+    EXPECT_LE(degenerate, 96u);
+  }
+}
+
+// Closed solids: every edge (by position) is shared by exactly two triangles, once each way.
+// (A tank is a cut-away, a plane a quad.)
+TEST(SolidMesh, ClosedSolidsHaveNoOpenEdge) {
+  for (const BoundaryShape& shape : everyShape()) {
+    if (shape.kind == BoundaryShape::Kind::Plane || shape.kind == BoundaryShape::Kind::Tank)
+      continue;
+    const SolidMesh m = tessellate(shape, kDomain, 0.02f, 32);
+    using Key = std::tuple<long, long, long>;
+    auto key = [](const SolidVertex& v) {
+      return Key(std::lround(v.position[0] * 1e5), std::lround(v.position[1] * 1e5),
+                 std::lround(v.position[2] * 1e5));
+    };
+    std::map<std::pair<Key, Key>, int> directed;
+    for (std::size_t t = 0; t < m.indices.size(); t += 3) {
+      for (int e = 0; e < 3; ++e) {
+        const Key p = key(m.vertices[m.indices[t + e]]),
+                  q = key(m.vertices[m.indices[t + (e + 1) % 3]]);
+        if (p != q) directed[{p, q}] += 1;
+      }
+    }
+    std::size_t open = 0;
+    for (const auto& [edge, count] : directed) {
+      if (count != 1 || directed.count({edge.second, edge.first}) == 0) ++open;
+    }
+    EXPECT_EQ(open, 0u) << "shape " << static_cast<int>(shape.kind);
+  }
+}
+
+TEST(SolidMesh, AreasMatchTheShapes) {
+  auto area = [](const SolidMesh& m) {
+    double a = 0;
+    for (std::size_t t = 0; t < m.indices.size(); t += 3)
+      a += 0.5 * (at(m.vertices[m.indices[t + 1]]) - at(m.vertices[m.indices[t]]))
+                     .cross(at(m.vertices[m.indices[t + 2]]) - at(m.vertices[m.indices[t]]))
+                     .norm();
+    return a;
+  };
+  const auto shapes = everyShape();
+  EXPECT_NEAR(area(tessellate(shapes[2], kDomain, 0.02f)),
+              2 * (0.1 * 0.05 + 0.1 * 0.05 + 0.05 * 0.05), 1e-6);
+  EXPECT_NEAR(area(tessellate(shapes[4], kDomain, 0.02f, 96)), 4 * M_PI * 0.04 * 0.04,
+              0.01 * 4 * M_PI * 0.04 * 0.04);
+}
+
+class SolidsGl : public ::testing::Test {
+ protected:
+  void SetUp() override { context_ = std::make_unique<gl::GlContext>(gl::GlContext::headless()); }
+  std::unique_ptr<gl::GlContext> context_;
+};
+
+// A block between the camera and a splat hides it in the picture; the scored frame (normals and
+// coverage for the error figures) still sees the splat alone.
+TEST_F(SolidsGl, AnOpaqueSolidHidesTheWaterBehindItInThePictureOnly) {
+  splat::SplatRenderer r(32, 32);
+  CameraDesc top;
+  top.position = Vec3(0, 1, 0), top.target = Vec3::Zero(), top.up = Vec3(0, 0, -1);
+  top.fovYDegrees = 30;
+  splat::SplatFrame water;
+  water.halfSize = 0.2f;
+  water.points.push_back(splat::SplatVertex{{0, 0, 0}, {0, 1, 0}});
+  BoundaryShape block;
+  block.kind = BoundaryShape::Kind::Block;
+  block.lo = Vec3(-0.05f, 0.2f, -0.05f), block.hi = Vec3(0.05f, 0.3f, 0.05f);
+  SolidRenderer solids({block}, kDomain, 0.01f);
+  solids.material.colour = Vec3(0.9f, 0.1f, 0.1f);
+  r.setLayers({&solids});
+  splat::Lighting light;
+  const splat::RenderImage picture = r.render(water, splat::SplatKind::Point, top, light);
+  const std::size_t centre = 16 * 32 + 16, edge = 16 * 32 + 24;
+  EXPECT_GT(picture.rgb[3 * centre], picture.rgb[3 * centre + 2] + 60) << "the red block in front";
+  EXPECT_GT(picture.rgb[3 * edge + 2], picture.rgb[3 * edge]) << "blue water around it";
+  const splat::RenderImage scored =
+      r.render(water, splat::SplatKind::Point, top, light, splat::ImageContents::ColourAndNormals);
+  EXPECT_TRUE(scored.covered[centre]);
+  EXPECT_LT(scored.rgb[3 * centre], scored.rgb[3 * centre + 2]) << "water, no block";
+}
+
+// A tank seen from outside: its near wall is culled, so the water inside shows.
+TEST_F(SolidsGl, ATankIsACutAwayFromOutside) {
+  splat::SplatRenderer r(32, 32);
+  CameraDesc side;
+  side.position = Vec3(0.2f, 0.1f, 1.5f), side.target = Vec3(0.2f, 0.1f, 0.1f);
+  side.fovYDegrees = 20;
+  splat::SplatFrame water;
+  water.halfSize = 0.08f;
+  water.points.push_back(splat::SplatVertex{{0.2f, 0.1f, 0.1f}, {0, 0, 1}});
+  BoundaryShape tank;
+  tank.kind = BoundaryShape::Kind::Tank;
+  tank.lo = Vec3(0, 0, 0), tank.hi = Vec3(0.4f, 0.3f, 0.2f);
+  SolidRenderer solids({tank}, kDomain, 0.02f);
+  r.setLayers({&solids});
+  const splat::RenderImage picture =
+      r.render(water, splat::SplatKind::Point, side, splat::Lighting{});
+  const std::size_t centre = 16 * 32 + 16;
+  EXPECT_GT(picture.rgb[3 * centre + 2], picture.rgb[3 * centre] + 40) << "blue water shows";
+}
+
+}  // namespace
+}  // namespace sph::render::solids
