@@ -17,5 +17,5 @@ vec3 toSrgb(vec3 c) {
 
 void main() {
   vec3 n = normalize(v_normal);
-  o_colour = vec4(toSrgb(shadeSurface(n, normalize(u_eye - v_position))), 1.0);
+  o_colour = vec4(toSrgb(shadeSurfaceAt(v_position, n, normalize(u_eye - v_position))), 1.0);
 }

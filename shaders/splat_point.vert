@@ -19,7 +19,7 @@ out vec3 v_normal;
 void main() {
   vec2 corner = vec2((gl_VertexID & 1) != 0 ? 1.0 : -1.0, (gl_VertexID & 2) != 0 ? 1.0 : -1.0);
   vec3 p = a_centre + u_halfSide * (corner.x * u_cameraRight + corner.y * u_cameraUp);
-  v_colour = shadeSurface(a_normal, normalize(u_eye - a_centre));
+  v_colour = shadeSurfaceAt(a_centre, a_normal, normalize(u_eye - a_centre));
   v_normal = a_normal;
   gl_Position = u_projView * vec4(p, 1.0);
 }

@@ -14,7 +14,7 @@ out vec3 v_colour;
 out vec3 v_normal;
 
 void main() {
-  v_colour = shadeSurface(a_normal, normalize(u_eye - a_position));
+  v_colour = shadeSurfaceAt(a_position, a_normal, normalize(u_eye - a_position));
   v_normal = a_normal;
   gl_Position = u_projView * vec4(a_position, 1.0);
 }

@@ -11,6 +11,8 @@ uniform vec3 u_horizon;
 uniform vec3 u_zenith;
 uniform float u_fresnelMin;
 
+#include "extra_lights.glsl"
+
 vec3 shadeSurface(vec3 n, vec3 toEye) {
   float nl = max(dot(n, u_toLight), 0.0);
   vec3 halfway = normalize(u_toLight + toEye);
@@ -25,4 +27,10 @@ vec3 shadeSurface(vec3 n, vec3 toEye) {
     c = (1.0 - fresnel) * c + fresnel * sky;
   }
   return clamp(c, 0.0, 1.0);
+}
+
+// The same at a world position, with the position-dependent lights of extra_lights.glsl added
+// before the clamp. What the solids (per pixel) and the splats (per vertex) call.
+vec3 shadeSurfaceAt(vec3 position, vec3 n, vec3 toEye) {
+  return clamp(shadeSurface(n, toEye) + extraLight(u_base, position, n, toEye), 0.0, 1.0);
 }
