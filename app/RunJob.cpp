@@ -17,6 +17,7 @@
 #include "app/Version.h"
 #include "io/SceneLoader.h"
 #include "render/cdt/CollisionSetup.h"
+#include "sim/InputError.h"
 #include "sim/Parallel.h"
 #include "sim/RunLoop.h"
 #include "sim/Simulation.h"
@@ -197,7 +198,24 @@ int runJob(const RunRequest& o) {
   std::vector<FrameSink*> sinks;
   if (cache) sinks.push_back(cache.get());
   if (pictures) sinks.push_back(pictures.get());
-  const RunOutcome outcome = runFrames(sim, plan, sinks);
+  RunOutcome outcome;
+  try {
+    outcome = runFrames(sim, plan, sinks);
+  } catch (const std::exception& e) {
+    // Writing failed (a full disk, a file size limit, a vanished directory): the cache keeps its
+    // committed frames and says why it stopped, instead of "running".
+    progress.finish(sample());
+    if (cache) {
+      std::string kept;
+      try {
+        kept = cache->stop(std::string("writing failed: ") + e.what());
+      } catch (const std::exception&) {
+        kept = "the cache " + cache->path() + " keeps " + cache->framesText();
+      }
+      throw InputError(std::string(e.what()) + "; " + kept);
+    }
+    throw;
+  }
   if (outcome.blowUp) {
     const StabilityError& e = *outcome.blowUp;
     progress.finish(sample());

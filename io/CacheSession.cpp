@@ -10,9 +10,9 @@
 #include <sstream>
 
 #include "io/OutputLock.h"
+#include "io/UserFiles.h"
 #include "sim/HumanText.h"
 #include "sim/InputError.h"
-#include "io/UserFiles.h"
 
 namespace sph::io {
 namespace {
@@ -186,8 +186,14 @@ void CacheSession::create(const Simulation& sim, const CacheProvenance& provenan
   fields_ = cache::parseFields(scene.output.fields, error);
   doublePositions_ = scene.output.doublePositions;
   boundaryParticles_ = sim.boundary().particles().size();
-  writer_ = CacheWriter::create(path_ + ".partial", scene, sim.params(), sim.boundary().particles(),
-                                provenance, expectedFrames);
+  const std::string partial = path_ + ".partial";
+  try {
+    writer_ = CacheWriter::create(partial, scene, sim.params(), sim.boundary().particles(),
+                                  provenance, expectedFrames);
+  } catch (...) {
+    ::unlink(partial.c_str());  // no first frame, no cache: nothing left behind
+    throw;
+  }
 }
 
 void CacheSession::writeFrame(const Simulation& sim) {
@@ -231,6 +237,14 @@ std::string CacheSession::stop(const std::string& reason) {
                            "; the last good frame is " + last + " (t = " + lastTime + " s)";
   close();
   return text;
+}
+
+CacheSession::~CacheSession() {
+  try {
+    close();
+  } catch (const std::exception&) {
+    // Closing after a failure (a full disk): the failure was reported; keep unwinding.
+  }
 }
 
 void CacheSession::close() {

@@ -55,6 +55,8 @@ class CacheSession final : public FrameSink {
   // records it in the cache, closes it and returns the line that tells the user what is left.
   std::string stop(const std::string& reason);
   void close();
+  // Closes what is open; a new cache that never got its first frame leaves nothing behind.
+  ~CacheSession() override;
 
   const std::string& path() const { return path_; }
   std::size_t frameCount() const;

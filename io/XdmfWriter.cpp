@@ -71,15 +71,20 @@ void XdmfWriter::rewrite() {
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0)
     throw InputError(temporary + ": cannot create the XDMF sidecar (" + std::strerror(errno) + ")");
+  // A sidecar that cannot be written whole (a full disk) leaves the last whole one in place and
+  // no half-written temporary behind.
   try {
     writeAll(fd, text, 0, temporary);
   } catch (...) {
     ::close(fd);
+    ::unlink(temporary.c_str());
     throw;
   }
   ::close(fd);
   if (std::rename(temporary.c_str(), path_.c_str()) != 0) {
-    throw InputError(path_ + ": cannot move the XDMF sidecar into place (" + std::strerror(errno) +
+    const int error = errno;
+    ::unlink(temporary.c_str());
+    throw InputError(path_ + ": cannot move the XDMF sidecar into place (" + std::strerror(error) +
                      ")");
   }
   documentBytes_ = text.size();

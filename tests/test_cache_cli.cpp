@@ -507,5 +507,44 @@ TEST_F(CacheCli, InfoOnADamagedCacheSaysWhatItCanAndExitsTwo) {
   EXPECT_NE(r.output.find("; frames 0-2 are complete\n"), std::string::npos) << r.output;
 }
 
+// Issue 12, item 10: a full disk (here a file size limit, which fails writes the same way) stops
+// the run with one line saying what the cache keeps; the cache says why it stopped instead of
+// "running", no temporary sidecar or partial cache is left, and the run resumes from it.
+TEST_F(CacheCli, AFullDiskStopsTheRunWithItsFramesKeptAndSaid) {
+  const std::string scene = dir_ + "/long.json";
+  std::ofstream(scene) << test::tinyCacheScene(2.0, 100);
+  const std::string cache = dir_ + "/full.h5";
+  // 1.5 MB (sh counts 512-byte blocks): past frame 0, short of the whole run.
+  const auto r =
+      runShell("sh -c \"ulimit -f 3000; trap '' XFSZ; exec env " +
+               sphsplat("run '" + scene + "' --threads 1 --quiet -o '" + cache + "'") + "\"");
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find("cannot write frame"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("; the cache " + cache + " keeps frames 0-"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+  {  // closed before the resume (HDF5 shares one open file per process)
+    const io::CacheReader reader(cache);
+    EXPECT_GT(reader.frameCount(), 1u);
+    EXPECT_EQ(reader.summary().status.rfind("stopped: writing failed: ", 0), 0u)
+        << reader.summary().status;
+    for (std::size_t k = 0; k < reader.frameCount(); ++k)
+      EXPECT_GT(reader.readFrame(k).size(), 0u);
+  }
+  EXPECT_FALSE(test::fileExists(dir_ + "/full.xdmf.tmp"));
+  const auto resumed =
+      runShell(sphsplat("run '" + scene + "' --threads 1 --quiet --resume '" + cache + "'"));
+  EXPECT_EQ(resumed.exitCode, 0) << resumed.output;
+  EXPECT_EQ(io::CacheReader(cache).frameCount(), 201u);
+  // Full before frame 0 was in: no cache and no partial file at all.
+  const std::string none = dir_ + "/none.h5";
+  const auto early =
+      runShell("sh -c \"ulimit -f 200; trap '' XFSZ; exec env " +
+               sphsplat("run '" + scene + "' --threads 1 --quiet -o '" + none + "'") + "\"");
+  EXPECT_EQ(early.exitCode, 2) << early.output;
+  EXPECT_FALSE(test::fileExists(none));
+  EXPECT_FALSE(test::fileExists(none + ".partial"));
+}
+
 }  // namespace
 }  // namespace sph
