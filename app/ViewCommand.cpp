@@ -1,7 +1,7 @@
 // `sphsplat view CACHE`: a window that plays a cache with the splat renderer. Space plays and
 // pauses, Left/Right step, PageUp/PageDown jump 10 frames, Home/End go to the ends, a click on the
 // timeline bar seeks, M switches point/quad splats, dragging orbits, the wheel zooms, S saves a
-// screenshot, Esc or Q quits. The frame, time and mode are in the title bar.
+// screenshot, Esc or Q quits. The frame, time and mode are drawn on the picture and in the title.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +17,7 @@
 #include "render/gl/GlContext.h"
 #include "render/solids/SceneSolids.h"
 #include "render/splat/FrameRenderer.h"
+#include "render/splat/HudText.h"
 #include "sim/InputError.h"
 
 namespace sph::app {
@@ -173,6 +174,7 @@ int view(const ViewOptions& o) {
 
   const double frameSeconds =
       1.0 / (reader.summary().fps > 0 ? reader.summary().fps : 30.0) / o.speed;
+  render::splat::HudText hud;
   auto lastAdvance = std::chrono::steady_clock::now();
   int drawn = 0;
   while (!window.shouldClose() && !s.quit) {
@@ -198,13 +200,14 @@ int view(const ViewOptions& o) {
     glClearColor(0.16f, 0.42f, 0.78f, 1);
     glClear(GL_COLOR_BUFFER_BIT);
     glDisable(GL_SCISSOR_TEST);
-    char title[256];
-    std::snprintf(title, sizeof title,
-                  "sphsplat view - %s - frame %zu/%zu, t = %.3f s - %s splats - %.0f ms%s",
-                  scene.name.c_str(), s.frame, s.frames - 1, reader.summary().frames[s.frame].time,
-                  s.kind == render::splat::SplatKind::Quad ? "quad" : "point", 1e3 * t.total(),
-                  s.playing ? "" : " - paused");
-    window.setTitle(title);
+    char status[128], timing[64];
+    std::snprintf(status, sizeof status, "frame %zu/%zu  t = %.3f s%s", s.frame, s.frames - 1,
+                  reader.summary().frames[s.frame].time, s.playing ? "" : "  paused");
+    std::snprintf(timing, sizeof timing, "%s splats  %.0f ms",
+                  s.kind == render::splat::SplatKind::Quad ? "quad" : "point", 1e3 * t.total());
+    // On the picture (window managers hide or cut titles), and in the title bar.
+    hud.draw({scene.name, status, timing}, size[0], size[1]);
+    window.setTitle("sphsplat view - " + scene.name + " - " + status + " - " + timing);
     ++drawn;
     const bool last = o.exitAfter > 0 && drawn >= o.exitAfter;
     if (s.screenshot || (last && !o.screenshot.empty())) {

@@ -171,6 +171,18 @@ TEST_F(RenderCli, ViewerWindowUnderXvfbShowsTheFluidAndSwitchesModes) {
   int w = 0, h = 0;
   EXPECT_NE(io::readPng(shots[0], w, h), io::readPng(shots[1], w, h))
       << "switching the splat mode changed nothing";
+  // The frame and time are drawn on the picture: a dark box with light text at the top left.
+  const std::vector<std::uint8_t> rgb = io::readPng(shots[1], w, h);
+  int box = 0, text = 0;
+  for (int y = 8; y < 40; ++y) {
+    for (int x = 8; x < 120; ++x) {
+      const std::uint8_t* p = &rgb[3 * (static_cast<std::size_t>(y) * w + x)];
+      box += p[0] == 22 && p[1] == 26 && p[2] == 34;
+      text += p[0] > 230 && p[1] > 230 && p[2] > 230;
+    }
+  }
+  EXPECT_GT(box, 1000) << "no status box";
+  EXPECT_GT(text, 100) << "no text in the status box";
 }
 
 }  // namespace
