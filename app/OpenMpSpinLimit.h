@@ -27,4 +27,7 @@ bool openMpSpinUnset();
 // Call it first in main(), before any thread exists.
 void relaunchWithOpenMpSpinLimit(char** argv);
 
+// One line for `run --verbose`: how libgomp's idle threads wait in this process and why.
+const char* describeOpenMpWaiting();
+
 }  // namespace sph::app

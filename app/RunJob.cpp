@@ -12,6 +12,7 @@
 #include "app/Commands.h"
 #include "app/Interrupt.h"
 #include "app/MachineMemory.h"
+#include "app/OpenMpSpinLimit.h"
 #include "app/Progress.h"
 #include "app/RenderOutput.h"
 #include "app/Version.h"
@@ -93,6 +94,8 @@ void printHeader(const RunRequest& o, const Scene& scene, const Simulation& sim,
       scene.solver.spacing, d.h, d.mass, d.speedOfSound, sim.nextTimeStep());
   if (o.verbose) {
     std::printf("  memory: %s\n", describeMemory(memory, machineMemory()).c_str());
+    std::printf("  OpenMP: %d thread%s, %s\n", threadCount(), threadCount() == 1 ? "" : "s",
+                describeOpenMpWaiting());
     std::printf("  domain [%g, %g, %g] - [%g, %g, %g] m, %d boundary layer%s\n",
                 scene.domain.lo.x(), scene.domain.lo.y(), scene.domain.lo.z(), scene.domain.hi.x(),
                 scene.domain.hi.y(), scene.domain.hi.z(), d.boundaryLayers,
