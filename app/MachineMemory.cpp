@@ -77,8 +77,8 @@ std::string describeMemory(const MemoryEstimate& e, const MachineMemory& m) {
   return s.str();
 }
 
-MemoryEstimate checkMemory(const Scene& scene, double endTime) {
-  const MemoryEstimate e = estimateMemory(scene, endTime);
+MemoryEstimate checkMemory(const Scene& scene) {
+  const MemoryEstimate e = estimateMemory(scene);
   const MachineMemory m = machineMemory();
   if (m.availableBytes > 0 && e.bytes > m.availableBytes) {
     const bool spacing = e.largestKey == "solver.spacing";

@@ -18,8 +18,8 @@ struct MachineMemory {
 MachineMemory machineMemory();
 
 // Throws InputError naming the scene file, the estimate, the machine's memory and the scene key
-// to change if the run needs more than is available. Returns the estimate.
-MemoryEstimate checkMemory(const Scene& scene, double endTime);
+// to change if the run (to solver.end_time) needs more than is available. Returns the estimate.
+MemoryEstimate checkMemory(const Scene& scene);
 
 // "about 41.3 MB (96 fluid particles, ...); the machine has 21.0 GB free of 23.4 GB".
 std::string describeMemory(const MemoryEstimate& estimate, const MachineMemory& machine);

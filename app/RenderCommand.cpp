@@ -60,9 +60,6 @@ std::vector<render::splat::SplatKind> kindsOf(RenderDesc::Splat s) {
   if (s == RenderDesc::Splat::Quad) return {render::splat::SplatKind::Quad};
   return {render::splat::SplatKind::Point, render::splat::SplatKind::Quad};
 }
-const char* nameOf(render::splat::SplatKind k) {
-  return k == render::splat::SplatKind::Point ? "point" : "quad";
-}
 
 // Everything a command needs to draw frames of a cache.
 struct CacheRendering {
@@ -82,11 +79,7 @@ struct CacheRendering {
         summary(open->summary()),
         scene(sceneOfCache(summary, overrides)) {
     desc = scene.render ? *scene.render : RenderDesc{};
-    if (!splat.empty()) {
-      desc.splat = splat == "point"  ? RenderDesc::Splat::Point
-                   : splat == "quad" ? RenderDesc::Splat::Quad
-                                     : RenderDesc::Splat::Both;
-    }
+    if (!splat.empty()) desc.splat = *parseEnum<RenderDesc::Splat>(splat);
     applySize(size, desc);
     cameraFromScene = scene.camera.has_value();
     if (cameraFromScene) camera = *scene.camera;
@@ -132,7 +125,7 @@ int render(const RenderOptions& o) {
                 c.scene.name.c_str(), frames.size(), frames.size() == 1 ? "" : "s", o.cache.c_str(),
                 c.desc.width, c.desc.height,
                 c.desc.splat == RenderDesc::Splat::Both ? "point and quad"
-                                                        : nameOf(kindsOf(c.desc.splat)[0]),
+                                                        : enumName(kindsOf(c.desc.splat)[0]),
                 context.info().renderer.c_str());
   }
   double seconds = 0;
@@ -147,11 +140,10 @@ int render(const RenderOptions& o) {
     for (render::splat::SplatKind kind : kindsOf(c.desc.splat)) {
       const render::splat::RenderedSplats r = renderer.render(kind, c.camera);
       seconds += r.timings.total();
-      char name[64];
-      std::snprintf(name, sizeof name, "/%s_%s_%05zu.png", c.scene.name.c_str(), nameOf(kind), f);
-      const std::string path = o.out + name;
+      const std::string path =
+          o.out + "/" + io::framePngName(c.scene.name + "_" + enumName(kind), f);
       io::writePng(path, r.image.width, r.image.height, r.image.rgb.data());
-      if (o.toCache) c.store(nameOf(kind), f, r.image);
+      if (o.toCache) c.store(enumName(kind), f, r.image);
       if (first.empty()) first = path;
       last = path;
       ++images;
@@ -225,7 +217,7 @@ int compare(const CompareOptions& o) {
   row("quad", quad, eq);
   std::printf("  reference ray-marched in %.2f s\n", reference.seconds);
 
-  const std::string method = c.desc.newtonProjection ? "newton" : "eq. (6)";
+  const std::string method = c.desc.projection == SplatProjection::Newton ? "newton" : "eq. (6)";
   std::vector<render::splat::Panel> panels = {
       {&point.image,
        {"point splats", fmt("%.1f ms build + draw", 1e3 * point.timings.total()),
@@ -241,9 +233,7 @@ int compare(const CompareOptions& o) {
         fmt("frame %.0f, t = %.3f s", static_cast<double>(f), time)}},
   };
   const render::splat::RenderImage sheet = render::splat::composePanels(panels);
-  char name[96];
-  std::snprintf(name, sizeof name, "/%s_compare_%05zu.png", c.scene.name.c_str(), f);
-  const std::string path = o.out + name;
+  const std::string path = o.out + "/" + io::framePngName(c.scene.name + "_compare", f);
   io::writePng(path, sheet.width, sheet.height, sheet.rgb.data());
   std::printf("wrote %s\n", path.c_str());
   return kOk;
@@ -258,9 +248,10 @@ std::function<int()> addRenderCommand(CLI::App& app) {
   cmd->add_option("cache", o->cache, "HDF5 cache written by `sphsplat run`")->required();
   cmd->add_option("--frames", o->frames,
                   "Frames: N, A:B (inclusive), A:, :B, last or -1, all (default: all)");
-  cmd->add_option("--splat", o->splat,
-                  "point, quad or both (default: the scene's render.splat, else quad)")
-      ->check(CLI::IsMember({"point", "quad", "both"}));
+  cmd->add_option(
+         "--splat", o->splat,
+         enumNameList<RenderDesc::Splat>() + " (default: the scene's render.splat, else quad)")
+      ->check(CLI::IsMember(enumNames<RenderDesc::Splat>()));
   cmd->add_option("--size", o->size,
                   "Image size WIDTHxHEIGHT (default: the scene's render section, else 960x540)");
   cmd->add_option("--out", o->out, "Directory for the PNGs (created)")->capture_default_str();

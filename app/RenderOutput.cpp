@@ -72,12 +72,11 @@ void RenderOutput::frame(const Simulation& sim, std::size_t frame) {
     const bool wanted = both || (kind == render::splat::SplatKind::Point) ==
                                     (desc_.splat == RenderDesc::Splat::Point);
     if (!wanted) continue;
-    const char* kindName = kind == render::splat::SplatKind::Point ? "point" : "quad";
+    const char* kindName = enumName(kind);
     const render::splat::RenderedSplats r = renderer_.render(kind, camera_);
     seconds_ += r.timings.total();
-    char name[96];
-    std::snprintf(name, sizeof name, "/%s_%s_%05zu.png", name_.c_str(), kindName, frame);
-    io::writePng(directory_ + name, r.image.width, r.image.height, r.image.rgb.data());
+    io::writePng(directory_ + "/" + io::framePngName(name_ + "_" + kindName, frame), r.image.width,
+                 r.image.height, r.image.rgb.data());
     if (cache_ && desc_.toCache)
       cache_->writeRenderedFrame(kindName, frame, r.image.width, r.image.height,
                                  r.image.rgb.data());

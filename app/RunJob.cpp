@@ -22,6 +22,7 @@
 #include "sim/Parallel.h"
 #include "sim/RunLoop.h"
 #include "sim/Simulation.h"
+#include "sim/cdt/CdtCpu.h"
 
 namespace sph::app {
 namespace {
@@ -137,8 +138,10 @@ void printHeader(const RunRequest& o, const Scene& scene, const Simulation& sim,
 int runJob(const RunRequest& o) {
   Scene scene = io::loadScene(o.scene, o.overrides);
   if (o.end > 0) scene.solver.endTime = o.end;
-  // Before anything is allocated: a scene too big for the machine stops here with one line.
-  const MemoryEstimate memory = checkMemory(scene, scene.solver.endTime);
+  // Before anything is allocated: the CDT's id range (once --end is applied) and the machine's
+  // memory; a scene past either stops here with one line naming the key to change.
+  cdt::requireIdsInRange(scene);
+  const MemoryEstimate memory = checkMemory(scene);
   setThreadCount(o.threads);
   // The cache's paths are checked before anything runs (nothing is overwritten by surprise).
   std::unique_ptr<io::CacheSession> cache = io::CacheSession::prepare(o.cache, scene);

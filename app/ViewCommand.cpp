@@ -100,7 +100,7 @@ int view(const ViewOptions& o) {
   ViewerState s;
   s.frames = reader.frameCount();
   s.frame = parseOneFrame(o.frame, s.frames, "--frame");
-  s.kind = o.splat == "point" ? render::splat::SplatKind::Point : render::splat::SplatKind::Quad;
+  s.kind = *parseEnum<render::splat::SplatKind>(o.splat);
   const Particles first = reader.readFrame(s.frame, xyz);
   const CameraDesc lens =
       scene.camera ? *scene.camera
@@ -203,17 +203,16 @@ int view(const ViewOptions& o) {
     char status[128], timing[64];
     std::snprintf(status, sizeof status, "frame %zu/%zu  t = %.3f s%s", s.frame, s.frames - 1,
                   reader.summary().frames[s.frame].time, s.playing ? "" : "  paused");
-    std::snprintf(timing, sizeof timing, "%s splats  %.0f ms",
-                  s.kind == render::splat::SplatKind::Quad ? "quad" : "point", 1e3 * t.total());
+    std::snprintf(timing, sizeof timing, "%s splats  %.0f ms", enumName(s.kind), 1e3 * t.total());
     // On the picture (window managers hide or cut titles), and in the title bar.
     hud.draw({scene.name, status, timing}, size[0], size[1]);
     window.setTitle("sphsplat view - " + scene.name + " - " + status + " - " + timing);
     ++drawn;
     const bool last = o.exitAfter > 0 && drawn >= o.exitAfter;
     if (s.screenshot || (last && !o.screenshot.empty())) {
-      char name[64];
-      std::snprintf(name, sizeof name, "sphsplat_view_%05zu.png", s.frame);
-      saveScreenshot(o.screenshot.empty() ? name : o.screenshot, size[0], size[1]);
+      saveScreenshot(
+          o.screenshot.empty() ? io::framePngName("sphsplat_view", s.frame) : o.screenshot, size[0],
+          size[1]);
       s.screenshot = false;
     }
     window.swapBuffers();
@@ -230,8 +229,9 @@ std::function<int()> addViewCommand(CLI::App& app) {
                                      "Play a cache in a window (needs a display): play/pause, "
                                      "step, scrub, orbit, zoom, point/quad");
   cmd->add_option("cache", o->cache, "HDF5 cache written by `sphsplat run`")->required();
-  cmd->add_option("--splat", o->splat, "Splats to start with: quad or point")
-      ->check(CLI::IsMember({"point", "quad"}))
+  cmd->add_option("--splat", o->splat,
+                  "Splats to start with: " + enumNameList<render::splat::SplatKind>())
+      ->check(CLI::IsMember(enumNames<render::splat::SplatKind>()))
       ->capture_default_str();
   cmd->add_option("--frame", o->frame, "Frame to start at (index or last)")->capture_default_str();
   cmd->add_option("--speed", o->speed, "Playback speed (1 = the cache's frame rate), up to 1000")

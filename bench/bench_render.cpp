@@ -109,7 +109,8 @@ int main(int argc, char** argv) {
     const Particles pool = wavyPool(n, spacing);
     for (bool newton : {false, true}) {
       RenderDesc desc;
-      desc.width = width, desc.height = height, desc.newtonProjection = newton;
+      desc.width = width, desc.height = height,
+      desc.projection = newton ? SplatProjection::Newton : SplatProjection::Equation6;
       render::splat::FrameRenderer r(desc, spacing, 1000.0f);
       const CameraDesc camera =
           render::splat::framingCamera(pool, static_cast<float>(width) / height);

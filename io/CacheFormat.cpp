@@ -2,31 +2,82 @@
 
 #include <cstring>
 #include <sstream>
+#include <tuple>
+#include <type_traits>
 
 namespace sph::io::cache {
 namespace {
 
+template <class A, class B>
+constexpr bool sameMember(A a, B b) {
+  if constexpr (std::is_same_v<A, B>)
+    return a == b;
+  else
+    return false;
+}
+
+using IdArray = std::vector<std::uint32_t> Particles::*;
+
 struct FieldEntry {
   Field field;
   const char* name;
-  FloatArray member;  // nullptr for id
+  FloatArray member;  // the Particles array behind a float field
+  IdArray idMember;   // the one behind id
 };
 
+// The cache's datasets, in Field order, each with the Particles array it stores.
 constexpr FieldEntry kFields[kFieldCount] = {
-    {Field::X, "x", &Particles::x},
-    {Field::Y, "y", &Particles::y},
-    {Field::Z, "z", &Particles::z},
-    {Field::VX, "vx", &Particles::vx},
-    {Field::VY, "vy", &Particles::vy},
-    {Field::VZ, "vz", &Particles::vz},
-    {Field::AX, "ax", &Particles::ax},
-    {Field::AY, "ay", &Particles::ay},
-    {Field::AZ, "az", &Particles::az},
-    {Field::Rho, "rho", &Particles::rho},
-    {Field::P, "p", &Particles::p},
-    {Field::CollideTime, "collide_time", &Particles::collideTime},
-    {Field::Id, "id", nullptr},
+    {Field::X, "x", &Particles::x, nullptr},
+    {Field::Y, "y", &Particles::y, nullptr},
+    {Field::Z, "z", &Particles::z, nullptr},
+    {Field::VX, "vx", &Particles::vx, nullptr},
+    {Field::VY, "vy", &Particles::vy, nullptr},
+    {Field::VZ, "vz", &Particles::vz, nullptr},
+    {Field::AX, "ax", &Particles::ax, nullptr},
+    {Field::AY, "ay", &Particles::ay, nullptr},
+    {Field::AZ, "az", &Particles::az, nullptr},
+    {Field::Rho, "rho", &Particles::rho, nullptr},
+    {Field::P, "p", &Particles::p, nullptr},
+    {Field::CollideTime, "collide_time", &Particles::collideTime, nullptr},
+    {Field::Id, "id", nullptr, &Particles::id},
 };
+
+// Particles arrays the cache deliberately does not store, each with the reason. None today: every
+// array is a dataset (output.fields chooses which a scene writes). A field added to Particles must
+// be added to kFields or listed here, or the static_assert below fails the build.
+constexpr std::tuple<> kNotCached{};
+
+template <class Member>
+constexpr bool isNotCached(Member member) {
+  return std::apply([&](auto... skipped) { return (sameMember(member, skipped) || ... || false); },
+                    kNotCached);
+}
+
+// Whether kFields lists the arrays of Particles::fields() in that order, skipping only those in
+// kNotCached, and nothing else.
+constexpr bool cacheListsEveryParticlesField() {
+  std::size_t next = 0;
+  bool ok = true;
+  auto visit = [&](auto member) {
+    if (isNotCached(member)) return;
+    if (next >= kFieldCount) {
+      ok = false;
+      return;
+    }
+    const FieldEntry& e = kFields[next++];
+    if constexpr (std::is_same_v<decltype(member), FloatArray>)
+      ok = ok && e.member == member && e.idMember == nullptr;
+    else
+      ok = ok && e.idMember == member && e.member == nullptr;
+  };
+  std::apply([&](auto... member) { (visit(member), ...); }, Particles::fields());
+  for (std::size_t f = 0; f < kFieldCount; ++f)
+    ok = ok && static_cast<std::size_t>(kFields[f].field) == f;
+  return ok && next == kFieldCount;
+}
+static_assert(cacheListsEveryParticlesField(),
+              "io/CacheFormat.cpp: kFields must list every array of Particles::fields(), in that "
+              "order, except those in kNotCached");
 
 FieldSet setOf(std::initializer_list<Field> fields) {
   FieldSet s;
@@ -139,9 +190,9 @@ std::vector<Parameter> solverParameters(const Scene& scene, const DerivedParams&
       number("solver.gravity_y", s.gravity.y()),
       number("solver.gravity_z", s.gravity.z()),
       number("solver.boundary_layers", d.boundaryLayers),
-      text("solver.eos", s.eos == EquationOfState::Tait ? "tait" : "linear"),
-      text("solver.density_kernel", s.densityKernel == DensityKernel::Spiky ? "spiky" : "poly6"),
-      text("solver.walls", s.noSlipWalls ? "no-slip" : "slip"),
+      text("solver.eos", enumName(s.eos)),
+      text("solver.density_kernel", enumName(s.densityKernel)),
+      text("solver.walls", enumName(s.noSlipWalls ? Walls::NoSlip : Walls::Slip)),
       text("solver.clamp_negative_pressure", s.clampNegativePressure ? "true" : "false"),
   };
 }

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/EnumNames.h"
 #include "sim/InputError.h"
 #include "sim/Types.h"
 
@@ -35,6 +36,13 @@ class JsonReader {
                 bool (*valid)(double) = nullptr);
   std::string string(const std::string& key, std::optional<std::string> def,
                      const std::vector<std::string>& allowed = {});
+  // One of the names of the enum E (its nameOf table, sim/EnumNames.h); `def` empty = required.
+  template <class E>
+  E choice(const std::string& key, std::optional<E> def) {
+    const std::string name = string(
+        key, def ? std::optional<std::string>(enumName(*def)) : std::nullopt, enumNames<E>());
+    return *parseEnum<E>(name);
+  }
   bool boolean(const std::string& key, std::optional<bool> def);
   Vec3 vec3(const std::string& key, std::optional<Vec3> def, const char* expected = "3 numbers");
   // A non-empty array of strings, e.g. ["x", "y", "z"].

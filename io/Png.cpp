@@ -11,6 +11,13 @@
 #include "io/UserFiles.h"
 
 namespace sph::io {
+
+std::string framePngName(const std::string& stem, std::size_t frame) {
+  char digits[24];
+  std::snprintf(digits, sizeof digits, "_%05zu.png", frame);
+  return stem + digits;
+}
+
 namespace {
 
 struct FileCloser {

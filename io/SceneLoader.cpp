@@ -11,6 +11,7 @@
 #include "io/MessageText.h"
 #include "io/UserFiles.h"
 #include "sim/SceneSetup.h"
+#include "sim/cdt/CdtCpu.h"
 
 namespace sph::io {
 namespace {
@@ -119,22 +120,26 @@ struct QualityPreset {
   double soundSpeedFactor;  // see SolverParams::soundSpeedFactor
 };
 
-QualityPreset qualityPreset(const std::string& quality) {
+QualityPreset qualityPreset(Quality quality) {
   const SolverParams defaults;
-  if (quality == "fast") return {0.8, 5.0};
-  if (quality == "accurate") return {0.4, 20.0};
+  switch (quality) {
+    case Quality::Fast:
+      return {0.8, 5.0};
+    case Quality::Accurate:
+      return {0.4, 20.0};
+    case Quality::Default:
+      break;
+  }
   return {defaults.cfl, defaults.soundSpeedFactor};
 }
 
-SolverParams readSolver(JsonReader r, const std::string& quality) {
+SolverParams readSolver(JsonReader r, Quality quality) {
   SolverParams s;
   const QualityPreset preset = qualityPreset(quality);
   s.spacing =
       static_cast<float>(r.number("spacing", std::nullopt, "a positive number of at most 1000 (m)",
                                   [](double v) { return v > 0 && v <= 1e3; }));
-  s.model = r.string("model", std::string("sph"), {"sph", "particles"}) == "sph"
-                ? SolverModel::Sph
-                : SolverModel::Particles;
+  s.model = r.choice("model", std::optional(SolverModel::Sph));
   s.support = static_cast<float>(r.number("support", 2.0,
                                           "a number in [1, 4] (kernel support radius / spacing)",
                                           [](double v) { return v >= 1 && v <= 4; }));
@@ -142,11 +147,9 @@ SolverParams readSolver(JsonReader r, const std::string& quality) {
       static_cast<float>(r.number("rest_density", 1000.0, "a positive number (kg/m^3)", positive));
   s.viscosity =
       static_cast<float>(r.number("viscosity", -1.0, "a number >= 0 (m^2/s)", nonNegative));
-  s.noSlipWalls = r.string("walls", std::string("no-slip"), {"no-slip", "slip"}) == "no-slip";
-  const std::string eos = r.string("eos", std::string("tait"), {"tait", "linear"});
-  s.eos = eos == "tait" ? EquationOfState::Tait : EquationOfState::Linear;
-  const std::string kernel = r.string("density_kernel", std::string("spiky"), {"spiky", "poly6"});
-  s.densityKernel = kernel == "spiky" ? DensityKernel::Spiky : DensityKernel::Poly6;
+  s.noSlipWalls = r.choice("walls", std::optional(Walls::NoSlip)) == Walls::NoSlip;
+  s.eos = r.choice("eos", std::optional(EquationOfState::Tait));
+  s.densityKernel = r.choice("density_kernel", std::optional(DensityKernel::Spiky));
   if (r.has("speed_of_sound") && r.has("stiffness")) {
     r.fail("stiffness", "give either speed_of_sound or stiffness, not both");
   }
@@ -306,13 +309,10 @@ CameraDesc readCamera(JsonReader r) {
   return c;
 }
 
-// The `collision` section (docs/scene-format.md, "collision"; DESIGN.md, "The CDT collision pass").
+// The `render` section (docs/scene-format.md, "render"; docs/rendering.md).
 RenderDesc readRender(JsonReader r) {
   RenderDesc d;
-  const std::string splat = r.string("splat", std::string("quad"), {"quad", "point", "both"});
-  d.splat = splat == "quad"    ? RenderDesc::Splat::Quad
-            : splat == "point" ? RenderDesc::Splat::Point
-                               : RenderDesc::Splat::Both;
+  d.splat = r.choice("splat", std::optional(RenderDesc::Splat::Quad));
   auto pixels = [](double v) { return v >= 16 && v <= 8192 && v == std::floor(v); };
   d.width =
       static_cast<int>(r.number("width", d.width, "an integer in [16, 8192] (pixels)", pixels));
@@ -335,60 +335,53 @@ RenderDesc readRender(JsonReader r) {
                                   [](double v) { return v >= 0.5 && v <= 4; }));
   d.perVertexDensity = r.string("vertex_density", std::string("per-vertex"),
                                 {"per-vertex", "per-particle"}) == "per-vertex";
-  d.newtonProjection = r.string("projection", std::string("newton"), {"eq6", "newton"}) == "newton";
+  d.projection = r.choice("projection", std::optional(SplatProjection::Newton));
   d.environment = r.boolean("environment", true);
   d.alpha = static_cast<float>(
       r.number("alpha", 1.0, "a number in (0, 1]", [](double v) { return v > 0 && v <= 1; }));
   d.cullBackFaces = r.boolean("cull_back_faces", true);
-  const std::string solids = r.string("solids", std::string("points"), {"points", "opaque", "none"});
-  d.solids = solids == "points"   ? RenderDesc::Solids::Points
-             : solids == "opaque" ? RenderDesc::Solids::Opaque
-                                  : RenderDesc::Solids::None;
+  d.solids = r.choice("solids", std::optional(RenderSolids::Points));
   // The older switch: false draws no walls.
-  if (!r.boolean("show_boundary", true)) d.solids = RenderDesc::Solids::None;
+  if (!r.boolean("show_boundary", true)) d.solids = RenderSolids::None;
   d.directory = r.string("directory", std::string(""));
   d.toCache = r.boolean("to_cache", true);
   r.finish();
   return d;
 }
 
+// The `collision` section (docs/scene-format.md, "collision"; DESIGN.md, "The CDT collision pass").
 CollisionDesc readCollision(JsonReader r, const SolverParams& solver) {
   CollisionDesc c;
-  const std::string method =
-      r.string("method", std::nullopt, {"none", "exact", "octree", "cdt-cpu", "cdt-gl"});
-  c.method = method == "none"      ? CollisionMethod::None
-             : method == "exact"   ? CollisionMethod::Exact
-             : method == "octree"  ? CollisionMethod::Octree
-             : method == "cdt-cpu" ? CollisionMethod::CdtCpu
-                                   : CollisionMethod::CdtGl;
+  c.method = r.choice<CollisionMethod>("method", std::nullopt);
   c.range = static_cast<float>(
       r.number("range", 0.5 * solver.spacing, "a positive number (m)", positive));
-  const bool paper =
-      r.string("response", std::string("separate"), {"separate", "paper"}) == "paper";
-  c.response = paper ? CollisionResponse::Paper : CollisionResponse::Separate;
+  c.response = r.choice("response", std::optional(CollisionResponse::Separate));
+  const bool paper = c.response == CollisionResponse::Paper;
   c.speedFactor = static_cast<float>(r.number("speed_factor", 0.2, "a number in [0, 1]",
                                               [](double v) { return v >= 0 && v <= 1; }));
   c.cooldown = static_cast<float>(
       r.number("cooldown", paper ? 0.05 : 0.0, "a number >= 0 (s)", nonNegative));
-  const bool texel = r.string("position_source", std::string(paper ? "texel" : "particle"),
-                              {"particle", "texel"}) == "texel";
-  c.positionSource = texel ? CdtPositionSource::Texel : CdtPositionSource::Particle;
+  c.positionSource =
+      r.choice("position_source",
+               std::optional(paper ? CdtPositionSource::Texel : CdtPositionSource::Particle));
   const int resolution =
       static_cast<int>(r.number("resolution", 500.0, "an integer in [16, 8192] (texels per side)",
                                 [](double v) { return integerIn(v, 16, 8192); }));
   c.resolution = {resolution, resolution};
-  c.texelRange = static_cast<int>(r.number("texel_range", 1.0, "an integer in [0, 16]",
-                                           [](double v) { return integerIn(v, 0, 16); }));
+  // The CDT's own limits (sim/cdt/CdtConstants.h), so that no scene reaches its bug checks.
+  const std::string texelRanges = "an integer in [0, " + std::to_string(cdt::kMaxTexelRange) + "]";
+  c.texelRange = static_cast<int>(r.number("texel_range", 1.0, texelRanges.c_str(), [](double v) {
+    return integerIn(v, 0, cdt::kMaxTexelRange);
+  }));
   c.adaptiveTexelRange = r.boolean("adaptive_texel_range", false);
-  c.maxTexelRange = static_cast<int>(r.number("max_texel_range", 4.0, "an integer in [1, 16]",
-                                              [](double v) { return integerIn(v, 1, 16); }));
-  c.layers = static_cast<int>(
-      r.number("layers", 1.0, "an integer in [1, 4]", [](double v) { return integerIn(v, 1, 4); }));
-  const std::string camera =
-      r.string("camera", std::string("render"), {"render", "fixed", "offset"});
-  c.camera = camera == "render"  ? CdtCameraMode::Render
-             : camera == "fixed" ? CdtCameraMode::Fixed
-                                 : CdtCameraMode::Offset;
+  const std::string maxRanges = "an integer in [1, " + std::to_string(cdt::kMaxTexelRange) + "]";
+  c.maxTexelRange =
+      static_cast<int>(r.number("max_texel_range", 4.0, maxRanges.c_str(),
+                                [](double v) { return integerIn(v, 1, cdt::kMaxTexelRange); }));
+  const std::string layerCounts = "an integer in [1, " + std::to_string(cdt::kMaxLayers) + "]";
+  c.layers = static_cast<int>(r.number("layers", 1.0, layerCounts.c_str(),
+                                       [](double v) { return integerIn(v, 1, cdt::kMaxLayers); }));
+  c.camera = r.choice("camera", std::optional(CdtCameraMode::Render));
   c.offset = static_cast<float>(r.number("offset", 0.0, "a number (m, along the camera's z axis)"));
   if (auto pose = r.optionalObject("pose")) c.pose = readCamera(*pose), c.hasPose = true;
   if (c.camera == CdtCameraMode::Fixed && !c.hasPose)
@@ -456,6 +449,7 @@ void validate(const Scene& s, const std::string& file) {
              readableNumber(restStep, 3) + " s, a smaller solver.max_time_step allows more), got " +
              readableNumber(s.output.fps));
   }
+  cdt::requireIdsInRange(s);
 }
 
 }  // namespace
@@ -473,8 +467,7 @@ Scene parseScene(const std::string& text, const std::string& path,
   stem = stem.substr(0, stem.rfind('.'));
   scene.name = root.string("name", stem);
   scene.description = root.string("description", std::string(""));
-  const std::string quality =
-      root.string("quality", std::string("default"), {"default", "fast", "accurate"});
+  const Quality quality = root.choice("quality", std::optional(Quality::Default));
   scene.solver = readSolver(root.object("solver"), quality);
   for (JsonReader& f : root.objectArray("fluids")) scene.fluids.push_back(readFluid(f));
   for (JsonReader& b : root.objectArray("boundaries")) scene.boundaries.push_back(readBoundary(b));

@@ -12,6 +12,20 @@ namespace sph::io {
 
 // Longest simulated time a scene may ask for (s): solver.end_time and `run --end`.
 constexpr double kMaxEndTime = 1e6;
+// Scene key `quality`: presets of solver defaults (docs/scene-format.md, "quality"; the values are
+// in SceneLoader.cpp).
+enum class Quality { Default, Fast, Accurate };
+constexpr const char* nameOf(Quality v) {
+  switch (v) {
+    case Quality::Default:
+      return "default";
+    case Quality::Fast:
+      return "fast";
+    case Quality::Accurate:
+      return "accurate";
+  }
+  return nullptr;
+}
 
 // Loads and validates `path`. `overrides` are "key.path=value" edits applied to the JSON before
 // validation (value parsed as JSON, else taken as a string), e.g. "solver.spacing=0.01".

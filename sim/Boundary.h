@@ -35,7 +35,6 @@ class Boundary {
   const BoundaryParticles& particles() const { return particles_; }
   const NeighbourGrid& grid() const { return grid_; }
   const std::vector<Solid>& solids() const { return solids_; }
-  int layers() const { return layers_; }
 
   // Smallest signed distance from p to any solid (m); +inf without solids.
   float distance(const Vec3& p) const;

@@ -15,8 +15,10 @@
 #include <cstdint>
 #include <cstdlib>
 #include <new>
+#include <string>
 #include <vector>
 
+#include "sim/Assert.h"
 #include "sim/NeighbourGrid.h"
 #include "sim/Parallel.h"
 
@@ -145,6 +147,14 @@ void forEachCellWithCandidates(const NeighbourGrid& grid, const std::array<const
         boundaryGrid.forEachRangeInBox(blo, bhi, appendBoundary);
       }
       bb.pad();
+      // Every particle of the cell is its own neighbour: the batch must hold at least them.
+      validate("collecting a cell's neighbour candidates", [&] {
+        return fb.count >= end - begin
+                   ? std::string()
+                   : "cell (" + std::to_string(g[0]) + ", " + std::to_string(g[1]) + ", " +
+                         std::to_string(g[2]) + ") has " + std::to_string(end - begin) +
+                         " particles but " + std::to_string(fb.count) + " candidates";
+      });
       body(begin, end, fb, bb);
     }
   });

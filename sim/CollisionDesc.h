@@ -7,6 +7,7 @@
 #include <array>
 
 #include "sim/CameraDesc.h"
+#include "sim/EnumNames.h"
 
 namespace sph {
 
@@ -17,6 +18,22 @@ enum class CollisionMethod {
   CdtCpu,  // the CDT algorithm on the CPU: the reference of cdt-gl
   CdtGl,   // the CDT algorithm in GLSL, transform feedback (seed 000, section 3)
 };
+// Scene key collision.method (sim/EnumNames.h).
+constexpr const char* nameOf(CollisionMethod v) {
+  switch (v) {
+    case CollisionMethod::None:
+      return "none";
+    case CollisionMethod::Exact:
+      return "exact";
+    case CollisionMethod::Octree:
+      return "octree";
+    case CollisionMethod::CdtCpu:
+      return "cdt-cpu";
+    case CollisionMethod::CdtGl:
+      return "cdt-gl";
+  }
+  return nullptr;
+}
 
 enum class CollisionResponse {
   // Our default for SPH: push the particle out to `range` from its partner (half the overlap,
@@ -26,18 +43,50 @@ enum class CollisionResponse {
   // cooldown; the uncollided particle integrates.
   Paper,
 };
+// Scene key collision.response.
+constexpr const char* nameOf(CollisionResponse v) {
+  switch (v) {
+    case CollisionResponse::Separate:
+      return "separate";
+    case CollisionResponse::Paper:
+      return "paper";
+  }
+  return nullptr;
+}
 
 enum class CdtCameraMode {
   Render,  // collision camera = render camera (the paper's measurements)
   Fixed,   // its own pose (`collision.pose`)
   Offset,  // render camera moved by `offset` along its own z axis (seed 000, eq. 1)
 };
+// Scene key collision.camera.
+constexpr const char* nameOf(CdtCameraMode v) {
+  switch (v) {
+    case CdtCameraMode::Render:
+      return "render";
+    case CdtCameraMode::Fixed:
+      return "fixed";
+    case CdtCameraMode::Offset:
+      return "offset";
+  }
+  return nullptr;
+}
 
 // Which position a particle compares with the texture (DESIGN.md, "three spots").
 enum class CdtPositionSource {
   Particle,  // its own position (ours)
   Texel,     // curr_pos read from its base texel, as in the pseudo-code line 5 (may be another's)
 };
+// Scene key collision.position_source.
+constexpr const char* nameOf(CdtPositionSource v) {
+  switch (v) {
+    case CdtPositionSource::Particle:
+      return "particle";
+    case CdtPositionSource::Texel:
+      return "texel";
+  }
+  return nullptr;
+}
 
 // How cdt-gl fills the texture (cdt-cpu has one way; all three give the same texture).
 enum class CdtTextureWrite {

@@ -28,7 +28,6 @@ class Emitter {
   std::size_t emit(double time, double dt, Particles& fluid, std::uint32_t& nextId,
                    float restDensity);
 
-  const EmitterDesc& desc() const { return desc_; }
   const EmitterState& state() const { return state_; }
   void setState(const EmitterState& s) { state_ = s; }
   // Offsets of one layer's particles from the nozzle centre (m); empty if the disc is smaller

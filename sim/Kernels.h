@@ -6,9 +6,18 @@
 //   viscosity  W(r)   = 15/(2 pi h^3) (-r^3/(2h^3) + r^2/h^2 + h/(2r) - 1)
 //              lapW   = 45/(pi h^6) (h - r)                     its Laplacian: viscosity force
 // The constants are precomputed once per solver, so the hot loops do multiplies only.
+//
+// Two forms of each kernel live here. Kernels' member functions give the full value with a branch
+// at the support (the lattice sums, SceneSetup.cpp, use them). The shapes below are what the
+// neighbour loops run (sim/SphPasses.cpp, render/splat/DensityField.cpp): the kernel divided by
+// its constant factor, branch-free, so `omp simd` loops vectorise and the factor is applied once
+// per particle. tests/test_kernels.cpp checks both against the formulas and against each other.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+
+#include "sim/SolverParams.h"
 
 namespace sph {
 
@@ -75,5 +84,64 @@ struct Kernels {
     return viscLapFactor * (h - r);
   }
 };
+
+// ---- Shapes: the kernels as the neighbour loops evaluate them --------------------------------
+// Functions of r^2 = |x_i - x_j|^2 with a clamp at 0 in place of `if (r >= h)`. Their operations
+// and order are part of the results (runs are bit-reproducible, tests/test_determinism.cpp pins
+// them): a change here is a change of results, not a refactoring.
+
+// poly6: W = poly6Factor * Poly6Shape(r2); gradW = poly6GradFactor * gradient(r2) * (x_i - x_j).
+struct Poly6Shape {
+  float h2;
+  float operator()(float r2) const {
+    const float d = std::max(h2 - r2, 0.0f);
+    return d * d * d;
+  }
+  float gradient(float r2) const {
+    const float d = std::max(h2 - r2, 0.0f);
+    return d * d;
+  }
+};
+
+// spiky: W = spikyFactor * SpikyShape(r2).
+struct SpikyShape {
+  float h;
+  float operator()(float r2) const {
+    const float d = std::max(h - std::sqrt(r2), 0.0f);
+    return d * d * d;
+  }
+};
+
+// The pair terms of the force pass (Müller 2003): with hr = h - r and invR = 1 / r,
+//   gradW_spiky(x_i - x_j) = spikyGradFactor * hr^2 * invR * (x_i - x_j)
+//   lapW_visc(r)           = viscLapFactor * hr
+// both zero outside the support and at r = 0 (a pair with no direction exerts no force).
+struct SpikyPairShape {
+  float h, h2;
+  bool inside(float r2) const { return r2 < h2 && r2 > 0.0f; }
+  float inverseDistance(float r2) const { return inside(r2) ? 1.0f / std::sqrt(r2) : 0.0f; }
+  float hMinusR(float r2, float invR) const { return inside(r2) ? h - r2 * invR : 0.0f; }
+};
+
+// The radial moment of the spiky gradient, (h - r)^2 r = (x_j - x_i) . gradW(x_i - x_j) /
+// (-spikyGradFactor): what the gradient correction sums (SphPasses.cpp, computeDensity).
+struct SpikyMomentShape {
+  float h;
+  float operator()(float r2) const {
+    const float r = std::sqrt(r2);
+    const float hr = std::max(h - r, 0.0f);
+    return hr * hr * r;
+  }
+};
+
+// Calls f(shape, factor) with the shape of the solver's density kernel and the factor that makes
+// it W (SolverParams.h: spiky by default, poly6 as in seed 003 eq. (3)).
+template <class F>
+void withDensityShape(DensityKernel kernel, const Kernels& k, F&& f) {
+  if (kernel == DensityKernel::Spiky)
+    f(SpikyShape{k.h}, k.spikyFactor);
+  else
+    f(Poly6Shape{k.h2}, k.poly6Factor);
+}
 
 }  // namespace sph

@@ -24,37 +24,17 @@ constexpr double kBaseBytes = 15e6;
 // An OpenGL context on Mesa's llvmpipe with the renderer's or cdt-gl's buffers and shaders.
 constexpr double kGlBytes = 100e6;
 
-double fluidBlockCount(const FluidBlock& f, float dx) {
-  if (f.shape == FluidBlock::Shape::Sphere) {
-    const double r = f.radius / dx;
-    return 4.0 / 3.0 * kPi * r * r * r;
-  }
-  double count = 1;
-  for (int a = 0; a < 3; ++a) count *= std::max(0.0, std::round(double(f.hi[a] - f.lo[a]) / dx));
-  return count;
-}
-
-// Particles a nozzle releases by `endTime`: layers of a disc (Gauss's circle bound) one spacing
-// apart along a jet of `speed`, capped by max_particles.
-double emittedCount(const EmitterDesc& e, float dx, double endTime) {
-  const double r = e.radius / dx;
-  const double layer = kPi * r * r + 2 * kPi * r + 1;
-  const double active = std::max(0.0, std::min(e.stop, endTime) - e.start);
-  double count = layer * (std::floor(active * e.speed / dx) + 1);
-  if (e.maxParticles) count = std::min(count, static_cast<double>(e.maxParticles));
-  return count;
-}
-
 }  // namespace
 
-MemoryEstimate estimateMemory(const Scene& scene, double endTime) {
+MemoryEstimate estimateMemory(const Scene& scene) {
   MemoryEstimate m;
-  const float dx = scene.solver.spacing;
-  for (const FluidBlock& f : scene.fluids) m.fluidParticles += fluidBlockCount(f, dx);
+  // The counts the id limit uses too (sim/SceneSetup.h): an upper bound from the description.
+  const ParticleBudget budget = particleBudget(scene);
+  m.fluidParticles = static_cast<double>(budget.blocks);
   double largestEmitter = 0;
   std::size_t largest = 0;
-  for (std::size_t k = 0; k < scene.emitters.size(); ++k) {
-    const double n = emittedCount(scene.emitters[k], dx, endTime);
+  for (std::size_t k = 0; k < budget.emitters.size(); ++k) {
+    const double n = static_cast<double>(budget.emitters[k]);
     m.emittedParticles += n;
     if (n > largestEmitter) largestEmitter = n, largest = k;
   }
@@ -62,7 +42,7 @@ MemoryEstimate estimateMemory(const Scene& scene, double endTime) {
                          ? scene.solver.boundaryLayers
                          : std::max(1, static_cast<int>(std::ceil(scene.solver.support)));
   for (const BoundaryShape& b : scene.boundaries)
-    m.boundaryParticles += countBoundarySamples(b, scene.domain, dx, layers);
+    m.boundaryParticles += countBoundarySamples(b, scene.domain, scene.solver.spacing, layers);
   const bool gl =
       scene.render || (scene.collision && scene.collision->method == CollisionMethod::CdtGl);
   m.bytes = kBaseBytes + (gl ? kGlBytes : 0) +

@@ -22,7 +22,7 @@ struct MemoryEstimate {
   std::string largestKey = "solver.spacing";
 };
 
-// `endTime` in seconds (the run's, after --end).
-MemoryEstimate estimateMemory(const Scene& scene, double endTime);
+// Up to the scene's solver.end_time (the run's, after --end).
+MemoryEstimate estimateMemory(const Scene& scene);
 
 }  // namespace sph

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <sstream>
 
 #include "sim/Assert.h"
 #include "sim/Parallel.h"
@@ -57,6 +58,46 @@ void NeighbourGrid::build(const float* x, const float* y, const float* z, std::s
   for (std::size_t i = 0; i < n; ++i) {
     order[cursor_[cellOfPoint_[i]]++] = static_cast<std::uint32_t>(i);
   }
+  validate("the neighbour grid's sort", [&] { return checkSorted(x, y, z, n, order); });
+}
+
+std::string NeighbourGrid::checkSorted(const float* x, const float* y, const float* z,
+                                       std::size_t n,
+                                       const std::vector<std::uint32_t>& order) const {
+  std::ostringstream out;
+  if (order.size() != n || pointCount() != n) {
+    out << "the grid holds " << pointCount() << " points and the order " << order.size() << ", for "
+        << n << " points";
+    return out.str();
+  }
+  std::vector<bool> seen(n, false);
+  for (std::size_t c = 0; c < cellCount(); ++c) {
+    if (cellBegin(c) > cellEnd(c)) {
+      out << "cell " << c << " ends before it begins";
+      return out.str();
+    }
+    const CellCoord g = globalOf(c);
+    for (std::uint32_t s = cellBegin(c); s < cellEnd(c); ++s) {
+      const std::uint32_t i = order[s];
+      if (i >= n || seen[i]) {
+        out << "sorted slot " << s << " holds point " << i
+            << (i >= n ? ", past the end" : ", which another slot holds too");
+        return out.str();
+      }
+      seen[i] = true;
+      if (cellOf(x[i], y[i], z[i]) != g) {
+        out << "point " << i << " at (" << x[i] << ", " << y[i] << ", " << z[i]
+            << ") is sorted into cell (" << g[0] << ", " << g[1] << ", " << g[2]
+            << "), not its own";
+        return out.str();
+      }
+      if (s > cellBegin(c) && order[s - 1] > i) {
+        out << "points " << order[s - 1] << " and " << i << " swapped order in cell " << c;
+        return out.str();
+      }
+    }
+  }
+  return "";
 }
 
 }  // namespace sph

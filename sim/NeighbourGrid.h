@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace sph {
@@ -26,6 +27,14 @@ class NeighbourGrid {
   // counting-sort permutation: sorted[i] = original[order[i]].
   void build(const float* x, const float* y, const float* z, std::size_t n, float cellSize,
              std::vector<std::uint32_t>& order, std::size_t maxCells = 0);
+
+  // The invariants build() establishes, for the points it was given and the order it returned:
+  // the cell ranges tile [0, n) in cell order, `order` is a permutation, the point at each sorted
+  // slot lies in the cell whose range holds that slot (so every point is in exactly one cell),
+  // and within a cell the original order is kept (a stable sort). "" when they hold, else the
+  // first violation. Run after every build in SPH_VALIDATE builds (sim/Assert.h).
+  std::string checkSorted(const float* x, const float* y, const float* z, std::size_t n,
+                          const std::vector<std::uint32_t>& order) const;
 
   float cellSize() const { return cellSize_; }
   std::size_t cellCount() const { return cellStart_.empty() ? 0 : cellStart_.size() - 1; }

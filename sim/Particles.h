@@ -1,11 +1,14 @@
 // The fluid state as a structure of arrays (STYLE.md rule 3): each per-particle quantity is one
-// contiguous array so passes stream through memory and vectorise. Every array is listed once in
-// forEachField(); resize, append and permute go through it, so a field added to the struct but not
-// to that list is caught by the static_assert below (and by tests/test_particles.cpp).
+// contiguous array so passes stream through memory and vectorise. Every array is listed once, in
+// fields(); forEachField(), and through it resize, append and permute, walk that list, so a field
+// added to the struct but not to the list is caught by the static_assert below (and by
+// tests/test_particles.cpp). The cache's list of datasets is checked against it at compile time
+// (io/CacheFormat.cpp).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <tuple>
 #include <vector>
 
 #include "sim/Types.h"
@@ -29,13 +32,21 @@ struct Particles {
 
   static constexpr int kFieldCount = 13;
 
+  // Every array, as member pointers, in the order of the cache's datasets.
+  static constexpr auto fields() {
+    return std::make_tuple(&Particles::x, &Particles::y, &Particles::z, &Particles::vx,
+                           &Particles::vy, &Particles::vz, &Particles::ax, &Particles::ay,
+                           &Particles::az, &Particles::rho, &Particles::p, &Particles::collideTime,
+                           &Particles::id);
+  }
+  // Calls f(array) for every array, in fields() order.
   template <class F>
   void forEachField(F&& f) {
-    f(x), f(y), f(z), f(vx), f(vy), f(vz), f(ax), f(ay), f(az), f(rho), f(p), f(collideTime), f(id);
+    std::apply([&](auto... member) { (f(this->*member), ...); }, fields());
   }
   template <class F>
   void forEachField(F&& f) const {
-    f(x), f(y), f(z), f(vx), f(vy), f(vz), f(ax), f(ay), f(az), f(rho), f(p), f(collideTime), f(id);
+    std::apply([&](auto... member) { (f(this->*member), ...); }, fields());
   }
 
   std::size_t size() const { return x.size(); }
@@ -58,9 +69,11 @@ struct Particles {
   void setVelocity(std::size_t i, const Vec3& v) { vx[i] = v.x(), vy[i] = v.y(), vz[i] = v.z(); }
 };
 
-// A field added to Particles must be added to forEachField() and kFieldCount too.
+// A field added to Particles must be added to fields() and kFieldCount too.
 static_assert(sizeof(std::vector<float>) == sizeof(std::vector<std::uint32_t>));
 static_assert(sizeof(Particles) == Particles::kFieldCount * sizeof(std::vector<float>),
-              "Particles has a field that forEachField() does not list");
+              "Particles has a field that fields() does not list");
+static_assert(std::tuple_size_v<decltype(Particles::fields())> == Particles::kFieldCount,
+              "kFieldCount is not the length of fields()");
 
 }  // namespace sph

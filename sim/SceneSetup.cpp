@@ -2,44 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
 
 #include "sim/Boundary.h"
+#include "sim/InputError.h"
+#include "sim/LatticeSums.h"
 
 namespace sph {
-namespace {
-
-// Sum of the density kernel over an infinite cubic lattice of spacing dx around one of its points.
-double latticeKernelSum(const Kernels& k, DensityKernel kernel, float dx) {
-  const int reach = static_cast<int>(std::ceil(k.h / dx));
-  double sum = 0;
-  for (int a = -reach; a <= reach; ++a)
-    for (int b = -reach; b <= reach; ++b)
-      for (int c = -reach; c <= reach; ++c) {
-        const float r2 = dx * dx * static_cast<float>(a * a + b * b + c * c);
-        sum += kernel == DensityKernel::Spiky ? k.spiky(std::sqrt(r2)) : k.poly6(r2);
-      }
-  return sum;
-}
-
-// First moment of the spiky gradient over the rest lattice, K = sum_j V (x_j - x_i)_x
-// d/dx W(x_i - x_j) with V = m / rho0: the factor by which the SPH gradient of a linear field
-// differs from the exact one on that lattice (1 for a perfect quadrature).
-double latticeGradientMoment(const Kernels& k, float dx, double volume) {
-  const int reach = static_cast<int>(std::ceil(k.h / dx));
-  double sum = 0;
-  for (int a = -reach; a <= reach; ++a)
-    for (int b = -reach; b <= reach; ++b)
-      for (int c = -reach; c <= reach; ++c) {
-        const double xj = a * dx;
-        const float r = dx * std::sqrt(static_cast<float>(a * a + b * b + c * c));
-        // gradW(x_i - x_j) = s (x_i - x_j) with x_i = 0: its x component is -s xj.
-        sum += volume * xj * (-k.spikyGradScale(r) * -xj);
-      }
-  return -sum;
-}
-
-}  // namespace
 
 float expectedMaxSpeed(const Scene& scene) {
   const Vec3 g = scene.solver.gravity;
@@ -166,6 +137,86 @@ Particles initialFluid(const Scene& scene, const Boundary& boundary, float restD
         }
   }
   return fluid;
+}
+
+namespace {
+
+// At least the lattice points of an emitter's disc of radius r spacings (Emitter's constructor,
+// counted row by row without building it; its float test u^2 + w^2 <= r^2 (1 + 1e-6) is widened a
+// little more so rounding cannot add a point), or for absurd radii the bound pi (r + 1/sqrt 2)^2
+// (every point's unit square lies in the disc grown by half a diagonal).
+double emitterLayerBound(double r) {
+  const double grown = r * (1 + 1e-5);
+  if (grown > 1e6) return kPi * (grown + 0.7072) * (grown + 0.7072);
+  const long n = static_cast<long>(std::floor(grown));
+  double count = 0;
+  for (long i = -n; i <= n; ++i)
+    count += 2 * std::floor(std::sqrt(std::max(0.0, grown * grown - double(i) * double(i)))) + 1;
+  return count;
+}
+
+}  // namespace
+
+std::uint64_t ParticleBudget::total() const {
+  std::uint64_t n = blocks;
+  for (std::uint64_t e : emitters) n += e;
+  return n;
+}
+
+ParticleBudget particleBudget(const Scene& scene) {
+  ParticleBudget b;
+  const double dx = scene.solver.spacing;
+  for (const FluidBlock& f : scene.fluids) {
+    // initialFluid's lattice: round(extent / dx) points per axis over the block's box.
+    Vec3 lo = f.lo, hi = f.hi;
+    if (f.shape == FluidBlock::Shape::Sphere)
+      lo = f.centre - Vec3::Constant(f.radius), hi = f.centre + Vec3::Constant(f.radius);
+    std::uint64_t n = 1;
+    for (int a = 0; a < 3; ++a)
+      n *= static_cast<std::uint64_t>(std::max(0L, std::lround((hi[a] - lo[a]) / dx)));
+    b.blocks += n;
+  }
+  for (const EmitterDesc& e : scene.emitters) {
+    // Emitter::emit: a first layer at `start`, then one for every spacing the jet travels.
+    const double active = std::max(0.0, std::min(e.stop, scene.solver.endTime) - e.start);
+    const double layers = 2 + std::floor(active * e.speed / dx);
+    const double n = layers * emitterLayerBound(e.radius / dx);
+    const double bound = e.maxParticles > 0 ? std::min(n, static_cast<double>(e.maxParticles)) : n;
+    b.emitters.push_back(static_cast<std::uint64_t>(std::min(bound, 1e18)));
+  }
+  return b;
+}
+
+void requireIdsBelow(const Scene& scene, std::uint64_t limit, const std::string& who,
+                     const std::string& reason) {
+  const ParticleBudget b = particleBudget(scene);
+  if (b.total() <= limit) return;
+  auto count = [](std::uint64_t n) {  // 16777216 -> "16,777,216"
+    std::string digits = std::to_string(n), text;
+    for (std::size_t i = 0; i < digits.size(); ++i) {
+      if (i > 0 && (digits.size() - i) % 3 == 0) text += ',';
+      text += digits[i];
+    }
+    return text;
+  };
+  const std::string limits =
+      who + " handles particle ids below " + count(limit) + " (" + reason + ")";
+  if (b.blocks > limit || scene.emitters.empty()) {
+    throw InputError(scene.sourcePath + ": solver.spacing: the fluid blocks would hold " +
+                     count(b.blocks) + " particles; " + limits +
+                     ": raise solver.spacing, shrink the fluids, or choose another "
+                     "collision.method");
+  }
+  const std::size_t k = static_cast<std::size_t>(
+      std::max_element(b.emitters.begin(), b.emitters.end()) - b.emitters.begin());
+  char end[32];
+  std::snprintf(end, sizeof end, "%g", scene.solver.endTime);
+  throw InputError(scene.sourcePath + ": emitters[" + std::to_string(k) +
+                   "].max_particles: the scene would make up to " + count(b.total()) +
+                   " particles by t = " + end + " s (" + count(b.emitters[k]) +
+                   " from this emitter); " + limits +
+                   ": set max_particles, stop the emitter "
+                   "earlier, end the run earlier, or choose another collision.method");
 }
 
 }  // namespace sph

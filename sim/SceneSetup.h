@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "sim/Kernels.h"
 #include "sim/Particles.h"
@@ -15,13 +16,14 @@ struct DerivedParams {
   float h = 0;     // m, kernel support radius
   float mass = 0;  // kg, per particle: rho0 spacing^3 (the water a lattice cell holds)
   // Constant that makes the density sum read rho0 on the rest lattice: 1 / (spacing^3 sum_j W)
-  // over a full cubic lattice. At support 2 spacings the plain sum is off by ~20%.
+  // over a full cubic lattice (sim/LatticeSums.h). At support 2 spacings the plain spiky sum is
+  // 24% high, the poly6 sum 1%.
   float densityNormalisation = 1;
   // Scale of the pressure force that makes the SPH gradient exact for a linear pressure on the
-  // rest lattice (1 / first moment of the spiky gradient there, volumes spacing^3): without it
-  // the discrete gradient at support 2 spacings is off by ~20% and a still tank carries ~28%
-  // excess pressure. A constant factor keeps the force conservative (of the scaled internal
-  // energy).
+  // rest lattice (1 / first moment of the spiky gradient there, volumes spacing^3; LatticeSums.h):
+  // without it the discrete gradient at support 2 spacings is 4.4% weak, so a still tank needs
+  // 4.6% excess pressure to hold its weight. A constant factor keeps the force conservative (of the
+  // scaled internal energy).
   float gradientCorrection = 1;
   float speedOfSound = 0;  // m/s
   float viscosity = 0;     // m^2/s, resolved (automatic if the scene left it out)
@@ -51,5 +53,23 @@ Aabb defaultDomain(const Scene& scene);
 // Fills the fluid blocks on their lattices, skipping points closer than 0.4 spacing to a solid.
 // Ids start at 0 in block order.
 Particles initialFluid(const Scene& scene, const class Boundary& boundary, float restDensity);
+
+// An upper bound of the fluid particles a scene makes by solver.end_time, from its description
+// alone (nothing allocated): every lattice point of each fluid block's box, and per emitter the
+// layers it can release between start and min(stop, end_time), or its max_particles. Particle ids
+// are 0 .. total - 1, so this also bounds the ids.
+struct ParticleBudget {
+  std::uint64_t blocks = 0;
+  std::vector<std::uint64_t> emitters;  // per entry of scene.emitters
+  std::uint64_t total() const;
+};
+ParticleBudget particleBudget(const Scene& scene);
+
+// Throws InputError naming the scene key to change when the scene could make a particle id of
+// `limit` or more: solver.spacing when the fluid blocks alone reach it, else the largest
+// emitter's max_particles. `who` has the limit ("the cdt-cpu collision pass"), for a reason
+// ("2^24: its texture stores them as floats").
+void requireIdsBelow(const Scene& scene, std::uint64_t limit, const std::string& who,
+                     const std::string& reason);
 
 }  // namespace sph

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <sstream>
 
+#include "sim/Assert.h"
 #include "sim/SphPasses.h"
+#include "sim/Validate.h"
 
 namespace sph {
 
@@ -61,6 +63,8 @@ void Simulation::step(double limit) {
   if (scene_.solver.model == SolverModel::Sph) {
     timed(Pass::Sort, [&] { sortParticles(c); });
     timed(Pass::Density, [&] { computeDensity(c); });
+    validate("the density pass",
+             [&] { return checkDensity(fluid_, derived_, scene_.solver.densityKernel); });
     timed(Pass::Pressure, [&] { computePressure(c); });
     timed(Pass::Forces, [&] { computeForces(c); });
   } else {
@@ -76,6 +80,7 @@ void Simulation::step(double limit) {
   timed(Pass::Collide, [&] { collide(c.dt); });
   timed(Pass::Boundaries, [&] { enforceBoundaries(c); });
   timed(Pass::Guard, [&] { checkStability(c, scene_.domain, state_.step, state_.time); });
+  validate("the step", [&] { return checkState(fluid_, state_.nextId); });
   profile_.steps += 1;
   profile_.particleSteps += fluid_.size();
 }

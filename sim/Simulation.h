@@ -46,7 +46,6 @@ class Simulation {
 
   double time() const { return state_.time; }
   std::uint64_t stepCount() const { return state_.step; }
-  float lastTimeStep() const { return state_.lastDt; }
   // The step size the next step() will take (before shortening to a limit).
   float nextTimeStep() const;
 
@@ -55,12 +54,9 @@ class Simulation {
   const Particles& fluid() const { return fluid_; }
   Particles& fluid() { return fluid_; }
   const Boundary& boundary() const { return boundary_; }
-  // Density (kg/m^3) of each boundary particle at the last step (rest-like values away from fluid).
-  const std::vector<float>& boundaryDensity() const { return boundaryFields_.density; }
   const StepProfile& profile() const { return profile_; }
   // Scale of the pressure force at the last step (1 / mean discrete gradient moment).
   float gradientCorrection() const { return gradientCorrection_; }
-  void resetProfile() { profile_ = StepProfile{}; }
   const std::vector<Emitter>& emitters() const { return emitters_; }
 
   void setCollisionPass(std::unique_ptr<CollisionPass> pass);

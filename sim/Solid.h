@@ -19,8 +19,6 @@ class Solid {
   float distance(const Vec3& p) const;
   // Unit outward normal at p (central differences of distance()).
   Vec3 normal(const Vec3& p, float eps) const;
-  const BoundaryShape& shape() const { return shape_; }
-  float thickness() const { return thickness_; }
   // Box bounding the solid (planes: unbounded, returns an empty box).
   Aabb bounds() const;
 

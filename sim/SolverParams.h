@@ -2,6 +2,7 @@
 // (docs/scene-format.md) documents the same names and defaults.
 #pragma once
 
+#include "sim/EnumNames.h"
 #include "sim/Types.h"
 
 namespace sph {
@@ -10,6 +11,16 @@ enum class EquationOfState {
   Tait,    // p = B((rho/rho0)^7 - 1), B = rho0 c^2 / 7 (Monaghan 1994; Becker & Teschner 2007)
   Linear,  // p = k (rho - rho0), k = c^2 (Müller et al. 2003)
 };
+// Scene key solver.eos (sim/EnumNames.h).
+constexpr const char* nameOf(EquationOfState v) {
+  switch (v) {
+    case EquationOfState::Tait:
+      return "tait";
+    case EquationOfState::Linear:
+      return "linear";
+  }
+  return nullptr;
+}
 
 // Kernel of the density sum. The pressure force always uses the spiky gradient (Müller et al.
 // 2003); with the spiky density the force is the exact gradient of the density it comes from, so
@@ -17,6 +28,16 @@ enum class EquationOfState {
 // recipe, seed 003) is kept as an option: with a stiff EOS that mismatch gains energy in a closed
 // tank unless viscosity damps it (tests/test_energy.cpp measures both).
 enum class DensityKernel { Spiky, Poly6 };
+// Scene key solver.density_kernel.
+constexpr const char* nameOf(DensityKernel v) {
+  switch (v) {
+    case DensityKernel::Spiky:
+      return "spiky";
+    case DensityKernel::Poly6:
+      return "poly6";
+  }
+  return nullptr;
+}
 
 // What moves the particles between collision passes.
 enum class SolverModel {
@@ -24,6 +45,31 @@ enum class SolverModel {
   Particles,  // the paper's plain particle system (seed 000): gravity only, fixed step
               // max_time_step
 };
+// Scene key solver.model.
+constexpr const char* nameOf(SolverModel v) {
+  switch (v) {
+    case SolverModel::Sph:
+      return "sph";
+    case SolverModel::Particles:
+      return "particles";
+  }
+  return nullptr;
+}
+
+// Scene key solver.walls: the names of SolverParams::noSlipWalls (true = NoSlip).
+enum class Walls {
+  NoSlip,  // walls drag the fluid with the viscosity term (v_wall = 0)
+  Slip,    // walls only push (the pressure term)
+};
+constexpr const char* nameOf(Walls v) {
+  switch (v) {
+    case Walls::NoSlip:
+      return "no-slip";
+    case Walls::Slip:
+      return "slip";
+  }
+  return nullptr;
+}
 
 struct SolverParams {
   SolverModel model = SolverModel::Sph;

@@ -24,23 +24,6 @@
 namespace sph {
 namespace {
 
-// The density kernel W(r) divided by its constant factor, as a function of r^2: the part the
-// neighbour loops evaluate. Spiky by default, poly6 as in seed 003 eq. (3) (SolverParams.h).
-struct SpikyShape {
-  float h;
-  float operator()(float r2) const {
-    const float d = std::max(h - std::sqrt(r2), 0.0f);
-    return d * d * d;
-  }
-};
-struct Poly6Shape {
-  float h2;
-  float operator()(float r2) const {
-    const float d = std::max(h2 - r2, 0.0f);
-    return d * d * d;
-  }
-};
-
 // Sum over the points of `grid` (coordinates px, py, pz) of shape(|x - p|^2).
 template <class Shape>
 float kernelSum(float xi, float yi, float zi, const NeighbourGrid& grid, const float* px,
@@ -71,21 +54,10 @@ void batchDensityAndMoment(float xi, float yi, float zi, float h, const Candidat
   for (std::size_t j = 0; j < c.padded; ++j) {
     const float dx = xi - px[j], dy = yi - py[j], dz = zi - pz[j];
     const float r2 = dx * dx + dy * dy + dz * dz;
-    const float r = std::sqrt(r2);
-    const float hr = std::max(h - r, 0.0f);
     s += shape(r2);
-    t += hr * hr * r;
+    t += SpikyMomentShape{h}(r2);
   }
   density += s, moment += t;
-}
-
-// Calls f(shape, factor) with the solver's density kernel.
-template <class F>
-void withDensityKernel(const SolverParams& s, const Kernels& k, F&& f) {
-  if (s.densityKernel == DensityKernel::Spiky)
-    f(SpikyShape{k.h}, k.spikyFactor);
-  else
-    f(Poly6Shape{k.h2}, k.poly6Factor);
 }
 
 // The pressure force's scale c = 1 / mean K over the particles with a full neighbourhood (at
@@ -117,7 +89,7 @@ void computeStaticBoundaryDensity(StepContext& c) {
   const NeighbourGrid& bgrid = c.boundary.grid();
   BoundaryFields& bf = c.boundaryFields;
   bf.staticDensity.resize(b.size());
-  withDensityKernel(c.solver, c.derived.kernels, [&](auto shape, float factor) {
+  withDensityShape(c.solver.densityKernel, c.derived.kernels, [&](auto shape, float factor) {
     const float scale = factor * c.derived.mass * c.derived.densityNormalisation;
     parallelFor(b.size(), [&](std::size_t i) {
       bf.staticDensity[i] = scale * kernelSum(b.x[i], b.y[i], b.z[i], bgrid, b.x.data(), b.y.data(),
@@ -150,7 +122,7 @@ void computeDensity(StepContext& c) {
   const float momentScale =
       -derived.kernels.spikyGradFactor * derived.mass / c.solver.restDensity / 3;
   gradientMoment.resize(f.size());
-  withDensityKernel(c.solver, derived.kernels, [&](auto shape, float factor) {
+  withDensityShape(c.solver.densityKernel, derived.kernels, [&](auto shape, float factor) {
     const float scale = factor * derived.mass * derived.densityNormalisation;
     forEachCellWithCandidates<3, 3>(
         grid, {f.x.data(), f.y.data(), f.z.data()}, bgrid, {b.x.data(), b.y.data(), b.z.data()},
@@ -210,7 +182,8 @@ void computeForces(StepContext& c) {
   const Kernels& kern = c.derived.kernels;
   const std::vector<float>& pressureTerm = c.scratch.pressureTerm;
   const std::vector<float>& inverseDensity = c.scratch.inverseDensity;
-  const float h = kern.h, h2 = kern.h2;
+  const float h = kern.h;
+  const SpikyPairShape spiky{kern.h, kern.h2};
   const float pressureScale = -c.gradientCorrection * c.derived.mass * kern.spikyGradFactor;
   const float viscScale =
       c.derived.viscosity * c.solver.restDensity * c.derived.mass * kern.viscLapFactor;
@@ -245,9 +218,8 @@ void computeForces(StepContext& c) {
           for (std::size_t j = 0; j < fb.padded; ++j) {
             const float dx = xi - fx[j], dy = yi - fy[j], dz = zi - fz[j];
             const float r2 = dx * dx + dy * dy + dz * dz;
-            const bool inside = r2 < h2 && r2 > 0.0f;
-            const float invR = inside ? 1.0f / std::sqrt(r2) : 0.0f;
-            const float hr = inside ? h - r2 * invR : 0.0f;
+            const float invR = spiky.inverseDistance(r2);
+            const float hr = spiky.hMinusR(r2, invR);
             const float sp = (pi + pterm[j]) * hr * hr * invR;
             const float sv = invRho[j] * hr;
             px += sp * dx, py += sp * dy, pz += sp * dz;
@@ -258,9 +230,8 @@ void computeForces(StepContext& c) {
           for (std::size_t j = 0; j < bb.padded; ++j) {
             const float dx = xi - bx[j], dy = yi - by[j], dz = zi - bz[j];
             const float r2 = dx * dx + dy * dy + dz * dz;
-            const bool inside = r2 < h2 && r2 > 0.0f;
-            const float invR = inside ? 1.0f / std::sqrt(r2) : 0.0f;
-            const float hr = inside ? h - r2 * invR : 0.0f;
+            const float invR = spiky.inverseDistance(r2);
+            const float hr = spiky.hMinusR(r2, invR);
             const float sp = (pi + bterm[j]) * hr * hr * invR;
             px += sp * dx, py += sp * dy, pz += sp * dz;
             w += hr;

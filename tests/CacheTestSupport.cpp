@@ -12,6 +12,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "io/CacheFormat.h"
+
 namespace sph::test {
 
 std::string tinyCacheScene(double endTime, double fps, const std::string& extraOutput) {
@@ -52,8 +54,9 @@ std::string sphsplatBinary() {
 }
 
 ::testing::AssertionResult sameBits(const Particles& expected, const Particles& actual) {
-  const char* names[Particles::kFieldCount] = {"x",  "y",  "z",   "vx", "vy",           "vz", "ax",
-                                               "ay", "az", "rho", "p",  "collide_time", "id"};
+  // The cache lists every array of Particles in Particles' order (checked in io/CacheFormat.cpp).
+  static_assert(io::cache::kFieldCount == Particles::kFieldCount);
+  auto name = [](std::size_t k) { return io::cache::fieldName(static_cast<io::cache::Field>(k)); };
   std::vector<std::pair<const void*, std::size_t>> a, b;
   expected.forEachField([&](const auto& f) { a.emplace_back(f.data(), f.size() * sizeof(f[0])); });
   actual.forEachField([&](const auto& f) { b.emplace_back(f.data(), f.size() * sizeof(f[0])); });
@@ -65,9 +68,9 @@ std::string sphsplatBinary() {
   for (std::size_t k = 0; k < a.size(); ++k) {
     if (a[k].second == 0 || b[k].second == 0) continue;  // not held by one side
     if (a[k].second != b[k].second)
-      return ::testing::AssertionFailure() << names[k] << ": sizes differ";
+      return ::testing::AssertionFailure() << name(k) << ": sizes differ";
     if (std::memcmp(a[k].first, b[k].first, a[k].second) != 0) {
-      return ::testing::AssertionFailure() << names[k] << ": values differ";
+      return ::testing::AssertionFailure() << name(k) << ": values differ";
     }
     ++compared;
   }

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
+#include <cstring>
 #include <fstream>
 #include <regex>
 #include <set>
@@ -343,6 +344,34 @@ TEST_F(CacheFormat, RootHeaderStaysOneBlockSoEachCommitIsOneWrite) {
   ASSERT_GE(H5Oget_info2(file, &info, H5O_INFO_HDR), 0);
   EXPECT_EQ(info.hdr.nchunks, 1u);
   EXPECT_EQ(info.hdr.version, 2u) << "checksummed object headers";
+}
+
+// The cache's field table is checked against Particles at compile time (io/CacheFormat.cpp); this
+// is the same promise kept at run time: a frame written with every field gives back every array
+// of Particles, bit for bit.
+TEST_F(CacheFormat, EveryParticlesArrayIsADatasetThatReadsBackBitForBit) {
+  const std::string path = dir_ + "/all.h5";
+  const WrittenRun run = writeRun(
+      path, 3,
+      R"("fields": ["position", "velocity", "acceleration", "rho", "p", "collide_time", "id"])");
+  const io::CacheReader reader(path);
+  EXPECT_EQ(reader.summary().fields.count(), cache::kFieldCount);
+  const Particles read = reader.readFrame(2);
+  const Particles& written = run.frames[2];
+  ASSERT_GT(written.size(), 0u);
+  std::vector<const void*> a, b;
+  std::vector<std::size_t> bytes;
+  written.forEachField([&](const auto& f) {
+    a.push_back(f.data());
+    bytes.push_back(f.size() * sizeof(f[0]));
+  });
+  read.forEachField([&](const auto& f) {
+    b.push_back(f.data());
+    EXPECT_EQ(f.size(), written.size());
+  });
+  ASSERT_EQ(a.size(), static_cast<std::size_t>(Particles::kFieldCount));
+  for (std::size_t k = 0; k < a.size(); ++k)
+    EXPECT_EQ(std::memcmp(a[k], b[k], bytes[k]), 0) << "Particles array " << k;
 }
 
 TEST_F(CacheFormat, OnlyTheFieldsAskedForAreWritten) {

@@ -147,6 +147,39 @@ TEST(CollisionCli, BadCollisionSectionsAreRefusedWithTheKeyPath) {
       << typo.output;
 }
 
+// The CDT's texture stores particle ids as floats, exact below 2^24: a scene that could pass that
+// is refused before it runs, naming the key to change (an input limit, exit 2; not an internal
+// error mid-run).
+TEST(CollisionCli, ScenesThatWouldPassTheTexturesIdRangeAreRefusedBeforeTheRun) {
+  // 400 x 160 x 400 lattice points in the rain's block: refused by the loader, before any
+  // particle exists.
+  const auto blocks =
+      runSphsplat("run " + rain() + " --set solver.spacing=0.0015 --set collision.method=cdt-cpu");
+  EXPECT_EQ(blocks.exitCode, 2) << blocks.output;
+  EXPECT_EQ(blocks.output.find('\n'), blocks.output.size() - 1) << "one line: " << blocks.output;
+  EXPECT_NE(blocks.output.find("cdt_rain.json: solver.spacing: the fluid blocks would hold "
+                               "25,600,000 particles; the cdt-cpu collision pass handles "
+                               "particle ids below 16,777,216"),
+            std::string::npos)
+      << blocks.output;
+  // A nozzle that never stops: the scene's own end time keeps it in range, `--end` does not.
+  const std::string pour = test::sourcePath("scenes/pour.json") +
+                           " -q --set collision.method=cdt-gl --set emitters[0].stop=1e9";
+  const auto emitter = runSphsplat("run " + pour + " --end 1e6");
+  EXPECT_EQ(emitter.exitCode, 2) << emitter.output;
+  EXPECT_NE(
+      emitter.output.find("pour.json: emitters[0].max_particles: the scene would make up to "),
+      std::string::npos)
+      << emitter.output;
+  EXPECT_NE(emitter.output.find("the cdt-gl collision pass handles particle ids below 16,777,216"),
+            std::string::npos)
+      << emitter.output;
+  // The key it names is the way out.
+  const auto capped = runSphsplat("run " + pour + " --set emitters[0].max_particles=100000 " +
+                                  "--set collision.method=cdt-cpu --end 0.02");
+  EXPECT_EQ(capped.exitCode, 0) << capped.output;
+}
+
 // End to end through the Simulation: the particle system of the rain scene with cdt-gl ends in
 // the very state cdt-cpu reaches (same bits), collisions included.
 TEST(CollisionCli, CdtGlRunEqualsCdtCpuRun) {

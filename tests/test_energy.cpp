@@ -4,16 +4,11 @@
 // gradient of the density it comes from, and the same tank gains energy by orders of magnitude.
 #include <gtest/gtest.h>
 
+#include "sim/Observables.h"
 #include "sim/Simulation.h"
 
 namespace sph {
 namespace {
-
-double kineticEnergy(const Particles& p, double mass) {
-  double e = 0;
-  for (std::size_t i = 0; i < p.size(); ++i) e += 0.5 * mass * p.velocity(i).squaredNorm();
-  return e;
-}
 
 Scene closedSloshingTank(DensityKernel kernel) {
   Scene s;

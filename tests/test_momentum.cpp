@@ -4,16 +4,11 @@
 
 #include <random>
 
+#include "sim/Observables.h"
 #include "sim/Simulation.h"
 
 namespace sph {
 namespace {
-
-Vec3d momentum(const Particles& p, double mass) {
-  Vec3d m = Vec3d::Zero();
-  for (std::size_t i = 0; i < p.size(); ++i) m += mass * p.velocity(i).cast<double>();
-  return m;
-}
 
 TEST(Momentum, IsConservedOverAThousandStepsWithoutGravityOrWalls) {
   Scene s;

@@ -1,5 +1,6 @@
 // Particles::permute() must move every field together (STYLE.md rule 3). A field missing from
-// forEachField() fails the static_assert in Particles.h; this test checks the ones listed move.
+// Particles::fields() fails the static_assert in Particles.h; this test checks the listed ones
+// move.
 #include <gtest/gtest.h>
 
 #include <algorithm>

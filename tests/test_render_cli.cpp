@@ -80,10 +80,9 @@ TEST_F(RenderCli, RenderWritesPngsAndStoresThemInTheCache) {
                   " --frames 1:2 --splat both --size 160x120 --to-cache --out " + dir_ + "/frames");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   for (const char* kind : {"point", "quad"}) {
-    for (int f : {1, 2}) {
-      char name[96];
-      std::snprintf(name, sizeof name, "/frames/dam_break_%s_%05d.png", kind, f);
-      EXPECT_TRUE(exists(dir_ + name)) << name;
+    for (std::size_t f : {1, 2}) {
+      const std::string name = io::framePngName(std::string("dam_break_") + kind, f);
+      EXPECT_TRUE(exists(dir_ + "/frames/" + name)) << name;
     }
   }
   EXPECT_FALSE(exists(dir_ + "/frames/dam_break_quad_00000.png"));

@@ -76,11 +76,11 @@ TEST(SceneLoader, RenderSolidsChooseHowWallsAreDrawn) {
     text.insert(text.rfind('}'), camera + R"(, "render": )" + render);
     return text;
   };
-  EXPECT_EQ(io::parseScene(with("{}"), "s.json").render->solids, RenderDesc::Solids::Points);
+  EXPECT_EQ(io::parseScene(with("{}"), "s.json").render->solids, RenderSolids::Points);
   EXPECT_EQ(io::parseScene(with(R"({"solids": "opaque"})"), "s.json").render->solids,
-            RenderDesc::Solids::Opaque);
+            RenderSolids::Opaque);
   EXPECT_EQ(io::parseScene(with(R"({"show_boundary": false})"), "s.json").render->solids,
-            RenderDesc::Solids::None);
+            RenderSolids::None);
   EXPECT_NE(errorOf(with(R"({"solids": "glass"})")).find("render.solids"), std::string::npos);
 }
 

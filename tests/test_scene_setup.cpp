@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "sim/Emitter.h"
+#include "sim/InputError.h"
 #include "sim/Simulation.h"
 #include "tests/TestSupport.h"
 
@@ -75,6 +77,56 @@ TEST(SceneSetup, CorrectedPressureGradientIsExactForALinearPressure) {
         moment += dx * dx * dx * r.y() * grad.y();                    // sum V (y_j - y_i) dW/dy
       }
   EXPECT_NEAR(moment * d.gradientCorrection, 1.0, 1e-5);
+}
+
+// particleBudget is what stops a scene before it runs past an id limit (requireIdsBelow): it must
+// bound what a run makes, and not by much.
+TEST(SceneSetup, ParticleBudgetBoundsWhatARunMakes) {
+  const Scene dam = test::shippedScene("dam_break", {"solver.spacing=0.0146"});
+  EXPECT_EQ(particleBudget(dam).blocks, Simulation(dam).fluid().size());  // 10 x 20 x 4
+  EXPECT_EQ(particleBudget(dam).total(), 800u);
+  const Scene pour = test::shippedScene("pour", {"solver.spacing=0.008", "solver.end_time=0.3"});
+  Simulation sim(pour);
+  sim.advanceTo(pour.solver.endTime);
+  const ParticleBudget b = particleBudget(pour);
+  ASSERT_EQ(b.emitters.size(), 1u);
+  const std::size_t layer = sim.emitters()[0].layer().size();
+  EXPECT_GE(b.total(), sim.fluid().size());
+  EXPECT_LE(b.total(), sim.fluid().size() + 2 * layer);
+  // max_particles caps it.
+  const Scene capped = test::shippedScene("pour", {"emitters[0].max_particles=250"});
+  EXPECT_EQ(particleBudget(capped).emitters[0], 250u);
+}
+
+// The budget counts a nozzle's disc without building it (a 1000 m nozzle must not allocate), and
+// never fewer points than the Emitter puts in a layer.
+TEST(SceneSetup, ParticleBudgetCountsANozzleDiscWithoutBuildingIt) {
+  Scene s = test::shippedScene("pour", {"solver.spacing=0.005"});
+  s.solver.endTime = s.emitters[0].start;  // no time to travel: the budget is two layers
+  for (const float radius : {0.0025f, 0.005f, 0.0071f, 0.012f, 0.02f, 0.0333f, 0.1f}) {
+    s.emitters[0].radius = radius;
+    const std::size_t layer = Emitter(s.emitters[0], s.solver.spacing).layer().size();
+    const std::uint64_t budget = particleBudget(s).emitters[0];
+    EXPECT_GE(budget, 2 * layer) << "radius " << radius;
+    EXPECT_LE(budget, 2 * layer + 8) << "radius " << radius;
+  }
+  s.emitters[0].radius = 1000;
+  EXPECT_GT(particleBudget(s).emitters[0], 2e10);
+}
+
+TEST(SceneSetup, AnIdLimitNamesTheKeyToChange) {
+  const Scene dam = test::shippedScene("dam_break", {"solver.spacing=0.0146"});
+  EXPECT_NO_THROW(requireIdsBelow(dam, 800, "a test", "why"));
+  try {
+    requireIdsBelow(dam, 799, "a test", "why");
+    FAIL() << "800 particles passed a limit of 799 ids";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("dam_break.json: solver.spacing: the fluid blocks would "
+                                         "hold 800 particles; a test handles particle ids below "
+                                         "799 (why)"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(SceneSetup, AutomaticSpeedOfSoundAndViscosityFollowTheScene) {

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "io/JsonReader.h"
+#include "sim/Observables.h"
 
 namespace sph::sweep {
 namespace {
@@ -66,9 +67,7 @@ class SurgeFrontMetric : public SweepMetric {
   std::vector<double> sampleTimes() const override { return times_; }
   void observe(const Simulation& sim) override {
     if (Z_.size() >= times_.size() || std::abs(sim.time() - times_[Z_.size()]) > 1e-9) return;
-    float front = -std::numeric_limits<float>::max();
-    for (float x : sim.fluid().x) front = std::max(front, x);
-    Z_.push_back((front - wall_) / a_);
+    Z_.push_back((surgeFront(sim.fluid()) - wall_) / a_);
   }
   std::vector<double> values() const override {
     if (Z_.size() < Zref_.size()) return {kNaN, kNaN, kNaN};
@@ -100,14 +99,8 @@ class DensityMetric : public SweepMetric {
   }
   bool everyFrame() const override { return true; }
   void observe(const Simulation& sim) override {
-    const Particles& p = sim.fluid();
-    const double rho0 = sim.scene().solver.restDensity;
-    double sum = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      const double c = std::max(0.0, (p.rho[i] - rho0) / rho0);
-      sum += c, worst_ = std::max(worst_, c);
-    }
-    sum_ += p.empty() ? 0 : sum / p.size();
+    const DensityError e = densityError(sim.fluid(), sim.scene().solver.restDensity);
+    sum_ += e.meanCompression, worst_ = std::max(worst_, e.maxCompression);
     ++frames_;
   }
   std::vector<double> values() const override {
@@ -172,25 +165,12 @@ class EnergyMetric : public SweepMetric {
     const Particles& p = sim.fluid();
     const DerivedParams& d = sim.params();
     const SolverParams& s = sim.scene().solver;
-    const double m = d.mass, rho0 = s.restDensity, B = d.stiffness;
-    double kinetic = 0, potential = 0, elastic = 0, rhoSum = 0, rhoMax = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      kinetic += 0.5 * m * p.velocity(i).squaredNorm();
-      potential += m * (-static_cast<double>(p.position(i).dot(s.gravity)) - floor_);
-      const double rho = p.rho[i];
-      rhoSum += rho, rhoMax = std::max(rhoMax, rho);
-      if (rho <= rho0 && s.clampNegativePressure) continue;  // p = 0 stores nothing
-      if (s.eos == EquationOfState::Tait) {
-        elastic +=
-            m * B *
-            ((std::pow(rho, 6) - std::pow(rho0, 6)) / (6 * std::pow(rho0, 7)) + 1 / rho - 1 / rho0);
-      } else {
-        elastic += m * B * (std::log(rho / rho0) + rho0 / rho - 1);
-      }
-    }
-    elastic *= sim.gradientCorrection();
+    const double kinetic = kineticEnergy(p, d.mass);
+    const double potential = potentialEnergy(p, d.mass, s.gravity, floor_);
+    const double elastic = elasticEnergy(p, s, d.mass, d.stiffness) * sim.gradientCorrection();
+    const DensityError density = densityError(p, s.restDensity);
     const double total = kinetic + potential + elastic;
-    const double meanRho = p.empty() ? 0 : rhoSum / p.size();
+    const double meanRho = density.meanDensity, rhoMax = density.maxDensity;
     char line[256];
     std::snprintf(line, sizeof line, "%llu,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%zu\n",
                   static_cast<unsigned long long>(sim.stepCount()), sim.time(), kinetic, potential,

@@ -151,7 +151,7 @@ void writeCsv(const SweepResult& result, const std::string& path) {
     out << i << "," << csvField(r.variant.label) << "," << csvField(r.variant.caseLabel);
     for (const std::string& v : r.variant.axisValues) out << "," << csvField(v);
     const double particleSteps = static_cast<double>(r.profile.particleSteps);
-    out << "," << statusName(r.status) << ","
+    out << "," << enumName(r.status) << ","
         << (r.status == RunStatus::Guard ? std::to_string(r.guardStep) : "") << ","
         << (r.status == RunStatus::Guard ? number(r.guardTime) : "") << "," << r.particles << ","
         << r.particlesEnd << "," << r.boundaryParticles << "," << r.steps << ","

@@ -165,20 +165,6 @@ VariantResult runOnce(const SweepSpec& spec, const SweepVariant& v, const Scene&
 
 }  // namespace
 
-const char* statusName(RunStatus status) {
-  switch (status) {
-    case RunStatus::Stable:
-      return "stable";
-    case RunStatus::Guard:
-      return "guard";
-    case RunStatus::Timeout:
-      return "timeout";
-    case RunStatus::Failed:
-      return "failed";
-  }
-  return "?";
-}
-
 SweepResult runSweep(const SweepSpec& spec, const SweepRunOptions& options) {
   SweepResult result;
   result.spec = spec;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "bench/sweep/Sweep.h"
+#include "sim/EnumNames.h"
 #include "sim/StepProfile.h"
 
 namespace sph::sweep {
@@ -21,7 +22,20 @@ enum class RunStatus {
   Failed,   // another error (out of memory, a collision pass that cannot start)
 };
 
-const char* statusName(RunStatus status);
+// The status column of the sweep's CSV and report (sim/EnumNames.h).
+constexpr const char* nameOf(RunStatus status) {
+  switch (status) {
+    case RunStatus::Stable:
+      return "stable";
+    case RunStatus::Guard:
+      return "guard";
+    case RunStatus::Timeout:
+      return "timeout";
+    case RunStatus::Failed:
+      return "failed";
+  }
+  return nullptr;
+}
 
 struct VariantResult {
   SweepVariant variant;

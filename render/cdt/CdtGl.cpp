@@ -150,6 +150,7 @@ void CdtGl::upload(const Particles& p) {
   allocate(n);
   staging_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
+    // A precondition: runs never start with a scene that could pass it (requireIdsInRange).
     if (p.id[i] >= sph::cdt::kMaxId)
       throw std::invalid_argument(
           "cdt-gl: particle ids must stay below 2^24 (the texture stores them as floats)");

@@ -8,6 +8,7 @@
 
 #include "render/cdt/CdtGl.h"
 #include "render/gl/GlContext.h"
+#include "sim/CollisionDesc.h"
 #include "sim/CollisionPass.h"
 
 namespace sph::render::cdt {
@@ -20,11 +21,10 @@ class CdtGlPass final : public CollisionPass {
                      const gl::ShaderLibrary& shaders = gl::ShaderLibrary::fromEnvironment());
   ~CdtGlPass() override;
 
-  std::string name() const override { return "cdt-gl"; }
+  std::string name() const override { return enumName(CollisionMethod::CdtGl); }
   void apply(Particles& particles, const CollisionContext& context) override;
 
   const gl::GlInfo& info() const { return context_.info(); }
-  CdtGl& cdt() { return *cdt_; }
 
  private:
   gl::GlContext context_;  // first member: destroyed after the GL objects

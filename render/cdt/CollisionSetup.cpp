@@ -10,29 +10,11 @@
 #include "sim/collision/Octree.h"
 
 namespace sph::render::cdt {
-namespace {
-
-const char* methodName(CollisionMethod m) {
-  switch (m) {
-    case CollisionMethod::None:
-      return "none";
-    case CollisionMethod::Exact:
-      return "exact";
-    case CollisionMethod::Octree:
-      return "octree";
-    case CollisionMethod::CdtCpu:
-      return "cdt-cpu";
-    case CollisionMethod::CdtGl:
-      return "cdt-gl";
-  }
-  return "?";
-}
-
-}  // namespace
-
 std::unique_ptr<CollisionPass> makeCollisionPass(const Scene& scene) {
   if (!scene.collision || scene.collision->method == CollisionMethod::None) return nullptr;
   const CollisionDesc& c = *scene.collision;
+  // Checked by the loader too, but `run --end` may have moved the end time since.
+  sph::cdt::requireIdsInRange(scene);
   switch (c.method) {
     case CollisionMethod::None:
       return nullptr;
@@ -66,10 +48,9 @@ std::string describeCollision(const Scene& scene) {
   if (!scene.collision) return "none (no collision section)";
   const CollisionDesc& c = *scene.collision;
   std::ostringstream s;
-  s << methodName(c.method);
+  s << enumName(c.method);
   if (c.method == CollisionMethod::None) return s.str();
-  s << ", range " << c.range << " m, response "
-    << (c.response == CollisionResponse::Paper ? "paper" : "separate");
+  s << ", range " << c.range << " m, response " << enumName(c.response);
   if (c.method == CollisionMethod::CdtCpu || c.method == CollisionMethod::CdtGl) {
     s << ", texture " << c.resolution[0] << "x" << c.resolution[1] << " x " << c.layers << " layer"
       << (c.layers == 1 ? "" : "s") << ", r "

@@ -34,7 +34,6 @@ class ShaderLibrary {
 
   // Throws ShaderError if there is no such shader.
   ShaderSource load(const std::string& name) const;
-  const std::string& directoryPath() const { return directory_; }  // "" when embedded
 
  private:
   std::string directory_;

@@ -7,14 +7,14 @@ namespace sph::render::solids {
 std::unique_ptr<SolidRenderer> showSolids(const Scene& scene, splat::FrameRenderer& renderer,
                                           const BoundaryPositions& boundary) {
   switch (renderer.desc().solids) {
-    case RenderDesc::Solids::None:
+    case RenderSolids::None:
       return nullptr;
-    case RenderDesc::Solids::Points: {
+    case RenderSolids::Points: {
       const auto b = boundary();
       renderer.setBoundary(b[0], b[1], b[2]);
       return nullptr;
     }
-    case RenderDesc::Solids::Opaque: {
+    case RenderSolids::Opaque: {
       // The walls as thick as the boundary particles' layers (sim/Solid.h has them so).
       const float thickness = deriveParams(scene).boundaryLayers * scene.solver.spacing;
       auto solids = std::make_unique<SolidRenderer>(scene.boundaries, scene.domain, thickness);

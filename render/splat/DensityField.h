@@ -3,7 +3,7 @@
 //   gradC(x)  = sum_j m / rho_j gradW_poly6(x - x_j)           eq. (4): the splat normal, eq. (5)
 // evaluated at the particles and at arbitrary points (the splat vertices of eq. (6), the
 // reference ray-marcher). It has its own kernel radius (render.kernel_radius) and normalisation
-// (the rest lattice reads rest_density), independent of the solver's kernels.
+// (the rest lattice reads rest_density: sim/LatticeSums.h), independent of the solver's kernels.
 //
 // gradC points towards higher density, i.e. into the fluid; shading uses its opposite.
 #pragma once
@@ -29,8 +29,7 @@ class DensityField {
   float spacing() const { return spacing_; }
   float restDensity() const { return restDensity_; }  // what the rest lattice reads (kg/m^3)
 
-  // Density D at every particle (in the caller's original order) and their mean, ID.
-  const std::vector<float>& particleDensity() const { return densityOriginalOrder_; }
+  // The mean density D over the particles, ID (each particle's own D: sortedDensity()).
   float meanDensity() const { return meanDensity_; }
 
   // D(p) and gradC(p) at an arbitrary point.
@@ -45,8 +44,6 @@ class DensityField {
   // the density a particle of the top layer sees (used for the automatic surface threshold).
   float flatSurfaceFraction() const { return flatSurfaceFraction_; }
 
-  // Original index of the particle stored at sorted slot s.
-  std::uint32_t originalIndex(std::size_t s) const { return order_[s]; }
   const std::vector<float>& sortedX() const { return x_; }
   const std::vector<float>& sortedY() const { return y_; }
   const std::vector<float>& sortedZ() const { return z_; }
@@ -56,9 +53,7 @@ class DensityField {
   Kernels kernels_;
   float spacing_ = 0, restDensity_ = 0, massNorm_ = 0;  // D = massNorm * sum poly6
   NeighbourGrid grid_;
-  std::vector<std::uint32_t> order_;
   std::vector<float> x_, y_, z_, density_, inverseDensity_;
-  std::vector<float> densityOriginalOrder_;
   float meanDensity_ = 0, flatSurfaceFraction_ = 0;
 };
 

@@ -15,8 +15,7 @@ SplatParams splatParams(const RenderDesc& d) {
   p.surfaceThreshold = d.surfaceThreshold;
   p.splatSize = d.splatSize;
   p.perVertexDensity = d.perVertexDensity;
-  p.projection =
-      d.newtonProjection ? SplatParams::Projection::Newton : SplatParams::Projection::Equation6;
+  p.projection = d.projection;
   p.translucent = d.alpha < 1.0f;
   p.cullBackFacing = d.cullBackFaces;
   return p;

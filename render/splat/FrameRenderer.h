@@ -50,8 +50,6 @@ class FrameRenderer {
 
   // Builds the field of `particles` (kept for the calls below until the next prepare()).
   void prepare(const Particles& particles);
-  const DensityField& field() const { return *field_; }
-  double fieldSeconds() const { return fieldSeconds_; }
 
   // Splats of `kind` for the prepared particles, drawn offscreen and read back (colour only: the
   // pictures `render` and `run` write).
@@ -70,7 +68,6 @@ class FrameRenderer {
   void setLayers(std::vector<FrameLayer*> layers) { renderer_.setLayers(std::move(layers)); }
 
   const RenderDesc& desc() const { return desc_; }
-  SplatRenderer& renderer() { return renderer_; }
 
  private:
   SplatFrame build(SplatKind kind, const CameraDesc& camera) const;

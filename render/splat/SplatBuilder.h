@@ -16,6 +16,7 @@
 
 #include "render/splat/DensityField.h"
 #include "sim/Camera.h"
+#include "sim/RenderDesc.h"
 #include "sim/Types.h"
 
 namespace sph::render::splat {
@@ -35,7 +36,8 @@ struct SplatParams {
   // How far eq. (6) moves a vertex: `Equation6` assumes the density rises linearly from PD to ID
   // over the kernel radius (the paper); `Newton` takes one Newton step on the field itself,
   // (SD - PD) / |gradD| along the normal, clamped to the kernel radius (ours).
-  enum class Projection { Equation6, Newton } projection = Projection::Newton;
+  using Projection = SplatProjection;
+  Projection projection = Projection::Newton;
   // The splats are blended (render.alpha < 1): the back of the water shows through, so keep the
   // back-facing splats and draw far to near. Opaque (false): drop them (unless cullBackFacing is
   // false: render.cull_back_faces), draw near to far.
@@ -76,6 +78,16 @@ struct SplatFrame {
 };
 
 enum class SplatKind { Point, Quad };
+// `view --splat`, the PNG names and the cache's /Render groups (sim/EnumNames.h).
+constexpr const char* nameOf(SplatKind v) {
+  switch (v) {
+    case SplatKind::Point:
+      return "point";
+    case SplatKind::Quad:
+      return "quad";
+  }
+  return nullptr;
+}
 
 // Builds the splats of `kind` for the particles of `field`, seen through `projView`.
 SplatFrame buildSplats(const DensityField& field, const SplatParams& params, SplatKind kind,

@@ -25,9 +25,6 @@ class SplatRenderer {
   SplatRenderer(const SplatRenderer&) = delete;
   SplatRenderer& operator=(const SplatRenderer&) = delete;
 
-  int width() const { return width_; }
-  int height() const { return height_; }
-
   // Uploads and draws `frame` (its points or its quads) into the offscreen framebuffer and reads
   // it back. `seconds` of the result: upload + draw until finished (not the read-back).
   // ColourAndNormals also draws the normal/coverage target the error figures need (it costs

@@ -43,6 +43,7 @@ Settings makeSettings(const CollisionDesc& c, const std::optional<CameraDesc>& r
 }
 
 CdtCpu::CdtCpu(const Settings& settings) : settings_(settings) {
+  // Preconditions: the scene loader allows exactly these ranges (io/SceneLoader.cpp).
   if (settings.layers < 1 || settings.layers > kMaxLayers)
     throw std::invalid_argument("cdt: layers out of range");
   if (settings.texelRange < 0 || settings.texelRange > kMaxTexelRange ||
@@ -107,6 +108,7 @@ void CdtCpu::writeTexture(const float* x, const float* y, const float* z, const 
 void CdtCpu::step(Particles& p, float dt, bool integrate) {
   const std::size_t n = p.size();
   for (std::size_t i = 0; i < n; ++i) {
+    // A precondition: runs never start with a scene that could pass it (requireIdsInRange).
     if (p.id[i] >= kMaxId)
       throw std::invalid_argument(
           "cdt: particle ids must stay below 2^24 (the texture stores them as floats)");

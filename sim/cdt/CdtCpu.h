@@ -22,6 +22,8 @@
 #include "sim/CollisionDesc.h"
 #include "sim/CollisionPass.h"
 #include "sim/Particles.h"
+#include "sim/Scene.h"
+#include "sim/SceneSetup.h"
 #include "sim/cdt/CdtCamera.h"
 #include "sim/cdt/CdtConstants.h"
 
@@ -42,6 +44,19 @@ struct Settings {
 };
 Settings makeSettings(const CollisionDesc& collision,
                       const std::optional<CameraDesc>& renderCamera);
+
+// The CDT's one input limit: the texture stores particle ids as floats, exact below 2^24
+// (kMaxId). For a scene whose collision method is cdt-cpu or cdt-gl, throws InputError naming the
+// scene key to change when the scene could make more particles than that by its end time. The
+// scene loader calls it, and render::cdt::makeCollisionPass again once `run --end` is applied,
+// so a run never starts that would pass the limit.
+inline void requireIdsInRange(const Scene& scene) {
+  if (!scene.collision) return;
+  const CollisionMethod m = scene.collision->method;
+  if (m != CollisionMethod::CdtCpu && m != CollisionMethod::CdtGl) return;
+  requireIdsBelow(scene, kMaxId, std::string("the ") + enumName(m) + " collision pass",
+                  "2^24: its texture stores them as floats");
+}
 
 // Per-particle record of one step, identical in cdt-cpu and cdt-gl (the GLSL output v_Diag).
 struct Diagnostics {
@@ -109,9 +124,8 @@ class CdtCpu {
 class CdtCpuPass final : public CollisionPass {
  public:
   explicit CdtCpuPass(const Settings& settings) : cdt_(settings) {}
-  std::string name() const override { return "cdt-cpu"; }
+  std::string name() const override { return enumName(CollisionMethod::CdtCpu); }
   void apply(Particles& particles, const CollisionContext& context) override;
-  CdtCpu& cdt() { return cdt_; }
 
  private:
   CdtCpu cdt_;

@@ -47,7 +47,6 @@ class DetectorPass final : public CollisionPass {
   DetectorPass(std::unique_ptr<Detector> detector, const CollisionDesc& desc);
   std::string name() const override { return detector_->name(); }
   void apply(Particles& particles, const CollisionContext& context) override;
-  Detector& detector() { return *detector_; }
 
  private:
   std::unique_ptr<Detector> detector_;

@@ -13,7 +13,7 @@ namespace sph::collision {
 
 class ExactDetector final : public Detector {
  public:
-  std::string name() const override { return "exact"; }
+  std::string name() const override { return enumName(CollisionMethod::Exact); }
   void detect(const float* x, const float* y, const float* z, std::size_t n, float range,
               const std::uint8_t* searching, std::vector<std::uint32_t>& partner,
               std::vector<IndexPair>* pairs) override;

@@ -4,7 +4,7 @@
 
 namespace sph::collision {
 
-OctreeDetector::OctreeDetector(const Vec3& centre, float rootSize, int depth) : depth_(depth) {
+OctreeDetector::OctreeDetector(const Vec3& centre, float rootSize, int depth) {
   Node root;
   for (int k = 0; k < 3; ++k)
     root.lo[k] = centre[k] - 0.5f * rootSize, root.hi[k] = centre[k] + 0.5f * rootSize;

@@ -19,12 +19,11 @@ class OctreeDetector final : public Detector {
  public:
   // Root cube of edge `rootSize` (m) centred at `centre`, subdivided `depth` times.
   OctreeDetector(const Vec3& centre, float rootSize, int depth);
-  std::string name() const override { return "octree"; }
+  std::string name() const override { return enumName(CollisionMethod::Octree); }
   void detect(const float* x, const float* y, const float* z, std::size_t n, float range,
               const std::uint8_t* searching, std::vector<std::uint32_t>& partner,
               std::vector<IndexPair>* pairs) override;
 
-  int depth() const { return depth_; }
   std::size_t nodeCount() const { return nodes_.size(); }
   std::size_t leafCount() const { return leafCount_; }
   // Leaf holding a point (its index among the leaves), or -1 outside the root: the walk itself.
@@ -38,7 +37,6 @@ class OctreeDetector final : public Detector {
     std::int32_t firstChild = -1;  // index of 8 consecutive children, -1 for a leaf
     std::int32_t leaf = -1;        // leaf number
   };
-  int depth_;
   std::vector<Node> nodes_;
   std::size_t leafCount_ = 0;
   std::vector<std::int32_t> leafOfPoint_;

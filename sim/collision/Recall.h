@@ -1,7 +1,7 @@
 // Recall of a collision method against `exact` (DESIGN.md, "Reference and baselines"): which of
 // the true colliding pairs (closer than collision_range) a method found, per pair and per
 // particle, and how its responses pair up (the paper's failure mode 2: one-sided responses).
-// Used by tests/test_collision.cpp and bench/bench_collision.cpp.
+// Used by tests/test_collision.cpp and bench/collision/ (bench_collision).
 #pragma once
 
 #include <cstddef>

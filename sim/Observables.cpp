@@ -1,0 +1,76 @@
+#include "sim/Observables.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace sph {
+
+float surgeFront(const Particles& fluid) {
+  float front = -std::numeric_limits<float>::max();
+  for (float x : fluid.x) front = std::max(front, x);
+  return front;
+}
+
+float maxSpeed(const Particles& fluid) {
+  float v = 0;
+  for (std::size_t i = 0; i < fluid.size(); ++i) v = std::max(v, fluid.velocity(i).norm());
+  return v;
+}
+
+Vec3d momentum(const Particles& fluid, double mass) {
+  Vec3d m = Vec3d::Zero();
+  for (std::size_t i = 0; i < fluid.size(); ++i) m += mass * fluid.velocity(i).cast<double>();
+  return m;
+}
+
+double kineticEnergy(const Particles& fluid, double mass) {
+  double e = 0;
+  for (std::size_t i = 0; i < fluid.size(); ++i) e += 0.5 * mass * fluid.velocity(i).squaredNorm();
+  return e;
+}
+
+double potentialEnergy(const Particles& fluid, double mass, const Vec3& gravity, double floor) {
+  double e = 0;
+  for (std::size_t i = 0; i < fluid.size(); ++i)
+    e += mass * (-static_cast<double>(fluid.position(i).dot(gravity)) - floor);
+  return e;
+}
+
+double elasticEnergy(const Particles& fluid, const SolverParams& s, double mass, double stiffness) {
+  const double m = mass, rho0 = s.restDensity, B = stiffness;
+  double e = 0;
+  for (std::size_t i = 0; i < fluid.size(); ++i) {
+    const double rho = fluid.rho[i];
+    if (rho <= rho0 && s.clampNegativePressure) continue;  // p = 0 stores nothing
+    if (s.eos == EquationOfState::Tait) {
+      // p = B ((rho/rho0)^7 - 1): e = B ((rho^6 - rho0^6) / (6 rho0^7) + 1/rho - 1/rho0).
+      e += m * B *
+           ((std::pow(rho, 6) - std::pow(rho0, 6)) / (6 * std::pow(rho0, 7)) + 1 / rho - 1 / rho0);
+    } else {
+      // p = k (rho - rho0): e = k (ln(rho/rho0) + rho0/rho - 1).
+      e += m * B * (std::log(rho / rho0) + rho0 / rho - 1);
+    }
+  }
+  return e;
+}
+
+DensityError densityError(const Particles& fluid, double rho0) {
+  DensityError d;
+  if (fluid.empty()) return d;
+  double compression = 0, deviation = 0, sum = 0;
+  for (std::size_t i = 0; i < fluid.size(); ++i) {
+    const double c = std::max(0.0, (fluid.rho[i] - rho0) / rho0);
+    compression += c, d.maxCompression = std::max(d.maxCompression, c);
+    deviation += std::abs(fluid.rho[i] - rho0) / rho0;
+    const double rho = fluid.rho[i];
+    sum += rho, d.maxDensity = std::max(d.maxDensity, rho);
+  }
+  const double n = static_cast<double>(fluid.size());
+  d.meanCompression = compression / n;
+  d.meanDeviation = deviation / n;
+  d.meanDensity = sum / n;
+  return d;
+}
+
+}  // namespace sph

@@ -1,0 +1,50 @@
+// What the validation tests, the `sphsplat bench` sweeps (bench/sweep/SweepMetrics.cpp) and the
+// benches measure on a fluid state, one function each (STYLE.md rule 5c), so a test's threshold
+// and a sweep's column are the same number. Plain sums in double over the particles in their
+// array order; none of them changes the state.
+#pragma once
+
+#include "sim/Particles.h"
+#include "sim/SolverParams.h"
+#include "sim/Types.h"
+
+namespace sph {
+
+// Largest x of the fluid (m): the surge front of a dam break whose column stands against a wall
+// at the low-x end (Martin & Moyce 1952; tests/test_dam_break.cpp, the sweeps' surge_front).
+// -FLT_MAX for no particles.
+float surgeFront(const Particles& fluid);
+
+// Largest particle speed |v| (m/s); 0 for no particles.
+float maxSpeed(const Particles& fluid);
+
+// Total linear momentum sum m v (kg m/s), each particle of mass `mass` (kg).
+Vec3d momentum(const Particles& fluid, double mass);
+
+// Kinetic energy sum 1/2 m |v|^2 (J).
+double kineticEnergy(const Particles& fluid, double mass);
+
+// Potential energy sum m (-x . g - floor) (J) in gravity g (m/s^2), from the reference level
+// where -x . g = floor (m^2/s^2).
+double potentialEnergy(const Particles& fluid, double mass, const Vec3& gravity, double floor);
+
+// The energy the equation of state stores (J): sum m e(rho), e(rho) = integral of p / rho^2 from
+// rho0, with stiffness B (Tait, Pa) or k (linear, m^2/s^2), as DerivedParams::stiffness. Particles
+// below rest density store nothing when negative pressure is clamped. The solver scales its
+// pressure force by the gradient correction; the energy its forces conserve is this times that.
+double elasticEnergy(const Particles& fluid, const SolverParams& solver, double mass,
+                     double stiffness);
+
+// Deviation of the density from rest density rho0 (kg/m^3), as fractions of rho0.
+struct DensityError {
+  double meanCompression = 0;  // mean of max(0, (rho - rho0) / rho0): the pressure solve's error
+                               // (free-surface particles lack neighbours and read low; not counted)
+  double maxCompression = 0;   // its largest value
+  double meanDeviation = 0;    // mean of |rho - rho0| / rho0 (a fluid at rest: both signs count)
+  double meanDensity = 0;      // kg/m^3
+  double maxDensity = 0;       // kg/m^3
+};
+// All zero for no particles.
+DensityError densityError(const Particles& fluid, double restDensity);
+
+}  // namespace sph

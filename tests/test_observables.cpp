@@ -1,0 +1,85 @@
+// The observables shared by the validation tests and the sweeps (sim/Observables.h), on states
+// small enough to work out by hand, and the EOS energy against a numerical integral of p / rho^2
+// of the equation of state the solver runs.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "sim/Observables.h"
+
+namespace sph {
+namespace {
+
+Particles threeParticles() {
+  Particles p;
+  p.append(Vec3(0.1f, 0.2f, 0.3f), Vec3(1, 0, 0), 0, 1000);
+  p.append(Vec3(-0.5f, 1.0f, 0.0f), Vec3(0, -2, 0), 1, 1000);
+  p.append(Vec3(0.4f, 0.0f, 0.0f), Vec3(0, 3, 4), 2, 1000);
+  p.rho = {1010.0f, 990.0f, 1030.0f};
+  return p;
+}
+
+TEST(Observables, FrontSpeedMomentumAndKineticEnergyByHand) {
+  const Particles p = threeParticles();
+  EXPECT_EQ(surgeFront(p), 0.4f);
+  EXPECT_EQ(maxSpeed(p), 5.0f);
+  EXPECT_EQ(momentum(p, 2.0), Vec3d(2, 2, 8));
+  EXPECT_DOUBLE_EQ(kineticEnergy(p, 2.0), 1.0 + 4.0 + 25.0);
+  // Heights along g = (0, -10, 0) above the level y = -1 (-x . g = -10).
+  EXPECT_NEAR(potentialEnergy(p, 2.0, Vec3(0, -10, 0), -10.0),
+              2.0 * 10 * ((0.2 + 1) + (1.0 + 1) + (0.0 + 1)), 1e-5);
+  const Particles none;
+  EXPECT_EQ(surgeFront(none), -std::numeric_limits<float>::max());
+  EXPECT_EQ(maxSpeed(none), 0.0f);
+  EXPECT_EQ(kineticEnergy(none, 1.0), 0.0);
+}
+
+TEST(Observables, DensityErrorCountsOnlyCompressionButDeviationBothWays) {
+  const DensityError e = densityError(threeParticles(), 1000.0);
+  EXPECT_NEAR(e.meanCompression, (0.01 + 0 + 0.03) / 3, 1e-12);
+  EXPECT_NEAR(e.maxCompression, 0.03, 1e-12);
+  EXPECT_NEAR(e.meanDeviation, (0.01 + 0.01 + 0.03) / 3, 1e-12);
+  EXPECT_NEAR(e.meanDensity, 1010.0, 1e-9);
+  EXPECT_EQ(e.maxDensity, 1030.0);
+  EXPECT_EQ(densityError(Particles{}, 1000.0).meanCompression, 0.0);
+}
+
+// e(rho) = integral from rho0 to rho of p(r) / r^2 dr (per unit mass), by Simpson's rule.
+double integratedEnergy(const SolverParams& s, double B, double rho) {
+  const double rho0 = s.restDensity;
+  auto p = [&](double r) {
+    const double v =
+        s.eos == EquationOfState::Tait ? B * (std::pow(r / rho0, 7) - 1) : B * (r - rho0);
+    return s.clampNegativePressure ? std::max(v, 0.0) : v;
+  };
+  const int n = 2000;
+  const double h = (rho - rho0) / n;
+  double sum = 0;
+  for (int i = 0; i <= n; ++i) {
+    const double r = rho0 + i * h;
+    sum += p(r) / (r * r) * (i == 0 || i == n ? 1 : (i % 2 ? 4 : 2));
+  }
+  return sum * h / 3;
+}
+
+TEST(Observables, ElasticEnergyIsTheIntegralOfTheEquationOfState) {
+  for (const EquationOfState eos : {EquationOfState::Tait, EquationOfState::Linear}) {
+    for (const bool clamp : {true, false}) {
+      SolverParams s;
+      s.eos = eos;
+      s.clampNegativePressure = clamp;
+      const double B = eos == EquationOfState::Tait ? 1.2e5 : 400.0;
+      for (const float rho : {960.0f, 1000.0f, 1004.0f, 1050.0f}) {
+        Particles p;
+        p.append(Vec3::Zero(), Vec3::Zero(), 0, rho);
+        const double expected = 0.5 * integratedEnergy(s, B, rho);
+        EXPECT_NEAR(elasticEnergy(p, s, 0.5, B), expected, 1e-9 + 1e-6 * std::abs(expected))
+            << enumName(eos) << (clamp ? " clamped" : "") << ", rho " << rho;
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace sph
