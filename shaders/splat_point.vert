@@ -9,6 +9,10 @@ layout(location = 1) in vec3 a_normal;  // outward unit
 
 uniform mat4 u_projView;
 uniform vec3 u_eye;
+// Translucent water (render.alpha < 1) shows its back surface through its front one; there the eye
+// is inside the water, so the side it sees is the one whose normal points away (-n). Lit with n
+// those splats read as grazing (Fresnel 1: pure sky), the white shards on thin jets.
+uniform int u_twoSided;
 uniform vec3 u_cameraRight;
 uniform vec3 u_cameraUp;
 uniform float u_halfSide;  // m, half the side of the square
@@ -19,7 +23,9 @@ out vec3 v_normal;
 void main() {
   vec2 corner = vec2((gl_VertexID & 1) != 0 ? 1.0 : -1.0, (gl_VertexID & 2) != 0 ? 1.0 : -1.0);
   vec3 p = a_centre + u_halfSide * (corner.x * u_cameraRight + corner.y * u_cameraUp);
-  v_colour = shadeSurfaceAt(a_centre, a_normal, normalize(u_eye - a_centre));
+  vec3 toEye = normalize(u_eye - a_centre);
+  vec3 n = (u_twoSided != 0 && dot(a_normal, toEye) < 0.0) ? -a_normal : a_normal;
+  v_colour = shadeSurfaceAt(a_centre, n, toEye);
   v_normal = a_normal;
   gl_Position = u_projView * vec4(p, 1.0);
 }

@@ -9,12 +9,18 @@ layout(location = 1) in vec3 a_normal;  // outward unit
 
 uniform mat4 u_projView;
 uniform vec3 u_eye;
+// Translucent water (render.alpha < 1) shows its back surface through its front one; there the eye
+// is inside the water, so the side it sees is the one whose normal points away (-n). Lit with n
+// those splats read as grazing (Fresnel 1: pure sky), the white shards on thin jets.
+uniform int u_twoSided;
 
 out vec3 v_colour;
 out vec3 v_normal;
 
 void main() {
-  v_colour = shadeSurfaceAt(a_position, a_normal, normalize(u_eye - a_position));
+  vec3 toEye = normalize(u_eye - a_position);
+  vec3 n = (u_twoSided != 0 && dot(a_normal, toEye) < 0.0) ? -a_normal : a_normal;
+  v_colour = shadeSurfaceAt(a_position, n, toEye);
   v_normal = a_normal;
   gl_Position = u_projView * vec4(a_position, 1.0);
 }

@@ -90,7 +90,9 @@ TEST(CacheResume, ShowcasePourSceneResumesExactly) {
   // The shipped pour scene, coarser so the test stays quick; the nozzle is running at the cut.
   const std::string dir = test::makeTempDir();
   checkResumeEqualsStraightRun(dir, test::sourcePath("scenes/pour.json"),
-                               "--set solver.spacing=0.01", "0.2", "0.4");
+                               "--set solver.spacing=0.01 --set render.width=320 "
+                               "--set render.height=180",
+                               "0.2", "0.4");
 }
 
 TEST(CacheResume, RefusesAnotherScene) {

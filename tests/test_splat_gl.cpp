@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "render/gl/GlContext.h"
@@ -59,6 +60,37 @@ TEST_F(SplatGl, ShadersLightASplatExactlyAsTheLightingModel) {
       EXPECT_NEAR(img.normal[3 * centre + 1], 1.0f, 1e-5f);
     }
   }
+}
+
+TEST_F(SplatGl, TranslucentWaterShowsItsBackLitFromTheSideTheEyeSees) {
+  // Issue 12, item 15: through translucent water the eye sees the far surface from inside, the
+  // side whose normal points away. Lit with that normal a splat read as grazing (Fresnel 1: pure
+  // sky colour), the white shards on the pour's jet; lit from the side seen it matches a splat
+  // that faces the eye. Opaque water keeps the normal as it is (culling handles the back).
+  SplatRenderer r(8, 8);
+  CameraDesc top = topView();
+  top.position = Vec3(0, 1, 0), top.target = Vec3::Zero();
+  auto splat = [](float ny) {
+    SplatFrame point;
+    point.halfSize = 1.0f;
+    point.points.push_back(SplatVertex{{0, 0, 0}, {0, ny, 0}});
+    return point;
+  };
+  const std::size_t centre = 4 * 8 + 4;
+  Lighting translucent;
+  translucent.alpha = 0.5f;
+  const RenderImage facing = r.render(splat(1), SplatKind::Point, top, translucent);
+  const RenderImage away = r.render(splat(-1), SplatKind::Point, top, translucent);
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(away.rgb[3 * centre + k], facing.rgb[3 * centre + k], 1) << "channel " << k;
+  // Opaque: the away-facing splat is shaded with its own normal (grazing, the sky colour).
+  const Lighting opaque;
+  const RenderImage opaqueAway = r.render(splat(-1), SplatKind::Point, top, opaque);
+  const Vec3 grazing = shade(opaque, -Vec3::UnitY(), Vec3::UnitY());
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(opaqueAway.rgb[3 * centre + k], toSrgb8(grazing[k]), 1);
+  EXPECT_GT(std::abs(int(opaqueAway.rgb[3 * centre]) - int(facing.rgb[3 * centre])) +
+                std::abs(int(opaqueAway.rgb[3 * centre + 2]) - int(facing.rgb[3 * centre + 2])),
+            10);
 }
 
 TEST_F(SplatGl, BlockSeenFromAboveScoresAgainstTheReference) {

@@ -29,6 +29,7 @@ void setLighting(GLuint p, const Lighting& l) {
   setVec3(p, "u_zenith", l.zenith);
   setFloat(p, "u_fresnelMin", l.fresnelMin);
   setFloat(p, "u_alpha", l.alpha);
+  glProgramUniform1i(p, glGetUniformLocation(p, "u_twoSided"), l.alpha < 1.0f ? 1 : 0);
 }
 
 // Position (location 0) and normal (location 1) of SplatVertex from binding 0.
