@@ -15,6 +15,8 @@ std::function<int()> addRunCommand(CLI::App& app);
 // `info CACHE` and `export CACHE --frame N --format csv|ply` (HDF5 caches, docs/cache-format.md).
 std::function<int()> addInfoCommand(CLI::App& app);
 std::function<int()> addExportCommand(CLI::App& app);
+// `mesh CACHE --frames F --out DIR`: the renderer's water surface as PLY/OBJ meshes (docs/mesh.md).
+std::function<int()> addMeshCommand(CLI::App& app);
 // `bench SWEEP.json`: a sweep of scene variants, wall time against error (docs/benchmarks.md).
 std::function<int()> addBenchCommand(CLI::App& app);
 // `render CACHE`, `compare CACHE --frame N`, `view CACHE`: the splat renderer on cached frames.

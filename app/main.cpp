@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   commands.push_back(sph::app::addRunCommand(app));
   commands.push_back(sph::app::addInfoCommand(app));
   commands.push_back(sph::app::addExportCommand(app));
+  commands.push_back(sph::app::addMeshCommand(app));
   commands.push_back(sph::app::addBenchCommand(app));
   commands.push_back(sph::app::addRenderCommand(app));
   commands.push_back(sph::app::addCompareCommand(app));

@@ -44,6 +44,9 @@ class DensityField {
   // the density a particle of the top layer sees (used for the automatic surface threshold).
   float flatSurfaceFraction() const { return flatSurfaceFraction_; }
 
+  // The particles binned in cells of the kernel radius (sorted slots).
+  const NeighbourGrid& grid() const { return grid_; }
+
   const std::vector<float>& sortedX() const { return x_; }
   const std::vector<float>& sortedY() const { return y_; }
   const std::vector<float>& sortedZ() const { return z_; }

@@ -116,12 +116,10 @@ FrameTimings FrameRenderer::drawToScreen(SplatKind kind, const CameraDesc& camer
 }
 
 RenderImage FrameRenderer::reference(const CameraDesc& camera) {
-  const float threshold =
-      params_.surfaceThreshold > 0 ? params_.surfaceThreshold : surfaceThresholdAuto(*field_);
   Lighting opaque = lighting_;
   opaque.alpha = 1;
-  return raymarchReference(*field_, threshold * field_->meanDensity(), camera, desc_.width,
-                           desc_.height, opaque);
+  return raymarchReference(*field_, surfaceDensity(*field_, params_.surfaceThreshold), camera,
+                           desc_.width, desc_.height, opaque);
 }
 
 }  // namespace sph::render::splat

@@ -84,14 +84,17 @@ float surfaceThresholdAuto(const DensityField& field) {
   return field.meanDensity() > 0 ? SD / field.meanDensity() : 1.0f;
 }
 
+float surfaceDensity(const DensityField& field, float surfaceThreshold) {
+  const float threshold = surfaceThreshold > 0 ? surfaceThreshold : surfaceThresholdAuto(field);
+  return threshold * field.meanDensity();
+}
+
 SplatFrame buildSplats(const DensityField& field, const SplatParams& params, SplatKind kind,
                        const Mat4& projView, const Vec3& eye) {
   SplatFrame frame;
   frame.particles = field.size();
   frame.ID = field.meanDensity();
-  const float threshold =
-      params.surfaceThreshold > 0 ? params.surfaceThreshold : surfaceThresholdAuto(field);
-  frame.SD = threshold * frame.ID;
+  frame.SD = surfaceDensity(field, params.surfaceThreshold);
   frame.halfSize = params.splatSize * field.spacing();
   const float R = field.kernelRadius();
 

@@ -50,6 +50,9 @@ struct SplatParams {
 // paper leaves the choice to the user and names an automatic one as future work). Returned as a
 // fraction of the mean density ID, like render.surface_threshold.
 float surfaceThresholdAuto(const DensityField& field);
+// SD in kg/m^3, the iso-level every surface of the field is drawn at (the splats, the reference
+// ray-marcher, the mesh): `surfaceThreshold` x ID, or the automatic fraction for 0.
+float surfaceDensity(const DensityField& field, float surfaceThreshold);
 
 // Vertex layout shared with shaders/splat_*.vert (location 0 position, 1 normal).
 struct SplatVertex {
