@@ -290,7 +290,29 @@ OutputDesc readOutput(JsonReader r) {
   return o;
 }
 
-CameraDesc readCamera(JsonReader r) {
+// camera.path[i]: one key frame; `previous` is the time of the key before (or none).
+CameraKey readCameraKey(JsonReader r, const CameraDesc& camera, std::optional<double> previous) {
+  CameraKey k;
+  k.time = r.number("time", std::nullopt, "a number >= 0 (s)", nonNegative);
+  if (previous && !(k.time > *previous)) {
+    r.fail("time", "expected a time after the previous key's (" + readableNumber(*previous) +
+                       " s); key frames are in increasing time order");
+  }
+  k.position = r.vec3("position", camera.position, "3 numbers (m)");
+  k.target = r.vec3("target", camera.target, "3 numbers (m)");
+  k.fovYDegrees = static_cast<float>(r.number("fov", camera.fovYDegrees,
+                                              "a number in (0, 180) (degrees, vertical)",
+                                              [](double v) { return v > 0 && v < 180; }));
+  if ((k.position - k.target).norm() == 0)
+    r.fail("target", "expected a target different from position");
+  if (camera.up.cross(k.target - k.position).norm() == 0)
+    r.fail("target", "expected a view direction not parallel to the camera's up");
+  r.finish();
+  return k;
+}
+
+// `path` non-null: the top-level camera, which may carry key frames (camera.path).
+CameraDesc readCamera(JsonReader r, CameraPath* path = nullptr) {
   CameraDesc c;
   c.position = r.vec3("position", std::nullopt, "3 numbers (m)");
   c.target = r.vec3("target", std::nullopt, "3 numbers (m)");
@@ -305,6 +327,13 @@ CameraDesc readCamera(JsonReader r) {
   if (c.up.norm() == 0 || c.up.cross(c.target - c.position).norm() == 0)
     r.fail("up", "expected a vector not parallel to the view direction");
   if (c.far <= c.near) r.fail("far", "expected far > near");
+  if (path) {
+    std::optional<double> previous;
+    for (JsonReader& k : r.objectArray("path")) {
+      path->push_back(readCameraKey(k, c, previous));
+      previous = path->back().time;
+    }
+  }
   r.finish();
   return c;
 }
@@ -396,6 +425,78 @@ CollisionDesc readCollision(JsonReader r, const SolverParams& solver) {
   return c;
 }
 
+// rain.spotlight (seed 002 section 3.2).
+SpotlightDesc readSpotlight(JsonReader r) {
+  SpotlightDesc l;
+  l.position = r.vec3("position", std::nullopt, "3 numbers (m): the cone's apex");
+  l.direction = r.vec3("direction", l.direction, "3 numbers, not all zero");
+  if (l.direction.norm() == 0) r.fail("direction", "expected a non-zero vector, got [0, 0, 0]");
+  l.direction.normalize();
+  l.height = static_cast<float>(
+      r.number("height", l.height, "a positive number (m): the cone's height", positive));
+  l.baseRadius = static_cast<float>(r.number(
+      "base_radius", l.baseRadius, "a positive number (m): the cone's base radius", positive));
+  l.colour = r.vec3("colour", l.colour, "3 numbers in [0, 1] (linear RGB)");
+  if ((l.colour.array() < 0).any() || (l.colour.array() > 1).any())
+    r.fail("colour", "expected 3 numbers in [0, 1], got " + formatVec(l.colour));
+  l.intensity = static_cast<float>(r.number("intensity", l.intensity, "a number in [0, 100]",
+                                            [](double v) { return v >= 0 && v <= 100; }));
+  l.softEdge = static_cast<float>(
+      r.number("soft_edge", 0.0, "a number in [0, 1) (fraction of the cone radius; 0 = hard)",
+               [](double v) { return v >= 0 && v < 1; }));
+  l.falloff = r.boolean("falloff", false);
+  r.finish();
+  return l;
+}
+
+// The `rain` section (docs/scene-format.md, "rain"; docs/rain.md).
+RainDesc readRain(JsonReader r) {
+  RainDesc d;
+  d.count = static_cast<std::size_t>(r.number("count", static_cast<double>(d.count),
+                                              "an integer in [1, 1e8] (drops)",
+                                              [](double v) { return integerIn(v, 1, 1e8); }));
+  d.near = static_cast<float>(
+      r.number("near", d.near, "a positive number (m, the rain camera's near distance)", positive));
+  d.far = static_cast<float>(r.number("far", d.far, "a number > near of at most 1e4 (m)",
+                                      [](double v) { return v > 0 && v <= 1e4; }));
+  if (d.far <= d.near) {
+    r.fail("far",
+           "expected far > near (" + readableNumber(d.near) + " m), got " + readableNumber(d.far));
+  }
+  d.fallSpeed = static_cast<float>(r.number("fall_speed", d.fallSpeed,
+                                            "a number in (0, 100] (m/s, downwards)",
+                                            [](double v) { return v > 0 && v <= 100; }));
+  d.wind = r.vec3("wind", d.wind, "3 numbers (m/s)");
+  if (d.wind.norm() > 100) r.fail("wind", "expected a wind of at most 100 m/s");
+  d.exposure = static_cast<float>(r.number("exposure", d.exposure,
+                                           "a number in (0, 1] (s, the streak's exposure time)",
+                                           [](double v) { return v > 0 && v <= 1; }));
+  d.dropWidth = static_cast<float>(r.number("drop_width", d.dropWidth,
+                                            "a number in (0, 0.1] (m, streak width)",
+                                            [](double v) { return v > 0 && v <= 0.1; }));
+  d.seed =
+      static_cast<std::uint64_t>(r.number("seed", 1.0, "an integer in [0, 2^32)",
+                                          [](double v) { return integerIn(v, 0, 4294967295.0); }));
+  d.spawn = r.choice("spawn", std::optional(RainSpawn::View));
+  d.sampling = r.choice("sampling", std::optional(RainSampling::Uniform));
+  if (auto g = r.optionalObject("region")) {
+    d.region.lo = g->vec3("min", std::nullopt, "3 numbers (m)");
+    d.region.hi = g->vec3("max", std::nullopt, "3 numbers (m)");
+    requireOrdered(*g, d.region.lo, d.region.hi);
+    g->finish();
+  }
+  if (d.spawn == RainSpawn::Region && d.region.empty())
+    r.fail("region", "missing; spawn \"region\" needs its box {\"min\": [...], \"max\": [...]}");
+  if (d.spawn != RainSpawn::Region && r.has("region"))
+    r.fail("region", "only used with \"spawn\": \"region\"");
+  d.streakLayers = static_cast<int>(r.number("streak_images", d.streakLayers,
+                                             "an integer in [1, 64] (array texture layers)",
+                                             [](double v) { return integerIn(v, 1, 64); }));
+  if (auto l = r.optionalObject("spotlight")) d.spotlight = readSpotlight(*l);
+  r.finish();
+  return d;
+}
+
 // Geometric checks that need the whole scene.
 void validate(const Scene& s, const std::string& file) {
   auto fail = [&](const std::string& path, const std::string& msg) {
@@ -474,11 +575,17 @@ Scene parseScene(const std::string& text, const std::string& path,
   for (JsonReader& e : root.objectArray("emitters"))
     scene.emitters.push_back(readEmitter(e, scene.solver.spacing));
   if (auto o = root.optionalObject("output")) scene.output = readOutput(*o);
-  if (auto c = root.optionalObject("camera")) scene.camera = readCamera(*c);
+  if (auto c = root.optionalObject("camera")) scene.camera = readCamera(*c, &scene.cameraPath);
   if (auto rd = root.optionalObject("render")) {
     scene.render = readRender(*rd);
     if (!scene.camera)
       root.fail("render", "needs a \"camera\" section at the top level too (where to look from)");
+  }
+  if (auto rn = root.optionalObject("rain")) {
+    scene.rain = readRain(*rn);
+    if (!scene.camera)
+      root.fail("rain",
+                "needs a \"camera\" section at the top level too (rain falls where it looks)");
   }
   if (auto c = root.optionalObject("collision")) {
     scene.collision = readCollision(*c, scene.solver);

@@ -1,5 +1,6 @@
 #include "sim/Camera.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace sph {
@@ -58,6 +59,39 @@ CameraFrame cameraFrame(const CameraDesc& camera, float aspect) {
   f.right = forward.cross(camera.up).normalized();
   f.up = f.right.cross(forward);
   return f;
+}
+
+CameraDesc cameraAt(const CameraDesc& base, const CameraPath& path, double t) {
+  CameraDesc c = base;
+  if (path.empty()) return c;
+  auto apply = [&](const CameraKey& k) {
+    c.position = k.position, c.target = k.target, c.fovYDegrees = k.fovYDegrees;
+    return c;
+  };
+  if (t <= path.front().time) return apply(path.front());
+  if (t >= path.back().time) return apply(path.back());
+  std::size_t i = 1;
+  while (path[i].time < t) ++i;
+  const CameraKey &a = path[i - 1], &b = path[i];
+  const double s = (t - a.time) / (b.time - a.time);
+  const Vec3d eye = (1 - s) * a.position.cast<double>() + s * b.position.cast<double>();
+  const Vec3d da = (a.target - a.position).cast<double>(),
+              db = (b.target - b.position).cast<double>();
+  const double la = da.norm(), lb = db.norm();
+  const Vec3d ua = da / la, ub = db / lb;
+  const double angle = std::acos(std::clamp(ua.dot(ub), -1.0, 1.0));
+  Vec3d dir;
+  if (angle < 1e-9) {
+    dir = ua;
+  } else if (M_PI - angle < 1e-6) {  // opposite directions: no unique turn, jump halfway
+    dir = s < 0.5 ? ua : ub;
+  } else {
+    dir = (std::sin((1 - s) * angle) * ua + std::sin(s * angle) * ub) / std::sin(angle);
+  }
+  c.position = eye.cast<float>();
+  c.target = (eye + ((1 - s) * la + s * lb) * dir.normalized()).cast<float>();
+  c.fovYDegrees = static_cast<float>((1 - s) * a.fovYDegrees + s * b.fovYDegrees);
+  return c;
 }
 
 Frustum::Frustum(const Mat4& m) {

@@ -34,6 +34,13 @@ struct CameraFrame {
 };
 CameraFrame cameraFrame(const CameraDesc& camera, float aspect);
 
+// The camera at time t (s) along a key-frame path (scene key camera.path): `base` (its up, near,
+// far, and the pose when the path is empty) with the pose and fov of the path. Before the first
+// key the first holds, after the last the last. Between keys: the eye moves linearly, the view
+// direction turns at a constant rate about the axis between the two (slerp) while the distance
+// to the target and the fov change linearly, so a two-key pan turns evenly.
+CameraDesc cameraAt(const CameraDesc& base, const CameraPath& path, double t);
+
 // The six planes of the frustum of a projection * view matrix (Gribb & Hartmann 2001): a point p
 // is inside when a.p + d >= 0 for all of them, with (a, d) normalised so that value is a distance
 // in metres. Order: left, right, bottom, top, near, far.

@@ -2,6 +2,8 @@
 // camera). Plain data; the matrices are built where they are used (sim/cdt/CdtCamera.h).
 #pragma once
 
+#include <vector>
+
 #include "sim/Types.h"
 
 namespace sph {
@@ -13,5 +15,14 @@ struct CameraDesc {
   float fovYDegrees = 45;         // vertical field of view
   float near = 0.01f, far = 100;  // m
 };
+
+// One key frame of a camera path (scene key camera.path[]): the pose and lens at `time`
+// (simulated seconds). sim/Camera.h interpolates between them (cameraAt).
+struct CameraKey {
+  double time = 0;                                       // s
+  Vec3 position = Vec3(0, 0, 1), target = Vec3::Zero();  // m
+  float fovYDegrees = 45;
+};
+using CameraPath = std::vector<CameraKey>;  // strictly increasing times
 
 }  // namespace sph

@@ -9,6 +9,7 @@
 
 #include "sim/CameraDesc.h"
 #include "sim/CollisionDesc.h"
+#include "sim/RainDesc.h"
 #include "sim/RenderDesc.h"
 #include "sim/SolverParams.h"
 #include "sim/Types.h"
@@ -77,8 +78,10 @@ struct Scene {
   std::vector<EmitterDesc> emitters;
   OutputDesc output;
   std::optional<CameraDesc> camera;
+  CameraPath cameraPath;  // camera.path: key frames the camera follows over time (empty = still)
   std::optional<CollisionDesc> collision;  // the `collision` section; none = no collision pass
   std::optional<RenderDesc> render;        // draw frames while simulating
+  std::optional<RainDesc> rain;            // view-dependent rain (seed 002); none = no rain
 };
 
 }  // namespace sph

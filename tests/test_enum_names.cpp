@@ -10,6 +10,7 @@
 #include "render/splat/SplatBuilder.h"
 #include "sim/CollisionDesc.h"
 #include "sim/EnumNames.h"
+#include "sim/RainDesc.h"
 #include "sim/RenderDesc.h"
 #include "sim/SolverParams.h"
 
@@ -21,7 +22,8 @@ class EnumNamesTest : public ::testing::Test {};
 using AllChoices =
     ::testing::Types<CollisionMethod, CollisionResponse, CdtCameraMode, CdtPositionSource,
                      EquationOfState, DensityKernel, SolverModel, Walls, SplatProjection,
-                     RenderDesc::Splat, render::splat::SplatKind, io::Quality, sweep::RunStatus>;
+                     RenderDesc::Splat, render::splat::SplatKind, io::Quality, sweep::RunStatus,
+                     RainSpawn, RainSampling>;
 TYPED_TEST_SUITE(EnumNamesTest, AllChoices);
 
 TYPED_TEST(EnumNamesTest, EveryEnumeratorHasAUniqueNameThatParsesBack) {

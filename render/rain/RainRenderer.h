@@ -1,0 +1,44 @@
+// Draws the drops of a sim/rain/RainSystem as camera-facing streaks (seed 002 sections 3.2-3.3):
+// each drop a quad from where it was one exposure ago to where it is, so it lies along the drop's
+// projected velocity, textured by one layer (picked at random per drop) of an array texture of
+// streak images (render/rain/StreakImages.h), coloured by the spotlight of eq. (10)-(13) and
+// alpha-blended into the splat frame after the water (render/splat/FrameLayer.h): depth tested
+// against the water and solids, not written.
+#pragma once
+
+#include "render/gl/GlHandle.h"
+#include "render/gl/ShaderLibrary.h"
+#include "render/splat/FrameLayer.h"
+#include "sim/RainDesc.h"
+#include "sim/rain/RainSystem.h"
+
+namespace sph::render::rain {
+
+class RainRenderer final : public splat::FrameLayer {
+ public:
+  // Builds the program and the streak array texture. Needs a current context.
+  explicit RainRenderer(const RainDesc& desc,
+                        const gl::ShaderLibrary& shaders = gl::ShaderLibrary::fromEnvironment());
+  Order order() const override { return Order::AfterSplats; }
+  // Uploads the drops to draw (their positions, streak layers and the common velocity).
+  void setDrops(const sph::rain::RainSystem& rain);
+  void draw(const CameraFrame& camera, const splat::Lighting& lighting) override;
+
+  std::size_t drops() const { return count_; }
+
+ private:
+  RainDesc desc_;
+  gl::Program program_;
+  gl::Texture streaks_;
+  gl::Buffer drops_;
+  gl::VertexArray vao_;
+  std::size_t count_ = 0;
+  Vec3 velocity_ = Vec3::Zero();
+};
+
+// The tint of a drop outside the spotlight's cone (or with no spotlight): the paper takes the
+// background colour (eq. (13)) on its night sky; ours is a bright sky, so a drop is drawn as
+// this fraction of it, darker than what it passes in front of.
+constexpr float kUnlitTint = 0.55f;
+
+}  // namespace sph::render::rain

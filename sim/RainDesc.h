@@ -1,0 +1,77 @@
+// The scene's `rain` section (docs/scene-format.md, "rain"; docs/rain.md): view-dependent rain of
+// seed 002 (Im & Sung 2021) and the two baselines it compares against. Plain data; the rain
+// itself lives in sim/rain/ (no GL) and is drawn by render/rain/.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+
+#include "sim/EnumNames.h"
+#include "sim/Types.h"
+
+namespace sph {
+
+// Where drops are placed (scene key rain.spawn; DESIGN.md, "View-dependent rain").
+enum class RainSpawn {
+  View,    // the paper: the camera's frustum near..far intersected with the sphere of eq. (5)
+  Box,     // baseline (Tariq 2007): a box of the rain space's volume that follows the camera
+  Region,  // baseline (Creus & Patow 2013): a fixed world box, rain.region
+};
+constexpr const char* nameOf(RainSpawn v) {
+  switch (v) {
+    case RainSpawn::View:
+      return "view";
+    case RainSpawn::Box:
+      return "box";
+    case RainSpawn::Region:
+      return "region";
+  }
+  return nullptr;
+}
+
+// How a point in the sphere of eq. (5) is drawn (scene key rain.sampling).
+enum class RainSampling {
+  Uniform,  // uniform in the ball's volume: radius r cbrt(u), direction from eq. (6) (ours)
+  Paper,    // eq. (7) literally: a separate random radius in (-r, r) for each axis
+};
+constexpr const char* nameOf(RainSampling v) {
+  switch (v) {
+    case RainSampling::Uniform:
+      return "uniform";
+    case RainSampling::Paper:
+      return "paper";
+  }
+  return nullptr;
+}
+
+// The cone spotlight of seed 002 section 3.2 (eq. (10)-(13)): apex at `position`, axis
+// `direction`, cone height `height` and base radius `baseRadius` (its half-angle is
+// atan(baseRadius / height)).
+struct SpotlightDesc {
+  Vec3 position = Vec3(0, 3, 0);    // m, the apex
+  Vec3 direction = -Vec3::UnitY();  // unit, D of eq. (10)
+  float height = 3;                 // m, h_spotlight of eq. (11)
+  float baseRadius = 1;             // m, base radius of eq. (11)
+  Vec3 colour = Vec3(1, 1, 1);      // linear RGB
+  float intensity = 1;              // eq. (13)
+  float softEdge = 0;    // fraction of the cone radius blended at its rim (0 = the paper)
+  bool falloff = false;  // 1 / (1 + (d / height)^2) distance falloff (false = the paper)
+};
+
+struct RainDesc {
+  std::size_t count = 10000;   // drops: the constant budget
+  float near = 0.1f, far = 5;  // m, the rain camera's own near and far (eq. (1)-(2))
+  float fallSpeed = 6;         // m/s, along -y (terminal speed of a ~1 mm drop is ~4-6 m/s)
+  Vec3 wind = Vec3::Zero();    // m/s, added to the fall velocity
+  float exposure = 1.0f / 60;  // s: a streak is the drop's path over this time
+  float dropWidth = 0.002f;    // m, streak width
+  std::uint64_t seed = 1;      // drops are a pure function of (seed, drop, respawn count)
+  RainSpawn spawn = RainSpawn::View;
+  RainSampling sampling = RainSampling::Uniform;
+  Aabb region;           // m, the fixed rain box of spawn "region"
+  int streakLayers = 8;  // procedurally generated streak images in the array texture
+  std::optional<SpotlightDesc> spotlight;
+};
+
+}  // namespace sph

@@ -1,0 +1,56 @@
+#include "sim/rain/RainSpace.h"
+
+#include <cmath>
+
+#include "sim/rain/RainRandom.h"
+
+namespace sph::rain {
+
+RainSpace RainSpace::build(const CameraDesc& camera, float aspect, float near, float far) {
+  RainSpace s;
+  s.eye = camera.position;
+  s.forward = (camera.target - camera.position).normalized();  // V of eq. (2)
+  s.right = s.forward.cross(camera.up).normalized();           // RIGHT = V x UP (normalised)
+  s.up = s.right.cross(s.forward);
+  s.near = near, s.far = far;
+  // eq. (1)
+  const float t = std::tan(0.5f * camera.fovYDegrees * static_cast<float>(M_PI) / 180.0f);
+  const float hFar = 2 * t * far, wFar = hFar * aspect;
+  const float hNear = 2 * t * near, wNear = hNear * aspect;
+  // eq. (2)
+  const Vec3 cFar = s.eye + s.forward * far, cNear = s.eye + s.forward * near;
+  // eq. (3)
+  const Vec3 uf = s.up * (0.5f * hFar), rf = s.right * (0.5f * wFar);
+  const Vec3 un = s.up * (0.5f * hNear), rn = s.right * (0.5f * wNear);
+  s.fbr = cFar - uf + rf, s.fbl = cFar - uf - rf, s.ftr = cFar + uf + rf, s.ftl = cFar + uf - rf;
+  s.nbr = cNear - un + rn, s.nbl = cNear - un - rn, s.ntr = cNear + un + rn;
+  s.ntl = cNear + un - rn;
+  // eq. (5)
+  s.centre = 0.5f * (cFar + cNear);
+  s.radius = 0.5f * (cFar - cNear).norm();
+  // eq. (4), each normal turned to face the sphere centre (which is inside the frustum)
+  auto inward = [&](Vec3 n, const Vec3& onPlane) {
+    n.normalize();
+    return n.dot(s.centre - onPlane) >= 0 ? n : Vec3(-n);
+  };
+  s.R = inward((s.nbr - s.fbr).cross(s.nbr - s.ntr), s.nbr);
+  s.L = inward((s.nbl - s.fbl).cross(s.nbl - s.ntl), s.nbl);
+  s.B = inward((s.nbl - s.nbr).cross(s.nbl - s.fbl), s.nbl);
+  s.T = inward((s.ntl - s.ftl).cross(s.ntl - s.ntr), s.ntl);
+  return s;
+}
+
+double RainSpace::volume() const {
+  constexpr int kSamples = 1 << 18;
+  int inside = 0;
+  for (int i = 0; i < kSamples; ++i) {
+    const Vec3 q(2 * unitRandom(0x5eed, i, 0, 0) - 1, 2 * unitRandom(0x5eed, i, 0, 1) - 1,
+                 2 * unitRandom(0x5eed, i, 0, 2) - 1);
+    if (q.squaredNorm() > 1) continue;
+    if (insideSides(centre + radius * q)) ++inside;
+  }
+  const double cube = 8.0 * std::pow(static_cast<double>(radius), 3.0);
+  return cube * inside / kSamples;
+}
+
+}  // namespace sph::rain

@@ -1,0 +1,41 @@
+// The rain space of seed 002 (Im & Sung 2021, section 3.1): the rain camera's frustum between its
+// own near and far distances (eq. (1)-(3)), its four side planes (eq. (4)), the sphere centred
+// halfway between the near and far plane centres with radius half their distance (eq. (5)), and
+// the side-plane test of eq. (8)-(9). The rain space is frustum intersected with sphere; the
+// sphere touches the near and far planes, so the four side planes are the whole frustum test.
+#pragma once
+
+#include <array>
+
+#include "sim/CameraDesc.h"
+#include "sim/Types.h"
+
+namespace sph::rain {
+
+struct RainSpace {
+  Vec3 eye, forward, right, up;  // camera basis (up perpendicular to forward)
+  float near = 0, far = 0;       // m
+  // eq. (3), in the paper's names
+  Vec3 fbr, fbl, ftr, ftl, nbr, nbl, ntr, ntl;
+  // eq. (4): unit normals of the right, left, bottom and top planes, oriented to point into the
+  // frustum (the paper leaves the sign to the order of its cross products).
+  Vec3 R, L, B, T;
+  Vec3 centre;       // eq. (5)
+  float radius = 0;  // eq. (5)
+
+  // The rain camera: `camera`'s pose and fov, the viewport's aspect (width / height), the rain's
+  // own near and far distances.
+  static RainSpace build(const CameraDesc& camera, float aspect, float near, float far);
+
+  // eq. (8)-(9): p - nbl against B and L, p - ntr against R and T; all >= 0 inside.
+  bool insideSides(const Vec3& p) const {
+    const Vec3 toNbl = p - nbl, toNtr = p - ntr;
+    return toNtr.dot(R) >= 0 && toNbl.dot(L) >= 0 && toNtr.dot(T) >= 0 && toNbl.dot(B) >= 0;
+  }
+  bool insideSphere(const Vec3& p) const { return (p - centre).squaredNorm() <= radius * radius; }
+  bool contains(const Vec3& p) const { return insideSphere(p) && insideSides(p); }
+  // Volume (m^3) of frustum intersected with sphere, by a fixed quasi-random estimate (0.3%).
+  double volume() const;
+};
+
+}  // namespace sph::rain

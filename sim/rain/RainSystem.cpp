@@ -1,0 +1,158 @@
+#include "sim/rain/RainSystem.h"
+
+#include <cmath>
+
+#include "sim/rain/RainRandom.h"
+
+namespace sph::rain {
+namespace {
+
+// Side-plane rejections before a drop gives up and takes the sphere's centre (inside the
+// frustum). At fov 10 degrees and aspect 1 the acceptance is ~1%: 512 tries miss with 0.6%.
+constexpr int kMaxTries = 512;
+// Draws per try in the counter space (see unitRandom's `draw`).
+constexpr std::uint64_t kDrawsPerTry = 8;
+
+}  // namespace
+
+WaterCells::WaterCells(const std::vector<Vec3>& fluid, float cell) : cell_(cell) {
+  cells_.reserve(fluid.size());
+  for (const Vec3& p : fluid) cells_.insert(key(p));
+}
+
+std::uint64_t WaterCells::key(const Vec3& p) const {
+  auto c = [&](float v) {
+    return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v / cell_)) +
+                                      (1 << 20)) &
+           0x1fffff;
+  };
+  return c(p.x()) | c(p.y()) << 21 | c(p.z()) << 42;
+}
+
+bool WaterCells::contains(const Vec3& p) const {
+  return cells_.count(key(p)) != 0;
+}
+
+Vec3 sampleBall(RainSampling sampling, const float u[5]) {
+  const float theta = 2 * static_cast<float>(M_PI) * u[0];  // eq. (6)
+  const float phi = std::acos(2 * u[1] - 1);                // eq. (6)
+  const Vec3 dir(std::sin(phi) * std::cos(theta), std::sin(phi) * std::sin(theta), std::cos(phi));
+  if (sampling == RainSampling::Uniform) return std::cbrt(u[2]) * dir;
+  // eq. (7): random seed(-r, r) drawn separately for x, y and z.
+  return Vec3((2 * u[2] - 1) * dir.x(), (2 * u[3] - 1) * dir.y(), (2 * u[4] - 1) * dir.z());
+}
+
+RainSystem::RainSystem(const RainDesc& desc, float aspect) : desc_(desc), aspect_(aspect) {}
+
+void RainSystem::setCamera(const CameraDesc& camera) {
+  const float oldFov = space_.radius > 0 ? lastFov_ : -1;
+  space_ = RainSpace::build(camera, aspect_, desc_.near, desc_.far);
+  if (desc_.spawn == RainSpawn::Box && camera.fovYDegrees != oldFov)
+    boxEdge_ = static_cast<float>(std::cbrt(space_.volume()));
+  lastFov_ = camera.fovYDegrees;
+}
+
+bool RainSystem::inSpawnVolume(const Vec3& p) const {
+  switch (desc_.spawn) {
+    case RainSpawn::View:
+      return space_.contains(p);
+    case RainSpawn::Box:
+      return ((p - space_.eye).cwiseAbs().array() <= 0.5f * boxEdge_).all();
+    case RainSpawn::Region:
+      return desc_.region.contains(p);
+  }
+  return false;
+}
+
+bool insideSolid(const Vec3& p, const std::vector<Solid>& solids) {
+  for (const Solid& s : solids) {
+    if (s.distance(p) < 0) return true;
+  }
+  return false;
+}
+
+bool RainSystem::blocked(const Vec3& p, const RainObstacles& obstacles) {
+  return (obstacles.solids && insideSolid(p, *obstacles.solids)) ||
+         (obstacles.water && obstacles.water->contains(p));
+}
+
+std::uint64_t RainSystem::spawn(std::size_t i, const RainObstacles& obstacles) {
+  const std::uint64_t g = generations_[i];
+  auto u = [&](std::uint64_t draw) { return unitRandom(desc_.seed, i, g, draw); };
+  layers_[i] = static_cast<std::uint8_t>(std::min<int>(
+      static_cast<int>(u(0) * static_cast<float>(desc_.streakLayers)), desc_.streakLayers - 1));
+  const bool view = desc_.spawn == RainSpawn::View;
+  const Vec3 lo = desc_.spawn == RainSpawn::Box ? Vec3(space_.eye - Vec3::Constant(0.5f * boxEdge_))
+                                                : desc_.region.lo;
+  const Vec3 size = desc_.spawn == RainSpawn::Box ? Vec3::Constant(boxEdge_)
+                                                  : Vec3(desc_.region.hi - desc_.region.lo);
+  std::uint64_t rejected = 0;
+  for (int t = 0; t < kMaxTries; ++t) {
+    const std::uint64_t d = 1 + static_cast<std::uint64_t>(t) * kDrawsPerTry;
+    const float draws[5] = {u(d), u(d + 1), u(d + 2), u(d + 3), u(d + 4)};
+    Vec3 p;
+    if (view) {
+      p = space_.centre + space_.radius * sampleBall(desc_.sampling, draws);
+      if (!space_.insideSides(p)) {  // eq. (8)-(9)
+        ++rejected;
+        continue;
+      }
+    } else {
+      p = lo + Vec3(draws[0], draws[1], draws[2]).cwiseProduct(size);
+    }
+    if (blocked(p, obstacles)) continue;
+    positions_[i] = p;
+    return rejected;
+  }
+  // Nowhere free found (the space is nearly all solid or unlucky): park the drop at the
+  // space's centre, where the next update tries again.
+  positions_[i] = view ? space_.centre : Vec3(lo + 0.5f * size);
+  return rejected;
+}
+
+void RainSystem::reset(const CameraDesc& camera, const RainObstacles& obstacles) {
+  setCamera(camera);
+  positions_.assign(desc_.count, Vec3::Zero());
+  generations_.assign(desc_.count, 0);
+  layers_.assign(desc_.count, 0);
+  counters_ = {};
+  std::uint64_t rejected = 0;
+  const auto n = static_cast<std::ptrdiff_t>(desc_.count);
+#pragma omp parallel for reduction(+ : rejected) schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) rejected += spawn(static_cast<std::size_t>(i), obstacles);
+  counters_.rejected += rejected;
+  counters_.accepted += desc_.count;
+}
+
+void RainSystem::update(const CameraDesc& camera, float dt, const RainObstacles& obstacles) {
+  if (positions_.empty()) return reset(camera, obstacles);
+  setCamera(camera);
+  const Vec3 step = velocity() * dt;
+  std::uint64_t left = 0, solid = 0, water = 0, rejected = 0;
+  const auto n = static_cast<std::ptrdiff_t>(positions_.size());
+#pragma omp parallel for reduction(+ : left, solid, water, rejected) schedule(static)
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    const Vec3 p = positions_[i] + step;
+    positions_[i] = p;
+    bool respawn = true;
+    if (!inSpawnVolume(p)) {
+      ++left;
+    } else if (obstacles.solids && insideSolid(p, *obstacles.solids)) {
+      ++solid;
+    } else if (obstacles.water && obstacles.water->contains(p)) {
+      ++water;
+    } else {
+      respawn = false;
+    }
+    if (respawn) {
+      ++generations_[i];
+      rejected += spawn(i, obstacles);
+    }
+  }
+  counters_.leftSpace += left, counters_.hitSolid += solid, counters_.hitWater += water;
+  counters_.rejected += rejected;
+  counters_.accepted += left + solid + water;
+}
+
+}  // namespace sph::rain

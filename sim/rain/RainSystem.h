@@ -1,0 +1,89 @@
+// View-dependent rain (seed 002, Im & Sung 2021; docs/rain.md): a constant budget of drops that
+// fall with the wind and are respawned, the moment they leave the rain space or hit a solid or the
+// water, at a random point of the current rain space. Three spawn models (RainDesc::spawn): the
+// paper's view space and the two baselines it compares against. No GL: render/rain/ draws it.
+#pragma once
+
+#include <cstdint>
+#include <unordered_set>
+#include <vector>
+
+#include "sim/RainDesc.h"
+#include "sim/Solid.h"
+#include "sim/rain/RainSpace.h"
+
+namespace sph::rain {
+
+// The cells (edge `cell` m) that hold at least one fluid particle: the water a drop stops in.
+class WaterCells {
+ public:
+  WaterCells(const std::vector<Vec3>& fluid, float cell);
+  bool contains(const Vec3& p) const;
+
+ private:
+  std::uint64_t key(const Vec3& p) const;
+  float cell_;
+  std::unordered_set<std::uint64_t> cells_;
+};
+
+// What stops a drop besides leaving the rain space.
+struct RainObstacles {
+  const std::vector<Solid>* solids = nullptr;
+  const WaterCells* water = nullptr;
+};
+
+// A point in the ball of radius 1 about the origin from three uniform numbers and a fourth set
+// for the paper's per-axis radii (eq. (6)-(7)); u = {u0, u1, u2, u3, u4}.
+Vec3 sampleBall(RainSampling sampling, const float u[5]);
+
+bool insideSolid(const Vec3& p, const std::vector<Solid>& solids);
+
+struct RainCounters {
+  std::uint64_t leftSpace = 0, hitSolid = 0, hitWater = 0;  // respawns by cause, cumulative
+  std::uint64_t rejected = 0;  // sphere samples the side planes refused (eq. (8)-(9))
+  std::uint64_t accepted = 0;  // spawns
+};
+
+class RainSystem {
+ public:
+  // `aspect`: the viewport's width / height (the rain camera's frustum).
+  RainSystem(const RainDesc& desc, float aspect);
+
+  // Places every drop at random in the spawn volume of `camera` (the first frame).
+  void reset(const CameraDesc& camera, const RainObstacles& obstacles = {});
+  // Moves the drops by dt (s) and respawns those that left the spawn volume of `camera` (which
+  // may have moved since the last call) or hit an obstacle.
+  void update(const CameraDesc& camera, float dt, const RainObstacles& obstacles = {});
+
+  const RainDesc& desc() const { return desc_; }
+  const RainSpace& space() const { return space_; }
+  std::size_t size() const { return positions_.size(); }
+  const std::vector<Vec3>& positions() const { return positions_; }
+  // Per drop: which streak image (array texture layer) it shows.
+  const std::vector<std::uint8_t>& layers() const { return layers_; }
+  Vec3 velocity() const { return desc_.wind + Vec3(0, -desc_.fallSpeed, 0); }
+  const RainCounters& counters() const { return counters_; }
+  // Whether p is where this spawn model keeps drops (rain space, camera box or region).
+  bool inSpawnVolume(const Vec3& p) const;
+  // Edge (m) of the camera-following cube of spawn "box": the rain space's volume.
+  float boxEdge() const { return boxEdge_; }
+
+ private:
+  void setCamera(const CameraDesc& camera);
+  // Draws drop i's position for its current generation, outside the obstacles; returns the
+  // side-plane rejections.
+  std::uint64_t spawn(std::size_t i, const RainObstacles& obstacles);
+  static bool blocked(const Vec3& p, const RainObstacles& obstacles);
+
+  RainDesc desc_;
+  float aspect_;
+  RainSpace space_;
+  float boxEdge_ = 0;
+  float lastFov_ = -1;
+  std::vector<Vec3> positions_;
+  std::vector<std::uint32_t> generations_;
+  std::vector<std::uint8_t> layers_;
+  RainCounters counters_;
+};
+
+}  // namespace sph::rain

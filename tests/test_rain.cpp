@@ -1,0 +1,386 @@
+// View-dependent rain (seed 002, Im & Sung 2021; docs/rain.md): the rain space of eq. (1)-(9),
+// the samplers of eq. (6)-(7), the three spawn models, respawn, the spotlight cone of
+// eq. (10)-(13), the camera path and the scene keys. CPU only; the streaks are drawn in
+// test_rain_gl.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <random>
+
+#include "io/SceneLoader.h"
+#include "sim/Camera.h"
+#include "sim/Solid.h"
+#include "sim/rain/RainRandom.h"
+#include "sim/rain/RainSystem.h"
+#include "sim/rain/Spotlight.h"
+
+namespace sph {
+namespace {
+
+using rain::RainSpace;
+using rain::RainSystem;
+
+constexpr float kAspect = 16.0f / 9.0f;
+
+CameraDesc lookingAlongZ() {
+  CameraDesc c;
+  c.position = Vec3(0, 1, 4);
+  c.target = Vec3(0, 1, 0);
+  c.fovYDegrees = 45;
+  return c;
+}
+
+RainDesc rainDesc(RainSpawn spawn, std::size_t count = 20000) {
+  RainDesc d;
+  d.count = count;
+  d.near = 0.1f;
+  d.far = 5;
+  d.spawn = spawn;
+  d.region.lo = Vec3(-3, -1, -3), d.region.hi = Vec3(3, 4, 3);
+  return d;
+}
+
+// The frustum of the rain camera, from the general camera maths (sim/Camera.h, not RainSpace).
+Frustum rainFrustum(const CameraDesc& camera, const RainDesc& d) {
+  CameraDesc c = camera;
+  c.near = d.near, c.far = d.far;
+  return Frustum(cameraFrame(c, kAspect).projView);
+}
+
+bool inFrustum(const Frustum& f, const Vec3& p) {
+  for (int k = 0; k < 6; ++k) {
+    if (f.distance(k, p) < -1e-4f) return false;
+  }
+  return true;
+}
+
+double fractionInView(const RainSystem& r, const CameraDesc& camera) {
+  const Frustum f = rainFrustum(camera, r.desc());
+  std::size_t in = 0;
+  for (const Vec3& p : r.positions()) in += inFrustum(f, p);
+  return static_cast<double>(in) / static_cast<double>(r.size());
+}
+
+TEST(RainSpace, SphereOfEquation5TouchesNearAndFarAndSidesAgreeWithTheFrustum) {
+  const CameraDesc c = lookingAlongZ();
+  const RainSpace s = RainSpace::build(c, kAspect, 0.1f, 5);
+  EXPECT_NEAR(s.radius, 2.45f, 1e-5f);
+  EXPECT_NEAR((s.centre - Vec3(0, 1, 4 - 2.55f)).norm(), 0, 1e-5f);
+  // The four side planes against Gribb-Hartmann's planes of the same camera on 10^6 points of
+  // the sphere's bounding box: they must disagree only within a hair of a plane.
+  RainDesc d;
+  const Frustum f = rainFrustum(c, d);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-1, 1);
+  int disagree = 0, inside = 0;
+  for (int i = 0; i < 1000000; ++i) {
+    const Vec3 p = s.centre + s.radius * Vec3(u(rng), u(rng), u(rng));
+    bool sides = true;
+    float nearest = 1e9f;
+    for (int k = 0; k < 4; ++k) {
+      sides = sides && f.distance(k, p) >= 0;
+      nearest = std::min(nearest, std::abs(f.distance(k, p)));
+    }
+    inside += s.insideSides(p);
+    if (sides != s.insideSides(p) && nearest > 1e-5f) ++disagree;
+  }
+  EXPECT_EQ(disagree, 0);
+  EXPECT_GT(inside, 100000);  // the test saw both sides
+}
+
+TEST(RainSystem, ViewSpawnsAMillionDropsAllInsideFrustumAndSphere) {
+  for (RainSampling sampling : {RainSampling::Uniform, RainSampling::Paper}) {
+    RainDesc d = rainDesc(RainSpawn::View, 1000000);
+    d.sampling = sampling;
+    RainSystem r(d, kAspect);
+    r.reset(lookingAlongZ());
+    const Frustum f = rainFrustum(lookingAlongZ(), d);
+    std::size_t outFrustum = 0, outSphere = 0;
+    for (const Vec3& p : r.positions()) {
+      outFrustum += !inFrustum(f, p);
+      outSphere += (p - r.space().centre).norm() > r.space().radius * (1 + 1e-6f);
+    }
+    EXPECT_EQ(outFrustum, 0u) << enumName(sampling);
+    EXPECT_EQ(outSphere, 0u) << enumName(sampling);
+    EXPECT_EQ(r.size(), 1000000u);
+  }
+}
+
+// The claim of the paper in numbers: the share of the budget inside the view frustum.
+TEST(RainSystem, ViewKeepsTheWholeBudgetInViewTheBaselinesDoNot) {
+  const CameraDesc c = lookingAlongZ();
+  double fraction[3];
+  for (RainSpawn spawn : {RainSpawn::View, RainSpawn::Box, RainSpawn::Region}) {
+    RainSystem r(rainDesc(spawn), kAspect);
+    r.reset(c);
+    for (int f = 0; f < 30; ++f) r.update(c, 1.0f / 30);
+    fraction[static_cast<int>(spawn)] = fractionInView(r, c);
+    std::printf("spawn %-6s: %.4f of %zu drops in the frustum\n", enumName(spawn),
+                fraction[static_cast<int>(spawn)], r.size());
+  }
+  EXPECT_EQ(fraction[0], 1.0);
+  // The camera-centred box of the same volume: the camera sees only the part ahead of it.
+  EXPECT_LT(fraction[1], 0.25);
+  EXPECT_GT(fraction[1], 0.02);
+  // The 180 m^3 region holds ~50 m^3 of the frustum (near 0.1 m to far 5 m, 4.1 x 7.4 m at far):
+  // about 0.3 of the budget in view, the rest spent behind and beside the camera.
+  EXPECT_GT(fraction[2], 0.2);
+  EXPECT_LT(fraction[2], 0.4);
+}
+
+// Chi-square of the radii of N samples of the unit ball against the uniform volume law: the
+// fraction within radius r is r^3, so (r^3) binned in 10 equal bins is flat.
+double chiSquareRadius(RainSampling sampling, int n, double* innerHalf) {
+  std::vector<int> bins(10, 0);
+  int inner = 0;
+  for (int i = 0; i < n; ++i) {
+    float u[5];
+    for (int k = 0; k < 5; ++k) u[k] = rain::unitRandom(3, static_cast<std::uint64_t>(i), 0, k);
+    const float r = rain::sampleBall(sampling, u).norm();
+    EXPECT_LE(r, 1.0f + 1e-6f);
+    ++bins[std::min(9, static_cast<int>(r * r * r * 10))];
+    inner += r < 0.5f;
+  }
+  *innerHalf = static_cast<double>(inner) / n;
+  double chi = 0;
+  const double expected = n / 10.0;
+  for (int b : bins) chi += (b - expected) * (b - expected) / expected;
+  return chi;
+}
+
+TEST(RainSampling, UniformFillsTheBallEvenlyEquation7DoesNot) {
+  double innerUniform = 0, innerPaper = 0;
+  const double chiUniform = chiSquareRadius(RainSampling::Uniform, 200000, &innerUniform);
+  const double chiPaper = chiSquareRadius(RainSampling::Paper, 200000, &innerPaper);
+  std::printf("chi2 (9 dof): uniform %.1f, paper %.1f; share within r/2: %.4f vs %.4f\n",
+              chiUniform, chiPaper, innerUniform, innerPaper);
+  EXPECT_LT(chiUniform, 27.9);  // p = 0.001 for 9 degrees of freedom
+  EXPECT_GT(chiPaper, 1000.0);
+  EXPECT_NEAR(innerUniform, 0.125, 0.005);  // (1/2)^3 of the volume
+  EXPECT_GT(innerPaper, 0.4);               // eq. (7) piles drops near the centre
+}
+
+TEST(RainSystem, RespawnKeepsTheBudgetAndNoDropIsEverInsideASolid) {
+  const CameraDesc c = lookingAlongZ();
+  RainDesc d = rainDesc(RainSpawn::View);
+  d.wind = Vec3(1, 0, 0);
+  BoundaryShape block;
+  block.kind = BoundaryShape::Kind::Block;
+  block.lo = Vec3(-1, -1, -1), block.hi = Vec3(1, 1, 3);  // the lower half of the rain space
+  const std::vector<Solid> solids = {Solid(block, 0.01f)};
+  rain::RainObstacles obstacles;
+  obstacles.solids = &solids;
+  RainSystem r(d, kAspect);
+  r.reset(c, obstacles);
+  for (int f = 0; f < 60; ++f) {
+    r.update(c, 1.0f / 60, obstacles);
+    ASSERT_EQ(r.size(), d.count);
+    std::size_t inSolid = 0;
+    for (const Vec3& p : r.positions()) inSolid += rain::insideSolid(p, solids);
+    ASSERT_EQ(inSolid, 0u) << "frame " << f;
+  }
+  EXPECT_GT(r.counters().hitSolid, 1000u);
+  EXPECT_GT(r.counters().leftSpace, 1000u);
+  EXPECT_EQ(fractionInView(r, c), 1.0);
+}
+
+TEST(RainSystem, DropsHittingTheWaterAreRespawned) {
+  const CameraDesc c = lookingAlongZ();
+  std::vector<Vec3> pool;  // a 2 m x 0.2 m x 2 m slab of water around y = 0.5
+  for (float x = -1; x < 1; x += 0.02f)
+    for (float z = 0; z < 2; z += 0.02f)
+      for (float y = 0.4f; y < 0.6f; y += 0.02f) pool.emplace_back(x, y, z);
+  const rain::WaterCells water(pool, 0.04f);
+  rain::RainObstacles obstacles;
+  obstacles.water = &water;
+  RainSystem r(rainDesc(RainSpawn::View), kAspect);
+  r.reset(c, obstacles);
+  for (int f = 0; f < 30; ++f) r.update(c, 1.0f / 60, obstacles);
+  EXPECT_GT(r.counters().hitWater, 100u);
+  std::size_t wet = 0;
+  for (const Vec3& p : r.positions()) wet += water.contains(p);
+  EXPECT_EQ(wet, 0u);
+}
+
+TEST(RainSystem, DropsFallWithTheWind) {
+  RainDesc d = rainDesc(RainSpawn::Region, 1000);
+  d.wind = Vec3(2, 0, -1);
+  d.fallSpeed = 5;
+  RainSystem r(d, kAspect);
+  r.reset(lookingAlongZ());
+  const std::vector<Vec3> before = r.positions();
+  r.update(lookingAlongZ(), 0.01f);
+  int moved = 0;
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    if (((r.positions()[i] - before[i]) - Vec3(0.02f, -0.05f, -0.01f)).norm() < 1e-5f) ++moved;
+  }
+  EXPECT_GT(moved, 975);  // all but the ~1.5% that left the 6 x 5 x 6 m region (respawned)
+}
+
+TEST(RainSystem, AfterANinetyDegreePanEveryDropIsInTheNewViewTheBoxLosesThem) {
+  CameraDesc c = lookingAlongZ();
+  RainSystem view(rainDesc(RainSpawn::View), kAspect);
+  RainSystem box(rainDesc(RainSpawn::Box), kAspect);
+  view.reset(c), box.reset(c);
+  const CameraPath pan = {{0.0, c.position, c.target, 45}, {1.0, c.position, Vec3(-4, 1, 4), 45}};
+  double minView = 1, minBox = 1;
+  for (int f = 1; f <= 30; ++f) {
+    const CameraDesc now = cameraAt(c, pan, f / 30.0);
+    view.update(now, 1.0f / 30), box.update(now, 1.0f / 30);
+    minView = std::min(minView, fractionInView(view, now));
+    minBox = std::min(minBox, fractionInView(box, now));
+  }
+  std::printf("during a 90-degree pan in 1 s: min in view %.4f (view), %.4f (box)\n", minView,
+              minBox);
+  EXPECT_EQ(minView, 1.0);
+  EXPECT_LT(minBox, 0.25);
+  // The drops really moved with the camera: now all on the -x side of the eye.
+  for (const Vec3& p : view.positions()) ASSERT_LT(p.x(), 0.0f);
+}
+
+TEST(RainSystem, SameSeedIsBitIdenticalAnotherSeedIsNot) {
+  auto run = [](std::uint64_t seed) {
+    RainDesc d = rainDesc(RainSpawn::View, 5000);
+    d.seed = seed;
+    RainSystem r(d, kAspect);
+    r.reset(lookingAlongZ());
+    for (int f = 0; f < 20; ++f) r.update(lookingAlongZ(), 1.0f / 30);
+    return r.positions();
+  };
+  const std::vector<Vec3> a = run(1), b = run(1), c = run(2);
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)), 0);
+  EXPECT_NE(std::memcmp(a.data(), c.data(), a.size() * sizeof(Vec3)), 0);
+}
+
+// eq. (10)-(13) against the plain angle test: inside the cone when the angle between p - apex and
+// D is at most atan(base radius / height) and 0 <= (p - apex).D <= height.
+TEST(Spotlight, ConeClassificationAgreesWithTheAngleTestOnAMillionPoints) {
+  SpotlightDesc l;
+  l.position = Vec3(0.3f, 2, -0.2f);
+  l.direction = Vec3(0.3f, -1, 0.1f).normalized();
+  l.height = 2.5f;
+  l.baseRadius = 0.8f;
+  const float halfAngle = std::atan(l.baseRadius / l.height);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-3, 3);
+  int inside = 0, disagree = 0;
+  for (int i = 0; i < 1000000; ++i) {
+    const Vec3 p = l.position + Vec3(u(rng), u(rng), u(rng));
+    const Vec3 ps = p - l.position;
+    const float along = ps.dot(l.direction);
+    const float angle = std::acos(std::clamp(along / ps.norm(), -1.0f, 1.0f));
+    const bool analytic = along >= 0 && along <= l.height && angle <= halfAngle;
+    const bool ours = rain::spotlightWeight(l, p) == 1.0f;
+    inside += analytic;
+    if (analytic != ours && std::abs(angle - halfAngle) > 1e-4f) ++disagree;
+  }
+  EXPECT_EQ(disagree, 0);
+  EXPECT_GT(inside, 5000);
+  // Above the light (behind the apex) and past the height: no light, as in section 3.2.1.
+  EXPECT_EQ(rain::spotlightWeight(l, l.position - 0.1f * l.direction), 0.0f);
+  EXPECT_EQ(rain::spotlightWeight(l, l.position + 2.6f * l.direction), 0.0f);
+  // A soft edge keeps the core lit, fades at the rim.
+  l.softEdge = 0.5f;
+  const Vec3 side = l.direction.cross(Vec3::UnitX()).normalized();
+  const Vec3 mid = l.position + 2 * l.direction;  // cone radius 0.64 there
+  EXPECT_EQ(rain::spotlightWeight(l, mid + 0.2f * side), 1.0f);
+  EXPECT_NEAR(rain::spotlightWeight(l, mid + 0.48f * side), 0.5f, 1e-3f);
+  EXPECT_EQ(rain::spotlightWeight(l, mid + 0.65f * side), 0.0f);
+}
+
+TEST(CameraPath, InterpolatesPoseAndFovAndTurnsEvenly) {
+  CameraDesc base = lookingAlongZ();
+  const CameraPath path = {{0.5, Vec3(0, 1, 4), Vec3(0, 1, 0), 40},
+                           {1.5, Vec3(2, 1, 4), Vec3(-2, 1, 4), 60}};
+  // Before and after the keys: the end keys.
+  EXPECT_EQ(cameraAt(base, path, 0).target, Vec3(0, 1, 0));
+  EXPECT_EQ(cameraAt(base, path, 9).position, Vec3(2, 1, 4));
+  EXPECT_EQ(cameraAt(base, path, 9).fovYDegrees, 60.0f);
+  // Halfway: eye and fov linear, direction turned by half of the 90 degrees.
+  const CameraDesc mid = cameraAt(base, path, 1.0);
+  EXPECT_NEAR((mid.position - Vec3(1, 1, 4)).norm(), 0, 1e-6f);
+  EXPECT_FLOAT_EQ(mid.fovYDegrees, 50);
+  const Vec3 dir = (mid.target - mid.position).normalized();
+  EXPECT_NEAR(dir.dot(Vec3(0, 0, -1)), std::cos(M_PI / 4), 1e-6);
+  EXPECT_NEAR(dir.dot(Vec3(-1, 0, 0)), std::cos(M_PI / 4), 1e-6);
+  EXPECT_NEAR((mid.target - mid.position).norm(), 4, 1e-5);
+  // A quarter of the way: a quarter of the turn.
+  const CameraDesc q = cameraAt(base, path, 0.75);
+  EXPECT_NEAR((q.target - q.position).normalized().dot(Vec3(0, 0, -1)), std::cos(M_PI / 8), 1e-6);
+  // No path: the base camera.
+  EXPECT_EQ(cameraAt(base, {}, 3).position, base.position);
+}
+
+std::string errorOf(const std::string& rain, const std::string& camera = "") {
+  const std::string text = R"({"solver": {"spacing": 0.01},
+    "fluids": [{"min": [0, 0, 0], "max": [0.05, 0.05, 0.05]}],
+    "camera": {"position": [0, 0, 1], "target": [0, 0, 0])" +
+                           camera + R"(}, "rain": )" + rain + "}";
+  try {
+    io::parseScene(text, "r.json");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(RainScene, KeysAreReadAndBadValuesRefusedWithOneLine) {
+  const std::string text = R"({"solver": {"spacing": 0.01},
+    "fluids": [{"min": [0, 0, 0], "max": [0.05, 0.05, 0.05]}],
+    "camera": {"position": [0, 0, 1], "target": [0, 0, 0],
+               "path": [{"time": 0}, {"time": 2, "target": [1, 0, 1], "fov": 30}]},
+    "rain": {"count": 500, "near": 0.2, "far": 8, "fall_speed": 4, "wind": [1, 0, 0],
+             "exposure": 0.02, "seed": 9, "spawn": "region", "sampling": "paper",
+             "region": {"min": [-1, -1, -1], "max": [1, 1, 1]},
+             "spotlight": {"position": [0, 2, 0], "colour": [1, 0, 0], "intensity": 2}}})";
+  const Scene s = io::parseScene(text, "r.json");
+  ASSERT_TRUE(s.rain.has_value());
+  EXPECT_EQ(s.rain->count, 500u);
+  EXPECT_EQ(s.rain->far, 8.0f);
+  EXPECT_EQ(s.rain->spawn, RainSpawn::Region);
+  EXPECT_EQ(s.rain->sampling, RainSampling::Paper);
+  EXPECT_EQ(s.rain->seed, 9u);
+  ASSERT_TRUE(s.rain->spotlight.has_value());
+  EXPECT_EQ(s.rain->spotlight->colour, Vec3(1, 0, 0));
+  ASSERT_EQ(s.cameraPath.size(), 2u);
+  EXPECT_EQ(s.cameraPath[0].position, Vec3(0, 0, 1));  // keys default to the camera's pose
+  EXPECT_EQ(s.cameraPath[1].fovYDegrees, 30.0f);
+  EXPECT_FALSE(io::parseScene(R"({"solver": {"spacing": 0.01},
+    "fluids": [{"min": [0, 0, 0], "max": [0.05, 0.05, 0.05]}]})",
+                              "r.json")
+                   .rain.has_value());
+
+  struct Bad {
+    const char* rain;
+    const char* expect;
+  };
+  for (const Bad& b : std::initializer_list<Bad>{
+           {R"({"near": 2, "far": 1})", "r.json: rain.far: expected far > near"},
+           {R"({"count": 0})", "r.json: rain.count: expected an integer in [1, 1e8]"},
+           {R"({"count": 1e12})", "r.json: rain.count: expected an integer in [1, 1e8]"},
+           {R"({"spawn": "sky"})", "r.json: rain.spawn:"},
+           {R"({"sampling": "gauss"})", "r.json: rain.sampling:"},
+           {R"({"spawn": "region"})", "r.json: rain.region: missing"},
+           {R"({"region": {"min": [0,0,0], "max": [1,1,1]}})", "r.json: rain.region: only used"},
+           {R"({"fall_speed": -1})", "r.json: rain.fall_speed:"},
+           {R"({"spotlight": {"position": [0, 1, 0], "base_radius": 0}})",
+            "r.json: rain.spotlight.base_radius:"},
+           {R"({"spotlight": {"position": [0, 1, 0], "colour": [2, 0, 0]}})",
+            "r.json: rain.spotlight.colour:"},
+           {R"({"raincount": 5})", "r.json: rain.raincount: unknown key"},
+       }) {
+    const std::string e = errorOf(b.rain);
+    EXPECT_NE(e.find(b.expect), std::string::npos) << b.rain << " -> " << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  }
+  EXPECT_NE(errorOf("{}", R"(, "path": [{"time": 1}, {"time": 1}])")
+                .find("r.json: camera.path[1].time: expected a time after"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace sph

@@ -1,0 +1,201 @@
+// render/rain on llvmpipe: the streak images (CPU), and frames with rain drawn by the real
+// shaders through the splat renderer's layer hook - streak pixels where the drops are and none
+// where they are not, none at all without drops, streaks along the projected velocity, and the
+// spotlight's colour on the drops inside its cone only.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "render/gl/GlContext.h"
+#include "render/rain/RainRenderer.h"
+#include "render/rain/StreakImages.h"
+#include "render/splat/SplatRenderer.h"
+#include "sim/Camera.h"
+#include "sim/rain/RainSystem.h"
+#include "sim/rain/Spotlight.h"
+
+namespace sph::render::rain {
+namespace {
+
+constexpr int kWidth = 96, kHeight = 64;
+
+TEST(StreakImages, LayersDifferAndHaveABrightCoreFadingToTheEdges) {
+  const StreakImages s = generateStreakImages(8, 16, 64, 1);
+  ASSERT_EQ(s.alpha.size(), 8u * 16 * 64);
+  int differ = 0;
+  for (int l = 0; l < 8; ++l) {
+    EXPECT_GT(s.at(l, 32, 7), 100) << l;            // core
+    EXPECT_LT(s.at(l, 32, 0), s.at(l, 32, 7) / 2);  // edge across
+    EXPECT_LT(s.at(l, 0, 7), s.at(l, 32, 7));       // faded end
+    if (l > 0 && s.at(l, 20, 7) != s.at(0, 20, 7)) ++differ;
+  }
+  EXPECT_GE(differ, 6);
+  EXPECT_EQ(generateStreakImages(8, 16, 64, 1).alpha, s.alpha);
+}
+
+class RainGl : public ::testing::Test {
+ protected:
+  void SetUp() override { context_ = std::make_unique<gl::GlContext>(gl::GlContext::headless()); }
+  std::unique_ptr<gl::GlContext> context_;
+};
+
+CameraDesc camera() {
+  CameraDesc c;
+  c.position = Vec3(0, 1, 4), c.target = Vec3(0, 1, 0);
+  c.fovYDegrees = 45;
+  return c;
+}
+
+RainDesc desc(std::size_t count) {
+  RainDesc d;
+  d.count = count;
+  d.near = 1, d.far = 4;
+  d.dropWidth = 0.03f;
+  d.exposure = 0.05f;
+  return d;
+}
+
+// Pixel of a world point (row 0 at the top), or (-1, -1) behind the camera.
+std::pair<int, int> pixelOf(const Vec3& p) {
+  const Mat4 m = cameraFrame(camera(), static_cast<float>(kWidth) / kHeight).projView;
+  Eigen::Vector4f c(0, 0, 0, 0);
+  for (int r = 0; r < 4; ++r) c[r] = m(r, 0) * p.x() + m(r, 1) * p.y() + m(r, 2) * p.z() + m(r, 3);
+  if (c.w() <= 0) return {-1, -1};
+  const float x = (c.x() / c.w() * 0.5f + 0.5f) * kWidth;
+  const float y = (1 - (c.y() / c.w() * 0.5f + 0.5f)) * kHeight;
+  return {static_cast<int>(x), static_cast<int>(y)};
+}
+
+splat::RenderImage frame(RainRenderer* layer) {
+  splat::SplatRenderer r(kWidth, kHeight);
+  if (layer) r.setLayers({layer});
+  return r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera(), splat::Lighting{});
+}
+
+int difference(const splat::RenderImage& a, const splat::RenderImage& b, std::size_t pixel) {
+  int d = 0;
+  for (int k = 0; k < 3; ++k) d += std::abs(int(a.rgb[3 * pixel + k]) - int(b.rgb[3 * pixel + k]));
+  return d;
+}
+
+TEST_F(RainGl, StreakPixelsAreWhereTheDropsAreAndNoneWithoutDrops) {
+  const splat::RenderImage empty = frame(nullptr);
+  sph::rain::RainSystem none(desc(0), static_cast<float>(kWidth) / kHeight);
+  none.reset(camera());
+  RainRenderer noDrops(desc(0));
+  noDrops.setDrops(none);
+  EXPECT_EQ(frame(&noDrops).rgb, empty.rgb);
+
+  sph::rain::RainSystem drops(desc(200), static_cast<float>(kWidth) / kHeight);
+  drops.reset(camera());
+  RainRenderer layer(desc(200));
+  layer.setDrops(drops);
+  const splat::RenderImage rain = frame(&layer);
+  // Near each drop (its streak runs 0.3 m up from it) the picture changed.
+  std::vector<char> nearDrop(kWidth * kHeight, 0);
+  int dropsSeen = 0, dropsOnScreen = 0;
+  for (const Vec3& p : drops.positions()) {
+    const auto [x, y] = pixelOf(p - 0.5f * drops.velocity() * 0.05f);  // streak middle
+    if (x < 0 || y < 0 || x >= kWidth || y >= kHeight) continue;
+    ++dropsOnScreen;
+    int changed = 0;
+    for (int dy = -12; dy <= 12; ++dy)
+      for (int dx = -4; dx <= 4; ++dx) {
+        const int xx = x + dx, yy = y + dy;
+        if (xx < 0 || yy < 0 || xx >= kWidth || yy >= kHeight) continue;
+        nearDrop[static_cast<std::size_t>(yy * kWidth + xx)] = 1;
+        changed += difference(rain, empty, static_cast<std::size_t>(yy * kWidth + xx)) > 6;
+      }
+    dropsSeen += changed > 0;
+  }
+  EXPECT_GT(dropsOnScreen, 180);  // every drop is in view; a streak's middle may be past the edge
+  EXPECT_GT(dropsSeen, 0.9 * dropsOnScreen);
+  // And nowhere else.
+  int strays = 0, streakPixels = 0;
+  for (std::size_t i = 0; i < nearDrop.size(); ++i) {
+    const bool changed = difference(rain, empty, i) > 6;
+    streakPixels += changed;
+    strays += changed && !nearDrop[i];
+  }
+  std::printf("%d streak pixels, %d away from every drop\n", streakPixels, strays);
+  EXPECT_GT(streakPixels, 200);
+  EXPECT_EQ(strays, 0);
+}
+
+// One big drop falling in a side wind: the streak's principal axis in the picture is the
+// projected velocity's direction.
+TEST_F(RainGl, AStreakLiesAlongTheProjectedVelocity) {
+  RainDesc d = desc(1);
+  d.spawn = RainSpawn::Region;
+  d.region.lo = Vec3(-0.01f, 0.99f, 1.99f), d.region.hi = Vec3(0.01f, 1.01f, 2.01f);
+  d.wind = Vec3(4, 0, 0);
+  d.fallSpeed = 6;
+  d.exposure = 0.1f;
+  d.dropWidth = 0.02f;
+  sph::rain::RainSystem one(d, static_cast<float>(kWidth) / kHeight);
+  one.reset(camera());
+  RainRenderer layer(d);
+  layer.setDrops(one);
+  const splat::RenderImage empty = frame(nullptr), rain = frame(&layer);
+  double sw = 0, sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const double w = difference(rain, empty, static_cast<std::size_t>(y * kWidth + x));
+      sw += w, sx += w * x, sy += w * y, sxx += w * x * x, syy += w * y * y, sxy += w * x * y;
+    }
+  ASSERT_GT(sw, 0);
+  const double mx = sx / sw, my = sy / sw;
+  const double cxx = sxx / sw - mx * mx, cyy = syy / sw - my * my, cxy = sxy / sw - mx * my;
+  const double axis = 0.5 * std::atan2(2 * cxy, cxx - cyy);  // principal axis angle
+  const Vec3 head = one.positions()[0], tail = head - one.velocity() * d.exposure;
+  const auto [hx, hy] = pixelOf(head);
+  const auto [tx, ty] = pixelOf(tail);
+  const double expected = std::atan2(double(hy - ty), double(hx - tx));
+  double diff = std::fmod(std::abs(axis - expected), M_PI);
+  diff = std::min(diff, M_PI - diff);
+  std::printf("streak axis %.1f deg, projected velocity %.1f deg\n", axis * 180 / M_PI,
+              expected * 180 / M_PI);
+  EXPECT_LT(diff, 5 * M_PI / 180);
+}
+
+// A red spotlight whose cone holds the left half of the rain: drops in it are red, the others
+// grey (the unlit tint), as eq. (13).
+TEST_F(RainGl, DropsInTheConeTakeTheLightsColourTheOthersDoNot) {
+  RainDesc d = desc(200);
+  d.dropWidth = 0.015f;
+  SpotlightDesc l;
+  l.position = Vec3(-1.5f, 4, 2);
+  l.direction = -Vec3::UnitY();
+  l.height = 5;
+  l.baseRadius = 3;
+  l.colour = Vec3(1, 0, 0);
+  l.intensity = 1;
+  d.spotlight = l;
+  sph::rain::RainSystem drops(d, static_cast<float>(kWidth) / kHeight);
+  drops.reset(camera());
+  RainRenderer layer(d);
+  layer.setDrops(drops);
+  const splat::RenderImage empty = frame(nullptr), rain = frame(&layer);
+  int redLit = 0, lit = 0, redUnlit = 0, unlit = 0;
+  for (const Vec3& p : drops.positions()) {
+    const auto [x, y] = pixelOf(p - 0.5f * drops.velocity() * d.exposure);
+    if (x < 0 || y < 0 || x >= kWidth || y >= kHeight) continue;
+    const std::size_t i = static_cast<std::size_t>(y * kWidth + x);
+    if (difference(rain, empty, i) < 12) continue;  // hidden by a nearer streak's edge or faint
+    const bool red = rain.rgb[3 * i] > rain.rgb[3 * i + 1] + 40;
+    if (sph::rain::spotlightWeight(l, p) == 1) {
+      ++lit, redLit += red;
+    } else {
+      ++unlit, redUnlit += red;
+    }
+  }
+  std::printf("lit drops %d (%d red), unlit %d (%d red)\n", lit, redLit, unlit, redUnlit);
+  EXPECT_GT(lit, 10);
+  EXPECT_GT(unlit, 20);
+  // Not all: a lit drop's pixel may be covered by an unlit streak in front of it.
+  EXPECT_GT(redLit, 0.6 * lit);
+  EXPECT_LT(redUnlit, 0.1 * unlit);
+}
+
+}  // namespace
+}  // namespace sph::render::rain
