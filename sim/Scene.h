@@ -9,6 +9,7 @@
 
 #include "sim/CameraDesc.h"
 #include "sim/CollisionDesc.h"
+#include "sim/LightsDesc.h"
 #include "sim/RenderDesc.h"
 #include "sim/SolverParams.h"
 #include "sim/Types.h"
@@ -79,6 +80,7 @@ struct Scene {
   std::optional<CameraDesc> camera;
   std::optional<CollisionDesc> collision;  // the `collision` section; none = no collision pass
   std::optional<RenderDesc> render;        // draw frames while simulating
+  std::optional<LightsDesc> lights;        // particles as lights (seed 004); none = no light code
 };
 
 }  // namespace sph

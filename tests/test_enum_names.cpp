@@ -10,6 +10,7 @@
 #include "render/splat/SplatBuilder.h"
 #include "sim/CollisionDesc.h"
 #include "sim/EnumNames.h"
+#include "sim/LightsDesc.h"
 #include "sim/RenderDesc.h"
 #include "sim/SolverParams.h"
 
@@ -19,7 +20,8 @@ namespace {
 template <class E>
 class EnumNamesTest : public ::testing::Test {};
 using AllChoices =
-    ::testing::Types<CollisionMethod, CollisionResponse, CdtCameraMode, CdtPositionSource,
+    ::testing::Types<LightSource, LightColouring, LightFilter, LightPipeline, LightAccumulate,
+                     CollisionMethod, CollisionResponse, CdtCameraMode, CdtPositionSource,
                      EquationOfState, DensityKernel, SolverModel, Walls, SplatProjection,
                      RenderDesc::Splat, render::splat::SplatKind, io::Quality, sweep::RunStatus>;
 TYPED_TEST_SUITE(EnumNamesTest, AllChoices);

@@ -6,6 +6,7 @@
 
 #include "render/gl/GlError.h"
 #include "render/gl/Shader.h"
+#include "render/splat/ExtraLights.h"
 
 namespace sph::render::splat {
 namespace {
@@ -29,6 +30,7 @@ void setLighting(GLuint p, const Lighting& l) {
   setVec3(p, "u_zenith", l.zenith);
   setFloat(p, "u_fresnelMin", l.fresnelMin);
   setFloat(p, "u_alpha", l.alpha);
+  applyExtraLights(p, l);
 }
 
 // Position (location 0) and normal (location 1) of SplatVertex from binding 0.
