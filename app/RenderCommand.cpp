@@ -16,10 +16,14 @@
 #include "io/MessageText.h"
 #include "io/Png.h"
 #include "render/gl/GlContext.h"
+#include "render/lights/LightComparison.h"
+#include "render/lights/SceneLights.h"
 #include "render/solids/SceneSolids.h"
 #include "render/splat/Annotate.h"
 #include "render/splat/FrameRenderer.h"
 #include "sim/InputError.h"
+#include "sim/LightParticles.h"
+#include "sim/SceneSetup.h"
 
 namespace sph::app {
 namespace {
@@ -93,6 +97,10 @@ struct CacheRendering {
     io::cache::FieldSet xyz;
     for (auto f : {io::cache::Field::X, io::cache::Field::Y, io::cache::Field::Z})
       xyz.set(static_cast<std::size_t>(f));
+    // Lights coloured by speed need the velocities (docs/lights.md, "Replay").
+    if (render::lights::lightsNeedVelocity(scene))
+      for (auto f : {io::cache::Field::VX, io::cache::Field::VY, io::cache::Field::VZ})
+        xyz.set(static_cast<std::size_t>(f));
     return reader().readFrame(frame, xyz);
   }
   // Stores an image in the cache: the reader lets go of the file meanwhile.
@@ -120,6 +128,7 @@ int render(const RenderOptions& o) {
     const auto b = c.reader().readBoundary();
     return std::array<std::vector<float>, 3>{b[0], b[1], b[2]};
   });
+  const auto lights = render::lights::showLights(c.scene, renderer);
   if (!o.quiet) {
     std::printf("%s: rendering %zu frame%s of %s at %dx%d with %s splats on %s\n",
                 c.scene.name.c_str(), frames.size(), frames.size() == 1 ? "" : "s", o.cache.c_str(),
@@ -127,6 +136,7 @@ int render(const RenderOptions& o) {
                 c.desc.splat == RenderDesc::Splat::Both ? "point and quad"
                                                         : enumName(kindsOf(c.desc.splat)[0]),
                 context.info().renderer.c_str());
+    if (lights) std::printf("  %s\n", render::lights::describeLights(*c.scene.lights).c_str());
   }
   double seconds = 0;
   std::size_t images = 0;
@@ -137,6 +147,7 @@ int render(const RenderOptions& o) {
     if (!c.cameraFromScene && k == 0)
       c.camera = render::splat::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
     renderer.prepare(p);
+    if (lights) seconds += lights->update(p, c.summary.frames[f].time);
     for (render::splat::SplatKind kind : kindsOf(c.desc.splat)) {
       const render::splat::RenderedSplats r = renderer.render(kind, c.camera);
       seconds += r.timings.total();
@@ -177,6 +188,57 @@ std::string fmt(const char* format, double a, double b = 0, double c = 0, double
   char buf[160];
   std::snprintf(buf, sizeof buf, format, a, b, c, d);
   return buf;
+}
+
+// The particle lights' error figures (scene section `lights`; docs/lights.md): the light alone
+// on the solids through each filter beside the exact sum, a table and a sheet of pictures.
+void compareParticleLights(CacheRendering& c, std::size_t f, const Particles& p,
+                           const std::string& out) {
+  const LightsDesc& desc = *c.scene.lights;
+  render::lights::LightVolume volume(desc);
+  const std::vector<LightParticle> lights = lightParticles(desc, p, c.summary.frames[f].time);
+  volume.update(lights);  // the first dispatch compiles llvmpipe's shader variants
+  const double accumulate = volume.update(lights);
+  const float thickness = deriveParams(c.scene).boundaryLayers * c.scene.solver.spacing;
+  const render::solids::SolidRenderer solids(c.scene.boundaries, c.scene.domain, thickness);
+  const render::lights::SolidGBuffer g =
+      render::lights::solidGBuffer(solids, c.camera, c.desc.width, c.desc.height);
+  std::printf(
+      "particle lights: %zu lights, %d x %d x %d voxels of %.3g m, %s accumulation %.1f ms\n",
+      lights.size(), desc.voxels[0], desc.voxels[1], desc.voxels[2], desc.voxelSize,
+      enumName(desc.accumulate), 1e3 * accumulate);
+  if (g.points.empty()) {
+    std::printf("  no solid in view: no particle-light error figures\n");
+    return;
+  }
+  using render::lights::FilterSetting;
+  const std::vector<FilterSetting> settings = {{LightFilter::Nearest, 0, 1},
+                                               {LightFilter::Trilinear, 0, 1},
+                                               {LightFilter::Tricubic, 0, 1},
+                                               {LightFilter::Trilinear, 0, 2},
+                                               {LightFilter::Tricubic, 1, 2}};
+  const std::vector<render::lights::LightComparison> results =
+      render::lights::compareLights(volume, lights, g, solids.material.colour, settings);
+  std::printf("  light on the solids (%zu pixels) against the exact sum over the lights:\n",
+              g.points.size());
+  std::printf("  %-16s %9s | %8s %9s | %8s %9s | %8s %9s\n", "filter", "ms", "PSNR dB", "mean abs",
+              "diff dB", "diff abs", "spec dB", "spec abs");
+  std::vector<render::splat::Panel> panels;
+  for (const auto& r : results) {
+    std::printf("  %-16s %9.1f | %8.2f %9.5f | %8.2f %9.5f | %8.2f %9.5f\n", r.name.c_str(),
+                1e3 * r.seconds, r.total.psnr, r.total.meanAbs, r.diffuse.psnr, r.diffuse.meanAbs,
+                r.specular.psnr, r.specular.meanAbs);
+    panels.push_back(
+        {&r.image,
+         {r.name,
+          r.name == "exact" ? fmt("cpu sum %.0f ms", 1e3 * r.seconds)
+                            : fmt("psnr %.2f db", r.total.psnr),
+          r.name == "exact" ? std::string("reference") : fmt("spec %.2f db", r.specular.psnr)}});
+  }
+  const render::splat::RenderImage sheet = render::splat::composePanels(panels, 1);
+  const std::string path = out + "/" + io::framePngName(c.scene.name + "_lights_compare", f);
+  io::writePng(path, sheet.width, sheet.height, sheet.rgb.data());
+  std::printf("wrote %s\n", path.c_str());
 }
 
 int compare(const CompareOptions& o) {
@@ -236,6 +298,7 @@ int compare(const CompareOptions& o) {
   const std::string path = o.out + "/" + io::framePngName(c.scene.name + "_compare", f);
   io::writePng(path, sheet.width, sheet.height, sheet.rgb.data());
   std::printf("wrote %s\n", path.c_str());
+  if (c.scene.lights) compareParticleLights(c, f, p, o.out);
   return kOk;
 }
 

@@ -51,6 +51,7 @@ std::unique_ptr<RenderOutput> RenderOutput::prepare(const Scene& scene,
   out->solids_ = render::solids::showSolids(scene, out->renderer_, [&] {
     return std::array<std::vector<float>, 3>{boundary.x, boundary.y, boundary.z};
   });
+  out->lights_ = render::lights::showLights(scene, out->renderer_);
   return out;
 }
 
@@ -66,6 +67,7 @@ RenderOutput::RenderOutput(const Scene& scene, std::string directory, io::CacheS
 void RenderOutput::frame(const Simulation& sim, std::size_t frame) {
   if (frame % static_cast<std::size_t>(desc_.every) != 0) return;
   renderer_.prepare(sim.fluid());
+  if (lights_) lights_->update(sim.fluid(), sim.time());
   const bool both = desc_.splat == RenderDesc::Splat::Both;
   for (render::splat::SplatKind kind :
        {render::splat::SplatKind::Point, render::splat::SplatKind::Quad}) {

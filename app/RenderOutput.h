@@ -9,6 +9,7 @@
 #include "io/CacheSession.h"
 #include "io/OutputLock.h"
 #include "render/gl/GlContext.h"
+#include "render/lights/SceneLights.h"
 #include "render/solids/SceneSolids.h"
 #include "render/splat/FrameRenderer.h"
 #include "sim/RunLoop.h"
@@ -40,6 +41,7 @@ class RenderOutput final : public FrameSink {
   render::gl::GlContext context_;  // first: outlives the GL objects below
   render::splat::FrameRenderer renderer_;
   std::unique_ptr<render::solids::SolidRenderer> solids_;  // a layer of renderer_
+  std::unique_ptr<render::lights::SceneLights> lights_;    // renderer_'s extra lights, if any
   RenderDesc desc_;
   CameraDesc camera_;
   std::string name_, directory_;

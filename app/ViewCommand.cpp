@@ -15,6 +15,7 @@
 #include "io/CacheReader.h"
 #include "io/Png.h"
 #include "render/gl/GlContext.h"
+#include "render/lights/SceneLights.h"
 #include "render/solids/SceneSolids.h"
 #include "render/splat/FrameRenderer.h"
 #include "render/splat/HudText.h"
@@ -93,10 +94,14 @@ int view(const ViewOptions& o) {
     const auto b = reader.readBoundary();
     return std::array<std::vector<float>, 3>{b[0], b[1], b[2]};
   });
+  const auto lights = render::lights::showLights(scene, renderer);
 
   io::cache::FieldSet xyz;
   for (auto f : {io::cache::Field::X, io::cache::Field::Y, io::cache::Field::Z})
     xyz.set(static_cast<std::size_t>(f));
+  if (render::lights::lightsNeedVelocity(scene))
+    for (auto f : {io::cache::Field::VX, io::cache::Field::VY, io::cache::Field::VZ})
+      xyz.set(static_cast<std::size_t>(f));
   ViewerState s;
   s.frames = reader.frameCount();
   s.frame = parseOneFrame(o.frame, s.frames, "--frame");
@@ -185,7 +190,9 @@ int view(const ViewOptions& o) {
       lastAdvance = now;
     }
     if (s.frameChanged) {
-      renderer.prepare(reader.readFrame(s.frame, xyz));
+      const Particles p = reader.readFrame(s.frame, xyz);
+      renderer.prepare(p);
+      if (lights) lights->update(p, reader.summary().frames[s.frame].time);
       s.frameChanged = false;
     }
     const auto size = window.framebufferSize();

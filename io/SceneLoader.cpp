@@ -493,6 +493,103 @@ RainDesc readRain(JsonReader r) {
                                              "an integer in [1, 64] (array texture layers)",
                                              [](double v) { return integerIn(v, 1, 64); }));
   if (auto l = r.optionalObject("spotlight")) d.spotlight = readSpotlight(*l);
+// The `lights` section (docs/scene-format.md, "lights"; docs/lights.md; seed 004).
+LightsDesc readLights(JsonReader r) {
+  LightsDesc d;
+  d.source = r.choice("source", std::optional(LightSource::Fluid));
+  if (d.source == LightSource::Emitter) {
+    JsonReader e = r.object("emitter");
+    d.emitter.box.lo = e.vec3("min", std::nullopt, "3 numbers (m)");
+    d.emitter.box.hi = e.vec3("max", std::nullopt, "3 numbers (m)");
+    requireOrdered(e, d.emitter.box.lo, d.emitter.box.hi);
+    d.emitter.count = static_cast<std::size_t>(
+        e.number("count", std::nullopt, "an integer in [1, 16777216] (light particles)",
+                 [](double v) { return integerIn(v, 1, 16777216); }));
+    d.emitter.speed =
+        static_cast<float>(e.number("speed", d.emitter.speed, "a number >= 0 (m/s)", nonNegative));
+    d.emitter.seed = static_cast<std::uint32_t>(
+        e.number("seed", 1.0, "an integer in [0, 4294967295]",
+                 [](double v) { return integerIn(v, 0, 4294967295.0); }));
+    e.finish();
+  } else if (r.has("emitter")) {
+    r.fail("emitter", "only used with \"source\": \"emitter\"");
+  }
+  auto colour = [&](const char* key, const Vec3& def) {
+    const Vec3 c = r.vec3(key, def, "3 numbers in [0, 1] (linear RGB)");
+    if (c.minCoeff() < 0 || c.maxCoeff() > 1)
+      r.fail(key, "expected 3 numbers in [0, 1] (linear RGB), got " + formatVec(c));
+    return c;
+  };
+  d.colour = colour("colour", d.colour);
+  d.intensity = static_cast<float>(r.number("intensity", d.intensity, "a number in (0, 1000]",
+                                            [](double v) { return v > 0 && v <= 1000; }));
+  d.colouring = r.choice("colour_by", std::optional(LightColouring::Constant));
+  d.fastColour = colour("fast_colour", d.fastColour);
+  d.fastSpeed =
+      static_cast<float>(r.number("fast_speed", d.fastSpeed, "a positive number (m/s)", positive));
+  if (d.colouring != LightColouring::Speed) {
+    for (const char* key : {"fast_colour", "fast_speed"})
+      if (r.has(key)) r.fail(key, "only used with \"colour_by\": \"speed\"");
+  }
+  const Vec3 att = r.vec3("attenuation", Vec3(1, 0, 1),
+                          "3 numbers [constant, linear, quadratic], constant > 0, the others >= 0");
+  if (!(att.x() > 0) || att.y() < 0 || att.z() < 0) {
+    r.fail("attenuation",
+           "expected [constant, linear, quadratic] with constant > 0 and the others >= 0, got " +
+               formatVec(att));
+  }
+  d.attenuation = {att.x(), att.y(), att.z()};
+  d.range = static_cast<float>(r.number("range", d.range, "a number in (0, 1000] (m)",
+                                        [](double v) { return v > 0 && v <= 1000; }));
+  {
+    JsonReader v = r.object("volume");
+    d.origin = v.vec3("min", std::nullopt, "3 numbers (m): the volume's lowest corner");
+    d.voxelSize =
+        static_cast<float>(v.number("voxel_size", std::nullopt, "a positive number (m)", positive));
+    const char* voxelsExpected = "an integer or 3 integers in [1, 2048] (voxels per axis)";
+    auto count = [](double n) { return integerIn(n, 1, 2048); };
+    if (v.has("voxels") && (*v.raw())["voxels"].is_number()) {
+      const int n = static_cast<int>(v.number("voxels", std::nullopt, voxelsExpected, count));
+      d.voxels = {n, n, n};
+    } else {
+      const Vec3 n = v.vec3("voxels", std::nullopt, voxelsExpected);
+      for (int a = 0; a < 3; ++a) {
+        if (!count(n[a]))
+          v.fail("voxels", std::string("expected ") + voxelsExpected + ", got " + formatVec(n));
+        d.voxels[static_cast<std::size_t>(a)] = static_cast<int>(n[a]);
+      }
+    }
+    v.finish();
+  }
+  d.filter = r.choice("filter", std::optional(LightFilter::Trilinear));
+  d.tension = static_cast<float>(
+      r.number("tension", 0.0, "a number in [0, 1]", [](double v) { return v >= 0 && v <= 1; }));
+  if (d.filter != LightFilter::Tricubic && r.has("tension"))
+    r.fail("tension", "only used with \"filter\": \"tricubic\"");
+  d.oversampling = static_cast<int>(r.number("oversampling", 1.0,
+                                             "an integer in [1, 4] (samples per axis; 1 = off)",
+                                             [](double v) { return integerIn(v, 1, 4); }));
+  d.pipeline = r.choice("pipeline", std::optional(LightPipeline::Forward));
+  if (d.pipeline == LightPipeline::Deferred)
+    r.fail("pipeline", "\"deferred\" is not implemented yet; use \"forward\"");
+  d.accumulate = r.choice("accumulate", std::optional(LightAccumulate::Atomic));
+  d.diffuse = static_cast<float>(r.number("diffuse", d.diffuse, "a number in [0, 10]",
+                                          [](double v) { return v >= 0 && v <= 10; }));
+  d.specular = static_cast<float>(r.number("specular", d.specular, "a number in [0, 10]",
+                                           [](double v) { return v >= 0 && v <= 10; }));
+  d.shininess = static_cast<float>(r.number("shininess", d.shininess, "a number in [1, 1024]",
+                                            [](double v) { return v >= 1 && v <= 1024; }));
+  d.roomLight = static_cast<float>(
+      r.number("room_light", 1.0, "a number in [0, 1]", [](double v) { return v >= 0 && v <= 1; }));
+  d.maxMemoryMiB = r.number("max_memory_mib", d.maxMemoryMiB, "a positive number (MiB)", positive);
+  if (d.memoryBytes() > d.maxMemoryMiB * 1048576.0) {
+    r.fail("volume.voxels", "a volume of " + std::to_string(d.voxels[0]) + " x " +
+                                std::to_string(d.voxels[1]) + " x " + std::to_string(d.voxels[2]) +
+                                " voxels needs " + readableNumber(d.memoryBytes() / 1048576.0, 4) +
+                                " MiB of GL memory, more than lights.max_memory_mib = " +
+                                readableNumber(d.maxMemoryMiB, 4) +
+                                "; use fewer voxels or a larger voxel_size");
+  }
   r.finish();
   return d;
 }
@@ -587,6 +684,7 @@ Scene parseScene(const std::string& text, const std::string& path,
       root.fail("rain",
                 "needs a \"camera\" section at the top level too (rain falls where it looks)");
   }
+  if (auto l = root.optionalObject("lights")) scene.lights = readLights(*l);
   if (auto c = root.optionalObject("collision")) {
     scene.collision = readCollision(*c, scene.solver);
     const bool cdt = scene.collision->method == CollisionMethod::CdtCpu ||

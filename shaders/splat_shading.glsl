@@ -32,5 +32,6 @@ vec3 shadeSurface(vec3 n, vec3 toEye) {
 // The same at a world position, with the position-dependent lights of extra_lights.glsl added
 // before the clamp. What the solids (per pixel) and the splats (per vertex) call.
 vec3 shadeSurfaceAt(vec3 position, vec3 n, vec3 toEye) {
-  return clamp(shadeSurface(n, toEye) + extraLight(u_base, position, n, toEye), 0.0, 1.0);
+  return clamp(sceneLightScale() * shadeSurface(n, toEye) + extraLight(u_base, position, n, toEye),
+               0.0, 1.0);
 }

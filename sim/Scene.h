@@ -10,6 +10,7 @@
 #include "sim/CameraDesc.h"
 #include "sim/CollisionDesc.h"
 #include "sim/RainDesc.h"
+#include "sim/LightsDesc.h"
 #include "sim/RenderDesc.h"
 #include "sim/SolverParams.h"
 #include "sim/Types.h"
@@ -82,6 +83,7 @@ struct Scene {
   std::optional<CollisionDesc> collision;  // the `collision` section; none = no collision pass
   std::optional<RenderDesc> render;        // draw frames while simulating
   std::optional<RainDesc> rain;            // view-dependent rain (seed 002); none = no rain
+  std::optional<LightsDesc> lights;        // particles as lights (seed 004); none = no light code
 };
 
 }  // namespace sph

@@ -11,6 +11,7 @@
 #include "sim/CollisionDesc.h"
 #include "sim/EnumNames.h"
 #include "sim/RainDesc.h"
+#include "sim/LightsDesc.h"
 #include "sim/RenderDesc.h"
 #include "sim/SolverParams.h"
 
@@ -20,7 +21,8 @@ namespace {
 template <class E>
 class EnumNamesTest : public ::testing::Test {};
 using AllChoices =
-    ::testing::Types<CollisionMethod, CollisionResponse, CdtCameraMode, CdtPositionSource,
+    ::testing::Types<LightSource, LightColouring, LightFilter, LightPipeline, LightAccumulate,
+                     CollisionMethod, CollisionResponse, CdtCameraMode, CdtPositionSource,
                      EquationOfState, DensityKernel, SolverModel, Walls, SplatProjection,
                      RenderDesc::Splat, render::splat::SplatKind, io::Quality, sweep::RunStatus,
                      RainSpawn, RainSampling>;

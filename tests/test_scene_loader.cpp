@@ -84,6 +84,69 @@ TEST(SceneLoader, RenderSolidsChooseHowWallsAreDrawn) {
   EXPECT_NE(errorOf(with(R"({"solids": "glass"})")).find("render.solids"), std::string::npos);
 }
 
+// The `lights` section (seed 004): defaults, an emitter, and every bad key refused with its path.
+TEST(SceneLoader, LightsSectionIsReadAndValidated) {
+  auto with = [&](const std::string& lights) {
+    std::string text = kMinimal;
+    text.insert(text.rfind('}'), R"(, "lights": )" + lights);
+    return text;
+  };
+  const std::string volume = R"("volume": {"min": [-1, -1, -1], "voxel_size": 0.25, "voxels": 8})";
+  EXPECT_FALSE(io::parseScene(kMinimal, "s.json").lights.has_value()) << "no section, no lights";
+  const Scene s = io::parseScene(with("{" + volume + "}"), "s.json");
+  ASSERT_TRUE(s.lights);
+  EXPECT_EQ(s.lights->source, LightSource::Fluid);
+  EXPECT_EQ(s.lights->accumulate, LightAccumulate::Atomic) << "race-free by default";
+  EXPECT_EQ(s.lights->filter, LightFilter::Trilinear);
+  EXPECT_EQ(s.lights->voxels, (std::array<int, 3>{8, 8, 8}));
+  EXPECT_FLOAT_EQ(s.lights->extent().x(), 2.0f);
+  const Scene e = io::parseScene(
+      with(R"({"source": "emitter", "emitter": {"min": [0, 0, 0], "max": [1, 1, 1], "count": 64},
+               "filter": "tricubic", "tension": 0.5, "accumulate": "paper", "oversampling": 2,
+               "attenuation": [1, 0.5, 2], "range": 0.7, "volume": {"min": [0, 0, 0],
+               "voxel_size": 0.1, "voxels": [10, 12, 14]}})"),
+      "s.json");
+  EXPECT_EQ(e.lights->emitter.count, 64u);
+  EXPECT_EQ(e.lights->filter, LightFilter::Tricubic);
+  EXPECT_FLOAT_EQ(e.lights->tension, 0.5f);
+  EXPECT_EQ(e.lights->accumulate, LightAccumulate::Paper);
+  EXPECT_EQ(e.lights->voxels, (std::array<int, 3>{10, 12, 14}));
+  EXPECT_FLOAT_EQ(e.lights->attenuation[2], 2.0f);
+  const std::pair<std::string, std::string> bad[] = {
+      {R"({"source": "rain", )" + volume + "}", "lights.source"},
+      {R"({"source": "emitter", )" + volume + "}", "lights.emitter"},
+      {R"({"emitter": {}, )" + volume + "}", "lights.emitter"},
+      {R"({"attenuation": [0, 1, 1], )" + volume + "}", "lights.attenuation"},
+      {R"({"attenuation": [1, -1, 1], )" + volume + "}", "lights.attenuation"},
+      {R"({"range": 0, )" + volume + "}", "lights.range"},
+      {R"({"filter": "bicubic", )" + volume + "}", "lights.filter"},
+      {R"({"tension": 0.5, )" + volume + "}", "lights.tension"},
+      {R"({"filter": "tricubic", "tension": 2, )" + volume + "}", "lights.tension"},
+      {R"({"oversampling": 9, )" + volume + "}", "lights.oversampling"},
+      {R"({"accumulate": "racy", )" + volume + "}", "lights.accumulate"},
+      {R"({"colour": [2, 0, 0], )" + volume + "}", "lights.colour"},
+      {R"({"fast_speed": 2, )" + volume + "}", "lights.fast_speed"},
+      {R"({"volume": {"min": [0, 0, 0], "voxel_size": 1, "voxels": 0}})", "lights.volume.voxels"},
+      {R"({"volume": {"min": [0, 0, 0], "voxel_size": 1, "voxels": [4, 4]}})",
+       "lights.volume.voxels"},
+      {R"({"volume": {"min": [0, 0, 0], "voxel_size": -1, "voxels": 4}})",
+       "lights.volume.voxel_size"},
+      {R"({"volume": {"min": [0, 0, 0], "voxel_size": 1, "voxels": 512}})", "lights.volume.voxels"},
+      {R"({})", "lights.volume"},
+      {R"({"colour_by": "speed", "glow": 1, )" + volume + "}", "lights.glow"},
+  };
+  for (const auto& [lights, key] : bad) {
+    const std::string m = errorOf(with(lights));
+    EXPECT_NE(m.find(key), std::string::npos) << lights << " -> " << m;
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+  }
+  // 512^3 is 5 GiB with the atomic sums: the message names the size and the key to change.
+  const std::string big =
+      errorOf(with(R"({"volume": {"min": [0, 0, 0], "voxel_size": 1, "voxels": 512}})"));
+  EXPECT_NE(big.find("512 x 512 x 512"), std::string::npos) << big;
+  EXPECT_NE(big.find("max_memory_mib"), std::string::npos) << big;
+}
+
 TEST(SceneLoader, NegativeSpacingIsRefused) {
   const std::string e = errorOf(kMinimal, {"solver.spacing=-0.01"});
   EXPECT_EQ(e,

@@ -3,6 +3,7 @@
 #include <cstddef>
 
 #include "render/gl/Shader.h"
+#include "render/splat/ExtraLights.h"
 
 namespace sph::render::solids {
 
@@ -59,6 +60,7 @@ void SolidRenderer::draw(const CameraFrame& camera, const splat::Lighting& light
   vec3("u_horizon", lighting.horizon);
   vec3("u_zenith", lighting.zenith);
   scalar("u_fresnelMin", lighting.fresnelMin);
+  splat::applyExtraLights(p, lighting);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
@@ -71,6 +73,25 @@ void SolidRenderer::draw(const CameraFrame& camera, const splat::Lighting& light
   glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(indexCount_), GL_UNSIGNED_INT, nullptr);
   glBindVertexArray(0);
   glDisable(GL_CULL_FACE);
+}
+
+void SolidRenderer::drawWith(GLuint p, const CameraFrame& camera) const {
+  if (indexCount_ == 0) return;
+  glProgramUniformMatrix4fv(p, glGetUniformLocation(p, "u_projView"), 1, GL_FALSE,
+                            camera.projView.m.data());
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+  glEnable(GL_CULL_FACE);
+  glCullFace(GL_BACK);
+  glFrontFace(GL_CCW);
+  glUseProgram(p);
+  glBindVertexArray(vao_.id());
+  glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(indexCount_), GL_UNSIGNED_INT, nullptr);
+  glBindVertexArray(0);
+  glDisable(GL_CULL_FACE);
+  glUseProgram(0);
 }
 
 }  // namespace sph::render::solids

@@ -28,6 +28,10 @@ class SolidRenderer final : public splat::FrameLayer {
   Order order() const override { return Order::BeforeSplats; }
   void draw(const CameraFrame& camera, const splat::Lighting& lighting) override;
 
+  // The same triangles with `program` (its vertex stage solid.vert: u_projView), depth tested,
+  // into the current framebuffer: G-buffers (render/lights/LightComparison.h).
+  void drawWith(GLuint program, const CameraFrame& camera) const;
+
   std::size_t triangles() const { return indexCount_ / 3; }
   SolidMaterial material;
 

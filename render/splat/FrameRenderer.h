@@ -67,6 +67,12 @@ class FrameRenderer {
   // Layers drawn in every picture with the splats (render/splat/FrameLayer.h), not owned.
   void setLayers(std::vector<FrameLayer*> layers) { renderer_.setLayers(std::move(layers)); }
 
+  // Position-dependent lights for every surface drawn (render/splat/ExtraLights.h), not owned;
+  // null: none.
+  void setExtraLights(const ExtraLights* extra) { lighting_.extra = extra; }
+  // The colour of empty pixels (linear RGB).
+  void setBackground(const Vec3& colour) { lighting_.background = colour; }
+
   const RenderDesc& desc() const { return desc_; }
 
  private:

@@ -13,6 +13,8 @@
 
 namespace sph::render::splat {
 
+class ExtraLights;
+
 struct Lighting {
   Vec3 toLight = Vec3(0.35f, 0.85f, 0.4f).normalized();  // unit, towards a directional light
   Vec3 base = Vec3(0.16f, 0.42f, 0.78f);                 // water colour (linear RGB)
@@ -22,6 +24,9 @@ struct Lighting {
   Vec3 horizon = Vec3(0.85f, 0.88f, 0.92f), zenith = Vec3(0.35f, 0.55f, 0.85f);
   float fresnelMin = 0.06f;  // reflectance at normal incidence
   float alpha = 1.0f;        // < 1: blend splats (the paper's transparent water); metrics use 1
+  // Position-dependent lights of the GL shaders (render/splat/ExtraLights.h), not owned; null:
+  // none. shade() below never has them (the reference ray-marcher is lit by the scene's light).
+  const ExtraLights* extra = nullptr;
 };
 
 // Colour of a surface point with outward unit normal n seen along unit `toEye`, in [0, 1].

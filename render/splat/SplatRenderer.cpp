@@ -6,6 +6,7 @@
 
 #include "render/gl/GlError.h"
 #include "render/gl/Shader.h"
+#include "render/splat/ExtraLights.h"
 
 namespace sph::render::splat {
 namespace {
@@ -30,6 +31,7 @@ void setLighting(GLuint p, const Lighting& l) {
   setFloat(p, "u_fresnelMin", l.fresnelMin);
   setFloat(p, "u_alpha", l.alpha);
   glProgramUniform1i(p, glGetUniformLocation(p, "u_twoSided"), l.alpha < 1.0f ? 1 : 0);
+  applyExtraLights(p, l);
 }
 
 // Position (location 0) and normal (location 1) of SplatVertex from binding 0.

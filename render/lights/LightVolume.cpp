@@ -1,0 +1,219 @@
+#include "render/lights/LightVolume.h"
+
+#include <chrono>
+#include <string>
+
+#include "render/gl/GlError.h"
+#include "render/gl/Shader.h"
+#include "sim/InputError.h"
+
+namespace sph::render::lights {
+namespace {
+
+constexpr GLuint kColourUnit = 6, kDirectionUnit = 7;  // extra_lights.glsl's bindings
+
+void setVolumeUniforms(GLuint p, const LightsDesc& d) {
+  glProgramUniform3f(p, glGetUniformLocation(p, "u_origin"), d.origin.x(), d.origin.y(),
+                     d.origin.z());
+  glProgramUniform1f(p, glGetUniformLocation(p, "u_voxelSize"), d.voxelSize);
+  glProgramUniform3i(p, glGetUniformLocation(p, "u_voxels"), d.voxels[0], d.voxels[1], d.voxels[2]);
+}
+
+std::string sizeText(const LightsDesc& d) {
+  return std::to_string(d.voxels[0]) + " x " + std::to_string(d.voxels[1]) + " x " +
+         std::to_string(d.voxels[2]) + " voxels (" +
+         std::to_string(static_cast<long long>(d.memoryBytes() / 1048576.0)) + " MiB)";
+}
+
+}  // namespace
+
+float fixedScale(const LightsDesc& d) {
+  return kFixedSteps / d.intensity;
+}
+
+namespace {
+
+gl::Texture volumeTexture(const LightsDesc& d, GLenum format) {
+  gl::Texture t = gl::Texture::create(GL_TEXTURE_3D);
+  glTextureStorage3D(t.id(), 1, format, d.voxels[0], d.voxels[1], d.voxels[2]);
+  return t;
+}
+
+}  // namespace
+
+LightVolume::LightVolume(const LightsDesc& desc, const gl::ShaderLibrary& shaders) : desc_(desc) {
+  GLint maxSize = 0;
+  glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
+  for (int n : desc.voxels) {
+    if (n > maxSize) {
+      throw InputError("lights.volume.voxels: a light volume of " + sizeText(desc) +
+                       " is more than this GL allows (" + std::to_string(maxSize) +
+                       " per axis); use fewer voxels or a larger lights.volume.voxel_size");
+    }
+  }
+  const bool paper = desc.accumulate == LightAccumulate::Paper;
+  accumulate_ = gl::buildProgram(shaders,
+                                 {{gl::ShaderStage::Compute, paper ? "lights_accumulate_paper.comp"
+                                                                   : "lights_accumulate.comp"}},
+                                 "light accumulation");
+  if (!paper) {
+    resolve_ = gl::buildProgram(shaders, {{gl::ShaderStage::Compute, "lights_resolve.comp"}},
+                                "light resolve");
+  }
+  probe_ =
+      gl::buildProgram(shaders, {{gl::ShaderStage::Compute, "lights_probe.comp"}}, "light probe");
+  while (glGetError() != GL_NO_ERROR) {
+  }
+  colour_ = volumeTexture(desc, GL_RGBA16F);
+  direction_ = volumeTexture(desc, GL_RGBA16F);
+  if (!paper)
+    for (gl::Texture& s : sums_) s = volumeTexture(desc, GL_R32I);
+  if (glGetError() == GL_OUT_OF_MEMORY) {
+    throw InputError("lights.volume.voxels: GL could not allocate a light volume of " +
+                     sizeText(desc) +
+                     "; use fewer voxels, a larger lights.volume.voxel_size or "
+                     "\"accumulate\": \"paper\" (no integer sums)");
+  }
+  for (const gl::Texture* t : {&colour_, &direction_}) {
+    glTextureParameteri(t->id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(t->id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    for (GLenum w : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+      glTextureParameteri(t->id(), w, GL_CLAMP_TO_BORDER);
+    const float zero[4] = {0, 0, 0, 0};
+    glTextureParameterfv(t->id(), GL_TEXTURE_BORDER_COLOR, zero);
+  }
+  for (const gl::Program* p : {&accumulate_, &resolve_}) {
+    if (p->id() == 0) continue;
+    setVolumeUniforms(p->id(), desc);
+    glProgramUniform1f(p->id(), glGetUniformLocation(p->id(), "u_fixedScale"), fixedScale(desc));
+  }
+  const GLuint a = accumulate_.id();
+  glProgramUniform3f(a, glGetUniformLocation(a, "u_attenuation"), desc.attenuation[0],
+                     desc.attenuation[1], desc.attenuation[2]);
+  glProgramUniform1f(a, glGetUniformLocation(a, "u_range"), desc.range);
+  lights_ = gl::Buffer::create();
+}
+
+void LightVolume::setFilter(LightFilter filter, float tension, int oversampling) {
+  desc_.filter = filter, desc_.tension = tension, desc_.oversampling = oversampling;
+}
+
+double LightVolume::update(const std::vector<LightParticle>& lights) {
+  const auto start = std::chrono::steady_clock::now();
+  if (lights.size() > capacity_) {
+    capacity_ = lights.size();
+    glNamedBufferData(lights_.id(), static_cast<GLsizeiptr>(capacity_ * sizeof(LightParticle)),
+                      nullptr, GL_DYNAMIC_DRAW);
+    if (glGetError() == GL_OUT_OF_MEMORY)
+      throw InputError("lights: GL could not allocate a buffer for " +
+                       std::to_string(lights.size()) + " light particles");
+  }
+  if (!lights.empty()) {
+    glNamedBufferSubData(lights_.id(), 0,
+                         static_cast<GLsizeiptr>(lights.size() * sizeof(LightParticle)),
+                         lights.data());
+  }
+  const float zero[4] = {0, 0, 0, 0};
+  const bool paper = desc_.accumulate == LightAccumulate::Paper;
+  glClearTexImage(colour_.id(), 0, GL_RGBA, GL_FLOAT, zero);
+  glClearTexImage(direction_.id(), 0, GL_RGBA, GL_FLOAT, zero);
+  if (!paper) {
+    const GLint izero = 0;
+    for (gl::Texture& s : sums_) glClearTexImage(s.id(), 0, GL_RED_INTEGER, GL_INT, &izero);
+  }
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, lights_.id());
+  if (paper) {
+    glBindImageTexture(0, colour_.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA16F);
+    glBindImageTexture(1, direction_.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA16F);
+  } else {
+    for (GLuint k = 0; k < 6; ++k)
+      glBindImageTexture(k, sums_[k].id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32I);
+  }
+  const GLuint a = accumulate_.id();
+  glProgramUniform1ui(a, glGetUniformLocation(a, "u_count"), static_cast<GLuint>(lights.size()));
+  glUseProgram(a);
+  if (!lights.empty()) glDispatchCompute(static_cast<GLuint>((lights.size() + 63) / 64), 1, 1);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+  if (!paper) {
+    glBindImageTexture(6, colour_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    glBindImageTexture(7, direction_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    glUseProgram(resolve_.id());
+    glDispatchCompute(static_cast<GLuint>((desc_.voxels[0] + 3) / 4),
+                      static_cast<GLuint>((desc_.voxels[1] + 3) / 4),
+                      static_cast<GLuint>((desc_.voxels[2] + 3) / 4));
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  }
+  glUseProgram(0);
+  for (GLuint k = 0; k < 8; ++k) glBindImageTexture(k, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32I);
+  glFinish();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void LightVolume::apply(GLuint p) const {
+  glBindTextureUnit(kColourUnit, colour_.id());
+  glBindTextureUnit(kDirectionUnit, direction_.id());
+  auto loc = [&](const char* name) { return glGetUniformLocation(p, name); };
+  glProgramUniform1i(p, loc("u_particleLights"), 1);
+  glProgramUniform3f(p, loc("u_lightOrigin"), desc_.origin.x(), desc_.origin.y(), desc_.origin.z());
+  glProgramUniform1f(p, loc("u_lightVoxel"), desc_.voxelSize);
+  glProgramUniform3i(p, loc("u_lightVoxels"), desc_.voxels[0], desc_.voxels[1], desc_.voxels[2]);
+  glProgramUniform1i(p, loc("u_lightFilter"), static_cast<int>(desc_.filter));
+  glProgramUniform1f(p, loc("u_lightTension"), desc_.tension);
+  glProgramUniform1i(p, loc("u_lightOversampling"), desc_.oversampling);
+  glProgramUniform3f(p, loc("u_lightMaterial"), desc_.diffuse, desc_.specular, desc_.shininess);
+  glProgramUniform1i(p, loc("u_lightTerms"), terms);
+  glProgramUniform1f(p, loc("u_lightRoom"), desc_.roomLight);
+}
+
+std::vector<Vec3> LightVolume::probe(const std::vector<ProbePoint>& points,
+                                     const Vec3& base) const {
+  std::vector<float> packed(points.size() * 12, 0.0f);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    for (int a = 0; a < 3; ++a) {
+      packed[12 * i + a] = points[i].position[a];
+      packed[12 * i + 4 + a] = points[i].normal[a];
+      packed[12 * i + 8 + a] = points[i].toEye[a];
+    }
+  }
+  std::vector<Vec3> out(points.size(), Vec3::Zero());
+  if (points.empty()) return out;
+  gl::Buffer in = gl::Buffer::create(), result = gl::Buffer::create();
+  glNamedBufferData(in.id(), static_cast<GLsizeiptr>(packed.size() * sizeof(float)), packed.data(),
+                    GL_STATIC_DRAW);
+  glNamedBufferData(result.id(), static_cast<GLsizeiptr>(points.size() * 16), nullptr,
+                    GL_DYNAMIC_READ);
+  const GLuint p = probe_.id();
+  apply(p);
+  glProgramUniform1ui(p, glGetUniformLocation(p, "u_count"), static_cast<GLuint>(points.size()));
+  glProgramUniform3f(p, glGetUniformLocation(p, "u_probeBase"), base.x(), base.y(), base.z());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, in.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, result.id());
+  glUseProgram(p);
+  glDispatchCompute(static_cast<GLuint>((points.size() + 63) / 64), 1, 1);
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  glUseProgram(0);
+  std::vector<float> raw(points.size() * 4);
+  glGetNamedBufferSubData(result.id(), 0, static_cast<GLsizeiptr>(raw.size() * sizeof(float)),
+                          raw.data());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    out[i] = {raw[4 * i], raw[4 * i + 1], raw[4 * i + 2]};
+  return out;
+}
+
+namespace {
+std::vector<std::array<float, 4>> readTexture(GLuint t, std::size_t voxels) {
+  std::vector<std::array<float, 4>> out(voxels);
+  glGetTextureImage(t, 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(voxels * 16), out.data());
+  return out;
+}
+}  // namespace
+
+std::vector<std::array<float, 4>> LightVolume::readColour() const {
+  return readTexture(colour_.id(), desc_.voxelCount());
+}
+std::vector<std::array<float, 4>> LightVolume::readDirection() const {
+  return readTexture(direction_.id(), desc_.voxelCount());
+}
+
+}  // namespace sph::render::lights

@@ -1,0 +1,69 @@
+// The particle-light volume of seed 004 (Kim & Lee 2020; DESIGN.md, "Particle lights";
+// docs/lights.md): two RGBA16F 3D textures over the scene's `lights.volume`, the sum of every
+// light's attenuated colour and of its intensity-weighted direction per voxel, rebuilt by compute
+// shaders from the lights of each frame and sampled by the surfaces' shading through
+// shaders/extra_lights.glsl (nearest, trilinear or tricubic, optionally oversampled).
+// Needs a current GL 4.5 context; exists only when a scene has `lights`.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "render/gl/GlHandle.h"
+#include "render/gl/ShaderLibrary.h"
+#include "render/splat/ExtraLights.h"
+#include "sim/LightParticles.h"
+#include "sim/LightsDesc.h"
+
+namespace sph::render::lights {
+
+// The atomic path's fixed point: a voxel's sums are integers in steps of 1 / fixedScale, and
+// fixedScale = kFixedSteps / lights.intensity, so one light's full colour is kFixedSteps steps and
+// a voxel's sum stays exact below 2^31 / kFixedSteps = 131,072 full-intensity lights at distance 0.
+inline constexpr float kFixedSteps = 16384.0f;
+float fixedScale(const LightsDesc& desc);
+
+// A shading point for probe(): world position, outward unit normal, unit vector to the eye.
+struct ProbePoint {
+  Vec3 position, normal, toEye;
+};
+
+class LightVolume final : public splat::ExtraLights {
+ public:
+  // Allocates the textures (and the atomic path's six int32 images). A volume GL cannot hold
+  // (larger than GL_MAX_3D_TEXTURE_SIZE, or GL_OUT_OF_MEMORY) throws InputError naming its size
+  // and the keys to change.
+  explicit LightVolume(const LightsDesc& desc,
+                       const gl::ShaderLibrary& shaders = gl::ShaderLibrary::fromEnvironment());
+
+  // Clears the volume and accumulates `lights` into it (desc.accumulate); waits for the GPU.
+  // Returns the seconds it took (upload included).
+  double update(const std::vector<LightParticle>& lights);
+
+  // Binds the textures to units 6 and 7 and sets the hook's uniforms on `program`.
+  void apply(GLuint program) const override;
+
+  // Which Phong terms apply() switches on (bit 0 diffuse, bit 1 specular; the error figures).
+  int terms = 3;
+  // The filter settings may change between frames (compare draws each filter from one volume).
+  void setFilter(LightFilter filter, float tension, int oversampling);
+
+  // The shading term of extra_lights.glsl at each point, on the GPU (base colour `base`).
+  std::vector<Vec3> probe(const std::vector<ProbePoint>& points, const Vec3& base) const;
+
+  // The textures' contents, RGBA per voxel, x fastest (tests, benchmarks).
+  std::vector<std::array<float, 4>> readColour() const;
+  std::vector<std::array<float, 4>> readDirection() const;
+
+  const LightsDesc& desc() const { return desc_; }
+
+ private:
+  LightsDesc desc_;
+  gl::Program accumulate_, resolve_, probe_;
+  gl::Texture colour_, direction_;
+  std::array<gl::Texture, 6> sums_;
+  gl::Buffer lights_;
+  std::size_t capacity_ = 0;
+};
+
+}  // namespace sph::render::lights

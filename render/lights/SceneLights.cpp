@@ -1,0 +1,41 @@
+#include "render/lights/SceneLights.h"
+
+#include <cstdio>
+
+namespace sph::render::lights {
+
+SceneLights::SceneLights(const LightsDesc& desc, splat::FrameRenderer& renderer) : volume_(desc) {
+  renderer.setExtraLights(&volume_);
+  renderer.setBackground(desc.roomLight * splat::Lighting{}.background);
+}
+
+double SceneLights::update(const Particles& fluid, double time) {
+  lights_ = lightParticles(volume_.desc(), fluid, time);
+  seconds_ = volume_.update(lights_);
+  return seconds_;
+}
+
+std::unique_ptr<SceneLights> showLights(const Scene& scene, splat::FrameRenderer& renderer) {
+  if (!scene.lights) return nullptr;
+  return std::make_unique<SceneLights>(*scene.lights, renderer);
+}
+
+std::string describeLights(const LightsDesc& d) {
+  char line[256];
+  const std::string source = d.source == LightSource::Emitter
+                                 ? std::to_string(d.emitter.count) + " from an emitter"
+                                 : std::string("every fluid particle");
+  std::snprintf(line, sizeof line,
+                "particle lights: %s, %d x %d x %d voxels of %g m, range %g m, %s filter%s, %s "
+                "accumulation",
+                source.c_str(), d.voxels[0], d.voxels[1], d.voxels[2], d.voxelSize, d.range,
+                nameOf(d.filter), d.oversampling > 1 ? " oversampled" : "", nameOf(d.accumulate));
+  return line;
+}
+
+bool lightsNeedVelocity(const Scene& scene) {
+  return scene.lights && scene.lights->source == LightSource::Fluid &&
+         scene.lights->colouring == LightColouring::Speed;
+}
+
+}  // namespace sph::render::lights

@@ -1,0 +1,46 @@
+// The particle lights of a scene in its pictures (scene section `lights`): one place for every
+// command that draws (`run` with a render section, `render`, `compare`, `view`). No section, no
+// volume, no light code.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "render/lights/LightVolume.h"
+#include "render/splat/FrameRenderer.h"
+#include "sim/Scene.h"
+
+namespace sph::render::lights {
+
+class SceneLights {
+ public:
+  // Allocates the volume (InputError if GL cannot) and makes it `renderer`'s extra lights. Keep
+  // it alive while `renderer` draws. Needs a current context.
+  SceneLights(const LightsDesc& desc, splat::FrameRenderer& renderer);
+  // The lights of the frame with fluid particles `fluid` (velocities too for colour_by "speed")
+  // at simulated time `time` (s), accumulated into the volume. Returns the seconds the volume
+  // took.
+  double update(const Particles& fluid, double time);
+
+  LightVolume& volume() { return volume_; }
+  const std::vector<LightParticle>& lights() const { return lights_; }
+  double lastSeconds() const { return seconds_; }
+
+ private:
+  LightVolume volume_;
+  std::vector<LightParticle> lights_;
+  double seconds_ = 0;
+};
+
+// A SceneLights for `scene` when it has a `lights` section, else null.
+std::unique_ptr<SceneLights> showLights(const Scene& scene, splat::FrameRenderer& renderer);
+
+// One line for the commands: "particle lights: 262144 from an emitter, 128 x 60 x 128 voxels of
+// 0.01 m, trilinear, atomic accumulation".
+std::string describeLights(const LightsDesc& desc);
+
+// Whether drawing `scene`'s frames needs the particles' velocities (colour_by "speed" of fluid).
+bool lightsNeedVelocity(const Scene& scene);
+
+}  // namespace sph::render::lights

@@ -1,0 +1,100 @@
+// Particle lights (seed 004) as a user meets them: a small fireflies run draws lit frames, `render`
+// names the light volume and `compare` prints the lights' error figures (trilinear beats nearest
+// against the exact sum) with a sheet of pictures; a scene without `lights` has no light code on
+// its way; bad `lights` keys are one line and exit 2.
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <regex>
+
+#include "io/Png.h"
+#include "tests/TestSupport.h"
+
+namespace sph {
+namespace {
+
+using test::runSphsplat;
+
+// The shipped fireflies scene made small: 4096 lights, 34^3 voxels of 4 cm, 160 x 120 pixels.
+const char* kSmall =
+    " --set solver.spacing=0.02 --set lights.emitter.count=4096 --set lights.volume.voxel_size=0.04"
+    " --set lights.volume.min=[-0.68,-0.04,-0.68] --set lights.volume.voxels=34"
+    " --set lights.range=0.1 --set lights.attenuation[2]=200 --set lights.intensity=0.15"
+    " --set render.width=160 --set render.height=120";
+
+class LightsCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = test::writeTempFile("", "") + "-dir";
+    ::mkdir(dir_.c_str(), 0755);
+    const auto r = runSphsplat("run " + test::sourcePath("scenes/fireflies.json") + kSmall +
+                               " --end 0.1 -q --output " + dir_ + "/ff.h5");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+  }
+  static std::string dir_;
+};
+std::string LightsCli::dir_;
+
+TEST_F(LightsCli, RenderNamesTheLightsAndDrawsLitFrames) {
+  const auto r = runSphsplat("render " + dir_ + "/ff.h5 --frames last --out " + dir_ + "/frames");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("particle lights: 4096 from an emitter, 34 x 34 x 34 voxels"),
+            std::string::npos)
+      << r.output;
+  int w = 0, h = 0;
+  const auto rgb = io::readPng(dir_ + "/frames/fireflies_quad_00001.png", w, h);
+  ASSERT_EQ(w, 160);
+  // A dark room (room_light 0.1) with warm spots: some pixels far brighter in red than blue.
+  int warm = 0;
+  for (std::size_t i = 0; i + 2 < rgb.size(); i += 3)
+    warm += rgb[i] > 90 && rgb[i] > rgb[i + 2] + 30;
+  EXPECT_GT(warm, 20) << "pixels lit by the fireflies";
+}
+
+TEST_F(LightsCli, CompareRanksTheFiltersAgainstTheExactSum) {
+  const auto r =
+      runSphsplat("compare " + dir_ + "/ff.h5 --frame last --size 160x120 --out " + dir_);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  std::smatch m;
+  auto psnr = [&](const std::string& name) {
+    const std::regex row("\\n +" + name + " +[0-9.]+ \\| +([0-9.]+) ");
+    EXPECT_TRUE(std::regex_search(r.output, m, row)) << name << "\n" << r.output;
+    return std::stod(m[1]);
+  };
+  EXPECT_GT(psnr("trilinear"), psnr("nearest") + 1.0) << r.output;
+  int w = 0, h = 0;
+  io::readPng(dir_ + "/fireflies_lights_compare_00001.png", w, h);
+  EXPECT_GT(w, 6 * 160) << "exact + five filters side by side";
+}
+
+// No `lights` section: no volume, no line about it (the dam break has none).
+TEST_F(LightsCli, ASceneWithoutLightsHasNoLightVolume) {
+  const std::string dam = dir_ + "/dam.h5";
+  ASSERT_EQ(runSphsplat("run " + test::sourcePath("scenes/dam_break.json") +
+                        " --set solver.spacing=0.02 --end 0.05 -q --output " + dam)
+                .exitCode,
+            0);
+  const auto r =
+      runSphsplat("render " + dam + " --frames last --size 64x48 --out " + dir_ + "/dam");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(r.output.find("particle lights"), std::string::npos) << r.output;
+  const auto c = runSphsplat("compare " + dam + " --size 64x48 --out " + dir_ + "/dam");
+  EXPECT_EQ(c.output.find("particle lights"), std::string::npos) << c.output;
+}
+
+TEST_F(LightsCli, BadLightsKeysAreOneLineAndExitTwo) {
+  for (const std::string& set :
+       {std::string("lights.filter=cubic"), std::string("lights.volume.voxels=512"),
+        std::string("lights.accumulate=racy"), std::string("lights.source=rain")}) {
+    const auto r =
+        runSphsplat("render " + dir_ + "/ff.h5 --frames last --out " + dir_ + "/bad --set " + set);
+    EXPECT_EQ(r.exitCode, 2) << set << ": " << r.output;
+    EXPECT_NE(r.output.find(set.substr(0, set.find('='))), std::string::npos) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  }
+}
+
+}  // namespace
+}  // namespace sph
