@@ -18,10 +18,10 @@ namespace {
 
 template <class E>
 class EnumNamesTest : public ::testing::Test {};
-using AllChoices =
-    ::testing::Types<CollisionMethod, CollisionResponse, CdtCameraMode, CdtPositionSource,
-                     EquationOfState, DensityKernel, SolverModel, Walls, SplatProjection,
-                     RenderDesc::Splat, render::splat::SplatKind, io::Quality, sweep::RunStatus>;
+using AllChoices = ::testing::Types<CollisionMethod, CollisionResponse, CdtCameraMode,
+                                    CdtPositionSource, EquationOfState, DensityKernel, SolverModel,
+                                    Walls, PressureSolver, SplatProjection, RenderDesc::Splat,
+                                    render::splat::SplatKind, io::Quality, sweep::RunStatus>;
 TYPED_TEST_SUITE(EnumNamesTest, AllChoices);
 
 TYPED_TEST(EnumNamesTest, EveryEnumeratorHasAUniqueNameThatParsesBack) {
