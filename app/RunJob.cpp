@@ -258,6 +258,17 @@ int runJob(const RunRequest& o) {
         "done: simulated %.4g s in %llu steps (mean dt %.3g s), %zu fluid particles at the end\n",
         sim.time(), static_cast<unsigned long long>(prof.steps),
         prof.steps ? sim.time() / prof.steps : 0.0, sim.fluid().size());
+    if (sim.lostParticles() > 0) {
+      std::printf(
+          "  %llu particles left the domain and were removed (solver.max_lost_particles = %llu)\n",
+          static_cast<unsigned long long>(sim.lostParticles()),
+          static_cast<unsigned long long>(sim.params().maxLostParticles));
+    }
+    if (const PressureSolveStats& ds = sim.solveStats(); ds.steps > 0) {
+      std::printf("  dfsph: %.2f density and %.2f divergence iterations per step\n",
+                  static_cast<double>(ds.totalDensityIterations) / ds.steps,
+                  static_cast<double>(ds.totalDivergenceIterations) / ds.steps);
+    }
     std::printf("  wall time %s, %s particle-steps/s, %.3g ms per step\n",
                 humanSeconds(wall).c_str(),
                 humanCount(wall > 0 ? prof.particleSteps / wall : 0).c_str(),

@@ -89,6 +89,11 @@ inline bool hasAll(const FieldSet& fields, const VectorView& view) {
   return true;
 }
 
+// Datasets of a resume record beside the restart fields: DFSPH's warm start (RunState), written
+// only by DFSPH runs.
+inline constexpr const char* kWarmDensityName = "dfsph_warm_density";
+inline constexpr const char* kWarmDivergenceName = "dfsph_warm_divergence";
+
 // x y z vx vy vz rho p id: what a scene writes unless its output section says otherwise.
 FieldSet defaultFields();
 // x y z vx vy vz id collide_time: what a resume needs. The other fields (acceleration, density,

@@ -368,6 +368,9 @@ std::pair<RunState, Particles> CacheReader::readRestart(std::size_t frame) const
     s.maxSpeed = h5::readFloatAttribute(r, item = "max_speed");
     s.maxAcceleration = h5::readFloatAttribute(r, item = "max_acceleration");
     s.nextId = static_cast<std::uint32_t>(h5::readUintAttribute(r, item = "next_id"));
+    // Caches from before particles could be lost have no count: none were.
+    if (h5::hasAttribute(r, "lost_particles"))
+      s.lostParticles = h5::readUintAttribute(r, item = "lost_particles");
     const std::vector<double> travelled =
         h5::readDoubleArrayAttribute(r, item = "emitter_travelled");
     const std::vector<std::uint64_t> emitted =
@@ -398,6 +401,19 @@ std::pair<RunState, Particles> CacheReader::readRestart(std::size_t frame) const
         p.id = h5::readDataset<std::uint32_t>(r, item);
       else
         p.*cache::floatMember(field) = h5::readDataset<float>(r, item);
+    }
+    // DFSPH's warm start, when the run had one (a WCSPH run has none).
+    const std::pair<const char*, std::vector<float>*> warm[] = {
+        {cache::kWarmDensityName, &s.warmStart.density},
+        {cache::kWarmDivergenceName, &s.warmStart.divergence}};
+    for (const auto& [name, values] : warm) {
+      item = name;
+      if (!h5::hasLink(r, item)) continue;
+      if (h5::datasetLength(r, item) != n) {
+        fail("dataset " + group + "/" + item + " does not have the frame's " + std::to_string(n) +
+             " values");
+      }
+      *values = h5::readDataset<float>(r, item);
     }
   } catch (const h5::Error& e) {
     fail("cannot read " + item + " of the resume record " + group + " (" + e.what() + ")");

@@ -396,6 +396,7 @@ void CacheWriter::writeFrame(const Particles& fluid, const RunState& state) {
       h5::writeAttribute(r, "max_acceleration", state.maxAcceleration);
       h5::writeAttribute(r, "next_id", static_cast<std::uint64_t>(state.nextId));
       h5::writeAttribute(r, "particles", static_cast<std::uint64_t>(fluid.size()));
+      h5::writeAttribute(r, "lost_particles", static_cast<std::uint64_t>(state.lostParticles));
       std::vector<double> travelled;
       std::vector<std::uint64_t> emitted, started;
       for (const EmitterState& e : state.emitters) {
@@ -421,6 +422,16 @@ void CacheWriter::writeFrame(const Particles& fluid, const RunState& state) {
           }
         }
         writeField(r, field, fluid);
+      }
+      // DFSPH's warm start (sim/StepContext.h), in the frame's particle order: a resume without
+      // it would not continue bit-exactly.
+      const std::pair<const char*, const std::vector<float>*> warm[] = {
+          {cache::kWarmDensityName, &state.warmStart.density},
+          {cache::kWarmDivergenceName, &state.warmStart.divergence}};
+      for (const auto& [name, values] : warm) {
+        if (values->size() != fluid.size() || values->empty()) continue;
+        frameDataBytes_ += h5::writeDataset(r, name, H5T_NATIVE_FLOAT, H5T_IEEE_F32LE,
+                                            values->data(), values->size(), storage_);
       }
     }
     h5::Handle vectors = writeVectorViews(frame, fluid.size());

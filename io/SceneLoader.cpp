@@ -118,6 +118,7 @@ bool integerIn(double v, double lo, double hi) {
 struct QualityPreset {
   double cfl;               // see SolverParams::cfl
   double soundSpeedFactor;  // see SolverParams::soundSpeedFactor
+  PressureSolver pressure = PressureSolver::Wcsph;
 };
 
 QualityPreset qualityPreset(Quality quality) {
@@ -150,6 +151,36 @@ SolverParams readSolver(JsonReader r, Quality quality) {
   s.noSlipWalls = r.choice("walls", std::optional(Walls::NoSlip)) == Walls::NoSlip;
   s.eos = r.choice("eos", std::optional(EquationOfState::Tait));
   s.densityKernel = r.choice("density_kernel", std::optional(DensityKernel::Spiky));
+  s.pressure = r.choice("pressure", std::optional(preset.pressure));
+  const bool dfsph = s.pressure == PressureSolver::Dfsph;
+  for (const char* key : {"max_density_error", "max_divergence_error", "min_density_iterations",
+                          "max_density_iterations", "max_divergence_iterations"}) {
+    if (!dfsph && r.has(key)) r.fail(key, "only used with \"pressure\": \"dfsph\"");
+  }
+  if (dfsph) {
+    if (s.densityKernel != DensityKernel::Spiky) {
+      r.fail("density_kernel",
+             "\"pressure\": \"dfsph\" needs \"spiky\" (its solvers use the exact gradient of the "
+             "density sum)");
+    }
+  }
+  auto percent = [&](const char* key, float fallback) {
+    return static_cast<float>(r.number(key, fallback, "a number in (0, 10] (%)",
+                                       [](double v) { return v > 0 && v <= 10; }));
+  };
+  auto iterations = [&](const char* key, int fallback) {
+    return static_cast<int>(r.number(key, fallback, "an integer in [1, 10000]",
+                                     [](double v) { return integerIn(v, 1, 10000); }));
+  };
+  s.maxDensityError = percent("max_density_error", s.maxDensityError);
+  s.maxDivergenceError = percent("max_divergence_error", s.maxDivergenceError);
+  s.minDensityIterations = iterations("min_density_iterations", s.minDensityIterations);
+  s.maxDensityIterations = iterations("max_density_iterations", s.maxDensityIterations);
+  s.maxDivergenceIterations = iterations("max_divergence_iterations", s.maxDivergenceIterations);
+  if (s.minDensityIterations > s.maxDensityIterations) {
+    r.fail("min_density_iterations", "expected at most max_density_iterations (" +
+                                         std::to_string(s.maxDensityIterations) + ")");
+  }
   if (r.has("speed_of_sound") && r.has("stiffness")) {
     r.fail("stiffness", "give either speed_of_sound or stiffness, not both");
   }
@@ -167,7 +198,12 @@ SolverParams readSolver(JsonReader r, Quality quality) {
   s.stiffness = static_cast<float>(
       r.number("stiffness", 0.0, "a positive number (Pa for tait, m^2/s^2 for linear)", positive));
   s.clampNegativePressure = r.boolean("clamp_negative_pressure", true);
-  s.cfl = static_cast<float>(r.number("cfl", preset.cfl, "a positive number", positive));
+  // DFSPH's step is bound by the flow speed alone: dt <= cfl h / v_max; 0.2 at h = 2 spacings is
+  // the 0.4 spacing / v_max of Bender & Koschier's examples (and SPlisHSPlasH's default).
+  constexpr double kDfsphCfl = 0.2;
+  s.cfl = static_cast<float>(
+      r.number("cfl", dfsph && preset.pressure == PressureSolver::Wcsph ? kDfsphCfl : preset.cfl,
+               "a positive number", positive));
   s.maxTimeStep = static_cast<float>(
       r.number("max_time_step", s.maxTimeStep, "a positive number (s)", positive));
   s.gravity = r.vec3("gravity", s.gravity, "3 numbers (m/s^2)");
@@ -176,6 +212,9 @@ SolverParams readSolver(JsonReader r, Quality quality) {
   s.boundaryLayers =
       static_cast<int>(r.number("boundary_layers", 0.0, "an integer in [0, 8] (0 = automatic)",
                                 [](double v) { return v >= 0 && v <= 8 && v == std::floor(v); }));
+  s.maxLostParticles =
+      static_cast<long long>(r.number("max_lost_particles", -1.0, "an integer in [0, 1e12]",
+                                      [](double v) { return integerIn(v, 0, 1e12); }));
   r.finish();
   return s;
 }

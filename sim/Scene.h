@@ -73,7 +73,7 @@ struct Scene {
   std::string sourcePath;  // file the scene came from ("" when built in code)
   std::string sourceText;  // its full text (recorded in caches)
   SolverParams solver;
-  Aabb domain;  // particles leaving it stop the run
+  Aabb domain;  // particles leaving it are removed; too many stop the run
   std::vector<FluidBlock> fluids;
   std::vector<BoundaryShape> boundaries;
   std::vector<EmitterDesc> emitters;

@@ -66,6 +66,8 @@ DerivedParams deriveParams(const Scene& scene) {
   d.viscosity = s.viscosity >= 0 ? s.viscosity : 0.002f * d.h * d.speedOfSound;
   d.boundaryLayers =
       s.boundaryLayers > 0 ? s.boundaryLayers : std::max(1, static_cast<int>(std::ceil(s.support)));
+  d.maxLostParticles = s.maxLostParticles >= 0 ? static_cast<std::uint64_t>(s.maxLostParticles)
+                                               : particleBudget(scene).total() / 100;
   return d;
 }
 
@@ -73,8 +75,16 @@ float timeStep(const Scene& scene, const DerivedParams& d, float maxSpeed, float
   const SolverParams& s = scene.solver;
   // The paper's particle system advances by a fixed tick (seed 000, pseudo-code g_tick).
   if (s.model == SolverModel::Particles) return s.maxTimeStep;
-  float dt = s.cfl * d.h / (d.speedOfSound + maxSpeed);
-  if (maxAcceleration > 0) dt = std::min(dt, 0.25f * std::sqrt(d.h / maxAcceleration));
+  float dt;
+  if (s.pressure == PressureSolver::Dfsph) {
+    // DFSPH: the CFL condition on the flow speed only (Bender & Koschier 2017, sec. 4). Not on
+    // the acceleration: the solvers' velocity corrections over dt read as accelerations ~ 1/dt,
+    // and a bound on them would shrink the step without end.
+    dt = maxSpeed > 0 ? s.cfl * d.h / maxSpeed : s.maxTimeStep;
+  } else {
+    dt = s.cfl * d.h / (d.speedOfSound + maxSpeed);
+    if (maxAcceleration > 0) dt = std::min(dt, 0.25f * std::sqrt(d.h / maxAcceleration));
+  }
   if (d.viscosity > 0) dt = std::min(dt, 0.125f * d.h * d.h / d.viscosity);
   return std::min(dt, s.maxTimeStep);
 }

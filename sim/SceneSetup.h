@@ -25,10 +25,11 @@ struct DerivedParams {
   // 4.6% excess pressure to hold its weight. A constant factor keeps the force conservative (of the
   // scaled internal energy).
   float gradientCorrection = 1;
-  float speedOfSound = 0;  // m/s
-  float viscosity = 0;     // m^2/s, resolved (automatic if the scene left it out)
-  float stiffness = 0;     // Tait B (Pa) or linear k (m^2/s^2)
-  int boundaryLayers = 0;  // layers of boundary particles behind each wall
+  float speedOfSound = 0;              // m/s
+  float viscosity = 0;                 // m^2/s, resolved (automatic if the scene left it out)
+  float stiffness = 0;                 // Tait B (Pa) or linear k (m^2/s^2)
+  int boundaryLayers = 0;              // layers of boundary particles behind each wall
+  std::uint64_t maxLostParticles = 0;  // resolved SolverParams::maxLostParticles
   Kernels kernels;
 };
 

@@ -43,8 +43,9 @@ float Simulation::chooseTimeStep() const {
 }
 
 StepContext Simulation::context(float dt) {
-  return StepContext{dt,    scene_.solver,   derived_, boundary_,          fluid_,
-                     grid_, boundaryFields_, scratch_, gradientCorrection_};
+  return StepContext{dt,         scene_.solver,   derived_, boundary_,           fluid_,
+                     grid_,      boundaryFields_, scratch_, gradientCorrection_, state_.warmStart,
+                     solveStats_};
 }
 
 void Simulation::step(double limit) {
@@ -60,18 +61,27 @@ void Simulation::step(double limit) {
   };
   timed(Pass::Emit, [&] { emitParticles(dt); });
   // The paper's particle model has no neighbour passes, so nothing to sort for.
-  if (scene_.solver.model == SolverModel::Sph) {
+  const bool sph = scene_.solver.model == SolverModel::Sph;
+  const bool dfsph = sph && scene_.solver.pressure == PressureSolver::Dfsph;
+  if (sph) {
     timed(Pass::Sort, [&] { sortParticles(c); });
     timed(Pass::Density, [&] { computeDensity(c); });
     validate("the density pass",
              [&] { return checkDensity(fluid_, derived_, scene_.solver.densityKernel); });
+  }
+  if (dfsph) {  // sim/Dfsph.cpp
+    timed(Pass::Factor, [&] { computeDfsphFactor(c); });
+    timed(Pass::Divergence, [&] { solveDivergence(c); });
+    timed(Pass::Forces, [&] { clearPressure(c), computeForces(c), predictVelocity(c); });
+    timed(Pass::Pressure, [&] { solveDensity(c); });
+  } else if (sph) {
     timed(Pass::Pressure, [&] { computePressure(c); });
     timed(Pass::Forces, [&] { computeForces(c); });
   } else {
     timed(Pass::Forces, [&] { applyGravityOnly(c); });
   }
   timed(Pass::Integrate, [&] {
-    const MotionBounds bounds = integrate(c);
+    const MotionBounds bounds = dfsph ? integratePositions(c) : integrate(c);
     state_.maxSpeed = bounds.maxSpeed, state_.maxAcceleration = bounds.maxAcceleration;
   });
   state_.time += dt;
@@ -79,7 +89,15 @@ void Simulation::step(double limit) {
   state_.lastDt = c.dt;
   timed(Pass::Collide, [&] { collide(c.dt); });
   timed(Pass::Boundaries, [&] { enforceBoundaries(c); });
-  timed(Pass::Guard, [&] { checkStability(c, scene_.domain, state_.step, state_.time); });
+  timed(Pass::Guard, [&] {
+    const std::uint64_t lost = checkStability(c, scene_.domain, state_.step, state_.time,
+                                              state_.lostParticles, derived_.maxLostParticles);
+    state_.lostParticles += lost;
+    if (lost == 0) return;
+    // The next step's size follows the particles that stayed.
+    const MotionBounds bounds = motionBounds(fluid_);
+    state_.maxSpeed = bounds.maxSpeed, state_.maxAcceleration = bounds.maxAcceleration;
+  });
   validate("the step", [&] { return checkState(fluid_, state_.nextId); });
   profile_.steps += 1;
   profile_.particleSteps += fluid_.size();

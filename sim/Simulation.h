@@ -28,7 +28,11 @@ struct RunState {
   float lastDt = 0;
   float maxSpeed = 0, maxAcceleration = 0;  // drive the next step size
   std::uint32_t nextId = 0;
+  std::uint64_t lostParticles =
+      0;  // removed for leaving the domain (SolverParams::maxLostParticles)
   std::vector<EmitterState> emitters;
+  // DFSPH's warm start, in the order of the fluid it was saved with (empty for WCSPH).
+  PressureWarmStart warmStart;
 };
 
 class Simulation {
@@ -39,13 +43,16 @@ class Simulation {
   Simulation& operator=(const Simulation&) = delete;
 
   // Advances by one adaptive step, never past `limit` (s): the step is shortened to land on it.
-  // Throws StabilityError if the state stops being finite or leaves the domain.
+  // Throws StabilityError if the state stops being finite, or when more particles than the scene
+  // tolerates have left the domain (those that leave are removed and counted).
   void step(double limit = 1e300);
   // Steps until time() == t exactly.
   void advanceTo(double t);
 
   double time() const { return state_.time; }
   std::uint64_t stepCount() const { return state_.step; }
+  // Particles removed so far for leaving the domain.
+  std::uint64_t lostParticles() const { return state_.lostParticles; }
   // The step size the next step() will take (before shortening to a limit).
   float nextTimeStep() const;
 
@@ -58,6 +65,8 @@ class Simulation {
   // Scale of the pressure force at the last step (1 / mean discrete gradient moment).
   float gradientCorrection() const { return gradientCorrection_; }
   const std::vector<Emitter>& emitters() const { return emitters_; }
+  // What the DFSPH solvers did (zeros for WCSPH).
+  const PressureSolveStats& solveStats() const { return solveStats_; }
 
   void setCollisionPass(std::unique_ptr<CollisionPass> pass);
   const CollisionPass* collisionPass() const { return collision_.get(); }
@@ -85,6 +94,7 @@ class Simulation {
   BoundaryFields boundaryFields_;
   StepScratch scratch_;
   float gradientCorrection_ = 1;  // scale of the pressure force this step
+  PressureSolveStats solveStats_;
 };
 
 }  // namespace sph

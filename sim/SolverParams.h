@@ -71,8 +71,34 @@ constexpr const char* nameOf(Walls v) {
   return nullptr;
 }
 
+// Scene key solver.pressure: what makes the fluid incompressible.
+enum class PressureSolver {
+  Wcsph,  // weakly compressible: an equation of state, step bound by the speed of sound
+  Dfsph,  // divergence-free SPH (Bender & Koschier 2015, 2017): two Jacobi pressure solvers, step
+          // bound by the flow speed (sim/Dfsph.cpp)
+};
+constexpr const char* nameOf(PressureSolver v) {
+  switch (v) {
+    case PressureSolver::Wcsph:
+      return "wcsph";
+    case PressureSolver::Dfsph:
+      return "dfsph";
+  }
+  return nullptr;
+}
+
 struct SolverParams {
   SolverModel model = SolverModel::Sph;
+  PressureSolver pressure = PressureSolver::Wcsph;
+  // DFSPH only (sim/Dfsph.cpp). Errors are relative, in percent: the constant-density solver
+  // iterates until the mean predicted compression (rho*/rho0 - 1, compressed particles only)
+  // is at most maxDensityError; the divergence-free solver until the mean density change the
+  // velocity field would make in one step (dt Drho/Dt / rho0) is at most maxDivergenceError.
+  float maxDensityError = 0.05f;    // %
+  float maxDivergenceError = 0.1f;  // %
+  int minDensityIterations = 2;     // the constant-density solver's lower bound
+  int maxDensityIterations = 100;   // caps: a step that hits one goes on with the error it has
+  int maxDivergenceIterations = 100;
   float spacing = 0.01f;        // m, particle spacing dx of the initial lattice
   float support = 2.0f;         // kernel support radius h as a multiple of spacing (h = support dx)
   float restDensity = 1000.0f;  // kg/m^3, rho0
@@ -93,6 +119,9 @@ struct SolverParams {
   Vec3 gravity = Vec3(0.0f, -9.81f, 0.0f);  // m/s^2
   double endTime = 1.0;                     // s, simulated time of a run
   int boundaryLayers = 0;  // boundary particle layers; 0 = enough to cover the support
+  // Particles that leave the domain are removed and counted; past this many the run stops
+  // (StabilityError). < 0 = automatic: 1% of the particles the scene can make.
+  long long maxLostParticles = -1;
 
   float supportRadius() const { return support * spacing; }  // h (m)
 };

@@ -104,6 +104,16 @@ void sortParticles(StepContext& c) {
   Particles& f = c.fluid;
   c.grid.build(f.x.data(), f.y.data(), f.z.data(), f.size(), c.derived.h, c.scratch.order);
   f.permute(c.scratch.order, c.scratch.permuteScratch);
+  // The DFSPH warm start is per particle too (new particles start from 0).
+  for (std::vector<float>* warm : {&c.warmStart.density, &c.warmStart.divergence}) {
+    if (warm->empty()) continue;
+    warm->resize(f.size(), 0.0f);
+    std::vector<float>& out = c.scratch.pressureTerm;  // free until the pressure pass
+    out.resize(f.size());
+    const std::vector<std::uint32_t>& order = c.scratch.order;
+    parallelFor(f.size(), [&](std::size_t i) { out[i] = (*warm)[order[i]]; });
+    warm->swap(out);
+  }
 }
 
 // rho_i = sum_j m W(x_i - x_j) over fluid and boundary neighbours, the particle itself included

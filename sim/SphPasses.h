@@ -23,6 +23,18 @@ void computeDensity(StepContext& c);
 void computePressure(StepContext& c);
 // Pressure (spiky gradient), viscosity (Müller 2003), no-slip walls and gravity.
 void computeForces(StepContext& c);
+// DFSPH (sim/Dfsph.cpp; Bender & Koschier 2015, 2017), in step order after computeDensity():
+// the per-particle factor, the divergence-free solver on the step's initial velocities, the
+// non-pressure forces (computeForces() after clearPressure()), predictVelocity(), the
+// constant-density solver, then integratePositions().
+void computeDfsphFactor(StepContext& c);
+void solveDivergence(StepContext& c);
+// Zero pressure for the force pass (which then adds viscosity, walls and gravity only) and its
+// per-particle 1 / rho.
+void clearPressure(StepContext& c);
+// v += dt a.
+void predictVelocity(StepContext& c);
+void solveDensity(StepContext& c);
 // The paper's particle model (seed 000): gravity only, no neighbour passes.
 void applyGravityOnly(StepContext& c);
 
@@ -31,12 +43,19 @@ struct MotionBounds {
   float maxSpeed = 0;         // m/s
   float maxAcceleration = 0;  // m/s^2
 };
+// The fluid's largest speed and acceleration now.
+MotionBounds motionBounds(const Particles& f);
 // Symplectic Euler: velocities first, then positions with the new velocities.
 MotionBounds integrate(StepContext& c);
+// x += dt v with the velocities the DFSPH solvers left (a holds the step's acceleration).
+MotionBounds integratePositions(StepContext& c);
 // Puts back every particle whose path of this step entered a solid (Solid.h, the safety net).
 void enforceBoundaries(StepContext& c);
-// The guard: a non-finite state or a particle outside `domain` throws StabilityError naming the
-// step, the time and the particle with the lowest id at fault.
-void checkStability(const StepContext& c, const Aabb& domain, std::uint64_t step, double time);
+// The guard: a non-finite state throws StabilityError naming the step, the time and the particle
+// with the lowest id at fault. Particles outside `domain` are removed (with their warm start) and
+// their number returned, unless that brings the run's losses (`lostBefore` + these) past
+// `maxLost`: then it throws too, naming the lowest id among them.
+std::uint64_t checkStability(StepContext& c, const Aabb& domain, std::uint64_t step, double time,
+                             std::uint64_t lostBefore, std::uint64_t maxLost);
 
 }  // namespace sph

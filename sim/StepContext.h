@@ -30,6 +30,28 @@ struct StepScratch {
   std::vector<float> pressureTerm;                   // p / rho^2 (m^5 / (kg s^2))
   std::vector<float> inverseDensity;                 // 1 / rho (m^3/kg)
   std::vector<float> gradientMoment;                 // K_i, see updateGradientCorrection()
+  // DFSPH (sim/Dfsph.cpp): G_i = sum_j V_j gradW_ij over fluid and boundary (1/m, 3 arrays), the
+  // factor alpha_i = 1 / (|G_i|^2 + sum_fluid |V_j gradW_ij|^2) (m^2), the source term of the
+  // running solve and the stiffness of its last iteration (m^2/s^2).
+  std::vector<float> gradientSumX, gradientSumY, gradientSumZ;
+  std::vector<float> factor, source, stiffness;
+};
+
+// Per fluid particle, in the fluid's order: the DFSPH solvers' warm start (Bender & Koschier
+// 2017, sec. 4.3), the sum of each solver's stiffness values over the last step (m^2/s^2, a
+// pressure over a density). Part of what a resume needs (RunState), empty for WCSPH.
+struct PressureWarmStart {
+  std::vector<float> density;     // constant-density solver
+  std::vector<float> divergence;  // divergence-free solver
+};
+
+// What the DFSPH solvers did: the last step's iterations and the errors they stopped at
+// (percent, as the scene's max_density_error / max_divergence_error), and the run's totals.
+struct PressureSolveStats {
+  int densityIterations = 0, divergenceIterations = 0;
+  float densityError = 0, divergenceError = 0;  // %
+  std::uint64_t totalDensityIterations = 0, totalDivergenceIterations = 0;
+  std::uint64_t steps = 0;
 };
 
 struct StepContext {
@@ -44,6 +66,8 @@ struct StepContext {
   // Scale of the pressure force this step (1 / mean discrete gradient moment); set by the
   // density pass, read by the force pass.
   float& gradientCorrection;
+  PressureWarmStart& warmStart;  // DFSPH only
+  PressureSolveStats& solveStats;
 };
 
 }  // namespace sph

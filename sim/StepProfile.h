@@ -12,7 +12,9 @@ enum class Pass : int {
   Emit,
   Sort,
   Density,
-  Pressure,
+  Factor,      // DFSPH: the per-particle factor
+  Divergence,  // DFSPH: the divergence-free solver
+  Pressure,    // WCSPH: the equation of state; DFSPH: the constant-density solver
   Forces,
   Integrate,
   Collide,
@@ -22,9 +24,9 @@ enum class Pass : int {
 };
 
 inline const char* passName(Pass p) {
-  static constexpr const char* names[] = {"emit",     "sort",       "density",
-                                          "pressure", "forces",     "integrate",
-                                          "collide",  "boundaries", "guard"};
+  static constexpr const char* names[] = {"emit",       "sort",       "density", "factor",
+                                          "divergence", "pressure",   "forces",  "integrate",
+                                          "collide",    "boundaries", "guard"};
   return names[static_cast<int>(p)];
 }
 

@@ -23,7 +23,7 @@ class EnumNamesTest : public ::testing::Test {};
 using AllChoices =
     ::testing::Types<LightSource, LightColouring, LightFilter, LightPipeline, LightAccumulate,
                      CollisionMethod, CollisionResponse, CdtCameraMode, CdtPositionSource,
-                     EquationOfState, DensityKernel, SolverModel, Walls, SplatProjection,
+                     EquationOfState, DensityKernel, SolverModel, Walls, PressureSolver, SplatProjection,
                      RenderDesc::Splat, render::splat::SplatKind, io::Quality, sweep::RunStatus,
                      RainSpawn, RainSampling>;
 TYPED_TEST_SUITE(EnumNamesTest, AllChoices);

@@ -92,11 +92,40 @@ TEST(Guard, StopsANonFiniteStateAtTheStepThatMadeIt) {
   }
 }
 
-TEST(Guard, StopsAParticleLeavingTheDomain) {
+TEST(Guard, RemovesAndCountsAParticleLeavingTheDomain) {
   Simulation sim(inlineScene(kTank));
+  ASSERT_EQ(sim.fluid().size(), 125u);
+  ASSERT_EQ(sim.params().maxLostParticles, 1u);  // automatic: 1% of the particles
   Particles& p = sim.fluid();
   // 10 km/s up through the open top (walls would stop it: the boundaries pass puts particles
   // back where they entered a solid): out of the domain in one step.
+  const std::uint32_t id = p.id[0];
+  p.vy[0] = 1e4f;
+  sim.step();
+  EXPECT_EQ(sim.lostParticles(), 1u);
+  ASSERT_EQ(sim.fluid().size(), 124u);
+  for (std::size_t i = 0; i < sim.fluid().size(); ++i) EXPECT_NE(sim.fluid().id[i], id);
+  EXPECT_TRUE(frameIsGood(sim));
+  // A second one is past the tolerance: the run stops, naming it.
+  Particles& q = sim.fluid();
+  const std::uint32_t second = q.id[5];
+  q.vy[5] = 1e4f;
+  try {
+    sim.step();
+    FAIL() << "a second lost particle went unnoticed";
+  } catch (const StabilityError& e) {
+    EXPECT_EQ(e.kind, StabilityError::Kind::LeftDomain);
+    EXPECT_EQ(e.particleId, second);
+    EXPECT_NE(
+        std::string(e.what()).find("2 particles lost, more than solver.max_lost_particles = 1"),
+        std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Guard, StopsAParticleLeavingTheDomainWithNoLossTolerated) {
+  Simulation sim(inlineScene(kTank, {"solver.max_lost_particles=0"}));
+  Particles& p = sim.fluid();
   p.vy[0] = 1e4f;
   try {
     sim.step();

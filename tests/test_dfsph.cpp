@@ -1,0 +1,215 @@
+// DFSPH (solver.pressure = "dfsph", sim/Dfsph.cpp; Bender & Koschier 2015, 2017): a still tank
+// holds its density within the solver's threshold at a step far above WCSPH's; the divergence-free
+// solver removes the divergence of a known velocity field; the dam-break front follows Martin &
+// Moyce at a coarse lattice; runs are bit-reproducible across thread counts and resume exactly.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "io/SceneLoader.h"
+#include "sim/Observables.h"
+#include "sim/Parallel.h"
+#include "sim/Simulation.h"
+#include "tests/TestSupport.h"
+
+namespace sph {
+namespace {
+
+// sum_j V (v_i - v_j) . gradW_spiky(x_i - x_j) by brute force in double: the rate of compression
+// Ds/Dt = -div v (1/s) at particle i, fluid neighbours only.
+double compressionRateAt(const Particles& p, std::size_t i, const DerivedParams& d, double rho0) {
+  const double h = d.h;
+  const double scale =
+      d.kernels.spikyGradFactor * d.mass * d.densityNormalisation / rho0;  // V gradW factor
+  double sum = 0;
+  for (std::size_t j = 0; j < p.size(); ++j) {
+    const double dx = p.x[i] - p.x[j], dy = p.y[i] - p.y[j], dz = p.z[i] - p.z[j];
+    const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
+    if (r <= 0 || r >= h) continue;
+    const double w = scale * (h - r) * (h - r) / r;
+    sum += w * ((p.vx[i] - p.vx[j]) * dx + (p.vy[i] - p.vy[j]) * dy + (p.vz[i] - p.vz[j]) * dz);
+  }
+  return sum;
+}
+
+TEST(Dfsph, StillTankHoldsDensityAtALargeStep) {
+  const std::vector<std::string> narrow = {"fluids[0].max=[0.12,0.3,0.12]",
+                                           "boundaries[0].max=[0.12,0.4,0.12]"};
+  std::vector<std::string> dfsph = narrow;
+  dfsph.push_back("solver.pressure=dfsph");
+  const Scene scene = test::shippedScene("still_tank", dfsph);
+  Simulation sim(scene);
+  const std::size_t count = sim.fluid().size();
+  const double dx = scene.solver.spacing, rho0 = scene.solver.restDensity, g = 9.81;
+  const double surface = count * dx * dx * dx / (0.12 * 0.12);
+  // WCSPH's step for the same tank at rest: the largest it ever takes.
+  const Scene wcsph = test::shippedScene("still_tank", narrow);
+  const float wcsphStep = timeStep(wcsph, deriveParams(wcsph), 0, 0);
+
+  sim.advanceTo(0.3);  // settle
+  const std::uint64_t steps0 = sim.stepCount();
+  double pressure = 0, expected = 0, compression = 0, maxCompression = 0;
+  int frames = 0;
+  for (double t = 0.35; t <= 0.6 + 1e-9; t += 0.05, ++frames) {
+    sim.advanceTo(t);
+    const Particles& p = sim.fluid();
+    double sumP = 0, sumY = 0;
+    int n = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (p.y[i] < dx) sumP += p.p[i], sumY += p.y[i], ++n;  // the bottom layer
+    }
+    ASSERT_GT(n, 100);
+    pressure += sumP / n;
+    expected += rho0 * g * (surface - sumY / n);
+    const DensityError e = densityError(p, rho0);
+    compression += e.meanCompression;
+    maxCompression = std::max(maxCompression, e.maxCompression);
+  }
+  pressure /= frames, expected /= frames, compression /= frames;
+  const double meanDt = 0.3 / static_cast<double>(sim.stepCount() - steps0);
+  const PressureSolveStats& s = sim.solveStats();
+  std::printf(
+      "dfsph still tank: mean dt %.3g s (wcsph at rest %.3g s); mean compression %.4f%%, max "
+      "%.3f%%; bottom %.1f Pa vs rho0 g d %.1f Pa (%+.2f%%); iterations/step density %.2f, "
+      "divergence %.2f\n",
+      meanDt, wcsphStep, 100 * compression, 100 * maxCompression, pressure, expected,
+      100 * (pressure - expected) / expected,
+      static_cast<double>(s.totalDensityIterations) / static_cast<double>(s.steps),
+      static_cast<double>(s.totalDivergenceIterations) / static_cast<double>(s.steps));
+  EXPECT_GT(meanDt, 3.0 * wcsphStep);
+  // The solver's threshold (0.05% mean predicted compression), measured on the state itself.
+  EXPECT_LT(compression, 0.0005);
+  EXPECT_LT(maxCompression, 0.01);
+  // Not asserted: p (rho^2 / rho0 times the constant-density solver's stiffness sum) reads well
+  // above rho0 g d (the report's "missing" list); the density and the rest are what DFSPH solves.
+  const Particles& p = sim.fluid();
+  ASSERT_EQ(p.size(), count);
+  EXPECT_LT(maxSpeed(p), 0.2f);
+}
+
+TEST(Dfsph, DivergenceSolverRemovesACompressingField) {
+  // A free cube of fluid, no gravity, no viscosity, squeezed by v = -k x: velocity divergence -3k.
+  const std::string scene = test::writeTempFile(R"({
+    "solver": {"spacing": 0.01, "pressure": "dfsph", "gravity": [0, 0, 0], "viscosity": 0,
+               "max_divergence_error": 0.01, "max_density_error": 0.01},
+    "fluids": [{"type": "box", "min": [0, 0, 0], "max": [0.12, 0.12, 0.12]}]
+  })");
+  Simulation sim(io::loadScene(scene, {}));
+  Particles& p = sim.fluid();
+  const float k = 0.5f;  // 1/s
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    p.setVelocity(i, -k * (p.position(i) - Vec3(0.06f, 0.06f, 0.06f)));
+  }
+  // Interior particles (a full neighbourhood): -div v = 3k there.
+  auto interiorRate = [&] {
+    const Particles& q = sim.fluid();
+    double sum = 0;
+    int n = 0;
+    for (std::size_t i = 0; i < q.size(); ++i) {
+      if ((q.position(i) - Vec3(0.06f, 0.06f, 0.06f)).cwiseAbs().maxCoeff() > 0.03f) continue;
+      sum += compressionRateAt(q, i, sim.params(), 1000.0);
+      ++n;
+    }
+    EXPECT_GT(n, 100);
+    return sum / n;
+  };
+  const double before = interiorRate();
+  // The spiky gradient at support 2 spacings, normalised as the density, reads 3k low by ~23%.
+  EXPECT_NEAR(before, 3 * k, 0.3 * 3 * k);
+  sim.step();
+  const double after = interiorRate();
+  std::printf(
+      "interior compression rate %.4f 1/s before, %.5f 1/s after one step (%d iterations)\n",
+      before, after, sim.solveStats().divergenceIterations);
+  EXPECT_GT(sim.solveStats().divergenceIterations, 0);
+  EXPECT_LT(std::abs(after), 0.1 * std::abs(before));
+}
+
+struct Point {
+  double T, Z;
+};
+
+std::vector<Point> martinMoyce() {
+  std::ifstream in(test::sourcePath("tests/data/martin_moyce_1952.csv"));
+  std::vector<Point> points;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#' || line[0] == 'T') continue;
+    Point p;
+    char comma;
+    std::istringstream(line) >> p.T >> comma >> p.Z;
+    points.push_back(p);
+  }
+  return points;
+}
+
+TEST(Dfsph, DamBreakFrontFollowsMartinAndMoyceAtACoarseLattice) {
+  // a / dx = 10 (800 particles), as the coarsest row of the dam-break sweep.
+  const Scene scene =
+      test::shippedScene("dam_break", {"solver.spacing=0.0146", "solver.pressure=dfsph"});
+  const double a = 0.146, g = 9.81;
+  Simulation sim(scene);
+  double squares = 0;
+  int checked = 0;
+  for (const Point& p : martinMoyce()) {
+    if (p.T > 3) break;
+    sim.advanceTo(p.T / std::sqrt(2 * g / a));
+    const double Z = surgeFront(sim.fluid()) / a;
+    std::printf("T = %.2f: Z = %.3f (Martin & Moyce %.3f, %+.1f%%)\n", p.T, Z, p.Z,
+                100 * (Z - p.Z) / p.Z);
+    EXPECT_NEAR(Z, p.Z, 0.15 * p.Z) << "T = " << p.T;
+    squares += (Z - p.Z) * (Z - p.Z) / (p.Z * p.Z);
+    ++checked;
+  }
+  EXPECT_EQ(checked, 4);
+  const double rms = std::sqrt(squares / checked);
+  std::printf("front RMS %.2f%% over %d points, %llu steps\n", 100 * rms, checked,
+              static_cast<unsigned long long>(sim.stepCount()));
+  EXPECT_LT(rms, 0.09);  // 7.6% measured (WCSPH: 6.3% at this lattice)
+}
+
+std::uint64_t runPour(int threads, double end) {
+  setThreadCount(threads);
+  // Emitter, cup and a changing particle count: the warm start follows sorting and new particles.
+  Simulation sim(test::shippedScene("pour", {"solver.spacing=0.008", "solver.pressure=dfsph"}));
+  sim.advanceTo(end);
+  EXPECT_GT(sim.fluid().size(), 100u);
+  return test::stateHash(sim.fluid());
+}
+
+TEST(Dfsph, ThreadCountDoesNotChangeTheResult) {
+  EXPECT_EQ(runPour(1, 0.25), runPour(2, 0.25));
+}
+
+TEST(Dfsph, RestoredRunContinuesBitExactly) {
+  setThreadCount(2);
+  const Scene scene = test::shippedScene("pour", {"solver.spacing=0.008", "solver.pressure=dfsph"});
+  Simulation straight(scene);
+  straight.advanceTo(0.15);
+  const RunState saved = straight.runState();
+  ASSERT_EQ(saved.warmStart.density.size(), straight.fluid().size());
+  ASSERT_EQ(saved.warmStart.divergence.size(), straight.fluid().size());
+  bool warm = false;
+  for (float v : saved.warmStart.density) warm = warm || v != 0;
+  for (float v : saved.warmStart.divergence) warm = warm || v != 0;
+  EXPECT_TRUE(warm) << "the warm start must be part of the saved state";
+  const Particles fluidAtCut = straight.fluid();
+  Simulation resumed(scene);
+  resumed.restore(saved, fluidAtCut);
+  straight.advanceTo(0.25);
+  resumed.advanceTo(0.25);
+  EXPECT_EQ(test::stateHash(straight.fluid()), test::stateHash(resumed.fluid()));
+  // Without the warm start the continuation differs: the test sees what it is about.
+  RunState cold = saved;
+  cold.warmStart = {};
+  Simulation coldStart(scene);
+  coldStart.restore(cold, fluidAtCut);
+  coldStart.advanceTo(0.25);
+  EXPECT_NE(test::stateHash(straight.fluid()), test::stateHash(coldStart.fluid()));
+}
+
+}  // namespace
+}  // namespace sph
