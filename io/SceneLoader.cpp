@@ -532,6 +532,10 @@ RainDesc readRain(JsonReader r) {
                                              "an integer in [1, 64] (array texture layers)",
                                              [](double v) { return integerIn(v, 1, 64); }));
   if (auto l = r.optionalObject("spotlight")) d.spotlight = readSpotlight(*l);
+  r.finish();
+  return d;
+}
+
 // The `lights` section (docs/scene-format.md, "lights"; docs/lights.md; seed 004).
 LightsDesc readLights(JsonReader r) {
   LightsDesc d;
