@@ -318,6 +318,9 @@ int runJob(const RunRequest& request) {
   if (cache) cache->finish(sim.time());
   const std::size_t endParticles =
       halo ? halo->globalCount(sim.fluid().size()) : sim.fluid().size();
+  // A distributed run's throughput counts every rank's particles.
+  const std::uint64_t particleSteps =
+      halo ? halo->globalCount(sim.profile().particleSteps) : sim.profile().particleSteps;
   if (halo && o.verbose) std::printf("  %s\n", describeExchanges(*halo, sim.profile()).c_str());
 
   const double wall =
@@ -329,8 +332,7 @@ int runJob(const RunRequest& request) {
         sim.time(), static_cast<unsigned long long>(prof.steps),
         prof.steps ? sim.time() / prof.steps : 0.0, endParticles);
     std::printf("  wall time %s, %s particle-steps/s, %.3g ms per step\n",
-                humanSeconds(wall).c_str(),
-                humanCount(wall > 0 ? prof.particleSteps / wall : 0).c_str(),
+                humanSeconds(wall).c_str(), humanCount(wall > 0 ? particleSteps / wall : 0).c_str(),
                 prof.steps ? 1e3 * wall / prof.steps : 0.0);
     if (o.verbose) printPassSplit(prof);
     if (cache) std::printf("  %s\n", cache->summary(wall).c_str());

@@ -17,7 +17,8 @@ namespace {
 using test::runShell;
 
 // A dam break (the water runs along x across every slab face) with a nozzle pouring into the
-// tank (emission on one rank, then migration): ~900 particles, 20 support-radius cells along x.
+// tank (emission on one rank, then migration): ~850 particles. The domain (the tank and its
+// margin) is longest in y: 40 support-radius cells, so slabs are cut across the falling water.
 std::string scene(double end) {
   return R"({
   "name": "mpi_dam_pour",
@@ -28,6 +29,7 @@ std::string scene(double end) {
   "boundaries": [{"type": "tank", "min": [0, 0, 0], "max": [0.584, 0.438, 0.0584]}],
   "emitters": [{"type": "nozzle", "position": [0.45, 0.35, 0.03], "direction": [0, -1, 0],
                 "radius": 0.02, "speed": 0.8, "start": 0, "stop": 1}],
+  "camera": {"position": [0.3, 0.3, 0.8], "target": [0.3, 0.1, 0.03], "fov": 40},
   "output": {"fps": 40}
 })";
 }
@@ -64,11 +66,11 @@ class Mpi : public ::testing::Test {
   void SetUp() override {
     dir_ = test::makeTempDir();
     scene_ = dir_ + "/scene.json";
-    std::ofstream(scene_) << scene(0.15);
+    std::ofstream(scene_) << scene(0.1);
     reference_ = dir_ + "/plain.h5";
     auto r = runShell(plain(scene_, "-o '" + reference_ + "'"));
     ASSERT_EQ(r.exitCode, 0) << r.output;
-    ASSERT_GT(io::CacheReader(reference_).summary().frames.back().particles, 900u);
+    ASSERT_GT(io::CacheReader(reference_).summary().frames.back().particles, 800u);
   }
   std::string dir_, scene_, reference_;
 };
@@ -86,18 +88,41 @@ TEST_F(Mpi, FramesAreBitIdenticalToOneProcessForOneToFourRanks) {
 
 TEST_F(Mpi, AResumeMayChangeTheNumberOfRanks) {
   const std::string out = dir_ + "/resumed.h5";
-  auto a = runShell(ranks(2, scene_, "--end 0.075 -o '" + out + "'"));
+  // Ends on frame times (2 x 1/40 s): an --end between frames ends a frame early, alone too.
+  auto a = runShell(ranks(2, scene_, "--end 0.05 -o '" + out + "'"));
   ASSERT_EQ(a.exitCode, 0) << a.output;
   auto b = runShell(ranks(3, scene_, "--resume '" + out + "'"));
   ASSERT_EQ(b.exitCode, 0) << b.output;
   expectSameCache(reference_, out);
   // and back to one plain process
   const std::string out2 = dir_ + "/resumed_plain.h5";
-  auto c = runShell(ranks(4, scene_, "--end 0.1 -o '" + out2 + "'"));
+  auto c = runShell(ranks(4, scene_, "--end 0.05 -o '" + out2 + "'"));
   ASSERT_EQ(c.exitCode, 0) << c.output;
   auto d = runShell(plain(scene_, "--resume '" + out2 + "'"));
   ASSERT_EQ(d.exitCode, 0) << d.output;
   expectSameCache(reference_, out2);
+}
+
+TEST(MpiGuard, ABlowUpOnOneRankStopsAllWithTheSingleProcessMessage) {
+  // A block thrown at 80 m/s along x (the domain's first longest axis): it leaves through the
+  // last rank's slab, and every rank stops with exit 3 and the message one process gives.
+  const std::string dir = test::makeTempDir();
+  const std::string file = dir + "/blow.json";
+  std::ofstream(file) << R"({"solver": {"spacing": 0.01, "gravity": [0,0,0], "speed_of_sound": 20},
+    "domain": {"min": [-0.1,-0.1,-0.1], "max": [0.3,0.3,0.3]},
+    "fluids": [{"min": [0,0,0], "max": [0.05,0.05,0.05], "velocity": [80,0,0]}]})";
+  const auto one = runShell(plain(file, ""));
+  const auto two = runShell(ranks(2, file, ""));
+  ASSERT_EQ(one.exitCode, 3) << one.output;
+  EXPECT_EQ(two.exitCode, 3) << two.output;
+  auto message = [](const std::string& out) {
+    const std::size_t at = out.find("numerical blow-up");
+    return at == std::string::npos ? std::string() : out.substr(at, out.find('\n', at) - at);
+  };
+  ASSERT_NE(message(one.output), "") << one.output;
+  EXPECT_EQ(message(two.output), message(one.output)) << two.output;
+  EXPECT_NE(two.output.find("reproduce: mpirun -np 2 sphsplat run"), std::string::npos)
+      << two.output;
 }
 
 // Our one line, once (rank 0 tells; mpirun may add its own notice about the exit code).
@@ -113,7 +138,7 @@ TEST(MpiRefusals, ASceneTooSmallForTheRanks) {
   const std::string dir = test::makeTempDir();
   const std::string file = dir + "/scene.json";
   std::ofstream(file) << scene(0.05);
-  expectRefused(runShell(ranks(6, file, "")), "too small for 6 processes");
+  expectRefused(runShell(ranks(12, file, "")), "too small for 12 processes");
 }
 
 TEST(MpiRefusals, TheGlCollisionPassAndTheRenderer) {

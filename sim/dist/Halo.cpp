@@ -184,6 +184,9 @@ float Halo::exchange(Particles& f, float h) {
   }
   for (const Bytes& b : send) stats_.bytesSent += b.size();
   compact(f, keys_, keep);
+  // What stayed is in key order: last step's sorted owned particles, then the emitted ones
+  // (keys above every cell's, in id order).
+  const std::size_t stayed = f.size();
   for (const Bytes& b : comm_.allToAll(send)) unpack(b, f, keys_);
   const std::size_t owned = f.size();
 
@@ -205,10 +208,13 @@ float Halo::exchange(Particles& f, float h) {
 
   // The global order restricted to the particles here: the grid's stable sort then reproduces
   // the single process's order.
+  // the particles that stayed are in order already: sort the arrivals and merge.
   order_.resize(f.size());
   std::iota(order_.begin(), order_.end(), 0u);
-  std::sort(order_.begin(), order_.end(),
-            [&](std::uint32_t a, std::uint32_t b) { return keys_[a] < keys_[b]; });
+  const auto byKey = [&](std::uint32_t a, std::uint32_t b) { return keys_[a] < keys_[b]; };
+  const auto arrivals = order_.begin() + static_cast<std::ptrdiff_t>(stayed);
+  std::sort(arrivals, order_.end(), byKey);
+  std::inplace_merge(order_.begin(), arrivals, order_.end(), byKey);
   std::vector<std::uint32_t> scratch;
   f.permute(order_, scratch);
   permuteVector(keys_, order_);
