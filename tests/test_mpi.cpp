@@ -125,6 +125,24 @@ TEST(MpiGuard, ABlowUpOnOneRankStopsAllWithTheSingleProcessMessage) {
       << two.output;
 }
 
+TEST_F(Mpi, AKilledRankLeavesEveryFinishedFrameReadable) {
+  // kill -9 one rank in the middle of a long run: mpirun ends the others, and the cache keeps
+  // the frames committed before, each readable and equal to the single process's.
+  const std::string out = dir_ + "/killed.h5";
+  const std::string script = ranks(2, scene_, "--end 5 -o '" + out + "'") + " & M=$!; " +
+                             "for i in $(seq 600); do [ -f '" + out +
+                             "' ] && break; sleep 0.1; done; sleep 3; " +
+                             "kill -9 $(pgrep -P $M | tail -1); wait $M; echo mpirun-exit $?";
+  auto r = runShell(script);
+  EXPECT_NE(r.output.find("mpirun-exit"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("mpirun-exit 0"), std::string::npos) << r.output;
+  const io::CacheReader killed(out);
+  const io::CacheReader reference(reference_);
+  ASSERT_GE(killed.frameCount(), 1u);
+  for (std::size_t k = 0; k < killed.frameCount() && k < reference.frameCount(); ++k)
+    EXPECT_TRUE(test::sameBits(reference.readFrame(k), killed.readFrame(k))) << "frame " << k;
+}
+
 // Our one line, once (rank 0 tells; mpirun may add its own notice about the exit code).
 void expectRefused(const test::CommandResult& r, const std::string& words) {
   EXPECT_EQ(r.exitCode, 2) << r.output;
