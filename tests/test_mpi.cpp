@@ -45,22 +45,6 @@ std::string ranks(int k, const std::string& sceneFile, const std::string& args) 
          "' --threads 1 --quiet " + args;
 }
 
-// Every frame and resume record of `b` equals `a`'s, bit for bit.
-void expectSameCache(const std::string& a, const std::string& b) {
-  const io::CacheReader ra(a), rb(b);
-  ASSERT_EQ(ra.frameCount(), rb.frameCount());
-  for (std::size_t k = 0; k < ra.frameCount(); ++k) {
-    EXPECT_EQ(ra.summary().frames[k].time, rb.summary().frames[k].time) << "frame " << k;
-    EXPECT_EQ(ra.summary().frames[k].step, rb.summary().frames[k].step) << "frame " << k;
-    EXPECT_TRUE(test::sameBits(ra.readFrame(k), rb.readFrame(k))) << "frame " << k;
-    const auto [sa, pa] = ra.readRestart(k);
-    const auto [sb, pb] = rb.readRestart(k);
-    EXPECT_TRUE(test::sameBits(pa, pb)) << "resume record " << k;
-    EXPECT_EQ(sa.maxSpeed, sb.maxSpeed) << k;
-    EXPECT_EQ(sa.nextId, sb.nextId) << k;
-  }
-}
-
 class Mpi : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -81,7 +65,7 @@ TEST_F(Mpi, FramesAreBitIdenticalToOneProcessForOneToFourRanks) {
     const std::string out = dir_ + "/k" + std::to_string(k) + ".h5";
     auto r = runShell(ranks(k, scene_, "-o '" + out + "'"));
     ASSERT_EQ(r.exitCode, 0) << r.output;
-    expectSameCache(reference_, out);
+    test::expectSameCache(reference_, out);
     EXPECT_TRUE(test::fileExists(dir_ + "/k" + std::to_string(k) + ".xdmf"));
   }
 }
@@ -93,14 +77,14 @@ TEST_F(Mpi, AResumeMayChangeTheNumberOfRanks) {
   ASSERT_EQ(a.exitCode, 0) << a.output;
   auto b = runShell(ranks(3, scene_, "--resume '" + out + "'"));
   ASSERT_EQ(b.exitCode, 0) << b.output;
-  expectSameCache(reference_, out);
+  test::expectSameCache(reference_, out);
   // and back to one plain process
   const std::string out2 = dir_ + "/resumed_plain.h5";
   auto c = runShell(ranks(4, scene_, "--end 0.05 -o '" + out2 + "'"));
   ASSERT_EQ(c.exitCode, 0) << c.output;
   auto d = runShell(plain(scene_, "--resume '" + out2 + "'"));
   ASSERT_EQ(d.exitCode, 0) << d.output;
-  expectSameCache(reference_, out2);
+  test::expectSameCache(reference_, out2);
 }
 
 TEST(MpiGuard, ABlowUpOnOneRankStopsAllWithTheSingleProcessMessage) {
