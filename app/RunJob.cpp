@@ -3,13 +3,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "app/Commands.h"
+#include "app/DistributedRun.h"
 #include "app/Interrupt.h"
 #include "app/MachineMemory.h"
 #include "app/OpenMpSpinLimit.h"
@@ -66,6 +69,7 @@ std::string endTimeText(double t) {
 // the end time `end` (0: the scene's own).
 std::string commandLine(const RunRequest& o, double end) {
   std::string line = "sphsplat run " + shellQuote(o.scene);
+  if (world()) line = "mpirun -np " + std::to_string(world()->size()) + " " + line;
   for (const std::string& s : o.overrides) line += " --set " + shellQuote(s);
   if (end > 0) line += " --end " + endTimeText(end);
   return line + " --threads " + std::to_string(threadCount());
@@ -86,9 +90,10 @@ void printHeader(const RunRequest& o, const Scene& scene, const Simulation& sim,
                  const io::CacheSession* cache, double setupSeconds, const MemoryEstimate& memory) {
   const DerivedParams& d = sim.params();
   const double frameInterval = 1.0 / scene.output.fps;
-  std::printf("%s: %zu fluid particles, %zu boundary particles, %d thread%s\n", scene.name.c_str(),
-              sim.fluid().size(), sim.boundary().particles().size(), threadCount(),
-              threadCount() == 1 ? "" : "s");
+  std::printf("%s: %zu fluid particles, %zu boundary particles, %s%d thread%s\n",
+              scene.name.c_str(), sim.fluid().size(), sim.boundary().particles().size(),
+              world() ? (std::to_string(world()->size()) + " processes x ").c_str() : "",
+              threadCount(), threadCount() == 1 ? "" : "s");
   std::printf(
       "  spacing %g m, support radius %g m, particle mass %.4g kg, speed of sound %.3g m/s, "
       "first dt %.3g s\n",
@@ -135,16 +140,35 @@ void printHeader(const RunRequest& o, const Scene& scene, const Simulation& sim,
 
 }  // namespace
 
-int runJob(const RunRequest& o) {
+int runJob(const RunRequest& request) {
+  // On K processes (mpirun -np K; docs/scaling.md) every rank runs this; rank 0 alone prints
+  // and writes the cache.
+  dist::Communicator* ranks = world();
+  const bool root = isRootProcess();
+  RunRequest o = request;
+  if (!root) o.quiet = true, o.verbose = false;
   Scene scene = io::loadScene(o.scene, o.overrides);
   if (o.end > 0) scene.solver.endTime = o.end;
+  if (ranks) refuseUnsupported(scene, ranks->size());
   // Before anything is allocated: the CDT's id range (once --end is applied) and the machine's
   // memory; a scene past either stops here with one line naming the key to change.
   cdt::requireIdsInRange(scene);
   const MemoryEstimate memory = checkMemory(scene);
   setThreadCount(o.threads);
   // The cache's paths are checked before anything runs (nothing is overwritten by surprise).
-  std::unique_ptr<io::CacheSession> cache = io::CacheSession::prepare(o.cache, scene);
+  std::unique_ptr<io::CacheSession> cache;
+  if (!ranks) {
+    cache = io::CacheSession::prepare(o.cache, scene);
+  } else {
+    // Rank 0's checks stop every rank; prepare() may change the scene (a resume's frame rate),
+    // and every rank must run the same scene.
+    onRootAgreeing(*ranks, [&] { cache = io::CacheSession::prepare(o.cache, scene); });
+    dist::Bytes fps(sizeof(double));
+    std::memcpy(fps.data(), &scene.output.fps, sizeof(double));
+    ranks->broadcastFromRoot(fps);
+    std::memcpy(&scene.output.fps, fps.data(), sizeof(double));
+  }
+  setLockstep(ranks != nullptr);
   // The pictures' directory is ours too before anything is written (the cache is, above).
   io::OutputLock framesLock;
   if (scene.render)
@@ -161,7 +185,31 @@ int runJob(const RunRequest& o) {
 
   std::uint64_t frames = 1;  // the next output frame; the initial state is frame 0
   const io::CacheProvenance provenance{SPHSPLAT_VERSION_STRING, threadCount(), o.overrides};
-  if (cache && cache->resuming()) {
+  if (ranks) {
+    // Whether rank 0 resumes, and from where: every rank follows.
+    std::vector<std::int64_t> resume{cache && cache->resuming() ? 1 : 0,
+                                     cache && cache->resuming() && cache->lastFrameTime() >= end};
+    ranks->sumInPlace(resume);
+    if (resume[1]) {
+      if (root)
+        std::printf("%s already reaches t = %g s; nothing to do (--end sets a later end time)\n",
+                    cache->path().c_str(), cache->lastFrameTime());
+      return kOk;
+    }
+    std::vector<std::int64_t> frame{0};
+    if (resume[0]) {
+      if (root) frame[0] = static_cast<std::int64_t>(cache->restore(sim, provenance));
+      ranks->sumInPlace(frame);
+      frames = static_cast<std::uint64_t>(frame[0]) + 1;
+      const RunState state = broadcastRunState(*ranks, sim.runState());
+      if (!root) sim.restore(state, Particles{});
+      if (!o.quiet)
+        std::printf("  resuming %s from frame %llu at t = %g s\n", cache->path().c_str(),
+                    static_cast<unsigned long long>(frames - 1), sim.time());
+    } else if (!root) {
+      sim.fluid().clear();  // rank 0 holds the initial fluid; the first step shares it out
+    }
+  } else if (cache && cache->resuming()) {
     if (cache->lastFrameTime() >= end) {
       std::printf("%s already reaches t = %g s; nothing to do (--end sets a later end time)\n",
                   cache->path().c_str(), cache->lastFrameTime());
@@ -171,6 +219,11 @@ int runJob(const RunRequest& o) {
     if (!o.quiet)
       std::printf("  resuming %s from frame %llu at t = %g s\n", cache->path().c_str(),
                   static_cast<unsigned long long>(frames - 1), sim.time());
+  }
+  std::unique_ptr<dist::Halo> halo;
+  if (ranks) {
+    halo = std::make_unique<dist::Halo>(*ranks, scene.domain, sim.params().h);
+    sim.setHalo(halo.get());
   }
   installInterruptHandlers();
 
@@ -200,10 +253,17 @@ int runJob(const RunRequest& o) {
   plan.frameInterval = frameInterval;
   plan.nextFrame = frames;
   plan.stopRequested = [] { return interruptSignal() != 0; };
+  // Every rank stops at the same step when any of them is told to.
+  if (halo) plan.stopRequested = [&halo] { return halo->any(interruptSignal() != 0); };
   plan.afterStep = [&](const Simulation&) { progress.update(sample()); };
   std::vector<FrameSink*> sinks;
   if (cache) sinks.push_back(cache.get());
   if (pictures) sinks.push_back(pictures.get());
+  std::unique_ptr<GatheringSink> gathering;
+  if (halo) {
+    gathering = std::make_unique<GatheringSink>(*halo, sim, sinks);
+    sinks = {gathering.get()};
+  }
   RunOutcome outcome;
   try {
     outcome = runFrames(sim, plan, sinks);
@@ -225,6 +285,8 @@ int runJob(const RunRequest& o) {
   if (outcome.blowUp) {
     const StabilityError& e = *outcome.blowUp;
     progress.finish(sample());
+    setLockstep(false);  // every rank has the same error; rank 0 tells it
+    if (!root) return kBlowUp;
     std::fprintf(stderr, "sphsplat: %s\n", e.what());
     std::fprintf(stderr, "  reproduce: %s\n", reproduceCommand(o, plan, outcome).c_str());
     if (cache) {
@@ -236,7 +298,12 @@ int runJob(const RunRequest& o) {
     return kBlowUp;
   }
   progress.finish(sample());
-  if (const int signal = interruptSignal()) {
+  int signal = interruptSignal();
+  // A distributed run stops when any rank was signalled (mpirun forwards SIGINT and SIGTERM).
+  if (!signal && halo && outcome.end == RunOutcome::End::Stopped) signal = SIGTERM;
+  if (signal) {
+    setLockstep(false);
+    if (!root) return 128 + signal;
     std::fprintf(stderr, "sphsplat: interrupted by %s at t = %g s\n", signalName(signal),
                  sim.time());
     if (cache) {
@@ -249,6 +316,12 @@ int runJob(const RunRequest& o) {
     return 128 + signal;
   }
   if (cache) cache->finish(sim.time());
+  const std::size_t endParticles =
+      halo ? halo->globalCount(sim.fluid().size()) : sim.fluid().size();
+  // A distributed run's throughput counts every rank's particles.
+  const std::uint64_t particleSteps =
+      halo ? halo->globalCount(sim.profile().particleSteps) : sim.profile().particleSteps;
+  if (halo && o.verbose) std::printf("  %s\n", describeExchanges(*halo, sim.profile()).c_str());
 
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -257,7 +330,7 @@ int runJob(const RunRequest& o) {
     std::printf(
         "done: simulated %.4g s in %llu steps (mean dt %.3g s), %zu fluid particles at the end\n",
         sim.time(), static_cast<unsigned long long>(prof.steps),
-        prof.steps ? sim.time() / prof.steps : 0.0, sim.fluid().size());
+        prof.steps ? sim.time() / prof.steps : 0.0, endParticles);
     if (sim.lostParticles() > 0) {
       std::printf(
           "  %llu particles left the domain and were removed (solver.max_lost_particles = %llu)\n",
@@ -270,13 +343,13 @@ int runJob(const RunRequest& o) {
                   static_cast<double>(ds.totalDivergenceIterations) / ds.steps);
     }
     std::printf("  wall time %s, %s particle-steps/s, %.3g ms per step\n",
-                humanSeconds(wall).c_str(),
-                humanCount(wall > 0 ? prof.particleSteps / wall : 0).c_str(),
+                humanSeconds(wall).c_str(), humanCount(wall > 0 ? particleSteps / wall : 0).c_str(),
                 prof.steps ? 1e3 * wall / prof.steps : 0.0);
     if (o.verbose) printPassSplit(prof);
     if (cache) std::printf("  %s\n", cache->summary(wall).c_str());
   }
   if (cache) cache->close();
+  setLockstep(false);
   return kOk;
 }
 

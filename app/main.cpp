@@ -8,13 +8,33 @@
 
 #include "app/CliChecks.h"
 #include "app/Commands.h"
+#include "app/DistributedRun.h"
 #include "app/OpenMpSpinLimit.h"
 #include "app/Version.h"
 #include "render/gl/GlError.h"
 #include "sim/InputError.h"
+#ifdef SPHSPLAT_MPI
+#include "mpi/MpiCommunicator.h"
+#endif
 
 int main(int argc, char** argv) {
   sph::app::relaunchWithOpenMpSpinLimit(argv);
+#ifdef SPHSPLAT_MPI
+  // Under mpirun: the ranks of a distributed run (docs/scaling.md); a plain process otherwise.
+  sph::mpi::MpiSession mpi(&argc, &argv);
+  sph::app::setWorld(mpi.world());
+#endif
+  // Errors are told once: by the only process, or by rank 0 (every rank meets the same ones).
+  const auto tell = [](const char* format, const char* what) {
+    if (sph::app::isRootProcess() || sph::app::inLockstep()) std::fprintf(stderr, format, what);
+#ifdef SPHSPLAT_MPI
+    // This rank alone failed while the others wait in a collective: end them all.
+    if (sph::app::inLockstep()) {
+      std::fflush(stderr);
+      sph::mpi::MpiSession::abortAll(2);
+    }
+#endif
+  };
   CLI::App app{"sphsplat " SPHSPLAT_VERSION_STRING
                ": SPH fluid simulation with an image-based collision pass and splat rendering.\n"
                "Scenes are JSON files (scenes/, docs/scene-format.md)."};
@@ -50,18 +70,18 @@ int main(int argc, char** argv) {
       if (code >= 0) return code;
     }
   } catch (const sph::InputError& e) {
-    std::fprintf(stderr, "sphsplat: %s\n", e.what());
+    tell("sphsplat: %s\n", e.what());
     return sph::app::kBadInput;
   } catch (const sph::render::gl::GlError& e) {
-    std::fprintf(stderr, "sphsplat: %s\n", e.what());
+    tell("sphsplat: %s\n", e.what());
     return sph::app::kNoGraphics;
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr,
-                 "sphsplat: out of memory: the job needs more memory than this process may use "
-                 "(run --verbose prints a scene's estimate; a larger solver.spacing needs less)\n");
+    tell("sphsplat: %s\n",
+         "out of memory: the job needs more memory than this process may use "
+         "(run --verbose prints a scene's estimate; a larger solver.spacing needs less)");
     return sph::app::kBadInput;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "sphsplat: internal error: %s\n", e.what());
+    tell("sphsplat: internal error: %s\n", e.what());
     return sph::app::kInternalError;
   }
   return sph::app::kInternalError;

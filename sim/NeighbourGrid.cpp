@@ -1,6 +1,7 @@
 #include "sim/NeighbourGrid.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <sstream>
 
@@ -28,19 +29,12 @@ void NeighbourGrid::build(const float* x, const float* y, const float* z, std::s
     lo[1] = std::min(lo[1], y[i]), hi[1] = std::max(hi[1], y[i]);
     lo[2] = std::min(lo[2], z[i]), hi[2] = std::max(hi[2], z[i]);
   }
-  if (maxCells == 0) maxCells = std::max<std::size_t>(8 * n, std::size_t(1) << 20);
-  // Grow the cell until the box fits in maxCells cells (a spray of a few particles must not
-  // allocate a grid the size of the sky).
-  for (;;) {
-    cellSize_ = cellSize;
-    invCell_ = 1.0 / static_cast<double>(cellSize);
-    const CellCoord a = cellOf(lo[0], lo[1], lo[2]), b = cellOf(hi[0], hi[1], hi[2]);
-    ox_ = a[0], oy_ = a[1], oz_ = a[2];
-    nx_ = b[0] - a[0] + 1, ny_ = b[1] - a[1] + 1, nz_ = b[2] - a[2] + 1;
-    const double cells = static_cast<double>(nx_) * ny_ * nz_;
-    if (cells <= static_cast<double>(maxCells)) break;
-    cellSize *= static_cast<float>(std::cbrt(cells / static_cast<double>(maxCells))) * 1.01f;
-  }
+  cellSize = cellSizeFor(lo, hi, n, cellSize, maxCells);
+  cellSize_ = cellSize;
+  invCell_ = 1.0 / static_cast<double>(cellSize);
+  const CellCoord a = cellOf(lo[0], lo[1], lo[2]), b = cellOf(hi[0], hi[1], hi[2]);
+  ox_ = a[0], oy_ = a[1], oz_ = a[2];
+  nx_ = b[0] - a[0] + 1, ny_ = b[1] - a[1] + 1, nz_ = b[2] - a[2] + 1;
   const std::size_t cells = static_cast<std::size_t>(nx_) * ny_ * nz_;
   SPH_ASSERT(n < std::numeric_limits<std::uint32_t>::max());
 
@@ -59,6 +53,24 @@ void NeighbourGrid::build(const float* x, const float* y, const float* z, std::s
     order[cursor_[cellOfPoint_[i]]++] = static_cast<std::uint32_t>(i);
   }
   validate("the neighbour grid's sort", [&] { return checkSorted(x, y, z, n, order); });
+}
+
+float NeighbourGrid::cellSizeFor(const float lo[3], const float hi[3], std::size_t n,
+                                 float cellSize, std::size_t maxCells) {
+  if (maxCells == 0) maxCells = std::max<std::size_t>(8 * n, std::size_t(1) << 20);
+  // Grow the cell until the box fits in maxCells cells (a spray of a few particles must not
+  // allocate a grid the size of the sky).
+  for (;;) {
+    const double inv = 1.0 / static_cast<double>(cellSize);
+    double cells = 1;
+    for (int a = 0; a < 3; ++a) {
+      const int from = static_cast<int>(std::floor(static_cast<double>(lo[a]) * inv));
+      const int to = static_cast<int>(std::floor(static_cast<double>(hi[a]) * inv));
+      cells *= static_cast<double>(to - from + 1);
+    }
+    if (cells <= static_cast<double>(maxCells)) return cellSize;
+    cellSize *= static_cast<float>(std::cbrt(cells / static_cast<double>(maxCells))) * 1.01f;
+  }
 }
 
 std::string NeighbourGrid::checkSorted(const float* x, const float* y, const float* z,

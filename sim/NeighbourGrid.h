@@ -27,6 +27,13 @@ class NeighbourGrid {
   // counting-sort permutation: sorted[i] = original[order[i]].
   void build(const float* x, const float* y, const float* z, std::size_t n, float cellSize,
              std::vector<std::uint32_t>& order, std::size_t maxCells = 0);
+  // The cell size build() settles on for n points in the box [lo, hi]: `cellSize`, grown while
+  // the box would need more than maxCells cells (0: max(8 n, 2^20)). A distributed run's ranks
+  // call it with the global box and count so they all build the single process's lattice.
+  static float cellSizeFor(const float lo[3], const float hi[3], std::size_t n, float cellSize,
+                           std::size_t maxCells = 0);
+  // No growth: build(..., kExactCellSize) uses the cell size it is given.
+  static constexpr std::size_t kExactCellSize = ~std::size_t(0);
 
   // The invariants build() establishes, for the points it was given and the order it returned:
   // the cell ranges tile [0, n) in cell order, `order` is a permutation, the point at each sorted

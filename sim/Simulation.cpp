@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "sim/Assert.h"
@@ -43,9 +44,16 @@ float Simulation::chooseTimeStep() const {
 }
 
 StepContext Simulation::context(float dt) {
-  return StepContext{dt,         scene_.solver,   derived_, boundary_,           fluid_,
-                     grid_,      boundaryFields_, scratch_, gradientCorrection_, state_.warmStart,
-                     solveStats_};
+  StepContext c{dt,         scene_.solver,   derived_, boundary_,           fluid_,
+                grid_,      boundaryFields_, scratch_, gradientCorrection_, state_.warmStart,
+                solveStats_};
+  if (halo_) c.ghost = &halo_->ghost(), c.ranks = &halo_->comm();
+  return c;
+}
+
+void Simulation::setHalo(dist::Halo* halo) {
+  halo_ = halo;
+  if (halo_) halo_->adopt(fluid_);
 }
 
 void Simulation::step(double limit) {
@@ -64,7 +72,18 @@ void Simulation::step(double limit) {
   const bool sph = scene_.solver.model == SolverModel::Sph;
   const bool dfsph = sph && scene_.solver.pressure == PressureSolver::Dfsph;
   if (sph) {
-    timed(Pass::Sort, [&] { sortParticles(c); });
+    if (halo_) {
+      float cellSize = 0;
+      timed(Pass::Exchange, [&] { cellSize = halo_->exchange(fluid_, derived_.h); });
+      timed(Pass::Sort, [&] {
+        grid_.build(fluid_.x.data(), fluid_.y.data(), fluid_.z.data(), fluid_.size(), cellSize,
+                    scratch_.order, NeighbourGrid::kExactCellSize);
+        fluid_.permute(scratch_.order, scratch_.permuteScratch);
+        halo_->sorted(grid_, scratch_.order);
+      });
+    } else {
+      timed(Pass::Sort, [&] { sortParticles(c); });
+    }
     timed(Pass::Density, [&] { computeDensity(c); });
     validate("the density pass",
              [&] { return checkDensity(fluid_, derived_, scene_.solver.densityKernel); });
@@ -77,12 +96,20 @@ void Simulation::step(double limit) {
   } else if (sph) {
     timed(Pass::Pressure, [&] { computePressure(c); });
     timed(Pass::Forces, [&] { computeForces(c); });
+    if (halo_) timed(Pass::Exchange, [&] { halo_->dropGhosts(fluid_); });
   } else {
+    if (halo_) {  // migration only: no neighbour sums, no ghosts needed
+      timed(Pass::Exchange, [&] {
+        halo_->exchange(fluid_, derived_.h);
+        halo_->dropGhosts(fluid_);
+      });
+    }
     timed(Pass::Forces, [&] { applyGravityOnly(c); });
   }
   timed(Pass::Integrate, [&] {
     const MotionBounds bounds = dfsph ? integratePositions(c) : integrate(c);
     state_.maxSpeed = bounds.maxSpeed, state_.maxAcceleration = bounds.maxAcceleration;
+    if (halo_) halo_->maxOverRanks(state_.maxSpeed, state_.maxAcceleration);
   });
   state_.time += dt;
   state_.step += 1;
@@ -90,13 +117,26 @@ void Simulation::step(double limit) {
   timed(Pass::Collide, [&] { collide(c.dt); });
   timed(Pass::Boundaries, [&] { enforceBoundaries(c); });
   timed(Pass::Guard, [&] {
-    const std::uint64_t lost = checkStability(c, scene_.domain, state_.step, state_.time,
-                                              state_.lostParticles, derived_.maxLostParticles);
-    state_.lostParticles += lost;
-    if (lost == 0) return;
-    // The next step's size follows the particles that stayed.
-    const MotionBounds bounds = motionBounds(fluid_);
-    state_.maxSpeed = bounds.maxSpeed, state_.maxAcceleration = bounds.maxAcceleration;
+    if (!halo_) {
+      const std::uint64_t lost = checkStability(c, scene_.domain, state_.step, state_.time,
+                                                state_.lostParticles, derived_.maxLostParticles);
+      state_.lostParticles += lost;
+      if (lost == 0) return;
+      // The next step's size follows the particles that stayed.
+      const MotionBounds bounds = motionBounds(fluid_);
+      state_.maxSpeed = bounds.maxSpeed, state_.maxAcceleration = bounds.maxAcceleration;
+      return;
+    }
+    // On K processes a particle that leaves the domain stops the run: removing it would need the
+    // count, the tolerance and the next step's bounds agreed over the ranks (docs/scaling.md,
+    // "Limits"). A blow-up on one rank stops every rank with the same message.
+    std::optional<StabilityError> local;
+    try {
+      checkStability(c, scene_.domain, state_.step, state_.time, 0, 0);
+    } catch (const StabilityError& e) {
+      local = e;
+    }
+    halo_->agreeOnStability(local);
   });
   validate("the step", [&] { return checkState(fluid_, state_.nextId); });
   profile_.steps += 1;
@@ -110,8 +150,13 @@ void Simulation::advanceTo(double t) {
 void Simulation::emitParticles(double dt) {
   const double end = state_.time + dt;
   for (std::size_t e = 0; e < emitters_.size(); ++e) {
-    emitters_[e].emit(end, dt, fluid_, state_.nextId, scene_.solver.restDensity);
+    // Distributed: the rank holding the nozzle releases the particles; the others advance the
+    // emitter's state and the ids alike.
+    Particles& into =
+        !halo_ || halo_->owns(scene_.emitters[e].position) ? fluid_ : emittedElsewhere_;
+    emitters_[e].emit(end, dt, into, state_.nextId, scene_.solver.restDensity);
   }
+  emittedElsewhere_.clear();
 }
 
 void Simulation::collide(float dt) {

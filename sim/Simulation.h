@@ -18,6 +18,7 @@
 #include "sim/SceneSetup.h"
 #include "sim/StepContext.h"
 #include "sim/StepProfile.h"
+#include "sim/dist/Halo.h"
 
 namespace sph {
 
@@ -71,6 +72,11 @@ class Simulation {
   void setCollisionPass(std::unique_ptr<CollisionPass> pass);
   const CollisionPass* collisionPass() const { return collision_.get(); }
 
+  // Runs this simulation as one rank of a distributed run (sim/dist/Halo.h, docs/scaling.md):
+  // from now on the fluid is this rank's share. The caller keeps `halo` alive.
+  void setHalo(dist::Halo* halo);
+  dist::Halo* halo() const { return halo_; }
+
   RunState runState() const;
   // Replaces state and fluid with a saved one (the same scene must be loaded).
   void restore(const RunState& state, Particles fluid);
@@ -95,6 +101,8 @@ class Simulation {
   StepScratch scratch_;
   float gradientCorrection_ = 1;  // scale of the pressure force this step
   PressureSolveStats solveStats_;
+  dist::Halo* halo_ = nullptr;    // a distributed run's decomposition; null alone
+  Particles emittedElsewhere_;    // what another rank's emitters released (discarded)
 };
 
 }  // namespace sph

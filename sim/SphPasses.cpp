@@ -20,6 +20,7 @@
 #include "sim/CellBatch.h"
 #include "sim/Parallel.h"
 #include "sim/SphPasses.h"
+#include "sim/dist/ExactSum.h"
 
 namespace sph {
 namespace {
@@ -69,16 +70,26 @@ void updateGradientCorrection(StepContext& c) {
   const Particles& f = c.fluid;
   const std::vector<float>& gradientMoment = c.scratch.gradientMoment;
   const float rho0 = c.solver.restDensity;
-  double sum = 0;
-  std::size_t count = 0;
-  for (std::size_t i = 0; i < f.size(); ++i) {  // serial: a fixed summation order
-    if (f.rho[i] < rho0) continue;
-    sum += gradientMoment[i];
+  // Exact, so the same for any order of the terms and any split between ranks.
+  dist::ExactSum sum;
+  std::int64_t count = 0;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (f.rho[i] < rho0 || (c.ghost && (*c.ghost)[i])) continue;
+    sum.add(gradientMoment[i]);
     ++count;
   }
-  constexpr std::size_t kMinimumSample = 64;  // fewer: a spray or a drop; trust the lattice
-  c.gradientCorrection =
-      count >= kMinimumSample ? static_cast<float>(count / sum) : c.derived.gradientCorrection;
+  if (c.ranks) {
+    sum.normalise();
+    std::vector<std::int64_t> all(sum.digits().begin(), sum.digits().end());
+    all.push_back(count);
+    c.ranks->sumInPlace(all);
+    std::copy(all.begin(), all.end() - 1, sum.digits().begin());
+    count = all.back();
+  }
+  constexpr std::int64_t kMinimumSample = 64;  // fewer: a spray or a drop; trust the lattice
+  c.gradientCorrection = count >= kMinimumSample
+                             ? static_cast<float>(static_cast<double>(count) / sum.toDouble())
+                             : c.derived.gradientCorrection;
 }
 
 }  // namespace

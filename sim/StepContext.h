@@ -12,6 +12,7 @@
 #include "sim/Particles.h"
 #include "sim/SceneSetup.h"
 #include "sim/SolverParams.h"
+#include "sim/dist/Communicator.h"
 
 namespace sph {
 
@@ -68,6 +69,10 @@ struct StepContext {
   float& gradientCorrection;
   PressureWarmStart& warmStart;  // DFSPH only
   PressureSolveStats& solveStats;
+  // A distributed run (sim/dist/Halo.h): 1 for the ghosts among the fluid (they take part in the
+  // sums but are another rank's to count), and the ranks to add global sums over. Null alone.
+  const std::vector<std::uint8_t>* ghost = nullptr;
+  dist::Communicator* ranks = nullptr;
 };
 
 }  // namespace sph

@@ -20,13 +20,14 @@ enum class Pass : int {
   Collide,
   Boundaries,
   Guard,
+  Exchange,  // a distributed run's re-cut, migration and ghosts (sim/dist/Halo.h)
   Count
 };
 
 inline const char* passName(Pass p) {
-  static constexpr const char* names[] = {"emit",       "sort",       "density", "factor",
-                                          "divergence", "pressure",   "forces",  "integrate",
-                                          "collide",    "boundaries", "guard"};
+  static constexpr const char* names[] = {"emit",     "sort",       "density", "factor",
+                                          "divergence", "pressure", "forces",  "integrate",
+                                          "collide",  "boundaries", "guard",   "exchange"};
   return names[static_cast<int>(p)];
 }
 

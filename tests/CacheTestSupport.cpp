@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "io/CacheFormat.h"
+#include "io/CacheReader.h"
 
 namespace sph::test {
 
@@ -89,6 +90,28 @@ std::string readFile(const std::string& path) {
 bool fileExists(const std::string& path) {
   struct stat st {};
   return stat(path.c_str(), &st) == 0;
+}
+
+void expectSameCache(const std::string& a, const std::string& b) {
+  const io::CacheReader ra(a), rb(b);
+  ASSERT_EQ(ra.frameCount(), rb.frameCount());
+  for (std::size_t k = 0; k < ra.frameCount(); ++k) {
+    EXPECT_EQ(ra.summary().frames[k].time, rb.summary().frames[k].time) << "frame " << k;
+    EXPECT_EQ(ra.summary().frames[k].step, rb.summary().frames[k].step) << "frame " << k;
+    EXPECT_TRUE(test::sameBits(ra.readFrame(k), rb.readFrame(k))) << "frame " << k;
+    const auto [sa, pa] = ra.readRestart(k);
+    const auto [sb, pb] = rb.readRestart(k);
+    EXPECT_TRUE(test::sameBits(pa, pb)) << "resume record " << k;
+    EXPECT_EQ(sa.lastDt, sb.lastDt) << k;
+    EXPECT_EQ(sa.maxSpeed, sb.maxSpeed) << k;
+    EXPECT_EQ(sa.maxAcceleration, sb.maxAcceleration) << k;
+    EXPECT_EQ(sa.nextId, sb.nextId) << k;
+    ASSERT_EQ(sa.emitters.size(), sb.emitters.size());
+    for (std::size_t e = 0; e < sa.emitters.size(); ++e) {
+      EXPECT_EQ(sa.emitters[e].travelled, sb.emitters[e].travelled);
+      EXPECT_EQ(sa.emitters[e].emitted, sb.emitters[e].emitted);
+    }
+  }
 }
 
 }  // namespace sph::test

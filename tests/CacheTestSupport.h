@@ -31,6 +31,10 @@ std::string sphsplatBinary();
 // Every array present (non-empty or sized) in both, compared byte for byte.
 ::testing::AssertionResult sameBits(const Particles& expected, const Particles& actual);
 
+// Every frame (time, step, arrays) and resume record (state, arrays) of cache `b` equals cache
+// `a`'s, bit for bit (resume, and a run on K processes: tests/test_mpi.cpp).
+void expectSameCache(const std::string& a, const std::string& b);
+
 std::string readFile(const std::string& path);
 bool fileExists(const std::string& path);
 

@@ -20,29 +20,6 @@ std::string run(const std::string& scene, const std::string& args) {
          "' --threads 2 --quiet " + args;
 }
 
-// Every frame and resume record of `b` equals `a`'s, bit for bit.
-void expectSameCache(const std::string& a, const std::string& b) {
-  const io::CacheReader ra(a), rb(b);
-  ASSERT_EQ(ra.frameCount(), rb.frameCount());
-  for (std::size_t k = 0; k < ra.frameCount(); ++k) {
-    EXPECT_EQ(ra.summary().frames[k].time, rb.summary().frames[k].time) << "frame " << k;
-    EXPECT_EQ(ra.summary().frames[k].step, rb.summary().frames[k].step) << "frame " << k;
-    EXPECT_TRUE(test::sameBits(ra.readFrame(k), rb.readFrame(k))) << "frame " << k;
-    const auto [sa, pa] = ra.readRestart(k);
-    const auto [sb, pb] = rb.readRestart(k);
-    EXPECT_TRUE(test::sameBits(pa, pb)) << "resume record " << k;
-    EXPECT_EQ(sa.lastDt, sb.lastDt) << k;
-    EXPECT_EQ(sa.maxSpeed, sb.maxSpeed) << k;
-    EXPECT_EQ(sa.maxAcceleration, sb.maxAcceleration) << k;
-    EXPECT_EQ(sa.nextId, sb.nextId) << k;
-    ASSERT_EQ(sa.emitters.size(), sb.emitters.size());
-    for (std::size_t e = 0; e < sa.emitters.size(); ++e) {
-      EXPECT_EQ(sa.emitters[e].travelled, sb.emitters[e].travelled);
-      EXPECT_EQ(sa.emitters[e].emitted, sb.emitters[e].emitted);
-    }
-  }
-}
-
 void checkResumeEqualsStraightRun(const std::string& dir, const std::string& scene,
                                   const std::string& set, const std::string& half,
                                   const std::string& whole) {
@@ -54,7 +31,7 @@ void checkResumeEqualsStraightRun(const std::string& dir, const std::string& sce
   EXPECT_NE(io::CacheReader(resumed).summary().status.find("finished"), std::string::npos);
   auto c = runShell(run(scene, set + " --end " + whole + " --resume '" + resumed + "'"));
   ASSERT_EQ(c.exitCode, 0) << c.output;
-  expectSameCache(straight, resumed);
+  test::expectSameCache(straight, resumed);
   EXPECT_GT(io::CacheReader(resumed).summary().frames.back().particles, 0u);
   EXPECT_NE(io::CacheReader(resumed).summary().status.find("finished"), std::string::npos);
   // The sidecar lists every frame, the resumed ones too.

@@ -1,0 +1,150 @@
+#include "app/DistributedRun.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "sim/InputError.h"
+
+namespace sph::app {
+namespace {
+
+dist::Communicator* gWorld = nullptr;
+bool gLockstep = false;
+
+template <class T>
+void put(dist::Bytes& out, const T& v) {
+  const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
+  out.insert(out.end(), p, p + sizeof v);
+}
+template <class T>
+void take(const dist::Bytes& in, std::size_t& at, T& v) {
+  std::memcpy(&v, in.data() + at, sizeof v);
+  at += sizeof v;
+}
+
+}  // namespace
+
+dist::Communicator* world() {
+  return gWorld;
+}
+void setWorld(dist::Communicator* ranks) {
+  gWorld = ranks;
+}
+void setLockstep(bool on) {
+  gLockstep = on;
+}
+bool inLockstep() {
+  return gLockstep && gWorld && gWorld->size() > 1;
+}
+bool isRootProcess() {
+  return !gWorld || gWorld->rank() == 0;
+}
+
+void refuseUnsupported(const Scene& scene, int ranks) {
+  const std::string where = scene.sourcePath.empty() ? "scene" : scene.sourcePath;
+  if (scene.collision && scene.collision->method != CollisionMethod::None) {
+    throw InputError(where + ": collision.method \"" + nameOf(scene.collision->method) +
+                     "\" runs on one process only; run without mpirun, or set collision.method "
+                     "to \"none\" (docs/scaling.md)");
+  }
+  if (scene.solver.pressure == PressureSolver::Dfsph) {
+    throw InputError(where +
+                     ": solver.pressure \"dfsph\" runs on one process only (its iterations need "
+                     "sums and a convergence test agreed over the ranks, not built yet); run "
+                     "without mpirun or set solver.pressure to \"wcsph\" (docs/scaling.md)");
+  }
+  if (scene.render) {
+    throw InputError(where +
+                     ": the render section draws on one process only; run without mpirun and "
+                     "render the cache afterwards with `sphsplat render` (docs/scaling.md)");
+  }
+  // Slabs are whole planes of support-radius cells along the longest axis; fewer than 4 per
+  // rank leaves ranks that hold mostly ghosts.
+  const DerivedParams d = deriveParams(scene);
+  const Vec3 extent = scene.domain.hi - scene.domain.lo;
+  const double planes = std::floor(extent.maxCoeff() / d.h);
+  if (planes < 4.0 * ranks) {
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "%s: domain is too small for %d processes: its longest side holds %.0f cells "
+                  "of the support radius (%g m), 4 per process are needed; use at most %d "
+                  "processes",
+                  where.c_str(), ranks, planes, d.h, std::max(1, static_cast<int>(planes / 4)));
+    throw InputError(text);
+  }
+}
+
+void onRootAgreeing(dist::Communicator& ranks, const std::function<void()>& work) {
+  dist::Bytes message;
+  if (ranks.rank() == 0) {
+    try {
+      work();
+    } catch (const InputError& e) {
+      const std::string text = e.what();
+      message.assign(text.begin(), text.end());
+      if (message.empty()) message.push_back(' ');
+    }
+  }
+  ranks.broadcastFromRoot(message);
+  if (!message.empty()) throw InputError(std::string(message.begin(), message.end()));
+}
+
+RunState broadcastRunState(dist::Communicator& ranks, const RunState& state) {
+  dist::Bytes b;
+  if (ranks.rank() == 0) {
+    put(b, state.time), put(b, state.step), put(b, state.lastDt), put(b, state.maxSpeed);
+    put(b, state.maxAcceleration), put(b, state.nextId);
+    put(b, static_cast<std::uint64_t>(state.emitters.size()));
+    for (const EmitterState& e : state.emitters) {
+      put(b, e.travelled), put(b, e.emitted);
+      put(b, static_cast<std::uint8_t>(e.started));
+    }
+  }
+  ranks.broadcastFromRoot(b);
+  RunState s;
+  std::size_t at = 0;
+  take(b, at, s.time), take(b, at, s.step), take(b, at, s.lastDt), take(b, at, s.maxSpeed);
+  take(b, at, s.maxAcceleration), take(b, at, s.nextId);
+  std::uint64_t emitters = 0;
+  take(b, at, emitters);
+  s.emitters.resize(emitters);
+  for (EmitterState& e : s.emitters) {
+    std::uint8_t started = 0;
+    take(b, at, e.travelled), take(b, at, e.emitted), take(b, at, started);
+    e.started = started != 0;
+  }
+  return s;
+}
+
+void GatheringSink::frame(const Simulation&, std::size_t index) {
+  Particles all = halo_.gather(sim_.fluid());
+  if (halo_.rank() != 0) return;
+  // The sinks see the whole fluid, in the order one process would hold it.
+  std::swap(sim_.fluid(), all);
+  try {
+    for (FrameSink* sink : sinks_) sink->frame(sim_, index);
+  } catch (...) {
+    std::swap(sim_.fluid(), all);
+    throw;
+  }
+  std::swap(sim_.fluid(), all);
+}
+
+std::string describeExchanges(dist::Halo& halo, const StepProfile& profile) {
+  const dist::HaloStats& s = halo.stats();
+  const double steps = s.steps ? static_cast<double>(s.steps) : 1.0;
+  const double total = profile.total();
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "rank %d of %d: exchange %.1f%% of the step, %.0f bytes sent per step, %.0f "
+                "ghosts per step, %llu particles migrated out, imbalance (max/mean particles "
+                "per rank) mean %.3f max %.3f",
+                halo.rank(), halo.ranks(), total > 0 ? 100 * profile[Pass::Exchange] / total : 0.0,
+                s.bytesSent / steps, s.ghostsReceived / steps,
+                static_cast<unsigned long long>(s.migrated), s.imbalanceSum / steps,
+                s.imbalanceMax);
+  return text;
+}
+
+}  // namespace sph::app

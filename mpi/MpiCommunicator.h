@@ -1,0 +1,32 @@
+// The MPI side of a distributed run (docs/scaling.md): the one place that includes <mpi.h>.
+// sim/ sees only dist::Communicator; app/main.cpp opens an MpiSession when the process was
+// started by mpirun, and a run then decomposes the scene over the ranks (sim/dist/Halo.h).
+#pragma once
+
+#include <memory>
+
+#include "sim/dist/Communicator.h"
+
+namespace sph::mpi {
+
+// MPI_Init_thread / MPI_Finalize around main(), only when the process was launched by an MPI
+// starter (mpirun, mpiexec): a plain `sphsplat` stays a plain process.
+class MpiSession {
+ public:
+  MpiSession(int* argc, char*** argv);
+  ~MpiSession();
+  MpiSession(const MpiSession&) = delete;
+  MpiSession& operator=(const MpiSession&) = delete;
+  // The world's ranks; null when not launched by an MPI starter.
+  dist::Communicator* world() { return world_.get(); }
+  // Ends every rank at once (a rank that must stop while others wait in a collective).
+  [[noreturn]] static void abortAll(int code);
+
+ private:
+  std::unique_ptr<dist::Communicator> world_;
+};
+
+// True when the environment says an MPI starter launched this process.
+bool launchedByMpi();
+
+}  // namespace sph::mpi

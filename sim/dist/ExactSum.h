@@ -1,0 +1,40 @@
+// An exact sum of floats: every float is an integer multiple of 2^-149, so the sum of any number
+// of them (below 2^31) is an integer that fixed-point digits hold without rounding. Addition of
+// such sums is integer addition, associative and commutative, so the total is the same whatever
+// the order the terms are added in, however they are split between threads or ranks, and is
+// rounded only once, at the end (toDouble()). The distributed run (docs/scaling.md) needs that for
+// the one global sum of a step (the gradient correction, sim/SphPasses.cpp): a serial sum in
+// particle order would depend on which rank holds which particles.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+namespace sph::dist {
+
+class ExactSum {
+ public:
+  // 32 bits of the fixed-point value per digit, lowest first; digit d weighs 2^(32 d - 149).
+  // Floats reach 2^128 (277 bits above 2^-149); the top digit keeps the headroom.
+  static constexpr int kDigits = 10;
+  using Digits = std::array<std::int64_t, kDigits>;
+
+  // Adds a finite float exactly (non-finite values are the caller's bug).
+  void add(float value);
+  // Adds another sum (a thread's, a rank's) exactly.
+  void merge(const Digits& other);
+  const Digits& digits() const { return digits_; }
+  Digits& digits() { return digits_; }
+  // The sum, rounded to double (the same double for the same exact sum).
+  double toDouble() const;
+  // Carries into the next digit, so every digit but the top one is below 2^32: then the digits of
+  // up to 2^30 sums may be added (what a reduction over ranks does) without overflow.
+  void normalise();
+
+ private:
+  Digits digits_{};  // unnormalised: each digit may exceed 32 bits between normalise() calls
+  std::uint32_t pending_ = 0;  // additions since the last normalise()
+};
+
+}  // namespace sph::dist

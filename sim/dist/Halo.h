@@ -1,0 +1,121 @@
+// Slab domain decomposition of the fluid for a run on several processes (docs/scaling.md). Every
+// rank owns the particles in its slab of whole grid-cell planes along the domain's longest axis;
+// the slabs are re-cut every step so each holds about the same number of particles (a pour
+// filling a cup moves the water). Each step the rank receives copies of the particles in the two
+// cell planes beyond each face of its slab (ghosts): enough for its own particles' densities and
+// forces and for the boundary particles those use (sim/SphPasses.cpp), so no second exchange
+// within the step is needed.
+//
+// Bit-identical to one process, whatever the number of ranks (the test:
+// tests/test_mpi.cpp): a particle's sums run over the same candidates in the same order as in a
+// single process, because the local arrays are always the single process's array restricted to
+// the particles present. Each particle carries the key of its place in the global order (its cell
+// in the domain's lattice, then its place within the cell, both fixed by the owner of the cell);
+// before the grid's stable sort the local arrays are put in key order, so the sort reproduces the
+// global order on every rank. The step's one global sum (the gradient correction) is exact
+// (ExactSum) and so independent of the split; max/min reductions are exact.
+//
+// MPI-free: the collectives go through dist::Communicator (mpi/MpiCommunicator.h implements it).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "sim/NeighbourGrid.h"
+#include "sim/Particles.h"
+#include "sim/StabilityError.h"
+#include "sim/Types.h"
+#include "sim/dist/Communicator.h"
+#include "sim/dist/ExactSum.h"
+
+namespace sph::dist {
+
+// Rank r owns the cell planes p (along `axis`) with first[r] <= p < first[r + 1]; the first rank
+// reaches down to -infinity, the last up to +infinity.
+struct Slabs {
+  int axis = 0;
+  std::vector<long long> first;  // size ranks + 1
+
+  int ranks() const { return static_cast<int>(first.size()) - 1; }
+  int ownerOf(long long plane) const;
+  // Cuts the planes [firstPlane, firstPlane + counts.size()) so each rank gets about an equal
+  // share of the particles (counts[i]: particles in plane firstPlane + i).
+  static Slabs balance(int axis, int ranks, long long firstPlane,
+                       const std::vector<std::int64_t>& counts);
+};
+
+// Ghost planes beyond each face: the density of a ghost one plane out needs the plane beyond it.
+constexpr int kGhostPlanes = 2;
+
+// What one rank's exchanges cost (docs/benchmarks.md, "Scale").
+struct HaloStats {
+  std::uint64_t steps = 0;
+  std::uint64_t bytesSent = 0;                // migration + ghosts, to other ranks
+  std::uint64_t ghostsReceived = 0;           // summed over steps
+  std::uint64_t migrated = 0;                 // particles that changed rank, sent from here
+  double exchangeSeconds = 0;                 // rebalance + migration + ghosts + key order
+  double imbalanceSum = 0, imbalanceMax = 0;  // max/mean owned particles per rank, per step
+};
+
+class Halo {
+ public:
+  // `h`: the support radius (the grid's cell size before any growth).
+  Halo(Communicator& comm, const Aabb& domain, float h);
+
+  Communicator& comm() { return comm_; }
+  int rank() const { return comm_.rank(); }
+  int ranks() const { return comm_.size(); }
+  const Slabs& slabs() const { return slabs_; }
+
+  // Takes the run's starting fluid (the full initial or resumed state on rank 0, nothing on the
+  // others) in global order; the first exchange() hands every rank its share.
+  void adopt(const Particles& fluid);
+  // True if this rank's slab holds point p (the emitters' nozzles, docs/scaling.md).
+  bool owns(const Vec3& p) const;
+
+  // Before the step's sort: re-cuts the slabs, migrates the particles that left this rank's slab
+  // (the emitted ones included) and appends the ghosts, then puts the local arrays in global key
+  // order. Returns the cell size the grid must use: the one the single-process grid would choose
+  // for all particles (NeighbourGrid::cellSizeFor).
+  float exchange(Particles& fluid, float h);
+  // After the grid sort applied `order` (sorted[i] = old[order[i]]): the new keys of the owned
+  // particles.
+  void sorted(const NeighbourGrid& grid, const std::vector<std::uint32_t>& order);
+  // 1 for a ghost, in the local order (valid from exchange() until dropGhosts()).
+  const std::vector<std::uint8_t>& ghost() const { return ghost_; }
+  // Removes the ghosts (keeping the owned particles' order).
+  void dropGhosts(Particles& fluid);
+
+  // The owned fluid of every rank on rank 0, in the single-process order (a frame to write);
+  // empty on the other ranks.
+  Particles gather(const Particles& fluid);
+  std::uint64_t globalCount(std::size_t local);
+
+  // The guard's verdict of every rank (each passes what its own checkStability() threw, or
+  // nothing): throws, on every rank, the error of the lowest particle id at fault, as the single
+  // process would report it.
+  void agreeOnStability(const std::optional<StabilityError>& local);
+  // True on every rank if `local` is true on any (a signal seen by one rank stops all at the
+  // same step).
+  bool any(bool local);
+  // The larger of each value over all ranks.
+  void maxOverRanks(float& a, float& b);
+
+  const HaloStats& stats() const { return stats_; }
+
+ private:
+  std::uint64_t globalKey(const CellCoord& cell, std::uint32_t within) const;
+
+  Communicator& comm_;
+  Aabb domain_;
+  Slabs slabs_;
+  float cellSize_ = 0;                // of the last exchange
+  std::vector<std::uint64_t> keys_;   // per local particle: its place in the global order
+  std::vector<std::uint8_t> ghost_;   // per local particle
+  std::vector<std::uint32_t> order_;  // scratch
+  HaloStats stats_;
+};
+
+}  // namespace sph::dist

@@ -1,0 +1,162 @@
+// A run on K processes (mpirun -np K; docs/scaling.md) writes the same cache as one process, bit
+// for bit, for K = 1..4: every frame and every resume record. A resume may change K. Bad use is
+// refused with one line and exit 2. Built and run only in the mpi preset (SPHSPLAT_MPI); the
+// ranks are real processes started by Open MPI's mpirun (oversubscribed: this machine has 2
+// cores).
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+
+#include "io/CacheReader.h"
+#include "tests/CacheTestSupport.h"
+
+namespace sph {
+namespace {
+
+using test::runShell;
+
+// A dam break (the water runs along x across every slab face) with a nozzle pouring into the
+// tank (emission on one rank, then migration): ~850 particles. The domain (the tank and its
+// margin) is longest in y: 40 support-radius cells, so slabs are cut across the falling water.
+std::string scene(double end) {
+  return R"({
+  "name": "mpi_dam_pour",
+  "solver": {"spacing": 0.0146, "support": 2.0, "rest_density": 1000, "eos": "tait",
+             "cfl": 0.4, "gravity": [0, -9.81, 0], "end_time": )" +
+         std::to_string(end) + R"(},
+  "fluids": [{"type": "box", "min": [0, 0, 0], "max": [0.146, 0.292, 0.0584]}],
+  "boundaries": [{"type": "tank", "min": [0, 0, 0], "max": [0.584, 0.438, 0.0584]}],
+  "emitters": [{"type": "nozzle", "position": [0.45, 0.35, 0.03], "direction": [0, -1, 0],
+                "radius": 0.02, "speed": 0.8, "start": 0, "stop": 1}],
+  "camera": {"position": [0.3, 0.3, 0.8], "target": [0.3, 0.1, 0.03], "fov": 40},
+  "output": {"fps": 40}
+})";
+}
+
+std::string plain(const std::string& sceneFile, const std::string& args) {
+  return "OMP_WAIT_POLICY=PASSIVE " + test::sphsplatBinary() + " run '" + sceneFile +
+         "' --threads 1 --quiet " + args;
+}
+
+std::string ranks(int k, const std::string& sceneFile, const std::string& args) {
+  return "OMP_WAIT_POLICY=PASSIVE mpirun --oversubscribe --allow-run-as-root -np " +
+         std::to_string(k) + " " + test::sphsplatBinary() + " run '" + sceneFile +
+         "' --threads 1 --quiet " + args;
+}
+
+class Mpi : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = test::makeTempDir();
+    scene_ = dir_ + "/scene.json";
+    std::ofstream(scene_) << scene(0.1);
+    reference_ = dir_ + "/plain.h5";
+    auto r = runShell(plain(scene_, "-o '" + reference_ + "'"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    ASSERT_GT(io::CacheReader(reference_).summary().frames.back().particles, 800u);
+  }
+  std::string dir_, scene_, reference_;
+};
+
+TEST_F(Mpi, FramesAreBitIdenticalToOneProcessForOneToFourRanks) {
+  for (int k = 1; k <= 4; ++k) {
+    SCOPED_TRACE("K = " + std::to_string(k));
+    const std::string out = dir_ + "/k" + std::to_string(k) + ".h5";
+    auto r = runShell(ranks(k, scene_, "-o '" + out + "'"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    test::expectSameCache(reference_, out);
+    EXPECT_TRUE(test::fileExists(dir_ + "/k" + std::to_string(k) + ".xdmf"));
+  }
+}
+
+TEST_F(Mpi, AResumeMayChangeTheNumberOfRanks) {
+  const std::string out = dir_ + "/resumed.h5";
+  // Ends on frame times (2 x 1/40 s): an --end between frames ends a frame early, alone too.
+  auto a = runShell(ranks(2, scene_, "--end 0.05 -o '" + out + "'"));
+  ASSERT_EQ(a.exitCode, 0) << a.output;
+  auto b = runShell(ranks(3, scene_, "--resume '" + out + "'"));
+  ASSERT_EQ(b.exitCode, 0) << b.output;
+  test::expectSameCache(reference_, out);
+  // and back to one plain process
+  const std::string out2 = dir_ + "/resumed_plain.h5";
+  auto c = runShell(ranks(4, scene_, "--end 0.05 -o '" + out2 + "'"));
+  ASSERT_EQ(c.exitCode, 0) << c.output;
+  auto d = runShell(plain(scene_, "--resume '" + out2 + "'"));
+  ASSERT_EQ(d.exitCode, 0) << d.output;
+  test::expectSameCache(reference_, out2);
+}
+
+TEST(MpiGuard, ABlowUpOnOneRankStopsAllWithTheSingleProcessMessage) {
+  // A block thrown at 80 m/s along x (the domain's first longest axis): it leaves through the
+  // last rank's slab, and every rank stops with exit 3 and the message one process gives.
+  const std::string dir = test::makeTempDir();
+  const std::string file = dir + "/blow.json";
+  std::ofstream(file) << R"({"solver": {"spacing": 0.01, "gravity": [0,0,0], "speed_of_sound": 20},
+    "domain": {"min": [-0.1,-0.1,-0.1], "max": [0.3,0.3,0.3]},
+    "fluids": [{"min": [0,0,0], "max": [0.05,0.05,0.05], "velocity": [80,0,0]}]})";
+  const auto one = runShell(plain(file, ""));
+  const auto two = runShell(ranks(2, file, ""));
+  ASSERT_EQ(one.exitCode, 3) << one.output;
+  EXPECT_EQ(two.exitCode, 3) << two.output;
+  auto message = [](const std::string& out) {
+    const std::size_t at = out.find("numerical blow-up");
+    return at == std::string::npos ? std::string() : out.substr(at, out.find('\n', at) - at);
+  };
+  ASSERT_NE(message(one.output), "") << one.output;
+  EXPECT_EQ(message(two.output), message(one.output)) << two.output;
+  EXPECT_NE(two.output.find("reproduce: mpirun -np 2 sphsplat run"), std::string::npos)
+      << two.output;
+}
+
+TEST_F(Mpi, AKilledRankLeavesEveryFinishedFrameReadable) {
+  // kill -9 one rank in the middle of a long run: mpirun ends the others, and the cache keeps
+  // the frames committed before, each readable and equal to the single process's.
+  const std::string out = dir_ + "/killed.h5";
+  const std::string script = ranks(2, scene_, "--end 5 -o '" + out + "'") + " & M=$!; " +
+                             "for i in $(seq 600); do [ -f '" + out +
+                             "' ] && break; sleep 0.1; done; sleep 3; " +
+                             "kill -9 $(pgrep -P $M | tail -1); wait $M; echo mpirun-exit $?";
+  auto r = runShell(script);
+  EXPECT_NE(r.output.find("mpirun-exit"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("mpirun-exit 0"), std::string::npos) << r.output;
+  const io::CacheReader killed(out);
+  const io::CacheReader reference(reference_);
+  ASSERT_GE(killed.frameCount(), 1u);
+  for (std::size_t k = 0; k < killed.frameCount() && k < reference.frameCount(); ++k)
+    EXPECT_TRUE(test::sameBits(reference.readFrame(k), killed.readFrame(k))) << "frame " << k;
+}
+
+// Our one line, once (rank 0 tells; mpirun may add its own notice about the exit code).
+void expectRefused(const test::CommandResult& r, const std::string& words) {
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  const std::size_t at = r.output.find("sphsplat: ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("sphsplat: ", at + 1), std::string::npos) << "told twice:\n" << r.output;
+  EXPECT_NE(r.output.find(words), std::string::npos) << r.output;
+}
+
+TEST(MpiRefusals, ASceneTooSmallForTheRanks) {
+  const std::string dir = test::makeTempDir();
+  const std::string file = dir + "/scene.json";
+  std::ofstream(file) << scene(0.05);
+  expectRefused(runShell(ranks(12, file, "")), "too small for 12 processes");
+}
+
+TEST(MpiRefusals, TheGlCollisionPassAndTheRenderer) {
+  const std::string dir = test::makeTempDir();
+  const std::string file = dir + "/scene.json";
+  std::ofstream(file) << scene(0.05);
+  expectRefused(runShell(ranks(2, file, "--set collision.method=cdt-gl")),
+                "runs on one process only");
+}
+
+TEST(MpiRefusals, AnOutputNoRankCanWrite) {
+  const std::string dir = test::makeTempDir();
+  const std::string file = dir + "/scene.json";
+  std::ofstream(file) << scene(0.05);
+  expectRefused(runShell(ranks(2, file, "-o /proc/no/such/dir/run.h5")), "run.h5");
+}
+
+}  // namespace
+}  // namespace sph
