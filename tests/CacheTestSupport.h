@@ -31,6 +31,12 @@ std::string sphsplatBinary();
 // Every array present (non-empty or sized) in both, compared byte for byte.
 ::testing::AssertionResult sameBits(const Particles& expected, const Particles& actual);
 
+// `sphsplat ARGS` as a shell command with OMP_WAIT_POLICY=PASSIVE (no idle spinning while the
+// suites run side by side), for runShell.
+std::string sphsplatShell(const std::string& args);
+// Lines in a command's output (a last line without a newline counts).
+std::size_t lineCount(const std::string& s);
+
 std::string readFile(const std::string& path);
 bool fileExists(const std::string& path);
 

@@ -16,14 +16,9 @@ namespace {
 
 using test::runShell;
 
+using test::lineCount;
 std::string sphsplat(const std::string& args) {
-  return "OMP_WAIT_POLICY=PASSIVE " + test::sphsplatBinary() + " " + args;
-}
-
-std::size_t lineCount(const std::string& s) {
-  std::size_t n = 0;
-  for (char c : s) n += c == '\n';
-  return n + (!s.empty() && s.back() != '\n');
+  return test::sphsplatShell(args);
 }
 
 // Reads a mesh with meshio; prints the cell type, points, triangles, whether every undirected
