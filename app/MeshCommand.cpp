@@ -43,6 +43,7 @@ struct MeshOptions {
 };
 
 std::string formatOf(const MeshOptions& o) {
+  if (o.output.empty()) throw InputError("--out: expected a file, a name with %05d or a directory");
   if (!o.format.empty()) return o.format;
   if (o.output.find('%') == std::string::npos && o.output.back() != '/' &&
       !std::filesystem::is_directory(o.output)) {

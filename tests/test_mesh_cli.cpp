@@ -152,6 +152,7 @@ TEST_F(MeshCli, RefusalsAreOneLineWithExitCode2AndWriteNothing) {
       {"--frames 1 --out '" + dir_ + "/a.stl'", "--format: expected ply or obj"},
       {"--frames 1 --format stl --out '" + out + "'", "--format"},
       {"--frames 1 --cell 0 --out '" + out + "'", "--cell"},
+      {"--frames 1 --out ''", "--out: expected a file"},
       {"--frames 1 --format ply --out '" + cache_ + "'", "the cache being meshed"},
   };
   for (const Case& c : cases) {
