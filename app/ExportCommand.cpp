@@ -44,23 +44,14 @@ std::string formatOf(const ExportOptions& o) {
 }
 
 void writeFile(const std::string& path, const std::string& format, const io::ExportFrame& frame) {
-  auto write = [&](std::FILE* out) {
+  writeOutput(path, "the export", [&](std::FILE* out) {
     if (format == "csv")
       io::writeCsv(out, frame);
     else if (format == "ply")
       io::writePly(out, frame);
     else
       io::writeVtu(out, frame);
-  };
-  if (path == "-") {
-    write(stdout);
-    if (std::fflush(stdout) != 0 || std::ferror(stdout))
-      throw InputError("standard output: cannot write the export");
-    return;
-  }
-  io::AtomicOutput out(path);
-  write(out.file());
-  out.commit();
+  });
 }
 
 int exportFrames(const ExportOptions& o) {
@@ -84,19 +75,10 @@ int exportFrames(const ExportOptions& o) {
   const bool pvd = format == "vtu" && names.sequence() && !o.boundary;
 
   // Every output is checked before the first is written.
-  for (std::size_t k = 0; k < files; ++k) {
-    const std::string path = names.file(o.boundary ? 0 : frames[k]);
-    if (path != "-") io::checkOutputPath(path, o.overwrite, reads);
-  }
-  if (pvd) io::checkOutputPath(names.pvd(), o.overwrite, reads);
-  if (names.sequence()) {
-    std::error_code error;
-    std::filesystem::create_directories(names.directory(), error);
-    if (error) {
-      throw InputError(names.directory() + ": cannot create the output directory (" +
-                       error.message() + ")");
-    }
-  }
+  std::vector<std::string> paths;
+  for (std::size_t k = 0; k < files; ++k) paths.push_back(names.file(o.boundary ? 0 : frames[k]));
+  if (pvd) paths.push_back(names.pvd());
+  prepareOutputs(names, paths, o.overwrite, reads);
 
   cache::FieldSet fields = s.fields;
   if (!o.fields.empty()) {

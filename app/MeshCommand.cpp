@@ -43,6 +43,7 @@ struct MeshOptions {
 };
 
 std::string formatOf(const MeshOptions& o) {
+  if (o.output.empty()) throw InputError("--out: expected a file, a name with %05d or a directory");
   if (!o.format.empty()) return o.format;
   if (o.output.find('%') == std::string::npos && o.output.back() != '/' &&
       !std::filesystem::is_directory(o.output)) {
@@ -56,21 +57,12 @@ std::string formatOf(const MeshOptions& o) {
 }
 
 void writeMesh(const std::string& path, const std::string& format, const io::MeshView& mesh) {
-  auto write = [&](std::FILE* out) {
+  writeOutput(path, "the mesh", [&](std::FILE* out) {
     if (format == "obj")
       io::writeMeshObj(out, mesh, path);
     else
       io::writeMeshPly(out, mesh, path);
-  };
-  if (path == "-") {
-    write(stdout);
-    if (std::fflush(stdout) != 0 || std::ferror(stdout))
-      throw InputError("standard output: cannot write the mesh");
-    return;
-  }
-  io::AtomicOutput out(path);
-  write(out.file());
-  out.commit();
+  });
 }
 
 int meshFrames(const MeshOptions& o) {
@@ -87,16 +79,9 @@ int meshFrames(const MeshOptions& o) {
       {o.cache, "the cache being meshed"},
       {io::XdmfWriter::sidecarPath(o.cache), "the cache's XDMF sidecar"}};
   // Every output is checked before the first is written.
-  for (const std::size_t f : frames)
-    if (names.file(f) != "-") io::checkOutputPath(names.file(f), o.overwrite, reads);
-  if (names.sequence()) {
-    std::error_code error;
-    std::filesystem::create_directories(names.directory(), error);
-    if (error) {
-      throw InputError(names.directory() + ": cannot create the output directory (" +
-                       error.message() + ")");
-    }
-  }
+  std::vector<std::string> paths;
+  for (const std::size_t f : frames) paths.push_back(names.file(f));
+  prepareOutputs(names, paths, o.overwrite, reads);
 
   const float spacing = scene.solver.spacing, cellSize = o.cell * spacing;
   const bool lines = !o.quiet && o.output != "-";

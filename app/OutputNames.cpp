@@ -91,4 +91,30 @@ void OutputNames::parsePattern(const std::string& output, std::size_t at, const 
   pvd_ = (slash == std::string::npos ? "" : output.substr(0, slash + 1)) + stem + ".pvd";
 }
 
+void prepareOutputs(const OutputNames& names, const std::vector<std::string>& paths, bool overwrite,
+                    const std::vector<io::ReadFile>& reads) {
+  for (const std::string& path : paths)
+    if (path != "-") io::checkOutputPath(path, overwrite, reads);
+  if (!names.sequence()) return;
+  std::error_code error;
+  std::filesystem::create_directories(names.directory(), error);
+  if (error) {
+    throw InputError(names.directory() + ": cannot create the output directory (" +
+                     error.message() + ")");
+  }
+}
+
+void writeOutput(const std::string& path, const std::string& what,
+                 const std::function<void(std::FILE*)>& write) {
+  if (path == "-") {
+    write(stdout);
+    if (std::fflush(stdout) != 0 || std::ferror(stdout))
+      throw InputError("standard output: cannot write " + what);
+    return;
+  }
+  io::AtomicOutput out(path);
+  write(out.file());
+  out.commit();
+}
+
 }  // namespace sph::app

@@ -5,7 +5,12 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdio>
+#include <functional>
 #include <string>
+#include <vector>
+
+#include "io/UserFiles.h"
 
 namespace sph::app {
 
@@ -35,5 +40,16 @@ class OutputNames {
   std::string single_, prefix_, suffix_, directory_, pvd_;
   int width_ = 5;
 };
+
+// Checks every output before the first is written (io::checkOutputPath; "-" is standard output)
+// and, for a sequence, creates its directory. Throws InputError.
+void prepareOutputs(const OutputNames& names, const std::vector<std::string>& paths, bool overwrite,
+                    const std::vector<io::ReadFile>& reads);
+
+// Writes one output through `write`: to standard output for "-", else under a temporary name
+// renamed over `path` once complete (io::AtomicOutput). `what` names the content in errors
+// ("the mesh").
+void writeOutput(const std::string& path, const std::string& what,
+                 const std::function<void(std::FILE*)>& write);
 
 }  // namespace sph::app

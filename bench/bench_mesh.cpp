@@ -99,9 +99,9 @@ int main(int argc, char** argv) {
   }
   std::printf("threads %d, cell %g spacings, kernel radius 2.5 spacings, min of %d runs\n",
               threadCount(), cell, repeat);
-  std::printf("%10s %8s %9s %9s %9s %9s %9s %10s %10s %8s %6s %8s\n", "particles", "spacing",
+  std::printf("%10s %8s %9s %9s %9s %9s %9s %10s %10s %8s %8s %6s %8s\n", "particles", "spacing",
               "field_ms", "lattice", "vertices", "triangles", "total_ms", "triangles", "vertices",
-              "blocks", "closed", "Euler");
+              "blocks", "surface", "closed", "Euler");
   for (const std::size_t n : counts) {
     float spacing = 0;
     const Cloud c = splash(n, spacing);
@@ -123,10 +123,10 @@ int main(int argc, char** argv) {
     const long long euler = static_cast<long long>(mesh.vertexCount()) -
                             static_cast<long long>(check.edges) +
                             static_cast<long long>(mesh.triangleCount());
-    std::printf("%10zu %8.5f %9.1f %9.1f %9.1f %9.1f %9.1f %10zu %10zu %8zu %6s %8lld\n",
+    std::printf("%10zu %8.5f %9.1f %9.1f %9.1f %9.1f %9.1f %10zu %10zu %8zu %8zu %6s %8lld\n",
                 c.x.size(), spacing, 1e3 * bestField, 1e3 * bestStats.timings.lattice,
                 1e3 * bestStats.timings.vertices, 1e3 * bestStats.timings.triangles, 1e3 * best,
-                mesh.triangleCount(), mesh.vertexCount(), bestStats.blocks,
+                mesh.triangleCount(), mesh.vertexCount(), bestStats.blocks, bestStats.surfaceBlocks,
                 check.watertight() && check.misorientedEdges == 0 ? "yes" : "NO", euler);
     std::fflush(stdout);
   }

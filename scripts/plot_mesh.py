@@ -5,6 +5,7 @@ by the file's vertex normals against a light, y up as in the scene.
     scripts/plot_mesh.py meshes/pour_00030.ply [-o picture.png] [--max-triangles 200000]
 """
 import argparse
+import os
 
 import matplotlib
 
@@ -46,7 +47,7 @@ def main():
     ax.set_box_aspect((1, 1, 1))
     ax.set_xlabel("x [m]"), ax.set_ylabel("z [m]"), ax.set_zlabel("y [m]")
     ax.view_init(elev=25, azim=-60)
-    ax.set_title(f"{a.mesh}: {len(m.cells_dict['triangle'])} triangles, {len(p)} vertices", fontsize=9)
+    ax.set_title(f"{os.path.basename(a.mesh)}: {len(m.cells_dict['triangle'])} triangles, {len(p)} vertices", fontsize=9)
     out = a.output or a.mesh + ".png"
     fig.savefig(out, bbox_inches="tight")
     print("wrote", out)

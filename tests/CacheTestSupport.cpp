@@ -54,6 +54,16 @@ std::string sphsplatBinary() {
   return sphsplatCommand();  // with the sanitizer options a sanitizer build needs (TestSupport.h)
 }
 
+std::string sphsplatShell(const std::string& args) {
+  return "OMP_WAIT_POLICY=PASSIVE " + sphsplatBinary() + " " + args;
+}
+
+std::size_t lineCount(const std::string& s) {
+  std::size_t n = 0;
+  for (char c : s) n += c == '\n';
+  return n + (!s.empty() && s.back() != '\n');
+}
+
 ::testing::AssertionResult sameBits(const Particles& expected, const Particles& actual) {
   // The cache lists every array of Particles in Particles' order (checked in io/CacheFormat.cpp).
   static_assert(io::cache::kFieldCount == Particles::kFieldCount);

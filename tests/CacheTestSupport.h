@@ -34,6 +34,11 @@ std::string sphsplatBinary();
 // Every frame (time, step, arrays) and resume record (state, arrays) of cache `b` equals cache
 // `a`'s, bit for bit (resume, and a run on K processes: tests/test_mpi.cpp).
 void expectSameCache(const std::string& a, const std::string& b);
+// `sphsplat ARGS` as a shell command with OMP_WAIT_POLICY=PASSIVE (no idle spinning while the
+// suites run side by side), for runShell.
+std::string sphsplatShell(const std::string& args);
+// Lines in a command's output (a last line without a newline counts).
+std::size_t lineCount(const std::string& s);
 
 std::string readFile(const std::string& path);
 bool fileExists(const std::string& path);

@@ -28,14 +28,9 @@ namespace {
 using test::readFile;
 using test::runShell;
 
+using test::lineCount;
 std::string sphsplat(const std::string& args) {
-  return "OMP_WAIT_POLICY=PASSIVE " + test::sphsplatBinary() + " " + args;
-}
-
-std::size_t lineCount(const std::string& s) {
-  std::size_t n = 0;
-  for (char c : s) n += c == '\n';
-  return n + (!s.empty() && s.back() != '\n');
+  return test::sphsplatShell(args);
 }
 
 class CacheCli : public ::testing::Test {
@@ -528,8 +523,7 @@ TEST_F(CacheCli, AFullDiskStopsTheRunWithItsFramesKeptAndSaid) {
     EXPECT_GT(reader.frameCount(), 1u);
     EXPECT_EQ(reader.summary().status.rfind("stopped: writing failed: ", 0), 0u)
         << reader.summary().status;
-    for (std::size_t k = 0; k < reader.frameCount(); ++k)
-      EXPECT_GT(reader.readFrame(k).size(), 0u);
+    for (std::size_t k = 0; k < reader.frameCount(); ++k) EXPECT_GT(reader.readFrame(k).size(), 0u);
   }
   EXPECT_FALSE(test::fileExists(dir_ + "/full.xdmf.tmp"));
   const auto resumed =

@@ -16,14 +16,9 @@ namespace {
 
 using test::runShell;
 
+using test::lineCount;
 std::string sphsplat(const std::string& args) {
-  return "OMP_WAIT_POLICY=PASSIVE " + test::sphsplatBinary() + " " + args;
-}
-
-std::size_t lineCount(const std::string& s) {
-  std::size_t n = 0;
-  for (char c : s) n += c == '\n';
-  return n + (!s.empty() && s.back() != '\n');
+  return test::sphsplatShell(args);
 }
 
 // Reads a mesh with meshio; prints the cell type, points, triangles, whether every undirected
@@ -47,6 +42,20 @@ print(len(m.cells), m.cells[0].type, len(m.points), len(tri), int((uc == 2).all(
       int((dc == 1).all()), int(abs(np.linalg.norm(n, axis=1) - 1).max() < 1e-5), int(vol > 0))
 )";
 
+// Reads every mesh in a directory (not the temporaries): prints "whole N" if each is a closed
+// triangle mesh meshio reads, else the first that is not.
+const char* kMeshioAll = R"(import sys, os, numpy as np, meshio
+n = 0
+for name in sorted(os.listdir(sys.argv[1])):
+    if ".partial-" in name: continue
+    tri = meshio.read(os.path.join(sys.argv[1], name)).cells_dict["triangle"]
+    d = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
+    _, uc = np.unique(np.sort(d, axis=1), axis=0, return_counts=True)
+    if len(tri) == 0 or not (uc == 2).all(): print("broken", name); sys.exit(0)
+    n += 1
+print("whole", n)
+)";
+
 class MeshCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -55,6 +64,7 @@ class MeshCli : public ::testing::Test {
     cache_ = dir_ + "/tiny.h5";
     runOutput_ = runShell(sphsplat("run '" + dir_ + "/tiny.json' --threads 1 -o '" + cache_ + "'"));
     std::ofstream(dir_ + "/check.py") << kMeshioCheck;
+    std::ofstream(dir_ + "/all.py") << kMeshioAll;
   }
   static test::CommandResult check(const std::string& mesh) {
     return runShell("/usr/bin/python3 '" + dir_ + "/check.py' '" + mesh + "' '" + mesh + ".xyz'");
@@ -142,6 +152,7 @@ TEST_F(MeshCli, RefusalsAreOneLineWithExitCode2AndWriteNothing) {
       {"--frames 1 --out '" + dir_ + "/a.stl'", "--format: expected ply or obj"},
       {"--frames 1 --format stl --out '" + out + "'", "--format"},
       {"--frames 1 --cell 0 --out '" + out + "'", "--cell"},
+      {"--frames 1 --out ''", "--out: expected a file"},
       {"--frames 1 --format ply --out '" + cache_ + "'", "the cache being meshed"},
   };
   for (const Case& c : cases) {
@@ -171,6 +182,33 @@ TEST_F(MeshCli, RefusalsAreOneLineWithExitCode2AndWriteNothing) {
   r = runShell(sphsplat("mesh '" + cache_ + "' --frames 5 --out '" + out + "' --overwrite"));
   EXPECT_EQ(r.exitCode, 0) << r.output;
   EXPECT_EQ(test::readFile(out).substr(0, 4), "ply\n");
+}
+
+// kill -9 at some moment of a sequence: each file under its own name is whole (written under a
+// temporary name and renamed once complete); at most the temporary of the frame in progress is
+// left. Three moments; at least one run must really have been killed with some files written.
+TEST_F(MeshCli, AKillLeavesOnlyWholeFiles) {
+  ASSERT_EQ(runOutput_.exitCode, 0) << runOutput_.output;
+  int killed = 0;
+  for (const char* delay : {"1.2", "2", "2.8"}) {
+    const std::string out = dir_ + "/killed_" + delay + "/";
+    const auto r = runShell(
+        "(" +
+        sphsplat("mesh '" + cache_ + "' --frames all --cell 0.05 --format obj -q --out '" + out +
+                 "'") +
+        ") & pid=$!; sleep " + delay + "; kill -9 $pid 2>/dev/null; wait $pid; echo rc=$?");
+    const bool wasKilled = r.output.find("rc=137") != std::string::npos;
+    std::filesystem::create_directories(out);
+    const auto whole = runShell("/usr/bin/python3 '" + dir_ + "/all.py' '" + out + "'");
+    EXPECT_EQ(whole.output.rfind("whole ", 0), 0u) << delay << " s: " << whole.output;
+    // Killed after some files were done and before the last: the case that matters.
+    killed += wasKilled && whole.output.rfind("whole 0", 0) != 0;
+    std::size_t temporaries = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(out))
+      temporaries += entry.path().filename().string().find(".partial-") != std::string::npos;
+    EXPECT_LE(temporaries, 1u) << delay;
+  }
+  EXPECT_GE(killed, 1) << "every run finished before its kill: give the meshes more work";
 }
 
 }  // namespace

@@ -125,11 +125,13 @@ Lattice buildLattice(const splat::DensityField& field, float cellSize) {
   parallelForDynamic(L.blockAt.size(), 1, [&](std::size_t s) {
     const std::array<int, 3> B = L.blockAt[s];
     float* out = L.values.data() + s * kBlockPoints;
+    float xs[kBlock];
+    for (int i = 0; i < kBlock; ++i) xs[i] = L.position(B[0] * kBlock + i, 0, 0).x();
     for (int k = 0; k < kBlock; ++k)
-      for (int j = 0; j < kBlock; ++j)
-        for (int i = 0; i < kBlock; ++i)
-          out[localPoint(i, j, k)] =
-              field.density(L.position(B[0] * kBlock + i, B[1] * kBlock + j, B[2] * kBlock + k));
+      for (int j = 0; j < kBlock; ++j) {
+        const Vec3 row = L.position(0, B[1] * kBlock + j, B[2] * kBlock + k);
+        field.densityAlongX(xs, kBlock, row.y(), row.z(), out + localPoint(0, j, k));
+      }
   });
   return L;
 }
@@ -153,11 +155,37 @@ SurfaceMesh extractSurface(const splat::DensityField& field, float SD, float cel
   st.latticePoints = blocks * kBlockPoints;
   st.timings.lattice = since(t0);
 
+  // Blocks that can hold part of the surface: the points of a block and of the blocks after it
+  // (+x, +y, +z, which its cells and edges reach into) are not all on one side of SD. Deep
+  // water and empty air are skipped by the two passes below.
+  t0 = Clock::now();
+  std::vector<std::uint8_t> side(blocks);  // 0 all below SD, 1 all at or above, 2 both
+  parallelFor(blocks, [&](std::size_t b) {
+    const float* v = L.values.data() + b * kBlockPoints;
+    const auto [lo, hi] = std::minmax_element(v, v + kBlockPoints);
+    side[b] = *hi < SD ? 0 : *lo >= SD ? 1 : 2;
+  });
+  std::vector<std::uint8_t> surface(blocks);
+  parallelFor(blocks, [&](std::size_t b) {
+    const std::array<int, 3> B = L.blockAt[b];
+    const int own = side[b];
+    bool mixed = own == 2;
+    for (int n = 1; n < 8 && !mixed; ++n) {
+      const std::int32_t other = L.slot((B[0] + (n & 1)) * kBlock, (B[1] + (n >> 1 & 1)) * kBlock,
+                                        (B[2] + (n >> 2 & 1)) * kBlock);
+      mixed = (other < 0 ? 0 : side[static_cast<std::size_t>(other)]) != own;
+    }
+    surface[b] = mixed;
+  });
+  st.surfaceBlocks = static_cast<std::size_t>(std::count(surface.begin(), surface.end(), 1));
+  st.timings.lattice += since(t0);
+
   // Vertices: one per lattice edge whose ends lie on both sides of SD, owned by the block of
   // the edge's lower end; listed per block in local edge order (point * 3 + axis).
   t0 = Clock::now();
   std::vector<std::vector<std::uint16_t>> crossings(blocks);
   parallelForDynamic(blocks, 4, [&](std::size_t s) {
+    if (!surface[s]) return;
     const std::array<int, 3> B = L.blockAt[s];
     const float* v = L.values.data() + s * kBlockPoints;
     for (int p = 0; p < kBlockPoints; ++p) {
@@ -209,6 +237,7 @@ SurfaceMesh extractSurface(const splat::DensityField& field, float SD, float cel
   const std::array<CubeCase, 256>& cases = cubeCases();
   std::vector<std::vector<std::uint32_t>> triangles(blocks);
   parallelForDynamic(blocks, 4, [&](std::size_t s) {
+    if (!surface[s]) return;
     const std::array<int, 3> B = L.blockAt[s];
     for (int p = 0; p < kBlockPoints; ++p) {
       const int i = B[0] * kBlock + (p & 7), j = B[1] * kBlock + (p >> 3 & 7),

@@ -41,6 +41,7 @@ struct MeshTimings {
 struct MeshStats {
   std::size_t blocks = 0;         // blocks of 8^3 lattice points evaluated
   std::size_t latticePoints = 0;  // D evaluations (blocks x 512)
+  std::size_t surfaceBlocks = 0;  // blocks where SD is crossed (the others skip the marching)
   MeshTimings timings;
 };
 

@@ -81,6 +81,41 @@ float DensityField::density(const Vec3& p) const {
   return massNorm_ * kernels_.poly6Factor * sum;
 }
 
+void DensityField::densityAlongX(const float* xs, int count, float py, float pz, float* out) const {
+  if (count <= 0) return;
+  const float h2 = kernels_.h2, h = kernels_.h;
+  const Poly6Shape poly6{h2};
+  const auto [xmin, xmax] = std::minmax_element(xs, xs + count);
+  const float lo[3] = {*xmin - h, py - h, pz - h}, hi[3] = {*xmax + h, py + h, pz + h};
+  // Candidates within h of the line: their x and squared distance from it, appended without a
+  // branch (about half the cells' particles pass: a branch would mispredict on every other one).
+  thread_local std::vector<float> cx, cr;
+  std::size_t n = 0;
+  const float *x = x_.data(), *y = y_.data(), *z = z_.data();
+  grid_.forEachRangeInBox(lo, hi, [&](std::uint32_t b, std::uint32_t e) {
+    if (cx.size() < n + (e - b)) cx.resize(2 * (n + (e - b))), cr.resize(cx.size());
+    float* __restrict ox = cx.data();
+    float* __restrict orr = cr.data();
+    for (std::uint32_t j = b; j < e; ++j) {
+      const float dy = py - y[j], dz = pz - z[j], r2 = dy * dy + dz * dz;
+      ox[n] = x[j], orr[n] = r2;
+      n += r2 < h2;
+    }
+  });
+  const float* __restrict ax = cx.data();
+  const float* __restrict ar = cr.data();
+  for (int i = 0; i < count; ++i) {
+    const float px = xs[i];
+    float sum = 0;
+#pragma omp simd reduction(+ : sum)
+    for (std::size_t k = 0; k < n; ++k) {
+      const float dx = px - ax[k];
+      sum += poly6(dx * dx + ar[k]);
+    }
+    out[i] = massNorm_ * kernels_.poly6Factor * sum;
+  }
+}
+
 void DensityField::densityAndGradients(const Vec3& p, float& density, Vec3& gradient,
                                        Vec3& densityGradient) const {
   const Poly6Shape poly6{kernels_.h2};

@@ -34,6 +34,11 @@ class DensityField {
 
   // D(p) and gradC(p) at an arbitrary point.
   float density(const Vec3& p) const;
+  // D at `count` points (xs[i], y, z) of one line along x, sharing one neighbour search: the
+  // candidates within the kernel radius of the line are gathered once (about 2.5x fewer kernel
+  // evaluations than density() per point for 8 points 0.5 spacings apart; render/mesh). Equal
+  // to density() up to the order of the sum (float rounding).
+  void densityAlongX(const float* xs, int count, float y, float z, float* out) const;
   Vec3 gradient(const Vec3& p) const;
   void densityAndGradient(const Vec3& p, float& density, Vec3& gradient) const;
   // Also gradD(p) = sum_j m gradW_poly6(p - x_j), the gradient of the density itself.
