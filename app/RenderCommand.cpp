@@ -16,9 +16,11 @@
 #include "io/MessageText.h"
 #include "io/Png.h"
 #include "render/gl/GlContext.h"
+#include "render/rain/SceneRain.h"
 #include "render/solids/SceneSolids.h"
 #include "render/splat/Annotate.h"
 #include "render/splat/FrameRenderer.h"
+#include "sim/Camera.h"
 #include "sim/InputError.h"
 
 namespace sph::app {
@@ -120,6 +122,8 @@ int render(const RenderOptions& o) {
     const auto b = c.reader().readBoundary();
     return std::array<std::vector<float>, 3>{b[0], b[1], b[2]};
   });
+  // The rain is regenerated from the scene and the frame times (render/rain/SceneRain.h).
+  const auto rain = render::rain::showRain(c.scene, renderer, solids.get());
   if (!o.quiet) {
     std::printf("%s: rendering %zu frame%s of %s at %dx%d with %s splats on %s\n",
                 c.scene.name.c_str(), frames.size(), frames.size() == 1 ? "" : "s", o.cache.c_str(),
@@ -137,8 +141,12 @@ int render(const RenderOptions& o) {
     if (!c.cameraFromScene && k == 0)
       c.camera = render::splat::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
     renderer.prepare(p);
+    const double time = c.summary.frames[f].time;
+    const CameraDesc camera =
+        c.cameraFromScene ? cameraAt(c.camera, c.scene.cameraPath, time) : c.camera;
+    if (rain) rain->advanceTo(time, p);
     for (render::splat::SplatKind kind : kindsOf(c.desc.splat)) {
-      const render::splat::RenderedSplats r = renderer.render(kind, c.camera);
+      const render::splat::RenderedSplats r = renderer.render(kind, camera);
       seconds += r.timings.total();
       const std::string path =
           o.out + "/" + io::framePngName(c.scene.name + "_" + enumName(kind), f);

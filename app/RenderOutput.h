@@ -9,6 +9,7 @@
 #include "io/CacheSession.h"
 #include "io/OutputLock.h"
 #include "render/gl/GlContext.h"
+#include "render/rain/SceneRain.h"
 #include "render/solids/SceneSolids.h"
 #include "render/splat/FrameRenderer.h"
 #include "sim/RunLoop.h"
@@ -40,8 +41,10 @@ class RenderOutput final : public FrameSink {
   render::gl::GlContext context_;  // first: outlives the GL objects below
   render::splat::FrameRenderer renderer_;
   std::unique_ptr<render::solids::SolidRenderer> solids_;  // a layer of renderer_
+  std::unique_ptr<render::rain::SceneRain> rain_;          // a layer of renderer_ (rain section)
   RenderDesc desc_;
   CameraDesc camera_;
+  CameraPath cameraPath_;
   std::string name_, directory_;
   io::CacheSession* cache_;
   std::size_t images_ = 0;

@@ -3,6 +3,7 @@
 #include <cstddef>
 
 #include "render/gl/Shader.h"
+#include "render/splat/SpotlightUniforms.h"
 
 namespace sph::render::solids {
 
@@ -59,6 +60,7 @@ void SolidRenderer::draw(const CameraFrame& camera, const splat::Lighting& light
   vec3("u_horizon", lighting.horizon);
   vec3("u_zenith", lighting.zenith);
   scalar("u_fresnelMin", lighting.fresnelMin);
+  splat::setSpotlightUniforms(p, lighting.spotlight);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);

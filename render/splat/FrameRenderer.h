@@ -67,6 +67,9 @@ class FrameRenderer {
   // Layers drawn in every picture with the splats (render/splat/FrameLayer.h), not owned.
   void setLayers(std::vector<FrameLayer*> layers) { renderer_.setLayers(std::move(layers)); }
 
+  // The rain's spotlight lights the water and solids of every picture (Lighting::spotlight).
+  void setSpotlight(const std::optional<SpotlightDesc>& light) { lighting_.spotlight = light; }
+
   const RenderDesc& desc() const { return desc_; }
 
  private:

@@ -8,7 +8,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 
+#include "sim/RainDesc.h"
 #include "sim/Types.h"
 
 namespace sph::render::splat {
@@ -22,6 +24,10 @@ struct Lighting {
   Vec3 horizon = Vec3(0.85f, 0.88f, 0.92f), zenith = Vec3(0.35f, 0.55f, 0.85f);
   float fresnelMin = 0.06f;  // reflectance at normal incidence
   float alpha = 1.0f;        // < 1: blend splats (the paper's transparent water); metrics use 1
+  // The rain's cone spotlight (seed 002 section 3.2), lighting water and solids in the GL frame
+  // through shaders/extra_lights.glsl; not in shade() below (the reference ray-marcher and the
+  // error figures never see it). None: no rain spotlight.
+  std::optional<SpotlightDesc> spotlight;
 };
 
 // Colour of a surface point with outward unit normal n seen along unit `toEye`, in [0, 1].

@@ -1,5 +1,7 @@
 #include "render/splat/SplatRenderer.h"
 
+#include "render/splat/SpotlightUniforms.h"
+
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -29,6 +31,7 @@ void setLighting(GLuint p, const Lighting& l) {
   setVec3(p, "u_zenith", l.zenith);
   setFloat(p, "u_fresnelMin", l.fresnelMin);
   setFloat(p, "u_alpha", l.alpha);
+  setSpotlightUniforms(p, l.spotlight);
 }
 
 // Position (location 0) and normal (location 1) of SplatVertex from binding 0.
