@@ -51,6 +51,13 @@ void SceneRain::advanceTo(double time, const Particles& fluid) {
   updateSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+void SceneRain::follow(const CameraDesc& camera) {
+  sph::rain::RainObstacles solidsOnly;
+  solidsOnly.solids = &solids_;
+  system_.update(camera, 0, solidsOnly);
+  renderer_.setDrops(system_);
+}
+
 std::unique_ptr<SceneRain> showRain(const Scene& scene, splat::FrameRenderer& renderer,
                                     splat::FrameLayer* solids) {
   const RenderDesc& d = renderer.desc();

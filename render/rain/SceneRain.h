@@ -28,6 +28,9 @@ class SceneRain {
   // Brings the drops to `time` (s) and uploads them to the layer; `fluid` is the water at `time`.
   // Going back in time starts again from 0.
   void advanceTo(double time, const Particles& fluid);
+  // Keeps the drops where `camera` looks without moving them (an update of 0 s: drops out of its
+  // rain space are respawned in it), for a camera the user flies (`view`). Uploads them.
+  void follow(const CameraDesc& camera);
   RainRenderer& layer() { return renderer_; }
   const sph::rain::RainSystem& system() const { return system_; }
   // Seconds spent in the rain update (CPU) and the upload, cumulative.
