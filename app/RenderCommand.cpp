@@ -18,9 +18,11 @@
 #include "render/gl/GlContext.h"
 #include "render/lights/LightComparison.h"
 #include "render/lights/SceneLights.h"
+#include "render/rain/SceneRain.h"
 #include "render/solids/SceneSolids.h"
 #include "render/splat/Annotate.h"
 #include "render/splat/FrameRenderer.h"
+#include "sim/Camera.h"
 #include "sim/InputError.h"
 #include "sim/LightParticles.h"
 #include "sim/SceneSetup.h"
@@ -129,6 +131,8 @@ int render(const RenderOptions& o) {
     return std::array<std::vector<float>, 3>{b[0], b[1], b[2]};
   });
   const auto lights = render::lights::showLights(c.scene, renderer);
+  // The rain is regenerated from the scene and the frame times (render/rain/SceneRain.h).
+  const auto rain = render::rain::showRain(c.scene, renderer, solids.get());
   if (!o.quiet) {
     std::printf("%s: rendering %zu frame%s of %s at %dx%d with %s splats on %s\n",
                 c.scene.name.c_str(), frames.size(), frames.size() == 1 ? "" : "s", o.cache.c_str(),
@@ -148,8 +152,12 @@ int render(const RenderOptions& o) {
       c.camera = render::splat::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
     renderer.prepare(p);
     if (lights) seconds += lights->update(p, c.summary.frames[f].time);
+    const double time = c.summary.frames[f].time;
+    const CameraDesc camera =
+        c.cameraFromScene ? cameraAt(c.camera, c.scene.cameraPath, time) : c.camera;
+    if (rain) rain->advanceTo(time, p);
     for (render::splat::SplatKind kind : kindsOf(c.desc.splat)) {
-      const render::splat::RenderedSplats r = renderer.render(kind, c.camera);
+      const render::splat::RenderedSplats r = renderer.render(kind, camera);
       seconds += r.timings.total();
       const std::string path =
           o.out + "/" + io::framePngName(c.scene.name + "_" + enumName(kind), f);

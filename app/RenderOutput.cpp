@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "io/Png.h"
+#include "sim/Camera.h"
 #include "sim/InputError.h"
 
 namespace sph::app {
@@ -52,6 +53,7 @@ std::unique_ptr<RenderOutput> RenderOutput::prepare(const Scene& scene,
     return std::array<std::vector<float>, 3>{boundary.x, boundary.y, boundary.z};
   });
   out->lights_ = render::lights::showLights(scene, out->renderer_);
+  out->rain_ = render::rain::showRain(scene, out->renderer_, out->solids_.get());
   return out;
 }
 
@@ -60,14 +62,19 @@ RenderOutput::RenderOutput(const Scene& scene, std::string directory, io::CacheS
       renderer_(*scene.render, scene.solver.spacing, scene.solver.restDensity),
       desc_(*scene.render),
       camera_(*scene.camera),
+      cameraPath_(scene.cameraPath),
       name_(scene.name),
       directory_(std::move(directory)),
       cache_(cache) {}
 
 void RenderOutput::frame(const Simulation& sim, std::size_t frame) {
+  // The rain sees the water of every output frame, drawn or not, as `render` of all frames does,
+  // so the two draw the same drops (render/rain/SceneRain.h).
+  if (rain_) rain_->advanceTo(sim.time(), sim.fluid());
   if (frame % static_cast<std::size_t>(desc_.every) != 0) return;
   renderer_.prepare(sim.fluid());
   if (lights_) lights_->update(sim.fluid(), sim.time());
+  const CameraDesc camera = cameraAt(camera_, cameraPath_, sim.time());
   const bool both = desc_.splat == RenderDesc::Splat::Both;
   for (render::splat::SplatKind kind :
        {render::splat::SplatKind::Point, render::splat::SplatKind::Quad}) {
@@ -75,7 +82,7 @@ void RenderOutput::frame(const Simulation& sim, std::size_t frame) {
                                     (desc_.splat == RenderDesc::Splat::Point);
     if (!wanted) continue;
     const char* kindName = enumName(kind);
-    const render::splat::RenderedSplats r = renderer_.render(kind, camera_);
+    const render::splat::RenderedSplats r = renderer_.render(kind, camera);
     seconds_ += r.timings.total();
     io::writePng(directory_ + "/" + io::framePngName(name_ + "_" + kindName, frame), r.image.width,
                  r.image.height, r.image.rgb.data());

@@ -10,6 +10,7 @@
 #include "io/OutputLock.h"
 #include "render/gl/GlContext.h"
 #include "render/lights/SceneLights.h"
+#include "render/rain/SceneRain.h"
 #include "render/solids/SceneSolids.h"
 #include "render/splat/FrameRenderer.h"
 #include "sim/RunLoop.h"
@@ -42,8 +43,10 @@ class RenderOutput final : public FrameSink {
   render::splat::FrameRenderer renderer_;
   std::unique_ptr<render::solids::SolidRenderer> solids_;  // a layer of renderer_
   std::unique_ptr<render::lights::SceneLights> lights_;    // renderer_'s extra lights, if any
+  std::unique_ptr<render::rain::SceneRain> rain_;          // a layer of renderer_ (rain section)
   RenderDesc desc_;
   CameraDesc camera_;
+  CameraPath cameraPath_;
   std::string name_, directory_;
   io::CacheSession* cache_;
   std::size_t images_ = 0;

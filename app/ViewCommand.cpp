@@ -16,9 +16,11 @@
 #include "io/Png.h"
 #include "render/gl/GlContext.h"
 #include "render/lights/SceneLights.h"
+#include "render/rain/SceneRain.h"
 #include "render/solids/SceneSolids.h"
 #include "render/splat/FrameRenderer.h"
 #include "render/splat/HudText.h"
+#include "sim/Camera.h"
 #include "sim/InputError.h"
 
 namespace sph::app {
@@ -44,6 +46,7 @@ struct ViewerState {
   Vec3 target = Vec3::Zero();
   float distance = 1, yaw = 0, pitch = 0;
   bool dragging = false;
+  bool touched = false;  // the user moved the camera: stop following the scene's camera path
   double lastX = 0, lastY = 0;
   bool quit = false, screenshot = false;
   bool frameChanged = true;
@@ -95,6 +98,9 @@ int view(const ViewOptions& o) {
     return std::array<std::vector<float>, 3>{b[0], b[1], b[2]};
   });
   const auto lights = render::lights::showLights(scene, renderer);
+  // Rain (a rain section): regenerated at each frame's time, and kept where the camera looks
+  // when the user flies it (render/rain/SceneRain.h).
+  const auto rain = render::rain::showRain(scene, renderer, solids.get());
 
   io::cache::FieldSet xyz;
   for (auto f : {io::cache::Field::X, io::cache::Field::Y, io::cache::Field::Z})
@@ -162,6 +168,7 @@ int view(const ViewOptions& o) {
         s.seek(std::lround(e.x / std::max(size[0], 1) * (static_cast<double>(s.frames) - 1)));
       } else {
         s.dragging = e.press, s.lastX = e.x, s.lastY = e.y;
+        s.touched = true;
       }
     } else if (e.type == T::CursorMove && s.dragging) {
       s.yaw -= static_cast<float>(e.x - s.lastX) * 0.01f;
@@ -169,6 +176,7 @@ int view(const ViewOptions& o) {
       s.lastX = e.x, s.lastY = e.y;
     } else if (e.type == T::Scroll) {
       s.distance *= std::pow(0.9f, static_cast<float>(e.y));
+      s.touched = true;
     }
   });
   std::printf(
@@ -189,15 +197,19 @@ int view(const ViewOptions& o) {
       s.seek(s.frame + 1 < s.frames ? static_cast<long long>(s.frame) + 1 : 0);
       lastAdvance = now;
     }
+    const double time = reader.summary().frames[s.frame].time;
+    // The scene's camera path until the user drags or zooms; then the user's orbit.
+    const CameraDesc camera = s.touched ? s.camera(lens) : cameraAt(lens, scene.cameraPath, time);
     if (s.frameChanged) {
       const Particles p = reader.readFrame(s.frame, xyz);
       renderer.prepare(p);
       if (lights) lights->update(p, reader.summary().frames[s.frame].time);
+      if (rain) rain->advanceTo(time, p);
       s.frameChanged = false;
     }
+    if (rain) rain->follow(camera);
     const auto size = window.framebufferSize();
-    const render::splat::FrameTimings t =
-        renderer.drawToScreen(s.kind, s.camera(lens), size[0], size[1]);
+    const render::splat::FrameTimings t = renderer.drawToScreen(s.kind, camera, size[0], size[1]);
     // The timeline: a grey bar with the played part in blue (scissored clears, no shader).
     glEnable(GL_SCISSOR_TEST);
     glScissor(0, 0, size[0], timeline);

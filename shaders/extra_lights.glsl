@@ -90,8 +90,18 @@ float sceneLightScale() {
   return u_particleLights != 0 ? u_lightRoom : 1.0;
 }
 
+// ---- The rain's spotlight (seed 002 section 3.2; render/splat/SpotlightUniforms.h) ----
+#include "rain_spotlight.glsl"
+
 vec3 extraLight(vec3 base, vec3 position, vec3 n, vec3 toEye) {
   vec3 c = vec3(0.0);
   if (u_particleLights != 0) c += particleLight(base, position, n, toEye);
+  // The rain's cone spotlight (render/splat/SpotlightUniforms.h): Lambert diffuse inside the cone
+  // of eq. (10)-(12), the same membership test the drops take their colour from.
+  float w = spotlightWeight(position);
+  if (w > 0.0) {
+    vec3 toLight = normalize(u_spotPosition - position);
+    c += w * u_spotIntensity * u_spotColour * base * max(dot(n, toLight), 0.0);
+  }
   return c;
 }

@@ -118,6 +118,19 @@ TEST(RainSystem, ViewKeepsTheWholeBudgetInViewTheBaselinesDoNot) {
     r.reset(c);
     for (int f = 0; f < 30; ++f) r.update(c, 1.0f / 30);
     fraction[static_cast<int>(spawn)] = fractionInView(r, c);
+    if (spawn == RainSpawn::View) {
+      const double sphere = 4.0 / 3 * M_PI * std::pow(r.space().radius, 3.0);
+      std::printf(
+          "rain space %.2f m^3 of the sphere's %.2f m^3; side planes rejected %.3f of "
+          "the samples\n",
+          r.space().volume(), sphere,
+          static_cast<double>(r.counters().rejected) /
+              static_cast<double>(r.counters().rejected + r.counters().accepted));
+      EXPECT_NEAR(static_cast<double>(r.counters().accepted) /
+                      static_cast<double>(r.counters().rejected + r.counters().accepted),
+                  r.space().volume() / sphere, 0.02);
+    }
+    if (spawn == RainSpawn::Box) std::printf("box edge %.3f m\n", r.boxEdge());
     std::printf("spawn %-6s: %.4f of %zu drops in the frustum\n", enumName(spawn),
                 fraction[static_cast<int>(spawn)], r.size());
   }

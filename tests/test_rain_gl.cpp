@@ -9,6 +9,7 @@
 #include "render/gl/GlContext.h"
 #include "render/rain/RainRenderer.h"
 #include "render/rain/StreakImages.h"
+#include "render/solids/SolidRenderer.h"
 #include "render/splat/SplatRenderer.h"
 #include "sim/Camera.h"
 #include "sim/rain/RainSystem.h"
@@ -195,6 +196,47 @@ TEST_F(RainGl, DropsInTheConeTakeTheLightsColourTheOthersDoNot) {
   // Not all: a lit drop's pixel may be covered by an unlit streak in front of it.
   EXPECT_GT(redLit, 0.6 * lit);
   EXPECT_LT(redUnlit, 0.1 * unlit);
+}
+
+// The same spotlight lights the solids and the water (shaders/extra_lights.glsl): seen from above,
+// a grey floor and a water splat turn red inside the cone's footprint and stay as they were
+// outside it.
+TEST_F(RainGl, TheSpotlightLightsSolidsAndWaterInsideItsConeOnly) {
+  CameraDesc top;
+  top.position = Vec3(0, 2, 0), top.target = Vec3::Zero(), top.up = Vec3(0, 0, -1);
+  top.fovYDegrees = 60;
+  BoundaryShape floor;
+  floor.kind = BoundaryShape::Kind::Block;
+  floor.lo = Vec3(-2, -0.1f, -2), floor.hi = Vec3(2, 0, 2);
+  solids::SolidRenderer solid({floor}, Aabb{Vec3(-3, -3, -3), Vec3(3, 3, 3)}, 0.01f);
+  splat::SplatFrame water;
+  water.halfSize = 0.15f;
+  water.points.push_back(splat::SplatVertex{{0.5f, 0.05f, 0}, {0, 1, 0}});  // right of centre
+  SpotlightDesc l;
+  l.position = Vec3(0.5f, 1, 0), l.direction = -Vec3::UnitY();
+  l.height = 2, l.baseRadius = 0.6f;  // footprint radius 0.3 m on the floor around x = 0.5
+  l.colour = Vec3(1, 0, 0), l.intensity = 1;
+  splat::Lighting plain, spot;
+  spot.spotlight = l;
+  splat::SplatRenderer r(kWidth, kHeight);
+  r.setLayers({&solid});
+  const splat::RenderImage a = r.render(water, splat::SplatKind::Point, top, plain);
+  const splat::RenderImage b = r.render(water, splat::SplatKind::Point, top, spot);
+  // Pixels of world points on the floor seen from above: x right, z down the picture.
+  auto pixel = [&](float x, float z) {
+    const Mat4 m = cameraFrame(top, static_cast<float>(kWidth) / kHeight).projView;
+    Eigen::Vector4f c;
+    for (int row = 0; row < 4; ++row) c[row] = m(row, 0) * x + m(row, 2) * z + m(row, 3);
+    const int px = static_cast<int>((c.x() / c.w() * 0.5f + 0.5f) * kWidth);
+    const int py = static_cast<int>((1 - (c.y() / c.w() * 0.5f + 0.5f)) * kHeight);
+    return static_cast<std::size_t>(py * kWidth + px);
+  };
+  const std::size_t onWater = pixel(0.5f, 0), onLitFloor = pixel(0.5f, 0.22f),
+                    onDarkFloor = pixel(-0.5f, 0);
+  EXPECT_GT(int(b.rgb[3 * onWater]), int(a.rgb[3 * onWater]) + 30) << "water lit red";
+  EXPECT_GT(int(b.rgb[3 * onLitFloor]), int(a.rgb[3 * onLitFloor]) + 15) << "floor lit red";
+  EXPECT_EQ(b.rgb[3 * onLitFloor + 1], a.rgb[3 * onLitFloor + 1]) << "no green added";
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(b.rgb[3 * onDarkFloor + k], a.rgb[3 * onDarkFloor + k]);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include "render/gl/Shader.h"
 #include "render/rain/StreakImages.h"
+#include "render/splat/SpotlightUniforms.h"
 
 namespace sph::render::rain {
 namespace {
@@ -69,19 +70,7 @@ void RainRenderer::draw(const CameraFrame& camera, const splat::Lighting& lighti
   scalar("u_exposure", desc_.exposure);
   scalar("u_width", desc_.dropWidth);
   vec3("u_unlit", kUnlitTint * lighting.background);
-  const bool spot = desc_.spotlight.has_value();
-  glProgramUniform1i(p, glGetUniformLocation(p, "u_spotOn"), spot ? 1 : 0);
-  if (spot) {
-    const SpotlightDesc& l = *desc_.spotlight;
-    vec3("u_spotPosition", l.position);
-    vec3("u_spotDirection", l.direction);
-    scalar("u_spotHeight", l.height);
-    scalar("u_spotBaseRadius", l.baseRadius);
-    vec3("u_spotColour", l.colour);
-    scalar("u_spotIntensity", l.intensity);
-    scalar("u_spotSoftEdge", l.softEdge);
-    glProgramUniform1i(p, glGetUniformLocation(p, "u_spotFalloff"), l.falloff ? 1 : 0);
-  }
+  splat::setSpotlightUniforms(p, desc_.spotlight);
   glProgramUniform1i(p, glGetUniformLocation(p, "u_streaks"), 0);
   glBindTextureUnit(0, streaks_.id());
   glEnable(GL_DEPTH_TEST);

@@ -4,6 +4,7 @@
 
 #include "render/gl/Shader.h"
 #include "render/splat/ExtraLights.h"
+#include "render/splat/SpotlightUniforms.h"
 
 namespace sph::render::solids {
 
@@ -61,6 +62,7 @@ void SolidRenderer::draw(const CameraFrame& camera, const splat::Lighting& light
   vec3("u_zenith", lighting.zenith);
   scalar("u_fresnelMin", lighting.fresnelMin);
   splat::applyExtraLights(p, lighting);
+  splat::setSpotlightUniforms(p, lighting.spotlight);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);

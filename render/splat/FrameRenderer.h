@@ -72,6 +72,8 @@ class FrameRenderer {
   void setExtraLights(const ExtraLights* extra) { lighting_.extra = extra; }
   // The colour of empty pixels (linear RGB).
   void setBackground(const Vec3& colour) { lighting_.background = colour; }
+  // The rain's spotlight lights the water and solids of every picture (Lighting::spotlight).
+  void setSpotlight(const std::optional<SpotlightDesc>& light) { lighting_.spotlight = light; }
 
   const RenderDesc& desc() const { return desc_; }
 

@@ -8,7 +8,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 
+#include "sim/RainDesc.h"
 #include "sim/Types.h"
 
 namespace sph::render::splat {
@@ -27,6 +29,10 @@ struct Lighting {
   // Position-dependent lights of the GL shaders (render/splat/ExtraLights.h), not owned; null:
   // none. shade() below never has them (the reference ray-marcher is lit by the scene's light).
   const ExtraLights* extra = nullptr;
+  // The rain's cone spotlight (seed 002 section 3.2), lighting water and solids in the GL frame
+  // through shaders/extra_lights.glsl; not in shade() below (the reference ray-marcher and the
+  // error figures never see it). None: no rain spotlight.
+  std::optional<SpotlightDesc> spotlight;
 };
 
 // Colour of a surface point with outward unit normal n seen along unit `toEye`, in [0, 1].

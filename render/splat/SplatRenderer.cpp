@@ -1,5 +1,7 @@
 #include "render/splat/SplatRenderer.h"
 
+#include "render/splat/SpotlightUniforms.h"
+
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -32,6 +34,7 @@ void setLighting(GLuint p, const Lighting& l) {
   setFloat(p, "u_alpha", l.alpha);
   glProgramUniform1i(p, glGetUniformLocation(p, "u_twoSided"), l.alpha < 1.0f ? 1 : 0);
   applyExtraLights(p, l);
+  setSpotlightUniforms(p, l.spotlight);
 }
 
 // Position (location 0) and normal (location 1) of SplatVertex from binding 0.
