@@ -171,7 +171,10 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(BlowUp{"cfl 1.5", {"solver.max_time_step=0.01", "solver.cfl=1.5"}, true},
                       BlowUp{"cfl 2.0", {"solver.max_time_step=0.01", "solver.cfl=2.0"}, true},
                       BlowUp{"cfl 3.0", {"solver.max_time_step=0.01", "solver.cfl=3.0"}},
-                      BlowUp{"zero viscosity", {"solver.viscosity=0"}}),
+                      // With the default tolerance it now runs to the end, losing a few
+                      // particles (ZeroViscosityDamBreakRunsToTheEndLosingAFewParticles).
+                      BlowUp{"zero viscosity",
+                             {"solver.viscosity=0", "solver.max_lost_particles=0"}}),
     [](const ::testing::TestParamInfo<BlowUp>& param) {
       std::string n = param.param.name;
       for (char& c : n) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
