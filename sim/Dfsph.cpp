@@ -268,8 +268,8 @@ void solveDivergence(StepContext& c) {
 }
 
 // Constant-density solver on the velocities after the non-pressure forces (2017, Algorithm 3);
-// the pressure acceleration is added to a, and p_i = rho_i^2 / rho0 sum k_i (the pressure that
-// gives the same acceleration in the WCSPH force) is written for output.
+// the pressure acceleration is added to a, and for output p_i, the pressure that gives the same
+// force in the WCSPH formula.
 void solveDensity(StepContext& c) {
   Particles& f = c.fluid;
   StepScratch& s = c.scratch;
@@ -286,8 +286,12 @@ void solveDensity(StepContext& c) {
   c.solveStats.densityError = static_cast<float>(100 * error);
   c.solveStats.totalDensityIterations += static_cast<std::uint64_t>(iterations);
   c.solveStats.steps += 1;
+  // The WCSPH force is c sum m (p_i/rho_i^2 + p_j/rho_j^2) gradW_spiky (c the lattice gradient
+  // correction); DFSPH's is sum (m/rho0) n (k_i + k_j) gradW_spiky (n the density normalisation):
+  // the same force for p_i = rho_i^2 / rho0 (n / c) k_i.
+  const float scale = invRho0 * c.derived.densityNormalisation / c.derived.gradientCorrection;
   const std::vector<float>& k = c.warmStart.density;
-  for (std::size_t i = 0; i < f.size(); ++i) f.p[i] = f.rho[i] * f.rho[i] * invRho0 * k[i];
+  for (std::size_t i = 0; i < f.size(); ++i) f.p[i] = f.rho[i] * f.rho[i] * scale * k[i];
 }
 
 }  // namespace sph

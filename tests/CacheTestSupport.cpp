@@ -116,6 +116,9 @@ void expectSameCache(const std::string& a, const std::string& b) {
     EXPECT_EQ(sa.maxSpeed, sb.maxSpeed) << k;
     EXPECT_EQ(sa.maxAcceleration, sb.maxAcceleration) << k;
     EXPECT_EQ(sa.nextId, sb.nextId) << k;
+    EXPECT_EQ(sa.lostParticles, sb.lostParticles) << k;
+    EXPECT_EQ(sa.warmStart.density, sb.warmStart.density) << k;
+    EXPECT_EQ(sa.warmStart.divergence, sb.warmStart.divergence) << k;
     ASSERT_EQ(sa.emitters.size(), sb.emitters.size());
     for (std::size_t e = 0; e < sa.emitters.size(); ++e) {
       EXPECT_EQ(sa.emitters[e].travelled, sb.emitters[e].travelled);

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <fstream>
 #include <numeric>
+#include <sstream>
 #include <stdexcept>
 
 #include "io/SceneLoader.h"
@@ -21,6 +22,20 @@ std::string sourcePath(const std::string& relative) {
 
 Scene shippedScene(const std::string& name, const std::vector<std::string>& overrides) {
   return io::loadScene(sourcePath("scenes/" + name + ".json"), overrides);
+}
+
+std::vector<SurgePoint> martinMoyce() {
+  std::ifstream in(sourcePath("tests/data/martin_moyce_1952.csv"));
+  std::vector<SurgePoint> points;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#' || line[0] == 'T') continue;
+    SurgePoint p;
+    char comma;
+    std::istringstream(line) >> p.T >> comma >> p.Z;
+    points.push_back(p);
+  }
+  return points;
 }
 
 std::uint64_t stateHash(const Particles& p) {

@@ -14,6 +14,12 @@ namespace sph::test {
 std::string sourcePath(const std::string& relative);
 // Loads a shipped scene with overrides ("solver.spacing=0.01").
 Scene shippedScene(const std::string& name, const std::vector<std::string>& overrides = {});
+// Martin & Moyce (1952)'s surge front, tests/data/martin_moyce_1952.csv: T = t sqrt(2g/a),
+// Z = front / a.
+struct SurgePoint {
+  double T, Z;
+};
+std::vector<SurgePoint> martinMoyce();
 // FNV-1a over the bytes of every particle field, in id order (independent of the sort).
 std::uint64_t stateHash(const Particles& p);
 

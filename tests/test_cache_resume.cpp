@@ -72,6 +72,18 @@ TEST(CacheResume, ShowcasePourSceneResumesExactly) {
                                "0.2", "0.4");
 }
 
+TEST(CacheResume, DfsphPourSceneResumesExactly) {
+  // DFSPH's warm start travels in the resume record (dfsph_warm_density, dfsph_warm_divergence):
+  // without it the resumed half would differ from the straight run.
+  const std::string dir = test::makeTempDir();
+  checkResumeEqualsStraightRun(dir, test::sourcePath("scenes/pour.json"),
+                               "--set solver.spacing=0.01 --set solver.pressure=dfsph", "0.2",
+                               "0.4");
+  const auto [state, fluid] = io::CacheReader(dir + "/resumed.h5").readRestart(5);
+  ASSERT_EQ(state.warmStart.density.size(), fluid.size());
+  ASSERT_EQ(state.warmStart.divergence.size(), fluid.size());
+}
+
 TEST(CacheResume, RefusesAnotherScene) {
   const std::string dir = test::makeTempDir();
   const std::string scene = dir + "/tiny.json";

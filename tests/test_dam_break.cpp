@@ -3,8 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
 #include "sim/Observables.h"
 #include "sim/Simulation.h"
@@ -13,26 +11,8 @@
 namespace sph {
 namespace {
 
-struct Point {
-  double T, Z;
-};
-
-std::vector<Point> martinMoyce() {
-  std::ifstream in(test::sourcePath("tests/data/martin_moyce_1952.csv"));
-  std::vector<Point> points;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#' || line[0] == 'T') continue;
-    Point p;
-    char comma;
-    std::istringstream(line) >> p.T >> comma >> p.Z;
-    points.push_back(p);
-  }
-  return points;
-}
-
 TEST(DamBreak, SurgeFrontFollowsMartinAndMoyce) {
-  const std::vector<Point> data = martinMoyce();
+  const std::vector<test::SurgePoint> data = test::martinMoyce();
   ASSERT_EQ(data.size(), 15u);
   const Scene scene = test::shippedScene("dam_break");
   const double a = scene.fluids[0].hi.x() - scene.fluids[0].lo.x();
@@ -41,7 +21,7 @@ TEST(DamBreak, SurgeFrontFollowsMartinAndMoyce) {
   const double g = -scene.solver.gravity.y();
   Simulation sim(scene);
   int checked = 0;
-  for (const Point& p : data) {
+  for (const test::SurgePoint& p : data) {
     if (p.T > 3) break;
     sim.advanceTo(p.T / std::sqrt(2 * g / a));     // T = t sqrt(2g/a)
     const double Z = surgeFront(sim.fluid()) / a;  // the wall is at x = 0

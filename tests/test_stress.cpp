@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <optional>
 
@@ -170,7 +171,10 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(BlowUp{"cfl 1.5", {"solver.max_time_step=0.01", "solver.cfl=1.5"}, true},
                       BlowUp{"cfl 2.0", {"solver.max_time_step=0.01", "solver.cfl=2.0"}, true},
                       BlowUp{"cfl 3.0", {"solver.max_time_step=0.01", "solver.cfl=3.0"}},
-                      BlowUp{"zero viscosity", {"solver.viscosity=0"}}),
+                      // With the default tolerance it now runs to the end, losing a few
+                      // particles (ZeroViscosityDamBreakRunsToTheEndLosingAFewParticles).
+                      BlowUp{"zero viscosity",
+                             {"solver.viscosity=0", "solver.max_lost_particles=0"}}),
     [](const ::testing::TestParamInfo<BlowUp>& param) {
       std::string n = param.param.name;
       for (char& c : n) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
@@ -188,6 +192,22 @@ TEST(Stress, OverlappingStartIsStoppedByTheGuard) {
   ASSERT_TRUE(e.has_value());
   EXPECT_EQ(e->kind, StabilityError::Kind::LeftDomain);
   EXPECT_LT(e->time, 0.05);  // an explosion, not a slow drift
+}
+
+TEST(Stress, ZeroViscosityDamBreakRunsToTheEndLosingAFewParticles) {
+  // Without viscosity the splash at a / dx = 13 leaves the open tank's domain (it stopped the
+  // whole run at t = 0.474 s before lost particles were removed): now those are counted and the
+  // run goes on, within the automatic tolerance (1% of the particles).
+  Simulation sim(test::shippedScene(
+      "dam_break", {"solver.spacing=0.01123", "solver.viscosity=0", "solver.end_time=0.6"}));
+  const std::size_t start = sim.fluid().size();
+  ASSERT_EQ(sim.params().maxLostParticles, start / 100);
+  EXPECT_FALSE(runChecked(sim, 0.6).has_value());
+  EXPECT_EQ(sim.time(), 0.6);
+  std::printf("lost %llu of %zu particles\n", static_cast<unsigned long long>(sim.lostParticles()),
+              start);
+  EXPECT_GT(sim.lostParticles(), 0u);
+  EXPECT_EQ(sim.fluid().size() + sim.lostParticles(), start);
 }
 
 TEST(Stress, SoftEosAndLowCflStayStable) {

@@ -227,7 +227,7 @@ TEST(Sweep, TwoTinyVariantsWriteCsvTableAndPlot) {
 }
 
 // The presets (docs/scene-format.md, "quality"): "fast" takes larger steps with a softer EOS,
-// "accurate" a stiffer EOS at the default step margin; an explicit key in the scene wins.
+// "accurate" is DFSPH at its own step margin; an explicit key in the scene wins.
 TEST(QualityPresets, ParseAndDifferAsDocumented) {
   const std::string base =
       R"({"solver": {"spacing": 0.01}, "fluids": [{"min": [0,0,0], "max": [0.1,0.1,0.1]}]})";
@@ -240,11 +240,18 @@ TEST(QualityPresets, ParseAndDifferAsDocumented) {
   EXPECT_FLOAT_EQ(plain.solver.soundSpeedFactor, 10.0f);
   EXPECT_FLOAT_EQ(fast.solver.cfl, 0.8f);
   EXPECT_FLOAT_EQ(fast.solver.soundSpeedFactor, 5.0f);
-  EXPECT_FLOAT_EQ(accurate.solver.cfl, 0.4f);
-  EXPECT_FLOAT_EQ(accurate.solver.soundSpeedFactor, 20.0f);
+  EXPECT_EQ(accurate.solver.pressure, PressureSolver::Dfsph);
+  EXPECT_EQ(plain.solver.pressure, PressureSolver::Wcsph);
+  EXPECT_EQ(fast.solver.pressure, PressureSolver::Wcsph);
+  EXPECT_FLOAT_EQ(accurate.solver.cfl, 0.2f);
+  EXPECT_FLOAT_EQ(accurate.solver.soundSpeedFactor, 10.0f);
   EXPECT_NEAR(deriveParams(fast).speedOfSound, 5 * bound, 1e-3 * bound);
   EXPECT_NEAR(deriveParams(plain).speedOfSound, 10 * bound, 1e-3 * bound);
-  EXPECT_NEAR(deriveParams(accurate).speedOfSound, 20 * bound, 1e-3 * bound);
+  EXPECT_NEAR(deriveParams(accurate).speedOfSound, 10 * bound, 1e-3 * bound);
+  // The preset's solver can be overridden like any key.
+  EXPECT_EQ(
+      io::parseScene(base, "s.json", {"quality=accurate", "solver.pressure=wcsph"}).solver.pressure,
+      PressureSolver::Wcsph);
   // "default" is the built-in values.
   EXPECT_FLOAT_EQ(io::parseScene(base, "s.json", {"quality=default"}).solver.cfl, plain.solver.cfl);
   // Explicit keys win.
