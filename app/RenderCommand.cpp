@@ -204,7 +204,8 @@ void compareParticleLights(CacheRendering& c, std::size_t f, const Particles& p,
                            const std::string& out) {
   const LightsDesc& desc = *c.scene.lights;
   render::lights::LightVolume volume(desc);
-  const std::vector<LightParticle> lights = lightParticles(desc, p, c.summary.frames[f].time);
+  const std::vector<LightParticle> lights =
+      lightParticles(desc, p, c.summary.frames[f].time, lightSolids(c.scene));
   volume.update(lights);  // the first dispatch compiles llvmpipe's shader variants
   const double accumulate = volume.update(lights);
   const float thickness = deriveParams(c.scene).boundaryLayers * c.scene.solver.spacing;

@@ -1,5 +1,7 @@
 #include "sim/LightParticles.h"
 
+#include "sim/SceneSetup.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -44,8 +46,15 @@ Vec3 emitterLightPosition(const LightEmitterDesc& e, std::size_t i, double time)
   return p;
 }
 
-std::vector<LightParticle> lightParticles(const LightsDesc& d, const Particles& fluid,
-                                          double time) {
+std::vector<Solid> lightSolids(const Scene& scene) {
+  std::vector<Solid> solids;
+  const float thickness = deriveParams(scene).boundaryLayers * scene.solver.spacing;
+  for (const BoundaryShape& b : scene.boundaries) solids.emplace_back(b, thickness);
+  return solids;
+}
+
+std::vector<LightParticle> lightParticles(const LightsDesc& d, const Particles& fluid, double time,
+                                          const std::vector<Solid>& solids) {
   std::vector<LightParticle> out;
   auto colourAt = [&](float speed) {
     if (d.colouring == LightColouring::Constant) return d.colour;
@@ -64,10 +73,13 @@ std::vector<LightParticle> lightParticles(const LightsDesc& d, const Particles& 
       }
       break;
     case LightSource::Emitter:
-      out.resize(d.emitter.count);
-      for (std::size_t i = 0; i < d.emitter.count; ++i)
-        out[i] =
-            make(emitterLightPosition(d.emitter, i, time), colourAt(d.emitter.speed), d.intensity);
+      out.reserve(d.emitter.count);
+      for (std::size_t i = 0; i < d.emitter.count; ++i) {
+        const Vec3 p = emitterLightPosition(d.emitter, i, time);
+        bool inside = false;
+        for (const Solid& s : solids) inside = inside || s.distance(p) < 0;
+        if (!inside) out.push_back(make(p, colourAt(d.emitter.speed), d.intensity));
+      }
       break;
   }
   return out;

@@ -8,6 +8,8 @@
 
 #include "sim/LightsDesc.h"
 #include "sim/Particles.h"
+#include "sim/Scene.h"
+#include "sim/Solid.h"
 
 namespace sph {
 
@@ -20,9 +22,13 @@ static_assert(sizeof(LightParticle) == 32);
 
 // The lights at simulated time `time` (s). Source "fluid": one per particle of `fluid`, coloured
 // by desc (colour_by speed uses its velocity); source "emitter": desc.emitter's drifting points,
-// a pure function of (seed, index, time), `fluid` unused.
+// a pure function of (seed, index, time), less those inside any of `solids` (fireflies do not fly
+// through walls), `fluid` unused.
 std::vector<LightParticle> lightParticles(const LightsDesc& desc, const Particles& fluid,
-                                          double time);
+                                          double time, const std::vector<Solid>& solids = {});
+// The solids of `scene` as lights see them (its boundaries, walls as thick as the boundary
+// particles' layers).
+std::vector<Solid> lightSolids(const Scene& scene);
 
 // Emitter light i's position at time t: uniform in the box from a hash of (seed, i), moving at
 // `speed` m/s in a direction from the same hash, wrapped periodically into the box.

@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <regex>
 
 #include "io/Png.h"
@@ -67,6 +68,22 @@ TEST_F(LightsCli, CompareRanksTheFiltersAgainstTheExactSum) {
   int w = 0, h = 0;
   io::readPng(dir_ + "/fireflies_lights_compare_00001.png", w, h);
   EXPECT_GT(w, 6 * 160) << "exact + five filters side by side";
+}
+
+// The viewer lights the frame the same way (a window under Xvfb, its screenshot).
+TEST_F(LightsCli, ViewerShowsTheLitFrame) {
+  if (std::system("command -v xvfb-run > /dev/null") != 0) GTEST_SKIP() << "xvfb-run not installed";
+  const std::string shot = dir_ + "/view_lights.png";
+  const std::string command = "xvfb-run -a -s '-screen 0 800x600x24' " + test::sphsplatCommand() +
+                              " view " + dir_ + "/ff.h5 --frame last --width 200 --height 150" +
+                              " --exit-after 2 --screenshot " + shot + " > /dev/null 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  int w = 0, h = 0;
+  const auto rgb = io::readPng(shot, w, h);
+  int warm = 0;
+  for (std::size_t i = 0; i + 2 < rgb.size(); i += 3)
+    warm += rgb[i] > 90 && rgb[i] > rgb[i + 2] + 30;
+  EXPECT_GT(warm, 20) << "pixels lit by the fireflies";
 }
 
 // No `lights` section: no volume, no line about it (the dam break has none).

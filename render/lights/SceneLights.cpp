@@ -4,20 +4,22 @@
 
 namespace sph::render::lights {
 
-SceneLights::SceneLights(const LightsDesc& desc, splat::FrameRenderer& renderer) : volume_(desc) {
+SceneLights::SceneLights(const Scene& scene, splat::FrameRenderer& renderer)
+    : volume_(*scene.lights), solids_(lightSolids(scene)) {
+  const LightsDesc& desc = *scene.lights;
   renderer.setExtraLights(&volume_);
   renderer.setBackground(desc.roomLight * splat::Lighting{}.background);
 }
 
 double SceneLights::update(const Particles& fluid, double time) {
-  lights_ = lightParticles(volume_.desc(), fluid, time);
+  lights_ = lightParticles(volume_.desc(), fluid, time, solids_);
   seconds_ = volume_.update(lights_);
   return seconds_;
 }
 
 std::unique_ptr<SceneLights> showLights(const Scene& scene, splat::FrameRenderer& renderer) {
   if (!scene.lights) return nullptr;
-  return std::make_unique<SceneLights>(*scene.lights, renderer);
+  return std::make_unique<SceneLights>(scene, renderer);
 }
 
 std::string describeLights(const LightsDesc& d) {

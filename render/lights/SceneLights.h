@@ -17,7 +17,7 @@ class SceneLights {
  public:
   // Allocates the volume (InputError if GL cannot) and makes it `renderer`'s extra lights. Keep
   // it alive while `renderer` draws. Needs a current context.
-  SceneLights(const LightsDesc& desc, splat::FrameRenderer& renderer);
+  SceneLights(const Scene& scene, splat::FrameRenderer& renderer);
   // The lights of the frame with fluid particles `fluid` (velocities too for colour_by "speed")
   // at simulated time `time` (s), accumulated into the volume. Returns the seconds the volume
   // took.
@@ -29,6 +29,7 @@ class SceneLights {
 
  private:
   LightVolume volume_;
+  std::vector<Solid> solids_;
   std::vector<LightParticle> lights_;
   double seconds_ = 0;
 };
