@@ -34,7 +34,7 @@ long long parseIndex(const std::string& text, std::size_t frames, const std::str
     used = 0;
   }
   if (used != text.size() || v < 0) {
-    throw io::InputError(flag + ": expected a frame index (0, 1, ...), 'last' or -1, got '" +
+    throw InputError(flag + ": expected a frame index (0, 1, ...), 'last' or -1, got '" +
                          io::printable(text) + "'");
   }
   return v;
@@ -56,12 +56,12 @@ std::vector<std::size_t> parseFrameRange(const std::string& text, std::size_t fr
     if (colon + 1 < text.size()) last = parseIndex(text.substr(colon + 1), frames, flag);
   }
   if (first > last) {
-    throw io::InputError(flag + ": frames " + io::printable(text) +
+    throw InputError(flag + ": frames " + io::printable(text) +
                          " run backwards (write the first frame first, " + std::to_string(last) +
                          ":" + std::to_string(first) + ")");
   }
   if (last >= static_cast<long long>(frames)) {
-    throw io::InputError(flag + ": frames " + io::printable(text) +
+    throw InputError(flag + ": frames " + io::printable(text) +
                          " are not in the cache (it has frames 0 to " + std::to_string(frames - 1) +
                          ")");
   }
@@ -73,7 +73,7 @@ std::vector<std::size_t> parseFrameRange(const std::string& text, std::size_t fr
 std::size_t parseOneFrame(const std::string& text, std::size_t frames, const std::string& flag) {
   const std::vector<std::size_t> range = parseFrameRange(text, frames, flag);
   if (range.size() != 1) {
-    throw io::InputError(flag + ": expected one frame (an index, 'last' or -1), got the range '" +
+    throw InputError(flag + ": expected one frame (an index, 'last' or -1), got the range '" +
                          io::printable(text) + "'");
   }
   return range.front();

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "io/CacheFileLock.h"
 #include "io/CacheFormat.h"
 #include "io/Hdf5.h"
 #include "sim/Boundary.h"
@@ -100,12 +101,5 @@ class CacheWriter {
   double secondsWriting_ = 0;
   std::uint64_t frameDataBytes_ = 0;
 };
-
-// Takes an exclusive advisory lock (open file description lock, which HDF5's own flock()
-// ignores) on `path` and returns its descriptor; throws InputError naming the file if another
-// sphsplat run holds it.
-int lockCacheFile(const std::string& path);
-// Whether a sphsplat run holds that lock on `path` now (a run is writing it).
-bool cacheIsLocked(const std::string& path);
 
 }  // namespace sph::io

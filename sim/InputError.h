@@ -14,10 +14,4 @@ class InputError : public std::runtime_error {
   explicit InputError(const std::string& message) : std::runtime_error(message) {}
 };
 
-// io:: spelling, for the branches written before InputError moved here from io/ (to be removed
-// once they are merged).
-namespace io {
-using sph::InputError;
-}
-
 }  // namespace sph

@@ -206,7 +206,7 @@ void readRound(const std::string& cache, bool everything, std::size_t& lastFrame
       }
     }
     reader.readBoundary();
-  } catch (const io::InputError& e) {
+  } catch (const InputError& e) {
     ++t.opens;
     t.failures.push_back(e.what());
   }

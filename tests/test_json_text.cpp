@@ -18,7 +18,7 @@ namespace {
 std::string errorOf(const std::string& text) {
   try {
     io::parseJson(text, "x.json");
-  } catch (const io::InputError& e) {
+  } catch (const InputError& e) {
     return e.what();
   }
   return "";
@@ -101,8 +101,8 @@ TEST(JsonText, SetValuesThatAreNotJsonAreStringsButLimitsStillHold) {
   EXPECT_FALSE(io::parseJsonIfJson("pour", "--set name").has_value());
   EXPECT_FALSE(io::parseJsonIfJson("[1, 2", "--set x").has_value());
   EXPECT_EQ(*io::parseJsonIfJson("[1, 2]", "--set x"), nlohmann::json::array({1, 2}));
-  EXPECT_THROW(io::parseJsonIfJson(std::string(100, '['), "--set x"), io::InputError);
-  EXPECT_THROW(io::parseJsonIfJson("{\"a\": 1, \"a\": 2}", "--set x"), io::InputError);
+  EXPECT_THROW(io::parseJsonIfJson(std::string(100, '['), "--set x"), InputError);
+  EXPECT_THROW(io::parseJsonIfJson("{\"a\": 1, \"a\": 2}", "--set x"), InputError);
 }
 
 TEST(MessageText, QuotesAreShortAndPrintableNumbersReadable) {

@@ -288,7 +288,7 @@ TEST(SceneLoader, HostileFilesAreRefusedBeforeTheyAreRead) {
   auto loadError = [](const std::string& path) {
     try {
       io::loadScene(path);
-    } catch (const io::InputError& e) {
+    } catch (const InputError& e) {
       return std::string(e.what());
     }
     return std::string();

@@ -23,7 +23,7 @@ namespace {
 std::string errorOf(const std::function<void()>& f) {
   try {
     f();
-  } catch (const io::InputError& e) {
+  } catch (const InputError& e) {
     return e.what();
   }
   return "";
