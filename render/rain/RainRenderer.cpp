@@ -4,6 +4,7 @@
 
 #include "render/gl/Shader.h"
 #include "render/rain/StreakImages.h"
+#include "render/splat/ProgramUniforms.h"
 #include "render/splat/SpotlightUniforms.h"
 
 namespace sph::render::rain {
@@ -56,20 +57,14 @@ void RainRenderer::setDrops(const sph::rain::RainSystem& rain) {
 void RainRenderer::draw(const CameraFrame& camera, const splat::Lighting& lighting) {
   if (count_ == 0) return;
   const GLuint p = program_.id();
-  auto vec3 = [&](const char* name, const Vec3& v) {
-    glProgramUniform3f(p, glGetUniformLocation(p, name), v.x(), v.y(), v.z());
-  };
-  auto scalar = [&](const char* name, float v) {
-    glProgramUniform1f(p, glGetUniformLocation(p, name), v);
-  };
   glProgramUniformMatrix4fv(p, glGetUniformLocation(p, "u_projView"), 1, GL_FALSE,
                             camera.projView.m.data());
-  vec3("u_eye", camera.eye);
-  vec3("u_right", camera.right);
-  vec3("u_velocity", velocity_);
-  scalar("u_exposure", desc_.exposure);
-  scalar("u_width", desc_.dropWidth);
-  vec3("u_unlit", kUnlitTint * lighting.background);
+  splat::setVec3(p, "u_eye", camera.eye);
+  splat::setVec3(p, "u_right", camera.right);
+  splat::setVec3(p, "u_velocity", velocity_);
+  splat::setFloat(p, "u_exposure", desc_.exposure);
+  splat::setFloat(p, "u_width", desc_.dropWidth);
+  splat::setVec3(p, "u_unlit", kUnlitTint * lighting.background);
   splat::setSpotlightUniforms(p, desc_.spotlight);
   glProgramUniform1i(p, glGetUniformLocation(p, "u_streaks"), 0);
   glBindTextureUnit(0, streaks_.id());

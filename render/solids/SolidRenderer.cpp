@@ -4,6 +4,7 @@
 
 #include "render/gl/Shader.h"
 #include "render/splat/ExtraLights.h"
+#include "render/splat/ProgramUniforms.h"
 #include "render/splat/SpotlightUniforms.h"
 
 namespace sph::render::solids {
@@ -41,40 +42,21 @@ SolidRenderer::SolidRenderer(const std::vector<BoundaryShape>& shapes, const Aab
 void SolidRenderer::draw(const CameraFrame& camera, const splat::Lighting& lighting) {
   if (indexCount_ == 0) return;
   const GLuint p = program_.id();
-  auto vec3 = [&](const char* name, const Vec3& v) {
-    glProgramUniform3f(p, glGetUniformLocation(p, name), v.x(), v.y(), v.z());
-  };
-  auto scalar = [&](const char* name, float v) {
-    glProgramUniform1f(p, glGetUniformLocation(p, name), v);
-  };
-  glProgramUniformMatrix4fv(p, glGetUniformLocation(p, "u_projView"), 1, GL_FALSE,
-                            camera.projView.m.data());
-  vec3("u_eye", camera.eye);
+  splat::setVec3(p, "u_eye", camera.eye);
   // The scene's light, the solids' own material; no sky reflection (they are not water).
-  vec3("u_toLight", lighting.toLight.normalized());
-  vec3("u_base", material.colour);
-  scalar("u_ambient", material.ambient);
-  scalar("u_diffuse", material.diffuse);
-  scalar("u_specular", material.specular);
-  scalar("u_shininess", material.shininess);
-  glProgramUniform1i(p, glGetUniformLocation(p, "u_environment"), 0);
-  vec3("u_horizon", lighting.horizon);
-  vec3("u_zenith", lighting.zenith);
-  scalar("u_fresnelMin", lighting.fresnelMin);
+  splat::setVec3(p, "u_toLight", lighting.toLight.normalized());
+  splat::setVec3(p, "u_base", material.colour);
+  splat::setFloat(p, "u_ambient", material.ambient);
+  splat::setFloat(p, "u_diffuse", material.diffuse);
+  splat::setFloat(p, "u_specular", material.specular);
+  splat::setFloat(p, "u_shininess", material.shininess);
+  splat::setInt(p, "u_environment", 0);
+  splat::setVec3(p, "u_horizon", lighting.horizon);
+  splat::setVec3(p, "u_zenith", lighting.zenith);
+  splat::setFloat(p, "u_fresnelMin", lighting.fresnelMin);
   splat::applyExtraLights(p, lighting);
   splat::setSpotlightUniforms(p, lighting.spotlight);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_TRUE);
-  glDisable(GL_BLEND);
-  glEnable(GL_CULL_FACE);  // the faces turned away: a tank's near walls, a sphere's far side
-  glCullFace(GL_BACK);
-  glFrontFace(GL_CCW);
-  glUseProgram(p);
-  glBindVertexArray(vao_.id());
-  glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(indexCount_), GL_UNSIGNED_INT, nullptr);
-  glBindVertexArray(0);
-  glDisable(GL_CULL_FACE);
+  drawWith(p, camera);
 }
 
 void SolidRenderer::drawWith(GLuint p, const CameraFrame& camera) const {
@@ -85,7 +67,7 @@ void SolidRenderer::drawWith(GLuint p, const CameraFrame& camera) const {
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
   glDisable(GL_BLEND);
-  glEnable(GL_CULL_FACE);
+  glEnable(GL_CULL_FACE);  // the faces turned away: a tank's near walls, a sphere's far side
   glCullFace(GL_BACK);
   glFrontFace(GL_CCW);
   glUseProgram(p);

@@ -9,16 +9,10 @@
 #include "render/gl/GlError.h"
 #include "render/gl/Shader.h"
 #include "render/splat/ExtraLights.h"
+#include "render/splat/ProgramUniforms.h"
 
 namespace sph::render::splat {
 namespace {
-
-void setVec3(GLuint program, const char* name, const Vec3& v) {
-  glProgramUniform3f(program, glGetUniformLocation(program, name), v.x(), v.y(), v.z());
-}
-void setFloat(GLuint program, const char* name, float v) {
-  glProgramUniform1f(program, glGetUniformLocation(program, name), v);
-}
 
 void setLighting(GLuint p, const Lighting& l) {
   setVec3(p, "u_toLight", l.toLight.normalized());
