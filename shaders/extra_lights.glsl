@@ -95,7 +95,9 @@ float sceneLightScale() {
 
 vec3 extraLight(vec3 base, vec3 position, vec3 n, vec3 toEye) {
   vec3 c = vec3(0.0);
+#ifndef SPH_NO_PARTICLE_LIGHTS
   if (u_particleLights != 0) c += particleLight(base, position, n, toEye);
+#endif
   // The rain's cone spotlight (render/splat/SpotlightUniforms.h): Lambert diffuse inside the cone
   // of eq. (10)-(12), the same membership test the drops take their colour from.
   float w = spotlightWeight(position);

@@ -378,6 +378,43 @@ TEST_F(LightsGl, ALightOverAPlaneLightsTheDrawnPlaneByTheFormula) {
   expectPixel(Vec3(-0.45f, 0, -0.45f), 0.0f);  // out of range
 }
 
+// The water's splats take the same light as the solids. (Their programs without particle-light
+// code are for scenes without `lights`; a lit scene must get the lit ones.)
+TEST_F(LightsGl, WaterSplatsAreLitByTheVolumeToo) {
+  LightsDesc d;
+  d.origin = Vec3(-0.5f, -0.05f, -0.5f), d.voxelSize = 0.1f, d.voxels = {10, 10, 10};
+  d.attenuation = {1.0f, 0.0f, 4.0f}, d.range = 0.5f, d.filter = LightFilter::Nearest;
+  d.specular = 0;
+  LightVolume volume(d);
+  volume.update({light(Vec3(0.05f, 0.3f, 0.05f), Vec3::Ones(), 1.0f)});
+  splat::SplatFrame frame;
+  frame.halfSize = 0.05f;
+  frame.points.push_back(splat::SplatVertex{{0.05f, 0, 0.05f}, {0, 1, 0}});  // facing the lamp
+  const int size = 32;
+  splat::SplatRenderer r(size, size);
+  CameraDesc top;
+  top.position = Vec3(0.05f, 2, 0.05f), top.target = Vec3(0.05f, 0, 0.05f), top.up = Vec3(0, 0, -1);
+  top.fovYDegrees = 30;
+  splat::Lighting unlit;  // no scene light at all: only the particle light can colour the splat
+  unlit.ambient = 0, unlit.diffuse = 0, unlit.specular = 0, unlit.environment = false;
+  unlit.base = Vec3(0.8f, 0.6f, 0.4f);
+  splat::Lighting lit = unlit;
+  lit.extra = &volume;
+  const std::size_t centre = static_cast<std::size_t>(size / 2 * size + size / 2);
+  const splat::RenderImage dark = r.render(frame, splat::SplatKind::Point, top, unlit);
+  const splat::RenderImage bright = r.render(frame, splat::SplatKind::Point, top, lit);
+  auto linear = [](std::uint8_t s8) {
+    const float s = s8 / 255.0f;
+    return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
+  };
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_EQ(dark.rgb[3 * centre + a], 0) << "channel " << a;
+    // The nearest voxel's centre is 0.3 m under the lamp: 1 / (1 + 4 * 0.09), straight down.
+    EXPECT_NEAR(linear(bright.rgb[3 * centre + a]), unlit.base[a] / (1 + 4 * 0.09f), 0.02f)
+        << "channel " << a;
+  }
+}
+
 // 4096 voxels along x is more than llvmpipe's GL_MAX_3D_TEXTURE_SIZE (2048): one line naming the
 // size and the key, no GL object half made.
 TEST_F(LightsGl, AVolumeGlCannotHoldIsRefusedWithTheKeyToChange) {

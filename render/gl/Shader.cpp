@@ -195,11 +195,19 @@ std::string mapShaderLog(const std::string& log, const ExpandedShader& source) {
 }
 
 Program buildProgram(const ShaderLibrary& library, const std::vector<ShaderStageFile>& stages,
-                     const std::string& label) {
+                     const std::string& label, const std::vector<std::string>& defines) {
   Program program = Program::create();
   std::vector<Shader> shaders;
   for (const ShaderStageFile& stage : stages) {
-    const ExpandedShader source = expandIncludes(library, stage.name);
+    ExpandedShader source = expandIncludes(library, stage.name);
+    if (!defines.empty()) {
+      // After the #version line; the log maps their lines to it.
+      std::string lines;
+      for (const std::string& d : defines) lines += "#define " + d + "\n";
+      source.text.insert(source.text.find('\n') + 1, lines);
+      if (!source.origin.empty())
+        source.origin.insert(source.origin.begin() + 1, defines.size(), source.origin.front());
+    }
     Shader shader = Shader::create(glStage(stage.stage));
     const char* text = source.text.c_str();
     glShaderSource(shader.id(), 1, &text, nullptr);

@@ -40,7 +40,8 @@ ExpandedShader expandIncludes(const ShaderLibrary& library, const std::string& n
 std::string mapShaderLog(const std::string& log, const ExpandedShader& source);
 
 // Compiles and links the stages into a program; `label` names the program in messages.
+// `defines` ("NAME" or "NAME VALUE") become `#define` lines right after each stage's #version.
 Program buildProgram(const ShaderLibrary& library, const std::vector<ShaderStageFile>& stages,
-                     const std::string& label);
+                     const std::string& label, const std::vector<std::string>& defines = {});
 
 }  // namespace sph::render::gl

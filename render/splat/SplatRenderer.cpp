@@ -53,15 +53,15 @@ void upload(gl::Buffer& buffer, const void* data, std::size_t bytes) {
 }  // namespace
 
 SplatRenderer::SplatRenderer(int width, int height, const gl::ShaderLibrary& shaders)
-    : width_(width), height_(height) {
+    : width_(width), height_(height), shaders_(shaders) {
   pointProgram_ = gl::buildProgram(
       shaders,
       {{gl::ShaderStage::Vertex, "splat_point.vert"}, {gl::ShaderStage::Fragment, "splat.frag"}},
-      "point splats");
+      "point splats", {"SPH_NO_PARTICLE_LIGHTS"});
   quadProgram_ = gl::buildProgram(
       shaders,
       {{gl::ShaderStage::Vertex, "splat_quad.vert"}, {gl::ShaderStage::Fragment, "splat.frag"}},
-      "quad splats");
+      "quad splats", {"SPH_NO_PARTICLE_LIGHTS"});
   colour_ = gl::Texture::create(GL_TEXTURE_2D);
   glTextureStorage2D(colour_.id(), 1, GL_RGBA8, width, height);
   normal_ = gl::Texture::create(GL_TEXTURE_2D);
@@ -134,11 +134,26 @@ void SplatRenderer::selectDrawBuffers(ImageContents contents) {
 
 SplatRenderer::~SplatRenderer() = default;
 
+GLuint SplatRenderer::programFor(SplatKind kind, bool particleLights) {
+  if (!particleLights) return kind == SplatKind::Point ? pointProgram_.id() : quadProgram_.id();
+  if (litPointProgram_.id() == 0) {
+    litPointProgram_ = gl::buildProgram(
+        shaders_,
+        {{gl::ShaderStage::Vertex, "splat_point.vert"}, {gl::ShaderStage::Fragment, "splat.frag"}},
+        "point splats with particle lights");
+    litQuadProgram_ = gl::buildProgram(
+        shaders_,
+        {{gl::ShaderStage::Vertex, "splat_quad.vert"}, {gl::ShaderStage::Fragment, "splat.frag"}},
+        "quad splats with particle lights");
+  }
+  return kind == SplatKind::Point ? litPointProgram_.id() : litQuadProgram_.id();
+}
+
 double SplatRenderer::draw(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
                            const Lighting& lighting, int w, int h, bool offscreen) {
   const auto start = std::chrono::steady_clock::now();
   const CameraFrame cam = cameraFrame(camera, static_cast<float>(w) / h);
-  const GLuint program = kind == SplatKind::Point ? pointProgram_.id() : quadProgram_.id();
+  const GLuint program = programFor(kind, lighting.extra != nullptr);
   setLighting(program, lighting);
   glProgramUniformMatrix4fv(program, glGetUniformLocation(program, "u_projView"), 1, GL_FALSE,
                             cam.projView.m.data());

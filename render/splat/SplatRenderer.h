@@ -44,8 +44,14 @@ class SplatRenderer {
  private:
   double draw(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
               const Lighting& lighting, int w, int h, bool offscreen);
+  GLuint programFor(SplatKind kind, bool particleLights);
   int width_, height_;
+  gl::ShaderLibrary shaders_;
+  // Without the particle lights' code (SPH_NO_PARTICLE_LIGHTS): llvmpipe runs a vertex shader's
+  // 3D-texture sampling even behind a uniform switch that is off, +50% draw time at 100k
+  // particles (docs/benchmarks.md, "Splat renderer"). The lit ones are built for `lights` only.
   gl::Program pointProgram_, quadProgram_;
+  gl::Program litPointProgram_, litQuadProgram_;
   gl::Framebuffer framebuffer_;
   gl::Texture colour_, normal_;
   gl::Renderbuffer depth_;
