@@ -129,10 +129,20 @@ void Simulation::step(double limit) {
     }
     // On K processes a particle that leaves the domain stops the run: removing it would need the
     // count, the tolerance and the next step's bounds agreed over the ranks (docs/scaling.md,
-    // "Limits"). A blow-up on one rank stops every rank with the same message.
+    // "Limits"). Past the tolerance the message is the single process's; within it the run
+    // stops too, saying why. A blow-up on one rank stops every rank with the same message.
     std::optional<StabilityError> local;
     try {
-      checkStability(c, scene_.domain, state_.step, state_.time, 0, 0);
+      const std::uint64_t lost = checkStability(c, scene_.domain, state_.step, state_.time,
+                                                state_.lostParticles, derived_.maxLostParticles);
+      if (lost > 0) {
+        std::ostringstream msg;
+        msg << "numerical blow-up at step " << state_.step << ", t = " << state_.time
+            << " s: " << lost << " particles left the domain; removing lost particles works on one "
+            << "process only (docs/scaling.md): run without mpirun";
+        throw StabilityError(StabilityError::Kind::LeftDomain, state_.step, state_.time, 0,
+                             Vec3::Zero(), Vec3::Zero(), msg.str());
+      }
     } catch (const StabilityError& e) {
       local = e;
     }
