@@ -1,7 +1,7 @@
 // A one-entry undo journal for the one write of a cache commit that a kill could tear.
 //
 // Committing a frame rewrites the root group's object header in place with one write() call
-// (CacheWriter.cpp). Linux can cut a write that spans several memory pages short when SIGKILL
+// (io/CacheCommit.cpp). Linux can cut a write that spans several memory pages short when SIGKILL
 // arrives in the middle of it: the header would then be part new, part old, its checksum would
 // fail and HDF5 could not open the file at all. So before each such commit the writer copies the
 // header as it is on disk (the last committed state) into the file's user block, the space HDF5

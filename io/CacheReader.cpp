@@ -168,7 +168,7 @@ void CacheReader::load() {
   hsize_t userBlock = 0;
   h5::Handle fcpl = checked(H5Fget_create_plist(file), "read the file creation properties");
   const bool known = H5Fget_eoa(file, &eoa) >= 0 && H5Pget_userblock(fcpl.get(), &userBlock) >= 0;
-  // A run's file is longer than its data while the run goes on (CacheWriter.cpp, point 4).
+  // A run's file is longer than its data while the run goes on (io/CacheCommit.cpp, point 4).
   if (known) summary_.fileBytes = std::min<std::uint64_t>(summary_.fileBytes, eoa);
   if (known && links.highest + userBlock >= eoa && !links.names.empty()) {
     fail("damaged HDF5 file: the root group links an object at byte " +

@@ -4,7 +4,7 @@
 // range) is an InputError with one line naming the file and the frame or dataset.
 //
 // Frames are the groups Step#0, Step#1, ... without a gap; a run killed while writing leaves its
-// committed frames only (CacheWriter.cpp), so a cache is read the same whether its run finished,
+// committed frames only (io/CacheCommit.cpp), so a cache is read the same whether its run finished,
 // stopped or was killed. Opening takes no HDF5 file lock, so a cache can be read while a run is
 // still appending to it.
 #pragma once

@@ -5,7 +5,7 @@
 //
 // Crash safety: every frame is committed before writeFrame() returns, and a process killed at any
 // moment (SIGKILL included) leaves a file whose committed frames all read back bit-exact. How:
-// see the comment on commitObjects() in CacheWriter.cpp.
+// see the comment on commitObjects() in io/CacheCommit.cpp.
 #pragma once
 
 #include <cstddef>

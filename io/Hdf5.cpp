@@ -96,7 +96,7 @@ namespace {
 void setLinkStorage(hid_t plist, unsigned expectedLinks) {
   // Links stay in the group's object header ("compact" storage) up to kMaxCompactLinks, and the
   // header is allocated for the expected count up front, so adding a link rewrites one block of
-  // the header in place instead of growing it or converting it to a B-tree (CacheWriter.cpp).
+  // the header in place instead of growing it or converting it to a B-tree (io/CacheWriter.cpp, rootLinkEstimate).
   check(H5Pset_link_phase_change(plist, kMaxCompactLinks, kMaxCompactLinks),
         "set the compact link limit");
   check(H5Pset_est_link_info(plist, std::min(std::max(expectedLinks, 1u), kMaxCompactLinks), 12),
@@ -134,7 +134,7 @@ Handle fileCreateProps(unsigned expectedRootLinks) {
 Handle fileAccessProps() {
   Handle fapl = checked(H5Pcreate(H5P_FILE_ACCESS), "create a file access property list");
   // Objects in the 1.8 formats: checksummed object headers and compact link storage (what the
-  // crash safety of the cache relies on, see CacheWriter.cpp) and superblock version 2, which
+  // crash safety of the cache relies on, see io/CacheCommit.cpp) and superblock version 2, which
   // unlike version 3 carries no "file open for writing" flag: a killed writer leaves no flag that
   // would make readers refuse the file. The upper bound 1.10 is only for the one 1.10 message,
   // the file space strategy (fileCreateProps); so HDF5 >= 1.10 reads the caches (ParaView, h5py).

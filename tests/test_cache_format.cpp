@@ -336,7 +336,7 @@ TEST_F(CacheFormat, CachesWithFixedLengthStringsStillReadAndResume) {
 
 TEST_F(CacheFormat, RootHeaderStaysOneBlockSoEachCommitIsOneWrite) {
   // Sized for 10 frames, written with 40 (a run resumed far past its planned end): the root's
-  // object header must not have grown a second block (CacheWriter.cpp, commitObjects).
+  // object header must not have grown a second block (io/CacheCommit.cpp, commitObjects).
   const std::string path = dir_ + "/root.h5";
   writeRun(path, 40, "", 10);
   Id file(openRaw(path));

@@ -1,0 +1,86 @@
+#include "app/CacheRendering.h"
+
+#include <cerrno>
+#include <cstdlib>
+
+#include "app/CacheScene.h"
+#include "io/CacheWriter.h"
+#include "io/MessageText.h"
+#include "render/lights/SceneLights.h"
+#include "sim/EnumNames.h"
+#include "sim/InputError.h"
+
+namespace sph::app {
+namespace {
+
+void applySize(const std::string& size, RenderDesc& d) {
+  if (size.empty()) return;
+  // WIDTHxHEIGHT, each 16-8192: strtol with its end checked (sscanf's %d overflows silently).
+  auto dimension = [](const std::string& text, long& value) {
+    char* end = nullptr;
+    errno = 0;
+    value = std::strtol(text.c_str(), &end, 10);
+    return !text.empty() && errno == 0 && *end == 0 && value >= 16 && value <= 8192;
+  };
+  const std::size_t x = size.find_first_of("xX");
+  long w = 0, h = 0;
+  if (x == std::string::npos || !dimension(size.substr(0, x), w) ||
+      !dimension(size.substr(x + 1), h)) {
+    throw InputError(
+        "--size: expected WIDTHxHEIGHT between 16 and 8192 pixels, e.g. 960x540, got '" +
+        io::printable(size) + "'");
+  }
+  d.width = static_cast<int>(w), d.height = static_cast<int>(h);
+}
+
+}  // namespace
+
+std::vector<render::splat::SplatKind> kindsOf(RenderDesc::Splat s) {
+  if (s == RenderDesc::Splat::Point) return {render::splat::SplatKind::Point};
+  if (s == RenderDesc::Splat::Quad) return {render::splat::SplatKind::Quad};
+  return {render::splat::SplatKind::Point, render::splat::SplatKind::Quad};
+}
+
+CacheRendering::CacheRendering(const std::string& path_, const std::vector<std::string>& overrides,
+                               const std::string& splat, const std::string& size)
+    : path(path_),
+      open(std::make_unique<io::CacheReader>(path_)),
+      summary(open->summary()),
+      scene(sceneOfCache(summary, overrides)) {
+  desc = scene.render ? *scene.render : RenderDesc{};
+  if (!splat.empty()) desc.splat = *parseEnum<RenderDesc::Splat>(splat);
+  applySize(size, desc);
+  cameraFromScene = scene.camera.has_value();
+  if (cameraFromScene) camera = *scene.camera;
+}
+
+io::CacheReader& CacheRendering::reader() {
+  if (!open) open = std::make_unique<io::CacheReader>(path);
+  return *open;
+}
+
+Particles CacheRendering::positions(std::size_t frame) {
+  io::cache::FieldSet xyz;
+  for (auto f : {io::cache::Field::X, io::cache::Field::Y, io::cache::Field::Z})
+    xyz.set(static_cast<std::size_t>(f));
+  // Lights coloured by speed need the velocities (docs/lights.md, "Replay").
+  if (render::lights::lightsNeedVelocity(scene))
+    for (auto f : {io::cache::Field::VX, io::cache::Field::VY, io::cache::Field::VZ})
+      xyz.set(static_cast<std::size_t>(f));
+  return reader().readFrame(frame, xyz);
+}
+
+std::array<std::vector<float>, 3> CacheRendering::boundary() {
+  const auto b = reader().readBoundary();
+  return {b[0], b[1], b[2]};
+}
+
+void CacheRendering::store(const std::string& renderer, std::size_t frame,
+                           const render::splat::RenderImage& image) {
+  open.reset();
+  std::unique_ptr<io::CacheWriter> writer = io::CacheWriter::append(path, frameCount());
+  writer->writeRenderedFrame(renderer, frame, image.width, image.height, image.rgb.data());
+  writer->close();
+}
+
+}  // namespace sph::app

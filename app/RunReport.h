@@ -1,0 +1,29 @@
+// The words of `sphsplat run`: the header before the run, the command that reproduces a blow-up
+// or continues an interrupted run (runnable as printed), and the time per pass.
+#pragma once
+
+#include <string>
+
+#include "app/RunJob.h"
+#include "io/CacheSession.h"
+#include "sim/MemoryEstimate.h"
+#include "sim/RunLoop.h"
+#include "sim/Simulation.h"
+
+namespace sph::app {
+
+// `sphsplat run SCENE [--set ...] [--end T] --threads N` (under mpirun with its -np): the run as
+// the user asked for it, with the end time `end` (0: the scene's own).
+std::string commandLine(const RunRequest& o, double end);
+// A POSIX shell word: as it is when it is safe, else in single quotes.
+std::string shellQuote(const std::string& word);
+// Runs to the blow-up and no further (see RunReport.cpp).
+std::string reproduceCommand(const RunRequest& o, const RunPlan& plan, const RunOutcome& outcome);
+// What the run is about to do: particles, the main derived numbers and, with --verbose, the
+// domain and every piece of work the scene skips (docs/benchmarks.md, "What a scene skips").
+void printHeader(const RunRequest& o, const Scene& scene, const Simulation& sim,
+                 const io::CacheSession* cache, double setupSeconds, const MemoryEstimate& memory);
+// The share of the run's time in each pass (--verbose).
+void printPassSplit(const StepProfile& profile);
+
+}  // namespace sph::app
