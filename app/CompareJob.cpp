@@ -11,6 +11,7 @@
 #include "io/Png.h"
 #include "render/gl/GlContext.h"
 #include "render/lights/LightComparison.h"
+#include "render/solids/SceneSolids.h"
 #include "render/solids/SolidRenderer.h"
 #include "render/splat/Annotate.h"
 #include "render/splat/FrameRenderer.h"
@@ -91,14 +92,25 @@ int compareJob(const CompareRequest& o) {
   const Particles p = c.positions(f);
   if (!c.cameraFromScene)
     c.camera = render::splat::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
+  // Opaque solids are drawn in every panel, the reference's included (GL draws them for it: the
+  // rays end on them). Boundary points are translucent: the reference could not have them, so
+  // the panels show the water alone then.
+  std::unique_ptr<render::solids::SolidRenderer> solids;
+  if (c.desc.solids == RenderSolids::Opaque)
+    solids = render::solids::showSolids(c.scene, renderer, [&] { return c.boundary(); });
   renderer.prepare(p);
   const render::splat::RenderedSplats point =
       renderer.renderScored(render::splat::SplatKind::Point, c.camera);
   const render::splat::RenderedSplats quad =
       renderer.renderScored(render::splat::SplatKind::Quad, c.camera);
   const render::splat::RenderImage reference = renderer.reference(c.camera);
+  const render::splat::RenderImage everyParticle = renderer.referenceOfEveryParticle(c.camera);
   const render::splat::ImageError ep = render::splat::compareImages(point.image, reference);
   const render::splat::ImageError eq = render::splat::compareImages(quad.image, reference);
+  const render::splat::ThinCoverage tp =
+      render::splat::thinCoverage(point.image, reference, everyParticle);
+  const render::splat::ThinCoverage tq =
+      render::splat::thinCoverage(quad.image, reference, everyParticle);
 
   const double time = c.frameTime(f);
   std::printf(
@@ -117,7 +129,13 @@ int compareJob(const CompareRequest& o) {
   };
   row("point", point, ep);
   row("quad", quad, eq);
-  std::printf("  reference ray-marched in %.2f s\n", reference.seconds);
+  std::printf("  reference ray-marched in %.2f s%s\n", reference.seconds,
+              solids ? " (the solids drawn by GL, the rays ending on them)" : "");
+  std::printf(
+      "  beyond the SD surface (thin jets, lone drops, the outer half of the surface layer): %zu "
+      "pixels of particle balls; point "
+      "splats cover %.1f%%, quad %.1f%%\n",
+      tq.pixels, 100 * tp.fraction, 100 * tq.fraction);
 
   const std::string method = c.desc.projection == SplatProjection::Newton ? "newton" : "eq. (6)";
   std::vector<render::splat::Panel> panels = {
@@ -133,8 +151,12 @@ int compareJob(const CompareRequest& o) {
        {"reference (ray-marched)", fmt("%.2f s", reference.seconds),
         fmt("sd = %.3f x id", point.SD / point.ID),
         fmt("frame %.0f, t = %.3f s", static_cast<double>(f), time)}},
+      {&everyParticle,
+       {"every particle (balls of its volume)", fmt("%.2f s", everyParticle.seconds),
+        fmt("beyond sd: %.0f px", static_cast<double>(tq.pixels)),
+        fmt("point cover %.1f%%  quad %.1f%%", 100 * tp.fraction, 100 * tq.fraction)}},
   };
-  const render::splat::RenderImage sheet = render::splat::composePanels(panels);
+  const render::splat::RenderImage sheet = render::splat::composePanels(panels, 2, 2);
   const std::string path = o.out + "/" + io::framePngName(c.scene.name + "_compare", f);
   io::writePng(path, sheet.width, sheet.height, sheet.rgb.data());
   std::printf("wrote %s\n", path.c_str());

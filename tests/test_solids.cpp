@@ -11,6 +11,8 @@
 #include "render/gl/GlContext.h"
 #include "render/solids/SolidMesh.h"
 #include "render/solids/SolidRenderer.h"
+#include "render/splat/ReferenceRaymarcher.h"
+#include "render/splat/SplatBuilder.h"
 #include "render/splat/SplatRenderer.h"
 #include "sim/Solid.h"
 
@@ -124,9 +126,10 @@ class SolidsGl : public ::testing::Test {
   std::unique_ptr<gl::GlContext> context_;
 };
 
-// A block between the camera and a splat hides it in the picture; the scored frame (normals and
-// coverage for the error figures) still sees the splat alone.
-TEST_F(SolidsGl, AnOpaqueSolidHidesTheWaterBehindItInThePictureOnly) {
+// A block between the camera and a splat hides it in the picture and in the scored frame (the
+// error figures' reference has the same solids: `compare` draws them in every panel); the normal
+// target stays the water's.
+TEST_F(SolidsGl, AnOpaqueSolidHidesTheWaterBehindIt) {
   splat::SplatRenderer r(32, 32);
   CameraDesc top;
   top.position = Vec3(0, 1, 0), top.target = Vec3::Zero(), top.up = Vec3(0, 0, -1);
@@ -147,8 +150,58 @@ TEST_F(SolidsGl, AnOpaqueSolidHidesTheWaterBehindItInThePictureOnly) {
   EXPECT_GT(picture.rgb[3 * edge + 2], picture.rgb[3 * edge]) << "blue water around it";
   const splat::RenderImage scored =
       r.render(water, splat::SplatKind::Point, top, light, splat::ImageContents::ColourAndNormals);
-  EXPECT_TRUE(scored.covered[centre]);
-  EXPECT_LT(scored.rgb[3 * centre], scored.rgb[3 * centre + 2]) << "water, no block";
+  EXPECT_FALSE(scored.covered[centre]) << "the block hides the water";
+  EXPECT_EQ(scored.rgb[3 * centre], picture.rgb[3 * centre]) << "the block, as in the picture";
+}
+
+// The reference ray-marcher ends its rays on the solids GL drew (the backdrop): where the block
+// hides the water the reference shows the block's pixels, uncovered, as the splats' frame does,
+// and the splats still score as they do on water alone.
+TEST_F(SolidsGl, TheReferenceEndsItsRaysOnTheSolids) {
+  const int size = 64;
+  splat::SplatRenderer r(size, size);
+  CameraDesc top;
+  top.position = Vec3(0.05f, 0.6f, 0.05f), top.target = Vec3(0.05f, 0, 0.05f);
+  top.up = Vec3(0, 0, -1), top.fovYDegrees = 20;
+  // A pool of 10 x 4 x 10 particles, 1 cm apart, from the origin; a red block above its middle.
+  std::vector<float> x, y, z;
+  for (int k = 0; k < 10; ++k)
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 10; ++i)
+        x.push_back(0.01f * (i + 0.5f)), y.push_back(0.01f * (j + 0.5f)),
+            z.push_back(0.01f * (k + 0.5f));
+  const splat::DensityField field(x.data(), y.data(), z.data(), x.size(), 0.01f, 2.5f);
+  BoundaryShape block;
+  block.kind = BoundaryShape::Kind::Block;
+  block.lo = Vec3(0.04f, 0.1f, 0.04f), block.hi = Vec3(0.06f, 0.12f, 0.06f);
+  SolidRenderer solids({block}, kDomain, 0.01f);
+  solids.material.colour = Vec3(0.9f, 0.1f, 0.1f);
+  r.setLayers({&solids});
+  const splat::Lighting light;
+  const float SD = splat::surfaceThresholdAuto(field) * field.meanDensity();
+  const splat::Backdrop backdrop = r.drawBackdrop(top, light);
+  const splat::RenderImage ref =
+      splat::raymarchReference(field, SD, top, size, size, light, &backdrop);
+  const CameraFrame cf = cameraFrame(top, 1.0f);
+  splat::SplatParams newton;
+  newton.projection = splat::SplatParams::Projection::Newton;
+  const splat::SplatFrame quads =
+      splat::buildSplats(field, newton, splat::SplatKind::Quad, cf.projView, cf.eye);
+  const splat::RenderImage scored =
+      r.render(quads, splat::SplatKind::Quad, top, light, splat::ImageContents::ColourAndNormals);
+  const std::size_t centre = (size / 2) * size + size / 2, pool = (size / 2) * size + 20;
+  EXPECT_TRUE(std::isfinite(backdrop.viewDepth[centre]));
+  EXPECT_NEAR(backdrop.viewDepth[centre], 0.6f - 0.12f, 1e-3f) << "the block's top, 0.48 m away";
+  EXPECT_FALSE(std::isfinite(backdrop.viewDepth[0])) << "nothing in the corner";
+  EXPECT_FALSE(ref.covered[centre]);
+  EXPECT_FALSE(scored.covered[centre]);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(ref.rgb[3 * centre + k], backdrop.rgb[3 * centre + k]);
+  EXPECT_GT(ref.rgb[3 * centre], ref.rgb[3 * centre + 2] + 60) << "red block";
+  EXPECT_TRUE(ref.covered[pool]);
+  EXPECT_TRUE(scored.covered[pool]);
+  const splat::ImageError e = splat::compareImages(scored, ref);
+  EXPECT_LT(e.holeFraction, 0.05);
+  EXPECT_GT(e.psnr, 25.0);
 }
 
 // A tank seen from outside: its near wall is culled, so the water inside shows.

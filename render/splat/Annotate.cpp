@@ -104,36 +104,45 @@ void drawText(RenderImage& image, int x, int y, const std::string& text, int sca
   }
 }
 
-RenderImage composePanels(const std::vector<Panel>& panels, int scale) {
+RenderImage composePanels(const std::vector<Panel>& panels, int scale, std::size_t columns) {
   const int margin = 8 * scale, gap = 6 * scale;
-  int width = margin, height = 0;
-  std::size_t lines = 0;
-  for (const Panel& p : panels) {
+  if (columns == 0) columns = std::max<std::size_t>(panels.size(), 1);
+  // Each column as wide as its widest panel or caption, each row as tall as its tallest panel
+  // plus its longest caption.
+  const std::size_t rows = (panels.size() + columns - 1) / columns;
+  std::vector<int> columnWidth(columns, 0), rowHeight(rows, 0);
+  for (std::size_t k = 0; k < panels.size(); ++k) {
+    const Panel& p = panels[k];
     int w = p.image->width;
     for (const std::string& line : p.caption) w = std::max(w, textWidth(line, scale));
-    width += w + margin;
-    height = std::max(height, p.image->height);
-    lines = std::max(lines, p.caption.size());
+    columnWidth[k % columns] = std::max(columnWidth[k % columns], w);
+    const int h = p.image->height + gap + static_cast<int>(p.caption.size()) * kLine * scale;
+    rowHeight[k / columns] = std::max(rowHeight[k / columns], h);
   }
-  height += 2 * margin + gap + static_cast<int>(lines) * kLine * scale;
+  int width = margin, height = margin;
+  for (int w : columnWidth) width += w + margin;
+  for (int h : rowHeight) height += h + margin;
   RenderImage sheet;
   sheet.resize(width, height);
   std::fill(sheet.rgb.begin(), sheet.rgb.end(), 255);
-  int x = margin;
-  for (const Panel& p : panels) {
-    const RenderImage& img = *p.image;
-    for (int row = 0; row < img.height; ++row) {
-      std::copy_n(&img.rgb[3 * static_cast<std::size_t>(row) * img.width], 3 * img.width,
-                  &sheet.rgb[3 * (static_cast<std::size_t>(margin + row) * width + x)]);
+  int y0 = margin;
+  for (std::size_t r = 0; r < rows; ++r) {
+    int x = margin;
+    for (std::size_t c = 0; c < columns && r * columns + c < panels.size(); ++c) {
+      const Panel& p = panels[r * columns + c];
+      const RenderImage& img = *p.image;
+      for (int row = 0; row < img.height; ++row) {
+        std::copy_n(&img.rgb[3 * static_cast<std::size_t>(row) * img.width], 3 * img.width,
+                    &sheet.rgb[3 * (static_cast<std::size_t>(y0 + row) * width + x)]);
+      }
+      int y = y0 + img.height + gap;
+      for (const std::string& line : p.caption) {
+        drawText(sheet, x, y, line, scale, 20, 24, 32);
+        y += kLine * scale;
+      }
+      x += columnWidth[c] + margin;
     }
-    int y = margin + img.height + gap;
-    int w = img.width;
-    for (const std::string& line : p.caption) {
-      drawText(sheet, x, y, line, scale, 20, 24, 32);
-      y += kLine * scale;
-      w = std::max(w, textWidth(line, scale));
-    }
-    x += w + margin;
+    y0 += rowHeight[r] + margin;
   }
   return sheet;
 }

@@ -15,8 +15,9 @@ struct Panel {
   std::vector<std::string> caption;  // lines under the image (ASCII; lower case drawn as upper)
 };
 
-// Panels left to right, each with its caption below, on a white sheet. Returns the RGB image.
-RenderImage composePanels(const std::vector<Panel>& panels, int scale = 2);
+// Panels left to right in rows of `columns` (0: one row), each with its caption below, on a white
+// sheet. Returns the RGB image.
+RenderImage composePanels(const std::vector<Panel>& panels, int scale = 2, std::size_t columns = 0);
 
 // Draws `text` at (x, y) (top-left of the first glyph) with glyphs `scale` pixels per dot.
 void drawText(RenderImage& image, int x, int y, const std::string& text, int scale, std::uint8_t r,

@@ -115,11 +115,29 @@ FrameTimings FrameRenderer::drawToScreen(SplatKind kind, const CameraDesc& camer
   return t;
 }
 
+// The solids, drawn by GL as in the pictures, are what the reference's rays end on.
+std::optional<Backdrop> FrameRenderer::backdrop(const CameraDesc& camera,
+                                                const Lighting& lighting) {
+  if (!renderer_.hasLayers(FrameLayer::Order::BeforeSplats)) return std::nullopt;
+  return renderer_.drawBackdrop(camera, lighting);
+}
+
 RenderImage FrameRenderer::reference(const CameraDesc& camera) {
   Lighting opaque = lighting_;
   opaque.alpha = 1;
+  const std::optional<Backdrop> b = backdrop(camera, opaque);
   return raymarchReference(*field_, surfaceDensity(*field_, params_.surfaceThreshold), camera,
-                           desc_.width, desc_.height, opaque);
+                           desc_.width, desc_.height, opaque, b ? &*b : nullptr);
+}
+
+RenderImage FrameRenderer::referenceOfEveryParticle(const CameraDesc& camera) {
+  Lighting opaque = lighting_;
+  opaque.alpha = 1;
+  const std::optional<Backdrop> b = backdrop(camera, opaque);
+  // A ball of the particle's volume, spacing^3.
+  const float radius = std::cbrt(3.0f / (4.0f * static_cast<float>(kPi))) * spacing_;
+  return raytraceParticleBalls(*field_, radius, camera, desc_.width, desc_.height, opaque,
+                               b ? &*b : nullptr);
 }
 
 }  // namespace sph::render::splat

@@ -61,8 +61,13 @@ class FrameRenderer {
   RenderedSplats renderScored(SplatKind kind, const CameraDesc& camera);
   // The same into the current window's framebuffer.
   FrameTimings drawToScreen(SplatKind kind, const CameraDesc& camera, int width, int height);
-  // The reference ray-marched image of the same SD surface.
+  // The reference ray-marched image of the same SD surface, with the solids (the layers drawn
+  // before the splats) where the pictures have them.
   RenderImage reference(const CameraDesc& camera);
+  // Every particle as a ball of its own volume (radius 0.62 spacings), ray-traced, with the same
+  // solids: thin jets and lone drops whose D stays below SD, which the SD surface (and so the
+  // reference) drops. For judging the splats' jets, not an error reference.
+  RenderImage referenceOfEveryParticle(const CameraDesc& camera);
 
   // Layers drawn in every picture with the splats (render/splat/FrameLayer.h), not owned.
   void setLayers(std::vector<FrameLayer*> layers) { renderer_.setLayers(std::move(layers)); }
@@ -80,6 +85,7 @@ class FrameRenderer {
  private:
   SplatFrame build(SplatKind kind, const CameraDesc& camera) const;
   RenderedSplats result(const SplatFrame& splats, RenderImage image) const;
+  std::optional<Backdrop> backdrop(const CameraDesc& camera, const Lighting& lighting);
   RenderDesc desc_;
   float spacing_, restDensity_;
   SplatParams params_;

@@ -43,4 +43,22 @@ ImageError compareImages(const RenderImage& image, const RenderImage& reference)
   return e;
 }
 
+ThinCoverage thinCoverage(const RenderImage& image, const RenderImage& reference,
+                          const RenderImage& everyParticle) {
+  if (!image.hasNormals() || !reference.hasNormals() || !everyParticle.hasNormals() ||
+      image.covered.size() != reference.covered.size() ||
+      everyParticle.covered.size() != reference.covered.size()) {
+    throw std::invalid_argument("thinCoverage: images of one size with their coverage");
+  }
+  ThinCoverage t;
+  std::size_t drawn = 0;
+  for (std::size_t i = 0; i < reference.covered.size(); ++i) {
+    if (!everyParticle.covered[i] || reference.covered[i]) continue;
+    ++t.pixels;
+    drawn += image.covered[i] ? 1 : 0;
+  }
+  t.fraction = t.pixels ? static_cast<double>(drawn) / t.pixels : 0.0;
+  return t;
+}
+
 }  // namespace sph::render::splat

@@ -40,4 +40,14 @@ struct ImageError {
 };
 ImageError compareImages(const RenderImage& image, const RenderImage& reference);
 
+// How much of what only the every-particle picture shows (FrameRenderer::
+// referenceOfEveryParticle: covered there, not by the SD reference: thin jets and lone drops)
+// `image` covers. All three need their coverage.
+struct ThinCoverage {
+  std::size_t pixels = 0;  // covered by everyParticle and not by reference
+  double fraction = 0;     // of those, covered by image (0 when there are none)
+};
+ThinCoverage thinCoverage(const RenderImage& image, const RenderImage& reference,
+                          const RenderImage& everyParticle);
+
 }  // namespace sph::render::splat

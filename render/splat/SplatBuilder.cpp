@@ -9,6 +9,10 @@
 namespace sph::render::splat {
 namespace {
 
+// A splat stays flat when the field at the end of its centre's Newton step is below this
+// fraction of SD (SplatBuilder.cpp, "flat"): a real surface is there within a few percent.
+constexpr float kFlatBelow = 0.85f;
+
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
@@ -150,6 +154,20 @@ SplatFrame buildSplats(const DensityField& field, const SplatParams& params, Spl
       const Vec3 n = sp.normal;
       Vec3 t1, t2;
       tangents(n, t1, t2);
+      // A particle whose SD surface is not where the Newton step leads (a thin jet or sheet, a
+      // lone drop: D < SD all through it) keeps its splat flat where it is. Moved towards a
+      // surface that is not there, every vertex would end on the jet's axis and the jet would be
+      // drawn far thinner than its particles (36% of the pour's jet against the particles' own
+      // balls, `compare`'s fourth panel). One more field value per splat, at the step's end:
+      // short of kFlatBelow x SD there, no surface is near.
+      const float reach = frame.halfSize;
+      bool flat = false;
+      if (params.pyramid && params.projection == SplatParams::Projection::Newton) {
+        const float PD0 = params.perVertexDensity ? sp.density : rho[sp.slot];
+        const float slope0 = sp.densityGradient.dot(n);
+        const float step = slope0 > 1e-6f * ID / R ? (SD - PD0) / slope0 : reach + 1.0f;
+        flat = step > reach || (step > 0 && field.density(p + step * n) < kFlatBelow * SD);
+      }
       for (int v = 0; v < 5; ++v) {
         Vec3 q = p;
         float PD = sp.density;
@@ -162,11 +180,12 @@ SplatFrame buildSplats(const DensityField& field, const SplatParams& params, Spl
         const Vec3 nv = g.norm() > 1e-12f ? Vec3(g.normalized()) : n;
         if (!params.perVertexDensity) PD = rho[sp.slot];
         float distance = 0;  // along nv, m
-        if (!params.pyramid) {
+        if (!params.pyramid || flat) {
           distance = 0;
         } else if (params.projection == SplatParams::Projection::Newton) {
-          const float slope = gD.dot(nv);      // dD/ds along the normal (> 0 into the fluid)
-          const float reach = frame.halfSize;  // further, thin jets turn into star-shaped shards
+          // dD/ds along the normal (> 0 into the fluid); a move past `reach` turned thin jets
+          // into star-shaped shards.
+          const float slope = gD.dot(nv);
           distance = slope > 1e-6f * ID / R ? std::clamp((SD - PD) / slope, -reach, reach) : 0.0f;
         } else {
           // eq. (6). The paper's denominator ID - PD assumes the vertex is less dense than the

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "render/gl/GlError.h"
 #include "render/gl/Shader.h"
@@ -119,11 +120,63 @@ void SplatRenderer::drawBoundary(bool offscreen) {
 
 void SplatRenderer::drawLayers(FrameLayer::Order order, const CameraFrame& camera,
                                const Lighting& lighting, bool offscreen) {
-  // The error figures' frame is the water alone (their reference has nothing else).
-  if (offscreen && contents_ == ImageContents::ColourAndNormals) return;
+  // The error figures' frame has the opaque solids (its reference has them too, as a backdrop:
+  // drawBackdrop) but nothing drawn after the water (rain): the reference has none.
+  const bool scored = offscreen && contents_ == ImageContents::ColourAndNormals;
+  if (scored && order == FrameLayer::Order::AfterSplats) return;
+  // Layers write colour only: the normal target is the water's.
+  if (scored) selectDrawBuffers(ImageContents::Colour);
   for (FrameLayer* layer : layers_) {
     if (layer->order() == order) layer->draw(camera, lighting);
   }
+  if (scored) selectDrawBuffers(contents_);
+}
+
+bool SplatRenderer::hasLayers(FrameLayer::Order order) const {
+  for (const FrameLayer* layer : layers_)
+    if (layer->order() == order) return true;
+  return false;
+}
+
+Backdrop SplatRenderer::drawBackdrop(const CameraDesc& camera, const Lighting& lighting) {
+  contents_ = ImageContents::Colour;
+  selectDrawBuffers(contents_);
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+  float bgEncoded[4] = {0, 0, 0, 1};
+  for (int k = 0; k < 3; ++k) bgEncoded[k] = toSrgb8(lighting.background[k]) / 255.0f;
+  glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 0, bgEncoded);
+  glClearNamedFramebufferfi(framebuffer_.id(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
+  glViewport(0, 0, width_, height_);
+  drawLayers(FrameLayer::Order::BeforeSplats,
+             cameraFrame(camera, static_cast<float>(width_) / height_), lighting, true);
+  glFinish();
+  const std::size_t n = static_cast<std::size_t>(width_) * height_;
+  std::vector<std::uint8_t> rgba(4 * n);
+  std::vector<float> depth(n);
+  glNamedFramebufferReadBuffer(framebuffer_.id(), GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+  glReadPixels(0, 0, width_, height_, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  Backdrop b;
+  b.width = width_, b.height = height_;
+  b.rgb.resize(3 * n);
+  b.viewDepth.resize(n);
+  // Window depth -> distance along the view axis, inverting gluPerspective's depth mapping.
+  const double near = camera.near, far = camera.far;
+  for (int row = 0; row < height_; ++row) {
+    const std::size_t src = static_cast<std::size_t>(height_ - 1 - row) * width_;
+    const std::size_t dst = static_cast<std::size_t>(row) * width_;
+    for (int col = 0; col < width_; ++col) {
+      for (int k = 0; k < 3; ++k) b.rgb[3 * (dst + col) + k] = rgba[4 * (src + col) + k];
+      const double d = depth[src + col];
+      const double ndc = 2 * d - 1;
+      b.viewDepth[dst + col] =
+          d >= 1.0 ? std::numeric_limits<float>::infinity()
+                   : static_cast<float>(2 * near * far / (far + near - ndc * (far - near)));
+    }
+  }
+  return b;
 }
 
 void SplatRenderer::selectDrawBuffers(ImageContents contents) {

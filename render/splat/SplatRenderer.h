@@ -10,6 +10,7 @@
 #include "render/gl/ShaderLibrary.h"
 #include "render/splat/FrameLayer.h"
 #include "render/splat/Lighting.h"
+#include "render/splat/ReferenceRaymarcher.h"
 #include "render/splat/RenderImage.h"
 #include "render/splat/SplatBuilder.h"
 #include "sim/Camera.h"
@@ -34,9 +35,14 @@ class SplatRenderer {
   // The walls and containers, drawn after the fluid as translucent grey squares into the colour
   // only (the error figures see the fluid alone). Empty: none.
   void setBoundary(std::vector<SplatVertex> points, float halfSide);
-  // Layers drawn in the same pictures (not in the normal target of the error figures): solids
-  // before the splats, rain after them. Not owned; they must outlive their use here.
+  // Layers drawn in the same pictures: solids before the splats, rain after them. The error
+  // figures' frame (ColourAndNormals) has the solids in its colour, hiding what they hide, and
+  // no rain; its normal target is the water's alone. Not owned; they must outlive their use.
   void setLayers(std::vector<FrameLayer*> layers) { layers_ = std::move(layers); }
+  bool hasLayers(FrameLayer::Order order) const;
+  // The layers drawn before the splats (the solids) alone, with their depth: what the reference
+  // ray-marcher shows behind and in front of the water.
+  Backdrop drawBackdrop(const CameraDesc& camera, const Lighting& lighting);
   // Draws into the default framebuffer of the current (window) context instead.
   void drawToScreen(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
                     const Lighting& lighting, int viewportWidth, int viewportHeight);
