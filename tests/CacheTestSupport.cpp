@@ -127,4 +127,14 @@ void expectSameCache(const std::string& a, const std::string& b) {
   }
 }
 
+void TinyCacheSuite::SetUpTestSuite() {
+  dir_ = makeTempDir();
+  scene_ = dir_ + "/tiny.json";
+  std::ofstream(scene_) << tinyCacheScene(0.1, 100);
+  cache_ = dir_ + "/tiny.h5";
+  runOutput_ = runShell(sphsplatShell("run '" + scene_ + "' --threads 1 -o '" + cache_ + "'"));
+}
+std::string TinyCacheSuite::dir_, TinyCacheSuite::scene_, TinyCacheSuite::cache_;
+CommandResult TinyCacheSuite::runOutput_;
+
 }  // namespace sph::test

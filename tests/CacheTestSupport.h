@@ -43,4 +43,14 @@ std::size_t lineCount(const std::string& s);
 std::string readFile(const std::string& path);
 bool fileExists(const std::string& path);
 
+// A suite of CLI tests sharing one short run's cache (the tiny scene, 0.1 s, one thread),
+// written once per suite into a temporary directory: dir_, scene_, cache_ and what the run
+// printed, runOutput_.
+class TinyCacheSuite : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite();
+  static std::string dir_, scene_, cache_;
+  static CommandResult runOutput_;
+};
+
 }  // namespace sph::test

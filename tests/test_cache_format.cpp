@@ -19,98 +19,20 @@
 #include "io/XdmfWriter.h"
 #include "sim/InputError.h"
 #include "sim/Parallel.h"
+#include "tests/CacheFormatSupport.h"
 #include "tests/CacheTestSupport.h"
 
 namespace sph {
 namespace {
 
 namespace cache = io::cache;
-
-// Runs the tiny scene and writes `frames` frames (one every 0.01 s) to `path` in-process.
-struct WrittenRun {
-  Scene scene;
-  std::vector<Particles> frames;
-  std::vector<RunState> states;
-};
-
-WrittenRun writeRun(const std::string& path, std::size_t frames,
-                    const std::string& extraOutput = "", std::size_t expectedFrames = 0) {
-  setThreadCount(1);  // a unit suite: it must not compete with others for the cores
-  WrittenRun run;
-  run.scene = io::parseScene(test::tinyCacheScene(1.0, 100, extraOutput), path + ".json");
-  Simulation sim(run.scene);
-  auto writer = io::CacheWriter::create(path, run.scene, sim.params(), sim.boundary().particles(),
-                                        io::CacheProvenance{"test", 1, {"solver.cfl=0.4"}},
-                                        expectedFrames ? expectedFrames : frames);
-  for (std::size_t k = 0; k < frames; ++k) {
-    if (k > 0) sim.advanceTo(0.01 * static_cast<double>(k));
-    writer->writeFrame(sim.fluid(), sim.runState());
-    run.frames.push_back(sim.fluid());
-    run.states.push_back(sim.runState());
-  }
-  writer->setStatus("finished");
-  writer->close();
-  return run;
-}
-
-// RAII for the raw C API checks below.
-struct Id {
-  hid_t id;
-  explicit Id(hid_t i) : id(i) { EXPECT_GE(i, 0); }
-  ~Id() {
-    if (id >= 0) H5Idec_ref(id);
-  }
-  operator hid_t() const { return id; }
-};
-
-// Opens a cache with the raw C API, without HDF5's file lock like the project's reader (HDF5
-// refuses a second open of a file within a process under other lock settings).
-hid_t openRaw(const std::string& path) {
-  const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
-  H5Pset_file_locking(fapl, false, true);
-  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl);
-  H5Pclose(fapl);
-  return file;
-}
-
-// A string attribute of either kind, read with the C API.
-std::string stringAttribute(hid_t obj, const char* name) {
-  Id attr(H5Aopen(obj, name, H5P_DEFAULT));
-  Id type(H5Aget_type(attr));
-  EXPECT_EQ(H5Tget_class(type), H5T_STRING) << name;
-  if (H5Tis_variable_str(type) > 0) {
-    char* text = nullptr;
-    EXPECT_GE(H5Aread(attr, type, &text), 0);
-    std::string value = text ? text : "";
-    H5free_memory(text);
-    return value;
-  }
-  std::string value(H5Tget_size(type), '\0');
-  EXPECT_GE(H5Aread(attr, type, value.data()), 0);
-  return value.substr(0, value.find('\0'));
-}
-
-// "variable UTF-8", "fixed UTF-8", "fixed ASCII": how a string attribute is stored.
-std::string stringKind(hid_t obj, const char* name) {
-  Id attr(H5Aopen(obj, name, H5P_DEFAULT));
-  Id type(H5Aget_type(attr));
-  if (H5Tget_class(type) != H5T_STRING) return "not a string";
-  return std::string(H5Tis_variable_str(type) > 0 ? "variable " : "fixed ") +
-         (H5Tget_cset(type) == H5T_CSET_UTF8 ? "UTF-8" : "ASCII");
-}
-
-std::set<std::string> rootLinks(hid_t file) {
-  std::set<std::string> names;
-  hsize_t idx = 0;
-  H5Literate(
-      file, H5_INDEX_NAME, H5_ITER_INC, &idx,
-      [](hid_t, const char* name, const H5L_info_t*, void* data) -> herr_t {
-        static_cast<std::set<std::string>*>(data)->insert(name);
-        return 0;
-      },
-      &names);
-  return names;
-}
+using test::Id;
+using test::openRaw;
+using test::rootLinks;
+using test::stringAttribute;
+using test::stringKind;
+using test::writeRun;
+using test::WrittenRun;
 
 class CacheFormat : public ::testing::Test {
  protected:
@@ -236,102 +158,6 @@ TEST_F(CacheFormat, H5PartLayoutAsDocumentedThroughTheHdf5Api) {
     EXPECT_EQ(stringKind(file, name), "variable UTF-8") << name;
   }
   EXPECT_EQ(stringKind(file, "run_status"), "fixed UTF-8");
-}
-
-TEST_F(CacheFormat, H5pyReadsTheRootStringsAsText) {
-  // What a Python user meets: /usr/bin/python3 with h5py (scripts/setup installs it).
-  const std::string path = dir_ + "/py.h5";
-  const WrittenRun run = writeRun(path, 2);
-  const std::string script = dir_ + "/attrs.py";
-  std::ofstream(script) << R"(import sys, h5py
-with h5py.File(sys.argv[1], 'r') as f:
-    for name in ('sphsplat_format', 'scene_text', 'scene_name', 'created', 'output.fields',
-                 'solver.eos', 'run_status'):
-        value = f.attrs[name]
-        print(name, type(value).__name__, len(value))
-    assert f.attrs['scene_text'] == open(sys.argv[2]).read(), 'scene_text differs'
-    assert f.attrs['sphsplat_format'] == 'sphsplat-cache'
-    assert f.attrs['run_status'].decode() == 'finished'
-)";
-  std::ofstream(dir_ + "/scene.txt") << run.scene.sourceText;
-  const auto r = test::runShell("/usr/bin/python3 '" + script + "' '" + path + "' '" + dir_ +
-                                "/scene.txt' 2>&1");
-  ASSERT_EQ(r.exitCode, 0) << "h5py (python3-h5py, installed by scripts/setup):\n" << r.output;
-  for (const char* name :
-       {"sphsplat_format", "scene_text", "scene_name", "created", "output.fields", "solver.eos"}) {
-    EXPECT_NE(r.output.find(std::string(name) + " str "), std::string::npos) << name << "\n"
-                                                                             << r.output;
-  }
-  // The one fixed-length string: h5py gives bytes (docs/cache-format.md says to decode it).
-  EXPECT_NE(r.output.find("run_status bytes_ "), std::string::npos) << r.output;
-}
-
-// Rewrites every variable-length string attribute of the root as a fixed-length one, in the
-// given character set: what caches written before the switch to variable-length strings hold.
-void makeStringsFixedLength(const std::string& path, H5T_cset_t cset) {
-  const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
-  H5Pset_file_locking(fapl, false, true);
-  Id file(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl));
-  H5Pclose(fapl);
-  H5O_info_t info;
-  ASSERT_GE(H5Oget_info2(file, &info, H5O_INFO_NUM_ATTRS), 0);
-  std::vector<std::string> names;
-  for (hsize_t i = 0; i < info.num_attrs; ++i) {
-    char name[256] = {0};
-    H5Aget_name_by_idx(file, ".", H5_INDEX_NAME, H5_ITER_INC, i, name, sizeof name, H5P_DEFAULT);
-    if (stringKind(file, name).rfind("variable", 0) == 0) names.push_back(name);
-  }
-  ASSERT_GE(names.size(), 10u);
-  for (const std::string& name : names) {
-    const std::string value = stringAttribute(file, name.c_str());
-    ASSERT_GE(H5Adelete(file, name.c_str()), 0);
-    Id type(H5Tcopy(H5T_C_S1));
-    H5Tset_size(type, value.size() + 1);
-    H5Tset_strpad(type, H5T_STR_NULLTERM);
-    H5Tset_cset(type, cset);
-    Id space(H5Screate(H5S_SCALAR));
-    Id attr(H5Acreate2(file, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT));
-    ASSERT_GE(H5Awrite(attr, type, value.c_str()), 0);
-  }
-}
-
-TEST_F(CacheFormat, CachesWithFixedLengthStringsStillReadAndResume) {
-  for (const H5T_cset_t cset : {H5T_CSET_ASCII, H5T_CSET_UTF8}) {
-    const std::string label = cset == H5T_CSET_ASCII ? "ASCII" : "UTF-8";
-    const std::string path = dir_ + "/old" + label + ".h5";
-    const WrittenRun run = writeRun(path, 3);
-    const io::CacheSummary fresh = io::CacheReader(path).summary();
-    makeStringsFixedLength(path, cset);
-    {
-      Id file(openRaw(path));
-      EXPECT_EQ(stringKind(file, "scene_text"), "fixed " + label);
-    }
-    const io::CacheReader reader(path);
-    const io::CacheSummary& old = reader.summary();
-    EXPECT_EQ(old.sceneText, run.scene.sourceText) << label;
-    EXPECT_EQ(old.sceneText, fresh.sceneText) << label;
-    EXPECT_EQ(old.created, fresh.created) << label;
-    EXPECT_EQ(old.sceneFingerprint, fresh.sceneFingerprint) << label;
-    EXPECT_EQ(old.sceneOverrides, "solver.cfl=0.4") << label;
-    EXPECT_EQ(old.fields, cache::defaultFields()) << label;
-    ASSERT_EQ(old.parameters.size(), fresh.parameters.size()) << label;
-    for (std::size_t i = 0; i < old.parameters.size(); ++i) {
-      EXPECT_EQ(old.parameters[i].text, fresh.parameters[i].text) << old.parameters[i].name;
-      EXPECT_EQ(old.parameters[i].number, fresh.parameters[i].number) << old.parameters[i].name;
-    }
-    EXPECT_TRUE(test::sameBits(run.frames[2], reader.readFrame(2))) << label;
-  }
-  // The writer reads its settings back from such a cache to append to it (resume).
-  const std::string path = dir_ + "/oldASCII.h5";
-  const auto [state, last] = io::CacheReader(path).readRestart(2);
-  {
-    auto writer = io::CacheWriter::append(path, 3);
-    writer->writeFrame(last, state);
-    writer->close();
-  }
-  const io::CacheReader after(path);
-  ASSERT_EQ(after.frameCount(), 4u);
-  EXPECT_TRUE(test::sameBits(last, after.readFrame(3)));
 }
 
 TEST_F(CacheFormat, RootHeaderStaysOneBlockSoEachCommitIsOneWrite) {
@@ -529,49 +355,6 @@ TEST_F(CacheFormat, RenderedFramesRoundTripUnderTheirRenderer) {
   Id set(H5Dopen2(file, "Render#point#1", H5P_DEFAULT));
   EXPECT_EQ(stringAttribute(set, "CLASS"), "IMAGE");
   EXPECT_EQ(stringAttribute(set, "IMAGE_SUBCLASS"), "IMAGE_TRUECOLOR");
-}
-
-TEST_F(CacheFormat, SceneFieldsAreValidated) {
-  auto load = [](const std::string& output) {
-    return io::parseScene(test::tinyCacheScene(0.1, 100, output), "s.json");
-  };
-  EXPECT_EQ(load(R"("fields": ["velocity", "position", "rho"])").output.fields,
-            (std::vector<std::string>{"x", "y", "z", "vx", "vy", "vz", "rho"}));
-  auto message = [&](const std::string& output) {
-    try {
-      load(output);
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("accepted");
-  };
-  EXPECT_EQ(message(R"("fields": ["x", "y", "z", "speed"])")
-                .rfind("s.json: output.fields: unknown field \"speed\"", 0),
-            0u);
-  EXPECT_EQ(message(R"("fields": ["rho"])")
-                .rfind("s.json: output.fields: expected \"x\", \"y\" and \"z\"", 0),
-            0u);
-  EXPECT_EQ(message(R"("compression": 11)")
-                .rfind("s.json: output.compression: expected an integer deflate level", 0),
-            0u);
-  EXPECT_EQ(
-      message(R"("restart": "yes")").rfind("s.json: output.restart: expected true or false", 0),
-      0u);
-}
-
-TEST_F(CacheFormat, ALongSceneFileIsKeptWhole) {
-  // Scene text past HDF5's 64 kB limit for a compact attribute.
-  std::string description(100000, 'a');
-  std::string text = test::tinyCacheScene(0.1, 100);
-  text.insert(1, "\"description\": \"" + description + "\",");
-  const std::string path = dir_ + "/long.h5";
-  const Scene scene = io::parseScene(text, path + ".json");
-  Simulation sim(scene);
-  auto writer = io::CacheWriter::create(path, scene, sim.params(), sim.boundary().particles(),
-                                        {"test", 1, {}}, 1);
-  writer->writeFrame(sim.fluid(), sim.runState());
-  writer->close();
-  EXPECT_EQ(io::CacheReader(path).summary().sceneText, text);
 }
 
 }  // namespace
