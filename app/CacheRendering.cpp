@@ -59,15 +59,19 @@ io::CacheReader& CacheRendering::reader() {
   return *open;
 }
 
-Particles CacheRendering::positions(std::size_t frame) {
-  io::cache::FieldSet xyz;
+io::cache::FieldSet fieldsToDraw(const Scene& scene) {
+  io::cache::FieldSet fields;
   for (auto f : {io::cache::Field::X, io::cache::Field::Y, io::cache::Field::Z})
-    xyz.set(static_cast<std::size_t>(f));
+    fields.set(static_cast<std::size_t>(f));
   // Lights coloured by speed need the velocities (docs/lights.md, "Replay").
   if (render::lights::lightsNeedVelocity(scene))
     for (auto f : {io::cache::Field::VX, io::cache::Field::VY, io::cache::Field::VZ})
-      xyz.set(static_cast<std::size_t>(f));
-  return reader().readFrame(frame, xyz);
+      fields.set(static_cast<std::size_t>(f));
+  return fields;
+}
+
+Particles CacheRendering::positions(std::size_t frame) {
+  return reader().readFrame(frame, fieldsToDraw(scene));
 }
 
 std::array<std::vector<float>, 3> CacheRendering::boundary() {

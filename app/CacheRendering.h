@@ -18,6 +18,10 @@
 
 namespace sph::app {
 
+// The fields a frame of `scene` needs to be drawn: positions, and velocities for lights coloured
+// by speed.
+io::cache::FieldSet fieldsToDraw(const Scene& scene);
+
 // The splat kinds a render.splat choice draws, in drawing order.
 std::vector<render::splat::SplatKind> kindsOf(RenderDesc::Splat s);
 

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "app/CacheRendering.h"
 #include "app/CacheScene.h"
 #include "app/CliChecks.h"
 #include "app/Commands.h"
@@ -102,12 +103,7 @@ int view(const ViewOptions& o) {
   // when the user flies it (render/rain/SceneRain.h).
   const auto rain = render::rain::showRain(scene, renderer, solids.get());
 
-  io::cache::FieldSet xyz;
-  for (auto f : {io::cache::Field::X, io::cache::Field::Y, io::cache::Field::Z})
-    xyz.set(static_cast<std::size_t>(f));
-  if (render::lights::lightsNeedVelocity(scene))
-    for (auto f : {io::cache::Field::VX, io::cache::Field::VY, io::cache::Field::VZ})
-      xyz.set(static_cast<std::size_t>(f));
+  const io::cache::FieldSet xyz = fieldsToDraw(scene);
   ViewerState s;
   s.frames = reader.frameCount();
   s.frame = parseOneFrame(o.frame, s.frames, "--frame");

@@ -25,13 +25,10 @@
 namespace sph {
 namespace {
 
+using test::lineCount;
 using test::readFile;
 using test::runShell;
-
-using test::lineCount;
-std::string sphsplat(const std::string& args) {
-  return test::sphsplatShell(args);
-}
+using test::sphsplatShell;
 
 class ExportCli : public test::TinyCacheSuite {};
 
@@ -39,7 +36,8 @@ TEST_F(ExportCli, ExportWritesExactCsvAndPly) {
   const io::CacheReader reader(cache_);
   const Particles frame = reader.readFrame(7);
   const std::string csv = dir_ + "/f7.csv", ply = dir_ + "/f7.ply";
-  auto r = runShell(sphsplat("export '" + cache_ + "' --frame 7 --format csv -o '" + csv + "'"));
+  auto r =
+      runShell(sphsplatShell("export '" + cache_ + "' --frame 7 --format csv -o '" + csv + "'"));
   ASSERT_EQ(r.exitCode, 0) << r.output;
   std::istringstream in(readFile(csv));
   std::string line;
@@ -62,8 +60,8 @@ TEST_F(ExportCli, ExportWritesExactCsvAndPly) {
     ++rows;
   }
   EXPECT_EQ(rows, frame.size());
-  r = runShell(
-      sphsplat("export '" + cache_ + "' --frame last --format ply --fields rho -o '" + ply + "'"));
+  r = runShell(sphsplatShell("export '" + cache_ + "' --frame last --format ply --fields rho -o '" +
+                             ply + "'"));
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const std::string text = readFile(ply);
   EXPECT_EQ(text.rfind("ply\nformat ascii 1.0\n", 0), 0u);
@@ -71,7 +69,7 @@ TEST_F(ExportCli, ExportWritesExactCsvAndPly) {
                       "z\nproperty float rho\nend_header\n"),
             std::string::npos)
       << text.substr(0, 300);
-  r = runShell(sphsplat("export '" + cache_ + "' --boundary --format csv -o -"));
+  r = runShell(sphsplatShell("export '" + cache_ + "' --boundary --format csv -o -"));
   EXPECT_EQ(r.exitCode, 0);
   EXPECT_EQ(lineCount(r.output), 1 + reader.summary().boundaryParticles);
 }
@@ -85,15 +83,16 @@ TEST_F(ExportCli, ExportNeverWritesOverTheCacheWhateverPathNamesIt) {
   const std::string relative = "./" + cache_.substr(cache_.find_last_of('/') + 1);
   for (const std::string& other :
        {relative, dir_ + "/./tiny.h5", dir_ + "/link.h5", dir_ + "/hard.h5"}) {
-    const auto r = runShell("cd '" + dir_ + "' && " +
-                            sphsplat("export tiny.h5 --format csv --overwrite -o '" + other + "'"));
+    const auto r =
+        runShell("cd '" + dir_ + "' && " +
+                 sphsplatShell("export tiny.h5 --format csv --overwrite -o '" + other + "'"));
     EXPECT_EQ(r.exitCode, 2) << other << "\n" << r.output;
     EXPECT_EQ(r.output, "sphsplat: " + other +
                             ": is the cache being exported (tiny.h5); refusing to write over it, "
                             "even with --overwrite\n");
   }
-  const auto sidecar = runShell(
-      sphsplat("export '" + cache_ + "' --format csv --overwrite -o '" + dir_ + "/tiny.xdmf'"));
+  const auto sidecar = runShell(sphsplatShell(
+      "export '" + cache_ + "' --format csv --overwrite -o '" + dir_ + "/tiny.xdmf'"));
   EXPECT_EQ(sidecar.exitCode, 2) << sidecar.output;
   EXPECT_EQ(readFile(cache_), before) << "the cache was touched";
   EXPECT_EQ(io::CacheReader(cache_).frameCount(), 11u);
@@ -102,7 +101,7 @@ TEST_F(ExportCli, ExportNeverWritesOverTheCacheWhateverPathNamesIt) {
   ASSERT_EQ(link(scene_.c_str(), (dir_ + "/scene-link.h5").c_str()), 0);
   const std::string sceneText = readFile(scene_);
   const auto run =
-      runShell(sphsplat("run '" + scene_ + "' --overwrite -o '" + dir_ + "/scene-link.h5'"));
+      runShell(sphsplatShell("run '" + scene_ + "' --overwrite -o '" + dir_ + "/scene-link.h5'"));
   EXPECT_EQ(run.exitCode, 2) << run.output;
   EXPECT_NE(run.output.find("is the scene file being run"), std::string::npos) << run.output;
   EXPECT_EQ(readFile(scene_), sceneText);
@@ -112,7 +111,7 @@ TEST_F(ExportCli, ExportNeverWritesOverTheCacheWhateverPathNamesIt) {
 TEST_F(ExportCli, ExportAsksBeforeReplacingAndNeverLeavesAHalfWrittenFile) {
   const std::string out = dir_ + "/exists.csv";
   std::ofstream(out) << "keep me\n";
-  auto r = runShell(sphsplat("export '" + cache_ + "' -o '" + out + "'"));
+  auto r = runShell(sphsplatShell("export '" + cache_ + "' -o '" + out + "'"));
   EXPECT_EQ(r.exitCode, 2);
   EXPECT_EQ(r.output, "sphsplat: " + out + ": already exists; pass --overwrite to replace it\n");
   EXPECT_EQ(readFile(out), "keep me\n");
@@ -122,7 +121,7 @@ TEST_F(ExportCli, ExportAsksBeforeReplacingAndNeverLeavesAHalfWrittenFile) {
   const std::string kept = folder + "/f.csv";
   std::ofstream(kept) << "keep me\n";
   r = runShell("trap '' XFSZ; ulimit -f 4; " +
-               sphsplat("export '" + cache_ + "' --frame 7 --overwrite -o '" + kept + "'"));
+               sphsplatShell("export '" + cache_ + "' --frame 7 --overwrite -o '" + kept + "'"));
   EXPECT_EQ(r.exitCode, 2) << r.output;
   EXPECT_EQ(r.output, "sphsplat: " + kept +
                           ": cannot write the file (File too large); nothing was written to it\n");
@@ -131,7 +130,7 @@ TEST_F(ExportCli, ExportAsksBeforeReplacingAndNeverLeavesAHalfWrittenFile) {
   for (const auto& entry : std::filesystem::directory_iterator(folder))
     files += !entry.is_directory();
   EXPECT_EQ(files, 1u) << "a temporary was left behind";
-  r = runShell(sphsplat("export '" + cache_ + "' --frame 7 --overwrite -o '" + kept + "'"));
+  r = runShell(sphsplatShell("export '" + cache_ + "' --frame 7 --overwrite -o '" + kept + "'"));
   EXPECT_EQ(r.exitCode, 0) << r.output;
   EXPECT_EQ(lineCount(readFile(kept)), 1 + io::CacheReader(cache_).readFrame(7).size());
 }
@@ -168,7 +167,7 @@ TEST_F(ExportCli, ExportVtuReadsBackExactlyThroughMeshio) {
   const Particles frame = reader.readFrame(7);
   const std::string vtu = dir_ + "/f7.vtu";
   auto r = runShell(
-      sphsplat("export '" + cache_ + "' --frame 7 -o '" + vtu + "'"));  // format from the name
+      sphsplatShell("export '" + cache_ + "' --frame 7 -o '" + vtu + "'"));  // format from the name
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_EQ(r.output, "wrote " + vtu + ": 98 particles of frame 7 (t = 0.07 s), vtu\n");
   const std::string script = dir_ + "/dump.py", arrays = test::makeTempDir();
@@ -188,11 +187,12 @@ TEST_F(ExportCli, ExportVtuReadsBackExactlyThroughMeshio) {
 TEST_F(ExportCli, ExportWritesASequenceWithTheFrameSyntaxOfRender) {
   // -1 and ranges, which `render` and `compare` took and `export` refused.
   const std::string last = dir_ + "/last.csv";
-  auto r = runShell(sphsplat("export '" + cache_ + "' --frames -1 -o '" + last + "'"));
+  auto r = runShell(sphsplatShell("export '" + cache_ + "' --frames -1 -o '" + last + "'"));
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_EQ(lineCount(readFile(last)), 1u + 98u);
   const std::string seq = dir_ + "/seq";
-  r = runShell(sphsplat("export '" + cache_ + "' --frames all -o '" + seq + "/frame_%05d.vtu'"));
+  r = runShell(
+      sphsplatShell("export '" + cache_ + "' --frames all -o '" + seq + "/frame_%05d.vtu'"));
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_EQ(r.output, "wrote 11 vtu files " + seq +
                           "/frame_00000.vtu .. frame_00010.vtu: frames 0-10 (t = 0 - 0.1 s), "
@@ -215,18 +215,18 @@ TEST_F(ExportCli, ExportWritesASequenceWithTheFrameSyntaxOfRender) {
   }
   // A directory: SCENE_NNNNN.FORMAT; a range; and a second run needs --overwrite for all.
   r = runShell(
-      sphsplat("export '" + cache_ + "' --frames 2:4 --format ply -o '" + dir_ + "/plys/'"));
+      sphsplatShell("export '" + cache_ + "' --frames 2:4 --format ply -o '" + dir_ + "/plys/'"));
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_TRUE(test::fileExists(dir_ + "/plys/tiny_00004.ply"));
   EXPECT_FALSE(test::fileExists(dir_ + "/plys/tiny_00005.ply"));
   r = runShell(
-      sphsplat("export '" + cache_ + "' --frames 2:5 --format ply -o '" + dir_ + "/plys/'"));
+      sphsplatShell("export '" + cache_ + "' --frames 2:5 --format ply -o '" + dir_ + "/plys/'"));
   EXPECT_EQ(r.exitCode, 2);
   EXPECT_EQ(r.output, "sphsplat: " + dir_ +
                           "/plys/tiny_00002.ply: already exists; pass --overwrite to replace it\n");
   EXPECT_FALSE(test::fileExists(dir_ + "/plys/tiny_00005.ply")) << "checked before writing";
   // Several frames into one named file is refused, saying how to name them.
-  r = runShell(sphsplat("export '" + cache_ + "' --frames 0:3 -o '" + dir_ + "/one.vtu'"));
+  r = runShell(sphsplatShell("export '" + cache_ + "' --frames 0:3 -o '" + dir_ + "/one.vtu'"));
   EXPECT_EQ(r.exitCode, 2);
   EXPECT_EQ(r.output, "sphsplat: -o " + dir_ +
                           "/one.vtu: 4 frames need one file each: give a name with %05d where the "
