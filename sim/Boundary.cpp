@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "sim/Kernels.h"
+#include "sim/Solid.h"
 
 namespace sph {
 namespace {
@@ -81,21 +82,12 @@ void sampleCup(const BoundaryShape& s, float spacing, int layers, std::vector<Ve
 // Infinite plane: a lattice in the plane over the domain's shadow, `layers` deep.
 void samplePlane(const BoundaryShape& s, const Aabb& domain, float spacing, int layers,
                  std::vector<Vec3>& out) {
-  const Vec3 n = s.normal.normalized();
-  const Vec3 helper = std::abs(n.x()) < 0.9f ? Vec3::UnitX() : Vec3::UnitZ();
-  const Vec3 t1 = n.cross(helper).normalized(), t2 = n.cross(t1);
-  float lo1 = std::numeric_limits<float>::max(), hi1 = -lo1, lo2 = lo1, hi2 = hi1;
-  for (int corner = 0; corner < 8; ++corner) {
-    const Vec3 p((corner & 1) ? domain.hi.x() : domain.lo.x(),
-                 (corner & 2) ? domain.hi.y() : domain.lo.y(),
-                 (corner & 4) ? domain.hi.z() : domain.lo.z());
-    const float u = (p - s.point).dot(t1), w = (p - s.point).dot(t2);
-    lo1 = std::min(lo1, u), hi1 = std::max(hi1, u), lo2 = std::min(lo2, w), hi2 = std::max(hi2, w);
-  }
-  const int i0 = static_cast<int>(std::floor(lo1 / spacing)) - 1;
-  const int i1 = static_cast<int>(std::ceil(hi1 / spacing)) + 1;
-  const int k0 = static_cast<int>(std::floor(lo2 / spacing)) - 1;
-  const int k1 = static_cast<int>(std::ceil(hi2 / spacing)) + 1;
+  const PlanePatch patch = planeOverDomain(s, domain);
+  const Vec3 &n = patch.n, &t1 = patch.t1, &t2 = patch.t2;
+  const int i0 = static_cast<int>(std::floor(patch.lo1 / spacing)) - 1;
+  const int i1 = static_cast<int>(std::ceil(patch.hi1 / spacing)) + 1;
+  const int k0 = static_cast<int>(std::floor(patch.lo2 / spacing)) - 1;
+  const int k1 = static_cast<int>(std::ceil(patch.hi2 / spacing)) + 1;
   for (int layer = 0; layer < layers; ++layer) {
     for (int k = k0; k < k1; ++k) {
       for (int i = i0; i < i1; ++i) {

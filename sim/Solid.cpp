@@ -138,4 +138,21 @@ bool keepOutside(const Solid& solid, const Vec3& xOld, Vec3& xNew, Vec3& v, floa
   return true;
 }
 
+PlanePatch planeOverDomain(const BoundaryShape& s, const Aabb& domain) {
+  PlanePatch p;
+  p.n = s.normal.normalized();
+  const Vec3 helper = std::abs(p.n.x()) < 0.9f ? Vec3::UnitX() : Vec3::UnitZ();
+  p.t1 = p.n.cross(helper).normalized(), p.t2 = p.n.cross(p.t1);
+  p.lo1 = p.lo2 = std::numeric_limits<float>::max(), p.hi1 = p.hi2 = -p.lo1;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 c((corner & 1) ? domain.hi.x() : domain.lo.x(),
+                 (corner & 2) ? domain.hi.y() : domain.lo.y(),
+                 (corner & 4) ? domain.hi.z() : domain.lo.z());
+    const float u = (c - s.point).dot(p.t1), w = (c - s.point).dot(p.t2);
+    p.lo1 = std::min(p.lo1, u), p.hi1 = std::max(p.hi1, u);
+    p.lo2 = std::min(p.lo2, w), p.hi2 = std::max(p.hi2, w);
+  }
+  return p;
+}
+
 }  // namespace sph

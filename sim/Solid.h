@@ -32,4 +32,15 @@ class Solid {
 // `step` is the search resolution along the segment (m), at most half the wall thickness.
 bool keepOutside(const Solid& solid, const Vec3& xOld, Vec3& xNew, Vec3& v, float step);
 
+// The part of an infinite plane shape (BoundaryShape::Kind::Plane) the domain casts onto it: its
+// orthonormal frame (t1, t2, n; t2 = n x t1, so t1 then t2 turns counter-clockwise seen from n)
+// and the range of the domain's corners along t1 and t2 from s.point. Where its boundary
+// particles are sampled and where its solid is drawn.
+struct PlanePatch {
+  Vec3 t1, t2, n;
+  float lo1 = 0, hi1 = 0, lo2 = 0, hi2 = 0;
+  Vec3 at(float u, float w, const Vec3& origin) const { return origin + u * t1 + w * t2; }
+};
+PlanePatch planeOverDomain(const BoundaryShape& plane, const Aabb& domain);
+
 }  // namespace sph

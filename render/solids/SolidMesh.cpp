@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "sim/Kernels.h"
+#include "sim/Solid.h"
 
 namespace sph::render::solids {
 namespace {
@@ -119,20 +120,10 @@ void sphere(SolidMesh& m, const Vec3& c, float r, int segments) {
 }
 
 void plane(SolidMesh& m, const BoundaryShape& s, const Aabb& domain) {
-  const Vec3 n = s.normal.normalized();
-  const Vec3 helper = std::abs(n.x()) < 0.9f ? Vec3::UnitX() : Vec3::UnitZ();
-  const Vec3 t1 = n.cross(helper).normalized(), t2 = n.cross(t1);
-  float lo1 = std::numeric_limits<float>::max(), hi1 = -lo1, lo2 = lo1, hi2 = hi1;
-  for (int corner = 0; corner < 8; ++corner) {
-    const Vec3 p((corner & 1) ? domain.hi.x() : domain.lo.x(),
-                 (corner & 2) ? domain.hi.y() : domain.lo.y(),
-                 (corner & 4) ? domain.hi.z() : domain.lo.z());
-    const float u = (p - s.point).dot(t1), w = (p - s.point).dot(t2);
-    lo1 = std::min(lo1, u), hi1 = std::max(hi1, u), lo2 = std::min(lo2, w), hi2 = std::max(hi2, w);
-  }
-  auto at = [&](float u, float w) { return Vec3(s.point + u * t1 + w * t2); };
-  // (t1, t2, n) is right-handed (t2 = n x t1), so t1 then t2 is counter-clockwise seen from n.
-  quad(m, at(lo1, lo2), at(hi1, lo2), at(hi1, hi2), at(lo1, hi2), n);
+  const PlanePatch p = planeOverDomain(s, domain);
+  auto at = [&](float u, float w) { return p.at(u, w, s.point); };
+  // t1 then t2 is counter-clockwise seen from n: the quad faces out of the solid.
+  quad(m, at(p.lo1, p.lo2), at(p.hi1, p.lo2), at(p.hi1, p.hi2), at(p.lo1, p.hi2), p.n);
 }
 
 }  // namespace
