@@ -135,15 +135,16 @@ std::string describeExchanges(dist::Halo& halo, const StepProfile& profile) {
   const dist::HaloStats& s = halo.stats();
   const double steps = s.steps ? static_cast<double>(s.steps) : 1.0;
   const double total = profile.total();
-  char text[400];
-  std::snprintf(text, sizeof text,
-                "rank %d of %d: exchange %.1f%% of the step, %.0f bytes sent per step, %.0f "
-                "ghosts per step, %llu particles migrated out, imbalance (max/mean particles "
-                "per rank) mean %.3f max %.3f",
-                halo.rank(), halo.ranks(), total > 0 ? 100 * profile[Pass::Exchange] / total : 0.0,
-                s.bytesSent / steps, s.ghostsReceived / steps,
-                static_cast<unsigned long long>(s.migrated), s.imbalanceSum / steps,
-                s.imbalanceMax);
+  char text[480];
+  std::snprintf(
+      text, sizeof text,
+      "rank %d of %d: exchange %.1f%% of the step, %.0f bytes sent per step, %.0f "
+      "ghosts per step, %llu particles migrated out, %llu migrated between ranks "
+      "after the first step (all ranks), imbalance (max/mean particles per rank) mean "
+      "%.3f max %.3f",
+      halo.rank(), halo.ranks(), total > 0 ? 100 * profile[Pass::Exchange] / total : 0.0,
+      s.bytesSent / steps, s.ghostsReceived / steps, static_cast<unsigned long long>(s.migrated),
+      static_cast<unsigned long long>(s.migratedAllRanks), s.imbalanceSum / steps, s.imbalanceMax);
   return text;
 }
 

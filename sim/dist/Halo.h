@@ -52,9 +52,13 @@ constexpr int kGhostPlanes = 2;
 // What one rank's exchanges cost (docs/benchmarks.md, "Scale").
 struct HaloStats {
   std::uint64_t steps = 0;
-  std::uint64_t bytesSent = 0;                // migration + ghosts, to other ranks
-  std::uint64_t ghostsReceived = 0;           // summed over steps
-  std::uint64_t migrated = 0;                 // particles that changed rank, sent from here
+  std::uint64_t bytesSent = 0;       // migration + ghosts, to other ranks
+  std::uint64_t ghostsReceived = 0;  // summed over steps
+  std::uint64_t migrated = 0;        // particles that changed rank, sent from here
+  // Particles that changed rank, summed over all ranks, from the second exchange on (the first
+  // hands rank 0's starting fluid out) up to the one before the last (each exchange's count
+  // rides on the next one's plane histogram).
+  std::uint64_t migratedAllRanks = 0;
   double exchangeSeconds = 0;                 // rebalance + migration + ghosts + key order
   double imbalanceSum = 0, imbalanceMax = 0;  // max/mean owned particles per rank, per step
 };
@@ -115,6 +119,7 @@ class Halo {
   std::vector<std::uint64_t> keys_;   // per local particle: its place in the global order
   std::vector<std::uint8_t> ghost_;   // per local particle
   std::vector<std::uint32_t> order_;  // scratch
+  std::uint64_t migratedLast_ = 0;    // sent from here in the last exchange
   HaloStats stats_;
 };
 
