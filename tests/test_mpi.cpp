@@ -1,8 +1,8 @@
 // A run on K processes (mpirun -np K; docs/scaling.md) writes the same cache as one process, bit
 // for bit, for K = 1..4: every frame and every resume record. A resume may change K. Bad use is
-// refused with one line and exit 2. Built and run only in the mpi preset (SPHSPLAT_MPI); the
-// ranks are real processes started by Open MPI's mpirun (oversubscribed: this machine has 2
-// cores).
+// refused with one line and exit 2. Built and run in every build with MPI (the release preset
+// when Open MPI is installed, SPHSPLAT_MPI=AUTO); the ranks are real processes started by Open
+// MPI's mpirun (oversubscribed: this machine has 2 cores).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -169,6 +169,50 @@ TEST(MpiMigration, ParticleCountAndMassAreConservedAsTheWaterCrossesFaces) {
     }
     EXPECT_GT(lastFront, 0.21f) << "the surge should have run 2 cell planes (0.03 m) along x";
   }
+}
+
+TEST(MpiLost, ParticlesLeavingTheDomainAreRemovedAndCountedAsByOneProcess) {
+  // A block thrown at 1 m/s through the domain's +x face (the longest axis, so it leaves through
+  // the last rank's slab): half of it leaves over some 70 steps, each particle removed and
+  // counted as one process does (solver.max_lost_particles); the caches are bit-identical. Past
+  // the tolerance every rank stops with the single process's message.
+  const std::string dir = test::makeTempDir();
+  const std::string file = dir + "/thrown.json";
+  std::ofstream(file) << R"({"solver": {"spacing": 0.01, "gravity": [0, 0, 0],
+      "max_lost_particles": 1000, "end_time": 0.25},
+    "domain": {"min": [-0.1, -0.1, -0.1], "max": [0.3, 0.15, 0.15]},
+    "fluids": [{"min": [0, 0, 0], "max": [0.1, 0.05, 0.05], "velocity": [1.0, 0, 0]}],
+    "output": {"fps": 40}})";
+  auto line = [](const std::string& out, const std::string& words) {
+    const std::size_t at = out.find(words);
+    if (at == std::string::npos) return std::string();
+    const std::size_t from = out.rfind('\n', at) + 1;
+    return out.substr(from, out.find('\n', at) - from);
+  };
+  const std::string reference = dir + "/plain.h5";
+  const auto one = runShell("OMP_WAIT_POLICY=PASSIVE " + test::sphsplatBinary() + " run '" + file +
+                            "' --threads 1 -o '" + reference + "'");
+  ASSERT_EQ(one.exitCode, 0) << one.output;
+  const std::string removed = line(one.output, "particles left the domain and were removed");
+  ASSERT_NE(removed.find("125 particles left"), std::string::npos) << one.output;
+  for (int k = 2; k <= 3; ++k) {
+    SCOPED_TRACE("K = " + std::to_string(k));
+    const std::string out = dir + "/k" + std::to_string(k) + ".h5";
+    const auto r = runShell(ranks(k, file, "-o '" + out + "'", ""));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_EQ(line(r.output, "particles left the domain and were removed"), removed);
+    test::expectSameCache(reference, out);
+  }
+  // A tolerance of 60: the step that loses the 61st particle stops the run, exit 3.
+  const std::string strict = " --set solver.max_lost_particles=60";
+  const auto oneStrict = runShell(plain(file, strict));
+  const auto threeStrict = runShell(ranks(3, file, strict));
+  ASSERT_EQ(oneStrict.exitCode, 3) << oneStrict.output;
+  EXPECT_EQ(threeStrict.exitCode, 3) << threeStrict.output;
+  const std::string message = line(oneStrict.output, "more than solver.max_lost_particles = 60");
+  ASSERT_NE(message, "") << oneStrict.output;
+  EXPECT_EQ(line(threeStrict.output, "more than solver.max_lost_particles = 60"), message)
+      << threeStrict.output;
 }
 
 // Our one line, once (rank 0 tells; mpirun may add its own notice about the exit code).

@@ -265,6 +265,15 @@ void Halo::dropGhosts(Particles& f) {
   ghost_.clear();
 }
 
+void Halo::removeLocal(const std::vector<std::uint8_t>& keep) {
+  if (keep.empty()) return;
+  SPH_ASSERT(ghost_.empty() && keep.size() == keys_.size());
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < keep.size(); ++i)
+    if (keep[i]) keys_[n++] = keys_[i];
+  keys_.resize(n);
+}
+
 std::uint64_t Halo::globalCount(std::size_t local) {
   std::vector<std::int64_t> n{static_cast<std::int64_t>(local)};
   comm_.sumInPlace(n);
@@ -309,12 +318,19 @@ void Halo::agreeOnStability(const std::optional<StabilityError>& local) {
   const std::vector<Bytes> all = comm_.allGather(mine);
   const Bytes* first = nullptr;
   std::uint32_t firstId = 0;
+  bool firstNonFinite = false;
   constexpr std::size_t kIdAt = sizeof(int) + sizeof(std::uint64_t) + sizeof(double);
   for (const Bytes& b : all) {
     if (b.empty()) continue;
     std::uint32_t id;
+    int kindOf;
     std::memcpy(&id, b.data() + kIdAt, sizeof id);
-    if (!first || id < firstId) first = &b, firstId = id;
+    std::memcpy(&kindOf, b.data(), sizeof kindOf);
+    const bool nonFinite = kindOf == static_cast<int>(StabilityError::Kind::NonFinite);
+    // As checkStability() chooses among one process's particles (sim/Integration.cpp).
+    const bool better =
+        !first || (nonFinite && !firstNonFinite) || (nonFinite == firstNonFinite && id < firstId);
+    if (better) first = &b, firstId = id, firstNonFinite = nonFinite;
   }
   if (!first) return;
   int kind;

@@ -91,6 +91,9 @@ class Halo {
   const std::vector<std::uint8_t>& ghost() const { return ghost_; }
   // Removes the ghosts (keeping the owned particles' order).
   void dropGhosts(Particles& fluid);
+  // The caller removed the owned particles with keep[i] == 0, keeping the others' order (the
+  // guard's lost particles, sim/Integration.cpp): their keys go too. An empty `keep` keeps all.
+  void removeLocal(const std::vector<std::uint8_t>& keep);
 
   // The owned fluid of every rank on rank 0, in the single-process order (a frame to write);
   // empty on the other ranks.
@@ -98,8 +101,8 @@ class Halo {
   std::uint64_t globalCount(std::size_t local);
 
   // The guard's verdict of every rank (each passes what its own checkStability() threw, or
-  // nothing): throws, on every rank, the error of the lowest particle id at fault, as the single
-  // process would report it.
+  // nothing): throws, on every rank, the error one process would report: a non-finite state
+  // before a particle outside the domain, then the lowest particle id at fault.
   void agreeOnStability(const std::optional<StabilityError>& local);
   // True on every rank if `local` is true on any (a signal seen by one rank stops all at the
   // same step).
