@@ -43,10 +43,13 @@ bool isRootProcess() {
 
 void refuseUnsupported(const Scene& scene, int ranks) {
   const std::string where = scene.sourcePath.empty() ? "scene" : scene.sourcePath;
-  if (scene.collision && scene.collision->method != CollisionMethod::None) {
+  // `exact` runs across ranks (sim/Simulation.cpp, collide); the others see the whole fluid at
+  // once (octree's leaves, the CDT's depth images).
+  if (scene.collision && scene.collision->method != CollisionMethod::None &&
+      scene.collision->method != CollisionMethod::Exact) {
     throw InputError(where + ": collision.method \"" + nameOf(scene.collision->method) +
                      "\" runs on one process only; run without mpirun, or set collision.method "
-                     "to \"none\" (docs/scaling.md)");
+                     "to \"exact\" or \"none\" (docs/scaling.md)");
   }
   if (scene.solver.pressure == PressureSolver::Dfsph) {
     throw InputError(where +

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <sstream>
 
 #include "sim/Assert.h"
+#include "sim/InputError.h"
 #include "sim/SphPasses.h"
 #include "sim/Validate.h"
 
@@ -183,7 +185,30 @@ void Simulation::collide(float dt) {
   context.time = state_.time;
   context.dt = dt;
   context.step = state_.step;
+  if (!halo_) {
+    collision_->apply(fluid_, context);
+    return;
+  }
+  // Distributed (only `exact` is let through, app/DistributedRun.cpp): a second exchange gives
+  // each rank the particles within two cell planes of its slab, which holds every partner of its
+  // particles: partners are closer than the range at the start of the step (x - v dt), so now
+  // closer than range + 2 max speed dt. The exact detector picks the nearest partner and, among
+  // equally near ones, the lowest index: the global order restricted to a rank keeps that choice,
+  // and the response is per particle, so the result is the single process's, bit for bit.
+  const float cs = halo_->exchange(fluid_, derived_.h);
+  const double reach =
+      static_cast<double>(scene_.collision->range) + 2.0 * double(state_.maxSpeed) * dt;
+  if (!(reach < dist::kGhostPlanes * double(cs) * (1 - 1e-6))) {
+    std::ostringstream msg;
+    msg << scene_.sourcePath << ": collision.range " << scene_.collision->range
+        << " m plus twice the step's travel reaches " << reach << " m, beyond the "
+        << dist::kGhostPlanes * cs
+        << " m of ghosts a process receives (docs/scaling.md); run without mpirun or use a "
+           "smaller range";
+    throw InputError(msg.str());
+  }
   collision_->apply(fluid_, context);
+  halo_->dropGhosts(fluid_);
 }
 
 RunState Simulation::runState() const {

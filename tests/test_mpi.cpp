@@ -89,6 +89,25 @@ TEST_F(Mpi, AResumeMayChangeTheNumberOfRanks) {
   test::expectSameCache(reference_, out2);
 }
 
+TEST_F(Mpi, TheExactCollisionPassGivesTheSameFramesOnThreeRanks) {
+  // collision.method "exact" across ranks: each rank's ghosts hold its particles' partners, and
+  // the nearest partner (ties: the lowest index) is the single process's. A range of 0.86
+  // spacings: pairs squeezed closer than the lattice collide from the second frame on.
+  const std::string exact = "--set collision.method=exact --set collision.range=0.0125 ";
+  const std::string reference = dir_ + "/plain_exact.h5";
+  auto r = runShell(plain(scene_, exact + "-o '" + reference + "'"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  {  // the pass does change the run
+    const io::CacheReader with(reference), without(reference_);
+    ASSERT_EQ(with.frameCount(), without.frameCount());
+    EXPECT_FALSE(test::sameBits(with.readFrame(2), without.readFrame(2)));
+  }
+  const std::string out = dir_ + "/exact_k3.h5";
+  auto q = runShell(ranks(3, scene_, exact + "-o '" + out + "'"));
+  ASSERT_EQ(q.exitCode, 0) << q.output;
+  test::expectSameCache(reference, out);
+}
+
 TEST(MpiGuard, ABlowUpOnOneRankStopsAllWithTheSingleProcessMessage) {
   // A block thrown at 80 m/s along x (the domain's first longest axis): it leaves through the
   // last rank's slab, and every rank stops with exit 3 and the message one process gives.
