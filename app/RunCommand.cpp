@@ -36,7 +36,8 @@ std::function<int()> addRunCommand(CLI::App& app) {
       "Exit codes: 0 done, 2 bad scene, cache or flags, 3 numerical blow-up (the message\n"
       "names the step, time and particle, and the cache's last good frame), 1 internal\n"
       "error, 130/143 stopped by SIGINT/SIGTERM (the cache keeps every finished frame).\n"
-      "On K processes (a build with the mpi preset): mpirun -np K sphsplat run SCENE ...;\n"
+      "On K processes (built with Open MPI: scripts/setup --mpi): mpirun -np K\n"
+      "sphsplat run SCENE ...;"
       "the cache is the same, bit for bit (docs/scaling.md).");
   return [o, cmd]() { return cmd->parsed() ? runJob(*o) : -1; };
 }

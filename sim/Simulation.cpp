@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "sim/Assert.h"
+#include "sim/InputError.h"
 #include "sim/SphPasses.h"
 #include "sim/Validate.h"
 
@@ -127,26 +128,35 @@ void Simulation::step(double limit) {
       state_.maxSpeed = bounds.maxSpeed, state_.maxAcceleration = bounds.maxAcceleration;
       return;
     }
-    // On K processes a particle that leaves the domain stops the run: removing it would need the
-    // count, the tolerance and the next step's bounds agreed over the ranks (docs/scaling.md,
-    // "Limits"). Past the tolerance the message is the single process's; within it the run
-    // stops too, saying why. A blow-up on one rank stops every rank with the same message.
+    // On K processes the same decision over all ranks: the particles outside the domain are
+    // counted over the ranks first, so each rank's check sees the count one process would (its
+    // own ones on top of everyone else's) and removes its own, or all stop with the single
+    // process's message (a non-finite state first, then the lowest particle id at fault).
+    const Aabb& d = scene_.domain;
+    std::vector<std::uint8_t> keep;
+    std::uint64_t outside = 0;
+    for (std::size_t i = 0; i < fluid_.size(); ++i) {
+      const Vec3 x = fluid_.position(i);
+      if (!x.allFinite() || !fluid_.velocity(i).allFinite() || d.contains(x)) continue;
+      if (keep.empty()) keep.assign(fluid_.size(), 1);
+      keep[i] = 0, ++outside;
+    }
+    const std::uint64_t outsideAll = halo_->globalCount(outside);
     std::optional<StabilityError> local;
     try {
-      const std::uint64_t lost = checkStability(c, scene_.domain, state_.step, state_.time,
-                                                state_.lostParticles, derived_.maxLostParticles);
-      if (lost > 0) {
-        std::ostringstream msg;
-        msg << "numerical blow-up at step " << state_.step << ", t = " << state_.time
-            << " s: " << lost << " particles left the domain; removing lost particles works on one "
-            << "process only (docs/scaling.md): run without mpirun";
-        throw StabilityError(StabilityError::Kind::LeftDomain, state_.step, state_.time, 0,
-                             Vec3::Zero(), Vec3::Zero(), msg.str());
-      }
+      const std::uint64_t lost =
+          checkStability(c, d, state_.step, state_.time,
+                         state_.lostParticles + outsideAll - outside, derived_.maxLostParticles);
+      if (lost > 0) halo_->removeLocal(keep);
     } catch (const StabilityError& e) {
       local = e;
     }
     halo_->agreeOnStability(local);
+    if (outsideAll == 0) return;
+    state_.lostParticles += outsideAll;
+    const MotionBounds bounds = motionBounds(fluid_);
+    state_.maxSpeed = bounds.maxSpeed, state_.maxAcceleration = bounds.maxAcceleration;
+    halo_->maxOverRanks(state_.maxSpeed, state_.maxAcceleration);
   });
   validate("the step", [&] { return checkState(fluid_, state_.nextId); });
   profile_.steps += 1;
@@ -175,7 +185,30 @@ void Simulation::collide(float dt) {
   context.time = state_.time;
   context.dt = dt;
   context.step = state_.step;
+  if (!halo_) {
+    collision_->apply(fluid_, context);
+    return;
+  }
+  // Distributed (only `exact` is let through, app/DistributedRun.cpp): a second exchange gives
+  // each rank the particles within two cell planes of its slab, which holds every partner of its
+  // particles: partners are closer than the range at the start of the step (x - v dt), so now
+  // closer than range + 2 max speed dt. The exact detector picks the nearest partner and, among
+  // equally near ones, the lowest index: the global order restricted to a rank keeps that choice,
+  // and the response is per particle, so the result is the single process's, bit for bit.
+  const float cs = halo_->exchange(fluid_, derived_.h);
+  const double reach =
+      static_cast<double>(scene_.collision->range) + 2.0 * double(state_.maxSpeed) * dt;
+  if (!(reach < dist::kGhostPlanes * double(cs) * (1 - 1e-6))) {
+    std::ostringstream msg;
+    msg << scene_.sourcePath << ": collision.range " << scene_.collision->range
+        << " m plus twice the step's travel reaches " << reach << " m, beyond the "
+        << dist::kGhostPlanes * cs
+        << " m of ghosts a process receives (docs/scaling.md); run without mpirun or use a "
+           "smaller range";
+    throw InputError(msg.str());
+  }
   collision_->apply(fluid_, context);
+  halo_->dropGhosts(fluid_);
 }
 
 RunState Simulation::runState() const {

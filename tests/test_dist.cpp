@@ -1,17 +1,25 @@
 // The MPI-free pieces of the distributed run (docs/scaling.md): the slab cut covers every plane
 // exactly once and balances the particle counts; the exact sum is exact and independent of the
 // order and split of its terms (what makes the gradient correction the same on any number of
-// ranks).
+// ranks). With K ranks as threads (tests/ThreadRanks.h): after each exchange the owned particles
+// are every particle exactly once, in its owner's slab, and each rank's ghosts are exactly the
+// particles a brute-force search finds across its faces, covering every neighbour pair within the
+// support radius that the density and force passes use.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <map>
 #include <numeric>
 #include <random>
+#include <set>
 #include <vector>
 
+#include "sim/NeighbourGrid.h"
 #include "sim/dist/ExactSum.h"
 #include "sim/dist/Halo.h"
+#include "tests/ThreadRanks.h"
 
 namespace sph::dist {
 namespace {
@@ -88,6 +96,187 @@ TEST(ExactSum, IsExactAndIndependentOfOrderAndSplit) {
   for (float t : terms) reference += std::abs(t) == 1e30f ? 0.0f : t;  // they cancel exactly
   EXPECT_NEAR(forward.toDouble(), static_cast<double>(reference),
               1e-12 * std::abs(static_cast<double>(reference)) + 1e-30);
+}
+
+// A cloud of particles in a 1 x 0.3 x 0.3 m domain (longest along x): a dense block of water on
+// the left and a sparse spray everywhere. Its positions at step s are a function of the id, and
+// every step moves most particles by up to 0.3 m along x, so they cross slab faces; the other
+// fields are distinct per id, so a record that travels wrong shows.
+constexpr std::uint32_t kCloud = 2500;
+constexpr float kSupport = 0.04f;  // 25 cell planes along x
+
+Vec3 cloudAt(std::uint32_t id, int step) {
+  std::mt19937 rng(id * 7919u + 13u);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const bool spray = id % 5 == 0;
+  Vec3 p(spray ? u(rng) : 0.5f * u(rng), (spray ? 0.3f : 0.15f) * u(rng), 0.3f * u(rng));
+  const float shift = 0.3f * std::sin(0.37f * static_cast<float>(id) + 1.3f * step);
+  p.x() = std::clamp(p.x() + (step == 0 ? 0.0f : shift), 0.0f, 0.999f);
+  return p;
+}
+
+void placeCloud(Particles& f, int step) {
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    const Vec3 p = cloudAt(f.id[i], step);
+    f.x[i] = p.x(), f.y[i] = p.y(), f.z[i] = p.z();
+  }
+}
+
+Particles fullCloud() {
+  Particles f;
+  for (std::uint32_t id = 0; id < kCloud; ++id) {
+    f.append(Vec3::Zero(), Vec3(0.001f * id, -0.002f * id, 0.5f), id, 1000.0f + 0.25f * id);
+    f.p.back() = 3.0f * id, f.ax.back() = -1.0f * id, f.collideTime.back() = 0.125f * id;
+  }
+  placeCloud(f, 0);
+  return f;
+}
+
+// The record of particle i as raw bits, field by field.
+std::vector<std::uint32_t> bitsOf(const Particles& f, std::size_t i) {
+  std::vector<std::uint32_t> bits;
+  f.forEachField([&](const auto& field) {
+    std::uint32_t v;
+    std::memcpy(&v, &field[i], 4);
+    bits.push_back(v);
+  });
+  return bits;
+}
+
+// What one rank held after one exchange: the cut and cell size, its particles' records by id.
+struct Seen {
+  Slabs slabs;
+  float cellSize = 0;
+  std::map<std::uint32_t, std::vector<std::uint32_t>> owned, ghosts;
+  std::size_t local = 0;  // particles in the local arrays
+};
+
+constexpr int kSteps = 4;
+
+// The exchanges of kSteps steps on `ranks` threads, driven as Simulation::step drives them (the
+// exchange, the grid's sort and the new keys, the ghosts dropped), the particles moved between.
+std::vector<std::vector<Seen>> exchangeSteps(int ranks, std::vector<std::uint64_t>& migratedSeen) {
+  const Aabb domain{Vec3(0, 0, 0), Vec3(1.0f, 0.3f, 0.3f)};
+  std::vector<std::vector<Seen>> seen(kSteps, std::vector<Seen>(ranks));
+  migratedSeen.assign(ranks, 0);
+  test::ThreadRanks threads(ranks);
+  threads.run([&](Communicator& comm) {
+    Particles fluid = comm.rank() == 0 ? fullCloud() : Particles{};
+    Halo halo(comm, domain, kSupport);
+    halo.adopt(fluid);
+    NeighbourGrid grid;
+    std::vector<std::uint32_t> order, scratch;
+    for (int step = 0; step < kSteps; ++step) {
+      Seen& s = seen[step][comm.rank()];
+      s.cellSize = halo.exchange(fluid, kSupport);
+      s.slabs = halo.slabs();
+      s.local = fluid.size();
+      for (std::size_t i = 0; i < fluid.size(); ++i)
+        (halo.ghost()[i] ? s.ghosts : s.owned)[fluid.id[i]] = bitsOf(fluid, i);
+      grid.build(fluid.x.data(), fluid.y.data(), fluid.z.data(), fluid.size(), s.cellSize, order,
+                 NeighbourGrid::kExactCellSize);
+      fluid.permute(order, scratch);
+      halo.sorted(grid, order);
+      halo.dropGhosts(fluid);
+      placeCloud(fluid, step + 1);
+    }
+    migratedSeen[comm.rank()] = halo.stats().migratedAllRanks;
+  });
+  return seen;
+}
+
+TEST(Halo, OwnedParticlesAreEveryParticleOnceAndGhostsEqualABruteForceSearchAcrossFaces) {
+  for (int ranks = 1; ranks <= 4; ++ranks) {
+    SCOPED_TRACE(std::to_string(ranks) + " ranks");
+    std::vector<std::uint64_t> counted;  // HaloStats::migratedAllRanks, per rank
+    const auto seen = exchangeSteps(ranks, counted);
+    std::uint64_t migrated = 0, beforeLast = 0;
+    std::vector<int> before;
+    for (int step = 0; step < kSteps; ++step) {
+      SCOPED_TRACE("step " + std::to_string(step));
+      // The truth: the whole cloud at this step, as one process holds it.
+      Particles all = fullCloud();
+      placeCloud(all, step);
+      const std::vector<Seen>& at = seen[step];
+      const Slabs& slabs = at[0].slabs;
+      const double cs = at[0].cellSize;
+      ASSERT_EQ(cs, double(kSupport));  // no growth at this density
+      ASSERT_EQ(slabs.axis, 0);         // the domain's longest axis
+      // Migration conserves the particles (and with them the mass, the same for each): every id
+      // is owned by exactly one rank, its record unchanged, inside that rank's slab.
+      std::vector<int> owner(all.size(), -1);
+      for (int r = 0; r < ranks; ++r) {
+        EXPECT_EQ(at[r].slabs.first, slabs.first) << "rank " << r << " cut elsewhere";
+        EXPECT_EQ(at[r].local, at[r].owned.size() + at[r].ghosts.size())
+            << "a particle twice on rank " << r;
+        for (const auto& [id, bits] : at[r].owned) {
+          ASSERT_LT(id, all.size());
+          EXPECT_EQ(owner[id], -1) << "particle " << id << " owned twice";
+          owner[id] = r;
+          EXPECT_EQ(bits, bitsOf(all, id)) << "particle " << id << " changed on its way";
+          const auto plane = static_cast<long long>(std::floor(double(all.x[id]) / cs));
+          EXPECT_EQ(slabs.ownerOf(plane), r) << "particle " << id << " outside its owner's slab";
+        }
+      }
+      for (std::size_t j = 0; j < all.size(); ++j) {
+        ASSERT_NE(owner[j], -1) << "particle " << j << " lost in migration";
+        if (!before.empty()) migrated += owner[j] != before[j];
+      }
+      if (step == kSteps - 2) beforeLast = migrated;
+      before = owner;
+
+      for (int r = 0; r < ranks; ++r) {
+        SCOPED_TRACE("rank " + std::to_string(r));
+        const Seen& s = at[r];
+        // Brute force across the faces: every other rank's particle closer than kGhostPlanes
+        // cell widths to this rank's slab [first[r], first[r + 1]) x cs, along the axis.
+        const double lo = double(slabs.first[r]) * cs, hi = double(slabs.first[r + 1]) * cs;
+        std::set<std::uint32_t> expected, got;
+        for (std::size_t j = 0; j < all.size(); ++j) {
+          if (owner[j] == r) continue;
+          const double x = all.x[j], gap = x < lo ? lo - x : x >= hi ? x - hi : 0.0;
+          if (gap < kGhostPlanes * cs) expected.insert(static_cast<std::uint32_t>(j));
+        }
+        for (const auto& [id, bits] : s.ghosts) {
+          got.insert(id);
+          EXPECT_EQ(bits, bitsOf(all, id)) << "ghost " << id << " is not its owner's copy";
+        }
+        EXPECT_EQ(got, expected);
+        if (ranks > 1) {
+          EXPECT_GT(got.size(), 0u);
+        }
+        // And what the passes need is there (a brute-force pair search in 3D): every neighbour
+        // within the support of an owned particle, and every neighbour of those (their
+        // densities are computed here, docs/scaling.md).
+        auto present = [&](std::size_t j) {
+          const auto id = static_cast<std::uint32_t>(j);
+          return s.owned.count(id) + s.ghosts.count(id) > 0;
+        };
+        std::vector<char> near(all.size(), 0);
+        for (std::size_t i = 0; i < all.size(); ++i) {
+          if (owner[i] != r) continue;
+          for (std::size_t j = 0; j < all.size(); ++j)
+            if (owner[j] != r && (all.position(i) - all.position(j)).norm() <= kSupport)
+              near[j] = 1;
+        }
+        for (std::size_t g = 0; g < all.size(); ++g) {
+          if (!near[g]) continue;
+          ASSERT_TRUE(present(g)) << "neighbour " << g << " of an owned particle missing";
+          for (std::size_t j = 0; j < all.size(); ++j) {
+            if ((all.position(g) - all.position(j)).norm() <= kSupport) {
+              ASSERT_TRUE(present(j)) << "neighbour " << j << " of ghost " << g << " missing";
+            }
+          }
+        }
+      }
+    }
+    if (ranks > 1) {
+      EXPECT_GT(migrated, kCloud / 10) << "the cloud's motion should cross faces";
+    }
+    // The run's figure (docs/benchmarks.md, "Scale"): every rank tells the same count, that of
+    // the exchanges after the first up to the one before the last.
+    for (std::uint64_t c : counted) EXPECT_EQ(c, beforeLast);
+  }
 }
 
 }  // namespace

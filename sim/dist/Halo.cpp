@@ -158,7 +158,11 @@ float Halo::exchange(Particles& f, float h) {
   std::vector<std::int64_t> counts(static_cast<std::size_t>(p1 - p0 + 1), 0);
   const std::vector<float>& along = axisOf(f, axis);
   for (float v : along) ++counts[static_cast<std::size_t>(planeOf(v, inv) - p0)];
+  // The previous exchange's migrations (none counted for the first, the hand-out) ride along.
+  counts.push_back(stats_.steps > 1 ? static_cast<std::int64_t>(migratedLast_) : 0);
   comm_.sumInPlace(counts);
+  stats_.migratedAllRanks += static_cast<std::uint64_t>(counts.back());
+  counts.pop_back();
   slabs_ = Slabs::balance(axis, ranksCount, p0, counts);
   std::int64_t most = 0;
   for (int r = 0; r < ranksCount; ++r) {
@@ -175,13 +179,15 @@ float Halo::exchange(Particles& f, float h) {
   // Migration: particles outside this rank's slab go to their owner.
   std::vector<Bytes> send(ranksCount);
   std::vector<std::uint8_t> keep(f.size(), 1);
+  migratedLast_ = 0;
   for (std::size_t i = 0; i < f.size(); ++i) {
     const int owner = slabs_.ownerOf(planeOf(along[i], inv));
     if (owner == me) continue;
     pack(f, i, keys_[i], send[owner]);
     keep[i] = 0;
-    ++stats_.migrated;
+    ++migratedLast_;
   }
+  stats_.migrated += migratedLast_;
   for (const Bytes& b : send) stats_.bytesSent += b.size();
   compact(f, keys_, keep);
   // What stayed is in key order: last step's sorted owned particles, then the emitted ones
@@ -259,6 +265,15 @@ void Halo::dropGhosts(Particles& f) {
   ghost_.clear();
 }
 
+void Halo::removeLocal(const std::vector<std::uint8_t>& keep) {
+  if (keep.empty()) return;
+  SPH_ASSERT(ghost_.empty() && keep.size() == keys_.size());
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < keep.size(); ++i)
+    if (keep[i]) keys_[n++] = keys_[i];
+  keys_.resize(n);
+}
+
 std::uint64_t Halo::globalCount(std::size_t local) {
   std::vector<std::int64_t> n{static_cast<std::int64_t>(local)};
   comm_.sumInPlace(n);
@@ -303,12 +318,19 @@ void Halo::agreeOnStability(const std::optional<StabilityError>& local) {
   const std::vector<Bytes> all = comm_.allGather(mine);
   const Bytes* first = nullptr;
   std::uint32_t firstId = 0;
+  bool firstNonFinite = false;
   constexpr std::size_t kIdAt = sizeof(int) + sizeof(std::uint64_t) + sizeof(double);
   for (const Bytes& b : all) {
     if (b.empty()) continue;
     std::uint32_t id;
+    int kindOf;
     std::memcpy(&id, b.data() + kIdAt, sizeof id);
-    if (!first || id < firstId) first = &b, firstId = id;
+    std::memcpy(&kindOf, b.data(), sizeof kindOf);
+    const bool nonFinite = kindOf == static_cast<int>(StabilityError::Kind::NonFinite);
+    // As checkStability() chooses among one process's particles (sim/Integration.cpp).
+    const bool better =
+        !first || (nonFinite && !firstNonFinite) || (nonFinite == firstNonFinite && id < firstId);
+    if (better) first = &b, firstId = id, firstNonFinite = nonFinite;
   }
   if (!first) return;
   int kind;

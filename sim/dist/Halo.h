@@ -52,9 +52,13 @@ constexpr int kGhostPlanes = 2;
 // What one rank's exchanges cost (docs/benchmarks.md, "Scale").
 struct HaloStats {
   std::uint64_t steps = 0;
-  std::uint64_t bytesSent = 0;                // migration + ghosts, to other ranks
-  std::uint64_t ghostsReceived = 0;           // summed over steps
-  std::uint64_t migrated = 0;                 // particles that changed rank, sent from here
+  std::uint64_t bytesSent = 0;       // migration + ghosts, to other ranks
+  std::uint64_t ghostsReceived = 0;  // summed over steps
+  std::uint64_t migrated = 0;        // particles that changed rank, sent from here
+  // Particles that changed rank, summed over all ranks, from the second exchange on (the first
+  // hands rank 0's starting fluid out) up to the one before the last (each exchange's count
+  // rides on the next one's plane histogram).
+  std::uint64_t migratedAllRanks = 0;
   double exchangeSeconds = 0;                 // rebalance + migration + ghosts + key order
   double imbalanceSum = 0, imbalanceMax = 0;  // max/mean owned particles per rank, per step
 };
@@ -87,6 +91,9 @@ class Halo {
   const std::vector<std::uint8_t>& ghost() const { return ghost_; }
   // Removes the ghosts (keeping the owned particles' order).
   void dropGhosts(Particles& fluid);
+  // The caller removed the owned particles with keep[i] == 0, keeping the others' order (the
+  // guard's lost particles, sim/Integration.cpp): their keys go too. An empty `keep` keeps all.
+  void removeLocal(const std::vector<std::uint8_t>& keep);
 
   // The owned fluid of every rank on rank 0, in the single-process order (a frame to write);
   // empty on the other ranks.
@@ -94,8 +101,8 @@ class Halo {
   std::uint64_t globalCount(std::size_t local);
 
   // The guard's verdict of every rank (each passes what its own checkStability() threw, or
-  // nothing): throws, on every rank, the error of the lowest particle id at fault, as the single
-  // process would report it.
+  // nothing): throws, on every rank, the error one process would report: a non-finite state
+  // before a particle outside the domain, then the lowest particle id at fault.
   void agreeOnStability(const std::optional<StabilityError>& local);
   // True on every rank if `local` is true on any (a signal seen by one rank stops all at the
   // same step).
@@ -115,6 +122,7 @@ class Halo {
   std::vector<std::uint64_t> keys_;   // per local particle: its place in the global order
   std::vector<std::uint8_t> ghost_;   // per local particle
   std::vector<std::uint32_t> order_;  // scratch
+  std::uint64_t migratedLast_ = 0;    // sent from here in the last exchange
   HaloStats stats_;
 };
 
