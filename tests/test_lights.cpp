@@ -6,8 +6,10 @@
 // hand-computed point and ranks trilinear above nearest; a volume GL cannot hold is refused.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <random>
 
@@ -412,6 +414,69 @@ TEST_F(LightsGl, WaterSplatsAreLitByTheVolumeToo) {
     // The nearest voxel's centre is 0.3 m under the lamp: 1 / (1 + 4 * 0.09), straight down.
     EXPECT_NEAR(linear(bright.rgb[3 * centre + a]), unlit.base[a] / (1 + 4 * 0.09f), 0.02f)
         << "channel " << a;
+  }
+}
+
+// lights.pipeline "deferred" (seed 004 Fig. 11): a G-buffer of the solids and the opaque water,
+// then one full-screen lighting pass, gives the forward image to one 8-bit step per channel -
+// solids per pixel, point splats lit at their centre either way, translucent water composited
+// forward on the deferred-lit frame, depth tested against it (splats half hidden by the sphere).
+TEST_F(LightsGl, DeferredGivesTheForwardImageToOneStep) {
+  LightsDesc d;
+  d.origin = Vec3(-0.6f, -0.1f, -0.6f), d.voxelSize = 0.05f, d.voxels = {24, 24, 24};
+  d.attenuation = {1.0f, 0.0f, 20.0f}, d.range = 0.3f, d.filter = LightFilter::Trilinear;
+  d.specular = 0.5f, d.shininess = 16, d.roomLight = 0.3f;
+  std::mt19937 rng(14);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<LightParticle> lights;
+  for (int i = 0; i < 96; ++i)
+    lights.push_back(light(Vec3(u(rng) - 0.5f, 0.02f + 0.4f * u(rng), u(rng) - 0.5f),
+                           Vec3(1.0f, 0.4f + 0.6f * u(rng), 0.2f + 0.8f * u(rng)), 0.5f));
+  LightVolume forward(d);
+  d.pipeline = LightPipeline::Deferred;
+  LightVolume deferred(d);
+  ASSERT_FALSE(forward.deferred());
+  ASSERT_TRUE(deferred.deferred());
+  forward.update(lights), deferred.update(lights);
+  BoundaryShape plane, sphere, block;
+  plane.kind = BoundaryShape::Kind::Plane, plane.point = Vec3::Zero(), plane.normal = Vec3::UnitY();
+  sphere.kind = BoundaryShape::Kind::Sphere, sphere.centre = Vec3(0, 0.15f, 0),
+  sphere.radius = 0.15f;
+  block.kind = BoundaryShape::Kind::Block, block.lo = Vec3(0.15f, 0, -0.35f),
+  block.hi = Vec3(0.35f, 0.2f, -0.15f);
+  solids::SolidRenderer solids({plane, sphere, block}, Aabb{Vec3(-1, -1, -1), Vec3(1, 1, 1)},
+                               0.02f);
+  splat::SplatFrame water;  // a sheet of point splats over the floor, partly behind the sphere
+  water.halfSize = 0.03f;
+  for (int j = 0; j < 16; ++j)
+    for (int i = 0; i < 16; ++i)
+      water.points.push_back(
+          splat::SplatVertex{{-0.45f + 0.06f * i, 0.04f, -0.45f + 0.06f * j}, {0, 1, 0}});
+  const int width = 160, height = 120;
+  splat::SplatRenderer r(width, height);
+  r.setLayers({&solids});
+  CameraDesc camera;
+  camera.position = Vec3(0.6f, 0.55f, 0.8f), camera.target = Vec3(0, 0.1f, 0);
+  camera.fovYDegrees = 50;
+  for (float alpha : {1.0f, 0.5f}) {
+    splat::Lighting lighting;
+    lighting.alpha = alpha;
+    lighting.extra = &forward;
+    const splat::RenderImage f = r.render(water, splat::SplatKind::Point, camera, lighting);
+    EXPECT_EQ(r.lastPasses().lighting, 0.0);
+    lighting.extra = &deferred;
+    const splat::RenderImage g = r.render(water, splat::SplatKind::Point, camera, lighting);
+    EXPECT_GT(r.lastPasses().lighting, 0.0) << "the lighting pass ran";
+    lighting.extra = nullptr;
+    const splat::RenderImage unlit = r.render(water, splat::SplatKind::Point, camera, lighting);
+    int worst = 0, lit = 0;
+    for (std::size_t i = 0; i < f.rgb.size(); ++i) {
+      worst = std::max(worst, std::abs(int(f.rgb[i]) - int(g.rgb[i])));
+      lit += std::abs(int(f.rgb[i]) - int(unlit.rgb[i])) > 8;
+    }
+    EXPECT_LE(worst, 1) << "alpha " << alpha;
+    // Not two dark pictures: the particle lights (and the room light) change much of the frame.
+    EXPECT_GT(lit, width * height / 4) << "alpha " << alpha;
   }
 }
 

@@ -42,6 +42,8 @@ class LightVolume final : public splat::ExtraLights {
 
   // Binds the textures to units 6 and 7 and sets the hook's uniforms on `program`.
   void apply(GLuint program) const override;
+  // lights.pipeline "deferred": the frame's opaque surfaces are lit in one full-screen pass.
+  bool deferred() const override { return desc_.pipeline == LightPipeline::Deferred; }
 
   // Which Phong terms apply() switches on (bit 0 diffuse, bit 1 specular; the error figures).
   int terms = 3;

@@ -27,6 +27,9 @@ class SolidRenderer final : public splat::FrameLayer {
                 const gl::ShaderLibrary& shaders = gl::ShaderLibrary::fromEnvironment());
   Order order() const override { return Order::BeforeSplats; }
   void draw(const CameraFrame& camera, const splat::Lighting& lighting) override;
+  // The deferred pipeline's G-buffer (lights.pipeline "deferred"): the same lighting less the
+  // particle lights, with albedo, position and normal per pixel; its program is built on first use.
+  bool drawGBuffer(const CameraFrame& camera, const splat::Lighting& lighting) override;
 
   // The same triangles with `program` (its vertex stage solid.vert: u_projView), depth tested,
   // into the current framebuffer: G-buffers (render/lights/LightComparison.h).
@@ -36,7 +39,10 @@ class SolidRenderer final : public splat::FrameLayer {
   SolidMaterial material;
 
  private:
-  gl::Program program_;
+  void setLighting(GLuint program, const CameraFrame& camera,
+                   const splat::Lighting& lighting) const;
+  gl::ShaderLibrary shaders_;
+  gl::Program program_, gbufferProgram_;
   gl::Buffer vertices_, indices_;
   gl::VertexArray vao_;
   std::size_t indexCount_ = 0;
