@@ -6,6 +6,8 @@
 //   bench_lights loss         what the paper's unsynchronised accumulation loses, per count
 //   bench_lights filters      time and error of every filter x oversampling x voxel size
 //                             against the exact sum, on a grid of surface points
+//   bench_lights pipelines    Fig. 11: ms per frame, forward vs deferred, vs light count, with
+//                             the breakdown (accumulate, draw or G-buffer, lighting pass)
 // Options: --max-lights N (default 1048576), --repeat N (min of N, default 3).
 #include <algorithm>
 #include <chrono>
@@ -20,6 +22,9 @@
 #include "render/gl/GlContext.h"
 #include "render/lights/ExactLights.h"
 #include "render/lights/LightVolume.h"
+#include "render/solids/SolidRenderer.h"
+#include "render/splat/SplatRenderer.h"
+#include "sim/Camera.h"
 #include "sim/LightParticles.h"
 
 using namespace sph;
@@ -201,6 +206,81 @@ void filters() {
   }
 }
 
+// Fig. 11: the paper's world (1 m voxels over 128^3 m, range 0.5 m as Table 1) with solids to
+// light - a floor and 36 spheres and 16 blocks standing in for its bunny and dragon, so that the
+// solids overlap on screen (forward pays the lights for hidden fragments too) - under `n` lights
+// in the lowest 24 m, 960 x 540 pixels. Per pipeline: the accumulation (the same for both), the
+// draw (forward: the solids lit per fragment; deferred: G-buffer, then the lighting pass).
+void pipelines() {
+  std::vector<BoundaryShape> shapes;
+  BoundaryShape floor;
+  floor.kind = BoundaryShape::Kind::Plane, floor.point = Vec3::Zero(), floor.normal = Vec3::UnitY();
+  shapes.push_back(floor);
+  for (int j = 0; j < 6; ++j)
+    for (int i = 0; i < 6; ++i) {
+      BoundaryShape s;
+      s.kind = BoundaryShape::Kind::Sphere;
+      s.centre = Vec3(14.0f + 20.0f * i, 6.0f, 14.0f + 20.0f * j), s.radius = 6.0f;
+      shapes.push_back(s);
+    }
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) {
+      BoundaryShape b;
+      b.kind = BoundaryShape::Kind::Block;
+      b.lo = Vec3(20.0f + 28.0f * i, 0, 22.0f + 28.0f * j), b.hi = b.lo + Vec3(8, 14, 8);
+      shapes.push_back(b);
+    }
+  render::gl::ShaderLibrary shaders = render::gl::ShaderLibrary::fromEnvironment();
+  render::solids::SolidRenderer solids(shapes, Aabb{Vec3(0, -1, 0), Vec3(128, 128, 128)}, 0.5f,
+                                       shaders);
+  const int width = 960, height = 540;
+  render::splat::SplatRenderer renderer(width, height, shaders);
+  renderer.setLayers({&solids});
+  CameraDesc camera;
+  camera.position = Vec3(64, 45, 150), camera.target = Vec3(64, 0, 50), camera.fovYDegrees = 60;
+  camera.near = 1, camera.far = 400;
+  std::printf(
+      "Fig. 11 (128^3, 1 m voxels, range 0.5 m, trilinear; %d x %d, %zu solid triangles): ms per "
+      "frame, min of %d\n",
+      width, height, solids.triangles(), repeat);
+  std::printf("%-10s %-9s %10s %10s %10s %10s %10s\n", "lights", "pipeline", "accumulate",
+              "draw", "G-buffer", "lighting", "frame");
+  for (std::size_t n : {16384u, 65536u, 262144u, 1048576u}) {
+    if (n > maxLights) continue;
+    LightEmitterDesc e;
+    e.box.lo = Vec3::Zero(), e.box.hi = Vec3(128, 24, 128);
+    e.count = n, e.seed = 11, e.speed = 0;
+    LightsDesc d = paperVolume(128, 0.5f, LightAccumulate::Atomic);
+    d.source = LightSource::Emitter, d.emitter = e, d.colour = Vec3(1.0f, 0.8f, 0.4f);
+    d.roomLight = 0.2f;
+    const std::vector<LightParticle> lights = lightParticles(d, Particles{}, 0.0);
+    LightVolume forward(d, shaders);
+    const double accumulate = minUpdate(forward, lights);
+    d.pipeline = LightPipeline::Deferred;
+    LightVolume deferred(d, shaders);
+    deferred.update(lights);
+    for (const LightVolume* v : {&forward, &deferred}) {
+      render::splat::Lighting lighting;
+      lighting.extra = v;
+      renderer.render(render::splat::SplatFrame{}, render::splat::SplatKind::Point, camera,
+                      lighting);  // compiles llvmpipe's variants
+      double draw = 1e30, gbuffer = 0, lit = 0;
+      for (int k = 0; k < repeat; ++k) {
+        const double t = renderer
+                             .render(render::splat::SplatFrame{}, render::splat::SplatKind::Point,
+                                     camera, lighting)
+                             .seconds;
+        if (t < draw)
+          draw = t, gbuffer = renderer.lastPasses().gbuffer, lit = renderer.lastPasses().lighting;
+      }
+      std::printf("%-10zu %-9s %10.1f %10.1f %10.1f %10.1f %10.1f\n", n,
+                  nameOf(v->desc().pipeline), 1e3 * accumulate, 1e3 * draw, 1e3 * gbuffer,
+                  1e3 * lit, 1e3 * (accumulate + draw));
+      std::fflush(stdout);
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -210,9 +290,10 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--max-lights")) maxLights = std::strtoull(argv[i + 1], nullptr, 10);
     if (!std::strcmp(argv[i], "--repeat")) repeat = std::atoi(argv[i + 1]);
   }
-  if (what != "accumulate" && what != "loss" && what != "filters") {
-    std::fprintf(stderr,
-                 "usage: bench_lights accumulate|loss|filters [--max-lights N] [--repeat N]\n");
+  if (what != "accumulate" && what != "loss" && what != "filters" && what != "pipelines") {
+    std::fprintf(
+        stderr,
+        "usage: bench_lights accumulate|loss|filters|pipelines [--max-lights N] [--repeat N]\n");
     return 2;
   }
   render::gl::GlContext context = render::gl::GlContext::headless();
@@ -220,5 +301,6 @@ int main(int argc, char** argv) {
   if (what == "accumulate") accumulate();
   if (what == "loss") loss();
   if (what == "filters") filters();
+  if (what == "pipelines") pipelines();
   return 0;
 }

@@ -417,6 +417,50 @@ TEST_F(LightsGl, WaterSplatsAreLitByTheVolumeToo) {
   }
 }
 
+// More lights in one voxel than the fixed point holds (2^31 / 16384 = 131,072 full-colour lights):
+// the wrap is detected and the frame accumulated again at a coarser scale, so the voxel holds the
+// CPU sum instead of a wrapped, negative one; past RGBA16F's 65504 the colour saturates there and
+// the direction keeps where it points.
+TEST_F(LightsGl, ACrowdedVoxelDoesNotWrap) {
+  LightsDesc d = smallVolume();
+  d.range = 0.1f;      // one voxel lit: fast
+  d.intensity = 0.1f;  // the fixed point's step is relative to the intensity: wraps all the same
+  const int count = 200000;
+  // Every light a quarter voxel from the centre of voxel (4, 4, 4), on +x, intensity 0.1.
+  const Vec3 centre = voxelCentre(d, 4, 4, 4);
+  const Vec3 at = centre + Vec3(0.25f * d.voxelSize, 0, 0);
+  std::vector<LightParticle> lights(count, light(at, Vec3(1.0f, 0.5f, 0.25f), d.intensity));
+  LightVolume v(d);
+  v.update(lights);
+  EXPECT_TRUE(v.lastRescaled());
+  EXPECT_LT(v.lastFixedScale(), fixedScale(d) / 1.5f);
+  const std::size_t voxel = (4u * 8u + 4u) * 8u + 4u;
+  const float dist = 0.25f * d.voxelSize;
+  const float att = lightAttenuation(d, dist);
+  const Texels colour = v.readColour(), direction = v.readDirection();
+  const float want[3] = {count * 0.1f * att, count * 0.05f * att, count * 0.025f * att};
+  for (int a = 0; a < 3; ++a)  // RGBA16F: 2^-11 relative, plus half a (coarser) step per light
+    EXPECT_NEAR(colour[voxel][a], want[a], want[a] * 1e-3f + count * 0.5f / v.lastFixedScale())
+        << "channel " << a;
+  EXPECT_NEAR(direction[voxel][0], count * 0.1f,
+              count * 0.1f * 1e-3f + count * 0.5f / v.lastFixedScale());
+  EXPECT_NEAR(direction[voxel][1], 0.0f, 1e-3f);
+  // A frame of few lights goes back to the fine scale.
+  v.update({light(at, Vec3::Ones(), d.intensity)});
+  EXPECT_FALSE(v.lastRescaled());
+  EXPECT_EQ(v.lastFixedScale(), fixedScale(d));
+  // Full intensity: 200,000 x 1 / att is past RGBA16F's 65504: saturated, not infinite or wrapped.
+  for (LightParticle& l : lights) l = light(at, Vec3::Ones(), 1.0f);
+  d.intensity = 1.0f;
+  LightVolume bright(d);
+  bright.update(lights);
+  EXPECT_TRUE(bright.lastRescaled());
+  const Texels c2 = bright.readColour(), d2 = bright.readDirection();
+  EXPECT_EQ(c2[voxel][0], 65504.0f);
+  EXPECT_EQ(d2[voxel][0], 65504.0f);
+  EXPECT_EQ(d2[voxel][1], 0.0f);
+}
+
 // lights.pipeline "deferred" (seed 004 Fig. 11): a G-buffer of the solids and the opaque water,
 // then one full-screen lighting pass, gives the forward image to one 8-bit step per channel -
 // solids per pixel, point splats lit at their centre either way, translucent water composited
