@@ -14,7 +14,7 @@ SolidRenderer::SolidRenderer(const std::vector<BoundaryShape>& shapes, const Aab
     : shaders_(shaders) {
   program_ = gl::buildProgram(
       shaders, {{gl::ShaderStage::Vertex, "solid.vert"}, {gl::ShaderStage::Fragment, "solid.frag"}},
-      "solids");
+      "solids", {"SPH_NO_PARTICLE_LIGHTS"});
   SolidMesh mesh;
   for (const BoundaryShape& s : shapes) mesh.append(tessellate(s, domain, thickness));
   indexCount_ = mesh.indices.size();
@@ -60,8 +60,15 @@ void SolidRenderer::setLighting(GLuint p, const CameraFrame& camera,
 
 void SolidRenderer::draw(const CameraFrame& camera, const splat::Lighting& lighting) {
   if (indexCount_ == 0) return;
-  setLighting(program_.id(), camera, lighting);
-  drawWith(program_.id(), camera);
+  if (lighting.extra != nullptr && litProgram_.id() == 0) {
+    litProgram_ = gl::buildProgram(
+        shaders_,
+        {{gl::ShaderStage::Vertex, "solid.vert"}, {gl::ShaderStage::Fragment, "solid.frag"}},
+        "solids with particle lights");
+  }
+  const GLuint p = lighting.extra != nullptr ? litProgram_.id() : program_.id();
+  setLighting(p, camera, lighting);
+  drawWith(p, camera);
 }
 
 bool SolidRenderer::drawGBuffer(const CameraFrame& camera, const splat::Lighting& lighting) {

@@ -42,7 +42,10 @@ class SolidRenderer final : public splat::FrameLayer {
   void setLighting(GLuint program, const CameraFrame& camera,
                    const splat::Lighting& lighting) const;
   gl::ShaderLibrary shaders_;
-  gl::Program program_, gbufferProgram_;
+  // Without the particle lights' code (SPH_NO_PARTICLE_LIGHTS), as the splats' programs: llvmpipe
+  // pays for the volume sampling behind a switch that is off (docs/benchmarks.md, "Particle
+  // lights"). The lit program (forward) and the G-buffer's (deferred) are built on first use.
+  gl::Program program_, litProgram_, gbufferProgram_;
   gl::Buffer vertices_, indices_;
   gl::VertexArray vao_;
   std::size_t indexCount_ = 0;

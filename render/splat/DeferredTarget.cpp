@@ -23,13 +23,14 @@ void DeferredTarget::begin(int width, int height) {
       glTextureStorage2D(t.id(), 1, format, width, height);
       return t;
     };
-    // Float position and normal: the lighting pass must see what the forward shader saw (the
-    // two pipelines agree to one 8-bit step, tests/test_lights.cpp). The lit colour in float too:
-    // RGBA16F's 2^-11 would cost a third of a step.
+    // 32-bit float position and normal: the lighting pass must see what the forward shader saw
+    // (the two pipelines agree to one 8-bit step, tests/test_lights.cpp; a half-float normal moved
+    // sharp highlights by 2 steps). The lit colour in float too: RGBA16F's 2^-11 would cost a
+    // third of a step. The albedo only scales the diffuse term: half floats are enough.
     lit_ = texture(GL_RGBA32F);
     albedo_ = texture(GL_RGBA16F);
     position_ = texture(GL_RGBA32F);
-    normal_ = texture(GL_RGBA16F);
+    normal_ = texture(GL_RGBA32F);
     depth_ = texture(GL_DEPTH_COMPONENT32F);
     framebuffer_ = gl::Framebuffer::create();
     const GLuint f = framebuffer_.id();
