@@ -10,6 +10,7 @@ layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Lights { LightParticle lights[]; };
 uniform uint u_count;
+uniform uint u_first;  // this dispatch's first light (GL allows 65,535 groups of 64 per dispatch)
 uniform vec3 u_attenuation;  // constant, linear, quadratic
 uniform float u_range;       // m
 
@@ -34,7 +35,7 @@ layout(binding = 5, r32i) uniform iimage3D u_sum5;
 #endif
 
 void main() {
-  uint i = gl_GlobalInvocationID.x;
+  uint i = u_first + gl_GlobalInvocationID.x;
   if (i >= u_count) return;
   vec3 p = lights[i].position.xyz;
   vec4 c = lights[i].colour;

@@ -461,6 +461,24 @@ TEST_F(LightsGl, ACrowdedVoxelDoesNotWrap) {
   EXPECT_EQ(d2[voxel][1], 0.0f);
 }
 
+// More lights than one dispatch of 65,535 groups of 64 holds (4,194,240; the paper's Table 1 goes
+// to 4,194,304): the lights past it are accumulated too. The first light lights voxel (0, 0, 0),
+// the last 128 voxel (7, 7, 7), the others lie far outside the volume (nothing to visit: fast).
+TEST_F(LightsGl, MoreLightsThanOneDispatchAreAllAccumulated) {
+  LightsDesc d = smallVolume();
+  d.range = 0.1f, d.attenuation = {1.0f, 0.0f, 0.0f};
+  const std::size_t count = 4194304 + 64, tail = 128;
+  std::vector<LightParticle> lights(count, light(Vec3(-100, -100, -100), Vec3::Ones(), 1.0f));
+  lights[0] = light(voxelCentre(d, 0, 0, 0), Vec3::Ones(), 1.0f);
+  for (std::size_t i = count - tail; i < count; ++i)
+    lights[i] = light(voxelCentre(d, 7, 7, 7), Vec3::Ones(), 1.0f);
+  LightVolume v(d);
+  v.update(lights);
+  const Texels colour = v.readColour();
+  EXPECT_EQ(colour[0][0], 1.0f);
+  EXPECT_EQ(colour[511][0], float(tail));
+}
+
 // lights.pipeline "deferred" (seed 004 Fig. 11): a G-buffer of the solids and the opaque water,
 // then one full-screen lighting pass, gives the forward image to one 8-bit step per channel -
 // solids per pixel, point splats lit at their centre either way, translucent water composited

@@ -169,7 +169,14 @@ bool LightVolume::accumulate(std::size_t count, float scale) {
   const GLuint a = accumulate_.id();
   glProgramUniform1ui(a, glGetUniformLocation(a, "u_count"), static_cast<GLuint>(count));
   glUseProgram(a);
-  if (count > 0) glDispatchCompute(static_cast<GLuint>((count + 63) / 64), 1, 1);
+  // GL guarantees 65,535 work groups per dispatch (llvmpipe allows no more): 4,194,240 lights of
+  // 64; a larger frame goes in several dispatches (one more would fail and accumulate nothing).
+  constexpr std::size_t kLightsPerDispatch = 65535 * 64;
+  for (std::size_t first = 0; first < count; first += kLightsPerDispatch) {
+    glProgramUniform1ui(a, glGetUniformLocation(a, "u_first"), static_cast<GLuint>(first));
+    const std::size_t n = std::min(kLightsPerDispatch, count - first);
+    glDispatchCompute(static_cast<GLuint>((n + 63) / 64), 1, 1);
+  }
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                   GL_BUFFER_UPDATE_BARRIER_BIT);
   GLuint wrapped = 0;
