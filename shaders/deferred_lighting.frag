@@ -27,10 +27,11 @@ void main() {
   vec4 lit = texelFetch(u_gLit, px, 0);
   if (lit.a < 0.5) discard;  // nothing drawn here: the cleared background stays
   vec3 position = texelFetch(u_gPosition, px, 0).xyz;
-  vec3 n = texelFetch(u_gNormal, px, 0).xyz;
+  vec4 normal = texelFetch(u_gNormal, px, 0);
+  vec3 n = normal.xyz;
   vec3 albedo = texelFetch(u_gAlbedo, px, 0).rgb;
   vec3 c = lit.rgb + particleLight(albedo, position, n, normalize(u_eye - position));
   o_colour = vec4(toSrgb(c), 1.0);
-  o_normal = vec4(n, 1.0);
+  o_normal = normal.a > 0.5 ? vec4(n, 1.0) : vec4(0.0);  // the water's only, as forward
   gl_FragDepth = texelFetch(u_gDepth, px, 0).r;
 }

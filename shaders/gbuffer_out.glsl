@@ -5,11 +5,12 @@ layout(location = 0) out vec4 g_lit;       // linear colour lit by all but the p
                                            // alpha 1 where a surface was drawn
 layout(location = 1) out vec4 g_albedo;    // the surface colour the particle lights multiply
 layout(location = 2) out vec4 g_position;  // world position, m
-layout(location = 3) out vec4 g_normal;    // outward unit normal
+layout(location = 3) out vec4 g_normal;    // outward unit normal; alpha 1 on the water
 
-void writeGBuffer(vec3 lit, vec3 albedo, vec3 position, vec3 n) {
+// `water`: the error figures' normal target is the water's alone (splat.frag writes it forward).
+void writeGBuffer(vec3 lit, vec3 albedo, vec3 position, vec3 n, bool water) {
   g_lit = vec4(lit, 1.0);
   g_albedo = vec4(albedo, 1.0);
   g_position = vec4(position, 1.0);
-  g_normal = vec4(n, 1.0);
+  g_normal = vec4(n, water ? 1.0 : 0.0);
 }

@@ -25,7 +25,7 @@ void main() {
   vec3 n = normalize(v_normal);
   vec3 lit = shadeSurfaceAt(v_position, n, normalize(u_eye - v_position));
 #ifdef SPH_GBUFFER
-  writeGBuffer(lit, u_base, v_position, n);
+  writeGBuffer(lit, u_base, v_position, n, false);
 #else
   o_colour = vec4(toSrgb(lit), 1.0);
 #endif

@@ -14,7 +14,7 @@ uniform vec3 u_base;
 
 void main() {
   float len = length(v_normal);
-  writeGBuffer(v_colour, u_base, v_position, len > 0.0 ? v_normal / len : vec3(0.0));
+  writeGBuffer(v_colour, u_base, v_position, len > 0.0 ? v_normal / len : vec3(0.0), true);
 }
 #else
 uniform float u_alpha;

@@ -537,6 +537,18 @@ TEST_F(LightsGl, DeferredGivesTheForwardImageToOneStep) {
       lit += std::abs(int(f.rgb[i]) - int(unlit.rgb[i])) > 8;
     }
     EXPECT_LE(worst, 1) << "alpha " << alpha;
+    // The error figures' normal target: the water's coverage and normals, as forward draws them.
+    lighting.extra = &forward;
+    const splat::RenderImage fs = r.render(water, splat::SplatKind::Point, camera, lighting,
+                                           splat::ImageContents::ColourAndNormals);
+    lighting.extra = &deferred;
+    const splat::RenderImage gs = r.render(water, splat::SplatKind::Point, camera, lighting,
+                                           splat::ImageContents::ColourAndNormals);
+    EXPECT_EQ(fs.covered, gs.covered) << "alpha " << alpha;
+    float normalDiff = 0;
+    for (std::size_t i = 0; i < fs.normal.size(); ++i)
+      normalDiff = std::max(normalDiff, std::abs(fs.normal[i] - gs.normal[i]));
+    EXPECT_LT(normalDiff, 1e-3f) << "alpha " << alpha;
     // Not two dark pictures: the particle lights (and the room light) change much of the frame.
     EXPECT_GT(lit, width * height / 4) << "alpha " << alpha;
   }
