@@ -3,10 +3,16 @@
 // error figures an exact reference).
 //   bench_lights accumulate   Table 1 / Table 2: ms to clear + accumulate (+ resolve) the volume
 //                             vs light count, volume size and range; atomic vs paper
+//   bench_lights table1       Table 1 alone (the counts up to --max-lights)
 //   bench_lights loss         what the paper's unsynchronised accumulation loses, per count
 //   bench_lights filters      time and error of every filter x oversampling x voxel size
 //                             against the exact sum, on a grid of surface points
-// Options: --max-lights N (default 1048576), --repeat N (min of N, default 3).
+//   bench_lights pipelines    Fig. 11: ms per frame, forward vs deferred, vs light count, with
+//                             the breakdown (accumulate, draw or G-buffer, lighting pass)
+//   bench_lights solids       the solids' draw in a scene without lights (the cost of the
+//                             particle lights' code compiled into their shader)
+// Options: --max-lights N (default 1048576), --repeat N (min of N, default 3), --ppm PREFIX
+// (pipelines: each frame as a picture).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -20,6 +26,9 @@
 #include "render/gl/GlContext.h"
 #include "render/lights/ExactLights.h"
 #include "render/lights/LightVolume.h"
+#include "render/solids/SolidRenderer.h"
+#include "render/splat/SplatRenderer.h"
+#include "sim/Camera.h"
 #include "sim/LightParticles.h"
 
 using namespace sph;
@@ -29,6 +38,7 @@ namespace {
 
 int repeat = 3;
 std::size_t maxLights = 1048576;
+std::string ppm;  // pipelines: write each frame to PREFIX_N_PIPELINE.ppm
 
 // Lights uniform in a cube of `side` m from the origin, white, intensity 1.
 std::vector<LightParticle> uniformLights(std::size_t n, float side, unsigned seed) {
@@ -63,7 +73,7 @@ std::vector<std::size_t> counts() {
   return c;
 }
 
-void accumulate() {
+void table1() {
   std::printf(
       "Table 1 (range 0.5 m, 1 m voxels): ms per accumulation (clear + lights + resolve)\n");
   std::printf("%-10s %-7s", "volume", "mode");
@@ -80,6 +90,9 @@ void accumulate() {
       std::printf("\n");
     }
   }
+}
+
+void table2() {
   std::printf("\nTable 2 (128^3, 1 m voxels): ms per accumulation vs range, atomic\n");
   std::printf("%-10s", "range");
   for (std::size_t n : counts()) std::printf(" %10zu", n);
@@ -201,6 +214,127 @@ void filters() {
   }
 }
 
+// Fig. 11: the paper's world (1 m voxels over 128^3 m, range 0.5 m as Table 1) with solids to
+// light - a floor and 36 spheres and 16 blocks standing in for its bunny and dragon, so that the
+// solids overlap on screen (forward pays the lights for hidden fragments too) - under `n` lights
+// in the lowest 24 m, 960 x 540 pixels. Per pipeline: the accumulation (the same for both), the
+// draw (forward: the solids lit per fragment; deferred: G-buffer, then the lighting pass).
+std::vector<BoundaryShape> fig11Solids() {
+  std::vector<BoundaryShape> shapes;
+  BoundaryShape floor;
+  floor.kind = BoundaryShape::Kind::Plane, floor.point = Vec3::Zero(), floor.normal = Vec3::UnitY();
+  shapes.push_back(floor);
+  for (int j = 0; j < 6; ++j)
+    for (int i = 0; i < 6; ++i) {
+      BoundaryShape s;
+      s.kind = BoundaryShape::Kind::Sphere;
+      s.centre = Vec3(14.0f + 20.0f * i, 6.0f, 14.0f + 20.0f * j), s.radius = 6.0f;
+      shapes.push_back(s);
+    }
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) {
+      BoundaryShape b;
+      b.kind = BoundaryShape::Kind::Block;
+      b.lo = Vec3(20.0f + 28.0f * i, 0, 22.0f + 28.0f * j), b.hi = b.lo + Vec3(8, 14, 8);
+      shapes.push_back(b);
+    }
+  return shapes;
+}
+
+CameraDesc fig11Camera() {
+  CameraDesc camera;
+  camera.position = Vec3(64, 45, 150), camera.target = Vec3(64, 0, 50), camera.fovYDegrees = 60;
+  camera.near = 1, camera.far = 400;
+  return camera;
+}
+
+// The cost of the particle lights' code in the solids' fragment shader in a scene without
+// lights: the Fig. 11 solids drawn with no volume (the program the build gives a scene without
+// `lights`), ms per draw, min of `repeat`.
+void solidsWithoutLights() {
+  render::solids::SolidRenderer solids(fig11Solids(), Aabb{Vec3(0, -1, 0), Vec3(128, 128, 128)},
+                                       0.5f);
+  render::splat::SplatRenderer renderer(960, 540);
+  renderer.setLayers({&solids});
+  render::splat::Lighting lighting;
+  double best = 1e30;
+  for (int k = 0; k <= repeat; ++k) {
+    const double t = renderer
+                         .render(render::splat::SplatFrame{}, render::splat::SplatKind::Point,
+                                 fig11Camera(), lighting)
+                         .seconds;
+    if (k > 0) best = std::min(best, t);  // the first compiles llvmpipe's variants
+  }
+  std::printf("solids without lights (%zu triangles, 960 x 540): %.2f ms per draw, min of %d\n",
+              solids.triangles(), 1e3 * best, repeat);
+}
+
+void pipelines() {
+  render::gl::ShaderLibrary shaders = render::gl::ShaderLibrary::fromEnvironment();
+  render::solids::SolidRenderer solids(fig11Solids(), Aabb{Vec3(0, -1, 0), Vec3(128, 128, 128)},
+                                       0.5f, shaders);
+  const int width = 960, height = 540;
+  render::splat::SplatRenderer renderer(width, height, shaders);
+  renderer.setLayers({&solids});
+  const CameraDesc camera = fig11Camera();
+  std::printf(
+      "Fig. 11 (128^3, 1 m voxels, range 0.5 m, trilinear; %d x %d, %zu solid triangles): ms per "
+      "frame, min of %d\n",
+      width, height, solids.triangles(), repeat);
+  std::printf("%-10s %-9s %10s %10s %10s %10s %10s %9s\n", "lights", "pipeline", "accumulate",
+              "draw", "G-buffer", "lighting", "frame", "max diff");
+  for (std::size_t n : {16384u, 65536u, 262144u, 1048576u}) {
+    if (n > maxLights) continue;
+    LightEmitterDesc e;
+    e.box.lo = Vec3::Zero(), e.box.hi = Vec3(128, 24, 128);
+    e.count = n, e.seed = 11, e.speed = 0;
+    LightsDesc d = paperVolume(128, 0.5f, LightAccumulate::Atomic);
+    d.source = LightSource::Emitter, d.emitter = e, d.colour = Vec3(1.0f, 0.8f, 0.4f);
+    d.roomLight = 0.2f;
+    const std::vector<LightParticle> lights = lightParticles(d, Particles{}, 0.0);
+    LightVolume forward(d, shaders);
+    const double accumulate = minUpdate(forward, lights);
+    d.pipeline = LightPipeline::Deferred;
+    LightVolume deferred(d, shaders);
+    deferred.update(lights);
+    std::vector<std::uint8_t> first;
+    for (const LightVolume* v : {&forward, &deferred}) {
+      render::splat::Lighting lighting;
+      lighting.extra = v;
+      renderer.render(render::splat::SplatFrame{}, render::splat::SplatKind::Point, camera,
+                      lighting);  // compiles llvmpipe's variants
+      double draw = 1e30, gbuffer = 0, lit = 0;
+      render::splat::RenderImage image;
+      for (int k = 0; k < repeat; ++k) {
+        image = renderer.render(render::splat::SplatFrame{}, render::splat::SplatKind::Point,
+                                camera, lighting);
+        if (image.seconds < draw) {
+          draw = image.seconds;
+          gbuffer = renderer.lastPasses().gbuffer, lit = renderer.lastPasses().lighting;
+        }
+      }
+      // The deferred frame against the forward one (8-bit steps): the same picture.
+      int diff = 0;
+      if (first.empty()) first = image.rgb;
+      for (std::size_t i = 0; i < first.size(); ++i)
+        diff = std::max(diff, std::abs(int(first[i]) - int(image.rgb[i])));
+      if (!ppm.empty()) {  // to look at
+        const std::string path =
+            ppm + "_" + std::to_string(n) + "_" + nameOf(v->desc().pipeline) + ".ppm";
+        if (std::FILE* f = std::fopen(path.c_str(), "wb")) {
+          std::fprintf(f, "P6 %d %d 255\n", width, height);
+          std::fwrite(image.rgb.data(), 1, image.rgb.size(), f);
+          std::fclose(f);
+        }
+      }
+      std::printf("%-10zu %-9s %10.1f %10.1f %10.1f %10.1f %10.1f %9d\n", n,
+                  nameOf(v->desc().pipeline), 1e3 * accumulate, 1e3 * draw, 1e3 * gbuffer,
+                  1e3 * lit, 1e3 * (accumulate + draw), diff);
+      std::fflush(stdout);
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -209,16 +343,23 @@ int main(int argc, char** argv) {
   for (int i = 2; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--max-lights")) maxLights = std::strtoull(argv[i + 1], nullptr, 10);
     if (!std::strcmp(argv[i], "--repeat")) repeat = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--ppm")) ppm = argv[i + 1];
   }
-  if (what != "accumulate" && what != "loss" && what != "filters") {
+  if (what != "accumulate" && what != "table1" && what != "loss" && what != "filters" &&
+      what != "pipelines" && what != "solids") {
     std::fprintf(stderr,
-                 "usage: bench_lights accumulate|loss|filters [--max-lights N] [--repeat N]\n");
+                 "usage: bench_lights accumulate|table1|loss|filters|pipelines|solids "
+                 "[--max-lights N] [--repeat "
+                 "N] [--ppm PREFIX]\n");
     return 2;
   }
   render::gl::GlContext context = render::gl::GlContext::headless();
   std::printf("GL: %s\n", context.info().renderer.c_str());
-  if (what == "accumulate") accumulate();
+  if (what == "accumulate" || what == "table1") table1();
+  if (what == "accumulate") table2();
   if (what == "loss") loss();
   if (what == "filters") filters();
+  if (what == "pipelines") pipelines();
+  if (what == "solids") solidsWithoutLights();
   return 0;
 }

@@ -248,8 +248,6 @@ LightsDesc readLights(JsonReader r) {
                                              "an integer in [1, 4] (samples per axis; 1 = off)",
                                              [](double v) { return integerIn(v, 1, 4); }));
   d.pipeline = r.choice("pipeline", std::optional(LightPipeline::Forward));
-  if (d.pipeline == LightPipeline::Deferred)
-    r.fail("pipeline", "\"deferred\" is not implemented yet; use \"forward\"");
   d.accumulate = r.choice("accumulate", std::optional(LightAccumulate::Atomic));
   d.diffuse = static_cast<float>(r.number("diffuse", d.diffuse, "a number in [0, 10]",
                                           [](double v) { return v >= 0 && v <= 10; }));

@@ -10,6 +10,7 @@ layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Lights { LightParticle lights[]; };
 uniform uint u_count;
+uniform uint u_first;  // this dispatch's first light (GL allows 65,535 groups of 64 per dispatch)
 uniform vec3 u_attenuation;  // constant, linear, quadratic
 uniform float u_range;       // m
 
@@ -17,6 +18,14 @@ uniform float u_range;       // m
 layout(binding = 0, rgba16f) uniform image3D u_colourImage;
 layout(binding = 1, rgba16f) uniform image3D u_directionImage;
 #else
+// Set when an add carried a voxel's sum past the int32 range (imageAtomicAdd returns the sum
+// before it): render/lights/LightVolume.cpp then redoes the frame at a scale no voxel can wrap.
+layout(std430, binding = 1) buffer Overflow { uint u_overflowed; };
+bool wraps(int before, int add) {
+  return add > 0 ? before > 2147483647 - add : before < (-2147483647 - 1) - add;
+}
+#define ADD_FIXED(image, value) \
+  if (value != 0 && wraps(imageAtomicAdd(image, v, value), value)) atomicOr(u_overflowed, 1u)
 layout(binding = 0, r32i) uniform iimage3D u_sum0;
 layout(binding = 1, r32i) uniform iimage3D u_sum1;
 layout(binding = 2, r32i) uniform iimage3D u_sum2;
@@ -26,7 +35,7 @@ layout(binding = 5, r32i) uniform iimage3D u_sum5;
 #endif
 
 void main() {
-  uint i = gl_GlobalInvocationID.x;
+  uint i = u_first + gl_GlobalInvocationID.x;
   if (i >= u_count) return;
   vec3 p = lights[i].position.xyz;
   vec4 c = lights[i].colour;
@@ -51,12 +60,12 @@ void main() {
 #else
         ivec3 fc = ivec3(round(colour * u_fixedScale));
         ivec3 fd = ivec3(round(direction * u_fixedScale));
-        if (fc.x != 0) imageAtomicAdd(u_sum0, v, fc.x);
-        if (fc.y != 0) imageAtomicAdd(u_sum1, v, fc.y);
-        if (fc.z != 0) imageAtomicAdd(u_sum2, v, fc.z);
-        if (fd.x != 0) imageAtomicAdd(u_sum3, v, fd.x);
-        if (fd.y != 0) imageAtomicAdd(u_sum4, v, fd.y);
-        if (fd.z != 0) imageAtomicAdd(u_sum5, v, fd.z);
+        ADD_FIXED(u_sum0, fc.x);
+        ADD_FIXED(u_sum1, fc.y);
+        ADD_FIXED(u_sum2, fc.z);
+        ADD_FIXED(u_sum3, fd.x);
+        ADD_FIXED(u_sum4, fd.y);
+        ADD_FIXED(u_sum5, fd.z);
 #endif
       }
     }

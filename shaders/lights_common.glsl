@@ -11,5 +11,6 @@ uniform vec3 u_origin;
 uniform float u_voxelSize;
 uniform ivec3 u_voxels;
 // The fixed-point scale of the atomic sums: a voxel holds round(value * scale) in an int;
-// 16384 / the lights' intensity (render/lights/LightVolume.cpp).
+// 16384 / the lights' intensity, less in a frame where that would wrap a voxel
+// (render/lights/LightVolume.cpp, fixedScale and safeFixedScale).
 uniform float u_fixedScale;

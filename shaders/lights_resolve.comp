@@ -19,6 +19,13 @@ void main() {
   if (any(greaterThanEqual(v, u_voxels))) return;
   vec3 colour = vec3(imageLoad(u_sum0, v).x, imageLoad(u_sum1, v).x, imageLoad(u_sum2, v).x);
   vec3 direction = vec3(imageLoad(u_sum3, v).x, imageLoad(u_sum4, v).x, imageLoad(u_sum5, v).x);
-  imageStore(u_colourImage, v, vec4(colour / u_fixedScale, 0.0));
-  imageStore(u_directionImage, v, vec4(direction / u_fixedScale, 0.0));
+  // RGBA16F holds up to 65504: a brighter voxel saturates there (not infinity); the direction is
+  // only used normalised, so a longer one is scaled down whole, keeping where it points.
+  const float halfMax = 65504.0;
+  colour = min(colour / u_fixedScale, vec3(halfMax));
+  direction /= u_fixedScale;
+  float longest = max(max(abs(direction.x), abs(direction.y)), abs(direction.z));
+  if (longest > halfMax) direction *= halfMax / longest;
+  imageStore(u_colourImage, v, vec4(colour, 0.0));
+  imageStore(u_directionImage, v, vec4(direction, 0.0));
 }

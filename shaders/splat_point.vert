@@ -19,6 +19,9 @@ uniform float u_halfSide;  // m, half the side of the square
 
 out vec3 v_colour;
 out vec3 v_normal;
+#ifdef SPH_GBUFFER
+out vec3 v_position;  // the deferred pipeline's G-buffer (splat.frag)
+#endif
 
 void main() {
   vec2 corner = vec2((gl_VertexID & 1) != 0 ? 1.0 : -1.0, (gl_VertexID & 2) != 0 ? 1.0 : -1.0);
@@ -27,5 +30,8 @@ void main() {
   vec3 n = (u_twoSided != 0 && dot(a_normal, toEye) < 0.0) ? -a_normal : a_normal;
   v_colour = shadeSurfaceAt(a_centre, n, toEye);
   v_normal = a_normal;
+#ifdef SPH_GBUFFER
+  v_position = a_centre;
+#endif
   gl_Position = u_projView * vec4(p, 1.0);
 }

@@ -16,11 +16,17 @@ uniform int u_twoSided;
 
 out vec3 v_colour;
 out vec3 v_normal;
+#ifdef SPH_GBUFFER
+out vec3 v_position;  // the deferred pipeline's G-buffer (splat.frag)
+#endif
 
 void main() {
   vec3 toEye = normalize(u_eye - a_position);
   vec3 n = (u_twoSided != 0 && dot(a_normal, toEye) < 0.0) ? -a_normal : a_normal;
   v_colour = shadeSurfaceAt(a_position, n, toEye);
   v_normal = a_normal;
+#ifdef SPH_GBUFFER
+  v_position = a_position;
+#endif
   gl_Position = u_projView * vec4(a_position, 1.0);
 }

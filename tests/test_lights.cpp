@@ -6,8 +6,10 @@
 // hand-computed point and ranks trilinear above nearest; a volume GL cannot hold is refused.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <random>
 
@@ -412,6 +414,143 @@ TEST_F(LightsGl, WaterSplatsAreLitByTheVolumeToo) {
     // The nearest voxel's centre is 0.3 m under the lamp: 1 / (1 + 4 * 0.09), straight down.
     EXPECT_NEAR(linear(bright.rgb[3 * centre + a]), unlit.base[a] / (1 + 4 * 0.09f), 0.02f)
         << "channel " << a;
+  }
+}
+
+// More lights in one voxel than the fixed point holds (2^31 / 16384 = 131,072 full-colour lights):
+// the wrap is detected and the frame accumulated again at a coarser scale, so the voxel holds the
+// CPU sum instead of a wrapped, negative one; past RGBA16F's 65504 the colour saturates there and
+// the direction keeps where it points.
+TEST_F(LightsGl, ACrowdedVoxelDoesNotWrap) {
+  LightsDesc d = smallVolume();
+  d.range = 0.1f;      // one voxel lit: fast
+  d.intensity = 0.1f;  // the fixed point's step is relative to the intensity: wraps all the same
+  const int count = 200000;
+  // Every light a quarter voxel from the centre of voxel (4, 4, 4), on +x, intensity 0.1.
+  const Vec3 centre = voxelCentre(d, 4, 4, 4);
+  const Vec3 at = centre + Vec3(0.25f * d.voxelSize, 0, 0);
+  std::vector<LightParticle> lights(count, light(at, Vec3(1.0f, 0.5f, 0.25f), d.intensity));
+  LightVolume v(d);
+  v.update(lights);
+  EXPECT_TRUE(v.lastRescaled());
+  EXPECT_LT(v.lastFixedScale(), fixedScale(d) / 1.5f);
+  const std::size_t voxel = (4u * 8u + 4u) * 8u + 4u;
+  const float dist = 0.25f * d.voxelSize;
+  const float att = lightAttenuation(d, dist);
+  const Texels colour = v.readColour(), direction = v.readDirection();
+  const float want[3] = {count * 0.1f * att, count * 0.05f * att, count * 0.025f * att};
+  for (int a = 0; a < 3; ++a)  // RGBA16F: 2^-11 relative, plus half a (coarser) step per light
+    EXPECT_NEAR(colour[voxel][a], want[a], want[a] * 1e-3f + count * 0.5f / v.lastFixedScale())
+        << "channel " << a;
+  EXPECT_NEAR(direction[voxel][0], count * 0.1f,
+              count * 0.1f * 1e-3f + count * 0.5f / v.lastFixedScale());
+  EXPECT_NEAR(direction[voxel][1], 0.0f, 1e-3f);
+  // A frame of few lights goes back to the fine scale.
+  v.update({light(at, Vec3::Ones(), d.intensity)});
+  EXPECT_FALSE(v.lastRescaled());
+  EXPECT_EQ(v.lastFixedScale(), fixedScale(d));
+  // Full intensity: 200,000 x 1 / att is past RGBA16F's 65504: saturated, not infinite or wrapped.
+  for (LightParticle& l : lights) l = light(at, Vec3::Ones(), 1.0f);
+  d.intensity = 1.0f;
+  LightVolume bright(d);
+  bright.update(lights);
+  EXPECT_TRUE(bright.lastRescaled());
+  const Texels c2 = bright.readColour(), d2 = bright.readDirection();
+  EXPECT_EQ(c2[voxel][0], 65504.0f);
+  EXPECT_EQ(d2[voxel][0], 65504.0f);
+  EXPECT_EQ(d2[voxel][1], 0.0f);
+}
+
+// More lights than one dispatch of 65,535 groups of 64 holds (4,194,240; the paper's Table 1 goes
+// to 4,194,304): the lights past it are accumulated too. The first light lights voxel (0, 0, 0),
+// the last 128 voxel (7, 7, 7), the others lie far outside the volume (nothing to visit: fast).
+TEST_F(LightsGl, MoreLightsThanOneDispatchAreAllAccumulated) {
+  LightsDesc d = smallVolume();
+  d.range = 0.1f, d.attenuation = {1.0f, 0.0f, 0.0f};
+  const std::size_t count = 4194304 + 64, tail = 128;
+  std::vector<LightParticle> lights(count, light(Vec3(-100, -100, -100), Vec3::Ones(), 1.0f));
+  lights[0] = light(voxelCentre(d, 0, 0, 0), Vec3::Ones(), 1.0f);
+  for (std::size_t i = count - tail; i < count; ++i)
+    lights[i] = light(voxelCentre(d, 7, 7, 7), Vec3::Ones(), 1.0f);
+  LightVolume v(d);
+  v.update(lights);
+  const Texels colour = v.readColour();
+  EXPECT_EQ(colour[0][0], 1.0f);
+  EXPECT_EQ(colour[511][0], float(tail));
+}
+
+// lights.pipeline "deferred" (seed 004 Fig. 11): a G-buffer of the solids and the opaque water,
+// then one full-screen lighting pass, gives the forward image to one 8-bit step per channel -
+// solids per pixel, point splats lit at their centre either way, translucent water composited
+// forward on the deferred-lit frame, depth tested against it (splats half hidden by the sphere).
+TEST_F(LightsGl, DeferredGivesTheForwardImageToOneStep) {
+  LightsDesc d;
+  d.origin = Vec3(-0.6f, -0.1f, -0.6f), d.voxelSize = 0.05f, d.voxels = {24, 24, 24};
+  d.attenuation = {1.0f, 0.0f, 20.0f}, d.range = 0.3f, d.filter = LightFilter::Trilinear;
+  d.specular = 0.5f, d.shininess = 16, d.roomLight = 0.3f;
+  std::mt19937 rng(14);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<LightParticle> lights;
+  for (int i = 0; i < 96; ++i)
+    lights.push_back(light(Vec3(u(rng) - 0.5f, 0.02f + 0.4f * u(rng), u(rng) - 0.5f),
+                           Vec3(1.0f, 0.4f + 0.6f * u(rng), 0.2f + 0.8f * u(rng)), 0.5f));
+  LightVolume forward(d);
+  d.pipeline = LightPipeline::Deferred;
+  LightVolume deferred(d);
+  ASSERT_FALSE(forward.deferred());
+  ASSERT_TRUE(deferred.deferred());
+  forward.update(lights), deferred.update(lights);
+  BoundaryShape plane, sphere, block;
+  plane.kind = BoundaryShape::Kind::Plane, plane.point = Vec3::Zero(), plane.normal = Vec3::UnitY();
+  sphere.kind = BoundaryShape::Kind::Sphere, sphere.centre = Vec3(0, 0.15f, 0),
+  sphere.radius = 0.15f;
+  block.kind = BoundaryShape::Kind::Block, block.lo = Vec3(0.15f, 0, -0.35f),
+  block.hi = Vec3(0.35f, 0.2f, -0.15f);
+  solids::SolidRenderer solids({plane, sphere, block}, Aabb{Vec3(-1, -1, -1), Vec3(1, 1, 1)},
+                               0.02f);
+  splat::SplatFrame water;  // a sheet of point splats over the floor, partly behind the sphere
+  water.halfSize = 0.03f;
+  for (int j = 0; j < 16; ++j)
+    for (int i = 0; i < 16; ++i)
+      water.points.push_back(
+          splat::SplatVertex{{-0.45f + 0.06f * i, 0.04f, -0.45f + 0.06f * j}, {0, 1, 0}});
+  const int width = 160, height = 120;
+  splat::SplatRenderer r(width, height);
+  r.setLayers({&solids});
+  CameraDesc camera;
+  camera.position = Vec3(0.6f, 0.55f, 0.8f), camera.target = Vec3(0, 0.1f, 0);
+  camera.fovYDegrees = 50;
+  for (float alpha : {1.0f, 0.5f}) {
+    splat::Lighting lighting;
+    lighting.alpha = alpha;
+    lighting.extra = &forward;
+    const splat::RenderImage f = r.render(water, splat::SplatKind::Point, camera, lighting);
+    EXPECT_EQ(r.lastPasses().lighting, 0.0);
+    lighting.extra = &deferred;
+    const splat::RenderImage g = r.render(water, splat::SplatKind::Point, camera, lighting);
+    EXPECT_GT(r.lastPasses().lighting, 0.0) << "the lighting pass ran";
+    lighting.extra = nullptr;
+    const splat::RenderImage unlit = r.render(water, splat::SplatKind::Point, camera, lighting);
+    int worst = 0, lit = 0;
+    for (std::size_t i = 0; i < f.rgb.size(); ++i) {
+      worst = std::max(worst, std::abs(int(f.rgb[i]) - int(g.rgb[i])));
+      lit += std::abs(int(f.rgb[i]) - int(unlit.rgb[i])) > 8;
+    }
+    EXPECT_LE(worst, 1) << "alpha " << alpha;
+    // The error figures' normal target: the water's coverage and normals, as forward draws them.
+    lighting.extra = &forward;
+    const splat::RenderImage fs = r.render(water, splat::SplatKind::Point, camera, lighting,
+                                           splat::ImageContents::ColourAndNormals);
+    lighting.extra = &deferred;
+    const splat::RenderImage gs = r.render(water, splat::SplatKind::Point, camera, lighting,
+                                           splat::ImageContents::ColourAndNormals);
+    EXPECT_EQ(fs.covered, gs.covered) << "alpha " << alpha;
+    float normalDiff = 0;
+    for (std::size_t i = 0; i < fs.normal.size(); ++i)
+      normalDiff = std::max(normalDiff, std::abs(fs.normal[i] - gs.normal[i]));
+    EXPECT_LT(normalDiff, 1e-3f) << "alpha " << alpha;
+    // Not two dark pictures: the particle lights (and the room light) change much of the frame.
+    EXPECT_GT(lit, width * height / 4) << "alpha " << alpha;
   }
 }
 

@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cstdlib>
 #include <regex>
+#include <string>
+#include <vector>
 
 #include "io/Png.h"
 #include "tests/TestSupport.h"
@@ -70,6 +72,39 @@ TEST_F(LightsCli, CompareRanksTheFiltersAgainstTheExactSum) {
   EXPECT_GT(w, 6 * 160) << "exact + five filters side by side";
 }
 
+// The PNGs' pixels as ints (3 per pixel).
+std::vector<int> pixels(const std::string& png) {
+  int w = 0, h = 0;
+  const auto rgb = io::readPng(png, w, h);
+  return std::vector<int>(rgb.begin(), rgb.end());
+}
+
+// The share of pixels that differ by more than one 8-bit step in some channel.
+double differing(const std::vector<int>& a, const std::vector<int>& b) {
+  if (a.size() != b.size() || a.empty()) return 1.0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < a.size(); i += 3)
+    n += std::abs(a[i] - b[i]) > 1 || std::abs(a[i + 1] - b[i + 1]) > 1 ||
+         std::abs(a[i + 2] - b[i + 2]) > 1;
+  return static_cast<double>(n) / static_cast<double>(a.size() / 3);
+}
+
+// lights.pipeline "deferred" on replay: `render` names it and draws the forward picture but for
+// the few pixels of the opaque quad-splat water, which the lighting pass lights per pixel where
+// the forward splats are lit per vertex (docs/lights.md, "Deferred").
+TEST_F(LightsCli, RenderDeferredDrawsTheForwardPicture) {
+  const auto r = runSphsplat("render " + dir_ + "/ff.h5 --frames last --out " + dir_ +
+                             "/deferred --set lights.pipeline=deferred");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("deferred (G-buffer + lighting pass)"), std::string::npos) << r.output;
+  const auto forward =
+      runSphsplat("render " + dir_ + "/ff.h5 --frames last --out " + dir_ + "/forward");
+  ASSERT_EQ(forward.exitCode, 0) << forward.output;
+  const double share = differing(pixels(dir_ + "/forward/fireflies_quad_00001.png"),
+                                 pixels(dir_ + "/deferred/fireflies_quad_00001.png"));
+  EXPECT_LT(share, 0.02) << "pixels more than one step apart";
+}
+
 // The viewer lights the frame the same way (a window under Xvfb, its screenshot).
 TEST_F(LightsCli, ViewerShowsTheLitFrame) {
   if (std::system("command -v xvfb-run > /dev/null") != 0) GTEST_SKIP() << "xvfb-run not installed";
@@ -84,6 +119,15 @@ TEST_F(LightsCli, ViewerShowsTheLitFrame) {
   for (std::size_t i = 0; i + 2 < rgb.size(); i += 3)
     warm += rgb[i] > 90 && rgb[i] > rgb[i + 2] + 30;
   EXPECT_GT(warm, 20) << "pixels lit by the fireflies";
+  // The deferred pipeline in the window: the same picture (the lighting pass writes the depth the
+  // window's own depth buffer tests the later layers against).
+  const std::string deferred = dir_ + "/view_lights_deferred.png";
+  const std::string again = "xvfb-run -a -s '-screen 0 800x600x24' " + test::sphsplatCommand() +
+                            " view " + dir_ + "/ff.h5 --frame last --width 200 --height 150" +
+                            " --set lights.pipeline=deferred --exit-after 2 --screenshot " +
+                            deferred + " > /dev/null 2>&1";
+  ASSERT_EQ(std::system(again.c_str()), 0) << again;
+  EXPECT_LT(differing(pixels(shot), pixels(deferred)), 0.02);
 }
 
 // No `lights` section: no volume, no line about it (the dam break has none).

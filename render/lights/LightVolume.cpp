@@ -1,5 +1,6 @@
 #include "render/lights/LightVolume.h"
 
+#include <algorithm>
 #include <chrono>
 #include <string>
 
@@ -29,6 +30,21 @@ std::string sizeText(const LightsDesc& d) {
 
 float fixedScale(const LightsDesc& d) {
   return kFixedSteps / d.intensity;
+}
+
+float safeFixedScale(const LightsDesc& d, const std::vector<LightParticle>& lights) {
+  // One light adds at most round(x * scale) <= x * scale + 1/2 steps to a sum, x its brightest
+  // value; n of them fit while n (x scale + 1/2) <= 2^31 - 1.
+  double brightest = 0;
+  for (const LightParticle& l : lights) {
+    const float colour = std::max({l.colour[0], l.colour[1], l.colour[2]}) / d.attenuation[0];
+    brightest =
+        std::max({brightest, static_cast<double>(colour), static_cast<double>(l.colour[3])});
+  }
+  if (lights.empty() || brightest <= 0) return fixedScale(d);
+  const double n = static_cast<double>(lights.size());
+  const double scale = (2147483647.0 / n - 0.5) / brightest;
+  return static_cast<float>(std::min(scale * (1 - 1e-6), static_cast<double>(fixedScale(d))));
 }
 
 namespace {
@@ -85,13 +101,16 @@ LightVolume::LightVolume(const LightsDesc& desc, const gl::ShaderLibrary& shader
   for (const gl::Program* p : {&accumulate_, &resolve_}) {
     if (p->id() == 0) continue;
     setVolumeUniforms(p->id(), desc);
-    glProgramUniform1f(p->id(), glGetUniformLocation(p->id(), "u_fixedScale"), fixedScale(desc));
   }
   const GLuint a = accumulate_.id();
   glProgramUniform3f(a, glGetUniformLocation(a, "u_attenuation"), desc.attenuation[0],
                      desc.attenuation[1], desc.attenuation[2]);
   glProgramUniform1f(a, glGetUniformLocation(a, "u_range"), desc.range);
   lights_ = gl::Buffer::create();
+  if (!paper) {
+    overflow_ = gl::Buffer::create();
+    glNamedBufferData(overflow_.id(), sizeof(GLuint), nullptr, GL_DYNAMIC_READ);
+  }
 }
 
 void LightVolume::setFilter(LightFilter filter, float tension, int oversampling) {
@@ -113,6 +132,17 @@ double LightVolume::update(const std::vector<LightParticle>& lights) {
                          static_cast<GLsizeiptr>(lights.size() * sizeof(LightParticle)),
                          lights.data());
   }
+  scale_ = fixedScale(desc_), rescaled_ = false;
+  if (accumulate(lights.size(), scale_)) {
+    // A voxel wrapped: this frame again at a scale where none can (coarser steps, same lights).
+    scale_ = safeFixedScale(desc_, lights), rescaled_ = true;
+    accumulate(lights.size(), scale_);
+  }
+  glFinish();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+bool LightVolume::accumulate(std::size_t count, float scale) {
   const float zero[4] = {0, 0, 0, 0};
   const bool paper = desc_.accumulate == LightAccumulate::Paper;
   glClearTexImage(colour_.id(), 0, GL_RGBA, GL_FLOAT, zero);
@@ -120,8 +150,14 @@ double LightVolume::update(const std::vector<LightParticle>& lights) {
   if (!paper) {
     const GLint izero = 0;
     for (gl::Texture& s : sums_) glClearTexImage(s.id(), 0, GL_RED_INTEGER, GL_INT, &izero);
+    const GLuint clear = 0;
+    glNamedBufferSubData(overflow_.id(), 0, sizeof clear, &clear);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, overflow_.id());
+    for (const gl::Program* p : {&accumulate_, &resolve_})
+      glProgramUniform1f(p->id(), glGetUniformLocation(p->id(), "u_fixedScale"), scale);
   }
-  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
+                  GL_SHADER_STORAGE_BARRIER_BIT);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, lights_.id());
   if (paper) {
     glBindImageTexture(0, colour_.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA16F);
@@ -131,11 +167,21 @@ double LightVolume::update(const std::vector<LightParticle>& lights) {
       glBindImageTexture(k, sums_[k].id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32I);
   }
   const GLuint a = accumulate_.id();
-  glProgramUniform1ui(a, glGetUniformLocation(a, "u_count"), static_cast<GLuint>(lights.size()));
+  glProgramUniform1ui(a, glGetUniformLocation(a, "u_count"), static_cast<GLuint>(count));
   glUseProgram(a);
-  if (!lights.empty()) glDispatchCompute(static_cast<GLuint>((lights.size() + 63) / 64), 1, 1);
-  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+  // GL guarantees 65,535 work groups per dispatch (llvmpipe allows no more): 4,194,240 lights of
+  // 64; a larger frame goes in several dispatches (one more would fail and accumulate nothing).
+  constexpr std::size_t kLightsPerDispatch = 65535 * 64;
+  for (std::size_t first = 0; first < count; first += kLightsPerDispatch) {
+    glProgramUniform1ui(a, glGetUniformLocation(a, "u_first"), static_cast<GLuint>(first));
+    const std::size_t n = std::min(kLightsPerDispatch, count - first);
+    glDispatchCompute(static_cast<GLuint>((n + 63) / 64), 1, 1);
+  }
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+                  GL_BUFFER_UPDATE_BARRIER_BIT);
+  GLuint wrapped = 0;
   if (!paper) {
+    glGetNamedBufferSubData(overflow_.id(), 0, sizeof wrapped, &wrapped);
     glBindImageTexture(6, colour_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     glBindImageTexture(7, direction_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     glUseProgram(resolve_.id());
@@ -146,8 +192,7 @@ double LightVolume::update(const std::vector<LightParticle>& lights) {
   }
   glUseProgram(0);
   for (GLuint k = 0; k < 8; ++k) glBindImageTexture(k, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32I);
-  glFinish();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return wrapped != 0;
 }
 
 void LightVolume::apply(GLuint p) const {

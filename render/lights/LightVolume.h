@@ -19,9 +19,14 @@ namespace sph::render::lights {
 
 // The atomic path's fixed point: a voxel's sums are integers in steps of 1 / fixedScale, and
 // fixedScale = kFixedSteps / lights.intensity, so one light's full colour is kFixedSteps steps and
-// a voxel's sum stays exact below 2^31 / kFixedSteps = 131,072 full-intensity lights at distance 0.
+// a voxel's sum fits an int32 up to 2^31 / kFixedSteps = 131,072 full-intensity lights at
+// distance 0. A frame that crowds more into one voxel is detected (an add that wraps sets a flag)
+// and accumulated again at safeFixedScale, where no voxel can wrap whatever the lights' places.
 inline constexpr float kFixedSteps = 16384.0f;
 float fixedScale(const LightsDesc& desc);
+// The largest scale at which every light of `lights` in one voxel, each at its brightest (distance
+// 0: colour / attenuation constant; direction: intensity), still fits an int32, rounding included.
+float safeFixedScale(const LightsDesc& desc, const std::vector<LightParticle>& lights);
 
 // A shading point for probe(): world position, outward unit normal, unit vector to the eye.
 struct ProbePoint {
@@ -42,6 +47,8 @@ class LightVolume final : public splat::ExtraLights {
 
   // Binds the textures to units 6 and 7 and sets the hook's uniforms on `program`.
   void apply(GLuint program) const override;
+  // lights.pipeline "deferred": the frame's opaque surfaces are lit in one full-screen pass.
+  bool deferred() const override { return desc_.pipeline == LightPipeline::Deferred; }
 
   // Which Phong terms apply() switches on (bit 0 diffuse, bit 1 specular; the error figures).
   int terms = 3;
@@ -56,14 +63,23 @@ class LightVolume final : public splat::ExtraLights {
   std::vector<std::array<float, 4>> readDirection() const;
 
   const LightsDesc& desc() const { return desc_; }
+  // The fixed-point scale of the last update (atomic), and whether it had to be lowered from
+  // fixedScale(desc()) because a voxel would have wrapped.
+  float lastFixedScale() const { return scale_; }
+  bool lastRescaled() const { return rescaled_; }
 
  private:
   LightsDesc desc_;
   gl::Program accumulate_, resolve_, probe_;
   gl::Texture colour_, direction_;
   std::array<gl::Texture, 6> sums_;
-  gl::Buffer lights_;
+  gl::Buffer lights_, overflow_;
   std::size_t capacity_ = 0;
+  float scale_ = 0;
+  bool rescaled_ = false;
+  // Clears the volume and accumulates the uploaded `count` lights at fixed-point `scale`; returns
+  // whether a voxel's sum wrapped (atomic only).
+  bool accumulate(std::size_t count, float scale);
 };
 
 }  // namespace sph::render::lights

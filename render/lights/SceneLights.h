@@ -38,7 +38,7 @@ class SceneLights {
 std::unique_ptr<SceneLights> showLights(const Scene& scene, splat::FrameRenderer& renderer);
 
 // One line for the commands: "particle lights: 262144 from an emitter, 128 x 60 x 128 voxels of
-// 0.01 m, trilinear, atomic accumulation".
+// 0.01 m, trilinear, atomic accumulation", and the pipeline when deferred.
 std::string describeLights(const LightsDesc& desc);
 
 // Whether drawing `scene`'s frames needs the particles' velocities (colour_by "speed" of fluid).

@@ -10,10 +10,11 @@
 namespace sph::render::solids {
 
 SolidRenderer::SolidRenderer(const std::vector<BoundaryShape>& shapes, const Aabb& domain,
-                             float thickness, const gl::ShaderLibrary& shaders) {
+                             float thickness, const gl::ShaderLibrary& shaders)
+    : shaders_(shaders) {
   program_ = gl::buildProgram(
       shaders, {{gl::ShaderStage::Vertex, "solid.vert"}, {gl::ShaderStage::Fragment, "solid.frag"}},
-      "solids");
+      "solids", {"SPH_NO_PARTICLE_LIGHTS"});
   SolidMesh mesh;
   for (const BoundaryShape& s : shapes) mesh.append(tessellate(s, domain, thickness));
   indexCount_ = mesh.indices.size();
@@ -39,9 +40,8 @@ SolidRenderer::SolidRenderer(const std::vector<BoundaryShape>& shapes, const Aab
   glVertexArrayElementBuffer(vao, indices_.id());
 }
 
-void SolidRenderer::draw(const CameraFrame& camera, const splat::Lighting& lighting) {
-  if (indexCount_ == 0) return;
-  const GLuint p = program_.id();
+void SolidRenderer::setLighting(GLuint p, const CameraFrame& camera,
+                                const splat::Lighting& lighting) const {
   splat::setVec3(p, "u_eye", camera.eye);
   // The scene's light, the solids' own material; no sky reflection (they are not water).
   splat::setVec3(p, "u_toLight", lighting.toLight.normalized());
@@ -56,7 +56,32 @@ void SolidRenderer::draw(const CameraFrame& camera, const splat::Lighting& light
   splat::setFloat(p, "u_fresnelMin", lighting.fresnelMin);
   splat::applyExtraLights(p, lighting);
   splat::setSpotlightUniforms(p, lighting.spotlight);
+}
+
+void SolidRenderer::draw(const CameraFrame& camera, const splat::Lighting& lighting) {
+  if (indexCount_ == 0) return;
+  if (lighting.extra != nullptr && litProgram_.id() == 0) {
+    litProgram_ = gl::buildProgram(
+        shaders_,
+        {{gl::ShaderStage::Vertex, "solid.vert"}, {gl::ShaderStage::Fragment, "solid.frag"}},
+        "solids with particle lights");
+  }
+  const GLuint p = lighting.extra != nullptr ? litProgram_.id() : program_.id();
+  setLighting(p, camera, lighting);
   drawWith(p, camera);
+}
+
+bool SolidRenderer::drawGBuffer(const CameraFrame& camera, const splat::Lighting& lighting) {
+  if (indexCount_ == 0) return true;
+  if (gbufferProgram_.id() == 0) {
+    gbufferProgram_ = gl::buildProgram(
+        shaders_,
+        {{gl::ShaderStage::Vertex, "solid.vert"}, {gl::ShaderStage::Fragment, "solid.frag"}},
+        "solids into the G-buffer", {"SPH_NO_PARTICLE_LIGHTS", "SPH_GBUFFER"});
+  }
+  setLighting(gbufferProgram_.id(), camera, lighting);
+  drawWith(gbufferProgram_.id(), camera);
+  return true;
 }
 
 void SolidRenderer::drawWith(GLuint p, const CameraFrame& camera) const {

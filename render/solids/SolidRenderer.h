@@ -27,6 +27,9 @@ class SolidRenderer final : public splat::FrameLayer {
                 const gl::ShaderLibrary& shaders = gl::ShaderLibrary::fromEnvironment());
   Order order() const override { return Order::BeforeSplats; }
   void draw(const CameraFrame& camera, const splat::Lighting& lighting) override;
+  // The deferred pipeline's G-buffer (lights.pipeline "deferred"): the same lighting less the
+  // particle lights, with albedo, position and normal per pixel; its program is built on first use.
+  bool drawGBuffer(const CameraFrame& camera, const splat::Lighting& lighting) override;
 
   // The same triangles with `program` (its vertex stage solid.vert: u_projView), depth tested,
   // into the current framebuffer: G-buffers (render/lights/LightComparison.h).
@@ -36,7 +39,13 @@ class SolidRenderer final : public splat::FrameLayer {
   SolidMaterial material;
 
  private:
-  gl::Program program_;
+  void setLighting(GLuint program, const CameraFrame& camera,
+                   const splat::Lighting& lighting) const;
+  gl::ShaderLibrary shaders_;
+  // Without the particle lights' code (SPH_NO_PARTICLE_LIGHTS), as the splats' programs: llvmpipe
+  // pays for the volume sampling behind a switch that is off (docs/benchmarks.md, "Particle
+  // lights"). The lit program (forward) and the G-buffer's (deferred) are built on first use.
+  gl::Program program_, litProgram_, gbufferProgram_;
   gl::Buffer vertices_, indices_;
   gl::VertexArray vao_;
   std::size_t indexCount_ = 0;

@@ -14,6 +14,9 @@ class ExtraLights {
   virtual ~ExtraLights() = default;
   // Sets the hook's uniforms on `program` and binds what it samples (a GL context is current).
   virtual void apply(GLuint program) const = 0;
+  // True: the lights are added in one full-screen pass over a G-buffer of the opaque surfaces
+  // (render/splat/DeferredTarget.h) instead of in each surface's shader (lights.pipeline).
+  virtual bool deferred() const { return false; }
 };
 
 // What every surface-shading program calls after its lighting uniforms: l.extra's, or the

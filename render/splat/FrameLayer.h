@@ -16,6 +16,12 @@ class FrameLayer {
   virtual Order order() const = 0;
   // Draws with the current framebuffer, viewport and depth buffer (a GL context is current).
   virtual void draw(const CameraFrame& camera, const Lighting& lighting) = 0;
+  // The deferred pipeline (ExtraLights::deferred(); render/splat/DeferredTarget.h): writes the
+  // layer's opaque surfaces into the bound G-buffer (shaders/gbuffer_out.glsl) and returns true;
+  // false: the layer cannot, and is drawn forward (draw()) after the lighting pass.
+  virtual bool drawGBuffer(const CameraFrame& /*camera*/, const Lighting& /*lighting*/) {
+    return false;
+  }
 };
 
 }  // namespace sph::render::splat

@@ -9,6 +9,7 @@
 
 #include "render/gl/GlError.h"
 #include "render/gl/Shader.h"
+#include "render/splat/DeferredTarget.h"
 #include "render/splat/ExtraLights.h"
 #include "render/splat/ProgramUniforms.h"
 
@@ -202,18 +203,27 @@ GLuint SplatRenderer::programFor(SplatKind kind, bool particleLights) {
   return kind == SplatKind::Point ? litPointProgram_.id() : litQuadProgram_.id();
 }
 
-double SplatRenderer::draw(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
-                           const Lighting& lighting, int w, int h, bool offscreen) {
-  const auto start = std::chrono::steady_clock::now();
-  const CameraFrame cam = cameraFrame(camera, static_cast<float>(w) / h);
-  const GLuint program = programFor(kind, lighting.extra != nullptr);
+GLuint SplatRenderer::gbufferProgramFor(SplatKind kind) {
+  if (gbufferPointProgram_.id() == 0) {
+    const std::vector<std::string> defines = {"SPH_NO_PARTICLE_LIGHTS", "SPH_GBUFFER"};
+    gbufferPointProgram_ = gl::buildProgram(
+        shaders_,
+        {{gl::ShaderStage::Vertex, "splat_point.vert"}, {gl::ShaderStage::Fragment, "splat.frag"}},
+        "point splats into the G-buffer", defines);
+    gbufferQuadProgram_ = gl::buildProgram(
+        shaders_,
+        {{gl::ShaderStage::Vertex, "splat_quad.vert"}, {gl::ShaderStage::Fragment, "splat.frag"}},
+        "quad splats into the G-buffer", defines);
+  }
+  return kind == SplatKind::Point ? gbufferPointProgram_.id() : gbufferQuadProgram_.id();
+}
+
+void SplatRenderer::drawSplats(const SplatFrame& frame, SplatKind kind, const CameraFrame& cam,
+                               const Lighting& lighting, GLuint program) {
   setLighting(program, lighting);
   glProgramUniformMatrix4fv(program, glGetUniformLocation(program, "u_projView"), 1, GL_FALSE,
                             cam.projView.m.data());
   setVec3(program, "u_eye", cam.eye);
-
-  glViewport(0, 0, w, h);
-  drawLayers(FrameLayer::Order::BeforeSplats, cam, lighting, offscreen);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDisable(GL_CULL_FACE);  // splats are seen from both sides
@@ -245,6 +255,53 @@ double SplatRenderer::draw(const SplatFrame& frame, SplatKind kind, const Camera
                      nullptr);
   }
   glBindVertexArray(0);
+  glDisable(GL_BLEND);
+}
+
+void SplatRenderer::drawDeferred(const SplatFrame& frame, SplatKind kind, const CameraFrame& cam,
+                                 const Lighting& lighting, int w, int h, bool offscreen) {
+  using Clock = std::chrono::steady_clock;
+  GLint target = 0;
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target);
+  if (!deferred_) deferred_ = std::make_unique<DeferredTarget>(shaders_);
+  const auto start = Clock::now();
+  // 1. The G-buffer: the opaque layers (solids) and the water when it is opaque.
+  deferred_->begin(w, h);
+  glViewport(0, 0, w, h);
+  std::vector<FrameLayer*> forward;
+  const bool layers = !(offscreen && contents_ == ImageContents::ColourAndNormals);
+  for (FrameLayer* layer : layers_) {
+    if (layers && layer->order() == FrameLayer::Order::BeforeSplats &&
+        !layer->drawGBuffer(cam, lighting))
+      forward.push_back(layer);
+  }
+  const bool opaque = lighting.alpha >= 1.0f;
+  if (opaque) drawSplats(frame, kind, cam, lighting, gbufferProgramFor(kind));
+  glFinish();  // the passes' times apart (Fig. 11's breakdown; llvmpipe drains between them anyway)
+  const auto gbuffer = Clock::now();
+  // 2. One full-screen pass adds the particle lights where the G-buffer holds a surface.
+  deferred_->light(static_cast<GLuint>(target), *lighting.extra, cam.eye);
+  glFinish();
+  passes_.gbuffer = std::chrono::duration<double>(gbuffer - start).count();
+  passes_.lighting = std::chrono::duration<double>(Clock::now() - gbuffer).count();
+  // 3. Forward on top, depth tested against the lit frame: layers without a G-buffer program and
+  // translucent water, which a G-buffer of one surface per pixel cannot blend (docs/lights.md).
+  for (FrameLayer* layer : forward) layer->draw(cam, lighting);
+  if (!opaque) drawSplats(frame, kind, cam, lighting, programFor(kind, true));
+}
+
+double SplatRenderer::draw(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
+                           const Lighting& lighting, int w, int h, bool offscreen) {
+  const auto start = std::chrono::steady_clock::now();
+  const CameraFrame cam = cameraFrame(camera, static_cast<float>(w) / h);
+  glViewport(0, 0, w, h);
+  passes_ = DrawPasses{};
+  if (lighting.extra != nullptr && lighting.extra->deferred()) {
+    drawDeferred(frame, kind, cam, lighting, w, h, offscreen);
+  } else {
+    drawLayers(FrameLayer::Order::BeforeSplats, cam, lighting, offscreen);
+    drawSplats(frame, kind, cam, lighting, programFor(kind, lighting.extra != nullptr));
+  }
   if (boundaryCount_) {
     // The point program also draws the walls: give it this frame's camera first.
     const GLuint p = pointProgram_.id();

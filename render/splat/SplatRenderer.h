@@ -4,6 +4,7 @@
 // `sphsplat view` (drawToScreen).
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "render/gl/GlHandle.h"
@@ -16,6 +17,8 @@
 #include "sim/Camera.h"
 
 namespace sph::render::splat {
+
+class DeferredTarget;
 
 class SplatRenderer {
  public:
@@ -47,10 +50,22 @@ class SplatRenderer {
   void drawToScreen(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
                     const Lighting& lighting, int viewportWidth, int viewportHeight);
 
+  // The last draw's deferred passes (lights.pipeline "deferred"; zero when forward), seconds:
+  // the G-buffer of the opaque surfaces, and the full-screen lighting pass (seed 004 Fig. 11).
+  struct DrawPasses {
+    double gbuffer = 0, lighting = 0;
+  };
+  const DrawPasses& lastPasses() const { return passes_; }
+
  private:
   double draw(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
               const Lighting& lighting, int w, int h, bool offscreen);
   GLuint programFor(SplatKind kind, bool particleLights);
+  GLuint gbufferProgramFor(SplatKind kind);
+  void drawSplats(const SplatFrame& frame, SplatKind kind, const CameraFrame& cam,
+                  const Lighting& lighting, GLuint program);
+  void drawDeferred(const SplatFrame& frame, SplatKind kind, const CameraFrame& cam,
+                    const Lighting& lighting, int w, int h, bool offscreen);
   int width_, height_;
   gl::ShaderLibrary shaders_;
   // Without the particle lights' code (SPH_NO_PARTICLE_LIGHTS): llvmpipe runs a vertex shader's
@@ -58,6 +73,10 @@ class SplatRenderer {
   // particles (docs/benchmarks.md, "Splat renderer"). The lit ones are built for `lights` only.
   gl::Program pointProgram_, quadProgram_;
   gl::Program litPointProgram_, litQuadProgram_;
+  // The deferred pipeline's G-buffer programs and target, made on its first frame.
+  gl::Program gbufferPointProgram_, gbufferQuadProgram_;
+  std::unique_ptr<DeferredTarget> deferred_;
+  DrawPasses passes_;
   gl::Framebuffer framebuffer_;
   gl::Texture colour_, normal_;
   gl::Renderbuffer depth_;
