@@ -268,11 +268,11 @@ void SplatRenderer::drawDeferred(const SplatFrame& frame, SplatKind kind, const 
   // 1. The G-buffer: the opaque layers (solids) and the water when it is opaque.
   deferred_->begin(w, h);
   glViewport(0, 0, w, h);
+  // The error figures' frame has the solids too (drawLayers); the lighting pass keeps them out of
+  // its normal target.
   std::vector<FrameLayer*> forward;
-  const bool layers = !(offscreen && contents_ == ImageContents::ColourAndNormals);
   for (FrameLayer* layer : layers_) {
-    if (layers && layer->order() == FrameLayer::Order::BeforeSplats &&
-        !layer->drawGBuffer(cam, lighting))
+    if (layer->order() == FrameLayer::Order::BeforeSplats && !layer->drawGBuffer(cam, lighting))
       forward.push_back(layer);
   }
   const bool opaque = lighting.alpha >= 1.0f;
@@ -286,7 +286,10 @@ void SplatRenderer::drawDeferred(const SplatFrame& frame, SplatKind kind, const 
   passes_.lighting = std::chrono::duration<double>(Clock::now() - gbuffer).count();
   // 3. Forward on top, depth tested against the lit frame: layers without a G-buffer program and
   // translucent water, which a G-buffer of one surface per pixel cannot blend (docs/lights.md).
+  const bool scored = offscreen && contents_ == ImageContents::ColourAndNormals;
+  if (scored) selectDrawBuffers(ImageContents::Colour);
   for (FrameLayer* layer : forward) layer->draw(cam, lighting);
+  if (scored) selectDrawBuffers(contents_);
   if (!opaque) drawSplats(frame, kind, cam, lighting, programFor(kind, true));
 }
 
