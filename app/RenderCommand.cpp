@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "app/CacheRain.h"
 #include "app/CacheScene.h"
 #include "app/Commands.h"
 #include "app/RenderOutput.h"
@@ -131,7 +132,7 @@ int render(const RenderOptions& o) {
     return std::array<std::vector<float>, 3>{b[0], b[1], b[2]};
   });
   const auto lights = render::lights::showLights(c.scene, renderer);
-  // The rain is regenerated from the scene and the frame times (render/rain/SceneRain.h).
+  // The rain: the drops the run stored, else regenerated (app/CacheRain.h).
   const auto rain = render::rain::showRain(c.scene, renderer, solids.get());
   if (!o.quiet) {
     std::printf("%s: rendering %zu frame%s of %s at %dx%d with %s splats on %s\n",
@@ -155,7 +156,7 @@ int render(const RenderOptions& o) {
     const double time = c.summary.frames[f].time;
     const CameraDesc camera =
         c.cameraFromScene ? cameraAt(c.camera, c.scene.cameraPath, time) : c.camera;
-    if (rain) rain->advanceTo(time, p);
+    if (rain) showCachedRain(*rain, c.reader(), f, time, p);
     for (render::splat::SplatKind kind : kindsOf(c.desc.splat)) {
       const render::splat::RenderedSplats r = renderer.render(kind, camera);
       seconds += r.timings.total();
