@@ -90,6 +90,15 @@ int info(const InfoOptions& o) {
   for (const auto& [name, frames] : s.renderers)
     rendered += (rendered.empty() ? "" : ", ") + name + " " + std::to_string(frames) + " frames";
   std::printf("  rendered   %s\n", rendered.empty() ? "none" : rendered.c_str());
+  // The rain's drops beside the frames (io/RainCache.h); nothing is printed for a cache without.
+  std::size_t rainFrames = 0, rainDrops = 0;
+  for (const io::CacheFrame& f : s.frames) {
+    if (f.rainDrops > 0) ++rainFrames, rainDrops = f.rainDrops;
+  }
+  if (rainFrames > 0)
+    std::printf(
+        "  rain       %zu drops per frame in %zu frame%s (Rain#N; the XDMF's 'rain' grid)\n",
+        rainDrops, rainFrames, rainFrames == 1 ? "" : "s");
   if (!s.damagedFrame.empty())
     std::printf("  damaged    %s (frames after it are not listed)\n", s.damagedFrame.c_str());
   std::printf("  ParaView   paraview %s   (or open %s with the H5Part reader)\n",

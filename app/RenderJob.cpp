@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "app/CacheRain.h"
 #include "app/CacheRendering.h"
 #include "app/CacheScene.h"
 #include "app/Commands.h"
@@ -32,7 +33,7 @@ int renderJob(const RenderRequest& o) {
   render::splat::FrameRenderer renderer(c.desc, c.scene.solver.spacing, c.scene.solver.restDensity);
   const auto solids = render::solids::showSolids(c.scene, renderer, [&] { return c.boundary(); });
   const auto lights = render::lights::showLights(c.scene, renderer);
-  // The rain is regenerated from the scene and the frame times (render/rain/SceneRain.h).
+  // The rain: the drops the run stored, else regenerated (app/CacheRain.h).
   const auto rain = render::rain::showRain(c.scene, renderer, solids.get());
   if (!o.quiet) {
     std::printf("%s: rendering %zu frame%s of %s at %dx%d with %s splats on %s\n",
@@ -56,7 +57,7 @@ int renderJob(const RenderRequest& o) {
     const double time = c.frameTime(f);
     const CameraDesc camera =
         c.cameraFromScene ? cameraAt(c.camera, c.scene.cameraPath, time) : c.camera;
-    if (rain) rain->advanceTo(time, p);
+    if (rain) showCachedRain(*rain, c.reader(), f, time, p);
     for (render::splat::SplatKind kind : kindsOf(c.desc.splat)) {
       const render::splat::RenderedSplats r = renderer.render(kind, camera);
       seconds += r.timings.total();

@@ -68,9 +68,14 @@ RenderOutput::RenderOutput(const Scene& scene, std::string directory, io::CacheS
       cache_(cache) {}
 
 void RenderOutput::frame(const Simulation& sim, std::size_t frame) {
-  // The rain sees the water of every output frame, drawn or not, as `render` of all frames does,
-  // so the two draw the same drops (render/rain/SceneRain.h).
-  if (rain_) rain_->advanceTo(sim.time(), sim.fluid());
+  // The rain: the drops the cache stores (its session steps them at every output frame, before
+  // this sink), else stepped here the same way, so `render` of the cache draws the same drops.
+  if (rain_) {
+    if (cache_ && cache_->rain())
+      rain_->show(cache_->rain()->system());
+    else
+      rain_->advanceTo(sim.time(), sim.fluid());
+  }
   if (frame % static_cast<std::size_t>(desc_.every) != 0) return;
   renderer_.prepare(sim.fluid());
   if (lights_) lights_->update(sim.fluid(), sim.time());

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "app/CacheRain.h"
 #include "app/CacheRendering.h"
 #include "app/CacheScene.h"
 #include "app/CliChecks.h"
@@ -99,8 +100,8 @@ int view(const ViewOptions& o) {
     return std::array<std::vector<float>, 3>{b[0], b[1], b[2]};
   });
   const auto lights = render::lights::showLights(scene, renderer);
-  // Rain (a rain section): regenerated at each frame's time, and kept where the camera looks
-  // when the user flies it (render/rain/SceneRain.h).
+  // Rain (a rain section): the drops the run stored, else regenerated (app/CacheRain.h), and kept
+  // where the camera looks when the user flies it (render/rain/SceneRain.h).
   const auto rain = render::rain::showRain(scene, renderer, solids.get());
 
   const io::cache::FieldSet xyz = fieldsToDraw(scene);
@@ -200,7 +201,7 @@ int view(const ViewOptions& o) {
       const Particles p = reader.readFrame(s.frame, xyz);
       renderer.prepare(p);
       if (lights) lights->update(p, reader.summary().frames[s.frame].time);
-      if (rain) rain->advanceTo(time, p);
+      if (rain) showCachedRain(*rain, reader, s.frame, time, p);
       s.frameChanged = false;
     }
     if (rain) rain->follow(camera);

@@ -41,6 +41,13 @@ inline std::string restartName(std::size_t frame) {
   return "Restart#" + std::to_string(frame);
 }
 
+// The rain's drops of a frame (io/RainCache.h), a root group beside its Step group; only in the
+// caches of scenes with a rain section.
+inline std::string rainName(std::size_t frame) {
+  return "Rain#" + std::to_string(frame);
+}
+inline constexpr const char* kRainDropsAttr = "drops";
+
 // A rendered image of a frame: the root dataset Render#<renderer>#<frame>. Linked from the root,
 // like every object the writer adds after the first commit: the root is the one group a reader
 // loads when it opens the file, so a reader never meets a group the writer has changed since.

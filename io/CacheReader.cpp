@@ -266,6 +266,16 @@ void CacheReader::scanFrames(const std::set<std::string>& links) {
       break;
     }
     f.hasRestart = links.count(cache::restartName(k)) > 0;
+    if (links.count(cache::rainName(k))) {
+      try {
+        h5::Handle g =
+            checked(H5Gopen2(root, cache::rainName(k).c_str(), H5P_DEFAULT), "open the group");
+        f.rainDrops = h5::readUintAttribute(g.get(), cache::kRainDropsAttr);
+      } catch (const h5::Error& e) {
+        summary_.damagedFrame = "/" + cache::rainName(k) + ": " + e.what();
+        break;
+      }
+    }
     summary_.frames.push_back(f);
   }
 }

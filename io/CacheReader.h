@@ -29,6 +29,7 @@ struct CacheFrame {
   std::size_t particles = 0;  // fluid particles in the frame
   std::uint64_t step = 0;     // solver steps taken up to this frame
   bool hasRestart = false;
+  std::size_t rainDrops = 0;  // drops stored as /Rain#N (io/RainCache.h); 0: none
 };
 
 struct CacheSummary {
@@ -86,6 +87,9 @@ class CacheReader {
   // Bytes the frames' datasets take in the file (Step#N and Restart#N, as stored, compressed),
   // without the header, the boundary and HDF5's own structures. Opens every dataset: not free.
   std::uint64_t frameDataBytes() const;
+
+  // The open file, for sets stored beside the frames (io/RainCache.h).
+  hid_t file() const { return file_.get(); }
 
  private:
   void load();

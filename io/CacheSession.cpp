@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "io/OutputLock.h"
+#include "io/RainCache.h"
 #include "io/UserFiles.h"
 #include "sim/HumanText.h"
 #include "sim/InputError.h"
@@ -159,6 +160,17 @@ std::size_t CacheSession::restore(Simulation& sim, const CacheProvenance& proven
                      " emitters, the scene " + std::to_string(sim.emitters().size()));
   }
   sim.restore(state, std::move(fluid));
+  rain_ = rain::RainStepper::create(sim.scene(), rain::RainStepper::sceneAspect(sim.scene()));
+  if (rain_ && s.frames[last].rainDrops > 0) {
+    // The drops as the run left them: the resumed run continues them exactly.
+    RainFrame drops = readRainFrame(*reader_, last);
+    if (drops.positions.size() != sim.scene().rain->count) {
+      throw InputError(path_ + ": the cache holds " + std::to_string(drops.positions.size()) +
+                       " rain drops a frame, the scene's rain.count is " +
+                       std::to_string(sim.scene().rain->count));
+    }
+    rain_->restore(drops.time, drops.positions, drops.generations);
+  }
 
   fields_ = s.fields;
   doublePositions_ = s.doublePositions;
@@ -186,6 +198,7 @@ void CacheSession::create(const Simulation& sim, const CacheProvenance& provenan
   fields_ = cache::parseFields(scene.output.fields, error);
   doublePositions_ = scene.output.doublePositions;
   boundaryParticles_ = sim.boundary().particles().size();
+  rain_ = rain::RainStepper::create(scene, rain::RainStepper::sceneAspect(scene));
   const std::string partial = path_ + ".partial";
   try {
     writer_ = CacheWriter::create(partial, scene, sim.params(), sim.boundary().particles(),
@@ -204,6 +217,11 @@ void CacheSession::writeFrame(const Simulation& sim) {
   f.particles = sim.fluid().size();
   f.step = sim.stepCount();
   f.hasRestart = true;
+  if (rain_) {
+    rain_->advanceTo(sim.time(), sim.fluid());
+    writeRainFrame(*writer_, f.index, sim.time(), rain_->system());
+    f.rainDrops = rain_->system().size();
+  }
   frames_.push_back(f);
   particleFrames_ += static_cast<double>(f.particles);
   particleFramesWritten_ += static_cast<double>(f.particles);

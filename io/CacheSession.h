@@ -16,6 +16,7 @@
 #include "sim/RunLoop.h"
 #include "sim/Scene.h"
 #include "sim/Simulation.h"
+#include "sim/rain/RainStepper.h"
 
 namespace sph::io {
 
@@ -65,6 +66,9 @@ class CacheSession final : public FrameSink {
   // "cache: run.h5 (+ run.xdmf for ParaView): 61 frames, 4.1 MB; frame datasets 25.1 bytes per
   // particle per frame; writing took 0.8 s = 3.1% of the run".
   std::string summary(double runSeconds) const;
+  // The scene's rain, stepped at every frame and stored beside it as /Rain#N (io/RainCache.h);
+  // null without a rain section.
+  const rain::RainStepper* rain() const { return rain_.get(); }
 
  private:
   OutputLock lock_;  // first: held until every file below is closed
@@ -80,6 +84,7 @@ class CacheSession final : public FrameSink {
   std::vector<CacheFrame> frames_;
   double particleFrames_ = 0;         // sum over frames of the particle count
   double particleFramesWritten_ = 0;  // the same, of the frames this run wrote
+  std::unique_ptr<rain::RainStepper> rain_;
 };
 
 }  // namespace sph::io

@@ -54,7 +54,7 @@ unsigned rootLinkEstimate(std::size_t expectedFrames, std::size_t linksPerFrame,
   return static_cast<unsigned>(std::min<std::size_t>(links, h5::kMaxCompactLinks));
 }
 
-// Root links a frame adds: Step#N, Vectors#N, Restart#N, Render#<renderer>#N.
+// Root links a frame adds: Step#N, Vectors#N, Restart#N, Render#<renderer>#N, Rain#N.
 std::size_t linksPerFrame(const Scene& scene) {
   std::size_t links = 2 + (scene.output.restart ? 1 : 0);
   if (scene.render && scene.render->toCache) {
@@ -62,6 +62,7 @@ std::size_t linksPerFrame(const Scene& scene) {
     links += (renderers + static_cast<std::size_t>(scene.render->every) - 1) /
              static_cast<std::size_t>(scene.render->every);
   }
+  if (scene.rain && scene.camera) ++links;  // the drops (io/RainCache.h)
   return links;
 }
 
@@ -389,6 +390,31 @@ void CacheWriter::reopen() {
   file_ = checked(H5Fopen(path_.c_str(), H5F_ACC_RDWR, h5::fileAccessProps().get()),
                   "reopen the cache");
   growFile();  // closing cut the file to HDF5's end of allocation
+}
+
+void CacheWriter::writeFrameGroup(
+    const std::string& name, std::size_t frame,
+    const std::function<void(hid_t group, const h5::Storage& storage)>& fill) {
+  if (frame >= frames_) {
+    throw InputError(path_ + ": cannot store /" + name + ": the cache has " +
+                     std::to_string(frames_) + " frames");
+  }
+  const auto start = Clock::now();
+  try {
+    const hid_t root = file_.get();
+    if (h5::hasLink(root, name)) throw InputError(path_ + ": /" + name + " is already written");
+    // Same two-phase commit as a frame: the group is written, then linked into the root.
+    h5::Handle group =
+        checked(H5Gcreate_anon(root, h5::groupCreateProps(8).get(), H5P_DEFAULT), "create " + name);
+    fill(group.get(), storage_);
+    commitObjects();
+    check(H5Olink(group.get(), root, name.c_str(), H5P_DEFAULT, H5P_DEFAULT), "link /" + name);
+    group.reset();
+    commitObjects(root);
+  } catch (const h5::Error& e) {
+    throw InputError(path_ + ": cannot write /" + name + " (" + e.what() + ")");
+  }
+  secondsWriting_ += since(start);
 }
 
 void CacheWriter::setStatus(const std::string& status) {

@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -58,6 +59,13 @@ class CacheWriter {
   // Lands in /Render/<renderer>/Frame#<frame> (docs/cache-format.md). For the renderer issue.
   void writeRenderedFrame(const std::string& renderer, std::size_t frame, int width, int height,
                           const std::uint8_t* rgb);
+
+  // Writes and commits a group of frame `frame` (already written) linked as /`name`: `fill`
+  // writes its datasets (flushed, with `storage`) and attributes (no variable-length strings:
+  // they would go to the global heap) into the group before it is linked, with the two-phase
+  // commit of a frame. For sets stored beside the frames (io/RainCache.h: the rain's drops).
+  void writeFrameGroup(const std::string& name, std::size_t frame,
+                       const std::function<void(hid_t group, const h5::Storage& storage)>& fill);
 
   // Rewrites the root attribute run_status ("running", "finished", "stopped: ...") and commits.
   void setStatus(const std::string& status);

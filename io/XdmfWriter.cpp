@@ -180,6 +180,12 @@ std::string XdmfWriter::frameGrid(const CacheFrame& frame) const {
                       false) +
             "        </Grid>\n";
   }
+  // The rain's drops (scenes with a rain section, io/RainCache.h): a third point set.
+  if (frame.rainDrops > 0) {
+    text += pointGrid("rain", frame.rainDrops, "/" + cache::rainName(frame.index) + "/position",
+                      false) +
+            "        </Grid>\n";
+  }
   return text + "      </Grid>\n";
 }
 

@@ -1,5 +1,6 @@
 #include "render/rain/RainRenderer.h"
 
+#include <algorithm>
 #include <vector>
 
 #include "render/gl/Shader.h"
@@ -31,27 +32,42 @@ RainRenderer::RainRenderer(const RainDesc& desc, const gl::ShaderLibrary& shader
   glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   drops_ = gl::Buffer::create();
+  indices_ = gl::Buffer::create();
   vao_ = gl::VertexArray::create();
-  const GLuint vao = vao_.id();
-  glVertexArrayVertexBuffer(vao, 0, drops_.id(), 0, 4 * sizeof(float));
-  glVertexArrayBindingDivisor(vao, 0, 1);  // one drop per instance
-  glEnableVertexArrayAttrib(vao, 0);
-  glVertexArrayAttribFormat(vao, 0, 4, GL_FLOAT, GL_FALSE, 0);
-  glVertexArrayAttribBinding(vao, 0, 0);
 }
 
 void RainRenderer::setDrops(const sph::rain::RainSystem& rain) {
   const std::vector<Vec3>& p = rain.positions();
   const std::vector<std::uint8_t>& layers = rain.layers();
-  std::vector<float> packed(4 * p.size());
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    packed[4 * i] = p[i].x(), packed[4 * i + 1] = p[i].y(), packed[4 * i + 2] = p[i].z();
-    packed[4 * i + 3] = layers[i];
+  const std::size_t n = p.size();
+  packed_.resize(4 * n);
+  const auto count = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t k = 0; k < count; ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    packed_[4 * i] = p[i].x(), packed_[4 * i + 1] = p[i].y(), packed_[4 * i + 2] = p[i].z();
+    packed_[4 * i + 3] = layers[i];
   }
-  count_ = p.size();
+  count_ = n;
   velocity_ = rain.velocity();
-  glNamedBufferData(drops_.id(), static_cast<GLsizeiptr>(packed.size() * sizeof(float)),
-                    packed.data(), GL_STREAM_DRAW);
+  const auto bytes = static_cast<GLsizeiptr>(packed_.size() * sizeof(float));
+  if (n > dropCapacity_) {  // reallocated only when the budget grows
+    glNamedBufferData(drops_.id(), bytes, packed_.data(), GL_STREAM_DRAW);
+    dropCapacity_ = n;
+  } else if (n > 0) {
+    glNamedBufferSubData(drops_.id(), 0, bytes, packed_.data());
+  }
+  if (n > indexCapacity_) {  // the index pattern depends on the count only
+    std::vector<GLuint> index(6 * n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto c = static_cast<GLuint>(4 * i);
+      const GLuint quad[6] = {c, c + 1, c + 2, c + 2, c + 1, c + 3};
+      std::copy(quad, quad + 6, index.begin() + static_cast<std::ptrdiff_t>(6 * i));
+    }
+    glNamedBufferData(indices_.id(), static_cast<GLsizeiptr>(index.size() * sizeof(GLuint)),
+                      index.data(), GL_STATIC_DRAW);
+    indexCapacity_ = n;
+  }
 }
 
 void RainRenderer::draw(const CameraFrame& camera, const splat::Lighting& lighting) {
@@ -76,7 +92,10 @@ void RainRenderer::draw(const CameraFrame& camera, const splat::Lighting& lighti
   glDisable(GL_CULL_FACE);
   glUseProgram(p);
   glBindVertexArray(vao_.id());
-  glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(count_));
+  glVertexArrayElementBuffer(vao_.id(), indices_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, drops_.id());
+  glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * count_), GL_UNSIGNED_INT, nullptr);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
   glBindVertexArray(0);
   glDepthMask(GL_TRUE);
   glDisable(GL_BLEND);

@@ -6,6 +6,8 @@
 // against the water and solids, not written.
 #pragma once
 
+#include <vector>
+
 #include "render/gl/GlHandle.h"
 #include "render/gl/ShaderLibrary.h"
 #include "render/splat/FrameLayer.h"
@@ -30,9 +32,12 @@ class RainRenderer final : public splat::FrameLayer {
   RainDesc desc_;
   gl::Program program_;
   gl::Texture streaks_;
-  gl::Buffer drops_;
+  gl::Buffer drops_;    // vec4 per drop, read by rain.vert as a storage buffer
+  gl::Buffer indices_;  // two triangles per drop over its four corners
   gl::VertexArray vao_;
   std::size_t count_ = 0;
+  std::size_t dropCapacity_ = 0, indexCapacity_ = 0;  // drops the buffers hold
+  std::vector<float> packed_;
   Vec3 velocity_ = Vec3::Zero();
 };
 

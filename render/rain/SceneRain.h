@@ -1,10 +1,8 @@
-// The rain of a scene in its pictures (`run` with a render section, `render`, `view`). The rain
-// is not simulated with the fluid nor stored in the cache: it is regenerated where it is drawn,
-// deterministically, from the scene (rain seed, camera and camera.path, solids) and the times of
-// the frames, because drops are a pure function of (seed, drop, respawn count) and the camera
-// path is a function of time (docs/rain.md, "Replay"). Starting at time 0 it steps by the output
-// frame interval with the camera of each step's time; the water stops drops at the frames that
-// are drawn (their particles are at hand), the solids at every step.
+// The rain of a scene in its pictures (`run` with a render section, `render`, `view`): the drops
+// of a sim/rain/RainStepper uploaded to a RainRenderer layer. `run` steps the rain beside the
+// fluid and stores its drops in the cache (io/RainCache.h); `render` and `view` redraw the stored
+// drops (restore()), or, for a cache without them, regenerate them deterministically from the
+// scene and the frame times (advanceTo(); docs/rain.md, "Replay").
 #pragma once
 
 #include <memory>
@@ -14,8 +12,7 @@
 #include "render/splat/FrameRenderer.h"
 #include "sim/Particles.h"
 #include "sim/Scene.h"
-#include "sim/Solid.h"
-#include "sim/rain/RainSystem.h"
+#include "sim/rain/RainStepper.h"
 
 namespace sph::render::rain {
 
@@ -28,24 +25,23 @@ class SceneRain {
   // Brings the drops to `time` (s) and uploads them to the layer; `fluid` is the water at `time`.
   // Going back in time starts again from 0.
   void advanceTo(double time, const Particles& fluid);
+  // Takes the drops a run stored for `time` (io/RainCache.h) and uploads them.
+  void restore(double time, const std::vector<Vec3>& positions,
+               const std::vector<std::uint32_t>& generations);
+  // Uploads the drops of another stepper (the run's own, which the cache stores).
+  void show(const sph::rain::RainSystem& drops);
   // Keeps the drops where `camera` looks without moving them (an update of 0 s: drops out of its
   // rain space are respawned in it), for a camera the user flies (`view`). Uploads them.
   void follow(const CameraDesc& camera);
   RainRenderer& layer() { return renderer_; }
-  const sph::rain::RainSystem& system() const { return system_; }
+  const sph::rain::RainSystem& system() const { return stepper_->system(); }
   // Seconds spent in the rain update (CPU) and the upload, cumulative.
   double updateSeconds() const { return updateSeconds_; }
 
  private:
   SceneRain(const Scene& scene, float aspect);
-  CameraDesc camera_;
-  CameraPath path_;
-  double interval_;
-  float waterCell_;
-  std::vector<Solid> solids_;
-  sph::rain::RainSystem system_;
+  std::unique_ptr<sph::rain::RainStepper> stepper_;
   RainRenderer renderer_;
-  double time_ = -1;
   double updateSeconds_ = 0;
 };
 

@@ -76,11 +76,16 @@ bool RainSystem::blocked(const Vec3& p, const RainObstacles& obstacles) {
          (obstacles.water && obstacles.water->contains(p));
 }
 
+std::uint8_t RainSystem::layerOf(std::size_t i) const {
+  const float u = unitRandom(desc_.seed, i, generations_[i], 0);
+  return static_cast<std::uint8_t>(std::min<int>(
+      static_cast<int>(u * static_cast<float>(desc_.streakLayers)), desc_.streakLayers - 1));
+}
+
 std::uint64_t RainSystem::spawn(std::size_t i, const RainObstacles& obstacles) {
   const std::uint64_t g = generations_[i];
   auto u = [&](std::uint64_t draw) { return unitRandom(desc_.seed, i, g, draw); };
-  layers_[i] = static_cast<std::uint8_t>(std::min<int>(
-      static_cast<int>(u(0) * static_cast<float>(desc_.streakLayers)), desc_.streakLayers - 1));
+  layers_[i] = layerOf(i);
   const bool view = desc_.spawn == RainSpawn::View;
   const Vec3 lo = desc_.spawn == RainSpawn::Box ? Vec3(space_.eye - Vec3::Constant(0.5f * boxEdge_))
                                                 : desc_.region.lo;
@@ -122,6 +127,16 @@ void RainSystem::reset(const CameraDesc& camera, const RainObstacles& obstacles)
   for (std::ptrdiff_t i = 0; i < n; ++i) rejected += spawn(static_cast<std::size_t>(i), obstacles);
   counters_.rejected += rejected;
   counters_.accepted += desc_.count;
+}
+
+void RainSystem::restore(const CameraDesc& camera, const std::vector<Vec3>& positions,
+                         const std::vector<std::uint32_t>& generations) {
+  setCamera(camera);
+  positions_ = positions;
+  generations_ = generations;
+  layers_.resize(positions_.size());
+  for (std::size_t i = 0; i < layers_.size(); ++i) layers_[i] = layerOf(i);
+  counters_ = {};
 }
 
 void RainSystem::update(const CameraDesc& camera, float dt, const RainObstacles& obstacles) {

@@ -54,6 +54,11 @@ class RainSystem {
   // Moves the drops by dt (s) and respawns those that left the spawn volume of `camera` (which
   // may have moved since the last call) or hit an obstacle.
   void update(const CameraDesc& camera, float dt, const RainObstacles& obstacles = {});
+  // Takes over drops as a run left them (a resume from the cache, io/RainCache.h): positions and
+  // respawn counts per drop (as many as the budget), the rain camera of that moment. Counters
+  // start again from 0.
+  void restore(const CameraDesc& camera, const std::vector<Vec3>& positions,
+               const std::vector<std::uint32_t>& generations);
 
   const RainDesc& desc() const { return desc_; }
   const RainSpace& space() const { return space_; }
@@ -61,6 +66,9 @@ class RainSystem {
   const std::vector<Vec3>& positions() const { return positions_; }
   // Per drop: which streak image (array texture layer) it shows.
   const std::vector<std::uint8_t>& layers() const { return layers_; }
+  // Per drop: how often it has been respawned (with the seed and its index, all that decides
+  // where it is placed next).
+  const std::vector<std::uint32_t>& generations() const { return generations_; }
   Vec3 velocity() const { return desc_.wind + Vec3(0, -desc_.fallSpeed, 0); }
   const RainCounters& counters() const { return counters_; }
   // Whether p is where this spawn model keeps drops (rain space, camera box or region).
@@ -74,6 +82,7 @@ class RainSystem {
   // side-plane rejections.
   std::uint64_t spawn(std::size_t i, const RainObstacles& obstacles);
   static bool blocked(const Vec3& p, const RainObstacles& obstacles);
+  std::uint8_t layerOf(std::size_t i) const;
 
   RainDesc desc_;
   float aspect_;

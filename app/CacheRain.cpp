@@ -1,0 +1,18 @@
+#include "app/CacheRain.h"
+
+#include "io/RainCache.h"
+
+namespace sph::app {
+
+void showCachedRain(render::rain::SceneRain& rain, const io::CacheReader& reader, std::size_t frame,
+                    double time, const Particles& fluid) {
+  const io::CacheSummary& s = reader.summary();
+  if (frame < s.frames.size() && s.frames[frame].rainDrops == rain.system().desc().count) {
+    const io::RainFrame drops = io::readRainFrame(reader, frame);
+    rain.restore(drops.time, drops.positions, drops.generations);
+    return;
+  }
+  rain.advanceTo(time, fluid);
+}
+
+}  // namespace sph::app

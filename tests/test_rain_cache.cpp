@@ -1,0 +1,135 @@
+// The rain's drops in the cache (issue 13; docs/cache-format.md, "Rain drops"): a run of a scene
+// with rain stores every frame's drops as /Rain#N - exactly the drops the scene's rain stepper
+// gives at that frame - the XDMF sidecar lists them as a third point set, `info` counts them, and
+// a cache without rain holds none of it.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <fstream>
+#include <string>
+
+#include "io/CacheReader.h"
+#include "io/Hdf5.h"
+#include "io/RainCache.h"
+#include "io/SceneLoader.h"
+#include "sim/InputError.h"
+#include "sim/rain/RainStepper.h"
+#include "tests/CacheTestSupport.h"
+
+namespace sph {
+namespace {
+
+using test::runShell;
+
+constexpr std::size_t kDrops = 500;
+
+// tinyCacheScene with a camera and rain (no render section: the run draws nothing).
+std::string rainScene(double endTime) {
+  std::string scene = test::tinyCacheScene(endTime, 20);
+  const std::string rain =
+      R"(  "camera": {"position": [0.5, 0.4, 0.5], "target": [0.1, 0.05, 0.075], "fov": 40,
+             "path": [{"time": 0}, {"time": 1, "position": [-0.3, 0.4, 0.5]}]},
+  "rain": {"count": )" +
+      std::to_string(kDrops) + R"(, "near": 0.05, "far": 0.8, "fall_speed": 3, "seed": 7},
+)";
+  return scene.insert(scene.find("  \"output\""), rain);
+}
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t pos = 0; (pos = text.find(what, pos)) != std::string::npos; ++pos) ++n;
+  return n;
+}
+
+bool sameBits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
+}
+
+TEST(RainCache, RunStoresEveryFramesDropsAndTheSidecarAndInfoShowThem) {
+  const std::string dir = test::makeTempDir();
+  const std::string scenePath = dir + "/rain.json", cache = dir + "/rain.h5";
+  std::ofstream(scenePath) << rainScene(0.2);
+  auto r = runShell(test::sphsplatShell("run " + scenePath + " --threads 2 -q -o " + cache));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+
+  const io::CacheReader reader(cache);
+  ASSERT_EQ(reader.frameCount(), 5u);  // 0.2 s at 20 fps
+  // The drops of each frame are the stepper's at that frame's time with that frame's water.
+  const Scene scene = io::loadScene(scenePath);
+  auto stepper = rain::RainStepper::create(scene, rain::RainStepper::sceneAspect(scene));
+  std::vector<Vec3> previous;
+  for (std::size_t k = 0; k < reader.frameCount(); ++k) {
+    ASSERT_EQ(reader.summary().frames[k].rainDrops, kDrops) << k;
+    const io::RainFrame stored = io::readRainFrame(reader, k);
+    EXPECT_EQ(stored.time, reader.summary().frames[k].time);
+    stepper->advanceTo(stored.time, reader.readFrame(k));
+    EXPECT_TRUE(sameBits(stored.positions, stepper->system().positions())) << "frame " << k;
+    EXPECT_EQ(stored.generations, stepper->system().generations()) << k;
+    EXPECT_EQ(stored.layers, stepper->system().layers()) << k;
+    for (const Vec3& p : stored.positions)
+      ASSERT_TRUE(stepper->system().space().contains(p)) << "frame " << k;
+    EXPECT_FALSE(sameBits(stored.positions, previous)) << "the drops fall: frame " << k;
+    previous = stored.positions;
+  }
+  // The sidecar: a `rain` grid per frame, [drops][3] from the frame's Rain#N.
+  const std::string xdmf = test::readFile(dir + "/rain.xdmf");
+  EXPECT_EQ(count(xdmf, "<Grid Name=\"rain\""), reader.frameCount());
+  EXPECT_EQ(count(xdmf, "\"" + std::to_string(kDrops) +
+                            " 3\" NumberType=\"Float\" Precision=\"4\" "
+                            "Format=\"HDF\">rain.h5:/Rain#"),
+            reader.frameCount());
+  EXPECT_NE(xdmf.find("rain.h5:/Rain#4/position</DataItem>"), std::string::npos);
+  // h5py (what ParaView's readers see): Rain#N/position is [drops][3] float32.
+  r = runShell("/usr/bin/python3 -c \"import h5py; f = h5py.File('" + cache +
+               "', 'r'); d = f['Rain#3/position']; print(d.shape, d.dtype, "
+               "f['Rain#3'].attrs['drops'])\"");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("(500, 3) float32 500"), std::string::npos) << r.output;
+  r = runShell(test::sphsplatShell("info " + cache));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("rain       500 drops per frame in 5 frames"), std::string::npos)
+      << r.output;
+}
+
+TEST(RainCache, ACacheWithoutRainHoldsNoneOfIt) {
+  const std::string dir = test::makeTempDir();
+  const std::string scenePath = dir + "/tiny.json", cache = dir + "/tiny.h5";
+  std::ofstream(scenePath) << test::tinyCacheScene(0.1, 30);
+  auto r = runShell(test::sphsplatShell("run " + scenePath + " --threads 2 -q -o " + cache));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const io::CacheReader reader(cache);
+  for (const io::CacheFrame& f : reader.summary().frames) EXPECT_EQ(f.rainDrops, 0u);
+  EXPECT_FALSE(io::h5::hasLink(reader.file(), "Rain#0"));
+  EXPECT_EQ(test::readFile(dir + "/tiny.xdmf").find("rain"), std::string::npos);
+  r = runShell(test::sphsplatShell("info " + cache));
+  EXPECT_EQ(r.output.find("rain"), std::string::npos) << r.output;
+  EXPECT_THROW(io::readRainFrame(reader, 0), InputError);
+}
+
+TEST(RainCache, AResumedRunContinuesTheDropsBitForBit) {
+  const std::string dir = test::makeTempDir();
+  const std::string scenePath = dir + "/rain.json";
+  std::ofstream(scenePath) << rainScene(0.2);
+  const std::string straight = dir + "/straight.h5", resumed = dir + "/resumed.h5";
+  auto run = [&](const std::string& args) {
+    return runShell(test::sphsplatShell("run " + scenePath + " --threads 2 -q " + args));
+  };
+  auto a = run("--end 0.2 -o " + straight);
+  ASSERT_EQ(a.exitCode, 0) << a.output;
+  auto b = run("--end 0.1 -o " + resumed);
+  ASSERT_EQ(b.exitCode, 0) << b.output;
+  auto c = run("--end 0.2 --resume " + resumed);
+  ASSERT_EQ(c.exitCode, 0) << c.output;
+  test::expectSameCache(straight, resumed);
+  const io::CacheReader ra(straight), rb(resumed);
+  ASSERT_EQ(ra.frameCount(), rb.frameCount());
+  for (std::size_t k = 0; k < ra.frameCount(); ++k) {
+    const io::RainFrame x = io::readRainFrame(ra, k), y = io::readRainFrame(rb, k);
+    EXPECT_TRUE(sameBits(x.positions, y.positions)) << "frame " << k;
+    EXPECT_EQ(x.generations, y.generations) << "frame " << k;
+  }
+  EXPECT_EQ(count(test::readFile(dir + "/resumed.xdmf"), "<Grid Name=\"rain\""), rb.frameCount());
+}
+
+}  // namespace
+}  // namespace sph
