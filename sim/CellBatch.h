@@ -16,6 +16,8 @@
 #include <cstdlib>
 #include <new>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "sim/Assert.h"
@@ -61,6 +63,8 @@ struct CandidateBatch {
   std::size_t padded = 0;  // count rounded up to kBatchLanes
 
   void clear() { count = 0; }
+  // Room for n values in every field (their contents unspecified).
+  void resize(std::size_t n) { reserve(n); }
   // Appends those of [begin, end) whose position lies within sqrt(reach2) of the box [lo, hi]:
   // the candidates some particle of the cell can actually reach. At support 2 spacings this drops
   // the far corners of the 27-cell block, about a quarter of it.
@@ -95,11 +99,26 @@ struct CandidateBatch {
   }
 };
 
+// The rows of `grid`'s cells (along x; dims y x z of them) and the particles of one: a contiguous
+// range, as the particles are sorted by cell.
+inline std::size_t rowCount(const NeighbourGrid& grid) {
+  const CellCoord d = grid.dims();
+  return grid.cellCount() == 0 ? 0 : static_cast<std::size_t>(d[1]) * d[2];
+}
+inline std::pair<std::uint32_t, std::uint32_t> rowRange(const NeighbourGrid& grid,
+                                                        std::size_t row) {
+  const CellCoord d = grid.dims();
+  const int j = static_cast<int>(row % d[1]), k = static_cast<int>(row / d[1]);
+  return {grid.cellBegin(grid.localIndex(0, j, k)), grid.cellEnd(grid.localIndex(d[0] - 1, j, k))};
+}
+
 // Calls body(begin, end, fluidBatch, boundaryBatch) once for every non-empty cell of `grid`,
-// in parallel, where [begin, end) are the cell's particles and the batches hold the candidates
-// of the 27 surrounding cells: from `grid` with the N fluid fields, and from `boundaryGrid`
-// (every boundary cell within `reach` of the cell, i.e. the same 27 cells when both grids share
-// the cell size) with the M boundary fields. `reach` must be at least the support radius.
+// in parallel (or body(row, begin, end, ...) with the row of cells, rowRange(), it belongs to;
+// one row's cells are visited in order by one thread), where [begin, end) are the cell's particles
+// and the batches hold the candidates of the 27 surrounding cells: from `grid` with the N fluid
+// fields, and from `boundaryGrid` (every boundary cell within `reach` of the cell, i.e. the same 27
+// cells when both grids share the cell size) with the M boundary fields. `reach` must be at least
+// the support radius.
 template <int N, int M, class Body>
 void forEachCellWithCandidates(const NeighbourGrid& grid, const std::array<const float*, N>& fluid,
                                const NeighbourGrid& boundaryGrid,
@@ -155,7 +174,12 @@ void forEachCellWithCandidates(const NeighbourGrid& grid, const std::array<const
                          std::to_string(g[2]) + ") has " + std::to_string(end - begin) +
                          " particles but " + std::to_string(fb.count) + " candidates";
       });
-      body(begin, end, fb, bb);
+      if constexpr (std::is_invocable_v<Body&, std::size_t, std::uint32_t, std::uint32_t,
+                                        const CandidateBatch<N>&, const CandidateBatch<M>&>) {
+        body(row, begin, end, fb, bb);
+      } else {
+        body(begin, end, fb, bb);
+      }
     }
   });
 }

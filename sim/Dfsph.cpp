@@ -23,11 +23,17 @@
 // velocities, then every velocity from the same k's) warm-started with half the last step's sums
 // (jacobiSolve() says why half).
 //
+// The neighbours do not move within a step, so computeDfsphFactor() stores every fluid pair with
+// its V_j gradW_ij once (StepScratch::pairRows), and each Jacobi pass is a gather over that list
+// instead of a neighbour search with the kernel recomputed (3x faster per pass on the peer's dam
+// break, docs/benchmarks.md).
+//
 // Built with -ffast-math like SphPasses.cpp (sim/CMakeLists.txt), under the same rules: every
 // per-particle computation runs in a cell-range loop of forEachCellWithCandidates (the same split
 // whatever the thread count), and the error means are serial sums in a fixed order.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "sim/CellBatch.h"
 #include "sim/Parallel.h"
@@ -36,19 +42,20 @@
 namespace sph {
 namespace {
 
-// The solver iterations need fluid candidates only (G_i holds the boundary's part): an empty
-// grid gives empty boundary batches.
-const NeighbourGrid& noBoundary() {
-  static const NeighbourGrid empty;
-  return empty;
-}
-constexpr std::array<const float*, 3> kNoFields{nullptr, nullptr, nullptr};
-
 // V gradW_spiky(x_i - x_j) = gradScale (h - r)^2 / r (x_i - x_j): the exact gradient of the
 // normalised density sum over rho0 (SphPasses.cpp, computeDensity()).
 float gradientScale(const StepContext& c) {
   return c.derived.kernels.spikyGradFactor * c.derived.mass * c.derived.densityNormalisation /
          c.solver.restDensity;
+}
+
+// The same 32 bits as another type (std::bit_cast, C++20).
+template <class To, class From>
+To bitsAs(From from) {
+  static_assert(sizeof(To) == sizeof(From));
+  To to;
+  std::memcpy(&to, &from, sizeof(to));
+  return to;
 }
 
 // Serial mean of `v` over the fluid: a fixed order, so the same bits for any thread count.
@@ -58,41 +65,44 @@ double meanOf(const std::vector<float>& v, std::size_t n) {
   return n > 0 ? sum / static_cast<double>(n) : 0.0;
 }
 
+// Calls body(i, index, gx, gy, gz, count) for every fluid particle, in parallel by rows of cells,
+// with its `count` pairs (StepScratch::pairRows; computeDfsphFactor() built them this step).
+template <class Body>
+void forEachParticlePairs(const StepContext& c, Body&& body) {
+  const StepScratch& s = c.scratch;
+  parallelForDynamic(rowCount(c.grid), 4, [&](std::size_t row) {
+    const auto [begin, end] = rowRange(c.grid, row);
+    const StepScratch::PairRow& r = s.pairRows[row];
+    std::size_t at = 0;
+    for (std::uint32_t i = begin; i < end; ++i) {
+      const std::uint32_t count = s.pairCount[i];
+      body(i, r.index.data() + at, r.gx.data() + at, r.gy.data() + at, r.gz.data() + at, count);
+      at += count;
+    }
+  });
+}
+
 // One source pass: for every particle the rate Ds_i/Dt of the current velocities (1/s), turned
 // by `source(i, rate)` into the solver's source term and stiffness.
 template <class Source>
 void sourcePass(StepContext& c, Source&& source) {
   Particles& f = c.fluid;
   const StepScratch& s = c.scratch;
-  const SpikyPairShape spiky{c.derived.h, c.derived.h * c.derived.h};
-  const float g = gradientScale(c);
-  forEachCellWithCandidates<6, 3>(
-      c.grid, {f.x.data(), f.y.data(), f.z.data(), f.vx.data(), f.vy.data(), f.vz.data()},
-      noBoundary(), kNoFields, c.derived.h,
-      [&](std::uint32_t begin, std::uint32_t end, const CandidateBatch<6>& fb,
-          const CandidateBatch<3>&) {
-        const float* fx = fb.field[0].data();
-        const float* fy = fb.field[1].data();
-        const float* fz = fb.field[2].data();
-        const float* fvx = fb.field[3].data();
-        const float* fvy = fb.field[4].data();
-        const float* fvz = fb.field[5].data();
-        for (std::uint32_t i = begin; i < end; ++i) {
-          const float xi = f.x[i], yi = f.y[i], zi = f.z[i];
-          float sum = 0;
+  const float* vx = f.vx.data();
+  const float* vy = f.vy.data();
+  const float* vz = f.vz.data();
+  forEachParticlePairs(c, [&](std::uint32_t i, const std::uint32_t* index, const float* gx,
+                              const float* gy, const float* gz, std::uint32_t count) {
+    float sum = 0;
 #pragma omp simd reduction(+ : sum)
-          for (std::size_t j = 0; j < fb.padded; ++j) {
-            const float dx = xi - fx[j], dy = yi - fy[j], dz = zi - fz[j];
-            const float r2 = dx * dx + dy * dy + dz * dz;
-            const float invR = spiky.inverseDistance(r2);
-            const float hr = spiky.hMinusR(r2, invR);
-            sum += hr * hr * invR * (fvx[j] * dx + fvy[j] * dy + fvz[j] * dz);
-          }
-          const float rate = f.vx[i] * s.gradientSumX[i] + f.vy[i] * s.gradientSumY[i] +
-                             f.vz[i] * s.gradientSumZ[i] - g * sum;
-          source(i, rate);
-        }
-      });
+    for (std::uint32_t q = 0; q < count; ++q) {
+      const std::uint32_t j = index[q];
+      sum += vx[j] * gx[q] + vy[j] * gy[q] + vz[j] * gz[q];
+    }
+    const float rate =
+        vx[i] * s.gradientSumX[i] + vy[i] * s.gradientSumY[i] + vz[i] * s.gradientSumZ[i] - sum;
+    source(i, rate);
+  });
 }
 
 // One velocity pass: v_i -= dt (k_i G_i + sum_j V_j k_j gradW_ij), the stiffness of the last
@@ -100,39 +110,24 @@ void sourcePass(StepContext& c, Source&& source) {
 void velocityPass(StepContext& c, std::vector<float>& warm, bool acceleration) {
   Particles& f = c.fluid;
   const StepScratch& s = c.scratch;
-  const SpikyPairShape spiky{c.derived.h, c.derived.h * c.derived.h};
-  const float g = gradientScale(c);
+  const float* k = s.stiffness.data();
   const float dt = c.dt;
-  forEachCellWithCandidates<4, 3>(c.grid, {f.x.data(), f.y.data(), f.z.data(), s.stiffness.data()},
-                                  noBoundary(), kNoFields, c.derived.h,
-                                  [&](std::uint32_t begin, std::uint32_t end,
-                                      const CandidateBatch<4>& fb, const CandidateBatch<3>&) {
-                                    const float* fx = fb.field[0].data();
-                                    const float* fy = fb.field[1].data();
-                                    const float* fz = fb.field[2].data();
-                                    const float* fk = fb.field[3].data();
-                                    for (std::uint32_t i = begin; i < end; ++i) {
-                                      const float xi = f.x[i], yi = f.y[i], zi = f.z[i];
-                                      float ax = 0, ay = 0, az = 0;
+  forEachParticlePairs(c, [&](std::uint32_t i, const std::uint32_t* index, const float* gx,
+                              const float* gy, const float* gz, std::uint32_t count) {
+    float ax = 0, ay = 0, az = 0;
 #pragma omp simd reduction(+ : ax, ay, az)
-                                      for (std::size_t j = 0; j < fb.padded; ++j) {
-                                        const float dx = xi - fx[j], dy = yi - fy[j],
-                                                    dz = zi - fz[j];
-                                        const float r2 = dx * dx + dy * dy + dz * dz;
-                                        const float invR = spiky.inverseDistance(r2);
-                                        const float hr = spiky.hMinusR(r2, invR);
-                                        const float w = fk[j] * hr * hr * invR;
-                                        ax += w * dx, ay += w * dy, az += w * dz;
-                                      }
-                                      const float ki = s.stiffness[i];
-                                      const float px = -(ki * s.gradientSumX[i] + g * ax);
-                                      const float py = -(ki * s.gradientSumY[i] + g * ay);
-                                      const float pz = -(ki * s.gradientSumZ[i] + g * az);
-                                      f.vx[i] += dt * px, f.vy[i] += dt * py, f.vz[i] += dt * pz;
-                                      if (acceleration) f.ax[i] += px, f.ay[i] += py, f.az[i] += pz;
-                                      warm[i] += ki;
-                                    }
-                                  });
+    for (std::uint32_t q = 0; q < count; ++q) {
+      const float kj = k[index[q]];
+      ax += kj * gx[q], ay += kj * gy[q], az += kj * gz[q];
+    }
+    const float ki = k[i];
+    const float px = -(ki * s.gradientSumX[i] + ax);
+    const float py = -(ki * s.gradientSumY[i] + ay);
+    const float pz = -(ki * s.gradientSumZ[i] + az);
+    f.vx[i] += dt * px, f.vy[i] += dt * py, f.vz[i] += dt * pz;
+    if (acceleration) f.ax[i] += px, f.ay[i] += py, f.az[i] += pz;
+    warm[i] += ki;
+  });
 }
 
 // Makes the warm-start arrays follow the fluid (new particles start from 0).
@@ -195,7 +190,8 @@ float latticeDenominator(const StepContext& c) {
 
 }  // namespace
 
-// G_i and alpha_i from the positions of this step (after computeDensity()).
+// G_i and alpha_i from the positions of this step (after computeDensity()), and the fluid pairs
+// with their V gradW_ij for the solvers' iterations (StepScratch::pairRows).
 void computeDfsphFactor(StepContext& c) {
   Particles& f = c.fluid;
   const BoundaryParticles& b = c.boundary.particles();
@@ -203,6 +199,15 @@ void computeDfsphFactor(StepContext& c) {
   const std::size_t n = f.size();
   s.gradientSumX.resize(n), s.gradientSumY.resize(n), s.gradientSumZ.resize(n);
   s.factor.resize(n);
+  s.pairCount.resize(n);
+  if (s.indexBits.size() < n) {  // the bits of i: unchanged by the sort, so set once
+    const std::size_t from = s.indexBits.size();
+    s.indexBits.resize(n);
+    for (std::size_t i = from; i < n; ++i)
+      s.indexBits[i] = bitsAs<float>(static_cast<std::uint32_t>(i));
+  }
+  s.pairRows.resize(std::max(s.pairRows.size(), rowCount(c.grid)));
+  for (StepScratch::PairRow& r : s.pairRows) r.used = 0;
   sizeWarmStart(c);
   const SpikyPairShape spiky{c.derived.h, c.derived.h * c.derived.h};
   const float g = gradientScale(c);
@@ -212,25 +217,56 @@ void computeDfsphFactor(StepContext& c) {
   // neighbourhood's value leaves every particle with half a neighbourhood or more (the free
   // surface) untouched and under-corrects only spray.
   const float floor = 0.25f * latticeDenominator(c);
-  forEachCellWithCandidates<3, 3>(
-      c.grid, {f.x.data(), f.y.data(), f.z.data()}, c.boundary.grid(),
+  // Per thread: each candidate's V gradW_ij (0 outside the support) and index, before the
+  // candidates inside the support are packed into the row.
+  std::vector<CandidateBatch<4>> gradients(threadCount());
+  forEachCellWithCandidates<4, 3>(
+      c.grid, {f.x.data(), f.y.data(), f.z.data(), s.indexBits.data()}, c.boundary.grid(),
       {b.x.data(), b.y.data(), b.z.data()}, c.derived.h,
-      [&](std::uint32_t begin, std::uint32_t end, const CandidateBatch<3>& fb,
+      [&](std::size_t row, std::uint32_t begin, std::uint32_t end, const CandidateBatch<4>& fb,
           const CandidateBatch<3>& bb) {
+        CandidateBatch<4>& t = gradients[threadIndex()];
+        t.resize(fb.padded);
+        float* tx = t.field[0].data();
+        float* ty = t.field[1].data();
+        float* tz = t.field[2].data();
+        float* tw = t.field[3].data();
+        StepScratch::PairRow& pairs = s.pairRows[row];
+        const float* fx = fb.field[0].data();
+        const float* fy = fb.field[1].data();
+        const float* fz = fb.field[2].data();
         for (std::uint32_t i = begin; i < end; ++i) {
           const float xi = f.x[i], yi = f.y[i], zi = f.z[i];
           float gx = 0, gy = 0, gz = 0, squares = 0;
 #pragma omp simd reduction(+ : gx, gy, gz, squares)
           for (std::size_t j = 0; j < fb.padded; ++j) {
-            const float dx = xi - fb.field[0][j], dy = yi - fb.field[1][j],
-                        dz = zi - fb.field[2][j];
+            const float dx = xi - fx[j], dy = yi - fy[j], dz = zi - fz[j];
             const float r2 = dx * dx + dy * dy + dz * dz;
             const float invR = spiky.inverseDistance(r2);
             const float hr = spiky.hMinusR(r2, invR);
-            const float w = hr * hr * invR;
-            gx += w * dx, gy += w * dy, gz += w * dz;
-            squares += w * w * r2;
+            const float wj = hr * hr * invR;
+            tw[j] = wj;
+            tx[j] = g * wj * dx, ty[j] = g * wj * dy, tz[j] = g * wj * dz;
+            gx += wj * dx, gy += wj * dy, gz += wj * dz;
+            squares += wj * wj * r2;
           }
+          // The pairs: the candidates inside the support (w > 0; the particle itself has w = 0),
+          // packed without a branch.
+          const std::size_t at = pairs.used;
+          pairs.makeRoom(at + fb.count);
+          std::uint32_t* pi = pairs.index.data() + at;
+          float* px = pairs.gx.data() + at;
+          float* py = pairs.gy.data() + at;
+          float* pz = pairs.gz.data() + at;
+          const float* bits = fb.field[3].data();
+          std::uint32_t count = 0;
+          for (std::size_t j = 0; j < fb.count; ++j) {
+            pi[count] = bitsAs<std::uint32_t>(bits[j]);
+            px[count] = tx[j], py[count] = ty[j], pz[count] = tz[j];
+            count += tw[j] != 0.0f ? 1u : 0u;
+          }
+          pairs.used = at + count;
+          s.pairCount[i] = count;
           float bx = 0, by = 0, bz = 0;
 #pragma omp simd reduction(+ : bx, by, bz)
           for (std::size_t j = 0; j < bb.padded; ++j) {
@@ -239,8 +275,8 @@ void computeDfsphFactor(StepContext& c) {
             const float r2 = dx * dx + dy * dy + dz * dz;
             const float invR = spiky.inverseDistance(r2);
             const float hr = spiky.hMinusR(r2, invR);
-            const float w = hr * hr * invR;
-            bx += w * dx, by += w * dy, bz += w * dz;
+            const float wb = hr * hr * invR;
+            bx += wb * dx, by += wb * dy, bz += wb * dz;
           }
           gx = g * (gx + bx), gy = g * (gy + by), gz = g * (gz + bz);
           s.gradientSumX[i] = gx, s.gradientSumY[i] = gy, s.gradientSumZ[i] = gz;

@@ -55,6 +55,16 @@ double elasticEnergy(const Particles& fluid, const SolverParams& s, double mass,
   return e;
 }
 
+LayerMean bottomLayer(const Particles& fluid, double top) {
+  LayerMean m;
+  double pressure = 0, height = 0;
+  for (std::size_t i = 0; i < fluid.size(); ++i) {
+    if (fluid.y[i] < top) pressure += fluid.p[i], height += fluid.y[i], ++m.count;
+  }
+  if (m.count > 0) m.pressure = pressure / m.count, m.height = height / m.count;
+  return m;
+}
+
 DensityError densityError(const Particles& fluid, double rho0) {
   DensityError d;
   if (fluid.empty()) return d;

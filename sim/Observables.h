@@ -35,6 +35,16 @@ double potentialEnergy(const Particles& fluid, double mass, const Vec3& gravity,
 double elasticEnergy(const Particles& fluid, const SolverParams& solver, double mass,
                      double stiffness);
 
+// Mean pressure p (Pa) and height y (m) of the particles below height `top` (m): the bottom
+// layer of a still tank, whose pressure should be rho0 g (surface - height) (tests/
+// test_still_tank.cpp, test_dfsph.cpp). All zero for no such particle.
+struct LayerMean {
+  double pressure = 0;
+  double height = 0;
+  std::size_t count = 0;
+};
+LayerMean bottomLayer(const Particles& fluid, double top);
+
 // Deviation of the density from rest density rho0 (kg/m^3), as fractions of rho0.
 struct DensityError {
   double meanCompression = 0;  // mean of max(0, (rho - rho0) / rho0): the pressure solve's error
