@@ -53,10 +53,17 @@ TEST_F(RenderCli, CompareWritesThePanelsAndTheNumbers) {
   // The point of the paper: per-vertex normals on the iso-surface beat one normal per square.
   EXPECT_GT(quadPsnr, pointPsnr);
   EXPECT_LT(quadNormal, pointNormal);
+  // The particles' balls beyond the SD surface, and how much of them each kind draws.
+  const std::regex beyond(
+      "beyond the SD surface .*: ([0-9]+) pixels of particle balls; point splats cover "
+      "([0-9.]+)%, quad ([0-9.]+)%");
+  ASSERT_TRUE(std::regex_search(r.output, m, beyond)) << r.output;
+  EXPECT_GT(std::stoul(m[1]), 0u);
+  EXPECT_LE(std::stod(m[3]), 100.0);
   int w = 0, h = 0;
   const auto rgb = io::readPng(dir_ + "/dam_break_compare_00006.png", w, h);
-  EXPECT_GT(w, 3 * 320);  // three panels side by side
-  EXPECT_GT(h, 240);      // with captions below
+  EXPECT_GT(w, 2 * 320);  // point | quad over reference | particles
+  EXPECT_GT(h, 2 * 240);  // with captions below each
 }
 
 TEST_F(RenderCli, CompareSaysHowManySplatsItDrewAndBackFacesCanBeKept) {
