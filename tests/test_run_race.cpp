@@ -59,7 +59,9 @@ std::vector<Ended> startTogether(int count, const std::string& arguments, const 
   return ended;
 }
 
-void expectOneWinner(const std::vector<Ended>& ended, const std::string& loserMessage) {
+// Every run but one refused with exit 2 and one line holding one of `loserMessages`.
+void expectOneWinner(const std::vector<Ended>& ended,
+                     const std::vector<std::string>& loserMessages) {
   int winners = 0;
   for (const Ended& e : ended) {
     if (e.exitCode == 0) {
@@ -67,7 +69,9 @@ void expectOneWinner(const std::vector<Ended>& ended, const std::string& loserMe
       continue;
     }
     EXPECT_EQ(e.exitCode, 2) << e.log;
-    EXPECT_NE(e.log.find(loserMessage), std::string::npos) << e.log;
+    bool named = false;
+    for (const std::string& m : loserMessages) named = named || e.log.find(m) != std::string::npos;
+    EXPECT_TRUE(named) << e.log;
     EXPECT_EQ(e.log.find('\n'), e.log.size() - 1) << "one line: " << e.log;
   }
   EXPECT_EQ(winners, 1);
@@ -90,7 +94,10 @@ TEST_F(RunRace, ManySimultaneousStartsOnOneCacheLeaveOneWholeRun) {
     const std::string cache = dir_ + "/race" + std::to_string(round) + ".h5";
     const auto ended =
         startTogether(8, "run '" + scene + "' --quiet --threads 1 -o '" + cache + "'", dir_);
-    expectOneWinner(ended, "another sphsplat run is writing this cache");
+    // A sibling the loaded machine starts after the winner finished finds the whole cache and
+    // is refused as any run on an existing cache is (seen once in 2026-11-25's fresh-clone run).
+    expectOneWinner(ended, {"another sphsplat run is writing this cache",
+                            "already exists; pass --overwrite to replace it"});
     const io::CacheReader reader(cache);
     EXPECT_EQ(reader.frameCount(), 6u);
     EXPECT_EQ(reader.summary().status.rfind("finished", 0), 0u) << reader.summary().status;
@@ -109,7 +116,7 @@ TEST_F(RunRace, SimultaneousOverwritesOfAnExistingCacheLeaveOneWholeRun) {
       0);
   const auto ended = startTogether(
       6, "run '" + scene + "' --quiet --threads 1 --overwrite -o '" + cache + "'", dir_);
-  expectOneWinner(ended, "another sphsplat run is writing this cache");
+  expectOneWinner(ended, {"another sphsplat run is writing this cache"});
   const io::CacheReader reader(cache);
   EXPECT_EQ(reader.frameCount(), 6u);
   EXPECT_EQ(reader.summary().status.rfind("finished", 0), 0u);
@@ -129,7 +136,7 @@ TEST_F(RunRace, RunsThatRenderShareNeitherCacheNorPictures) {
   const std::string cache = dir_ + "/drawn.h5";
   const auto ended =
       startTogether(4, "run '" + scene + "' --quiet --threads 1 -o '" + cache + "'", dir_);
-  expectOneWinner(ended, "another sphsplat run is writing this");
+  expectOneWinner(ended, {"another sphsplat run is writing this"});
   EXPECT_EQ(io::CacheReader(cache).frameCount(), 3u);
   for (int f = 0; f < 3; ++f) {
     char name[64];
