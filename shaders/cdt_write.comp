@@ -39,9 +39,10 @@ layout(r32ui, binding = CDT_IMAGE_PREVIOUS_INDEX) uniform readonly uimage2D u_Pr
 uniform int u_Stage;
 uniform int u_Peel;
 uniform uint u_Count;
+uniform uint u_First;  // the dispatch's first particle: GL caps a dispatch at 65,535 groups
 
 void main() {
-  uint index = gl_GlobalInvocationID.x;
+  uint index = u_First + gl_GlobalInvocationID.x;
   if (index >= u_Count) return;
   uvec2 key = writeKeys[index];
   if (key.x == CDT_OFFSCREEN) return;

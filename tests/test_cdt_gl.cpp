@@ -103,6 +103,22 @@ TEST_P(CdtGlAgreement, SameTextureCollisionsAndOutputs) {
   EXPECT_GT(collided, 500u) << "the set-up must produce collisions to compare";
 }
 
+// More particles than one dispatch of the texture write covers (65,535 groups of 64): the GL
+// texture still holds every texel's winner as cdt-cpu's does. Before the write was split into
+// several dispatches, the one dispatch failed and the texture was empty.
+TEST(CdtGlLarge, MoreParticlesThanOneDispatchCovers) {
+  render::gl::GlContext context = render::gl::GlContext::headless();
+  CollisionDesc desc = test::testCollision();
+  const cdt::Settings settings = cdt::makeSettings(desc, std::nullopt);
+  cdt::CdtCpu cpu(settings);
+  render::cdt::CdtGl gl(settings);
+  Particles pc = test::randomParticles(std::size_t{65535} * 64 + 5000, 0.5f, 13);
+  gl.upload(pc);
+  cpu.step(pc, 0.004f, false);
+  gl.step(0.004f, false);
+  compareTextures(cpu.texture(), gl.readTexture(), "4.2M particles");
+}
+
 INSTANTIATE_TEST_SUITE_P(
     Variants, CdtGlAgreement,
     ::testing::Values(

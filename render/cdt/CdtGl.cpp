@@ -177,9 +177,11 @@ void CdtGl::writeAtomic(int side) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, sph::cdt::kParticleBinding, state_[side].id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, sph::cdt::kWriteKeyBinding, writeKeys_.id());
   const GLint stage = glGetUniformLocation(program, "u_Stage"),
-              peel = glGetUniformLocation(program, "u_Peel");
-  const GLuint groups =
-      static_cast<GLuint>((count_ + sph::cdt::kWriteGroupSize - 1) / sph::cdt::kWriteGroupSize);
+              peel = glGetUniformLocation(program, "u_Peel"),
+              first = glGetUniformLocation(program, "u_First");
+  // GL guarantees 65,535 work groups per dispatch dimension (Mesa allows no more): past 4,194,240
+  // particles one dispatch failed and wrote nothing, so the particles go in several.
+  constexpr std::size_t kPerDispatch = std::size_t{65535} * sph::cdt::kWriteGroupSize;
   for (int l = 0; l < settings_.layers; ++l) {
     glBindImageTexture(sph::cdt::kImageColour, colour_[side].id(), 0, GL_FALSE, l, GL_WRITE_ONLY,
                        GL_RGBA32F);
@@ -195,7 +197,13 @@ void CdtGl::writeAtomic(int side) {
     glProgramUniform1i(program, peel, l > 0 ? 1 : 0);
     for (int s = 0; s < 3; ++s) {
       glProgramUniform1i(program, stage, s);
-      glDispatchCompute(groups, 1, 1);
+      for (std::size_t begin = 0; begin < count_; begin += kPerDispatch) {
+        const std::size_t n = std::min(kPerDispatch, count_ - begin);
+        glProgramUniform1ui(program, first, static_cast<GLuint>(begin));
+        glDispatchCompute(
+            static_cast<GLuint>((n + sph::cdt::kWriteGroupSize - 1) / sph::cdt::kWriteGroupSize), 1,
+            1);
+      }
       glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
   }
