@@ -49,7 +49,9 @@ std::function<int()> addCompareCommand(CLI::App& app) {
                   "(repeatable)");
   cmd->footer(
       "Errors are against a CPU ray-marcher of the same SPH iso-surface: PSNR of the colours,\n"
-      "holes (surface pixels a renderer leaves empty) and the mean normal angle error.");
+      "holes (surface pixels a renderer leaves empty) and the mean normal angle error. Opaque\n"
+      "solids are in every panel (the reference's rays end on them). A fourth panel shows every\n"
+      "particle as a ball of its volume: the thin jets the iso-surface omits (not scored).");
   return [o, cmd]() { return cmd->parsed() ? compareJob(*o) : -1; };
 }
 
