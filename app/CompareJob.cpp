@@ -116,8 +116,9 @@ int compareJob(const CompareRequest& o) {
   std::printf(
       "%s frame %zu (t = %.3f s): %zu particles, %zu surface (SD = %.3f x ID), %zu splats drawn "
       "(%s)\n",
-      c.scene.name.c_str(), f, time, point.particles, point.surface, point.SD / point.ID,
-      point.splats, point.splats < point.surface ? "the rest face away" : "back faces too");
+      c.scene.name.c_str(), f, time, point.particles, point.surface,
+      point.ID > 0 ? point.SD / point.ID : 0.0, point.splats,
+      point.splats < point.surface ? "the rest face away" : "back faces too");
   std::printf("  %-6s %9s %9s %9s %9s %9s | %8s %8s %11s\n", "splats", "field ms", "surf ms",
               "normal ms", "build ms", "draw ms", "PSNR dB", "holes %", "normal deg");
   auto row = [&](const char* name, const render::splat::RenderedSplats& r,
@@ -149,7 +150,7 @@ int compareJob(const CompareRequest& o) {
         fmt("normal error %.1f deg", eq.normalErrorDegrees)}},
       {&reference,
        {"reference (ray-marched)", fmt("%.2f s", reference.seconds),
-        fmt("sd = %.3f x id", point.SD / point.ID),
+        fmt("sd = %.3f x id", point.ID > 0 ? point.SD / point.ID : 0.0),
         fmt("frame %.0f, t = %.3f s", static_cast<double>(f), time)}},
       {&everyParticle,
        {"every particle (balls of its volume)", fmt("%.2f s", everyParticle.seconds),

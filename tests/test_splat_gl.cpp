@@ -167,6 +167,22 @@ TEST_F(SplatGl, AJetBelowTheSurfaceDensityIsDrawnAtItsWidth) {
   EXPECT_GT(jet.fraction, 0.4);
 }
 
+// A frame without particles (a pour before its first layer): neither reference has anything to
+// hit. The SD reference used to march an unbounded box against a NaN SD and covered every pixel.
+TEST_F(SplatGl, ReferencesOfAnEmptyFrameCoverNothing) {
+  const DensityField f(nullptr, nullptr, nullptr, 0, 0.01f, 2.5f);
+  const Lighting light;
+  const CameraDesc cam = topView();
+  const float SD = surfaceThresholdAuto(f) * f.meanDensity();
+  for (const RenderImage& image : {raymarchReference(f, SD, cam, 32, 32, light),
+                                   raytraceParticleBalls(f, 0.006f, cam, 32, 32, light)}) {
+    std::size_t covered = 0;
+    for (std::uint8_t c : image.covered) covered += c;
+    EXPECT_EQ(covered, 0u);
+    EXPECT_EQ(image.rgb[0], toSrgb8(light.background[0]));
+  }
+}
+
 TEST_F(SplatGl, PicturesSkipTheNormalTargetAndKeepTheSameColours) {
   const float dx = 0.01f;
   const Block b(8, 8, 8, dx);

@@ -52,7 +52,8 @@ RenderImage castRays(const DensityField& field, float grow, const CameraDesc& ca
         if (ta > tb) std::swap(ta, tb);
         t0 = std::max(t0, ta), t1 = std::min(t1, tb);
       }
-      const float t = t0 < t1 ? firstHit(eye, dir, t0, t1) : -1.0f;
+      // No particles: nothing to hit (and no box: the bounds above stay inverted).
+      const float t = t0 < t1 && field.size() > 0 ? firstHit(eye, dir, t0, t1) : -1.0f;
       if (t < 0) {
         for (int k = 0; k < 3; ++k) {
           image.rgb[3 * pixel + k] =
