@@ -189,7 +189,20 @@ void Simulation::collide(float dt) {
     collision_->apply(fluid_, context);
     return;
   }
-  // Distributed (only `exact` is let through, app/DistributedRun.cpp): a second exchange gives
+  if (scene_.collision->method != CollisionMethod::Exact) {
+    // `octree` and `cdt-cpu` find pairs through structures of the whole fluid (an octree's
+    // leaves, the CDT's depth images over the domain), which a rank's slab and ghosts would
+    // build differently. So every rank gathers the whole fluid in the single-process order and
+    // runs the pass on it, then keeps its own particles: the single process's result, bit for
+    // bit, at the cost of the pass on every rank (not divided by K) and an all-gather of the
+    // fluid each step (docs/scaling.md).
+    std::vector<std::uint32_t> mine;
+    Particles whole = halo_->allGather(fluid_, mine);
+    collision_->apply(whole, context);
+    fluid_.assignFrom(whole, mine);
+    return;
+  }
+  // `exact` (the only pass that runs distributed): a second exchange gives
   // each rank the particles within two cell planes of its slab, which holds every partner of its
   // particles: partners are closer than the range at the start of the step (x - v dt), so now
   // closer than range + 2 max speed dt. The exact detector picks the nearest partner and, among
