@@ -19,6 +19,13 @@ namespace {
 // dropped) its position, three per-step fields and its grid slot.
 constexpr double kBytesPerFluidParticle = 76;
 constexpr double kBytesPerBoundaryParticle = 50;
+// DFSPH's on top (sim/Dfsph.cpp, solver.pressure "dfsph"): every fluid pair of the step stored
+// with its V gradW (16 bytes; ~33 neighbours at support 2 spacings), in rows whose room grows to
+// twice what a row once needed, and 8 more per-particle arrays (G, alpha, source, stiffness,
+// the two warm starts). Fitted, as above, to the dam break's peak resident memory at spacings 3,
+// 2.5, 1.8 and 1.4 mm (9.0e4 to 8.9e5 fluid particles: 102, 148, 291 and 835 MB, 2026-11-26):
+// the rows' doubling puts 540-810 bytes a particle on top of WCSPH's at those sizes.
+constexpr double kDfsphBytesPerFluidParticle = 660;
 // The program itself: code, libraries (HDF5, OpenMP, the C++ runtime), thread stacks.
 constexpr double kBaseBytes = 15e6;
 // An OpenGL context on Mesa's llvmpipe with the renderer's or cdt-gl's buffers and shaders.
@@ -45,8 +52,12 @@ MemoryEstimate estimateMemory(const Scene& scene) {
     m.boundaryParticles += countBoundarySamples(b, scene.domain, scene.solver.spacing, layers);
   const bool gl =
       scene.render || (scene.collision && scene.collision->method == CollisionMethod::CdtGl);
+  const bool dfsph =
+      scene.solver.model == SolverModel::Sph && scene.solver.pressure == PressureSolver::Dfsph;
+  const double perFluidParticle =
+      kBytesPerFluidParticle + (dfsph ? kDfsphBytesPerFluidParticle : 0);
   m.bytes = kBaseBytes + (gl ? kGlBytes : 0) +
-            kBytesPerFluidParticle * (m.fluidParticles + m.emittedParticles) +
+            perFluidParticle * (m.fluidParticles + m.emittedParticles) +
             kBytesPerBoundaryParticle * m.boundaryParticles;
   // The key to change: an emitter's size when it is most of the particles, else the spacing.
   if (largestEmitter > m.fluidParticles + m.boundaryParticles)
