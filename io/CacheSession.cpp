@@ -164,24 +164,19 @@ std::size_t CacheSession::restore(Simulation& sim, const CacheProvenance& proven
   }
   sim.restore(state, std::move(fluid));
   followRain(sim);
-  if (rain_ && s.frames[last].rainDrops > 0) {
-    // The drops as the run left them: the resumed run continues them exactly.
+  // The drops as the run left them: the resumed run continues them exactly. A feeding rain's are
+  // part of the run's state (sim/rain/RainFeed.h): a cache without them cannot be resumed.
+  if (sim.rainFeed() || (rain_ && s.frames[last].rainDrops > 0)) {
     RainFrame drops = readRainFrame(*reader_, last);
     if (drops.positions.size() != sim.scene().rain->count) {
       throw InputError(path_ + ": the cache holds " + std::to_string(drops.positions.size()) +
                        " rain drops a frame, the scene's rain.count is " +
                        std::to_string(sim.scene().rain->count));
     }
-    rain_->restore(drops.time, drops.positions, drops.generations);
-  } else if (sim.rainFeed()) {
-    // A feeding rain's drops are part of the run's state (sim/rain/RainFeed.h).
-    RainFrame drops = readRainFrame(*reader_, last);
-    if (drops.positions.size() != sim.scene().rain->count) {
-      throw InputError(path_ + ": the cache holds " + std::to_string(drops.positions.size()) +
-                       " rain drops a frame, the scene's rain.count is " +
-                       std::to_string(sim.scene().rain->count));
-    }
-    sim.restoreRain(drops.time, drops.positions, drops.generations);
+    if (rain_)
+      rain_->restore(drops.time, drops.positions, drops.generations);
+    else
+      sim.restoreRain(drops.time, drops.positions, drops.generations);
   }
 
   fields_ = s.fields;
