@@ -57,6 +57,12 @@ void refuseUnsupported(const Scene& scene, int ranks) {
                      "sums and a convergence test agreed over the ranks, not built yet); run "
                      "without mpirun or set solver.pressure to \"wcsph\" (docs/scaling.md)");
   }
+  if (scene.rain && scene.rain->feedFluid) {
+    throw InputError(where +
+                     ": rain.feed_fluid runs on one process only (the landed drops become "
+                     "particles in one place, not shared out yet); run without mpirun or set "
+                     "rain.feed_fluid to false (docs/scaling.md)");
+  }
   if (scene.render) {
     throw InputError(where +
                      ": the render section draws on one process only; run without mpirun and "

@@ -167,6 +167,10 @@ RainDesc readRain(JsonReader r) {
                                              "an integer in [1, 64] (array texture layers)",
                                              [](double v) { return integerIn(v, 1, 64); }));
   if (auto l = r.optionalObject("spotlight")) d.spotlight = readSpotlight(*l);
+  d.feedFluid = r.boolean("feed_fluid", false);
+  // Up to a cubic metre: a "drop" that stands for many, to show the fill in a short run.
+  d.dropVolume = r.number("drop_volume", d.dropVolume, "a number in (0, 1] (m^3 of water a drop)",
+                          [](double v) { return v > 0 && v <= 1; });
   r.finish();
   return d;
 }

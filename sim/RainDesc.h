@@ -72,6 +72,11 @@ struct RainDesc {
   Aabb region;           // m, the fixed rain box of spawn "region"
   int streakLayers = 8;  // procedurally generated streak images in the array texture
   std::optional<SpotlightDesc> spotlight;
+  // rain.feed_fluid (docs/rain.md, "Rain that fills the pool"): false, the paper, a drop that
+  // lands in the water vanishes; true, its water joins the SPH fluid (sim/rain/RainFeed.h).
+  bool feedFluid = false;
+  // m^3 of water a drop carries (feed_fluid). A real 2 mm drop: pi/6 (2e-3)^3 = 4.19e-9 m^3.
+  double dropVolume = 4.18879e-9;
 };
 
 }  // namespace sph

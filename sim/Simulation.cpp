@@ -27,6 +27,7 @@ Simulation::Simulation(const Scene& scene)
   for (std::size_t i = 0; i < fluid_.size(); ++i) {
     state_.maxSpeed = std::max(state_.maxSpeed, fluid_.velocity(i).norm());
   }
+  rainFeed_ = rain::RainFeed::create(scene_);
 }
 
 Simulation::~Simulation() = default;
@@ -58,6 +59,9 @@ void Simulation::setHalo(dist::Halo* halo) {
 }
 
 void Simulation::step(double limit) {
+  // A feeding rain steps at its ticks: the step lands on the next one.
+  const double rainTick = rainFeed_ ? rainFeed_->nextTick(state_.time) : 1e300;
+  limit = std::min(limit, rainTick);
   double dt = chooseTimeStep();
   if (state_.time + dt > limit) dt = limit - state_.time;
   // Avoid a sliver step right before the limit: split the remainder into two equal steps.
@@ -158,6 +162,7 @@ void Simulation::step(double limit) {
     state_.maxSpeed = bounds.maxSpeed, state_.maxAcceleration = bounds.maxAcceleration;
     halo_->maxOverRanks(state_.maxSpeed, state_.maxAcceleration);
   });
+  if (state_.time >= rainTick) timed(Pass::Emit, [&] { feedRain(rainTick); });
   validate("the step", [&] { return checkState(fluid_, state_.nextId); });
   profile_.steps += 1;
   profile_.particleSteps += fluid_.size();
@@ -177,6 +182,18 @@ void Simulation::emitParticles(double dt) {
     emitters_[e].emit(end, dt, into, state_.nextId, scene_.solver.restDensity);
   }
   emittedElsewhere_.clear();
+}
+
+void Simulation::feedRain(double tick) {
+  const std::vector<Vec3>& landings = rainFeed_->advanceTo(tick, fluid_);
+  if (rainFeed_->addLandings(landings, state_.rain, fluid_, state_.nextId) == 0) return;
+  // The next step's size follows the new particles (they enter at the rain's speed).
+  state_.maxSpeed = std::max(state_.maxSpeed, rainFeed_->stepper().system().velocity().norm());
+}
+
+void Simulation::restoreRain(double time, const std::vector<Vec3>& positions,
+                             const std::vector<std::uint32_t>& generations) {
+  if (rainFeed_) rainFeed_->restore(time, positions, generations);
 }
 
 void Simulation::collide(float dt) {
