@@ -196,6 +196,58 @@ bool setUp(const Frame& f, const Vec3& head, Streak& s) {
   return true;
 }
 
+// One row of a streak: y of its pixel centres, the covered pixels [x0, x1), and the parts of
+// the homography and depth that depend on y alone.
+struct Row {
+  float y, du, dv, dd, dz;
+  int x0, x1;
+};
+inline Row rowOf(const Streak& s, int row, float xLo, float xHi, int width) {
+  Row r;
+  r.y = static_cast<float>(row) + 0.5f;
+  float left = xLo, right = xHi;
+  for (int e = 0; e < 4; ++e) {
+    left = std::max(left, s.leftP[e] + s.leftQ[e] * r.y);
+    right = std::min(right, s.rightP[e] + s.rightQ[e] * r.y);
+  }
+  r.x0 = floorToInt(std::ceil(left - 0.5f), 0, width);
+  r.x1 = floorToInt(std::ceil(right - 0.5f), 0, width);
+  r.du = s.uvd[0][1] * r.y + s.uvd[0][2], r.dv = s.uvd[1][1] * r.y + s.uvd[1][2];
+  r.dd = s.uvd[2][1] * r.y + s.uvd[2][2], r.dz = s.depth[1] * r.y + s.depth[2];
+  return r;
+}
+
+// The streak's alpha at pixel x of row r; 0, and keep false, where x is not covered, is outside
+// near..far or behind the eye, or is not nearer than the frame (`frameDepth`). `image`: the
+// drop's streak image padded by its edge texels (pw texels a row), `fw` x `fh` unpadded.
+inline float fragmentAlpha(const Streak& s, const Row& r, int x, float frameDepth,
+                           const float* image, int pw, float fw, float fh, bool& keep) {
+  const float px = static_cast<float>(x) + 0.5f;
+  const float nd = s.uvd[2][0] * px + r.dd;
+  const float z = s.depth[0] * px + r.dz;
+  keep = x >= r.x0 && x < r.x1 && nd * s.sign > 0 && z >= 0 && z <= 1 && z < frameDepth;
+  const float w = 1 / (keep ? nd : 1.0f);
+  const float u = std::clamp((s.uvd[0][0] * px + r.du) * w, 0.0f, 1.0f);
+  const float v = std::clamp((s.uvd[1][0] * px + r.dv) * w, 0.0f, 1.0f);
+  // GL_LINEAR with GL_CLAMP_TO_EDGE, on the padded image.
+  const float ts = u * fw + 0.5f, tt = v * fh + 0.5f;  // padded texel space, >= 0.5
+  const int s0 = static_cast<int>(ts), t0 = static_cast<int>(tt);
+  const float ws = ts - static_cast<float>(s0), wt = tt - static_cast<float>(t0);
+  const int i = t0 * pw + s0;
+  const float a0 = image[i] + ws * (image[i + 1] - image[i]);
+  const float a1 = image[i + pw] + ws * (image[i + pw + 1] - image[i + pw]);
+  return keep ? a0 + wt * (a1 - a0) : 0.0f;
+}
+
+// "Over" in drop order into (L, T); alpha 0 leaves the pixel exactly as it was.
+inline void blend(float* p, const Vec3& c, float alpha) {
+  const float kept = 1 - alpha;
+  p[0] = p[0] * kept + c.x() * alpha;
+  p[1] = p[1] * kept + c.y() * alpha;
+  p[2] = p[2] * kept + c.z() * alpha;
+  p[3] *= kept;
+}
+
 }  // namespace
 
 StreakRaster::StreakRaster(const RainDesc& desc, StreakImages images)
@@ -260,6 +312,13 @@ void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const 
   // out (which thread takes which band changes no pixel).
   const int pw = images_.width + 2, ph = images_.height + 2;  // alpha_: padded
   const float fw = static_cast<float>(images_.width), fh = static_cast<float>(images_.height);
+  // No depth test: a frame that is all far plane.
+  if (depth == nullptr) {
+    farDepth_.assign(static_cast<std::size_t>(width_) * height_, 2.0f);
+    depth = farDepth_.data();
+  }
+  const float* const frameDepth = depth;
+  constexpr int kChunk = 16;
   std::uint64_t fragments = 0;
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : fragments)
   for (int band = 0; band < bandCount; ++band) {
@@ -279,52 +338,41 @@ void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const 
         const float* image = alpha_.data() + static_cast<std::size_t>(layers[i]) * pw * ph;
         const float xLo = std::max(s.xMin, -1.0f);
         const float xHi = std::min(s.xMax, static_cast<float>(width_) + 1);
-        for (int row = first; row < end; ++row) {
-          const float y = static_cast<float>(row) + 0.5f;
-          float left = xLo, right = xHi;
-          for (int e = 0; e < 4; ++e) {
-            left = std::max(left, s.leftP[e] + s.leftQ[e] * y);
-            right = std::min(right, s.rightP[e] + s.rightQ[e] * y);
+        // Rows in chunks: a vectorised pass takes each row's first candidate pixel (the only one
+        // of most streaks, under a pixel wide), then the blends and any further pixels of wider
+        // rows. Pixel centres x + 0.5 in [x0, x1) are covered; one candidate is taken even where
+        // a row has none (masked, alpha 0) rather than a branch per row: whether a row of a thin
+        // streak holds a pixel centre is a coin toss to the branch predictor.
+        for (int chunkFirst = first; chunkFirst < end; chunkFirst += kChunk) {
+          const int rows = std::min(kChunk, end - chunkFirst);
+          alignas(64) float alphas[kChunk];
+          alignas(64) int pixels[kChunk], wider[kChunk];
+          int covered = 0;
+#pragma omp simd reduction(+ : covered)
+          for (int k = 0; k < rows; ++k) {
+            const Row r = rowOf(s, chunkFirst + k, xLo, xHi, width_);
+            const int x = std::min(r.x0, width_ - 1);
+            const int pixel = (chunkFirst + k) * width_ + x;
+            bool keep = false;
+            alphas[k] = fragmentAlpha(s, r, x, frameDepth[pixel], image, pw, fw, fh, keep);
+            covered += keep;
+            pixels[k] = pixel;
+            wider[k] = r.x1 - x - 1;
           }
-          // Pixel centres x + 0.5 in [left, right). At least one candidate per row, masked,
-          // rather than a branch per row: most streaks are under a pixel wide, and whether a
-          // row of one holds a pixel centre is a coin toss to the branch predictor.
-          const int x0 = floorToInt(std::ceil(left - 0.5f), 0, width_);
-          const int x1 = floorToInt(std::ceil(right - 0.5f), 0, width_);
-          const int xFirst = std::min(x0, width_ - 1);
-          const float du = s.uvd[0][1] * y + s.uvd[0][2], dv = s.uvd[1][1] * y + s.uvd[1][2];
-          const float dd = s.uvd[2][1] * y + s.uvd[2][2], dz = s.depth[1] * y + s.depth[2];
-          const std::size_t rowStart = static_cast<std::size_t>(row) * width_;
-          const float* depthRow = depth != nullptr ? depth + rowStart : nullptr;
-          float* outRow = out + 4 * rowStart;
-          for (int x = xFirst; x < std::max(x1, xFirst + 1); ++x) {
-            const float px = static_cast<float>(x) + 0.5f;
-            const float nd = s.uvd[2][0] * px + dd;
-            const float z = s.depth[0] * px + dz;
-            // Inside the row's span, in front of the eye, within near..far (the clipped quad),
-            // and nearer than the frame.
-            const bool keep = x >= x0 && x < x1 && nd * s.sign > 0 && z >= 0 && z <= 1 &&
-                              (depthRow == nullptr || z < depthRow[x]);
-            fragments += keep;
-            const float r = 1 / (keep ? nd : 1.0f);
-            const float u = std::clamp((s.uvd[0][0] * px + du) * r, 0.0f, 1.0f);
-            const float v = std::clamp((s.uvd[1][0] * px + dv) * r, 0.0f, 1.0f);
-            // GL_LINEAR with GL_CLAMP_TO_EDGE, on the image padded by its edge texels.
-            const float ts = u * fw + 0.5f, tt = v * fh + 0.5f;  // padded texel space, >= 0.5
-            const int s0 = static_cast<int>(ts), t0 = static_cast<int>(tt);
-            const float ws = ts - static_cast<float>(s0), wt = tt - static_cast<float>(t0);
-            const float* r0 = image + t0 * pw + s0;
-            const float* r1 = r0 + pw;
-            const float a0 = r0[0] + ws * (r0[1] - r0[0]);
-            const float a1 = r1[0] + ws * (r1[1] - r1[0]);
-            // A blend with alpha 0 leaves the pixel exactly as it was.
-            const float alpha = keep ? a0 + wt * (a1 - a0) : 0.0f;
-            float* p = outRow + 4 * x;
-            const float kept = 1 - alpha;
-            p[0] = p[0] * kept + c.x() * alpha;
-            p[1] = p[1] * kept + c.y() * alpha;
-            p[2] = p[2] * kept + c.z() * alpha;
-            p[3] *= kept;
+          fragments += static_cast<std::uint64_t>(covered);
+          for (int k = 0; k < rows; ++k)
+            blend(out + 4 * static_cast<std::size_t>(pixels[k]), c, alphas[k]);
+          for (int k = 0; k < rows; ++k) {
+            if (wider[k] <= 0) continue;
+            const Row r = rowOf(s, chunkFirst + k, xLo, xHi, width_);
+            for (int x = pixels[k] - (chunkFirst + k) * width_ + 1; x < r.x1; ++x) {
+              const int pixel = (chunkFirst + k) * width_ + x;
+              bool keep = false;
+              const float alpha =
+                  fragmentAlpha(s, r, x, frameDepth[pixel], image, pw, fw, fh, keep);
+              fragments += keep;
+              blend(out + 4 * static_cast<std::size_t>(pixel), c, alpha);
+            }
           }
         }
       }

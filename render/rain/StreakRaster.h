@@ -67,6 +67,7 @@ class StreakRaster {
   StreakImages images_;
   std::vector<float> alpha_;  // images_ as floats in [0, 1], each padded by its edge texels
   std::vector<float> layer_;
+  std::vector<float> farDepth_;  // the frame's depth when draw() is given none: beyond every streak
   // The drops each band of rows takes, per thread of the binning pass (its own contiguous share
   // of the drops): bins_[thread * bands + band], in drop order.
   std::vector<std::vector<std::uint32_t>> bins_;
