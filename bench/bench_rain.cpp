@@ -64,6 +64,30 @@ BENCHMARK(RainUpdate)
 
 std::unique_ptr<render::gl::GlContext> context;
 
+// `d`'s drops reset at the first camera, their layer, and the 960x540 frame (no water) it is
+// drawn into; makes the headless context on first use.
+struct RainFrameDraw {
+  static const RainDesc& withContext(const RainDesc& d) {
+    if (!context)
+      context = std::make_unique<render::gl::GlContext>(render::gl::GlContext::headless());
+    return d;
+  }
+  explicit RainFrameDraw(const RainDesc& d)
+      : drops(withContext(d), kAspect), layer(d), renderer(kWidth, kHeight) {
+    drops.reset(cameraAtFrame(0));
+    renderer.setLayers({&layer});
+  }
+  // Uploads the drops and draws them: upload + draw + read back.
+  render::splat::RenderImage draw(const CameraDesc& camera) {
+    layer.setDrops(drops);
+    return renderer.render(render::splat::SplatFrame{}, render::splat::SplatKind::Point, camera,
+                           render::splat::Lighting{});
+  }
+  rain::RainSystem drops;
+  render::rain::RainRenderer layer;
+  render::splat::SplatRenderer renderer;
+};
+
 // Fragments per drop of a frame just drawn: the rasteriser's count ("cpu"), or GL's
 // GL_SAMPLES_PASSED over `frame()` ("triangles"; every one passes: nothing else writes depth).
 template <class Frame>
@@ -86,8 +110,6 @@ double fragmentsPerDrop(const render::rain::RainRenderer& layer, Frame frame) {
 // args: drops, spotlight (0 none, 1 hard cone, 2 soft edge + falloff, 3 profile: streaks of no
 // size), rain.draw (0 "cpu", 1 "triangles"). Upload + draw + read back.
 void RainDraw(benchmark::State& state) {
-  if (!context)
-    context = std::make_unique<render::gl::GlContext>(render::gl::GlContext::headless());
   RainDesc d = desc(state.range(0), 0);
   if (state.range(1) > 0) {
     SpotlightDesc l;
@@ -98,18 +120,9 @@ void RainDraw(benchmark::State& state) {
   }
   if (state.range(1) == 3) d.exposure = 0, d.dropWidth = 0;  // profile: no fragments
   d.draw = static_cast<sph::RainDraw>(state.range(2));
-  rain::RainSystem r(d, kAspect);
-  r.reset(cameraAtFrame(0));
-  render::rain::RainRenderer layer(d);
-  render::splat::SplatRenderer renderer(kWidth, kHeight);
-  renderer.setLayers({&layer});
-  const render::splat::SplatFrame none;
-  auto frame = [&] {
-    layer.setDrops(r);
-    return renderer.render(none, render::splat::SplatKind::Point, cameraAtFrame(0),
-                           render::splat::Lighting{});
-  };
-  state.counters["fragments/drop"] = fragmentsPerDrop(layer, frame);
+  RainFrameDraw rain(d);
+  auto frame = [&] { return rain.draw(cameraAtFrame(0)); };
+  state.counters["fragments/drop"] = fragmentsPerDrop(rain.layer, frame);
   for (auto _ : state) benchmark::DoNotOptimize(frame());
 }
 BENCHMARK(RainDraw)
@@ -147,28 +160,19 @@ BENCHMARK(RainRaster)->Arg(10000)->Arg(100000)->Arg(1000000)->Unit(benchmark::kM
 // + upload + draw + read back, 960x540, no water - while the camera pans 90 degrees a second.
 // args: drops, spawn (0 view, 1 box, 2 region), rain.draw (0 "cpu", 1 "triangles").
 void RainFrame(benchmark::State& state) {
-  if (!context)
-    context = std::make_unique<render::gl::GlContext>(render::gl::GlContext::headless());
   RainDesc d = desc(state.range(0), state.range(1));
   d.draw = static_cast<sph::RainDraw>(state.range(2));
-  rain::RainSystem r(d, kAspect);
-  r.reset(cameraAtFrame(0));
-  render::rain::RainRenderer layer(d);
-  render::splat::SplatRenderer renderer(kWidth, kHeight);
-  renderer.setLayers({&layer});
-  const render::splat::SplatFrame none;
+  RainFrameDraw rain(d);
   int frame = 0;
   for (auto _ : state) {
     const CameraDesc camera = cameraAtFrame(++frame);
-    r.update(camera, 1.0f / 30);
-    layer.setDrops(r);
-    benchmark::DoNotOptimize(
-        renderer.render(none, render::splat::SplatKind::Point, camera, render::splat::Lighting{}));
+    rain.drops.update(camera, 1.0f / 30);
+    benchmark::DoNotOptimize(rain.draw(camera));
   }
-  state.counters["fragments/drop"] =
-      layer.raster()
-          ? static_cast<double>(layer.raster()->fragments()) / static_cast<double>(state.range(0))
-          : 0.0;
+  state.counters["fragments/drop"] = rain.layer.raster()
+                                         ? static_cast<double>(rain.layer.raster()->fragments()) /
+                                               static_cast<double>(state.range(0))
+                                         : 0.0;
 }
 BENCHMARK(RainFrame)
     ->ArgsProduct({{1000, 10000, 100000, 1000000}, {0, 1, 2}, {0}})

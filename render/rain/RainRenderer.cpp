@@ -102,8 +102,12 @@ void RainRenderer::drawCpu(const CameraFrame& camera, const splat::Lighting& lig
   glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readFramebuffer);
   glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(drawFramebuffer));
   depth_.resize(static_cast<std::size_t>(w) * h);
+  GLint packAlignment = 4, unpackAlignment = 4;  // restored: others read and write with theirs
+  glGetIntegerv(GL_PACK_ALIGNMENT, &packAlignment);
+  glGetIntegerv(GL_UNPACK_ALIGNMENT, &unpackAlignment);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
   glReadPixels(viewport[0], viewport[1], w, h, GL_DEPTH_COMPONENT, GL_FLOAT, depth_.data());
+  glPixelStorei(GL_PACK_ALIGNMENT, packAlignment);
   glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(readFramebuffer));
 
   raster_->draw(StreakView{camera, w, h}, StreakDrops{&positions_, &layers_, velocity_},
@@ -117,6 +121,7 @@ void RainRenderer::drawCpu(const CameraFrame& camera, const splat::Lighting& lig
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   glTextureSubImage2D(layerTexture_.id(), 0, 0, 0, w, h, GL_RGBA, GL_FLOAT,
                       raster_->layer().data());
+  glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment);
   // frame = L + T frame (StreakRaster::layer()); the frame's alpha is kept.
   const GLuint p = composite_.id();
   glProgramUniform2i(p, glGetUniformLocation(p, "u_origin"), viewport[0], viewport[1]);
