@@ -166,6 +166,7 @@ RainDesc readRain(JsonReader r) {
   d.streakLayers = static_cast<int>(r.number("streak_images", d.streakLayers,
                                              "an integer in [1, 64] (array texture layers)",
                                              [](double v) { return integerIn(v, 1, 64); }));
+  d.draw = r.choice("draw", std::optional(RainDraw::Cpu));
   if (auto l = r.optionalObject("spotlight")) d.spotlight = readSpotlight(*l);
   d.feedFluid = r.boolean("feed_fluid", false);
   // Up to a cubic metre: a "drop" that stands for many, to show the fill in a short run.
