@@ -12,7 +12,8 @@
 //   bench_lights_faster cpu        accumulate "cpu" against "atomic" in Fig. 11's world, 65,536
 //                                  to 4M lights (--max-lights), and on the fireflies' frame; whole
 //                                  volume: ms and the largest texel difference
-// Options: --repeat N (min of N, default 3), --max-lights N (default 1048576).
+// Options: --repeat N (min of N, default 3), --max-lights N (default 1048576), --accumulate cpu
+// (fig11, fireflies: the CPU accumulation instead of the atomic one).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -41,6 +42,7 @@ namespace {
 
 int repeat = 3;
 std::size_t maxLights = 1048576;
+LightAccumulate accumulate = LightAccumulate::Atomic;  // fig11, fireflies: --accumulate
 
 struct View {
   const char* name;
@@ -122,14 +124,14 @@ void fig11() {
   above.position = Vec3(64, 40, 70), above.target = Vec3(64, 0, 64);
   low.position = Vec3(64, 15, 70), low.target = Vec3(64, 0, 62);
   std::printf(
-      "Fig. 11 world (128^3 voxels of 1 m, range 0.5 m, trilinear, deferred; 960 x 540): ms per "
-      "accumulation, min of %d\n",
-      repeat);
+      "Fig. 11 world (128^3 voxels of 1 m, range 0.5 m, trilinear, deferred, %s; 960 x 540): ms "
+      "per accumulation, min of %d\n",
+      nameOf(accumulate), repeat);
   header();
   for (std::size_t n : {262144u, 1048576u}) {
     if (n > maxLights) continue;
     LightsDesc d = bench::fig11Lights(n);
-    d.pipeline = LightPipeline::Deferred;
+    d.pipeline = LightPipeline::Deferred, d.accumulate = accumulate;
     measure(d, lightParticles(d, Particles{}, 0.0), solids, 960, 540,
             {{"fig11", bench::fig11Camera()}, {"corner", corner}, {"above", above}, {"low", low}});
   }
@@ -185,17 +187,18 @@ void cpu() {
 
 void fireflies() {
   const Scene scene = io::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/fireflies.json");
-  const LightsDesc& d = *scene.lights;
+  LightsDesc d = *scene.lights;
+  d.accumulate = accumulate;
   const std::vector<LightParticle> lights = lightParticles(d, Particles{}, 0.2, lightSolids(scene));
   const float thickness = deriveParams(scene).boundaryLayers * scene.solver.spacing;
   render::solids::SolidRenderer solids(scene.boundaries, scene.domain, thickness);
   CameraDesc cup = *scene.camera;
   cup.position = Vec3(0.62f, 0.3f, 0.05f), cup.target = Vec3(0.35f, 0.07f, -0.25f);
   std::printf(
-      "scenes/fireflies.json at t = 0.2 s (%d x %d x %d voxels of %g m, range %g m, %s, %s; "
+      "scenes/fireflies.json at t = 0.2 s (%d x %d x %d voxels of %g m, range %g m, %s, %s, %s; "
       "640 x 480, no water): ms per accumulation, min of %d\n",
       d.voxels[0], d.voxels[1], d.voxels[2], d.voxelSize, d.range, nameOf(d.filter),
-      nameOf(d.pipeline), repeat);
+      nameOf(d.pipeline), nameOf(d.accumulate), repeat);
   header();
   measure(d, lights, solids, scene.render ? scene.render->width : 640,
           scene.render ? scene.render->height : 480, {{"scene", *scene.camera}, {"cup", cup}});
@@ -209,10 +212,13 @@ int main(int argc, char** argv) {
   for (int i = 2; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--max-lights")) maxLights = std::strtoull(argv[i + 1], nullptr, 10);
     if (!std::strcmp(argv[i], "--repeat")) repeat = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--accumulate") && !std::strcmp(argv[i + 1], "cpu"))
+      accumulate = LightAccumulate::Cpu;
   }
   if (what != "fig11" && what != "fireflies" && what != "cpu") {
     std::fprintf(stderr,
-                 "usage: bench_lights_faster fig11|fireflies|cpu [--repeat N] [--max-lights N]\n");
+                 "usage: bench_lights_faster fig11|fireflies|cpu [--repeat N] [--max-lights N] "
+                 "[--accumulate cpu]\n");
     return 2;
   }
   render::gl::GlContext context = render::gl::GlContext::headless();
