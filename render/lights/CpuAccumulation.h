@@ -18,9 +18,8 @@ namespace sph::render::lights {
 
 // The two textures' values over `box` (x fastest, then y, then z), RGBA per voxel as the
 // textures' half floats (IEEE binary16 bits, see toHalf): colour (alpha 0) and
-// direction (alpha 0), each light's terms rounded to steps of 1 / scale. Half floats, not float:
-// uploaded as they are stored, llvmpipe copies them instead of converting 2 x 4 values a voxel on
-// one thread.
+// direction (alpha 0), each light's terms rounded to steps of 1 / scale. Half floats, the
+// textures' own format: the upload is a copy.
 struct VoxelSums {
   std::vector<std::array<std::uint16_t, 4>> colour, direction;
 };
