@@ -81,8 +81,8 @@ void RenderOutput::frame(const Simulation& sim, std::size_t frame) {
   }
   if (frame % static_cast<std::size_t>(desc_.every) != 0) return;
   renderer_.prepare(sim.fluid());
-  if (lights_) lights_->update(sim.fluid(), sim.time());
   const CameraDesc camera = cameraAt(camera_, cameraPath_, sim.time());
+  if (lights_) lights_->update(sim.fluid(), sim.time(), &camera);
   const bool both = desc_.splat == RenderDesc::Splat::Both;
   for (render::splat::SplatKind kind :
        {render::splat::SplatKind::Point, render::splat::SplatKind::Quad}) {

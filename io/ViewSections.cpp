@@ -254,6 +254,7 @@ LightsDesc readLights(JsonReader r) {
                                              [](double v) { return integerIn(v, 1, 4); }));
   d.pipeline = r.choice("pipeline", std::optional(LightPipeline::Forward));
   d.accumulate = r.choice("accumulate", std::optional(LightAccumulate::Atomic));
+  d.cull = r.boolean("cull", true);
   d.diffuse = static_cast<float>(r.number("diffuse", d.diffuse, "a number in [0, 10]",
                                           [](double v) { return v >= 0 && v <= 10; }));
   d.specular = static_cast<float>(r.number("specular", d.specular, "a number in [0, 10]",
