@@ -45,7 +45,7 @@ void compareParticleLights(CacheRendering& c, std::size_t f, const Particles& p,
   std::printf(
       "particle lights: %zu lights, %d x %d x %d voxels of %.3g m, %s accumulation %.1f ms\n",
       lights.size(), desc.voxels[0], desc.voxels[1], desc.voxels[2], desc.voxelSize,
-      enumName(desc.accumulate), 1e3 * accumulate);
+      enumName(volume.desc().accumulate), 1e3 * accumulate);
   if (g.points.empty()) {
     std::printf("  no solid in view: no particle-light error figures\n");
     return;

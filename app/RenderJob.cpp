@@ -42,7 +42,8 @@ int renderJob(const RenderRequest& o) {
                 c.desc.splat == RenderDesc::Splat::Both ? "point and quad"
                                                         : enumName(kindsOf(c.desc.splat)[0]),
                 context.info().renderer.c_str());
-    if (lights) std::printf("  %s\n", render::lights::describeLights(*c.scene.lights).c_str());
+    if (lights)
+      std::printf("  %s\n", render::lights::describeLights(lights->volume().desc()).c_str());
   }
   double seconds = 0;
   std::size_t images = 0;

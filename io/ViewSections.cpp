@@ -253,7 +253,7 @@ LightsDesc readLights(JsonReader r) {
                                              "an integer in [1, 4] (samples per axis; 1 = off)",
                                              [](double v) { return integerIn(v, 1, 4); }));
   d.pipeline = r.choice("pipeline", std::optional(LightPipeline::Forward));
-  d.accumulate = r.choice("accumulate", std::optional(LightAccumulate::Atomic));
+  d.accumulate = r.choice("accumulate", std::optional(LightAccumulate::Auto));
   d.cull = r.boolean("cull", true);
   d.diffuse = static_cast<float>(r.number("diffuse", d.diffuse, "a number in [0, 10]",
                                           [](double v) { return v >= 0 && v <= 10; }));

@@ -81,6 +81,8 @@ enum class LightAccumulate {
   Atomic,  // fixed-point integer atomicAdd, then a resolve pass: exact, order-independent
   Paper,   // the paper's imageLoad + imageStore from every invocation at once: loses updates
   Cpu,     // the atomic path's sums gathered per z slice by OpenMP threads, then uploaded
+  Auto,    // the scene's default: cpu where GL draws in software (llvmpipe: 7-10x faster,
+           // docs/benchmarks.md), atomic on a GPU; decided when the volume is made
 };
 constexpr const char* nameOf(LightAccumulate v) {
   switch (v) {
@@ -90,6 +92,8 @@ constexpr const char* nameOf(LightAccumulate v) {
       return "paper";
     case LightAccumulate::Cpu:
       return "cpu";
+    case LightAccumulate::Auto:
+      return "auto";
   }
   return nullptr;
 }
@@ -144,10 +148,11 @@ struct LightsDesc {
     return static_cast<std::size_t>(voxels[0]) * static_cast<std::size_t>(voxels[1]) *
            static_cast<std::size_t>(voxels[2]);
   }
-  // GL bytes: two RGBA16F textures (8 B each) + the atomic path's six int32 sums (24 B).
+  // GL bytes: two RGBA16F textures (8 B each) + the atomic path's six int32 sums (24 B; counted
+  // for `auto` too, which is atomic on a GPU).
   double memoryBytes() const {
-    return static_cast<double>(voxelCount()) *
-           (16.0 + (accumulate == LightAccumulate::Atomic ? 24.0 : 0.0));
+    const bool sums = accumulate == LightAccumulate::Atomic || accumulate == LightAccumulate::Auto;
+    return static_cast<double>(voxelCount()) * (16.0 + (sums ? 24.0 : 0.0));
   }
 };
 

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <string>
 
 #include "render/gl/GlContext.h"
 #include "render/lights/CpuAccumulation.h"
@@ -90,6 +91,19 @@ TEST_F(LightsCpuGl, TheCpuVolumeIsTheAtomicOne) {
   EXPECT_GT(brightest, 400.0f) << "the crowded voxel";
   expectSame(colour, onCpu.readColour(), "colour");
   expectSame(atomic.readDirection(), onCpu.readDirection(), "direction");
+}
+
+TEST_F(LightsCpuGl, AutoIsCpuInSoftwareAndGivesTheAtomicVolume) {
+  const std::string renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  const LightAccumulate expected = renderer.find("llvmpipe") != std::string::npos
+                                       ? LightAccumulate::Cpu
+                                       : LightAccumulate::Atomic;
+  const std::vector<LightParticle> lights = someLights();
+  LightVolume automatic(volume(LightAccumulate::Auto)), atomic(volume(LightAccumulate::Atomic));
+  EXPECT_EQ(automatic.desc().accumulate, expected) << renderer;
+  automatic.update(lights), atomic.update(lights);
+  expectSame(atomic.readColour(), automatic.readColour(), "colour");
+  expectSame(atomic.readDirection(), automatic.readDirection(), "direction");
 }
 
 TEST_F(LightsCpuGl, CulledToAViewItFillsTheSameBox) {

@@ -71,9 +71,25 @@ bool sameBox(const VoxelBox& a, const VoxelBox& b) {
   return a.lo == b.lo && a.hi == b.hi;
 }
 
+// `auto` decided for this GL: llvmpipe and the other software rasterisers run the compute
+// shader's atomics a lane at a time on the CPU, where OpenMP over z slices is 7-10x faster
+// (docs/benchmarks.md, "Particle lights"); a GPU keeps the atomic path.
+LightsDesc decided(LightsDesc desc) {
+  if (desc.accumulate != LightAccumulate::Auto) return desc;
+  const auto* name = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  const std::string renderer = name ? name : "";
+  const bool software = renderer.find("llvmpipe") != std::string::npos ||
+                        renderer.find("softpipe") != std::string::npos ||
+                        renderer.find("SwiftShader") != std::string::npos;
+  desc.accumulate = software ? LightAccumulate::Cpu : LightAccumulate::Atomic;
+  return desc;
+}
+
 }  // namespace
 
-LightVolume::LightVolume(const LightsDesc& desc, const gl::ShaderLibrary& shaders) : desc_(desc) {
+LightVolume::LightVolume(const LightsDesc& requested, const gl::ShaderLibrary& shaders)
+    : desc_(decided(requested)) {
+  const LightsDesc& desc = desc_;
   GLint maxSize = 0;
   glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
   for (int n : desc.voxels) {

@@ -42,7 +42,8 @@ class LightVolume final : public splat::ExtraLights {
   explicit LightVolume(const LightsDesc& desc,
                        const gl::ShaderLibrary& shaders = gl::ShaderLibrary::fromEnvironment());
 
-  // Clears the volume and accumulates `lights` into it (desc.accumulate); waits for the GPU.
+  // Clears the volume and accumulates `lights` into it (desc().accumulate: `auto` is decided
+  // when the volume is made); waits for the GPU.
   // Returns the seconds it took (culling and upload included). With a `view` (lights.cull), only
   // the voxels a point seen through it may read are cleared, accumulated and resolved, and only
   // the lights that reach them run (LightCulling.h); every other voxel reads zero.
