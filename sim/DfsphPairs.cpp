@@ -48,6 +48,62 @@ float latticeDenominator(const StepContext& c) {
   return static_cast<float>(sum);
 }
 
+// A particle's sums over its fluid candidates (padded lanes add 0), and each candidate's V gradW
+// and h - r into `out` (fields x, y, z, h - r). A plain function with unaliased pointers: as a
+// loop inside the pass's lambda, GCC 12 left it scalar.
+struct FluidSums {
+  float gx, gy, gz, squares, cubes;
+};
+FluidSums fluidCandidates(float xi, float yi, float zi, std::size_t padded,
+                          const float* __restrict fx, const float* __restrict fy,
+                          const float* __restrict fz, SpikyPairShape spiky, float g,
+                          CandidateBatch<4>& out) {
+  float* __restrict tx = out.field[0].data();
+  float* __restrict ty = out.field[1].data();
+  float* __restrict tz = out.field[2].data();
+  float* __restrict th = out.field[3].data();
+  float gx = 0, gy = 0, gz = 0, squares = 0, cubes = 0;
+#pragma omp simd reduction(+ : gx, gy, gz, squares, cubes)
+  for (std::size_t j = 0; j < padded; ++j) {
+    const float dx = xi - fx[j], dy = yi - fy[j], dz = zi - fz[j];
+    const float r2 = dx * dx + dy * dy + dz * dz;
+    const float invR = spiky.inverseDistance(r2);
+    const float hr = spiky.hMinusR(r2, invR);
+    const float wj = hr * hr * invR;
+    th[j] = hr;
+    tx[j] = g * wj * dx, ty[j] = g * wj * dy, tz[j] = g * wj * dz;
+    gx += wj * dx, gy += wj * dy, gz += wj * dz;
+    squares += wj * wj * r2;
+    cubes += hr * hr * hr;
+  }
+  return {gx, gy, gz, squares, cubes};
+}
+
+// The same over the boundary candidates: sum (h - r)^2 / r (x_i - x_b), sum (h - r)^3 and sum
+// (h - r).
+struct BoundarySums {
+  float gx, gy, gz, cubes, weight;
+};
+BoundarySums boundaryCandidates(float xi, float yi, float zi, const CandidateBatch<3>& bb,
+                                SpikyPairShape spiky) {
+  const float* __restrict bxs = bb.field[0].data();
+  const float* __restrict bys = bb.field[1].data();
+  const float* __restrict bzs = bb.field[2].data();
+  float gx = 0, gy = 0, gz = 0, cubes = 0, weight = 0;
+#pragma omp simd reduction(+ : gx, gy, gz, cubes, weight)
+  for (std::size_t j = 0; j < bb.padded; ++j) {
+    const float dx = xi - bxs[j], dy = yi - bys[j], dz = zi - bzs[j];
+    const float r2 = dx * dx + dy * dy + dz * dz;
+    const float invR = spiky.inverseDistance(r2);
+    const float hr = spiky.hMinusR(r2, invR);
+    const float wb = hr * hr * invR;
+    gx += wb * dx, gy += wb * dy, gz += wb * dz;
+    cubes += hr * hr * hr;
+    weight += hr;
+  }
+  return {gx, gy, gz, cubes, weight};
+}
+
 }  // namespace
 
 void computeDfsphDensityAndFactor(StepContext& c) {
@@ -93,30 +149,19 @@ void computeDfsphDensityAndFactor(StepContext& c) {
           const CandidateBatch<3>& bb) {
         CandidateBatch<4>& t = gradients[threadIndex()];
         t.resize(fb.padded);
-        float* tx = t.field[0].data();
-        float* ty = t.field[1].data();
-        float* tz = t.field[2].data();
-        float* th = t.field[3].data();
+        const float* tx = t.field[0].data();
+        const float* ty = t.field[1].data();
+        const float* tz = t.field[2].data();
+        const float* th = t.field[3].data();
         StepScratch::PairRow& pairs = s.pairRows[row];
         const float* fx = fb.field[0].data();
         const float* fy = fb.field[1].data();
         const float* fz = fb.field[2].data();
         for (std::uint32_t i = begin; i < end; ++i) {
           const float xi = f.x[i], yi = f.y[i], zi = f.z[i];
-          float gx = 0, gy = 0, gz = 0, squares = 0, cubes = 0;
-#pragma omp simd reduction(+ : gx, gy, gz, squares, cubes)
-          for (std::size_t j = 0; j < fb.padded; ++j) {
-            const float dx = xi - fx[j], dy = yi - fy[j], dz = zi - fz[j];
-            const float r2 = dx * dx + dy * dy + dz * dz;
-            const float invR = spiky.inverseDistance(r2);
-            const float hr = spiky.hMinusR(r2, invR);
-            const float wj = hr * hr * invR;
-            th[j] = hr;
-            tx[j] = g * wj * dx, ty[j] = g * wj * dy, tz[j] = g * wj * dz;
-            gx += wj * dx, gy += wj * dy, gz += wj * dz;
-            squares += wj * wj * r2;
-            cubes += hr * hr * hr;
-          }
+          const FluidSums sums = fluidCandidates(xi, yi, zi, fb.padded, fx, fy, fz, spiky, g, t);
+          float gx = sums.gx, gy = sums.gy, gz = sums.gz;
+          const float squares = sums.squares, cubes = sums.cubes;
           // The pairs: the candidates inside the support (h - r > 0; the particle itself has 0),
           // packed without a branch.
           const std::size_t at = pairs.used;
@@ -135,19 +180,9 @@ void computeDfsphDensityAndFactor(StepContext& c) {
           }
           pairs.used = at + count;
           s.pairCount[i] = count;
-          float bx = 0, by = 0, bz = 0, bcubes = 0, bweight = 0;
-#pragma omp simd reduction(+ : bx, by, bz, bcubes, bweight)
-          for (std::size_t j = 0; j < bb.padded; ++j) {
-            const float dx = xi - bb.field[0][j], dy = yi - bb.field[1][j],
-                        dz = zi - bb.field[2][j];
-            const float r2 = dx * dx + dy * dy + dz * dz;
-            const float invR = spiky.inverseDistance(r2);
-            const float hr = spiky.hMinusR(r2, invR);
-            const float wb = hr * hr * invR;
-            bx += wb * dx, by += wb * dy, bz += wb * dz;
-            bcubes += hr * hr * hr;
-            bweight += hr;
-          }
+          const BoundarySums wall = boundaryCandidates(xi, yi, zi, bb, spiky);
+          const float bx = wall.gx, by = wall.gy, bz = wall.gz, bcubes = wall.cubes,
+                      bweight = wall.weight;
           const float rho = densityScale * (self + cubes + bcubes);
           f.rho[i] = rho;
           s.inverseDensity[i] = 1.0f / rho;
