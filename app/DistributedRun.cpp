@@ -43,19 +43,25 @@ bool isRootProcess() {
 
 void refuseUnsupported(const Scene& scene, int ranks) {
   const std::string where = scene.sourcePath.empty() ? "scene" : scene.sourcePath;
-  // `exact` runs across ranks (sim/Simulation.cpp, collide); the others see the whole fluid at
-  // once (octree's leaves, the CDT's depth images).
-  if (scene.collision && scene.collision->method != CollisionMethod::None &&
-      scene.collision->method != CollisionMethod::Exact) {
-    throw InputError(where + ": collision.method \"" + nameOf(scene.collision->method) +
-                     "\" runs on one process only; run without mpirun, or set collision.method "
-                     "to \"exact\" or \"none\" (docs/scaling.md)");
+  // `exact` runs distributed, `octree` and `cdt-cpu` on the whole fluid gathered on every rank
+  // (sim/Simulation.cpp, collide); `cdt-gl` would need a GL context per rank.
+  if (scene.collision && scene.collision->method == CollisionMethod::CdtGl) {
+    throw InputError(where +
+                     ": collision.method \"cdt-gl\" runs on one process only (it draws with "
+                     "OpenGL); run without mpirun, or set collision.method to \"cdt-cpu\" "
+                     "(the same detection on the CPU) or \"exact\" (docs/scaling.md)");
   }
   if (scene.solver.pressure == PressureSolver::Dfsph) {
     throw InputError(where +
                      ": solver.pressure \"dfsph\" runs on one process only (its iterations need "
                      "sums and a convergence test agreed over the ranks, not built yet); run "
                      "without mpirun or set solver.pressure to \"wcsph\" (docs/scaling.md)");
+  }
+  if (scene.rain && scene.rain->feedFluid) {
+    throw InputError(where +
+                     ": rain.feed_fluid runs on one process only (the landed drops become "
+                     "particles in one place, not shared out yet); run without mpirun or set "
+                     "rain.feed_fluid to false (docs/scaling.md)");
   }
   if (scene.render) {
     throw InputError(where +

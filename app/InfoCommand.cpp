@@ -99,6 +99,14 @@ int info(const InfoOptions& o) {
     std::printf(
         "  rain       %zu drops per frame in %zu frame%s (Rain#N; the XDMF's 'rain' grid)\n",
         rainDrops, rainFrames, rainFrames == 1 ? "" : "s");
+  // rain.feed_fluid's ledger at the last frame (sim/rain/RainFeed.h).
+  if (!s.frames.empty()) {
+    if (const rain::FeedState f = reader.readRainFeed(s.frames.size() - 1); f.landedDrops > 0)
+      std::printf(
+          "  rain feed  %llu drops landed in the water: %llu fluid particles, %.4g m^3 pending\n",
+          static_cast<unsigned long long>(f.landedDrops),
+          static_cast<unsigned long long>(f.particles), f.pending);
+  }
   if (!s.damagedFrame.empty())
     std::printf("  damaged    %s (frames after it are not listed)\n", s.damagedFrame.c_str());
   std::printf("  ParaView   paraview %s   (or open %s with the H5Part reader)\n",

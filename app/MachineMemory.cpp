@@ -70,7 +70,9 @@ std::string describeMemory(const MemoryEstimate& e, const MachineMemory& m) {
   std::ostringstream s;
   s << "about " << humanBytes(e.bytes) << " (" << count(e.fluidParticles) << " fluid particles";
   if (e.emittedParticles > 0) s << " + " << count(e.emittedParticles) << " from nozzles";
-  s << ", " << count(e.boundaryParticles) << " boundary particles); ";
+  s << ", " << count(e.boundaryParticles) << " boundary particles";
+  if (e.rainDrops > 0) s << ", " << count(e.rainDrops) << " rain drops";
+  s << "); ";
   s << "the machine has " << humanBytes(m.availableBytes) << " free";
   if (!m.limitedBy.empty()) s << " under " << m.limitedBy;
   s << " of " << humanBytes(m.totalBytes);
@@ -81,12 +83,12 @@ MemoryEstimate checkMemory(const Scene& scene) {
   const MemoryEstimate e = estimateMemory(scene);
   const MachineMemory m = machineMemory();
   if (m.availableBytes > 0 && e.bytes > m.availableBytes) {
-    const bool spacing = e.largestKey == "solver.spacing";
+    const std::string advice =
+        e.largestKey == "solver.spacing" ? "raise solver.spacing (memory falls with its cube)"
+        : e.largestKey == "rain.count"   ? "lower rain.count"
+                                         : "make that nozzle smaller or stop it sooner";
     throw InputError(scene.sourcePath + ": " + e.largestKey + ": this scene needs " +
-                     describeMemory(e, m) + "; " +
-                     (spacing ? "raise solver.spacing (memory falls with its cube)"
-                              : "make that nozzle smaller or stop it sooner") +
-                     " or shrink the scene");
+                     describeMemory(e, m) + "; " + advice + " or shrink the scene");
   }
   return e;
 }

@@ -53,10 +53,10 @@ int renderJob(const RenderRequest& o) {
     if (!c.cameraFromScene && k == 0)
       c.camera = render::splat::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
     renderer.prepare(p);
-    if (lights) seconds += lights->update(p, c.frameTime(f));
     const double time = c.frameTime(f);
     const CameraDesc camera =
         c.cameraFromScene ? cameraAt(c.camera, c.scene.cameraPath, time) : c.camera;
+    if (lights) seconds += lights->update(p, time, &camera);
     if (rain) showCachedRain(*rain, c.reader(), f, time, p);
     for (render::splat::SplatKind kind : kindsOf(c.desc.splat)) {
       const render::splat::RenderedSplats r = renderer.render(kind, camera);

@@ -70,16 +70,19 @@ RenderOutput::RenderOutput(const Scene& scene, std::string directory, io::CacheS
 void RenderOutput::frame(const Simulation& sim, std::size_t frame) {
   // The rain: the drops the cache stores (its session steps them at every output frame, before
   // this sink), else stepped here the same way, so `render` of the cache draws the same drops.
+  // A feeding rain is the simulation's own (rain.feed_fluid).
   if (rain_) {
-    if (cache_ && cache_->rain())
+    if (sim.rainFeed())
+      rain_->show(sim.rainFeed()->stepper().system());
+    else if (cache_ && cache_->rain())
       rain_->show(cache_->rain()->system());
     else
       rain_->advanceTo(sim.time(), sim.fluid());
   }
   if (frame % static_cast<std::size_t>(desc_.every) != 0) return;
   renderer_.prepare(sim.fluid());
-  if (lights_) lights_->update(sim.fluid(), sim.time());
   const CameraDesc camera = cameraAt(camera_, cameraPath_, sim.time());
+  if (lights_) lights_->update(sim.fluid(), sim.time(), &camera);
   const bool both = desc_.splat == RenderDesc::Splat::Both;
   for (render::splat::SplatKind kind :
        {render::splat::SplatKind::Point, render::splat::SplatKind::Quad}) {

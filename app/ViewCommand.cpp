@@ -200,6 +200,7 @@ int view(const ViewOptions& o) {
     if (s.frameChanged) {
       const Particles p = reader.readFrame(s.frame, xyz);
       renderer.prepare(p);
+      // The whole volume, not culled to this camera: the user may orbit before the next frame.
       if (lights) lights->update(p, reader.summary().frames[s.frame].time);
       if (rain) showCachedRain(*rain, reader, s.frame, time, p);
       s.frameChanged = false;

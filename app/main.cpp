@@ -4,11 +4,14 @@
 #include <exception>
 #include <functional>
 #include <new>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "app/CliChecks.h"
 #include "app/Commands.h"
 #include "app/DistributedRun.h"
+#include "app/MpiStarter.h"
 #include "app/OpenMpSpinLimit.h"
 #include "app/Version.h"
 #include "render/gl/GlError.h"
@@ -19,10 +22,16 @@
 
 int main(int argc, char** argv) {
   sph::app::relaunchWithOpenMpSpinLimit(argv);
+  const sph::app::MpiStarter starter = sph::app::mpiStarter();
 #ifdef SPHSPLAT_MPI
   // Under mpirun: the ranks of a distributed run (docs/scaling.md); a plain process otherwise.
-  sph::mpi::MpiSession mpi(&argc, &argv);
-  sph::app::setWorld(mpi.world());
+  std::optional<sph::mpi::MpiSession> mpi;
+  if (starter.launched) sph::app::setWorld(mpi.emplace(&argc, &argv).world());
+#else
+  if (const std::string refusal = sph::app::refusalWithoutMpi(starter); !refusal.empty()) {
+    if (starter.rank == 0) std::fprintf(stderr, "sphsplat: %s\n", refusal.c_str());
+    return sph::app::kBadInput;
+  }
 #endif
   // Errors are told once: by the only process, or by rank 0 (every rank meets the same ones).
   const auto tell = [](const char* format, const char* what) {

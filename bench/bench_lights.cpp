@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "app/OpenMpSpinLimit.h"
+#include "bench/Fig11Scene.h"
 #include "render/gl/GlContext.h"
 #include "render/lights/ExactLights.h"
 #include "render/lights/LightVolume.h"
@@ -214,39 +215,11 @@ void filters() {
   }
 }
 
-// Fig. 11: the paper's world (1 m voxels over 128^3 m, range 0.5 m as Table 1) with solids to
-// light - a floor and 36 spheres and 16 blocks standing in for its bunny and dragon, so that the
-// solids overlap on screen (forward pays the lights for hidden fragments too) - under `n` lights
-// in the lowest 24 m, 960 x 540 pixels. Per pipeline: the accumulation (the same for both), the
-// draw (forward: the solids lit per fragment; deferred: G-buffer, then the lighting pass).
-std::vector<BoundaryShape> fig11Solids() {
-  std::vector<BoundaryShape> shapes;
-  BoundaryShape floor;
-  floor.kind = BoundaryShape::Kind::Plane, floor.point = Vec3::Zero(), floor.normal = Vec3::UnitY();
-  shapes.push_back(floor);
-  for (int j = 0; j < 6; ++j)
-    for (int i = 0; i < 6; ++i) {
-      BoundaryShape s;
-      s.kind = BoundaryShape::Kind::Sphere;
-      s.centre = Vec3(14.0f + 20.0f * i, 6.0f, 14.0f + 20.0f * j), s.radius = 6.0f;
-      shapes.push_back(s);
-    }
-  for (int j = 0; j < 4; ++j)
-    for (int i = 0; i < 4; ++i) {
-      BoundaryShape b;
-      b.kind = BoundaryShape::Kind::Block;
-      b.lo = Vec3(20.0f + 28.0f * i, 0, 22.0f + 28.0f * j), b.hi = b.lo + Vec3(8, 14, 8);
-      shapes.push_back(b);
-    }
-  return shapes;
-}
-
-CameraDesc fig11Camera() {
-  CameraDesc camera;
-  camera.position = Vec3(64, 45, 150), camera.target = Vec3(64, 0, 50), camera.fovYDegrees = 60;
-  camera.near = 1, camera.far = 400;
-  return camera;
-}
+// Fig. 11 (bench/Fig11Scene.h) at 960 x 540 pixels. Per pipeline: the accumulation (the same for
+// both), the draw (forward: the solids lit per fragment; deferred: G-buffer, then the lighting
+// pass).
+using bench::fig11Camera;
+using bench::fig11Solids;
 
 // The cost of the particle lights' code in the solids' fragment shader in a scene without
 // lights: the Fig. 11 solids drawn with no volume (the program the build gives a scene without
@@ -285,12 +258,7 @@ void pipelines() {
               "draw", "G-buffer", "lighting", "frame", "max diff");
   for (std::size_t n : {16384u, 65536u, 262144u, 1048576u}) {
     if (n > maxLights) continue;
-    LightEmitterDesc e;
-    e.box.lo = Vec3::Zero(), e.box.hi = Vec3(128, 24, 128);
-    e.count = n, e.seed = 11, e.speed = 0;
-    LightsDesc d = paperVolume(128, 0.5f, LightAccumulate::Atomic);
-    d.source = LightSource::Emitter, d.emitter = e, d.colour = Vec3(1.0f, 0.8f, 0.4f);
-    d.roomLight = 0.2f;
+    LightsDesc d = bench::fig11Lights(n);
     const std::vector<LightParticle> lights = lightParticles(d, Particles{}, 0.0);
     LightVolume forward(d, shaders);
     const double accumulate = minUpdate(forward, lights);

@@ -1,8 +1,9 @@
 // View-dependent rain (seed 002; docs/benchmarks.md, "View-dependent rain"): the cost per frame of
-// the drops' update (move + respawn, CPU, OpenMP) and of drawing their streaks (GL, llvmpipe,
-// 960x540, no water) for 10k, 100k and 1M drops and each spawn model, and of the spotlight's hard
-// and soft cone edge. The camera pans 90 degrees a second at 30 fps, so drops leave the view and
-// are respawned as in a real path.
+// the drops' update (move + respawn, CPU, OpenMP), of drawing their streaks (rain.draw "cpu" and
+// "triangles", llvmpipe, 960x540, no water) for 10k, 100k and 1M drops, of the spotlight's hard
+// and soft cone edge, and of whole frames (update + draw) for 1k to 1M drops and each spawn model.
+// The camera pans 90 degrees a second at 30 fps, so drops leave the view and are respawned as in a
+// real path.
 //   bench_rain --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 
@@ -16,6 +17,8 @@
 #include "render/gl/GlContext.h"
 #include "render/gl/GlHandle.h"
 #include "render/rain/RainRenderer.h"
+#include "render/rain/StreakImages.h"
+#include "render/rain/StreakRaster.h"
 #include "render/splat/SplatRenderer.h"
 #include "sim/Camera.h"
 #include "sim/rain/RainRandom.h"
@@ -61,10 +64,52 @@ BENCHMARK(RainUpdate)
 
 std::unique_ptr<render::gl::GlContext> context;
 
-// args: drops, spotlight (0 none, 1 hard cone, 2 soft edge + falloff). Upload + draw + read back.
+// `d`'s drops reset at the first camera, their layer, and the 960x540 frame (no water) it is
+// drawn into; makes the headless context on first use.
+struct RainFrameDraw {
+  static const RainDesc& withContext(const RainDesc& d) {
+    if (!context)
+      context = std::make_unique<render::gl::GlContext>(render::gl::GlContext::headless());
+    return d;
+  }
+  explicit RainFrameDraw(const RainDesc& d)
+      : drops(withContext(d), kAspect), layer(d), renderer(kWidth, kHeight) {
+    drops.reset(cameraAtFrame(0));
+    renderer.setLayers({&layer});
+  }
+  // Uploads the drops and draws them: upload + draw + read back.
+  render::splat::RenderImage draw(const CameraDesc& camera) {
+    layer.setDrops(drops);
+    return renderer.render(render::splat::SplatFrame{}, render::splat::SplatKind::Point, camera,
+                           render::splat::Lighting{});
+  }
+  rain::RainSystem drops;
+  render::rain::RainRenderer layer;
+  render::splat::SplatRenderer renderer;
+};
+
+// Fragments per drop of a frame just drawn: the rasteriser's count ("cpu"), or GL's
+// GL_SAMPLES_PASSED over `frame()` ("triangles"; every one passes: nothing else writes depth).
+template <class Frame>
+double fragmentsPerDrop(const render::rain::RainRenderer& layer, Frame frame) {
+  GLuint64 fragments = 0;
+  if (layer.raster() != nullptr) {
+    frame();
+    fragments = layer.raster()->fragments();
+  } else {
+    auto query = render::gl::Query::create(GL_SAMPLES_PASSED);
+    glBeginQuery(GL_SAMPLES_PASSED, query.id());
+    frame();
+    glEndQuery(GL_SAMPLES_PASSED);
+    glGetQueryObjectui64v(query.id(), GL_QUERY_RESULT, &fragments);
+  }
+  return layer.drops() > 0 ? static_cast<double>(fragments) / static_cast<double>(layer.drops())
+                           : 0.0;
+}
+
+// args: drops, spotlight (0 none, 1 hard cone, 2 soft edge + falloff, 3 profile: streaks of no
+// size), rain.draw (0 "cpu", 1 "triangles"). Upload + draw + read back.
 void RainDraw(benchmark::State& state) {
-  if (!context)
-    context = std::make_unique<render::gl::GlContext>(render::gl::GlContext::headless());
   RainDesc d = desc(state.range(0), 0);
   if (state.range(1) > 0) {
     SpotlightDesc l;
@@ -74,36 +119,63 @@ void RainDraw(benchmark::State& state) {
     d.spotlight = l;
   }
   if (state.range(1) == 3) d.exposure = 0, d.dropWidth = 0;  // profile: no fragments
-  rain::RainSystem r(d, kAspect);
-  r.reset(cameraAtFrame(0));
-  render::rain::RainRenderer layer(d);
-  render::splat::SplatRenderer renderer(kWidth, kHeight);
-  renderer.setLayers({&layer});
-  const render::splat::SplatFrame none;
-  {  // fragments the streaks shade in one frame (every one passes: nothing else writes depth)
-    layer.setDrops(r);
-    auto query = render::gl::Query::create(GL_SAMPLES_PASSED);
-    glBeginQuery(GL_SAMPLES_PASSED, query.id());
-    renderer.render(none, render::splat::SplatKind::Point, cameraAtFrame(0),
-                    render::splat::Lighting{});
-    glEndQuery(GL_SAMPLES_PASSED);
-    GLuint64 fragments = 0;
-    glGetQueryObjectui64v(query.id(), GL_QUERY_RESULT, &fragments);
-    state.counters["fragments/drop"] =
-        state.range(0) > 0 ? static_cast<double>(fragments) / static_cast<double>(state.range(0))
-                           : 0.0;
-  }
-  for (auto _ : state) {
-    layer.setDrops(r);
-    benchmark::DoNotOptimize(renderer.render(none, render::splat::SplatKind::Point,
-                                             cameraAtFrame(0), render::splat::Lighting{}));
-  }
+  d.draw = static_cast<sph::RainDraw>(state.range(2));
+  RainFrameDraw rain(d);
+  auto frame = [&] { return rain.draw(cameraAtFrame(0)); };
+  state.counters["fragments/drop"] = fragmentsPerDrop(rain.layer, frame);
+  for (auto _ : state) benchmark::DoNotOptimize(frame());
 }
 BENCHMARK(RainDraw)
-    ->ArgsProduct({{0, 10000, 100000, 1000000}, {0}})
-    ->Args({100000, 1})
-    ->Args({100000, 2})
-    ->Args({100000, 3})
+    ->ArgsProduct({{0, 10000, 100000, 1000000}, {0}, {0, 1}})
+    ->Args({100000, 1, 0})
+    ->Args({100000, 2, 0})
+    ->Args({1000000, 1, 0})
+    ->Args({1000000, 2, 0})
+    ->Args({100000, 1, 1})
+    ->Args({100000, 2, 1})
+    ->Args({100000, 3, 1})
+    ->Unit(benchmark::kMillisecond);
+
+// The CPU rasteriser of rain.draw "cpu" alone (render/rain/StreakRaster.h, no GL: what RainDraw's
+// "cpu" cases spend besides the depth read-back, the layer upload and the blend pass), against an
+// empty depth buffer. args: drops.
+void RainRaster(benchmark::State& state) {
+  const RainDesc d = desc(state.range(0), 0);
+  rain::RainSystem r(d, kAspect);
+  r.reset(cameraAtFrame(0));
+  render::rain::StreakRaster raster(d, render::rain::generateStreakImages(8, 16, 64, d.seed));
+  const std::vector<float> depth(static_cast<std::size_t>(kWidth) * kHeight, 1.0f);
+  const render::rain::StreakView view{cameraFrame(cameraAtFrame(0), kAspect), kWidth, kHeight};
+  const render::rain::StreakDrops drops{&r.positions(), &r.layers(), r.velocity()};
+  for (auto _ : state) {
+    raster.draw(view, drops, Vec3(0.5f, 0.5f, 0.5f), depth.data());
+    benchmark::DoNotOptimize(raster.layer().data());
+  }
+  state.counters["fragments/drop"] =
+      static_cast<double>(raster.fragments()) / static_cast<double>(state.range(0));
+}
+BENCHMARK(RainRaster)->Arg(10000)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond);
+
+// The paper's Fig. 8 layout: a whole frame of rain against the budget - update (move + respawn)
+// + upload + draw + read back, 960x540, no water - while the camera pans 90 degrees a second.
+// args: drops, spawn (0 view, 1 box, 2 region), rain.draw (0 "cpu", 1 "triangles").
+void RainFrame(benchmark::State& state) {
+  RainDesc d = desc(state.range(0), state.range(1));
+  d.draw = static_cast<sph::RainDraw>(state.range(2));
+  RainFrameDraw rain(d);
+  int frame = 0;
+  for (auto _ : state) {
+    const CameraDesc camera = cameraAtFrame(++frame);
+    rain.drops.update(camera, 1.0f / 30);
+    benchmark::DoNotOptimize(rain.draw(camera));
+  }
+  state.counters["fragments/drop"] = rain.layer.raster()
+                                         ? static_cast<double>(rain.layer.raster()->fragments()) /
+                                               static_cast<double>(state.range(0))
+                                         : 0.0;
+}
+BENCHMARK(RainFrame)
+    ->ArgsProduct({{1000, 10000, 100000, 1000000}, {0, 1, 2}, {0}})
     ->Unit(benchmark::kMillisecond);
 
 // --- The paper's claim in numbers (issue 13, "Measured" 1): drops inside the view frustum ---

@@ -5,6 +5,8 @@
 #include <tuple>
 #include <type_traits>
 
+#include "sim/rain/RainStepper.h"
+
 namespace sph::io::cache {
 namespace {
 
@@ -220,6 +222,21 @@ std::string dynamicsFingerprint(const Scene& scene) {
     f.add(e.position), f.add(e.direction), f.add(e.radius), f.add(e.speed), f.add(e.start),
         f.add(e.stop);
     f.add(static_cast<std::uint64_t>(e.maxParticles));
+  }
+  // A feeding rain adds water where its drops land: all that decides where they are (the rain,
+  // the camera that it follows, the pictures' aspect) is dynamics then. Nothing is added
+  // otherwise, so caches without it keep their fingerprints.
+  if (scene.rain && scene.rain->feedFluid && scene.camera) {
+    const RainDesc& r = *scene.rain;
+    f.add(static_cast<std::uint64_t>(r.count)), f.add(r.near), f.add(r.far), f.add(r.fallSpeed);
+    f.add(r.wind), f.add(r.seed), f.add(static_cast<int>(r.spawn)),
+        f.add(static_cast<int>(r.sampling));
+    f.add(r.region.lo), f.add(r.region.hi), f.add(r.dropVolume);
+    const CameraDesc& c = *scene.camera;
+    f.add(c.position), f.add(c.target), f.add(c.up), f.add(c.fovYDegrees);
+    for (const CameraKey& k : scene.cameraPath)
+      f.add(k.time), f.add(k.position), f.add(k.target), f.add(k.fovYDegrees);
+    f.add(rain::RainStepper::sceneAspect(scene));
   }
   return f.hex();
 }

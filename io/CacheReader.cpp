@@ -357,6 +357,23 @@ Particles CacheReader::readFrame(std::size_t frame, const cache::FieldSet& field
   return p;
 }
 
+rain::FeedState CacheReader::readRainFeed(std::size_t frame) const {
+  checkFrame(frame);
+  rain::FeedState f;
+  const std::string group = "/" + cache::restartName(frame);
+  if (!summary_.frames[frame].hasRestart) return f;
+  try {
+    h5::Handle g = checked(H5Gopen2(file_.get(), group.c_str(), H5P_DEFAULT), "open " + group);
+    if (!h5::hasAttribute(g.get(), "rain_landed_drops")) return f;
+    f.landedDrops = h5::readUintAttribute(g.get(), "rain_landed_drops");
+    f.particles = h5::readUintAttribute(g.get(), "rain_particles");
+    f.pending = h5::readDoubleAttribute(g.get(), "rain_pending_volume");
+  } catch (const h5::Error& e) {
+    fail(group + ": " + e.what());
+  }
+  return f;
+}
+
 std::pair<RunState, Particles> CacheReader::readRestart(std::size_t frame) const {
   checkFrame(frame);
   const std::string group = "/" + cache::restartName(frame);
@@ -381,6 +398,11 @@ std::pair<RunState, Particles> CacheReader::readRestart(std::size_t frame) const
     // Caches from before particles could be lost have no count: none were.
     if (h5::hasAttribute(r, "lost_particles"))
       s.lostParticles = h5::readUintAttribute(r, item = "lost_particles");
+    if (h5::hasAttribute(r, "rain_landed_drops")) {
+      s.rain.landedDrops = h5::readUintAttribute(r, item = "rain_landed_drops");
+      s.rain.particles = h5::readUintAttribute(r, item = "rain_particles");
+      s.rain.pending = h5::readDoubleAttribute(r, item = "rain_pending_volume");
+    }
     const std::vector<double> travelled =
         h5::readDoubleArrayAttribute(r, item = "emitter_travelled");
     const std::vector<std::uint64_t> emitted =

@@ -78,6 +78,9 @@ class CacheReader {
   // The state to continue the run from frame `frame`: RunState and every particle array (those
   // not recorded, which the first step recomputes, are zero).
   std::pair<RunState, Particles> readRestart(std::size_t frame) const;
+  // rain.feed_fluid's ledger of frame `frame` (RunState::rain) without its particles: all zero
+  // for a frame without a resume record or a run without fed rain.
+  rain::FeedState readRainFeed(std::size_t frame) const;
 
   // Boundary particle positions (m): x, y, z.
   std::vector<std::vector<float>> readBoundary() const;

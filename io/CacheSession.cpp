@@ -140,7 +140,10 @@ std::size_t CacheSession::restore(Simulation& sim, const CacheProvenance& proven
         }
       }
     }
-    if (what.empty()) what = "its fluids, boundaries, emitters or domain differ";
+    if (what.empty()) {
+      what = "its fluids, boundaries, emitters or domain differ";
+      if (sim.rainFeed()) what += ", or its rain that feeds the fluid (rain, camera, render size)";
+    }
     throw InputError(
         scene.sourcePath + ": not the scene the cache " + path_ + " was written with (" + what +
         "); resume with the same scene and --set edits (the cache keeps them: sphsplat info " +
@@ -160,16 +163,20 @@ std::size_t CacheSession::restore(Simulation& sim, const CacheProvenance& proven
                      " emitters, the scene " + std::to_string(sim.emitters().size()));
   }
   sim.restore(state, std::move(fluid));
-  rain_ = rain::RainStepper::create(sim.scene(), rain::RainStepper::sceneAspect(sim.scene()));
-  if (rain_ && s.frames[last].rainDrops > 0) {
-    // The drops as the run left them: the resumed run continues them exactly.
+  followRain(sim);
+  // The drops as the run left them: the resumed run continues them exactly. A feeding rain's are
+  // part of the run's state (sim/rain/RainFeed.h): a cache without them cannot be resumed.
+  if (sim.rainFeed() || (rain_ && s.frames[last].rainDrops > 0)) {
     RainFrame drops = readRainFrame(*reader_, last);
     if (drops.positions.size() != sim.scene().rain->count) {
       throw InputError(path_ + ": the cache holds " + std::to_string(drops.positions.size()) +
                        " rain drops a frame, the scene's rain.count is " +
                        std::to_string(sim.scene().rain->count));
     }
-    rain_->restore(drops.time, drops.positions, drops.generations);
+    if (rain_)
+      rain_->restore(drops.time, drops.positions, drops.generations);
+    else
+      sim.restoreRain(drops.time, drops.positions, drops.generations);
   }
 
   fields_ = s.fields;
@@ -186,6 +193,17 @@ std::size_t CacheSession::restore(Simulation& sim, const CacheProvenance& proven
   return last;
 }
 
+void CacheSession::followRain(const Simulation& sim) {
+  // A feeding rain is stepped by the simulation itself (its landings change the fluid); any
+  // other rain is stepped here, at every frame.
+  if (sim.rainFeed()) {
+    rainShown_ = &sim.rainFeed()->stepper();
+    return;
+  }
+  rain_ = rain::RainStepper::create(sim.scene(), rain::RainStepper::sceneAspect(sim.scene()));
+  rainShown_ = rain_.get();
+}
+
 double CacheSession::lastFrameTime() const {
   const std::vector<CacheFrame>& frames = reader_ ? reader_->summary().frames : frames_;
   return frames.empty() ? 0.0 : frames.back().time;
@@ -198,7 +216,7 @@ void CacheSession::create(const Simulation& sim, const CacheProvenance& provenan
   fields_ = cache::parseFields(scene.output.fields, error);
   doublePositions_ = scene.output.doublePositions;
   boundaryParticles_ = sim.boundary().particles().size();
-  rain_ = rain::RainStepper::create(scene, rain::RainStepper::sceneAspect(scene));
+  followRain(sim);
   const std::string partial = path_ + ".partial";
   try {
     writer_ = CacheWriter::create(partial, scene, sim.params(), sim.boundary().particles(),
@@ -217,10 +235,12 @@ void CacheSession::writeFrame(const Simulation& sim) {
   f.particles = sim.fluid().size();
   f.step = sim.stepCount();
   f.hasRestart = true;
-  if (rain_) {
-    rain_->advanceTo(sim.time(), sim.fluid());
-    writeRainFrame(*writer_, f.index, sim.time(), rain_->system());
-    f.rainDrops = rain_->system().size();
+  if (rain_) rain_->advanceTo(sim.time(), sim.fluid());
+  if (rainShown_) {
+    // A feeding rain's stepper is at its last tick: the frame's time unless the run ended
+    // between two.
+    writeRainFrame(*writer_, f.index, rainShown_->time(), rainShown_->system());
+    f.rainDrops = rainShown_->system().size();
   }
   frames_.push_back(f);
   particleFrames_ += static_cast<double>(f.particles);

@@ -66,9 +66,10 @@ class CacheSession final : public FrameSink {
   // "cache: run.h5 (+ run.xdmf for ParaView): 61 frames, 4.1 MB; frame datasets 25.1 bytes per
   // particle per frame; writing took 0.8 s = 3.1% of the run".
   std::string summary(double runSeconds) const;
-  // The scene's rain, stepped at every frame and stored beside it as /Rain#N (io/RainCache.h);
-  // null without a rain section.
-  const rain::RainStepper* rain() const { return rain_.get(); }
+  // The scene's rain, stepped at every frame and stored beside it as /Rain#N (io/RainCache.h):
+  // the session's own, or a feeding rain's (Simulation::rainFeed, which must outlive the
+  // session's use of it); null without a rain section.
+  const rain::RainStepper* rain() const { return rainShown_; }
 
  private:
   OutputLock lock_;  // first: held until every file below is closed
@@ -84,7 +85,10 @@ class CacheSession final : public FrameSink {
   std::vector<CacheFrame> frames_;
   double particleFrames_ = 0;         // sum over frames of the particle count
   double particleFramesWritten_ = 0;  // the same, of the frames this run wrote
+  // Sets rain_ (stepped here) or points rainShown_ at the simulation's feeding rain.
+  void followRain(const Simulation& sim);
   std::unique_ptr<rain::RainStepper> rain_;
+  const rain::RainStepper* rainShown_ = nullptr;
 };
 
 }  // namespace sph::io

@@ -297,6 +297,12 @@ void CacheWriter::writeFrame(const Particles& fluid, const RunState& state) {
       h5::writeAttribute(r, "next_id", static_cast<std::uint64_t>(state.nextId));
       h5::writeAttribute(r, "particles", static_cast<std::uint64_t>(fluid.size()));
       h5::writeAttribute(r, "lost_particles", static_cast<std::uint64_t>(state.lostParticles));
+      // rain.feed_fluid's ledger (sim/rain/RainFeed.h), only once rain has landed: absent = 0.
+      if (state.rain.landedDrops > 0) {
+        h5::writeAttribute(r, "rain_landed_drops", state.rain.landedDrops);
+        h5::writeAttribute(r, "rain_particles", state.rain.particles);
+        h5::writeAttribute(r, "rain_pending_volume", state.rain.pending);
+      }
       std::vector<double> travelled;
       std::vector<std::uint64_t> emitted, started;
       for (const EmitterState& e : state.emitters) {

@@ -476,6 +476,14 @@ Scene parseScene(const std::string& text, const std::string& path,
     if (!scene.camera)
       root.fail("rain",
                 "needs a \"camera\" section at the top level too (rain falls where it looks)");
+    // A landing makes at most one particle (sim/rain/RainFeed.h): no two new particles coincide.
+    const double particle =
+        static_cast<double>(scene.solver.spacing) * scene.solver.spacing * scene.solver.spacing;
+    if (scene.rain->feedFluid && scene.rain->dropVolume > particle) {
+      rn->fail("drop_volume", "expected at most one particle's water, solver.spacing^3 = " +
+                                  readableNumber(particle) + " m^3, got " +
+                                  readableNumber(scene.rain->dropVolume));
+    }
   }
   if (auto l = root.optionalObject("lights")) scene.lights = readLights(*l);
   if (auto c = root.optionalObject("collision")) {

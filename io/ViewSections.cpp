@@ -166,7 +166,12 @@ RainDesc readRain(JsonReader r) {
   d.streakLayers = static_cast<int>(r.number("streak_images", d.streakLayers,
                                              "an integer in [1, 64] (array texture layers)",
                                              [](double v) { return integerIn(v, 1, 64); }));
+  d.draw = r.choice("draw", std::optional(RainDraw::Cpu));
   if (auto l = r.optionalObject("spotlight")) d.spotlight = readSpotlight(*l);
+  d.feedFluid = r.boolean("feed_fluid", false);
+  // Up to a cubic metre: a "drop" that stands for many, to show the fill in a short run.
+  d.dropVolume = r.number("drop_volume", d.dropVolume, "a number in (0, 1] (m^3 of water a drop)",
+                          [](double v) { return v > 0 && v <= 1; });
   r.finish();
   return d;
 }
@@ -249,6 +254,7 @@ LightsDesc readLights(JsonReader r) {
                                              [](double v) { return integerIn(v, 1, 4); }));
   d.pipeline = r.choice("pipeline", std::optional(LightPipeline::Forward));
   d.accumulate = r.choice("accumulate", std::optional(LightAccumulate::Atomic));
+  d.cull = r.boolean("cull", true);
   d.diffuse = static_cast<float>(r.number("diffuse", d.diffuse, "a number in [0, 10]",
                                           [](double v) { return v >= 0 && v <= 10; }));
   d.specular = static_cast<float>(r.number("specular", d.specular, "a number in [0, 10]",

@@ -120,15 +120,7 @@ class MpiCommunicator final : public dist::Communicator {
 
 }  // namespace
 
-bool launchedByMpi() {
-  // Open MPI's mpirun sets OMPI_COMM_WORLD_SIZE; PMI/PMIx starters (MPICH, Slurm) set these.
-  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"})
-    if (std::getenv(name)) return true;
-  return false;
-}
-
 MpiSession::MpiSession(int* argc, char*** argv) {
-  if (!launchedByMpi()) return;
   int provided = 0;
   // OpenMP threads inside a rank; only the main thread calls MPI.
   MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);

@@ -9,15 +9,16 @@
 
 namespace sph::mpi {
 
-// MPI_Init_thread / MPI_Finalize around main(), only when the process was launched by an MPI
-// starter (mpirun, mpiexec): a plain `sphsplat` stays a plain process.
+// MPI_Init_thread / MPI_Finalize around main(). app/main.cpp opens one only when an MPI starter
+// (mpirun, mpiexec) launched the process (app/MpiStarter.h): a plain `sphsplat` stays a plain
+// process.
 class MpiSession {
  public:
   MpiSession(int* argc, char*** argv);
   ~MpiSession();
   MpiSession(const MpiSession&) = delete;
   MpiSession& operator=(const MpiSession&) = delete;
-  // The world's ranks; null when not launched by an MPI starter.
+  // The world's ranks.
   dist::Communicator* world() { return world_.get(); }
   // Ends every rank at once (a rank that must stop while others wait in a collective).
   [[noreturn]] static void abortAll(int code);
@@ -25,8 +26,5 @@ class MpiSession {
  private:
   std::unique_ptr<dist::Communicator> world_;
 };
-
-// True when the environment says an MPI starter launched this process.
-bool launchedByMpi();
 
 }  // namespace sph::mpi

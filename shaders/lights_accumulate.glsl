@@ -42,8 +42,8 @@ void main() {
   // The voxel nearest the light, and the paper's int(range) + 1 voxels either side of it.
   ivec3 centre = ivec3(floor((p - u_origin) / u_voxelSize));
   int dist = int(u_range / u_voxelSize) + 1;
-  ivec3 lo = max(centre - dist, ivec3(0));
-  ivec3 hi = min(centre + dist, u_voxels - 1);
+  ivec3 lo = max(centre - dist, u_boxLo);
+  ivec3 hi = min(centre + dist, u_boxHi);
   for (int z = lo.z; z <= hi.z; ++z) {
     for (int y = lo.y; y <= hi.y; ++y) {
       for (int x = lo.x; x <= hi.x; ++x) {

@@ -10,6 +10,10 @@ struct LightParticle {
 uniform vec3 u_origin;
 uniform float u_voxelSize;
 uniform ivec3 u_voxels;
+// The voxels this frame accumulates and resolves, bounds included: the whole volume, or with
+// lights.cull the box a frame's camera may read (render/lights/LightCulling.h).
+uniform ivec3 u_boxLo;
+uniform ivec3 u_boxHi;
 // The fixed-point scale of the atomic sums: a voxel holds round(value * scale) in an int;
 // 16384 / the lights' intensity, less in a frame where that would wrap a voxel
 // (render/lights/LightVolume.cpp, fixedScale and safeFixedScale).

@@ -15,8 +15,8 @@ layout(binding = 6, rgba16f) uniform writeonly image3D u_colourImage;
 layout(binding = 7, rgba16f) uniform writeonly image3D u_directionImage;
 
 void main() {
-  ivec3 v = ivec3(gl_GlobalInvocationID);
-  if (any(greaterThanEqual(v, u_voxels))) return;
+  ivec3 v = u_boxLo + ivec3(gl_GlobalInvocationID);
+  if (any(greaterThan(v, u_boxHi))) return;
   vec3 colour = vec3(imageLoad(u_sum0, v).x, imageLoad(u_sum1, v).x, imageLoad(u_sum2, v).x);
   vec3 direction = vec3(imageLoad(u_sum3, v).x, imageLoad(u_sum4, v).x, imageLoad(u_sum5, v).x);
   // RGBA16F holds up to 65504: a brighter voxel saturates there (not infinity); the direction is

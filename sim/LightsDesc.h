@@ -80,6 +80,7 @@ constexpr const char* nameOf(LightPipeline v) {
 enum class LightAccumulate {
   Atomic,  // fixed-point integer atomicAdd, then a resolve pass: exact, order-independent
   Paper,   // the paper's imageLoad + imageStore from every invocation at once: loses updates
+  Cpu,     // the atomic path's sums gathered per z slice by OpenMP threads, then uploaded
 };
 constexpr const char* nameOf(LightAccumulate v) {
   switch (v) {
@@ -87,6 +88,8 @@ constexpr const char* nameOf(LightAccumulate v) {
       return "atomic";
     case LightAccumulate::Paper:
       return "paper";
+    case LightAccumulate::Cpu:
+      return "cpu";
   }
   return nullptr;
 }
@@ -123,6 +126,10 @@ struct LightsDesc {
   int oversampling = 1;  // samples per axis inside one voxel around the point (1 = off)
   LightPipeline pipeline = LightPipeline::Forward;
   LightAccumulate accumulate = LightAccumulate::Atomic;
+  // Frustum culling (seed 004's future work): a frame drawn through a camera clears, accumulates
+  // and resolves only the voxels its visible points may read, with only the lights that reach
+  // them; the picture is the same (docs/lights.md, "Frustum culling").
+  bool cull = true;
   // The surfaces' response to particle light (Phong, seed 004 section 5).
   float diffuse = 1.0f, specular = 0.5f, shininess = 16.0f;
   // The scene's own light and background are scaled by this (1: unchanged; 0.1: a dark room).

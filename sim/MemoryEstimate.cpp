@@ -19,6 +19,17 @@ namespace {
 // dropped) its position, three per-step fields and its grid slot.
 constexpr double kBytesPerFluidParticle = 76;
 constexpr double kBytesPerBoundaryParticle = 50;
+// DFSPH's on top (sim/Dfsph.cpp, solver.pressure "dfsph"): every fluid pair of the step stored
+// with its V gradW (16 bytes; ~33 neighbours at support 2 spacings), in rows whose room grows to
+// twice what a row once needed, and 8 more per-particle arrays (G, alpha, source, stiffness,
+// the two warm starts). Fitted, as above, to the dam break's peak resident memory at spacings 3,
+// 2.5, 1.8 and 1.4 mm (9.0e4 to 8.9e5 fluid particles: 102, 148, 291 and 835 MB, 2026-11-26):
+// the rows' doubling puts 540-810 bytes a particle on top of WCSPH's at those sizes.
+constexpr double kDfsphBytesPerFluidParticle = 660;
+// A rain drop (sim/rain/RainSystem.h: position, respawn count, streak layer) and its copy for the
+// cache's /Rain#N: 28.7 bytes a drop measured (peak resident memory of 10^7 drops, 307 MB against
+// 20 MB for one drop, 2026-11-26, no render section).
+constexpr double kBytesPerRainDrop = 30;
 // The program itself: code, libraries (HDF5, OpenMP, the C++ runtime), thread stacks.
 constexpr double kBaseBytes = 15e6;
 // An OpenGL context on Mesa's llvmpipe with the renderer's or cdt-gl's buffers and shaders.
@@ -45,11 +56,20 @@ MemoryEstimate estimateMemory(const Scene& scene) {
     m.boundaryParticles += countBoundarySamples(b, scene.domain, scene.solver.spacing, layers);
   const bool gl =
       scene.render || (scene.collision && scene.collision->method == CollisionMethod::CdtGl);
-  m.bytes = kBaseBytes + (gl ? kGlBytes : 0) +
-            kBytesPerFluidParticle * (m.fluidParticles + m.emittedParticles) +
-            kBytesPerBoundaryParticle * m.boundaryParticles;
-  // The key to change: an emitter's size when it is most of the particles, else the spacing.
-  if (largestEmitter > m.fluidParticles + m.boundaryParticles)
+  const bool dfsph =
+      scene.solver.model == SolverModel::Sph && scene.solver.pressure == PressureSolver::Dfsph;
+  const double perFluidParticle =
+      kBytesPerFluidParticle + (dfsph ? kDfsphBytesPerFluidParticle : 0);
+  if (scene.rain) m.rainDrops = static_cast<double>(scene.rain->count);
+  const double fluidBytes = perFluidParticle * (m.fluidParticles + m.emittedParticles);
+  const double boundaryBytes = kBytesPerBoundaryParticle * m.boundaryParticles;
+  const double rainBytes = kBytesPerRainDrop * m.rainDrops;
+  m.bytes = kBaseBytes + (gl ? kGlBytes : 0) + fluidBytes + boundaryBytes + rainBytes;
+  // The key to change: the rain's budget or an emitter's size when it is most of the memory,
+  // else the spacing.
+  if (rainBytes > fluidBytes + boundaryBytes)
+    m.largestKey = "rain.count";
+  else if (largestEmitter > m.fluidParticles + m.boundaryParticles)
     m.largestKey = "emitters[" + std::to_string(largest) + "].radius";
   return m;
 }

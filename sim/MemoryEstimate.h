@@ -17,8 +17,10 @@ struct MemoryEstimate {
   double fluidParticles = 0;     // at the start
   double emittedParticles = 0;   // added by nozzles until the end time (or their stop)
   double boundaryParticles = 0;  // sampled walls and containers (an upper bound)
+  double rainDrops = 0;          // the rain section's budget (docs/rain.md)
   double bytes = 0;              // peak, the program's own footprint included
-  // The scene key that would shrink it most ("solver.spacing", "emitters[0].radius", ...).
+  // The scene key that would shrink it most ("solver.spacing", "emitters[0].radius",
+  // "rain.count").
   std::string largestKey = "solver.spacing";
 };
 

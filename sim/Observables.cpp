@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
+
+#include "sim/Kernels.h"
+#include "sim/LatticeSums.h"
 
 namespace sph {
 
@@ -81,6 +85,40 @@ DensityError densityError(const Particles& fluid, double rho0) {
   d.meanDeviation = deviation / n;
   d.meanDensity = sum / n;
   return d;
+}
+
+double waterLevel(const Particles& fluid, const Aabb& columns, float h, float dx, int n) {
+  const Kernels k(h);
+  const double lattice = latticeKernelSum(k, DensityKernel::Poly6, dx);
+  double sum = 0;
+  std::vector<Vec3> near;
+  for (int a = 0; a < n; ++a) {
+    for (int b = 0; b < n; ++b) {
+      const float x = columns.lo.x() + (a + 0.5f) / n * (columns.hi.x() - columns.lo.x());
+      const float z = columns.lo.z() + (b + 0.5f) / n * (columns.hi.z() - columns.lo.z());
+      near.clear();  // the particles within h of the line
+      for (std::size_t i = 0; i < fluid.size(); ++i) {
+        const float dxl = fluid.x[i] - x, dzl = fluid.z[i] - z;
+        if (dxl * dxl + dzl * dzl < k.h2) near.push_back(fluid.position(i));
+      }
+      auto phi = [&](float y) {
+        double s = 0;
+        for (const Vec3& p : near) s += k.poly6((p - Vec3(x, y, z)).squaredNorm());
+        return s / lattice;
+      };
+      float lo = columns.lo.y(), hi = columns.hi.y();
+      if (phi(lo) < 0.5) {
+        sum += lo;
+        continue;
+      }
+      for (int it = 0; it < 40 && hi - lo > 1e-6f * dx; ++it) {
+        const float mid = 0.5f * (lo + hi);
+        (phi(mid) >= 0.5 ? lo : hi) = mid;
+      }
+      sum += 0.5 * (lo + hi);
+    }
+  }
+  return sum / (n * n);
 }
 
 }  // namespace sph

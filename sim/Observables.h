@@ -45,6 +45,15 @@ struct LayerMean {
 };
 LayerMean bottomLayer(const Particles& fluid, double top);
 
+// Mean height (m) of the water's free surface over the x-z rectangle of `columns`, at the
+// centres of an n x n grid of vertical lines across it: on each, where the fill fraction
+// phi(p) = sum_j W(|p - x_j|) / L falls to 1/2 (poly6 W of support `h`; L its sum over the rest
+// lattice of spacing `dx`, so phi = 1 inside water at rest and, for a flat rest lattice, 1/2 half
+// a spacing above its top layer: where that water's cells end). Found by bisection between
+// columns.lo.y (in the water) and columns.hi.y (above it); a line with no water reads lo.y. The
+// rising pool of rain.feed_fluid (tests/test_rain_feed.cpp, docs/benchmarks.md).
+double waterLevel(const Particles& fluid, const Aabb& columns, float h, float dx, int n = 8);
+
 // Deviation of the density from rest density rho0 (kg/m^3), as fractions of rho0.
 struct DensityError {
   double meanCompression = 0;  // mean of max(0, (rho - rho0) / rho0): the pressure solve's error

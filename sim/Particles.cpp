@@ -40,4 +40,15 @@ void Particles::permute(const std::vector<std::uint32_t>& order,
   });
 }
 
+void Particles::assignFrom(const Particles& from, const std::vector<std::uint32_t>& at) {
+  resize(at.size());
+  std::apply(
+      [&](auto... member) {
+        ((parallelFor(at.size(),
+                      [&](std::size_t i) { (this->*member)[i] = (from.*member)[at[i]]; })),
+         ...);
+      },
+      fields());
+}
+
 }  // namespace sph

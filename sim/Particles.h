@@ -63,6 +63,9 @@ struct Particles {
   // sort every step allocates nothing.
   void permute(const std::vector<std::uint32_t>& order, std::vector<std::uint32_t>& scratch);
 
+  // Every field becomes from's at the indices `at`: new[i] = from[at[i]], at.size() particles.
+  void assignFrom(const Particles& from, const std::vector<std::uint32_t>& at);
+
   Vec3 position(std::size_t i) const { return {x[i], y[i], z[i]}; }
   Vec3 velocity(std::size_t i) const { return {vx[i], vy[i], vz[i]}; }
   void setPosition(std::size_t i, const Vec3& v) { x[i] = v.x(), y[i] = v.y(), z[i] = v.z(); }

@@ -45,6 +45,23 @@ constexpr const char* nameOf(RainSampling v) {
   return nullptr;
 }
 
+// How the streaks are drawn (scene key rain.draw; docs/rain.md, "Drawing"). Both draw the same
+// quads into the same frame.
+enum class RainDraw {
+  Cpu,        // rasterised on the CPU (OpenMP) and blended in one full-screen pass: for llvmpipe,
+              // whose per-triangle setup made 1,000,000 streaks cost seconds a frame
+  Triangles,  // two GL triangles per streak: for a real GPU
+};
+constexpr const char* nameOf(RainDraw v) {
+  switch (v) {
+    case RainDraw::Cpu:
+      return "cpu";
+    case RainDraw::Triangles:
+      return "triangles";
+  }
+  return nullptr;
+}
+
 // The cone spotlight of seed 002 section 3.2 (eq. (10)-(13)): apex at `position`, axis
 // `direction`, cone height `height` and base radius `baseRadius` (its half-angle is
 // atan(baseRadius / height)).
@@ -71,7 +88,13 @@ struct RainDesc {
   RainSampling sampling = RainSampling::Uniform;
   Aabb region;           // m, the fixed rain box of spawn "region"
   int streakLayers = 8;  // procedurally generated streak images in the array texture
+  RainDraw draw = RainDraw::Cpu;
   std::optional<SpotlightDesc> spotlight;
+  // rain.feed_fluid (docs/rain.md, "Rain that fills the pool"): false, the paper, a drop that
+  // lands in the water vanishes; true, its water joins the SPH fluid (sim/rain/RainFeed.h).
+  bool feedFluid = false;
+  // m^3 of water a drop carries (feed_fluid). A real 2 mm drop: pi/6 (2e-3)^3 = 4.19e-9 m^3.
+  double dropVolume = 4.18879e-9;
 };
 
 }  // namespace sph

@@ -37,6 +37,9 @@ float expectedMaxSpeed(const Scene& scene) {
     top = std::max(top, -e.position.dot(down));
     speed = std::max(speed, e.speed);
   }
+  // rain.feed_fluid: the rain's water enters the fluid at the rain's velocity.
+  if (scene.rain && scene.rain->feedFluid)
+    speed = std::max(speed, Vec3(scene.rain->wind - scene.rain->fallSpeed * Vec3::UnitY()).norm());
   // Energy bound: a particle starting at the top with the largest initial speed.
   return std::max(std::sqrt(speed * speed + 2.0f * gNorm * std::max(0.0f, top - floor)), 0.1f);
 }

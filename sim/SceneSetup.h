@@ -34,7 +34,8 @@ struct DerivedParams {
 };
 
 // Largest speed (m/s) the scene can produce from its initial state, by energy: the largest
-// initial or nozzle speed plus a free fall from the highest fluid or nozzle to the domain floor.
+// initial, nozzle or (rain.feed_fluid) rain speed plus a free fall from the highest fluid or
+// nozzle to the domain floor.
 // Used for the automatic speed of sound (10x this keeps density variation near 1%, Monaghan
 // 1994).
 float expectedMaxSpeed(const Scene& scene);

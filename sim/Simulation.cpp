@@ -27,6 +27,7 @@ Simulation::Simulation(const Scene& scene)
   for (std::size_t i = 0; i < fluid_.size(); ++i) {
     state_.maxSpeed = std::max(state_.maxSpeed, fluid_.velocity(i).norm());
   }
+  rainFeed_ = rain::RainFeed::create(scene_);
 }
 
 Simulation::~Simulation() = default;
@@ -58,6 +59,9 @@ void Simulation::setHalo(dist::Halo* halo) {
 }
 
 void Simulation::step(double limit) {
+  // A feeding rain steps at its ticks: the step lands on the next one.
+  const double rainTick = rainFeed_ ? rainFeed_->nextTick(state_.time) : 1e300;
+  limit = std::min(limit, rainTick);
   double dt = chooseTimeStep();
   if (state_.time + dt > limit) dt = limit - state_.time;
   // Avoid a sliver step right before the limit: split the remainder into two equal steps.
@@ -161,6 +165,7 @@ void Simulation::step(double limit) {
     state_.maxSpeed = bounds.maxSpeed, state_.maxAcceleration = bounds.maxAcceleration;
     halo_->maxOverRanks(state_.maxSpeed, state_.maxAcceleration);
   });
+  if (state_.time >= rainTick) timed(Pass::Emit, [&] { feedRain(rainTick); });
   validate("the step", [&] { return checkState(fluid_, state_.nextId); });
   profile_.steps += 1;
   profile_.particleSteps += fluid_.size();
@@ -182,6 +187,18 @@ void Simulation::emitParticles(double dt) {
   emittedElsewhere_.clear();
 }
 
+void Simulation::feedRain(double tick) {
+  const std::vector<Vec3>& landings = rainFeed_->advanceTo(tick, fluid_);
+  if (rainFeed_->addLandings(landings, state_.rain, fluid_, state_.nextId) == 0) return;
+  // The next step's size follows the new particles (they enter at the rain's speed).
+  state_.maxSpeed = std::max(state_.maxSpeed, rainFeed_->stepper().system().velocity().norm());
+}
+
+void Simulation::restoreRain(double time, const std::vector<Vec3>& positions,
+                             const std::vector<std::uint32_t>& generations) {
+  if (rainFeed_) rainFeed_->restore(time, positions, generations);
+}
+
 void Simulation::collide(float dt) {
   if (!collision_) return;
   CollisionContext context;
@@ -192,7 +209,20 @@ void Simulation::collide(float dt) {
     collision_->apply(fluid_, context);
     return;
   }
-  // Distributed (only `exact` is let through, app/DistributedRun.cpp): a second exchange gives
+  if (scene_.collision->method != CollisionMethod::Exact) {
+    // `octree` and `cdt-cpu` find pairs through structures of the whole fluid (an octree's
+    // leaves, the CDT's depth images over the domain), which a rank's slab and ghosts would
+    // build differently. So every rank gathers the whole fluid in the single-process order and
+    // runs the pass on it, then keeps its own particles: the single process's result, bit for
+    // bit, at the cost of the pass on every rank (not divided by K) and an all-gather of the
+    // fluid each step (docs/scaling.md).
+    std::vector<std::uint32_t> mine;
+    Particles whole = halo_->allGather(fluid_, mine);
+    collision_->apply(whole, context);
+    fluid_.assignFrom(whole, mine);
+    return;
+  }
+  // `exact` (the only pass that runs distributed): a second exchange gives
   // each rank the particles within two cell planes of its slab, which holds every partner of its
   // particles: partners are closer than the range at the start of the step (x - v dt), so now
   // closer than range + 2 max speed dt. The exact detector picks the nearest partner and, among

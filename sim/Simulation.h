@@ -19,6 +19,7 @@
 #include "sim/StepContext.h"
 #include "sim/StepProfile.h"
 #include "sim/dist/Halo.h"
+#include "sim/rain/RainFeed.h"
 
 namespace sph {
 
@@ -34,6 +35,7 @@ struct RunState {
   std::vector<EmitterState> emitters;
   // DFSPH's warm start, in the order of the fluid it was saved with (empty for WCSPH).
   PressureWarmStart warmStart;
+  rain::FeedState rain;  // rain.feed_fluid: the landed rain (all zero without)
 };
 
 class Simulation {
@@ -66,6 +68,12 @@ class Simulation {
   // Scale of the pressure force at the last step (1 / mean discrete gradient moment).
   float gradientCorrection() const { return gradientCorrection_; }
   const std::vector<Emitter>& emitters() const { return emitters_; }
+  // rain.feed_fluid: the rain whose landed water joins the fluid at every tick (null without;
+  // sim/rain/RainFeed.h). Its drops are part of the state: restore() leaves them as they are,
+  // restoreRain() sets them.
+  const rain::RainFeed* rainFeed() const { return rainFeed_.get(); }
+  void restoreRain(double time, const std::vector<Vec3>& positions,
+                   const std::vector<std::uint32_t>& generations);
   // What the DFSPH solvers did (zeros for WCSPH).
   const PressureSolveStats& solveStats() const { return solveStats_; }
 
@@ -78,7 +86,8 @@ class Simulation {
   dist::Halo* halo() const { return halo_; }
 
   RunState runState() const;
-  // Replaces state and fluid with a saved one (the same scene must be loaded).
+  // Replaces state and fluid with a saved one (the same scene must be loaded); a feeding rain's
+  // drops are set apart, by restoreRain().
   void restore(const RunState& state, Particles fluid);
 
  private:
@@ -86,6 +95,8 @@ class Simulation {
   // The context the passes of a step of `dt` seconds work on.
   StepContext context(float dt);
   void emitParticles(double dt);
+  // At a rain tick: the drops that landed in the water join it (rain.feed_fluid).
+  void feedRain(double tick);
   void collide(float dt);
 
   Scene scene_;
@@ -101,8 +112,9 @@ class Simulation {
   StepScratch scratch_;
   float gradientCorrection_ = 1;  // scale of the pressure force this step
   PressureSolveStats solveStats_;
-  dist::Halo* halo_ = nullptr;    // a distributed run's decomposition; null alone
-  Particles emittedElsewhere_;    // what another rank's emitters released (discarded)
+  dist::Halo* halo_ = nullptr;  // a distributed run's decomposition; null alone
+  Particles emittedElsewhere_;  // what another rank's emitters released (discarded)
+  std::unique_ptr<rain::RainFeed> rainFeed_;
 };
 
 }  // namespace sph

@@ -117,6 +117,9 @@ void expectSameCache(const std::string& a, const std::string& b) {
     EXPECT_EQ(sa.maxAcceleration, sb.maxAcceleration) << k;
     EXPECT_EQ(sa.nextId, sb.nextId) << k;
     EXPECT_EQ(sa.lostParticles, sb.lostParticles) << k;
+    EXPECT_EQ(sa.rain.landedDrops, sb.rain.landedDrops) << k;
+    EXPECT_EQ(sa.rain.particles, sb.rain.particles) << k;
+    EXPECT_EQ(sa.rain.pending, sb.rain.pending) << k;
     EXPECT_EQ(sa.warmStart.density, sb.warmStart.density) << k;
     EXPECT_EQ(sa.warmStart.divergence, sb.warmStart.divergence) << k;
     ASSERT_EQ(sa.emitters.size(), sb.emitters.size());

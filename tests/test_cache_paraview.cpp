@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "io/CacheReader.h"
+#include "io/RainCache.h"
 #include "tests/CacheTestSupport.h"
 
 namespace sph {
@@ -132,13 +133,15 @@ std::vector<double> widened(const std::vector<float>& v) {
 
 // What every reader must show of `cachePath`: its times, and per time the fluid (points and the
 // arrays of `arrays`, named as that reader names them) and, for the XDMF readers, the boundary.
-void expectWhatTheCacheHolds(const json& readers, const std::string& cachePath) {
+void expectWhatTheCacheHolds(const json& readers, const std::string& cachePath,
+                             const std::vector<std::string>& names = {
+                                 "Xdmf3ReaderS", "Xdmf3ReaderT", "XDMFReader", "H5PartReader"}) {
   const io::CacheReader cache(cachePath);
   const std::vector<std::vector<float>> boundary = cache.readBoundary();
-  for (const char* name : {"Xdmf3ReaderS", "Xdmf3ReaderT", "XDMFReader", "H5PartReader"}) {
+  for (const std::string& name : names) {
     SCOPED_TRACE(name);
     const json& r = readers.at(name);
-    const bool h5part = std::string(name) == "H5PartReader";
+    const bool h5part = name == "H5PartReader";
     ASSERT_EQ(r.at("times").size(), cache.frameCount());
     for (std::size_t k = 0; k < cache.frameCount(); ++k) {
       SCOPED_TRACE("frame " + std::to_string(k));
@@ -199,6 +202,45 @@ TEST_F(CacheParaView, AnEmptyFirstFrameShowsTheBoundaryAlone) {
   const json readers = readWithParaView(scene, "pour");
   ASSERT_EQ(io::CacheReader(dir_ + "/pour.h5").readFrame(0).size(), 0u);
   expectWhatTheCacheHolds(readers, dir_ + "/pour.h5");
+}
+
+TEST_F(CacheParaView, RainDropsShowAsAThirdPointSetBesideFluidAndBoundary) {
+  // A scene with rain (docs/rain.md): every frame's drops are a point set of their own in the
+  // sidecar; the H5Part reader shows the fluid alone (its format has one particle set).
+  std::string scene = test::tinyCacheScene(0.05, 100);
+  scene.insert(
+      scene.find("  \"output\""),
+      R"(  "camera": {"position": [0.5, 0.4, 0.5], "target": [0.1, 0.05, 0.075], "fov": 40},
+  "rain": {"count": 50, "near": 0.05, "far": 1, "seed": 3},
+)");
+  const json readers = readWithParaView(scene, "rain");
+  const io::CacheReader cache(dir_ + "/rain.h5");
+  const std::vector<std::vector<float>> boundary = cache.readBoundary();
+  for (const char* name : {"Xdmf3ReaderS", "Xdmf3ReaderT", "XDMFReader"}) {
+    SCOPED_TRACE(name);
+    const json& r = readers.at(name);
+    ASSERT_EQ(r.at("times").size(), cache.frameCount());
+    for (std::size_t k = 0; k < cache.frameCount(); ++k) {
+      SCOPED_TRACE("frame " + std::to_string(k));
+      const io::RainFrame rain = io::readRainFrame(cache, k);
+      ASSERT_EQ(rain.positions.size(), 50u);
+      std::vector<float> x, y, z;
+      for (const Vec3& p : rain.positions)
+        x.push_back(p.x()), y.push_back(p.y()), z.push_back(p.z());
+      const Particles fluid = cache.readFrame(k);
+      int drops = 0, walls = 0, water = 0;
+      for (const json& leaf : r.at("frames")[k]) {
+        drops += samePoints(leaf, x, y, z) ? 1 : 0;
+        walls += samePoints(leaf, boundary[0], boundary[1], boundary[2]) ? 1 : 0;
+        water += samePoints(leaf, fluid.x, fluid.y, fluid.z) ? 1 : 0;
+      }
+      EXPECT_EQ(drops, 1);
+      EXPECT_EQ(walls, 1);
+      EXPECT_EQ(water, 1);
+      if (::testing::Test::HasFailure()) return;
+    }
+  }
+  expectWhatTheCacheHolds(readers, dir_ + "/rain.h5", {"H5PartReader"});
 }
 
 }  // namespace

@@ -44,6 +44,34 @@ TEST(Cli, BadFlagsExitWithTwo) {
   EXPECT_EQ(runSphsplat("run x.json --end 0").exitCode, 2);
 }
 
+// `mpirun -np 3 sphsplat ...` with a build without MPI would start three plain processes that each
+// run the whole job and race for one output. The starter's variables are set here by hand: this
+// build has no MPI to start (the MPI suite, tests/test_mpi.cpp, covers builds with it).
+TEST(Cli, WithoutMpiALaunchAsSeveralProcessesIsRefused) {
+#ifdef SPHSPLAT_TEST_MPI_BUILD
+  GTEST_SKIP() << "built with MPI: mpirun starts real ranks (tests/test_mpi.cpp)";
+#else
+  const std::string job = "run " + test::sourcePath("scenes/dam_break.json") + " --end 0.001";
+  const auto rank0 = test::runShell("OMPI_COMM_WORLD_SIZE=3 OMPI_COMM_WORLD_RANK=0 " +
+                                    test::sphsplatCommand() + " " + job + " 2>&1");
+  EXPECT_EQ(rank0.exitCode, 2);
+  EXPECT_EQ(rank0.output,
+            "sphsplat: started by an MPI launcher as one of 3 processes, but this sphsplat is "
+            "built without MPI, so each would run the whole job alone; install Open MPI "
+            "(scripts/setup --mpi) and rebuild (scripts/build), or run without mpirun "
+            "(docs/scaling.md)\n");
+  // The other ranks refuse silently: the line is said once.
+  const auto rank2 =
+      test::runShell("PMI_SIZE=3 PMI_RANK=2 " + test::sphsplatCommand() + " " + job + " 2>&1");
+  EXPECT_EQ(rank2.exitCode, 2);
+  EXPECT_EQ(rank2.output, "");
+  // One process under a starter is a plain run.
+  const auto one =
+      test::runShell("OMPI_COMM_WORLD_SIZE=1 " + test::sphsplatCommand() + " --version 2>&1");
+  EXPECT_EQ(one.exitCode, 0) << one.output;
+#endif
+}
+
 struct BadScene {
   const char* what;
   std::string text;

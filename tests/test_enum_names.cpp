@@ -10,8 +10,8 @@
 #include "render/splat/SplatBuilder.h"
 #include "sim/CollisionDesc.h"
 #include "sim/EnumNames.h"
-#include "sim/RainDesc.h"
 #include "sim/LightsDesc.h"
+#include "sim/RainDesc.h"
 #include "sim/RenderDesc.h"
 #include "sim/SolverParams.h"
 
@@ -23,9 +23,9 @@ class EnumNamesTest : public ::testing::Test {};
 using AllChoices =
     ::testing::Types<LightSource, LightColouring, LightFilter, LightPipeline, LightAccumulate,
                      CollisionMethod, CollisionResponse, CdtCameraMode, CdtPositionSource,
-                     EquationOfState, DensityKernel, SolverModel, Walls, PressureSolver, SplatProjection,
-                     RenderDesc::Splat, render::splat::SplatKind, io::Quality, sweep::RunStatus,
-                     RainSpawn, RainSampling>;
+                     EquationOfState, DensityKernel, SolverModel, Walls, PressureSolver,
+                     SplatProjection, RenderDesc::Splat, render::splat::SplatKind, io::Quality,
+                     sweep::RunStatus, RainSpawn, RainSampling, RainDraw>;
 TYPED_TEST_SUITE(EnumNamesTest, AllChoices);
 
 TYPED_TEST(EnumNamesTest, EveryEnumeratorHasAUniqueNameThatParsesBack) {

@@ -21,6 +21,7 @@
 #include "sim/Camera.h"
 #include "sim/InputError.h"
 #include "sim/LightParticles.h"
+#include "tests/LightTestScenes.h"
 
 namespace sph::render::lights {
 namespace {
@@ -38,10 +39,7 @@ LightsDesc smallVolume() {
   return d;
 }
 
-LightParticle light(const Vec3& p, const Vec3& colour, float intensity) {
-  return {{p.x(), p.y(), p.z(), 0.0f},
-          {colour.x() * intensity, colour.y() * intensity, colour.z() * intensity, intensity}};
-}
+using test::light;
 
 Vec3 voxelCentre(const LightsDesc& d, int x, int y, int z) {
   return d.origin + d.voxelSize * Vec3(x + 0.5f, y + 0.5f, z + 0.5f);
@@ -500,14 +498,10 @@ TEST_F(LightsGl, DeferredGivesTheForwardImageToOneStep) {
   ASSERT_FALSE(forward.deferred());
   ASSERT_TRUE(deferred.deferred());
   forward.update(lights), deferred.update(lights);
-  BoundaryShape plane, sphere, block;
-  plane.kind = BoundaryShape::Kind::Plane, plane.point = Vec3::Zero(), plane.normal = Vec3::UnitY();
-  sphere.kind = BoundaryShape::Kind::Sphere, sphere.centre = Vec3(0, 0.15f, 0),
-  sphere.radius = 0.15f;
-  block.kind = BoundaryShape::Kind::Block, block.lo = Vec3(0.15f, 0, -0.35f),
-  block.hi = Vec3(0.35f, 0.2f, -0.15f);
-  solids::SolidRenderer solids({plane, sphere, block}, Aabb{Vec3(-1, -1, -1), Vec3(1, 1, 1)},
-                               0.02f);
+  solids::SolidRenderer solids(
+      test::floorSphereBlock(Vec3(0, 0.15f, 0), 0.15f, Vec3(0.15f, 0, -0.35f),
+                             Vec3(0.35f, 0.2f, -0.15f)),
+      Aabb{Vec3(-1, -1, -1), Vec3(1, 1, 1)}, 0.02f);
   splat::SplatFrame water;  // a sheet of point splats over the floor, partly behind the sphere
   water.halfSize = 0.03f;
   for (int j = 0; j < 16; ++j)

@@ -1,7 +1,7 @@
 // Particle lights (seed 004) as a user meets them: a small fireflies run draws lit frames, `render`
 // names the light volume and `compare` prints the lights' error figures (trilinear beats nearest
-// against the exact sum) with a sheet of pictures; a scene without `lights` has no light code on
-// its way; bad `lights` keys are one line and exit 2.
+// against the exact sum) with a sheet of pictures; culling to the view changes no pixel; a scene
+// without `lights` has no light code on its way; bad `lights` keys are one line and exit 2.
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
@@ -105,6 +105,28 @@ TEST_F(LightsCli, RenderDeferredDrawsTheForwardPicture) {
   EXPECT_LT(share, 0.02) << "pixels more than one step apart";
 }
 
+// lights.cull (on by default): `render` says it culls, and draws the picture of the whole
+// volume byte for byte - from the scene's camera (the water's quad splats in view) and from a
+// close one on the cup that sees a small part of the tank.
+TEST_F(LightsCli, RenderCulledIsTheUnculledPicture) {
+  const std::string cup =
+      " --set camera.position=[0.62,0.3,0.05] --set camera.target=[0.35,0.07,-0.25]";
+  for (const std::string& camera : {std::string(), cup}) {
+    const std::string name = camera.empty() ? "scene" : "cup";
+    const auto culled = runSphsplat("render " + dir_ + "/ff.h5 --frames last --out " + dir_ +
+                                    "/culled_" + name + camera);
+    ASSERT_EQ(culled.exitCode, 0) << culled.output;
+    EXPECT_NE(culled.output.find("culled to the view"), std::string::npos) << culled.output;
+    const auto all = runSphsplat("render " + dir_ + "/ff.h5 --frames last --out " + dir_ + "/all_" +
+                                 name + camera + " --set lights.cull=false");
+    ASSERT_EQ(all.exitCode, 0) << all.output;
+    EXPECT_EQ(all.output.find("culled to the view"), std::string::npos) << all.output;
+    const auto a = pixels(dir_ + "/all_" + name + "/fireflies_quad_00001.png");
+    ASSERT_FALSE(a.empty());
+    EXPECT_TRUE(a == pixels(dir_ + "/culled_" + name + "/fireflies_quad_00001.png")) << name;
+  }
+}
+
 // The viewer lights the frame the same way (a window under Xvfb, its screenshot).
 TEST_F(LightsCli, ViewerShowsTheLitFrame) {
   if (std::system("command -v xvfb-run > /dev/null") != 0) GTEST_SKIP() << "xvfb-run not installed";
@@ -148,7 +170,8 @@ TEST_F(LightsCli, ASceneWithoutLightsHasNoLightVolume) {
 TEST_F(LightsCli, BadLightsKeysAreOneLineAndExitTwo) {
   for (const std::string& set :
        {std::string("lights.filter=cubic"), std::string("lights.volume.voxels=512"),
-        std::string("lights.accumulate=racy"), std::string("lights.source=rain")}) {
+        std::string("lights.accumulate=racy"), std::string("lights.source=rain"),
+        std::string("lights.cull=maybe")}) {
     const auto r =
         runSphsplat("render " + dir_ + "/ff.h5 --frames last --out " + dir_ + "/bad --set " + set);
     EXPECT_EQ(r.exitCode, 2) << set << ": " << r.output;

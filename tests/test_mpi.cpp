@@ -108,6 +108,34 @@ TEST_F(Mpi, TheExactCollisionPassGivesTheSameFramesOnThreeRanks) {
   test::expectSameCache(reference, out);
 }
 
+TEST_F(Mpi, TheCdtCpuAndOctreePassesGiveTheSameFramesOnTwoAndThreeRanks) {
+  // Passes that find pairs through structures of the whole fluid (the CDT's depth images, the
+  // octree's leaves) run on the whole fluid gathered on every rank, in the single-process order.
+  // The CDT with our improvements (4 depth layers, adaptive texel range) finds pairs from the
+  // fourth frame on, octree from the second.
+  for (const std::string method : {"cdt-cpu", "octree"}) {
+    SCOPED_TRACE(method);
+    const std::string set = "--set collision.method=" + method +
+                            " --set collision.range=0.0125 --set collision.layers=4 "
+                            "--set collision.adaptive_texel_range=true ";
+    const std::string reference = dir_ + "/plain_" + method + ".h5";
+    auto r = runShell(plain(scene_, set + "-o '" + reference + "'"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    {  // the pass does change the run
+      const io::CacheReader with(reference), without(reference_);
+      ASSERT_EQ(with.frameCount(), without.frameCount());
+      const std::size_t last = with.frameCount() - 1;
+      EXPECT_FALSE(test::sameBits(with.readFrame(last), without.readFrame(last)));
+    }
+    for (int k : {2, 3}) {
+      const std::string out = dir_ + "/" + method + "_k" + std::to_string(k) + ".h5";
+      auto q = runShell(ranks(k, scene_, set + "-o '" + out + "'"));
+      ASSERT_EQ(q.exitCode, 0) << q.output;
+      test::expectSameCache(reference, out);
+    }
+  }
+}
+
 TEST(MpiGuard, ABlowUpOnOneRankStopsAllWithTheSingleProcessMessage) {
   // A block thrown at 80 m/s along x (the domain's first longest axis): it leaves through the
   // last rank's slab, and every rank stops with exit 3 and the message one process gives.

@@ -81,5 +81,30 @@ TEST(Observables, ElasticEnergyIsTheIntegralOfTheEquationOfState) {
   }
 }
 
+// A rest lattice whose top layer is at y = (layers - 0.5) dx: its cells end at layers * dx, and
+// that is where the fill fraction falls to 1/2 (to a few hundredths of a spacing: the kernel sum
+// of a half lattice is not exactly half the full one); one more layer raises it by one spacing;
+// a column with no water reads the bottom of the search.
+TEST(Observables, WaterLevelIsWhereTheRestLatticesCellsEnd) {
+  const float dx = 0.01f, h = 0.02f;
+  auto pool = [&](int layers) {
+    Particles p;
+    std::uint32_t id = 0;
+    for (int i = 0; i < 20; ++i)
+      for (int k = 0; k < 20; ++k)
+        for (int j = 0; j < layers; ++j)
+          p.append(Vec3((i + 0.5f) * dx, (j + 0.5f) * dx, (k + 0.5f) * dx), Vec3::Zero(), id++,
+                   1000);
+    return p;
+  };
+  Aabb columns;
+  columns.lo = Vec3(0.05f, 0.01f, 0.05f), columns.hi = Vec3(0.15f, 0.2f, 0.15f);
+  const double five = waterLevel(pool(5), columns, h, dx);
+  const double six = waterLevel(pool(6), columns, h, dx);
+  EXPECT_NEAR(five, 0.05, 0.05 * dx);
+  EXPECT_NEAR(six - five, dx, 1e-3 * dx);
+  EXPECT_EQ(waterLevel(Particles{}, columns, h, dx), columns.lo.y());
+}
+
 }  // namespace
 }  // namespace sph

@@ -24,13 +24,15 @@ using test::runShell;
 constexpr std::size_t kDrops = 500;
 
 // tinyCacheScene with a camera and rain (no render section: the run draws nothing).
-std::string rainScene(double endTime) {
+// `feedKeys`: more keys of the rain section (rain.feed_fluid).
+std::string rainScene(double endTime, const std::string& feedKeys = "") {
   std::string scene = test::tinyCacheScene(endTime, 20);
   const std::string rain =
       R"(  "camera": {"position": [0.5, 0.4, 0.5], "target": [0.1, 0.05, 0.075], "fov": 40,
              "path": [{"time": 0}, {"time": 1, "position": [-0.3, 0.4, 0.5]}]},
   "rain": {"count": )" +
-      std::to_string(kDrops) + R"(, "near": 0.05, "far": 0.8, "fall_speed": 3, "seed": 7},
+      std::to_string(kDrops) + R"(, "near": 0.05, "far": 0.8, "fall_speed": 3, "seed": 7)" +
+      feedKeys + R"(},
 )";
   return scene.insert(scene.find("  \"output\""), rain);
 }
@@ -106,10 +108,11 @@ TEST(RainCache, ACacheWithoutRainHoldsNoneOfIt) {
   EXPECT_THROW(io::readRainFrame(reader, 0), InputError);
 }
 
-TEST(RainCache, AResumedRunContinuesTheDropsBitForBit) {
-  const std::string dir = test::makeTempDir();
-  const std::string scenePath = dir + "/rain.json";
-  std::ofstream(scenePath) << rainScene(0.2);
+// Runs `scene` (written as dir/scene.json) to 0.2 s straight (dir/straight.h5) and to 0.1 s then
+// resumed to 0.2 s (dir/resumed.h5), and expects the two caches and their drops bit-identical.
+void expectResumedEqualsStraight(const std::string& dir, const std::string& scene) {
+  const std::string scenePath = dir + "/scene.json";
+  std::ofstream(scenePath) << scene;
   const std::string straight = dir + "/straight.h5", resumed = dir + "/resumed.h5";
   auto run = [&](const std::string& args) {
     return runShell(test::sphsplatShell("run " + scenePath + " --threads 2 -q " + args));
@@ -120,15 +123,56 @@ TEST(RainCache, AResumedRunContinuesTheDropsBitForBit) {
   ASSERT_EQ(b.exitCode, 0) << b.output;
   auto c = run("--end 0.2 --resume " + resumed);
   ASSERT_EQ(c.exitCode, 0) << c.output;
-  test::expectSameCache(straight, resumed);
+  test::expectSameCache(straight, resumed);  // fluid, resume records (the rain feed's ledger)
   const io::CacheReader ra(straight), rb(resumed);
-  ASSERT_EQ(ra.frameCount(), rb.frameCount());
+  ASSERT_EQ(ra.frameCount(), 5u);
+  ASSERT_EQ(rb.frameCount(), 5u);
   for (std::size_t k = 0; k < ra.frameCount(); ++k) {
     const io::RainFrame x = io::readRainFrame(ra, k), y = io::readRainFrame(rb, k);
     EXPECT_TRUE(sameBits(x.positions, y.positions)) << "frame " << k;
     EXPECT_EQ(x.generations, y.generations) << "frame " << k;
   }
   EXPECT_EQ(count(test::readFile(dir + "/resumed.xdmf"), "<Grid Name=\"rain\""), rb.frameCount());
+}
+
+TEST(RainCache, AResumedRunContinuesTheDropsBitForBit) {
+  expectResumedEqualsStraight(test::makeTempDir(), rainScene(0.2));
+}
+
+// rain.feed_fluid: the landed rain's particles, the pending water and the drops are all part of
+// the run's state, so a resume continues the fluid exactly (tests/test_rain_feed.cpp has the
+// physics).
+TEST(RainCache, AResumedFeedingRunContinuesTheFluidAndTheDropsBitForBit) {
+  const std::string dir = test::makeTempDir();
+  // A quarter of a 0.025 m particle's water per drop.
+  expectResumedEqualsStraight(dir,
+                              rainScene(0.2, R"(, "feed_fluid": true, "drop_volume": 3.90625e-6)"));
+  if (HasFatalFailure()) return;
+  const std::string straight = dir + "/straight.h5", resumed = dir + "/resumed.h5";
+  auto run = [&](const std::string& args) {
+    return runShell(test::sphsplatShell("run " + dir + "/scene.json --threads 2 -q " + args));
+  };
+  const io::CacheReader ra(straight);
+  // Rain was fed both before and after the frame the resume started from.
+  const rain::FeedState half = ra.readRestart(2).first.rain, end = ra.readRestart(4).first.rain;
+  EXPECT_GT(half.particles, 0u);
+  EXPECT_GT(end.particles, half.particles);
+  EXPECT_EQ(ra.summary().frames[4].particles, ra.summary().frames[0].particles + end.particles +
+                                                  ra.readRestart(4).first.emitters[0].emitted);
+  // info reports the ledger of the last frame.
+  auto info = runShell(test::sphsplatShell("info " + straight));
+  ASSERT_EQ(info.exitCode, 0) << info.output;
+  EXPECT_NE(info.output.find("rain feed  " + std::to_string(end.landedDrops) +
+                             " drops landed in the water: " + std::to_string(end.particles) +
+                             " fluid particles"),
+            std::string::npos)
+      << info.output;
+  // A different rain is a different run: the resume refuses it.
+  std::ofstream(dir + "/scene.json")
+      << rainScene(0.2, R"(, "feed_fluid": true, "drop_volume": 3e-6)");
+  auto d = run("--end 0.3 --resume " + resumed);
+  EXPECT_EQ(d.exitCode, 2) << d.output;
+  EXPECT_NE(d.output.find("or its rain that feeds the fluid"), std::string::npos) << d.output;
 }
 
 }  // namespace

@@ -1,10 +1,12 @@
 // render/rain on llvmpipe: the streak images (CPU), and frames with rain drawn by the real
 // shaders through the splat renderer's layer hook - streak pixels where the drops are and none
 // where they are not, none at all without drops, streaks along the projected velocity, and the
-// spotlight's colour on the drops inside its cone only.
+// spotlight's colour on the drops inside its cone only - for both rain.draw paths ("cpu" and
+// "triangles"; tests/test_rain_raster.cpp compares the two).
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 #include "render/gl/GlContext.h"
 #include "render/rain/RainRenderer.h"
@@ -34,11 +36,20 @@ TEST(StreakImages, LayersDifferAndHaveABrightCoreFadingToTheEdges) {
   EXPECT_EQ(generateStreakImages(8, 16, 64, 1).alpha, s.alpha);
 }
 
-class RainGl : public ::testing::Test {
+class GlFrame : public ::testing::Test {
  protected:
   void SetUp() override { context_ = std::make_unique<gl::GlContext>(gl::GlContext::headless()); }
   std::unique_ptr<gl::GlContext> context_;
 };
+
+// The rain tests, once per rain.draw.
+class RainGl : public ::testing::TestWithParam<RainDraw> {
+ protected:
+  void SetUp() override { context_ = std::make_unique<gl::GlContext>(gl::GlContext::headless()); }
+  std::unique_ptr<gl::GlContext> context_;
+};
+INSTANTIATE_TEST_SUITE_P(Draw, RainGl, ::testing::Values(RainDraw::Cpu, RainDraw::Triangles),
+                         [](const auto& p) { return std::string(nameOf(p.param)); });
 
 CameraDesc camera() {
   CameraDesc c;
@@ -47,8 +58,9 @@ CameraDesc camera() {
   return c;
 }
 
-RainDesc desc(std::size_t count) {
+RainDesc desc(std::size_t count, RainDraw draw) {
   RainDesc d;
+  d.draw = draw;
   d.count = count;
   d.near = 1, d.far = 4;
   d.dropWidth = 0.03f;
@@ -79,17 +91,17 @@ int difference(const splat::RenderImage& a, const splat::RenderImage& b, std::si
   return d;
 }
 
-TEST_F(RainGl, StreakPixelsAreWhereTheDropsAreAndNoneWithoutDrops) {
+TEST_P(RainGl, StreakPixelsAreWhereTheDropsAreAndNoneWithoutDrops) {
   const splat::RenderImage empty = frame(nullptr);
-  sph::rain::RainSystem none(desc(0), static_cast<float>(kWidth) / kHeight);
+  sph::rain::RainSystem none(desc(0, GetParam()), static_cast<float>(kWidth) / kHeight);
   none.reset(camera());
-  RainRenderer noDrops(desc(0));
+  RainRenderer noDrops(desc(0, GetParam()));
   noDrops.setDrops(none);
   EXPECT_EQ(frame(&noDrops).rgb, empty.rgb);
 
-  sph::rain::RainSystem drops(desc(200), static_cast<float>(kWidth) / kHeight);
+  sph::rain::RainSystem drops(desc(200, GetParam()), static_cast<float>(kWidth) / kHeight);
   drops.reset(camera());
-  RainRenderer layer(desc(200));
+  RainRenderer layer(desc(200, GetParam()));
   layer.setDrops(drops);
   const splat::RenderImage rain = frame(&layer);
   // Near each drop (its streak runs 0.3 m up from it) the picture changed.
@@ -125,8 +137,8 @@ TEST_F(RainGl, StreakPixelsAreWhereTheDropsAreAndNoneWithoutDrops) {
 
 // One big drop falling in a side wind: the streak's principal axis in the picture is the
 // projected velocity's direction.
-TEST_F(RainGl, AStreakLiesAlongTheProjectedVelocity) {
-  RainDesc d = desc(1);
+TEST_P(RainGl, AStreakLiesAlongTheProjectedVelocity) {
+  RainDesc d = desc(1, GetParam());
   d.spawn = RainSpawn::Region;
   d.region.lo = Vec3(-0.01f, 0.99f, 1.99f), d.region.hi = Vec3(0.01f, 1.01f, 2.01f);
   d.wind = Vec3(4, 0, 0);
@@ -161,8 +173,8 @@ TEST_F(RainGl, AStreakLiesAlongTheProjectedVelocity) {
 
 // A red spotlight whose cone holds the left half of the rain: drops in it are red, the others
 // grey (the unlit tint), as eq. (13).
-TEST_F(RainGl, DropsInTheConeTakeTheLightsColourTheOthersDoNot) {
-  RainDesc d = desc(200);
+TEST_P(RainGl, DropsInTheConeTakeTheLightsColourTheOthersDoNot) {
+  RainDesc d = desc(200, GetParam());
   d.dropWidth = 0.015f;
   SpotlightDesc l;
   l.position = Vec3(-1.5f, 4, 2);
@@ -201,7 +213,7 @@ TEST_F(RainGl, DropsInTheConeTakeTheLightsColourTheOthersDoNot) {
 // The same spotlight lights the solids and the water (shaders/extra_lights.glsl): seen from above,
 // a grey floor and a water splat turn red inside the cone's footprint and stay as they were
 // outside it.
-TEST_F(RainGl, TheSpotlightLightsSolidsAndWaterInsideItsConeOnly) {
+TEST_F(GlFrame, TheSpotlightLightsSolidsAndWaterInsideItsConeOnly) {
   CameraDesc top;
   top.position = Vec3(0, 2, 0), top.target = Vec3::Zero(), top.up = Vec3(0, 0, -1);
   top.fovYDegrees = 60;

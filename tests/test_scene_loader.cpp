@@ -25,7 +25,7 @@ std::string errorOf(const std::string& text, const std::vector<std::string>& ove
 }
 
 TEST(SceneLoader, LoadsEveryShippedScene) {
-  for (const char* name : {"dam_break", "still_tank", "pour", "rain_pour"}) {
+  for (const char* name : {"dam_break", "still_tank", "pour", "rain_pour", "rain_fill"}) {
     const Scene s = test::shippedScene(name);
     EXPECT_EQ(s.name, name);
     EXPECT_GT(s.solver.spacing, 0.0f);
@@ -97,6 +97,7 @@ TEST(SceneLoader, LightsSectionIsReadAndValidated) {
   ASSERT_TRUE(s.lights);
   EXPECT_EQ(s.lights->source, LightSource::Fluid);
   EXPECT_EQ(s.lights->accumulate, LightAccumulate::Atomic) << "race-free by default";
+  EXPECT_TRUE(s.lights->cull) << "culled to the view by default";
   EXPECT_EQ(s.lights->filter, LightFilter::Trilinear);
   EXPECT_EQ(s.lights->voxels, (std::array<int, 3>{8, 8, 8}));
   EXPECT_FLOAT_EQ(s.lights->extent().x(), 2.0f);
@@ -112,6 +113,10 @@ TEST(SceneLoader, LightsSectionIsReadAndValidated) {
   EXPECT_EQ(e.lights->accumulate, LightAccumulate::Paper);
   EXPECT_EQ(e.lights->voxels, (std::array<int, 3>{10, 12, 14}));
   EXPECT_FLOAT_EQ(e.lights->attenuation[2], 2.0f);
+  const Scene c =
+      io::parseScene(with(R"({"accumulate": "cpu", "cull": false, )" + volume + "}"), "s.json");
+  EXPECT_EQ(c.lights->accumulate, LightAccumulate::Cpu);
+  EXPECT_FALSE(c.lights->cull);
   const std::pair<std::string, std::string> bad[] = {
       {R"({"source": "rain", )" + volume + "}", "lights.source"},
       {R"({"source": "emitter", )" + volume + "}", "lights.emitter"},
@@ -124,6 +129,7 @@ TEST(SceneLoader, LightsSectionIsReadAndValidated) {
       {R"({"filter": "tricubic", "tension": 2, )" + volume + "}", "lights.tension"},
       {R"({"oversampling": 9, )" + volume + "}", "lights.oversampling"},
       {R"({"accumulate": "racy", )" + volume + "}", "lights.accumulate"},
+      {R"({"cull": "view", )" + volume + "}", "lights.cull"},
       {R"({"colour": [2, 0, 0], )" + volume + "}", "lights.colour"},
       {R"({"fast_speed": 2, )" + volume + "}", "lights.fast_speed"},
       {R"({"volume": {"min": [0, 0, 0], "voxel_size": 1, "voxels": 0}})", "lights.volume.voxels"},

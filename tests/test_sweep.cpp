@@ -107,6 +107,22 @@ TEST(Sweep, BadSweepFilesNameTheKey) {
   EXPECT_THROW(sweep::runSweep(spec, {}), InputError);
 }
 
+TEST(Sweep, EveryShippedSweepFileAndEveryVariantSceneLoads) {
+  // The commands in docs/benchmarks.md run these files: a renamed key must fail here, not there.
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(test::sourcePath("bench/sweeps"))) {
+    if (entry.path().extension() != ".json") continue;
+    SCOPED_TRACE(entry.path().string());
+    ++files;
+    const SweepSpec spec = sweep::loadSweep(entry.path().string());
+    for (const sweep::SweepVariant& v : sweep::expandVariants(spec)) {
+      SCOPED_TRACE(v.label + " " + v.caseLabel);
+      EXPECT_NO_THROW(io::parseScene(v.sceneText, v.scenePath, v.edits));
+    }
+  }
+  EXPECT_GE(files, 10);
+}
+
 TEST(Sweep, VariantsAreCasesTimesAxesFirstAxisSlowest) {
   const SweepSpec spec =
       sweep::parseSweep(R"({"scene": {"solver": {"spacing": 0.1}}, "set": ["solver.end_time=0.5"],

@@ -6,6 +6,7 @@
 
 #include "render/gl/GlError.h"
 #include "render/gl/Shader.h"
+#include "render/lights/CpuAccumulation.h"
 #include "sim/InputError.h"
 
 namespace sph::render::lights {
@@ -55,6 +56,21 @@ gl::Texture volumeTexture(const LightsDesc& d, GLenum format) {
   return t;
 }
 
+// Zero in the voxels of `b` of texture `t`.
+void clearBox(const gl::Texture& t, const VoxelBox& b, bool integer) {
+  if (b.empty()) return;
+  const float zero[4] = {0, 0, 0, 0};
+  const GLint izero = 0;
+  glClearTexSubImage(t.id(), 0, b.lo[0], b.lo[1], b.lo[2], b.hi[0] - b.lo[0], b.hi[1] - b.lo[1],
+                     b.hi[2] - b.lo[2], integer ? GL_RED_INTEGER : GL_RGBA,
+                     integer ? GL_INT : GL_FLOAT,
+                     integer ? static_cast<const void*>(&izero) : zero);
+}
+
+bool sameBox(const VoxelBox& a, const VoxelBox& b) {
+  return a.lo == b.lo && a.hi == b.hi;
+}
+
 }  // namespace
 
 LightVolume::LightVolume(const LightsDesc& desc, const gl::ShaderLibrary& shaders) : desc_(desc) {
@@ -68,11 +84,15 @@ LightVolume::LightVolume(const LightsDesc& desc, const gl::ShaderLibrary& shader
     }
   }
   const bool paper = desc.accumulate == LightAccumulate::Paper;
-  accumulate_ = gl::buildProgram(shaders,
-                                 {{gl::ShaderStage::Compute, paper ? "lights_accumulate_paper.comp"
-                                                                   : "lights_accumulate.comp"}},
-                                 "light accumulation");
-  if (!paper) {
+  const bool atomic = desc.accumulate == LightAccumulate::Atomic;
+  if (desc.accumulate != LightAccumulate::Cpu) {
+    accumulate_ =
+        gl::buildProgram(shaders,
+                         {{gl::ShaderStage::Compute,
+                           paper ? "lights_accumulate_paper.comp" : "lights_accumulate.comp"}},
+                         "light accumulation");
+  }
+  if (atomic) {
     resolve_ = gl::buildProgram(shaders, {{gl::ShaderStage::Compute, "lights_resolve.comp"}},
                                 "light resolve");
   }
@@ -82,13 +102,13 @@ LightVolume::LightVolume(const LightsDesc& desc, const gl::ShaderLibrary& shader
   }
   colour_ = volumeTexture(desc, GL_RGBA16F);
   direction_ = volumeTexture(desc, GL_RGBA16F);
-  if (!paper)
+  if (atomic)
     for (gl::Texture& s : sums_) s = volumeTexture(desc, GL_R32I);
   if (glGetError() == GL_OUT_OF_MEMORY) {
     throw InputError("lights.volume.voxels: GL could not allocate a light volume of " +
                      sizeText(desc) +
                      "; use fewer voxels, a larger lights.volume.voxel_size or "
-                     "\"accumulate\": \"paper\" (no integer sums)");
+                     "\"accumulate\": \"cpu\" or \"paper\" (no integer sums)");
   }
   for (const gl::Texture* t : {&colour_, &direction_}) {
     glTextureParameteri(t->id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
@@ -102,23 +122,36 @@ LightVolume::LightVolume(const LightsDesc& desc, const gl::ShaderLibrary& shader
     if (p->id() == 0) continue;
     setVolumeUniforms(p->id(), desc);
   }
-  const GLuint a = accumulate_.id();
-  glProgramUniform3f(a, glGetUniformLocation(a, "u_attenuation"), desc.attenuation[0],
-                     desc.attenuation[1], desc.attenuation[2]);
-  glProgramUniform1f(a, glGetUniformLocation(a, "u_range"), desc.range);
+  if (const GLuint a = accumulate_.id()) {
+    glProgramUniform3f(a, glGetUniformLocation(a, "u_attenuation"), desc.attenuation[0],
+                       desc.attenuation[1], desc.attenuation[2]);
+    glProgramUniform1f(a, glGetUniformLocation(a, "u_range"), desc.range);
+  }
   lights_ = gl::Buffer::create();
-  if (!paper) {
+  if (atomic) {
     overflow_ = gl::Buffer::create();
     glNamedBufferData(overflow_.id(), sizeof(GLuint), nullptr, GL_DYNAMIC_READ);
   }
+  box_ = dirty_ = wholeVolume(desc);
 }
 
 void LightVolume::setFilter(LightFilter filter, float tension, int oversampling) {
   desc_.filter = filter, desc_.tension = tension, desc_.oversampling = oversampling;
 }
 
-double LightVolume::update(const std::vector<LightParticle>& lights) {
+double LightVolume::update(const std::vector<LightParticle>& all, const LightView* view) {
   const auto start = std::chrono::steady_clock::now();
+  box_ = view ? viewVoxels(desc_, *view) : wholeVolume(desc_);
+  std::vector<LightParticle> inView;
+  if (view) inView = lightsInView(desc_, all, *view, box_);
+  const std::vector<LightParticle>& lights = view ? inView : all;
+  lastLights_ = lights.size();
+  if (desc_.accumulate == LightAccumulate::Cpu) {
+    scale_ = fixedScale(desc_), rescaled_ = false;  // 64-bit sums: no voxel can wrap
+    accumulateOnCpu(lights);
+    glFinish();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
   if (lights.size() > capacity_) {
     capacity_ = lights.size();
     glNamedBufferData(lights_.id(), static_cast<GLsizeiptr>(capacity_ * sizeof(LightParticle)),
@@ -142,19 +175,46 @@ double LightVolume::update(const std::vector<LightParticle>& lights) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+void LightVolume::accumulateOnCpu(const std::vector<LightParticle>& lights) {
+  if (!sameBox(dirty_, box_)) {
+    clearBox(colour_, dirty_, false);
+    clearBox(direction_, dirty_, false);
+  }
+  dirty_ = box_;
+  if (box_.empty()) return;
+  const VoxelSums sums = lights::accumulateOnCpu(desc_, lights, box_, scale_);
+  const VoxelBox& b = box_;
+  for (const auto* t : {&colour_, &direction_}) {
+    const auto& data = t == &colour_ ? sums.colour : sums.direction;
+    glTextureSubImage3D(t->id(), 0, b.lo[0], b.lo[1], b.lo[2], b.hi[0] - b.lo[0], b.hi[1] - b.lo[1],
+                        b.hi[2] - b.lo[2], GL_RGBA, GL_HALF_FLOAT, data.data());
+  }
+}
+
 bool LightVolume::accumulate(std::size_t count, float scale) {
-  const float zero[4] = {0, 0, 0, 0};
   const bool paper = desc_.accumulate == LightAccumulate::Paper;
-  glClearTexImage(colour_.id(), 0, GL_RGBA, GL_FLOAT, zero);
-  glClearTexImage(direction_.id(), 0, GL_RGBA, GL_FLOAT, zero);
+  // Outside this frame's box every voxel must read zero: clear what the last frame left there.
+  // Inside it the paper's read-modify-write starts from zero; the atomic path's resolve writes
+  // every voxel of the box, so its textures need no clear there (only its integer sums).
+  for (const gl::Texture* t : {&colour_, &direction_}) {
+    if (!sameBox(dirty_, box_)) clearBox(*t, dirty_, false);
+    if (paper) clearBox(*t, box_, false);
+  }
+  dirty_ = box_;
   if (!paper) {
-    const GLint izero = 0;
-    for (gl::Texture& s : sums_) glClearTexImage(s.id(), 0, GL_RED_INTEGER, GL_INT, &izero);
+    for (gl::Texture& s : sums_) clearBox(s, box_, true);
     const GLuint clear = 0;
     glNamedBufferSubData(overflow_.id(), 0, sizeof clear, &clear);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, overflow_.id());
     for (const gl::Program* p : {&accumulate_, &resolve_})
       glProgramUniform1f(p->id(), glGetUniformLocation(p->id(), "u_fixedScale"), scale);
+  }
+  for (const gl::Program* p : {&accumulate_, &resolve_}) {
+    if (p->id() == 0) continue;
+    glProgramUniform3i(p->id(), glGetUniformLocation(p->id(), "u_boxLo"), box_.lo[0], box_.lo[1],
+                       box_.lo[2]);
+    glProgramUniform3i(p->id(), glGetUniformLocation(p->id(), "u_boxHi"), box_.hi[0] - 1,
+                       box_.hi[1] - 1, box_.hi[2] - 1);
   }
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
                   GL_SHADER_STORAGE_BARRIER_BIT);
@@ -180,14 +240,14 @@ bool LightVolume::accumulate(std::size_t count, float scale) {
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                   GL_BUFFER_UPDATE_BARRIER_BIT);
   GLuint wrapped = 0;
-  if (!paper) {
+  if (!paper && !box_.empty()) {
     glGetNamedBufferSubData(overflow_.id(), 0, sizeof wrapped, &wrapped);
     glBindImageTexture(6, colour_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     glBindImageTexture(7, direction_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     glUseProgram(resolve_.id());
-    glDispatchCompute(static_cast<GLuint>((desc_.voxels[0] + 3) / 4),
-                      static_cast<GLuint>((desc_.voxels[1] + 3) / 4),
-                      static_cast<GLuint>((desc_.voxels[2] + 3) / 4));
+    glDispatchCompute(static_cast<GLuint>((box_.hi[0] - box_.lo[0] + 3) / 4),
+                      static_cast<GLuint>((box_.hi[1] - box_.lo[1] + 3) / 4),
+                      static_cast<GLuint>((box_.hi[2] - box_.lo[2] + 3) / 4));
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   }
   glUseProgram(0);

@@ -11,6 +11,7 @@
 
 #include "render/gl/GlHandle.h"
 #include "render/gl/ShaderLibrary.h"
+#include "render/lights/LightCulling.h"
 #include "render/splat/ExtraLights.h"
 #include "sim/LightParticles.h"
 #include "sim/LightsDesc.h"
@@ -42,8 +43,10 @@ class LightVolume final : public splat::ExtraLights {
                        const gl::ShaderLibrary& shaders = gl::ShaderLibrary::fromEnvironment());
 
   // Clears the volume and accumulates `lights` into it (desc.accumulate); waits for the GPU.
-  // Returns the seconds it took (upload included).
-  double update(const std::vector<LightParticle>& lights);
+  // Returns the seconds it took (culling and upload included). With a `view` (lights.cull), only
+  // the voxels a point seen through it may read are cleared, accumulated and resolved, and only
+  // the lights that reach them run (LightCulling.h); every other voxel reads zero.
+  double update(const std::vector<LightParticle>& lights, const LightView* view = nullptr);
 
   // Binds the textures to units 6 and 7 and sets the hook's uniforms on `program`.
   void apply(GLuint program) const override;
@@ -67,6 +70,9 @@ class LightVolume final : public splat::ExtraLights {
   // fixedScale(desc()) because a voxel would have wrapped.
   float lastFixedScale() const { return scale_; }
   bool lastRescaled() const { return rescaled_; }
+  // The lights and the voxels the last update accumulated (all of them without a view).
+  std::size_t lastLights() const { return lastLights_; }
+  const VoxelBox& lastBox() const { return box_; }
 
  private:
   LightsDesc desc_;
@@ -77,9 +83,16 @@ class LightVolume final : public splat::ExtraLights {
   std::size_t capacity_ = 0;
   float scale_ = 0;
   bool rescaled_ = false;
-  // Clears the volume and accumulates the uploaded `count` lights at fixed-point `scale`; returns
-  // whether a voxel's sum wrapped (atomic only).
+  std::size_t lastLights_ = 0;
+  // The voxels of this frame, and those the textures may hold non-zero values in (the last
+  // frame's box; the whole volume before the first, its storage being undefined).
+  VoxelBox box_, dirty_;
+  // Clears the volume and accumulates the uploaded `count` lights at fixed-point `scale` into
+  // box_; returns whether a voxel's sum wrapped (atomic only).
   bool accumulate(std::size_t count, float scale);
+  // lights.accumulate "cpu": the sums of `lights` over box_ on the CPU (CpuAccumulation.h),
+  // uploaded into the two textures.
+  void accumulateOnCpu(const std::vector<LightParticle>& lights);
 };
 
 }  // namespace sph::render::lights

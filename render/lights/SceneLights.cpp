@@ -5,15 +5,23 @@
 namespace sph::render::lights {
 
 SceneLights::SceneLights(const Scene& scene, splat::FrameRenderer& renderer)
-    : volume_(*scene.lights), solids_(lightSolids(scene)) {
+    : volume_(*scene.lights), renderer_(renderer), solids_(lightSolids(scene)) {
   const LightsDesc& desc = *scene.lights;
   renderer.setExtraLights(&volume_);
   renderer.setBackground(desc.roomLight * splat::Lighting{}.background);
 }
 
-double SceneLights::update(const Particles& fluid, double time) {
+double SceneLights::update(const Particles& fluid, double time, const CameraDesc* camera) {
   lights_ = lightParticles(volume_.desc(), fluid, time, solids_);
-  seconds_ = volume_.update(lights_);
+  if (camera && volume_.desc().cull) {
+    const RenderDesc& r = renderer_.desc();
+    const LightView view =
+        lightView(*camera, static_cast<float>(r.width) / static_cast<float>(r.height), r.splatSize,
+                  r.kernelRadius, renderer_.spacing());
+    seconds_ = volume_.update(lights_, &view);
+  } else {
+    seconds_ = volume_.update(lights_);
+  }
   return seconds_;
 }
 
@@ -30,10 +38,11 @@ std::string describeLights(const LightsDesc& d) {
   std::snprintf(
       line, sizeof line,
       "particle lights: %s, %d x %d x %d voxels of %g m, range %g m, %s filter%s, %s "
-      "accumulation%s",
+      "accumulation%s%s",
       source.c_str(), d.voxels[0], d.voxels[1], d.voxels[2], d.voxelSize, d.range, nameOf(d.filter),
       d.oversampling > 1 ? " oversampled" : "", nameOf(d.accumulate),
-      d.pipeline == LightPipeline::Deferred ? ", deferred (G-buffer + lighting pass)" : "");
+      d.pipeline == LightPipeline::Deferred ? ", deferred (G-buffer + lighting pass)" : "",
+      d.cull ? ", culled to the view" : "");
   return line;
 }
 

@@ -19,9 +19,11 @@ class SceneLights {
   // it alive while `renderer` draws. Needs a current context.
   SceneLights(const Scene& scene, splat::FrameRenderer& renderer);
   // The lights of the frame with fluid particles `fluid` (velocities too for colour_by "speed")
-  // at simulated time `time` (s), accumulated into the volume. Returns the seconds the volume
-  // took.
-  double update(const Particles& fluid, double time);
+  // at simulated time `time` (s), accumulated into the volume. `camera`: the camera the frame is
+  // drawn through, at the renderer's width / height; with lights.cull only what it may see is
+  // accumulated (LightCulling.h). Null: the whole volume (`view`, whose user moves the camera
+  // between accumulations). Returns the seconds the volume took.
+  double update(const Particles& fluid, double time, const CameraDesc* camera = nullptr);
 
   LightVolume& volume() { return volume_; }
   const std::vector<LightParticle>& lights() const { return lights_; }
@@ -29,6 +31,7 @@ class SceneLights {
 
  private:
   LightVolume volume_;
+  const splat::FrameRenderer& renderer_;
   std::vector<Solid> solids_;
   std::vector<LightParticle> lights_;
   double seconds_ = 0;

@@ -16,11 +16,20 @@ constexpr int kStreakWidth = 16, kStreakHeight = 64;  // pixels of one streak im
 }  // namespace
 
 RainRenderer::RainRenderer(const RainDesc& desc, const gl::ShaderLibrary& shaders) : desc_(desc) {
+  StreakImages images =
+      generateStreakImages(desc.streakLayers, kStreakWidth, kStreakHeight, desc.seed);
+  vao_ = gl::VertexArray::create();
+  if (desc.draw == RainDraw::Cpu) {
+    composite_ = gl::buildProgram(shaders,
+                                  {{gl::ShaderStage::Vertex, "rain_composite.vert"},
+                                   {gl::ShaderStage::Fragment, "rain_composite.frag"}},
+                                  "rain composite");
+    raster_ = std::make_unique<StreakRaster>(desc, std::move(images));
+    return;
+  }
   program_ = gl::buildProgram(
       shaders, {{gl::ShaderStage::Vertex, "rain.vert"}, {gl::ShaderStage::Fragment, "rain.frag"}},
       "rain");
-  const StreakImages images =
-      generateStreakImages(desc.streakLayers, kStreakWidth, kStreakHeight, desc.seed);
   streaks_ = gl::Texture::create(GL_TEXTURE_2D_ARRAY);
   const GLuint t = streaks_.id();
   glTextureStorage3D(t, 1, GL_R8, images.width, images.height, images.layers);
@@ -33,13 +42,18 @@ RainRenderer::RainRenderer(const RainDesc& desc, const gl::ShaderLibrary& shader
   glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   drops_ = gl::Buffer::create();
   indices_ = gl::Buffer::create();
-  vao_ = gl::VertexArray::create();
 }
 
 void RainRenderer::setDrops(const sph::rain::RainSystem& rain) {
   const std::vector<Vec3>& p = rain.positions();
   const std::vector<std::uint8_t>& layers = rain.layers();
   const std::size_t n = p.size();
+  count_ = n;
+  velocity_ = rain.velocity();
+  if (raster_) {  // copied: the system may move on before the frame is drawn
+    positions_ = p, layers_ = layers;
+    return;
+  }
   packed_.resize(4 * n);
   const auto count = static_cast<std::ptrdiff_t>(n);
 #pragma omp parallel for schedule(static)
@@ -48,8 +62,6 @@ void RainRenderer::setDrops(const sph::rain::RainSystem& rain) {
     packed_[4 * i] = p[i].x(), packed_[4 * i + 1] = p[i].y(), packed_[4 * i + 2] = p[i].z();
     packed_[4 * i + 3] = layers[i];
   }
-  count_ = n;
-  velocity_ = rain.velocity();
   const auto bytes = static_cast<GLsizeiptr>(packed_.size() * sizeof(float));
   if (n > dropCapacity_) {  // reallocated only when the budget grows
     glNamedBufferData(drops_.id(), bytes, packed_.data(), GL_STREAM_DRAW);
@@ -72,6 +84,64 @@ void RainRenderer::setDrops(const sph::rain::RainSystem& rain) {
 
 void RainRenderer::draw(const CameraFrame& camera, const splat::Lighting& lighting) {
   if (count_ == 0) return;
+  if (raster_) {
+    drawCpu(camera, lighting);
+  } else {
+    drawTriangles(camera, lighting);
+  }
+}
+
+void RainRenderer::drawCpu(const CameraFrame& camera, const splat::Lighting& lighting) {
+  GLint viewport[4] = {0, 0, 0, 0};
+  glGetIntegerv(GL_VIEWPORT, viewport);
+  const int w = viewport[2], h = viewport[3];
+  if (w <= 0 || h <= 0) return;
+  // The frame's depth, once: the water and solids the streaks pass behind.
+  GLint drawFramebuffer = 0, readFramebuffer = 0;
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &drawFramebuffer);
+  glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readFramebuffer);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(drawFramebuffer));
+  depth_.resize(static_cast<std::size_t>(w) * h);
+  GLint packAlignment = 4, unpackAlignment = 4;  // restored: others read and write with theirs
+  glGetIntegerv(GL_PACK_ALIGNMENT, &packAlignment);
+  glGetIntegerv(GL_UNPACK_ALIGNMENT, &unpackAlignment);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glReadPixels(viewport[0], viewport[1], w, h, GL_DEPTH_COMPONENT, GL_FLOAT, depth_.data());
+  glPixelStorei(GL_PACK_ALIGNMENT, packAlignment);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(readFramebuffer));
+
+  raster_->draw(StreakView{camera, w, h}, StreakDrops{&positions_, &layers_, velocity_},
+                kUnlitTint * lighting.background, depth_.data());
+
+  if (w != layerWidth_ || h != layerHeight_) {
+    layerTexture_ = gl::Texture::create(GL_TEXTURE_2D);
+    glTextureStorage2D(layerTexture_.id(), 1, GL_RGBA32F, w, h);
+    layerWidth_ = w, layerHeight_ = h;
+  }
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glTextureSubImage2D(layerTexture_.id(), 0, 0, 0, w, h, GL_RGBA, GL_FLOAT,
+                      raster_->layer().data());
+  glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment);
+  // frame = L + T frame (StreakRaster::layer()); the frame's alpha is kept.
+  const GLuint p = composite_.id();
+  glProgramUniform2i(p, glGetUniformLocation(p, "u_origin"), viewport[0], viewport[1]);
+  glProgramUniform1i(p, glGetUniformLocation(p, "u_layer"), 0);
+  glBindTextureUnit(0, layerTexture_.id());
+  glDisable(GL_DEPTH_TEST);
+  glDepthMask(GL_FALSE);
+  glEnable(GL_BLEND);
+  glBlendFuncSeparate(GL_ONE, GL_SRC_ALPHA, GL_ZERO, GL_ONE);
+  glDisable(GL_CULL_FACE);
+  glUseProgram(p);
+  glBindVertexArray(vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glDepthMask(GL_TRUE);
+  glEnable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+}
+
+void RainRenderer::drawTriangles(const CameraFrame& camera, const splat::Lighting& lighting) {
   const GLuint p = program_.id();
   glProgramUniformMatrix4fv(p, glGetUniformLocation(p, "u_projView"), 1, GL_FALSE,
                             camera.projView.m.data());

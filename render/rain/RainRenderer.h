@@ -3,13 +3,17 @@
 // projected velocity, textured by one layer (picked at random per drop) of an array texture of
 // streak images (render/rain/StreakImages.h), coloured by the spotlight of eq. (10)-(13) and
 // alpha-blended into the splat frame after the water (render/splat/FrameLayer.h): depth tested
-// against the water and solids, not written.
+// against the water and solids, not written. rain.draw picks how: "cpu" (default) rasterises the
+// quads on the CPU (render/rain/StreakRaster.h) against the frame's depth, read back once, and
+// blends the result in one full-screen pass; "triangles" draws two GL triangles per drop.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "render/gl/GlHandle.h"
 #include "render/gl/ShaderLibrary.h"
+#include "render/rain/StreakRaster.h"
 #include "render/splat/FrameLayer.h"
 #include "sim/RainDesc.h"
 #include "sim/rain/RainSystem.h"
@@ -27,9 +31,23 @@ class RainRenderer final : public splat::FrameLayer {
   void draw(const CameraFrame& camera, const splat::Lighting& lighting) override;
 
   std::size_t drops() const { return count_; }
+  // "cpu": the fragments of the last draw that passed the depth test; null for "triangles".
+  const StreakRaster* raster() const { return raster_.get(); }
 
  private:
+  void drawTriangles(const CameraFrame& camera, const splat::Lighting& lighting);
+  void drawCpu(const CameraFrame& camera, const splat::Lighting& lighting);
   RainDesc desc_;
+  // "cpu": the rasteriser, the drops it draws, the frame's depth, the layer texture and the
+  // program that blends it.
+  std::unique_ptr<StreakRaster> raster_;
+  std::vector<Vec3> positions_;
+  std::vector<std::uint8_t> layers_;
+  std::vector<float> depth_;
+  gl::Texture layerTexture_;
+  int layerWidth_ = 0, layerHeight_ = 0;
+  gl::Program composite_;
+  // "triangles":
   gl::Program program_;
   gl::Texture streaks_;
   gl::Buffer drops_;    // vec4 per drop, read by rain.vert as a storage buffer

@@ -81,6 +81,7 @@ class FrameRenderer {
   void setSpotlight(const std::optional<SpotlightDesc>& light) { lighting_.spotlight = light; }
 
   const RenderDesc& desc() const { return desc_; }
+  float spacing() const { return spacing_; }  // m, the fluid's particle spacing
 
  private:
   SplatFrame build(SplatKind kind, const CameraDesc& camera) const;

@@ -281,18 +281,35 @@ std::uint64_t Halo::globalCount(std::size_t local) {
 }
 
 Particles Halo::gather(const Particles& f) {
+  return merged(f, /*everyRank=*/false, nullptr);
+}
+
+Particles Halo::allGather(const Particles& f, std::vector<std::uint32_t>& mine) {
+  return merged(f, /*everyRank=*/true, &mine);
+}
+
+Particles Halo::merged(const Particles& f, bool everyRank, std::vector<std::uint32_t>* mine) {
   SPH_ASSERT(ghost_.empty() && keys_.size() == f.size());
-  Bytes mine;
-  mine.reserve(f.size() * kRecordBytes);
-  for (std::size_t i = 0; i < f.size(); ++i) pack(f, i, keys_[i], mine);
-  Particles all, sortedAll;
+  Bytes packed;
+  packed.reserve(f.size() * kRecordBytes);
+  for (std::size_t i = 0; i < f.size(); ++i) pack(f, i, keys_[i], packed);
+  Particles all;
   std::vector<std::uint64_t> keys;
-  for (const Bytes& b : comm_.gatherToRoot(mine)) unpack(b, all, keys);
-  if (rank() != 0) return all;
+  std::size_t myFirst = 0;
+  const std::vector<Bytes> parts = everyRank ? comm_.allGather(packed) : comm_.gatherToRoot(packed);
+  for (std::size_t r = 0; r < parts.size(); ++r) {
+    if (static_cast<int>(r) == rank()) myFirst = all.size();
+    unpack(parts[r], all, keys);
+  }
   std::vector<std::uint32_t> order(all.size());
   std::iota(order.begin(), order.end(), 0u);
   std::sort(order.begin(), order.end(),
             [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
+  if (mine) {  // where this rank's particle i went: order[j] = myFirst + i
+    mine->assign(f.size(), 0);
+    for (std::size_t j = 0; j < order.size(); ++j)
+      if (order[j] >= myFirst && order[j] < myFirst + f.size()) (*mine)[order[j] - myFirst] = j;
+  }
   std::vector<std::uint32_t> scratch;
   all.permute(order, scratch);
   return all;

@@ -98,6 +98,9 @@ class Halo {
   // The owned fluid of every rank on rank 0, in the single-process order (a frame to write);
   // empty on the other ranks.
   Particles gather(const Particles& fluid);
+  // The owned fluid of every rank on every rank, in the single-process order; mine[i]: where this
+  // rank's particle i is in it (a collision pass that needs the whole fluid, docs/scaling.md).
+  Particles allGather(const Particles& fluid, std::vector<std::uint32_t>& mine);
   std::uint64_t globalCount(std::size_t local);
 
   // The guard's verdict of every rank (each passes what its own checkStability() threw, or
@@ -114,6 +117,7 @@ class Halo {
 
  private:
   std::uint64_t globalKey(const CellCoord& cell, std::uint32_t within) const;
+  Particles merged(const Particles& fluid, bool everyRank, std::vector<std::uint32_t>* mine);
 
   Communicator& comm_;
   Aabb domain_;

@@ -1,5 +1,6 @@
 #include "sim/rain/RainSystem.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "sim/rain/RainRandom.h"
@@ -121,6 +122,7 @@ void RainSystem::reset(const CameraDesc& camera, const RainObstacles& obstacles)
   generations_.assign(desc_.count, 0);
   layers_.assign(desc_.count, 0);
   counters_ = {};
+  landings_.clear();
   std::uint64_t rejected = 0;
   const auto n = static_cast<std::ptrdiff_t>(desc_.count);
 #pragma omp parallel for reduction(+ : rejected) schedule(static)
@@ -137,12 +139,28 @@ void RainSystem::restore(const CameraDesc& camera, const std::vector<Vec3>& posi
   layers_.resize(positions_.size());
   for (std::size_t i = 0; i < layers_.size(); ++i) layers_[i] = layerOf(i);
   counters_ = {};
+  landings_.clear();
+}
+
+Vec3 RainSystem::entryPoint(const Vec3& from, const Vec3& to, const RainObstacles& obstacles) {
+  const float quarter = 0.25f * obstacles.water->cell();
+  const int samples = std::max(1, static_cast<int>(std::ceil((to - from).norm() / quarter)));
+  for (int k = 1; k < samples; ++k) {
+    const Vec3 p = from + (static_cast<float>(k) / static_cast<float>(samples)) * (to - from);
+    if (obstacles.water->contains(p) && !(obstacles.solids && insideSolid(p, *obstacles.solids)))
+      return p;
+  }
+  return to;
 }
 
 void RainSystem::update(const CameraDesc& camera, float dt, const RainObstacles& obstacles) {
+  landings_.clear();
   if (positions_.empty()) return reset(camera, obstacles);
   setCamera(camera);
   const Vec3 step = velocity() * dt;
+  // Only a feeding rain records where drops landed: nothing of it otherwise.
+  const bool feed = desc_.feedFluid && obstacles.water;
+  if (feed) hit_.assign(positions_.size(), 0), entries_.resize(positions_.size());
   std::uint64_t left = 0, solid = 0, water = 0, rejected = 0;
   const auto n = static_cast<std::ptrdiff_t>(positions_.size());
 #pragma omp parallel for reduction(+ : left, solid, water, rejected) schedule(static)
@@ -157,6 +175,7 @@ void RainSystem::update(const CameraDesc& camera, float dt, const RainObstacles&
       ++solid;
     } else if (obstacles.water && obstacles.water->contains(p)) {
       ++water;
+      if (feed) hit_[i] = 1, entries_[i] = entryPoint(p - step, p, obstacles);
     } else {
       respawn = false;
     }
@@ -168,6 +187,10 @@ void RainSystem::update(const CameraDesc& camera, float dt, const RainObstacles&
   counters_.leftSpace += left, counters_.hitSolid += solid, counters_.hitWater += water;
   counters_.rejected += rejected;
   counters_.accepted += left + solid + water;
+  if (feed) {
+    for (std::size_t i = 0; i < hit_.size(); ++i)
+      if (hit_[i]) landings_.push_back(entries_[i]);
+  }
 }
 
 }  // namespace sph::rain

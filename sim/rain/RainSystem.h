@@ -19,6 +19,7 @@ class WaterCells {
  public:
   WaterCells(const std::vector<Vec3>& fluid, float cell);
   bool contains(const Vec3& p) const;
+  float cell() const { return cell_; }
 
  private:
   std::uint64_t key(const Vec3& p) const;
@@ -71,6 +72,10 @@ class RainSystem {
   const std::vector<std::uint32_t>& generations() const { return generations_; }
   Vec3 velocity() const { return desc_.wind + Vec3(0, -desc_.fallSpeed, 0); }
   const RainCounters& counters() const { return counters_; }
+  // rain.feed_fluid only (else always empty): where the drops that landed in the water during
+  // the last update() entered it, in drop order - the first point of each drop's path over that
+  // update inside a water cell and outside the solids (sim/rain/RainFeed.h).
+  const std::vector<Vec3>& landings() const { return landings_; }
   // Whether p is where this spawn model keeps drops (rain space, camera box or region).
   bool inSpawnVolume(const Vec3& p) const;
   // Edge (m) of the camera-following cube of spawn "box": the rain space's volume.
@@ -83,6 +88,9 @@ class RainSystem {
   std::uint64_t spawn(std::size_t i, const RainObstacles& obstacles);
   static bool blocked(const Vec3& p, const RainObstacles& obstacles);
   std::uint8_t layerOf(std::size_t i) const;
+  // Where the path from `from` to `to` (which is in the water) first enters a water cell
+  // outside the solids: sampled every quarter cell.
+  static Vec3 entryPoint(const Vec3& from, const Vec3& to, const RainObstacles& obstacles);
 
   RainDesc desc_;
   float aspect_;
@@ -93,6 +101,9 @@ class RainSystem {
   std::vector<std::uint32_t> generations_;
   std::vector<std::uint8_t> layers_;
   RainCounters counters_;
+  std::vector<Vec3> landings_;
+  std::vector<Vec3> entries_;      // feed_fluid: per drop, its entry point (where hit_ is 1)
+  std::vector<std::uint8_t> hit_;  // feed_fluid: per drop, landed in the water this update
 };
 
 }  // namespace sph::rain

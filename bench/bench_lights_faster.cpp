@@ -1,0 +1,230 @@
+// Two ways to a faster particle-light frame, measured (docs/benchmarks.md, "Particle lights",
+// "Frustum culling" and "Accumulating on the CPU"). A plain program printing tables, as
+// bench_lights.
+//   bench_lights_faster fig11      frustum culling (lights.cull) in Fig. 11's world
+//                                  (bench/Fig11Scene.h), 262,144 and 1M lights, 960 x 540,
+//                                  deferred, from its camera and three that see part of it: per
+//                                  camera the accumulation of the whole volume against the culled
+//                                  one, the share of lights and voxels kept, and the culled
+//                                  picture against the unculled one (8-bit steps; should be 0)
+//   bench_lights_faster fireflies  the same for scenes/fireflies.json at t = 0.2 s, its own camera
+//                                  and a close one on the cup, 640 x 480, forward, no water
+//   bench_lights_faster cpu        accumulate "cpu" against "atomic" in Fig. 11's world, 65,536
+//                                  to 4M lights (--max-lights), and on the fireflies' frame; whole
+//                                  volume: ms and the largest texel difference
+// Options: --repeat N (min of N, default 3), --max-lights N (default 1048576), --accumulate cpu
+// (fig11, fireflies: the CPU accumulation instead of the atomic one).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "app/OpenMpSpinLimit.h"
+#include "bench/Fig11Scene.h"
+#include "io/SceneLoader.h"
+#include "render/gl/GlContext.h"
+#include "render/lights/LightCulling.h"
+#include "render/lights/LightVolume.h"
+#include "render/solids/SolidRenderer.h"
+#include "render/splat/SplatRenderer.h"
+#include "sim/LightParticles.h"
+#include "sim/Parallel.h"
+#include "sim/SceneSetup.h"
+
+using namespace sph;
+using namespace sph::render::lights;
+
+namespace {
+
+int repeat = 3;
+std::size_t maxLights = 1048576;
+LightAccumulate accumulate = LightAccumulate::Atomic;  // fig11, fireflies: --accumulate
+
+struct View {
+  const char* name;
+  CameraDesc camera;
+};
+
+// The minimum seconds of `repeat` updates of each of two volumes, taken in turn (the machine's
+// load changes while we measure: both see the same).
+std::pair<double, double> pairedMin(LightVolume& a, const LightView* viewA, LightVolume& b,
+                                    const LightView* viewB,
+                                    const std::vector<LightParticle>& lights) {
+  a.update(lights, viewA), b.update(lights, viewB);  // compile llvmpipe's variants, size buffers
+  double ta = 1e30, tb = 1e30;
+  for (int k = 0; k < repeat; ++k) {
+    ta = std::min(ta, a.update(lights, viewA));
+    tb = std::min(tb, b.update(lights, viewB));
+  }
+  return {ta, tb};
+}
+
+render::splat::RenderImage draw(render::splat::SplatRenderer& r, const CameraDesc& camera,
+                                const LightVolume& v) {
+  render::splat::Lighting lighting;
+  lighting.extra = &v;
+  return r.render(render::splat::SplatFrame{}, render::splat::SplatKind::Point, camera, lighting);
+}
+
+// One table row per camera: the whole volume, then culled to the camera; both drawn.
+void measure(const LightsDesc& desc, const std::vector<LightParticle>& lights,
+             render::solids::SolidRenderer& solids, int width, int height,
+             const std::vector<View>& views) {
+  render::splat::SplatRenderer renderer(width, height);
+  renderer.setLayers({&solids});
+  LightVolume all(desc), culled(desc);
+  for (const View& v : views) {
+    // The margin of the scene's default water splats (splat size 1.5, R 2.5 spacings) at a
+    // spacing of a voxel: more than the solids alone need.
+    const LightView lv = lightView(v.camera, static_cast<float>(width) / static_cast<float>(height),
+                                   1.5f, 2.5f, desc.voxelSize);
+    const auto [tAll, tCulled] = pairedMin(all, nullptr, culled, &lv, lights);
+    draw(renderer, v.camera, all);  // compiles llvmpipe's variants
+    double drawAll = 1e30, drawCulled = 1e30;
+    render::splat::RenderImage a, c;
+    for (int k = 0; k < repeat; ++k) {
+      a = draw(renderer, v.camera, all);
+      drawAll = std::min(drawAll, a.seconds);
+      c = draw(renderer, v.camera, culled);
+      drawCulled = std::min(drawCulled, c.seconds);
+    }
+    int worst = 0;
+    std::size_t differing = 0, lit = 0;
+    for (std::size_t i = 0; i < a.rgb.size(); ++i) {
+      const int d = std::abs(int(a.rgb[i]) - int(c.rgb[i]));
+      worst = std::max(worst, d), differing += d > 0, lit += a.rgb[i] > 0;
+    }
+    const VoxelBox& box = culled.lastBox();
+    std::printf("%-8zu %-8s %10.1f %10.1f %6.2fx %9zu %6.1f%% %11zu %6.1f%% %9.1f %9.1f %5d %9zu\n",
+                lights.size(), v.name, 1e3 * tAll, 1e3 * tCulled, tAll / tCulled,
+                culled.lastLights(), 100.0 * culled.lastLights() / lights.size(), box.count(),
+                100.0 * box.count() / desc.voxelCount(), 1e3 * drawAll, 1e3 * drawCulled, worst,
+                differing);
+    std::fflush(stdout);
+    if (lit == 0) std::printf("  (the picture is black: nothing measured)\n");
+  }
+}
+
+void header() {
+  std::printf("%-8s %-8s %10s %10s %7s %9s %7s %11s %7s %9s %9s %5s %9s\n", "lights", "camera",
+              "all ms", "culled ms", "speedup", "kept", "kept", "box voxels", "box", "draw all",
+              "draw cull", "diff", "diff px");
+}
+
+void fig11() {
+  render::solids::SolidRenderer solids(bench::fig11Solids(),
+                                       Aabb{Vec3(0, -1, 0), Vec3(128, 128, 128)}, 0.5f);
+  // From a corner across the world; from 40 m and 15 m above the middle, looking down.
+  CameraDesc corner = bench::fig11Camera(), above = bench::fig11Camera(), low = above;
+  corner.position = Vec3(8, 10, 8), corner.target = Vec3(40, 2, 40);
+  above.position = Vec3(64, 40, 70), above.target = Vec3(64, 0, 64);
+  low.position = Vec3(64, 15, 70), low.target = Vec3(64, 0, 62);
+  std::printf(
+      "Fig. 11 world (128^3 voxels of 1 m, range 0.5 m, trilinear, deferred, %s; 960 x 540): ms "
+      "per accumulation, min of %d\n",
+      nameOf(accumulate), repeat);
+  header();
+  for (std::size_t n : {262144u, 1048576u}) {
+    if (n > maxLights) continue;
+    LightsDesc d = bench::fig11Lights(n);
+    d.pipeline = LightPipeline::Deferred, d.accumulate = accumulate;
+    measure(d, lightParticles(d, Particles{}, 0.0), solids, 960, 540,
+            {{"fig11", bench::fig11Camera()}, {"corner", corner}, {"above", above}, {"low", low}});
+  }
+}
+
+// The largest difference between two volumes' texels, relative to max(1, |value|), and how many
+// texel channels differ by more than a half-float step (1e-3).
+std::pair<float, std::size_t> texelDifference(const LightVolume& a, const LightVolume& b) {
+  float worst = 0;
+  std::size_t more = 0;
+  for (const auto& [x, y] :
+       {std::pair(a.readColour(), b.readColour()), std::pair(a.readDirection(), b.readDirection())})
+    for (std::size_t i = 0; i < x.size(); ++i)
+      for (std::size_t c = 0; c < 4; ++c) {
+        const float d = std::abs(x[i][c] - y[i][c]) / std::max(1.0f, std::abs(x[i][c]));
+        worst = std::max(worst, d), more += d > 1e-3f;
+      }
+  return {worst, more};
+}
+
+void cpu() {
+  std::printf(
+      "Fig. 11 world (128^3 voxels of 1 m, range 0.5 m): ms per accumulation (clear, lights, "
+      "resolve or upload, glFinish), min of %d, %d OpenMP threads\n",
+      repeat, threadCount());
+  std::printf("%-9s %10s %10s %8s %14s %10s\n", "lights", "atomic ms", "cpu ms", "speedup",
+              "max texel diff", "> 1e-3");
+  for (std::size_t n : {65536u, 262144u, 1048576u, 4194304u}) {
+    if (n > maxLights) continue;
+    LightsDesc d = bench::fig11Lights(n);
+    const std::vector<LightParticle> lights = lightParticles(d, Particles{}, 0.0);
+    LightVolume atomic(d);
+    d.accumulate = LightAccumulate::Cpu;
+    LightVolume onCpu(d);
+    const auto [ta, tc] = pairedMin(atomic, nullptr, onCpu, nullptr, lights);
+    const auto [worst, more] = texelDifference(atomic, onCpu);
+    std::printf("%-9zu %10.1f %10.1f %7.1fx %14.2e %10zu\n", n, 1e3 * ta, 1e3 * tc, ta / tc, worst,
+                more);
+    std::fflush(stdout);
+  }
+  // The fireflies' frame (range 2.5 voxels: the shader visits 7^3 voxels a light).
+  const Scene scene = io::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/fireflies.json");
+  LightsDesc d = *scene.lights;
+  const std::vector<LightParticle> lights = lightParticles(d, Particles{}, 0.2, lightSolids(scene));
+  LightVolume atomic(d);
+  d.accumulate = LightAccumulate::Cpu;
+  LightVolume onCpu(d);
+  const auto [ta, tc] = pairedMin(atomic, nullptr, onCpu, nullptr, lights);
+  const auto [worst, more] = texelDifference(atomic, onCpu);
+  std::printf("%-9zu %10.1f %10.1f %7.1fx %14.2e %10zu  scenes/fireflies.json, t = 0.2 s\n",
+              lights.size(), 1e3 * ta, 1e3 * tc, ta / tc, worst, more);
+}
+
+void fireflies() {
+  const Scene scene = io::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/fireflies.json");
+  LightsDesc d = *scene.lights;
+  d.accumulate = accumulate;
+  const std::vector<LightParticle> lights = lightParticles(d, Particles{}, 0.2, lightSolids(scene));
+  const float thickness = deriveParams(scene).boundaryLayers * scene.solver.spacing;
+  render::solids::SolidRenderer solids(scene.boundaries, scene.domain, thickness);
+  CameraDesc cup = *scene.camera;
+  cup.position = Vec3(0.62f, 0.3f, 0.05f), cup.target = Vec3(0.35f, 0.07f, -0.25f);
+  std::printf(
+      "scenes/fireflies.json at t = 0.2 s (%d x %d x %d voxels of %g m, range %g m, %s, %s, %s; "
+      "640 x 480, no water): ms per accumulation, min of %d\n",
+      d.voxels[0], d.voxels[1], d.voxels[2], d.voxelSize, d.range, nameOf(d.filter),
+      nameOf(d.pipeline), nameOf(d.accumulate), repeat);
+  header();
+  measure(d, lights, solids, scene.render ? scene.render->width : 640,
+          scene.render ? scene.render->height : 480, {{"scene", *scene.camera}, {"cup", cup}});
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  app::relaunchWithOpenMpSpinLimit(argv);
+  const std::string what = argc > 1 ? argv[1] : "";
+  for (int i = 2; i + 1 < argc; i += 2) {
+    if (!std::strcmp(argv[i], "--max-lights")) maxLights = std::strtoull(argv[i + 1], nullptr, 10);
+    if (!std::strcmp(argv[i], "--repeat")) repeat = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--accumulate") && !std::strcmp(argv[i + 1], "cpu"))
+      accumulate = LightAccumulate::Cpu;
+  }
+  if (what != "fig11" && what != "fireflies" && what != "cpu") {
+    std::fprintf(stderr,
+                 "usage: bench_lights_faster fig11|fireflies|cpu [--repeat N] [--max-lights N] "
+                 "[--accumulate cpu]\n");
+    return 2;
+  }
+  render::gl::GlContext context = render::gl::GlContext::headless();
+  std::printf("GL: %s\n", context.info().renderer.c_str());
+  if (what == "fig11") fig11();
+  if (what == "fireflies") fireflies();
+  if (what == "cpu") cpu();
+  return 0;
+}

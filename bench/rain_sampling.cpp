@@ -1,0 +1,94 @@
+// The distribution behind `rain.sampling` (issue 13, "Measured 3"; docs/benchmarks.md, "The
+// paper's Table 1"), once with our uniform ball sampling and once with eq. (7) read literally (a
+// separate random radius per axis). Prints CSV for scripts/plot_rain_sampling.py, per sampling
+// and bin: the density of the radius of 10^6 points of the sphere of eq. (5) (sampleBall with
+// the counter-based numbers, before the side planes; in sphere radii, the uniform ball is
+// 3 r^2), and the density of the depth (distance from the camera along its axis, in units of
+// `far`) of the 10^6 drops the shipped RainSystem spawns in the rain space of a still camera.
+// With the argument `fov` (issue 13, "Measured 4"): per vertical field of view, the share of
+// sphere samples the side planes reject (eq. (8)-(9)) when 10^6 drops are spawned, the share
+// the volumes predict (1 - volume(frustum and sphere) / volume(sphere), RainSpace::volume, an
+// independent Monte Carlo estimate) and the wall time of the spawn.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "sim/rain/RainRandom.h"
+#include "sim/rain/RainSystem.h"
+
+namespace {
+
+using namespace sph;
+constexpr std::size_t kDrops = 1000000;
+constexpr float kAspect = 960.0f / 540.0f;
+
+CameraDesc stillCamera(float fov) {  // bench_rain's: at (0, 1, 4) looking along -z
+  CameraDesc camera;
+  camera.position = Vec3(0, 1, 4);
+  camera.target = Vec3(0, 1, 3);
+  camera.fovYDegrees = fov;
+  return camera;
+}
+
+RainDesc viewRain(RainSampling sampling) {
+  RainDesc d;
+  d.count = kDrops, d.near = 0.1f, d.far = 5, d.spawn = RainSpawn::View, d.sampling = sampling;
+  return d;
+}
+
+void rejectionAgainstFov() {
+  std::printf("fov_deg,rejected_share,predicted_share,spawn_ms\n");
+  for (const float fov : {10.f, 20.f, 30.f, 45.f, 60.f, 75.f, 90.f, 105.f, 120.f, 150.f}) {
+    rain::RainSystem rain(viewRain(RainSampling::Uniform), kAspect);
+    const auto start = std::chrono::steady_clock::now();
+    rain.reset(stillCamera(fov));
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const rain::RainCounters& c = rain.counters();
+    const double rejected = double(c.rejected) / double(c.rejected + c.accepted);
+    const rain::RainSpace& s = rain.space();
+    const double sphere = 4.0 / 3.0 * M_PI * std::pow(double(s.radius), 3.0);
+    std::printf("%g,%.5f,%.5f,%.1f\n", fov, rejected, 1 - s.volume() / sphere, ms);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc == 2 && std::string(argv[1]) == "fov") {
+    rejectionAgainstFov();
+    return 0;
+  }
+  if (argc != 1) {
+    std::fprintf(stderr, "usage: rain_sampling [fov]\n");
+    return 2;
+  }
+  constexpr int kBins = 50;
+  const CameraDesc camera = stillCamera(45);  // 45 degrees, 16:9
+  std::printf("sampling,bin_lo,bin_hi,radius_density,depth_density\n");
+  for (const RainSampling sampling : {RainSampling::Uniform, RainSampling::Paper}) {
+    rain::RainSystem rain(viewRain(sampling), kAspect);
+    rain.reset(camera);
+    const rain::RainSpace& s = rain.space();
+    std::vector<double> radius(kBins, 0), depth(kBins, 0);
+    for (std::size_t i = 0; i < kDrops; ++i) {
+      float u[5];
+      for (int j = 0; j < 5; ++j) u[j] = rain::unitRandom(7, i, 0, static_cast<std::uint64_t>(j));
+      const double r = rain::sampleBall(sampling, u).norm();
+      radius[std::min(kBins - 1, static_cast<int>(r * kBins))] += 1;
+    }
+    for (const Vec3& p : rain.positions()) {
+      const double z = (p - s.eye).dot(s.forward) / s.far;
+      depth[std::min(kBins - 1, std::max(0, static_cast<int>(z * kBins)))] += 1;
+    }
+    for (int b = 0; b < kBins; ++b) {
+      const double scale = kBins / static_cast<double>(kDrops);  // counts to a density per unit
+      std::printf("%s,%g,%g,%.6g,%.6g\n", nameOf(sampling), b / double(kBins),
+                  (b + 1) / double(kBins), radius[b] * scale, depth[b] * scale);
+    }
+  }
+  return 0;
+}

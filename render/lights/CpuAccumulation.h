@@ -1,0 +1,33 @@
+// The light volume's accumulation on the CPU (lights.accumulate "cpu"; docs/lights.md): the same
+// sums as the atomic compute shader (shaders/lights_accumulate.glsl, same float steps, the same
+// fixed-point rounding), gathered per z slice of voxels by OpenMP threads so that no two threads
+// add into one voxel, in 64-bit integers that cannot wrap, then converted as the resolve pass does
+// (shaders/lights_resolve.comp). On llvmpipe the "GPU" is these same CPU cores behind a shader
+// compiler and 32-bit image atomics; render/lights/LightVolume.cpp uploads the result.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "render/lights/LightCulling.h"
+#include "sim/LightParticles.h"
+#include "sim/LightsDesc.h"
+
+namespace sph::render::lights {
+
+// The two textures' values over `box` (x fastest, then y, then z), RGBA per voxel as the
+// textures' half floats (IEEE binary16 bits, see toHalf): colour (alpha 0) and
+// direction (alpha 0), each light's terms rounded to steps of 1 / scale. Half floats, the
+// textures' own format: the upload is a copy.
+struct VoxelSums {
+  std::vector<std::array<std::uint16_t, 4>> colour, direction;
+};
+// IEEE binary16 of `f`, rounded toward zero (F16C where the build has it): llvmpipe's own
+// float-to-half conversion (the resolve pass's imageStore, a float upload) truncates so, and the
+// "cpu" volume is then the "atomic" one texel for texel (tests/test_lights_cpu.cpp).
+std::uint16_t toHalf(float f);
+VoxelSums accumulateOnCpu(const LightsDesc& desc, const std::vector<LightParticle>& lights,
+                          const VoxelBox& box, float scale);
+
+}  // namespace sph::render::lights

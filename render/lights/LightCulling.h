@@ -1,0 +1,61 @@
+// Frustum culling of the particle-light volume (lights.cull; seed 004 section 7's future work;
+// docs/lights.md, "Frustum culling"): a frame drawn through one camera samples the volume only at
+// points it sees, so only the voxels those points read need to be cleared, accumulated and
+// resolved, and only the lights that reach one of those voxels need to run. Plain CPU geometry:
+// render/lights/LightVolume.cpp applies it.
+//
+// Why the image does not change: a visible point p lies inside the frustum grown by `margin`
+// (the splats' vertices may lie a little outside it). The filter reads voxels whose centres are
+// within filterReach() of p. A light changes such a voxel only if it is within `range` of its
+// centre, so a light farther than range + reach + margin outside any frustum plane changes no
+// voxel a visible point reads, and with the atomic (integer, order-free) sums every voxel that is
+// read holds the same bits as without culling.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "sim/Camera.h"
+#include "sim/LightParticles.h"
+#include "sim/LightsDesc.h"
+
+namespace sph::render::lights {
+
+// The camera a frame is drawn through, as the volume needs it.
+struct LightView {
+  Mat4 projView;     // the frame's projection * view (sim/Camera.h, cameraFrame)
+  float margin = 0;  // m: how far outside the frustum a point may still be shaded (splat vertices)
+};
+// The view of `camera` over a width / height `aspect` picture, with the margin of the water's
+// splats: a splat is built for a particle up to halfSize + R outside the frustum
+// (render/splat/SplatBuilder.cpp), and its vertices lie up to halfSize (corner) + max(halfSize,
+// R) (the move onto the surface) from the particle: 3 halfSize + 2 R covers both. `splatSize`
+// and `kernelRadius` in spacings (RenderDesc), `spacing` in m.
+LightView lightView(const CameraDesc& camera, float aspect, float splatSize, float kernelRadius,
+                    float spacing);
+
+// How far (m) from a shaded point the voxel centres the filter reads may lie: per axis half a
+// voxel (nearest), one (trilinear), two (tricubic's 4x4x4), half a voxel more with oversampling
+// (its samples spread over one voxel around the point); times sqrt(3) for the diagonal.
+float filterReach(const LightsDesc& desc);
+
+// A box of voxels: lo <= v < hi on each axis (empty when any hi <= lo).
+struct VoxelBox {
+  std::array<int, 3> lo{}, hi{};
+  bool empty() const { return hi[0] <= lo[0] || hi[1] <= lo[1] || hi[2] <= lo[2]; }
+  std::size_t count() const;
+  bool contains(const std::array<int, 3>& v) const;
+};
+VoxelBox wholeVolume(const LightsDesc& desc);
+// The smallest box holding every voxel a point seen through `view` may read: the volume clipped
+// by the frustum grown by margin + filterReach (the vertices of that convex solid, each the
+// meeting of three of its twelve planes), widened by one voxel for rounding.
+VoxelBox viewVoxels(const LightsDesc& desc, const LightView& view);
+
+// The lights of `lights` that may change a voxel of `box` read from `view`: within range +
+// filterReach + margin of the frustum (each plane) and within range of the box's voxel centres.
+std::vector<LightParticle> lightsInView(const LightsDesc& desc,
+                                        const std::vector<LightParticle>& lights,
+                                        const LightView& view, const VoxelBox& box);
+
+}  // namespace sph::render::lights

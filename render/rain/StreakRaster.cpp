@@ -1,0 +1,384 @@
+#include "render/rain/StreakRaster.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "sim/rain/Spotlight.h"
+
+namespace sph::render::rain {
+namespace {
+
+// GLSL's toSrgb of shaders/rain.vert, component-wise.
+float toSrgb(float c) {
+  c = std::clamp(c, 0.0f, 1.0f);
+  return c < 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+}
+Vec3 toSrgb(const Vec3& c) {
+  return Vec3(toSrgb(c.x()), toSrgb(c.y()), toSrgb(c.z()));
+}
+
+struct Vec4f {
+  float x, y, z, w;
+  Vec4f operator+(const Vec4f& o) const { return {x + o.x, y + o.y, z + o.z, w + o.w}; }
+  Vec4f operator-(const Vec4f& o) const { return {x - o.x, y - o.y, z - o.z, w - o.w}; }
+  Vec4f operator*(float s) const { return {x * s, y * s, z * s, w * s}; }
+};
+
+// What is the same for every streak of a frame. Points are carried in "window-homogeneous"
+// coordinates (X', Y', Z', W) = ((X + W) w / 2, (Y + W) h / 2, (Z + W) / 2, W) of the clip
+// coordinates (X, Y, Z, W): X' / W is the window x in pixels and Z' / W the window depth, and the
+// map stays linear, so a streak is a parallelogram there as in the world.
+struct Frame {
+  float m[4][4];         // world -> window-homogeneous, m[row][column]
+  Vec4f along;           // the streak's tail-to-head vector (exposure x velocity), transformed
+  Vec3 dir, eye, right;  // m; the tail-to-head vector in the world
+  float halfWidth;       // m
+  // At most how far a corner is from its end of the streak in X', Y' and W: the half-width
+  // times the norm of the matrix row.
+  float marginX, marginY, marginW;
+  int width, height;  // pixels
+  Vec4f apply(const Vec3& p, float w) const {
+    return {m[0][0] * p.x() + m[0][1] * p.y() + m[0][2] * p.z() + m[0][3] * w,
+            m[1][0] * p.x() + m[1][1] * p.y() + m[1][2] * p.z() + m[1][3] * w,
+            m[2][0] * p.x() + m[2][1] * p.y() + m[2][2] * p.z() + m[2][3] * w,
+            m[3][0] * p.x() + m[3][1] * p.y() + m[3][2] * p.z() + m[3][3] * w};
+  }
+};
+
+Frame frameOf(const StreakView& view, const RainDesc& desc, const Vec3& velocity) {
+  Frame f{};
+  const Mat4& c = view.camera.projView;
+  const float sx = 0.5f * static_cast<float>(view.width);
+  const float sy = 0.5f * static_cast<float>(view.height);
+  for (int col = 0; col < 4; ++col) {
+    f.m[0][col] = (c(0, col) + c(3, col)) * sx;
+    f.m[1][col] = (c(1, col) + c(3, col)) * sy;
+    f.m[2][col] = (c(2, col) + c(3, col)) * 0.5f;
+    f.m[3][col] = c(3, col);
+  }
+  f.dir = velocity * desc.exposure;
+  f.along = f.apply(f.dir, 0);
+  f.eye = view.camera.eye, f.right = view.camera.right;
+  f.halfWidth = 0.5f * desc.dropWidth;
+  auto rowNorm = [&](int r) { return Vec3(f.m[r][0], f.m[r][1], f.m[r][2]).norm(); };
+  // 1% more than the bound, for rounding.
+  f.marginX = 1.01f * f.halfWidth * rowNorm(0);
+  f.marginY = 1.01f * f.halfWidth * rowNorm(1);
+  f.marginW = 1.01f * f.halfWidth * rowNorm(3);
+  f.width = view.width, f.height = view.height;
+  return f;
+}
+
+int floorToInt(float v, int lo, int hi) {
+  return static_cast<int>(
+      std::floor(std::clamp(v, static_cast<float>(lo), static_cast<float>(hi))));
+}
+
+// Rows [first, end) that the streak of the drop at `head` may cover, from its two ends alone (a
+// superset: a band finds the exact ones); false when it is wholly outside the viewport.
+bool roughRows(const Frame& f, const Vec3& head, int& first, int& end) {
+  const Vec4f h = f.apply(head, 1), t = h - f.along;
+  if (!(std::min(h.w, t.w) - f.marginW > 0)) {  // a corner may be at or behind the eye
+    first = 0, end = f.height;
+    return true;
+  }
+  // A corner (X' + dx) / (W + dw) is within (|dx| + |x| |dw|) / (W - |dw|) of x = X' / W.
+  float xLo = 1e30f, xHi = -1e30f, yLo = 1e30f, yHi = -1e30f;
+  for (const Vec4f& e : {h, t}) {
+    const float r = 1 / e.w, rm = 1 / (e.w - f.marginW);
+    const float x = e.x * r, y = e.y * r;
+    const float mx = (f.marginX + std::abs(x) * f.marginW) * rm;
+    const float my = (f.marginY + std::abs(y) * f.marginW) * rm;
+    xLo = std::min(xLo, x - mx), xHi = std::max(xHi, x + mx);
+    yLo = std::min(yLo, y - my), yHi = std::max(yHi, y + my);
+  }
+  if (!(xHi >= 0 && xLo <= static_cast<float>(f.width) && yHi >= 0 &&
+        yLo <= static_cast<float>(f.height)))
+    return false;
+  first = floorToInt(yLo - 1, 0, f.height);
+  end = floorToInt(yHi + 2, 0, f.height);
+  return end > first;
+}
+
+// One streak, set up for its rows: the pixels whose centre (x, y) lies in the quad, clipped to
+// near..far. The quad is O + u A + v B (u across, v along, both in [0, 1]) in window-homogeneous
+// coordinates, so (x W, y W, W) = G (u, v, 1) with G's columns A, B, O (the X', Y', W rows), and
+// adj(G) (x, y, 1) = det(G) / W (u, v, 1): GL's perspective-correct interpolation of the streak
+// image coordinates, exactly, whichever of the two triangles a pixel is in. Its rows are also
+// the quad's edges: u = 0, u = 1, v = 0, v = 1.
+struct Streak {
+  float uvd[3][3];  // adj(G): (x, y, 1) -> (nu, nv, nd), u = nu / nd, v = nv / nd
+  float sign;       // of det(G): nd sign > 0 in front of the eye
+  float depth[3];   // window depth = depth . (x, y, 1), affine over the quad's plane
+  float leftP[4], leftQ[4], rightP[4], rightQ[4];  // x >= leftP + leftQ y, x < rightP + rightQ y
+  float xMin, xMax, yMin, yMax;                    // bounding box, pixels
+};
+
+// Clips a convex polygon in window-homogeneous coordinates by `inside(p) >= 0`.
+template <class Plane>
+int clipPolygon(const Vec4f* in, int n, Vec4f* out, Plane inside) {
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    const Vec4f& a = in[i];
+    const Vec4f& b = in[(i + 1) % n];
+    const float da = inside(a), db = inside(b);
+    if (da >= 0) out[m++] = a;
+    if ((da >= 0) != (db >= 0)) out[m++] = a + (b - a) * (da / (da - db));
+  }
+  return m;
+}
+
+// Sets up the streak of the drop at `head`; false if it covers no pixel of the viewport.
+// Mirrors shaders/rain.vert: the quad from tail to head, halfWidth either side along
+// cross(head - tail, eye - middle), or along the camera's right when that vanishes.
+bool setUp(const Frame& f, const Vec3& head, Streak& s) {
+  const Vec4f h = f.apply(head, 1), t = h - f.along;
+  Vec3 side = f.dir.cross(f.eye - (head - 0.5f * f.dir));
+  const float length = side.norm();
+  side = length > 1e-12f ? Vec3(side * (f.halfWidth / length)) : Vec3(f.right * f.halfWidth);
+  const Vec4f half = f.apply(side, 0);
+  const Vec4f o = t - half, a = half * 2, b = f.along;
+  Vec4f poly[8] = {o, o + a, h + half, o + b};
+  int n = 4;
+  bool clipped = false;
+  for (int k = 0; k < 4; ++k) clipped = clipped || !(poly[k].z >= 0 && poly[k].z <= poly[k].w);
+  if (clipped) {  // through the near or far plane (0 <= Z' <= W): clip as GL does
+    Vec4f kept[8];
+    n = clipPolygon(poly, n, kept, [](const Vec4f& p) { return p.z; });
+    n = clipPolygon(kept, n, poly, [](const Vec4f& p) { return p.w - p.z; });
+    if (n < 3) return false;
+  }
+  s.xMin = s.yMin = 1e30f, s.xMax = s.yMax = -1e30f;
+  for (int k = 0; k < n; ++k) {
+    if (!(poly[k].w > 0)) return false;  // clipped at the near plane, so only on a degenerate
+    const float r = 1 / poly[k].w;
+    const float x = poly[k].x * r, y = poly[k].y * r;
+    s.xMin = std::min(s.xMin, x), s.xMax = std::max(s.xMax, x);
+    s.yMin = std::min(s.yMin, y), s.yMax = std::max(s.yMax, y);
+  }
+  if (!(s.xMax >= 0 && s.xMin <= static_cast<float>(f.width) && s.yMax >= 0 &&
+        s.yMin <= static_cast<float>(f.height)))
+    return false;
+  const float g[3][3] = {{a.x, b.x, o.x}, {a.y, b.y, o.y}, {a.w, b.w, o.w}};
+  float(&m)[3][3] = s.uvd;
+  m[0][0] = g[1][1] * g[2][2] - g[1][2] * g[2][1];
+  m[0][1] = g[0][2] * g[2][1] - g[0][1] * g[2][2];
+  m[0][2] = g[0][1] * g[1][2] - g[0][2] * g[1][1];
+  m[1][0] = g[1][2] * g[2][0] - g[1][0] * g[2][2];
+  m[1][1] = g[0][0] * g[2][2] - g[0][2] * g[2][0];
+  m[1][2] = g[0][2] * g[1][0] - g[0][0] * g[1][2];
+  m[2][0] = g[1][0] * g[2][1] - g[1][1] * g[2][0];
+  m[2][1] = g[0][1] * g[2][0] - g[0][0] * g[2][1];
+  m[2][2] = g[0][0] * g[1][1] - g[0][1] * g[1][0];
+  const float det = g[0][0] * m[0][0] + g[0][1] * m[1][0] + g[0][2] * m[2][0];
+  if (!(std::abs(det) > 0)) return false;  // seen edge-on: no area, as GL draws nothing
+  s.sign = det > 0 ? 1.0f : -1.0f;
+  for (int j = 0; j < 3; ++j) s.depth[j] = (a.z * m[0][j] + b.z * m[1][j] + o.z * m[2][j]) / det;
+  // The edges u >= 0, u <= 1, v >= 0, v <= 1 as sign (e . (x, y, 1)) >= 0; an edge with e_x ~ 0
+  // is the top or bottom, which [yMin, yMax] bounds.
+  const float edges[4][3] = {{m[0][0], m[0][1], m[0][2]},
+                             {m[2][0] - m[0][0], m[2][1] - m[0][1], m[2][2] - m[0][2]},
+                             {m[1][0], m[1][1], m[1][2]},
+                             {m[2][0] - m[1][0], m[2][1] - m[1][1], m[2][2] - m[1][2]}};
+  for (int k = 0; k < 4; ++k) {
+    const float ex = s.sign * edges[k][0], ey = s.sign * edges[k][1], e0 = s.sign * edges[k][2];
+    s.leftP[k] = -1e30f, s.leftQ[k] = 0, s.rightP[k] = 1e30f, s.rightQ[k] = 0;
+    if (!(std::abs(ex) > 1e-6f * std::abs(ey))) continue;
+    const float p = -e0 / ex, q = -ey / ex;  // x on the edge at y
+    if (ex > 0) {
+      s.leftP[k] = p, s.leftQ[k] = q;
+    } else {
+      s.rightP[k] = p, s.rightQ[k] = q;
+    }
+  }
+  return true;
+}
+
+// One row of a streak: y of its pixel centres, the covered pixels [x0, x1), and the parts of
+// the homography and depth that depend on y alone.
+struct Row {
+  float y, du, dv, dd, dz;
+  int x0, x1;
+};
+inline Row rowOf(const Streak& s, int row, float xLo, float xHi, int width) {
+  Row r;
+  r.y = static_cast<float>(row) + 0.5f;
+  float left = xLo, right = xHi;
+  for (int e = 0; e < 4; ++e) {
+    left = std::max(left, s.leftP[e] + s.leftQ[e] * r.y);
+    right = std::min(right, s.rightP[e] + s.rightQ[e] * r.y);
+  }
+  r.x0 = floorToInt(std::ceil(left - 0.5f), 0, width);
+  r.x1 = floorToInt(std::ceil(right - 0.5f), 0, width);
+  r.du = s.uvd[0][1] * r.y + s.uvd[0][2], r.dv = s.uvd[1][1] * r.y + s.uvd[1][2];
+  r.dd = s.uvd[2][1] * r.y + s.uvd[2][2], r.dz = s.depth[1] * r.y + s.depth[2];
+  return r;
+}
+
+// The streak's alpha at pixel x of row r; 0, and keep false, where x is not covered, is outside
+// near..far or behind the eye, or is not nearer than the frame (`frameDepth`). `image`: the
+// drop's streak image padded by its edge texels (pw texels a row), `fw` x `fh` unpadded.
+inline float fragmentAlpha(const Streak& s, const Row& r, int x, float frameDepth,
+                           const float* image, int pw, float fw, float fh, bool& keep) {
+  const float px = static_cast<float>(x) + 0.5f;
+  const float nd = s.uvd[2][0] * px + r.dd;
+  const float z = s.depth[0] * px + r.dz;
+  keep = x >= r.x0 && x < r.x1 && nd * s.sign > 0 && z >= 0 && z <= 1 && z < frameDepth;
+  const float w = 1 / (keep ? nd : 1.0f);
+  const float u = std::clamp((s.uvd[0][0] * px + r.du) * w, 0.0f, 1.0f);
+  const float v = std::clamp((s.uvd[1][0] * px + r.dv) * w, 0.0f, 1.0f);
+  // GL_LINEAR with GL_CLAMP_TO_EDGE, on the padded image.
+  const float ts = u * fw + 0.5f, tt = v * fh + 0.5f;  // padded texel space, >= 0.5
+  const int s0 = static_cast<int>(ts), t0 = static_cast<int>(tt);
+  const float ws = ts - static_cast<float>(s0), wt = tt - static_cast<float>(t0);
+  const int i = t0 * pw + s0;
+  const float a0 = image[i] + ws * (image[i + 1] - image[i]);
+  const float a1 = image[i + pw] + ws * (image[i + pw + 1] - image[i + pw]);
+  return keep ? a0 + wt * (a1 - a0) : 0.0f;
+}
+
+// "Over" in drop order into (L, T); alpha 0 leaves the pixel exactly as it was.
+inline void blend(float* p, const Vec3& c, float alpha) {
+  const float kept = 1 - alpha;
+  p[0] = p[0] * kept + c.x() * alpha;
+  p[1] = p[1] * kept + c.y() * alpha;
+  p[2] = p[2] * kept + c.z() * alpha;
+  p[3] *= kept;
+}
+
+}  // namespace
+
+StreakRaster::StreakRaster(const RainDesc& desc, StreakImages images)
+    : desc_(desc), images_(std::move(images)) {
+  // Each image with a border of copies of its edge texels: bilinear filtering with
+  // GL_CLAMP_TO_EDGE then needs no clamping of texel indices.
+  const int w = images_.width, h = images_.height, pw = w + 2, ph = h + 2;
+  alpha_.resize(static_cast<std::size_t>(images_.layers) * pw * ph);
+  for (int l = 0; l < images_.layers; ++l)
+    for (int row = 0; row < ph; ++row)
+      for (int column = 0; column < pw; ++column)
+        alpha_[(static_cast<std::size_t>(l) * ph + row) * pw + column] =
+            images_.at(l, std::clamp(row - 1, 0, h - 1), std::clamp(column - 1, 0, w - 1)) / 255.0f;
+}
+
+void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const Vec3& unlit,
+                        const float* depth) {
+  width_ = view.width, height_ = view.height;
+  layer_.resize(4 * static_cast<std::size_t>(width_) * height_);
+  const std::vector<Vec3>& heads = *drops.positions;
+  const std::vector<std::uint8_t>& layers = *drops.layers;
+  const std::size_t n = heads.size();
+  const Frame f = frameOf(view, desc_, drops.velocity);
+  const int rowsPerBand = kRowsPerBand;
+  const int bandCount = std::max(1, (height_ + rowsPerBand - 1) / rowsPerBand);
+
+  // 1. Bin the drops by the bands of rows they may cover: each thread its contiguous share of
+  // the drops, so that bins taken in thread order are in drop order.
+  const int maxThreads = omp_get_max_threads();
+  bins_.resize(static_cast<std::size_t>(maxThreads) * bandCount);
+  for (auto& bin : bins_) bin.clear();
+  int threads = 1;
+#pragma omp parallel num_threads(maxThreads)
+  {
+    const int thread = omp_get_thread_num(), count = omp_get_num_threads();
+    if (thread == 0) threads = count;
+    const std::size_t begin = n * static_cast<std::size_t>(thread) / count;
+    const std::size_t end = n * static_cast<std::size_t>(thread + 1) / count;
+    std::vector<std::uint32_t>* bins = bins_.data() + static_cast<std::size_t>(thread) * bandCount;
+    for (std::size_t i = begin; i < end; ++i) {
+      int first = 0, last = 0;
+      if (!roughRows(f, heads[i], first, last)) continue;
+      for (int band = first / rowsPerBand; band <= (last - 1) / rowsPerBand; ++band)
+        bins[band].push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+
+  // 2. The colours: eq. (13), texture x light colour x intensity inside the cone, the unlit
+  // tint outside, sRGB-encoded as the frame is.
+  const Vec3 unlitSrgb = toSrgb(unlit);
+  const std::optional<SpotlightDesc>& light = desc_.spotlight;
+  const Vec3 litSrgb = light ? toSrgb(light->colour * light->intensity) : unlitSrgb;
+  auto colourOf = [&](const Vec3& head) {
+    if (!light) return unlitSrgb;
+    const float w = sph::rain::spotlightWeight(*light, head);
+    if (w == 0) return unlitSrgb;
+    if (w == 1) return litSrgb;
+    return toSrgb(unlit + w * (light->colour * light->intensity - unlit));
+  };
+
+  // 3. The bands, each walking its drops in order; several per thread so that uneven bands even
+  // out (which thread takes which band changes no pixel).
+  const int pw = images_.width + 2, ph = images_.height + 2;  // alpha_: padded
+  const float fw = static_cast<float>(images_.width), fh = static_cast<float>(images_.height);
+  // No depth test: a frame that is all far plane.
+  if (depth == nullptr) {
+    farDepth_.assign(static_cast<std::size_t>(width_) * height_, 2.0f);
+    depth = farDepth_.data();
+  }
+  const float* const frameDepth = depth;
+  constexpr int kChunk = 16;
+  std::uint64_t fragments = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : fragments)
+  for (int band = 0; band < bandCount; ++band) {
+    const int bandFirst = band * rowsPerBand, bandEnd = std::min(height_, bandFirst + rowsPerBand);
+    float* const out = layer_.data();
+    for (std::size_t i = 4 * static_cast<std::size_t>(bandFirst) * width_;
+         i < 4 * static_cast<std::size_t>(bandEnd) * width_; i += 4)
+      out[i] = out[i + 1] = out[i + 2] = 0, out[i + 3] = 1;
+    for (int thread = 0; thread < threads; ++thread) {
+      for (const std::uint32_t i : bins_[static_cast<std::size_t>(thread) * bandCount + band]) {
+        Streak s;
+        if (!setUp(f, heads[i], s)) continue;
+        const int first = std::max(bandFirst, floorToInt(std::ceil(s.yMin - 0.5f), 0, height_));
+        const int end = std::min(bandEnd, floorToInt(std::ceil(s.yMax - 0.5f), 0, height_));
+        if (end <= first) continue;
+        const Vec3 c = colourOf(heads[i]);
+        const float* image = alpha_.data() + static_cast<std::size_t>(layers[i]) * pw * ph;
+        const float xLo = std::max(s.xMin, -1.0f);
+        const float xHi = std::min(s.xMax, static_cast<float>(width_) + 1);
+        // Rows in chunks: a vectorised pass takes each row's first candidate pixel (the only one
+        // of most streaks, under a pixel wide), then the blends and any further pixels of wider
+        // rows. Pixel centres x + 0.5 in [x0, x1) are covered; one candidate is taken even where
+        // a row has none (masked, alpha 0) rather than a branch per row: whether a row of a thin
+        // streak holds a pixel centre is a coin toss to the branch predictor.
+        for (int chunkFirst = first; chunkFirst < end; chunkFirst += kChunk) {
+          const int rows = std::min(kChunk, end - chunkFirst);
+          alignas(64) float alphas[kChunk];
+          alignas(64) int pixels[kChunk], wider[kChunk];
+          int covered = 0;
+#pragma omp simd reduction(+ : covered)
+          for (int k = 0; k < rows; ++k) {
+            const Row r = rowOf(s, chunkFirst + k, xLo, xHi, width_);
+            const int x = std::min(r.x0, width_ - 1);
+            const int pixel = (chunkFirst + k) * width_ + x;
+            bool keep = false;
+            alphas[k] = fragmentAlpha(s, r, x, frameDepth[pixel], image, pw, fw, fh, keep);
+            covered += keep;
+            pixels[k] = pixel;
+            wider[k] = r.x1 - x - 1;
+          }
+          fragments += static_cast<std::uint64_t>(covered);
+          for (int k = 0; k < rows; ++k)
+            blend(out + 4 * static_cast<std::size_t>(pixels[k]), c, alphas[k]);
+          for (int k = 0; k < rows; ++k) {
+            if (wider[k] <= 0) continue;
+            const Row r = rowOf(s, chunkFirst + k, xLo, xHi, width_);
+            for (int x = pixels[k] - (chunkFirst + k) * width_ + 1; x < r.x1; ++x) {
+              const int pixel = (chunkFirst + k) * width_ + x;
+              bool keep = false;
+              const float alpha =
+                  fragmentAlpha(s, r, x, frameDepth[pixel], image, pw, fw, fh, keep);
+              fragments += keep;
+              blend(out + 4 * static_cast<std::size_t>(pixel), c, alpha);
+            }
+          }
+        }
+      }
+    }
+  }
+  fragments_ = fragments;
+}
+
+}  // namespace sph::render::rain

@@ -1,0 +1,111 @@
+// lights.accumulate "cpu" (render/lights/CpuAccumulation.h): the volume the CPU gathers and
+// uploads is the atomic compute shader's, texel for texel to half-float rounding - spread lights,
+// a crowded voxel, lights on the volume's faces and outside it - and culled to a view it fills the
+// same box and leaves every other voxel zero, also after a frame of the whole volume; its half
+// floats round as llvmpipe's.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <random>
+
+#include "render/gl/GlContext.h"
+#include "render/lights/CpuAccumulation.h"
+#include "render/lights/LightCulling.h"
+#include "render/lights/LightVolume.h"
+#include "sim/Camera.h"
+#include "tests/LightTestScenes.h"
+
+namespace sph::render::lights {
+namespace {
+
+using Texels = std::vector<std::array<float, 4>>;
+
+using test::light;
+
+// 40 x 12 x 32 voxels of 0.05 m (range 0.12 m: 5^3 voxels visited per light).
+LightsDesc volume(LightAccumulate mode) {
+  LightsDesc d;
+  d.origin = Vec3(-1.0f, -0.1f, -0.8f), d.voxelSize = 0.05f, d.voxels = {40, 12, 32};
+  d.attenuation = {1.0f, 2.0f, 30.0f}, d.range = 0.12f, d.accumulate = mode;
+  return d;
+}
+
+std::vector<LightParticle> someLights() {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<LightParticle> lights;
+  for (int i = 0; i < 3000; ++i)  // spread, a few beyond the volume's faces
+    lights.push_back(light(Vec3(2.2f * u(rng) - 1.1f, 0.7f * u(rng) - 0.15f, 1.8f * u(rng) - 0.9f),
+                           Vec3(u(rng), u(rng), u(rng)), 0.2f + u(rng)));
+  for (int i = 0; i < 500; ++i)  // crowded into one voxel
+    lights.push_back(
+        light(Vec3(0.21f + 0.01f * u(rng), 0.11f, -0.3f), Vec3(1.0f, 0.5f, 0.25f), 1.0f));
+  lights.push_back(light(Vec3(-1.0f, -0.1f, -0.8f), Vec3::Ones(), 1.0f));  // on the corner
+  return lights;
+}
+
+// Half floats hold 11 significant bits; one light's rounding may tip a texel by one step.
+void expectSame(const Texels& a, const Texels& b, const char* what) {
+  ASSERT_EQ(a.size(), b.size());
+  int tipped = 0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (std::size_t c = 0; c < 4; ++c) {
+      const float d = std::abs(a[i][c] - b[i][c]);
+      ASSERT_LE(d, 1e-3f * std::max(1.0f, std::abs(a[i][c]))) << what << " texel " << i;
+      tipped += d > 0;
+    }
+  EXPECT_LT(tipped, static_cast<int>(a.size()) / 100) << what;
+}
+
+// The half floats the CPU path uploads: toward zero, as llvmpipe converts; 65504 the largest.
+TEST(CpuAccumulation, HalfFloatsRoundTowardZero) {
+  EXPECT_EQ(toHalf(0.0f), 0x0000);
+  EXPECT_EQ(toHalf(1.0f), 0x3c00);
+  EXPECT_EQ(toHalf(-2.0f), 0xc000);
+  EXPECT_EQ(toHalf(65504.0f), 0x7bff);
+  EXPECT_EQ(toHalf(65535.0f), 0x7bff);
+  EXPECT_EQ(toHalf(1e10f), 0x7bff);
+  EXPECT_EQ(toHalf(std::ldexp(1.0f, -14)), 0x0400);  // the smallest normal
+  EXPECT_EQ(toHalf(std::ldexp(1.0f, -24)), 0x0001);  // the smallest subnormal
+  EXPECT_EQ(toHalf(1.0f + std::ldexp(1.0f, -10)), 0x3c01);
+  EXPECT_EQ(toHalf(1.0f + 1.99f * std::ldexp(1.0f, -10)), 0x3c01);
+  EXPECT_EQ(toHalf(-1.0f - 1.99f * std::ldexp(1.0f, -10)), 0xbc01);
+}
+
+class LightsCpuGl : public ::testing::Test {
+ protected:
+  void SetUp() override { context_ = std::make_unique<gl::GlContext>(gl::GlContext::headless()); }
+  std::unique_ptr<gl::GlContext> context_;
+};
+
+TEST_F(LightsCpuGl, TheCpuVolumeIsTheAtomicOne) {
+  const std::vector<LightParticle> lights = someLights();
+  LightVolume atomic(volume(LightAccumulate::Atomic)), onCpu(volume(LightAccumulate::Cpu));
+  atomic.update(lights), onCpu.update(lights);
+  const Texels colour = atomic.readColour();
+  float brightest = 0;
+  for (const auto& t : colour) brightest = std::max(brightest, t[0]);
+  EXPECT_GT(brightest, 400.0f) << "the crowded voxel";
+  expectSame(colour, onCpu.readColour(), "colour");
+  expectSame(atomic.readDirection(), onCpu.readDirection(), "direction");
+}
+
+TEST_F(LightsCpuGl, CulledToAViewItFillsTheSameBox) {
+  const std::vector<LightParticle> lights = someLights();
+  CameraDesc camera;
+  camera.position = Vec3(0.2f, 0.35f, -0.1f), camera.target = Vec3(0.2f, 0.0f, -0.3f);
+  camera.fovYDegrees = 30, camera.near = 0.05f, camera.far = 10;
+  const LightView view = lightView(camera, 4.0f / 3.0f, 1.5f, 2.5f, 0.01f);
+  LightVolume atomic(volume(LightAccumulate::Atomic)), onCpu(volume(LightAccumulate::Cpu));
+  onCpu.update(lights);  // a whole volume first: its voxels outside the box must go
+  atomic.update(lights, &view), onCpu.update(lights, &view);
+  ASSERT_LT(onCpu.lastBox().count(), volume(LightAccumulate::Cpu).voxelCount() / 2);
+  EXPECT_EQ(onCpu.lastLights(), atomic.lastLights());
+  expectSame(atomic.readColour(), onCpu.readColour(), "colour");
+  expectSame(atomic.readDirection(), onCpu.readDirection(), "direction");
+}
+
+}  // namespace
+}  // namespace sph::render::lights
