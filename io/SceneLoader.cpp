@@ -219,8 +219,11 @@ SolverParams readSolver(JsonReader r, Quality quality) {
                      : dfsph                       ? kDfsphCfl
                                                    : SolverParams().cfl;
   s.cfl = static_cast<float>(r.number("cfl", cfl, "a positive number", positive));
-  s.maxTimeStep = static_cast<float>(
-      r.number("max_time_step", s.maxTimeStep, "a positive number (s)", positive));
+  // DFSPH's step is bound by the flow speed and gravity (sim/SceneSetup.cpp, timeStep()); its cap
+  // is the peer's (SPlisHSPlasH, ../shared/reference/peers.md).
+  s.maxTimeStep = static_cast<float>(r.number(
+      "max_time_step", s.pressure == PressureSolver::Dfsph ? kDfsphMaxTimeStep : s.maxTimeStep,
+      "a positive number (s)", positive));
   s.gravity = r.vec3("gravity", s.gravity, "3 numbers (m/s^2)");
   s.endTime = r.number("end_time", 1.0, "a positive number of at most 1e6 (s)",
                        [](double v) { return v > 0 && v <= kMaxEndTime; });

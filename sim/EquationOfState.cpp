@@ -53,13 +53,4 @@ void computePressure(StepContext& c) {
   });
 }
 
-void clearPressure(StepContext& c) {
-  Particles& f = c.fluid;
-  const std::size_t n = f.size();
-  c.scratch.pressureTerm.assign(n, 0.0f);
-  c.scratch.inverseDensity.resize(n);
-  c.boundaryFields.pressureTerm.assign(c.boundaryFields.pressureTerm.size(), 0.0f);
-  parallelFor(n, [&](std::size_t i) { c.scratch.inverseDensity[i] = 1.0f / f.rho[i]; });
-}
-
 }  // namespace sph

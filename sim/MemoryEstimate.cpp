@@ -20,12 +20,15 @@ namespace {
 constexpr double kBytesPerFluidParticle = 76;
 constexpr double kBytesPerBoundaryParticle = 50;
 // DFSPH's on top (sim/Dfsph.cpp, solver.pressure "dfsph"): every fluid pair of the step stored
-// with its V gradW (16 bytes; ~33 neighbours at support 2 spacings), in rows whose room grows to
-// twice what a row once needed, and 8 more per-particle arrays (G, alpha, source, stiffness,
-// the two warm starts). Fitted, as above, to the dam break's peak resident memory at spacings 3,
-// 2.5, 1.8 and 1.4 mm (9.0e4 to 8.9e5 fluid particles: 102, 148, 291 and 835 MB, 2026-11-26):
-// the rows' doubling puts 540-810 bytes a particle on top of WCSPH's at those sizes.
-constexpr double kDfsphBytesPerFluidParticle = 660;
+// with its V gradW and h - r (20 bytes; ~33 neighbours at support 2 spacings), in rows whose room
+// grows to twice what a row once needed, and 9 more per-particle arrays (G, alpha, source,
+// stiffness, the two warm starts, the wall weight). Fitted, as above, to the dam break's peak
+// resident memory at spacings 3, 2.5, 1.8 and 1.4 mm (9.0e4 to 8.9e5 fluid particles: 102, 148,
+// 291 and 835 MB, 2026-11-26, pairs of 16 bytes): the rows' doubling put 540-810 bytes a particle
+// on top of WCSPH's at those sizes; the 4 bytes of h - r a pair (sim/DfsphPairs.cpp) added 172
+// and 123 bytes a particle at 2.5 and 1.8 mm (peak 148 -> 174-179 MB and 291 -> 343-351 MB, same
+// day): 760 puts the estimate at 0.87x and 1.10x of those peaks.
+constexpr double kDfsphBytesPerFluidParticle = 760;
 // A rain drop (sim/rain/RainSystem.h: position, respawn count, streak layer) and its copy for the
 // cache's /Rain#N: 28.7 bytes a drop measured (peak resident memory of 10^7 drops, 307 MB against
 // 20 MB for one drop, 2026-11-26, no render section).

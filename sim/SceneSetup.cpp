@@ -84,6 +84,13 @@ float timeStep(const Scene& scene, const DerivedParams& d, float maxSpeed, float
     // the acceleration: the solvers' velocity corrections over dt read as accelerations ~ 1/dt,
     // and a bound on them would shrink the step without end.
     dt = maxSpeed > 0 ? s.cfl * d.h / maxSpeed : s.maxTimeStep;
+    // And gravity's compression per step: a particle at rest falls g dt^2 within a step, and the
+    // constant-density solver must hold that within its mean error. With g dt^2 <= 0.0081 dx
+    // (0.09 below) the narrowed still tank of tests/test_dfsph.cpp (dx = 0.01 m, 2.9 ms) settles;
+    // at 3.5 ms (1.2%) its mean compression doubled past the threshold and at 4 ms (1.6%) it blew
+    // up (docs/benchmarks.md, "The peer's dam break"). 4.1 ms at the peer's dx = 0.02 m.
+    const float gravity = s.gravity.norm();
+    if (gravity > 0) dt = std::min(dt, 0.09f * std::sqrt(s.spacing / gravity));
   } else {
     dt = s.cfl * d.h / (d.speedOfSound + maxSpeed);
     if (maxAcceleration > 0) dt = std::min(dt, 0.25f * std::sqrt(d.h / maxAcceleration));

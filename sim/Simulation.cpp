@@ -89,14 +89,17 @@ void Simulation::step(double limit) {
     } else {
       timed(Pass::Sort, [&] { sortParticles(c); });
     }
-    timed(Pass::Density, [&] { computeDensity(c); });
+    // DFSPH's density comes with its factor and pairs, from one neighbour search.
+    if (dfsph)
+      timed(Pass::Factor, [&] { computeDfsphDensityAndFactor(c); });
+    else
+      timed(Pass::Density, [&] { computeDensity(c); });
     validate("the density pass",
              [&] { return checkDensity(fluid_, derived_, scene_.solver.densityKernel); });
   }
   if (dfsph) {  // sim/Dfsph.cpp
-    timed(Pass::Factor, [&] { computeDfsphFactor(c); });
     timed(Pass::Divergence, [&] { solveDivergence(c); });
-    timed(Pass::Forces, [&] { clearPressure(c), computeForces(c), predictVelocity(c); });
+    timed(Pass::Forces, [&] { computeDfsphViscosity(c), predictVelocity(c); });
     timed(Pass::Pressure, [&] { solveDensity(c); });
   } else if (sph) {
     timed(Pass::Pressure, [&] { computePressure(c); });

@@ -87,6 +87,10 @@ constexpr const char* nameOf(PressureSolver v) {
   return nullptr;
 }
 
+// The default max_time_step of "dfsph" (s): SPlisHSPlasH's; the flow speed and gravity bound the
+// step below it (sim/SceneSetup.cpp, timeStep()).
+constexpr float kDfsphMaxTimeStep = 5e-3f;
+
 struct SolverParams {
   SolverModel model = SolverModel::Sph;
   PressureSolver pressure = PressureSolver::Wcsph;
@@ -115,7 +119,8 @@ struct SolverParams {
   float stiffness = 0.0f;             // Tait: B (Pa); linear: k (m^2/s^2); 0 = derived from c
   bool clampNegativePressure = true;  // p = max(p, 0): no tensile instability at the surface
   float cfl = 0.4f;                   // dimensionless, dt <= cfl h / (c + v_max)
-  float maxTimeStep = 1e-3f;          // s, upper bound of the adaptive step
+  float maxTimeStep = 1e-3f;          // s, upper bound of the adaptive step (DFSPH: 5e-3,
+                                      // kDfsphMaxTimeStep)
   Vec3 gravity = Vec3(0.0f, -9.81f, 0.0f);  // m/s^2
   double endTime = 1.0;                     // s, simulated time of a run
   int boundaryLayers = 0;  // boundary particle layers; 0 = enough to cover the support

@@ -23,15 +23,15 @@ void computeDensity(StepContext& c);
 void computePressure(StepContext& c);
 // Pressure (spiky gradient), viscosity (Müller 2003), no-slip walls and gravity.
 void computeForces(StepContext& c);
-// DFSPH (sim/Dfsph.cpp; Bender & Koschier 2015, 2017), in step order after computeDensity():
-// the per-particle factor, the divergence-free solver on the step's initial velocities, the
-// non-pressure forces (computeForces() after clearPressure()), predictVelocity(), the
-// constant-density solver, then integratePositions().
-void computeDfsphFactor(StepContext& c);
+// DFSPH (sim/Dfsph.cpp, sim/DfsphPairs.cpp; Bender & Koschier 2015, 2017), in step order after
+// sortParticles(): the density, the per-particle factor and the stored pairs (the step's one
+// neighbour search), the divergence-free solver on the step's initial velocities, the non-pressure
+// forces over the pairs, predictVelocity(), the constant-density solver, then
+// integratePositions().
+void computeDfsphDensityAndFactor(StepContext& c);
 void solveDivergence(StepContext& c);
-// Zero pressure for the force pass (which then adds viscosity, walls and gravity only) and its
-// per-particle 1 / rho.
-void clearPressure(StepContext& c);
+// Viscosity, no-slip walls and gravity into a (computeForces() without the pressure terms).
+void computeDfsphViscosity(StepContext& c);
 // v += dt a.
 void predictVelocity(StepContext& c);
 void solveDensity(StepContext& c);

@@ -37,18 +37,21 @@ struct StepScratch {
   // running solve and the stiffness of its last iteration (m^2/s^2).
   std::vector<float> gradientSumX, gradientSumY, gradientSumZ;
   std::vector<float> factor, source, stiffness;
-  // DFSPH's fluid pairs, found once a step by computeDfsphFactor() and read by every solver
-  // iteration: for each row of grid cells (rowRange(), a contiguous range of particles), the
-  // neighbours j of its particles in particle order, each with V_j gradW_ij (1/m); pairCount[i]
+  // sum over boundary neighbours of h - r (m): the no-slip wall drag of computeDfsphViscosity().
+  std::vector<float> wallWeight;
+  // DFSPH's fluid pairs, found once a step by computeDfsphDensityAndFactor() and read by every
+  // solver iteration: for each row of grid cells (rowRange(), a contiguous range of particles), the
+  // neighbours j of its particles in particle order, each with V_j gradW_ij (1/m) and h - r_ij
+  // (m, the viscosity's Laplacian, computeDfsphViscosity()); pairCount[i]
   // of them belong to particle i (i itself excluded). Rows start on a cache line, so a
   // particle's pairs have the same alignment whichever thread built or reads them.
   struct PairRow {
     std::vector<std::uint32_t, CacheLineAllocator<std::uint32_t>> index;
-    std::vector<float, CacheLineAllocator<float>> gx, gy, gz;
+    std::vector<float, CacheLineAllocator<float>> gx, gy, gz, hr;
     std::size_t used = 0;  // pairs held; the vectors are room (grown, never shrunk)
     void makeRoom(std::size_t n) {
       if (index.size() >= n) return;
-      index.resize(2 * n), gx.resize(2 * n), gy.resize(2 * n), gz.resize(2 * n);
+      index.resize(2 * n), gx.resize(2 * n), gy.resize(2 * n), gz.resize(2 * n), hr.resize(2 * n);
     }
   };
   std::vector<PairRow> pairRows;

@@ -12,7 +12,7 @@ enum class Pass : int {
   Emit,
   Sort,
   Density,
-  Factor,      // DFSPH: the per-particle factor
+  Factor,      // DFSPH: the density, the per-particle factor and the stored pairs (one search)
   Divergence,  // DFSPH: the divergence-free solver
   Pressure,    // WCSPH: the equation of state; DFSPH: the constant-density solver
   Forces,
@@ -25,9 +25,9 @@ enum class Pass : int {
 };
 
 inline const char* passName(Pass p) {
-  static constexpr const char* names[] = {"emit",     "sort",       "density", "factor",
-                                          "divergence", "pressure", "forces",  "integrate",
-                                          "collide",  "boundaries", "guard",   "exchange"};
+  static constexpr const char* names[] = {"emit",       "sort",       "density", "factor",
+                                          "divergence", "pressure",   "forces",  "integrate",
+                                          "collide",    "boundaries", "guard",   "exchange"};
   return names[static_cast<int>(p)];
 }
 

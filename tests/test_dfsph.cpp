@@ -86,6 +86,27 @@ TEST(Dfsph, StillTankHoldsDensityAtALargeStep) {
   EXPECT_LT(maxSpeed(p), 0.2f);
 }
 
+TEST(Dfsph, StepIsBoundByTheFlowSpeedGravityAndTheFiveMillisecondCap) {
+  // At rest: gravity's bound 0.09 sqrt(dx / |g|) (g dt^2 <= 0.81% of the spacing), under the
+  // default cap of 5 ms (SolverParams.h, kDfsphMaxTimeStep).
+  const Scene tank = test::shippedScene("still_tank", {"solver.pressure=dfsph"});
+  EXPECT_FLOAT_EQ(tank.solver.maxTimeStep, 5e-3f);
+  const DerivedParams d = deriveParams(tank);
+  const float gravityBound = 0.09f * std::sqrt(0.01f / 9.81f);  // 2.87 ms
+  EXPECT_NEAR(timeStep(tank, d, 0, 0), gravityBound, 1e-7);
+  // Moving: the CFL on the flow speed, cfl h / v_max (the scene's cfl 0.4: 0.4 x 0.02 m / 8 m/s).
+  EXPECT_NEAR(timeStep(tank, d, 8.0f, 0), 1e-3f, 1e-8);
+  // Without gravity the cap alone, and an explicit max_time_step still wins.
+  const Scene weightless =
+      test::shippedScene("still_tank", {"solver.pressure=dfsph", "solver.gravity=[0,0,0]"});
+  EXPECT_FLOAT_EQ(timeStep(weightless, deriveParams(weightless), 0, 0), 5e-3f);
+  const Scene capped =
+      test::shippedScene("still_tank", {"solver.pressure=dfsph", "solver.max_time_step=0.001"});
+  EXPECT_FLOAT_EQ(timeStep(capped, deriveParams(capped), 0, 0), 1e-3f);
+  // WCSPH keeps its 1 ms default cap.
+  EXPECT_FLOAT_EQ(test::shippedScene("still_tank", {}).solver.maxTimeStep, 1e-3f);
+}
+
 TEST(Dfsph, DivergenceSolverRemovesACompressingField) {
   // A free cube of fluid, no gravity, no viscosity, squeezed by v = -k x: velocity divergence -3k.
   const std::string scene = test::writeTempFile(R"({
