@@ -81,11 +81,15 @@ INSTANTIATE_TEST_SUITE_P(DamBreak, MemoryEstimateRuns,
                                            EstimatedRun{"0.0025", "accurate"},
                                            EstimatedRun{"0.0018", "accurate"}));
 
+// `sphsplat run scenes/SCENE ARGS --end 0.01` under `ulimit -v` of 600 MB.
+Measured runUnderSixHundredMegabytes(const std::string& scene, const std::string& args) {
+  return measure("sh -c 'ulimit -v 600000; exec " + test::sphsplatBinary() + " run " +
+                 test::sourcePath("scenes/" + scene) + " " + args + " --end 0.01'");
+}
+
 TEST(MemoryEstimate, ASceneTooBigForItsMemoryIsRefusedBeforeItAllocates) {
   // 0.6 mm: 1.1e7 fluid particles, about 1.1 GB; under `ulimit -v` of 600 MB it cannot fit.
-  const Measured m = measure("sh -c 'ulimit -v 600000; exec " + test::sphsplatBinary() + " run " +
-                             test::sourcePath("scenes/dam_break.json") +
-                             " --set solver.spacing=0.0006 --end 0.01'");
+  const Measured m = runUnderSixHundredMegabytes("dam_break.json", "--set solver.spacing=0.0006");
   EXPECT_EQ(m.exitCode, 2) << m.output;
   EXPECT_TRUE(std::regex_search(
       m.output, std::regex("dam_break.json: solver.spacing: this scene needs about [0-9.]+ GB "
@@ -111,9 +115,7 @@ TEST(MemoryEstimate, AHugeNozzleIsNamed) {
 TEST(MemoryEstimate, ARainTooBigIsRefusedNamingItsBudget) {
   // 10^8 drops (rain.count's maximum) are about 3 GB; under `ulimit -v` of 600 MB they cannot
   // fit, and the run stops before spawning one.
-  const Measured m = measure("sh -c 'ulimit -v 600000; exec " + test::sphsplatBinary() + " run " +
-                             test::sourcePath("scenes/rain_pour.json") +
-                             " --set rain.count=100000000 --end 0.01'");
+  const Measured m = runUnderSixHundredMegabytes("rain_pour.json", "--set rain.count=100000000");
   EXPECT_EQ(m.exitCode, 2) << m.output;
   EXPECT_TRUE(std::regex_search(
       m.output, std::regex("rain_pour.json: rain.count: this scene needs about [0-9.]+ GB "
