@@ -214,11 +214,15 @@ LightsDesc readLights(JsonReader r) {
     for (const char* key : {"fast_colour", "fast_speed"})
       if (r.has(key)) r.fail(key, "only used with \"colour_by\": \"speed\"");
   }
-  const Vec3 att = r.vec3("attenuation", Vec3(1, 0, 1),
-                          "3 numbers [constant, linear, quadratic], constant > 0, the others >= 0");
-  if (!(att.x() > 0) || att.y() < 0 || att.z() < 0) {
+  // constant >= 1e-4: a light is at most 10^4 times its colour at its own place, so the CPU
+  // path's 64-bit fixed-point sums cannot overflow even with 16.7M lights in one voxel.
+  const Vec3 att =
+      r.vec3("attenuation", Vec3(1, 0, 1),
+             "3 numbers [constant, linear, quadratic], constant >= 1e-4, the others >= 0");
+  if (!(att.x() >= 1e-4f) || att.y() < 0 || att.z() < 0) {
     r.fail("attenuation",
-           "expected [constant, linear, quadratic] with constant > 0 and the others >= 0, got " +
+           "expected [constant, linear, quadratic] with constant >= 1e-4 and the others >= 0, "
+           "got " +
                formatVec(att));
   }
   d.attenuation = {att.x(), att.y(), att.z()};
@@ -243,6 +247,15 @@ LightsDesc readLights(JsonReader r) {
       }
     }
     v.finish();
+  }
+  // Each light visits (2 (int(range / voxel_size) + 1) + 1)^3 voxels (the paper's loop): a range
+  // of 32 voxels is already 274,625 a light; more would make one frame take hours (and the CPU
+  // path's bucket arrays huge), never what a user meant.
+  if (d.range / d.voxelSize > 32) {
+    r.fail("range", "expected at most 32 voxels (volume.voxel_size " +
+                        readableNumber(d.voxelSize, 4) + " m) per light's range, got " +
+                        readableNumber(d.range / d.voxelSize, 4) +
+                        "; use a larger volume.voxel_size or a smaller range");
   }
   d.filter = r.choice("filter", std::optional(LightFilter::Trilinear));
   d.tension = static_cast<float>(

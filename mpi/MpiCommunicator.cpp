@@ -13,17 +13,23 @@ void check(int code, const char* what) {
   if (code != MPI_SUCCESS) throw std::runtime_error(std::string("MPI: ") + what + " failed");
 }
 
-// Byte counts and displacements for the v-collectives (int, as MPI wants them).
-std::vector<int> displacements(const std::vector<int>& counts) {
-  std::vector<int> d(counts.size(), 0);
-  for (std::size_t r = 1; r < counts.size(); ++r) d[r] = d[r - 1] + counts[r - 1];
-  return d;
-}
-
 int byteCount(std::size_t n) {
   if (n > static_cast<std::size_t>(INT32_MAX))
     throw std::runtime_error("MPI: a message of over 2 GiB (more ranks spread it)");
   return static_cast<int>(n);
+}
+
+// Byte counts and displacements for the v-collectives (int, as MPI wants them): the whole of
+// what one rank receives must stay under 2 GiB too (an all-gather of 30M particles would not).
+std::vector<int> displacements(const std::vector<int>& counts) {
+  std::vector<int> d(counts.size(), 0);
+  std::size_t at = 0;
+  for (std::size_t r = 1; r < counts.size(); ++r) {
+    at += static_cast<std::size_t>(counts[r - 1]);
+    d[r] = byteCount(at);
+  }
+  if (!counts.empty()) byteCount(at + static_cast<std::size_t>(counts.back()));
+  return d;
 }
 
 std::vector<dist::Bytes> split(const std::vector<std::uint8_t>& all,

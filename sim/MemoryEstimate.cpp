@@ -33,6 +33,11 @@ constexpr double kDfsphBytesPerFluidParticle = 760;
 // cache's /Rain#N: 28.7 bytes a drop measured (peak resident memory of 10^7 drops, 307 MB against
 // 20 MB for one drop, 2026-11-26, no render section).
 constexpr double kBytesPerRainDrop = 30;
+// What drawing them adds (render/rain/StreakRaster: a copy of position and layer, 13 B, and at
+// least 4 B of band bins a drop) and feeding the fluid (sim/rain/RainFeed: 13 B a drop), counted
+// from the arrays rather than measured.
+constexpr double kBytesPerDrawnRainDrop = 17;
+constexpr double kBytesPerFeedingRainDrop = 13;
 // The program itself: code, libraries (HDF5, OpenMP, the C++ runtime), thread stacks.
 constexpr double kBaseBytes = 15e6;
 // An OpenGL context on Mesa's llvmpipe with the renderer's or cdt-gl's buffers and shaders.
@@ -63,10 +68,15 @@ MemoryEstimate estimateMemory(const Scene& scene) {
       scene.solver.model == SolverModel::Sph && scene.solver.pressure == PressureSolver::Dfsph;
   const double perFluidParticle =
       kBytesPerFluidParticle + (dfsph ? kDfsphBytesPerFluidParticle : 0);
-  if (scene.rain) m.rainDrops = static_cast<double>(scene.rain->count);
+  double perDrop = kBytesPerRainDrop;
+  if (scene.rain) {
+    m.rainDrops = static_cast<double>(scene.rain->count);
+    if (scene.render) perDrop += kBytesPerDrawnRainDrop;
+    if (scene.rain->feedFluid) perDrop += kBytesPerFeedingRainDrop;
+  }
   const double fluidBytes = perFluidParticle * (m.fluidParticles + m.emittedParticles);
   const double boundaryBytes = kBytesPerBoundaryParticle * m.boundaryParticles;
-  const double rainBytes = kBytesPerRainDrop * m.rainDrops;
+  const double rainBytes = perDrop * m.rainDrops;
   m.bytes = kBaseBytes + (gl ? kGlBytes : 0) + fluidBytes + boundaryBytes + rainBytes;
   // The key to change: the rain's budget or an emitter's size when it is most of the memory,
   // else the spacing.

@@ -80,7 +80,8 @@ int floorToInt(float v, int lo, int hi) {
 // superset: a band finds the exact ones); false when it is wholly outside the viewport.
 bool roughRows(const Frame& f, const Vec3& head, int& first, int& end) {
   const Vec4f h = f.apply(head, 1), t = h - f.along;
-  if (!(std::min(h.w, t.w) - f.marginW > 0)) {  // a corner may be at or behind the eye
+  if (std::max(h.w, t.w) + f.marginW <= 0) return false;  // every corner behind the eye
+  if (!(std::min(h.w, t.w) - f.marginW > 0)) {            // a corner may be at or behind the eye
     first = 0, end = f.height;
     return true;
   }
@@ -227,8 +228,10 @@ inline float fragmentAlpha(const Streak& s, const Row& r, int x, float frameDept
   const float z = s.depth[0] * px + r.dz;
   keep = x >= r.x0 && x < r.x1 && nd * s.sign > 0 && z >= 0 && z <= 1 && z < frameDepth;
   const float w = 1 / (keep ? nd : 1.0f);
-  const float u = std::clamp((s.uvd[0][0] * px + r.du) * w, 0.0f, 1.0f);
-  const float v = std::clamp((s.uvd[1][0] * px + r.dv) * w, 0.0f, 1.0f);
+  // In [0, 1], and 0 for a NaN (a subnormal nd), which std::clamp would pass on to the index.
+  const auto unit = [](float t) { return t > 0 ? std::min(t, 1.0f) : 0.0f; };
+  const float u = unit((s.uvd[0][0] * px + r.du) * w);
+  const float v = unit((s.uvd[1][0] * px + r.dv) * w);
   // GL_LINEAR with GL_CLAMP_TO_EDGE, on the padded image.
   const float ts = u * fw + 0.5f, tt = v * fh + 0.5f;  // padded texel space, >= 0.5
   const int s0 = static_cast<int>(ts), t0 = static_cast<int>(tt);

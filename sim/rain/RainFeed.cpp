@@ -87,7 +87,12 @@ std::size_t RainFeed::addLandings(const std::vector<Vec3>& landings, FeedState& 
     // none is within a spacing: on the surface, a new layer of the pool.
     if (!space) space = std::make_unique<FreeSpace>(fluid, spacing_);
     Vec3 p = landing;
-    for (int k = 0; k < kMaxRise && !space->clear(p); ++k) p.y() += 0.25f * spacing_;
+    bool clear = space->clear(p);
+    for (int k = 0; k < kMaxRise && !clear; ++k) p.y() += 0.25f * spacing_, clear = space->clear(p);
+    if (!clear) {  // no room above this landing (a splash): the water waits for the next one
+      state.pending += particleVolume_;
+      continue;
+    }
     space->add(p);
     fluid.append(p, velocity, nextId++, restDensity_);
     state.particles += 1;
