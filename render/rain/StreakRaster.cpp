@@ -5,18 +5,15 @@
 #include <algorithm>
 #include <cmath>
 
+#include "render/splat/Lighting.h"
 #include "sim/rain/Spotlight.h"
 
 namespace sph::render::rain {
 namespace {
 
 // GLSL's toSrgb of shaders/rain.vert, component-wise.
-float toSrgb(float c) {
-  c = std::clamp(c, 0.0f, 1.0f);
-  return c < 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-}
 Vec3 toSrgb(const Vec3& c) {
-  return Vec3(toSrgb(c.x()), toSrgb(c.y()), toSrgb(c.z()));
+  return Vec3(splat::toSrgb(c.x()), splat::toSrgb(c.y()), splat::toSrgb(c.z()));
 }
 
 struct Vec4f {

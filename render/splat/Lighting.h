@@ -53,11 +53,14 @@ inline Vec3 shade(const Lighting& l, const Vec3& n, const Vec3& toEye) {
   return c.cwiseMin(1.0f).cwiseMax(0.0f);
 }
 
-// sRGB encoding of a linear colour component in [0, 1] (the GL shaders encode the same way).
-inline std::uint8_t toSrgb8(float c) {
+// sRGB encoding of a linear colour component, clamped to [0, 1] (the GL shaders encode the same
+// way).
+inline float toSrgb(float c) {
   c = std::clamp(c, 0.0f, 1.0f);
-  const float s = c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-  return static_cast<std::uint8_t>(std::lround(255.0f * s));
+  return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+}
+inline std::uint8_t toSrgb8(float c) {
+  return static_cast<std::uint8_t>(std::lround(255.0f * toSrgb(c)));
 }
 
 }  // namespace sph::render::splat
