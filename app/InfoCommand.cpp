@@ -88,7 +88,7 @@ int info(const InfoOptions& o) {
               static_cast<long long>(s.threads), s.threads == 1 ? "" : "s");
   std::string rendered;
   for (const auto& [name, frames] : s.renderers)
-    rendered += (rendered.empty() ? "" : ", ") + name + " " + std::to_string(frames) + " frames";
+    rendered += (rendered.empty() ? "" : "; ") + name + " " + io::describeFrames(frames);
   std::printf("  rendered   %s\n", rendered.empty() ? "none" : rendered.c_str());
   // The rain's drops beside the frames (io/RainCache.h); nothing is printed for a cache without.
   std::size_t rainFrames = 0, rainDrops = 0;

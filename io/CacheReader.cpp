@@ -70,6 +70,31 @@ std::string frameRange(std::size_t frames) {
 
 }  // namespace
 
+std::string describeFrames(const std::vector<std::size_t>& frames) {
+  const std::size_t n = frames.size();
+  if (n == 0) return "no frame";
+  std::string text = std::to_string(n) + (n == 1 ? " frame (" : " frames (");
+  const std::size_t stride = n > 1 ? frames[1] - frames[0] : 1;
+  bool evenlySpaced = n > 2 && stride > 0;
+  for (std::size_t i = 1; i < n && evenlySpaced; ++i)
+    evenlySpaced = frames[i] - frames[i - 1] == stride;
+  if (n == 1) {
+    text += std::to_string(frames[0]);
+  } else if (evenlySpaced) {
+    text += std::to_string(frames.front()) + "-" + std::to_string(frames.back());
+    if (stride > 1) text += ", every " + std::to_string(stride) + " frames";
+  } else {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (i == 8 && n > 9) {
+        text += ", ... " + std::to_string(frames.back());
+        break;
+      }
+      text += (i ? ", " : "") + std::to_string(frames[i]);
+    }
+  }
+  return text + ")";
+}
+
 void CacheReader::fail(const std::string& message) const {
   throw InputError(path_ + ": " + message);
 }
@@ -312,10 +337,13 @@ void CacheReader::scanRenderers(const std::set<std::string>& links) {
       fail(std::string("cannot read /Render (") + e.what() + ")");
     }
   }
+  // A picture counts with its frame: one linked beside a frame the cache does not hold (written
+  // by hand) is not offered.
   for (const auto& [renderer, frames] : images) {
-    std::size_t n = 0;  // frames 0..n-1 all rendered
-    while (frames.count(n)) ++n;
-    summary_.renderers.emplace_back(renderer, n);
+    std::vector<std::size_t> held;
+    for (const std::size_t k : frames)
+      if (k < summary_.frames.size()) held.push_back(k);
+    summary_.renderers.emplace_back(renderer, std::move(held));
   }
 }
 
@@ -471,15 +499,14 @@ std::vector<std::vector<float>> CacheReader::readBoundary() const {
 }
 
 RenderedFrame CacheReader::readRenderedFrame(const std::string& renderer, std::size_t frame) const {
-  std::size_t frames = 0;
-  bool known = false;
-  for (const auto& [name, n] : summary_.renderers) {
-    if (name == renderer) known = true, frames = n;
+  const std::vector<std::size_t>* frames = nullptr;
+  for (const auto& [name, held] : summary_.renderers) {
+    if (name == renderer) frames = &held;
   }
-  if (!known) fail("has no rendered frames of renderer '" + renderer + "'");
-  if (frame >= frames) {
-    fail("rendered frame " + std::to_string(frame) + " of '" + renderer +
-         "' is out of range (frames 0-" + std::to_string(frames) + " exclusive)");
+  if (!frames) fail("has no rendered frames of renderer '" + renderer + "'");
+  if (!std::binary_search(frames->begin(), frames->end(), frame)) {
+    fail("has no picture of frame " + std::to_string(frame) + " from renderer '" + renderer +
+         "' (it has " + describeFrames(*frames) + ")");
   }
   std::string path = "/" + cache::renderedFrameName(renderer, frame);
   if (!h5::hasLink(file_.get(), path.substr(1))) {

@@ -49,10 +49,16 @@ struct CacheSummary {
   std::vector<CacheFrame> frames;
   // Set when Step#<frames.size()> exists but does not read back (with what went wrong).
   std::string damagedFrame;
-  std::vector<std::pair<std::string, std::size_t>> renderers;  // name, rendered frames
+  // Each renderer with the frames it has a picture of, ascending (every frame, or every
+  // render.every-th one).
+  std::vector<std::pair<std::string, std::vector<std::size_t>>> renderers;
   // The file had a header torn by a kill during a commit and was restored from its journal.
   bool repaired = false;
 };
+
+// Frame numbers (ascending) in words for messages and `info`: "31 frames (0-30)",
+// "4 frames (0-30, every 10 frames)", "3 frames (1, 4, 9)", "no frame".
+std::string describeFrames(const std::vector<std::size_t>& frames);
 
 struct RenderedFrame {
   int width = 0, height = 0;

@@ -168,7 +168,7 @@ TEST_F(CacheConcurrent, EveryMomentOfARenderingRunIsAStateReadersCanOpen) {
   const io::CacheReader reader(cache);
   ASSERT_EQ(reader.frameCount(), 31u);
   ASSERT_EQ(reader.summary().renderers.size(), 1u) << "the run stores its pictures";
-  EXPECT_EQ(reader.summary().renderers[0].second, 31u);
+  EXPECT_EQ(reader.summary().renderers[0].second.size(), 31u);
   // The .partial file (before frame 0 is in, when no reader can open it) is not watched.
   EXPECT_EQ(readFile(log), "") << "rules a reader relies on, broken (tests/ReaderView.h)";
 }
@@ -199,8 +199,9 @@ void readRound(const std::string& cache, bool everything, std::size_t& lastFrame
         t.failures.push_back("frame " + std::to_string(k) + " is short");
     }
     for (const auto& [renderer, pictures] : reader.summary().renderers) {
-      for (std::size_t k = everything || pictures == 0 ? 0 : pictures - 1; k < pictures;
-           ++k, ++t.imagesRead) {
+      for (std::size_t i = everything || pictures.empty() ? 0 : pictures.size() - 1;
+           i < pictures.size(); ++i, ++t.imagesRead) {
+        const std::size_t k = pictures[i];
         if (reader.readRenderedFrame(renderer, k).rgb.size() != 96 * 64 * 3)
           t.failures.push_back("picture " + std::to_string(k) + " is not 96x64");
       }
@@ -246,7 +247,7 @@ TEST_F(CacheConcurrent, ReadersReopeningInATightLoopWhileARunWritesNeverFail) {
     ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "the run failed";
     const io::CacheReader done(cache);
     EXPECT_EQ(done.frameCount(), frames);
-    EXPECT_EQ(done.summary().renderers.at(0).second, frames);
+    EXPECT_EQ(done.summary().renderers.at(0).second.size(), frames);
   }
   std::printf("sphsplat reader: %ld opens, %ld frames and %ld pictures read, %zu failures\n",
               t.opens, t.framesRead, t.imagesRead, t.failures.size());

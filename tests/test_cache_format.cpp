@@ -344,8 +344,10 @@ TEST_F(CacheFormat, RenderedFramesRoundTripUnderTheirRenderer) {
   const io::CacheReader reader(path);
   ASSERT_EQ(reader.summary().renderers.size(), 2u);
   EXPECT_EQ(reader.summary().renderers[0].first, "point");
-  EXPECT_EQ(reader.summary().renderers[0].second, 0u) << "Frame#0 missing, so none counts";
-  EXPECT_EQ(reader.summary().renderers[1], (std::pair<std::string, std::size_t>("pyramid", 1)));
+  EXPECT_EQ(reader.summary().renderers[0].second, std::vector<std::size_t>{1})
+      << "a picture of frame 1 alone counts (render.every pictures skip frames)";
+  EXPECT_EQ(reader.summary().renderers[1].second, std::vector<std::size_t>{0});
+  EXPECT_THROW(reader.readRenderedFrame("point", 0), InputError) << "no picture of frame 0";
   const io::RenderedFrame back = reader.readRenderedFrame("pyramid", 0);
   EXPECT_EQ(back.width, w);
   EXPECT_EQ(back.height, h);
@@ -359,3 +361,15 @@ TEST_F(CacheFormat, RenderedFramesRoundTripUnderTheirRenderer) {
 
 }  // namespace
 }  // namespace sph
+
+TEST(CacheReader, DescribesTheFramesARendererHasPicturesOf) {
+  using V = std::vector<std::size_t>;
+  EXPECT_EQ(sph::io::describeFrames(V{}), "no frame");
+  EXPECT_EQ(sph::io::describeFrames(V{5}), "1 frame (5)");
+  EXPECT_EQ(sph::io::describeFrames(V{0, 1}), "2 frames (0, 1)");
+  EXPECT_EQ(sph::io::describeFrames(V{0, 1, 2, 3}), "4 frames (0-3)");
+  EXPECT_EQ(sph::io::describeFrames(V{0, 10, 20, 30}), "4 frames (0-30, every 10 frames)");
+  EXPECT_EQ(sph::io::describeFrames(V{1, 4, 9}), "3 frames (1, 4, 9)");
+  EXPECT_EQ(sph::io::describeFrames(V{0, 1, 2, 3, 4, 5, 6, 7, 9, 11}),
+            "10 frames (0, 1, 2, 3, 4, 5, 6, 7, ... 11)");
+}
