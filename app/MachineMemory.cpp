@@ -70,6 +70,7 @@ std::string describeMemory(const MemoryEstimate& e, const MachineMemory& m) {
   std::ostringstream s;
   s << "about " << humanBytes(e.bytes) << " (" << count(e.fluidParticles) << " fluid particles";
   if (e.emittedParticles > 0) s << " + " << count(e.emittedParticles) << " from nozzles";
+  if (e.rainParticles > 0) s << " + up to " << count(e.rainParticles) << " from the rain";
   s << ", " << count(e.boundaryParticles) << " boundary particles";
   if (e.rainDrops > 0) s << ", " << count(e.rainDrops) << " rain drops";
   s << "); ";
@@ -83,10 +84,12 @@ MemoryEstimate checkMemory(const Scene& scene) {
   const MemoryEstimate e = estimateMemory(scene);
   const MachineMemory m = machineMemory();
   if (m.availableBytes > 0 && e.bytes > m.availableBytes) {
-    const std::string advice =
-        e.largestKey == "solver.spacing" ? "raise solver.spacing (memory falls with its cube)"
-        : e.largestKey == "rain.count"   ? "lower rain.count"
-                                         : "make that nozzle smaller or stop it sooner";
+    const std::string advice = e.largestKey == "solver.spacing"
+                                   ? "raise solver.spacing (memory falls with its cube)"
+                               : e.largestKey == "rain.count" ? "lower rain.count"
+                               : e.largestKey == "rain.drop_volume"
+                                   ? "lower rain.drop_volume or rain.count, or end the run earlier"
+                                   : "make that nozzle smaller or stop it sooner";
     throw InputError(scene.sourcePath + ": " + e.largestKey + ": this scene needs " +
                      describeMemory(e, m) + "; " + advice + " or shrink the scene");
   }

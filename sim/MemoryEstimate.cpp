@@ -57,6 +57,7 @@ MemoryEstimate estimateMemory(const Scene& scene) {
     m.emittedParticles += n;
     if (n > largestEmitter) largestEmitter = n, largest = k;
   }
+  m.rainParticles = static_cast<double>(budget.rain);
   const int layers = scene.solver.boundaryLayers > 0
                          ? scene.solver.boundaryLayers
                          : std::max(1, static_cast<int>(std::ceil(scene.solver.support)));
@@ -74,7 +75,8 @@ MemoryEstimate estimateMemory(const Scene& scene) {
     if (scene.render) perDrop += kBytesPerDrawnRainDrop;
     if (scene.rain->feedFluid) perDrop += kBytesPerFeedingRainDrop;
   }
-  const double fluidBytes = perFluidParticle * (m.fluidParticles + m.emittedParticles);
+  const double fluidBytes =
+      perFluidParticle * (m.fluidParticles + m.emittedParticles + m.rainParticles);
   const double boundaryBytes = kBytesPerBoundaryParticle * m.boundaryParticles;
   const double rainBytes = perDrop * m.rainDrops;
   m.bytes = kBaseBytes + (gl ? kGlBytes : 0) + fluidBytes + boundaryBytes + rainBytes;
@@ -82,6 +84,8 @@ MemoryEstimate estimateMemory(const Scene& scene) {
   // else the spacing.
   if (rainBytes > fluidBytes + boundaryBytes)
     m.largestKey = "rain.count";
+  else if (m.rainParticles > std::max(largestEmitter, m.fluidParticles + m.boundaryParticles))
+    m.largestKey = "rain.drop_volume";
   else if (largestEmitter > m.fluidParticles + m.boundaryParticles)
     m.largestKey = "emitters[" + std::to_string(largest) + "].radius";
   return m;

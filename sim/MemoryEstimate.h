@@ -16,6 +16,7 @@ struct MemoryEstimate {
   // Counts in double: a scene too big for any machine must still be described.
   double fluidParticles = 0;     // at the start
   double emittedParticles = 0;   // added by nozzles until the end time (or their stop)
+  double rainParticles = 0;      // rain.feed_fluid's bound (sim/SceneSetup.h, ParticleBudget)
   double boundaryParticles = 0;  // sampled walls and containers (an upper bound)
   double rainDrops = 0;          // the rain section's budget (docs/rain.md)
   double bytes = 0;              // peak, the program's own footprint included

@@ -178,7 +178,7 @@ double emitterLayerBound(double r) {
 }  // namespace
 
 std::uint64_t ParticleBudget::total() const {
-  std::uint64_t n = blocks;
+  std::uint64_t n = blocks + rain;
   for (std::uint64_t e : emitters) n += e;
   return n;
 }
@@ -204,6 +204,13 @@ ParticleBudget particleBudget(const Scene& scene) {
     const double bound = e.maxParticles > 0 ? std::min(n, static_cast<double>(e.maxParticles)) : n;
     b.emitters.push_back(static_cast<std::uint64_t>(std::min(bound, 1e18)));
   }
+  if (scene.rain && scene.rain->feedFluid) {
+    const double ticks = std::floor(scene.solver.endTime * scene.output.fps + 1e-9);
+    const double share = scene.rain->dropVolume / (dx * dx * dx);
+    // Particles are made from whole particles' worth of landed water (the rest stays pending).
+    const double n = std::floor(static_cast<double>(scene.rain->count) * ticks * share + 1e-9);
+    b.rain = static_cast<std::uint64_t>(std::min(n, 1e18));
+  }
   return b;
 }
 
@@ -221,6 +228,18 @@ void requireIdsBelow(const Scene& scene, std::uint64_t limit, const std::string&
   };
   const std::string limits =
       who + " handles particle ids below " + count(limit) + " (" + reason + ")";
+  std::uint64_t largestEmitter = 0;
+  for (std::uint64_t e : b.emitters) largestEmitter = std::max(largestEmitter, e);
+  char end[32];
+  std::snprintf(end, sizeof end, "%g", scene.solver.endTime);
+  if (b.rain > 0 && b.blocks <= limit && b.rain >= largestEmitter) {
+    throw InputError(scene.sourcePath +
+                     ": rain.drop_volume: the rain that feeds the fluid could make up to " +
+                     count(b.rain) + " particles by t = " + end + " s (" + count(b.total()) +
+                     " in all; at most one landing per drop per output frame); " + limits +
+                     ": lower rain.drop_volume or rain.count, end the run earlier, or choose "
+                     "another collision.method");
+  }
   if (b.blocks > limit || scene.emitters.empty()) {
     throw InputError(scene.sourcePath + ": solver.spacing: the fluid blocks would hold " +
                      count(b.blocks) + " particles; " + limits +
@@ -229,8 +248,6 @@ void requireIdsBelow(const Scene& scene, std::uint64_t limit, const std::string&
   }
   const std::size_t k = static_cast<std::size_t>(
       std::max_element(b.emitters.begin(), b.emitters.end()) - b.emitters.begin());
-  char end[32];
-  std::snprintf(end, sizeof end, "%g", scene.solver.endTime);
   throw InputError(scene.sourcePath + ": emitters[" + std::to_string(k) +
                    "].max_particles: the scene would make up to " + count(b.total()) +
                    " particles by t = " + end + " s (" + count(b.emitters[k]) +

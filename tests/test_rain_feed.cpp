@@ -10,7 +10,9 @@
 
 #include "io/SceneLoader.h"
 #include "sim/InputError.h"
+#include "sim/MemoryEstimate.h"
 #include "sim/Observables.h"
+#include "sim/SceneSetup.h"
 #include "sim/Simulation.h"
 #include "sim/rain/RainSystem.h"
 #include "tests/TestSupport.h"
@@ -82,6 +84,23 @@ TEST(RainFeed, ConservesMassOverManyLandings) {
         << "particle " << sim.fluid().id[i] << " at " << p.transpose();
   }
   EXPECT_EQ(fresh, f.particles);
+  // The particle budget (memory check, id limits) bounds what the rain made by that time: at most
+  // one landing per drop per frame, 1500 x 9 x 0.1 particles.
+  Scene until = scene;
+  until.solver.endTime = 0.3;
+  EXPECT_EQ(particleBudget(until).rain, 1350u);
+  EXPECT_GE(particleBudget(until).rain, f.particles);
+  EXPECT_EQ(particleBudget(until).total(), before + 1350u);
+  EXPECT_EQ(estimateMemory(until).rainParticles, 1350.0);
+  try {
+    requireIdsBelow(until, before + 1000, "a test", "why");
+    FAIL() << "the rain's 1350 particles passed an id limit 1000 above the pool's";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("pool.json: rain.drop_volume: the rain that feeds the "
+                                         "fluid could make up to 1,350 particles by t = 0.3 s"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(RainFeed, ThePoolRisesByTheLandedVolumeOverItsArea) {
