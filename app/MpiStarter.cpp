@@ -22,6 +22,10 @@ MpiStarter mpiStarter() {
     if (std::getenv(name)) s.launched = true;
   for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
     if (s.processes == 0 && number(name) > 0) s.processes = number(name);
+  // PMIx gives no size in the environment; Slurm's srun (`srun --mpi=pmix`) says it beside. Only
+  // with a starter's rank set: a batch script's own shell has SLURM_* too, and is one process.
+  if (s.launched && s.processes == 0 && number("SLURM_STEP_NUM_TASKS") > 0)
+    s.processes = number("SLURM_STEP_NUM_TASKS");
   for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK"})
     if (s.rank == 0 && number(name) > 0) s.rank = number(name);
   return s;

@@ -15,7 +15,7 @@ struct MpiStarter {
 };
 
 // Open MPI's mpirun sets OMPI_COMM_WORLD_SIZE/RANK; PMI and PMIx starters (MPICH's hydra,
-// Slurm's srun) set PMI_SIZE/PMI_RANK or PMIX_RANK.
+// Slurm's srun) set PMI_SIZE/PMI_RANK or PMIX_RANK, and srun the step's SLURM_STEP_NUM_TASKS.
 MpiStarter mpiStarter();
 
 // In a build without MPI, the one line that refuses a job started as one of several processes

@@ -65,6 +65,15 @@ TEST(Cli, WithoutMpiALaunchAsSeveralProcessesIsRefused) {
       test::runShell("PMI_SIZE=3 PMI_RANK=2 " + test::sphsplatCommand() + " " + job + " 2>&1");
   EXPECT_EQ(rank2.exitCode, 2);
   EXPECT_EQ(rank2.output, "");
+  // Slurm's `srun --mpi=pmix -n 4`: PMIx names the rank only, srun the step's size.
+  const auto srun = test::runShell("PMIX_RANK=0 SLURM_STEP_NUM_TASKS=4 SLURM_PROCID=0 " +
+                                   test::sphsplatCommand() + " " + job + " 2>&1");
+  EXPECT_EQ(srun.exitCode, 2);
+  EXPECT_NE(srun.output.find("as one of 4 processes"), std::string::npos) << srun.output;
+  // A batch script's own shell carries the job's SLURM_* but is one plain process.
+  const auto batch = test::runShell("SLURM_STEP_NUM_TASKS=4 SLURM_NTASKS=4 SLURM_PROCID=0 " +
+                                    test::sphsplatCommand() + " --version 2>&1");
+  EXPECT_EQ(batch.exitCode, 0) << batch.output;
   // One process under a starter is a plain run.
   const auto one =
       test::runShell("OMPI_COMM_WORLD_SIZE=1 " + test::sphsplatCommand() + " --version 2>&1");
