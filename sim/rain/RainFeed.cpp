@@ -2,16 +2,32 @@
 
 #include <cmath>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace sph::rain {
 namespace {
 
-// The fluid's particles in cells of one spacing, to find a free place for a new one.
+// The fluid's particles in cells of one spacing, to find a free place for a new one straight
+// above a landing. Only the columns of cells next to a landing's column are indexed: a place is
+// searched upwards from a landing, and clear() reads the 27 cells around it, so no other cell
+// can matter (hashing the whole fluid at every frame cost about a million allocations a frame
+// at a million particles).
 class FreeSpace {
  public:
-  FreeSpace(const Particles& fluid, float spacing) : spacing_(spacing) {
-    cells_.reserve(fluid.size());
-    for (std::size_t i = 0; i < fluid.size(); ++i) add(fluid.position(i));
+  FreeSpace(const Particles& fluid, float spacing, const std::vector<Vec3>& landings)
+      : spacing_(spacing) {
+    std::unordered_set<std::uint64_t> columns;
+    for (const Vec3& l : landings) {
+      const Eigen::Vector3i c = cellOf(l);
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dz = -1; dz <= 1; ++dz)
+          columns.insert(key(Eigen::Vector3i(c.x() + dx, 0, c.z() + dz)));
+    }
+    for (std::size_t i = 0; i < fluid.size(); ++i) {
+      const Vec3 p = fluid.position(i);
+      const Eigen::Vector3i c = cellOf(p);
+      if (columns.count(key(Eigen::Vector3i(c.x(), 0, c.z())))) add(p);
+    }
   }
   void add(const Vec3& p) { cells_[key(cellOf(p))].push_back(p); }
   // No particle closer than one spacing.
@@ -85,7 +101,7 @@ std::size_t RainFeed::addLandings(const std::vector<Vec3>& landings, FeedState& 
     // Not where the drop entered, among the fluid's particles (a particle closer than a spacing
     // to another is blown away by the pressure, out of the pool), but straight above it where
     // none is within a spacing: on the surface, a new layer of the pool.
-    if (!space) space = std::make_unique<FreeSpace>(fluid, spacing_);
+    if (!space) space = std::make_unique<FreeSpace>(fluid, spacing_, landings);
     Vec3 p = landing;
     bool clear = space->clear(p);
     for (int k = 0; k < kMaxRise && !clear; ++k) p.y() += 0.25f * spacing_, clear = space->clear(p);
