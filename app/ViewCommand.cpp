@@ -187,6 +187,11 @@ int view(const ViewOptions& o) {
   render::splat::HudText hud;
   auto lastAdvance = std::chrono::steady_clock::now();
   int drawn = 0;
+  // The particle lights (lights.cull): culled to the camera while it follows the scene's camera
+  // path, where each frame brings its own accumulation anyway; once the user orbits or zooms,
+  // the whole volume, accumulated once a frame, so that moving the camera costs nothing.
+  Particles shown;
+  float culledAspect = 0;  // the picture's aspect the volume is culled for; 0: whole volume
   while (!window.shouldClose() && !s.quit) {
     window.pollEvents();
     const auto now = std::chrono::steady_clock::now();
@@ -197,16 +202,21 @@ int view(const ViewOptions& o) {
     const double time = reader.summary().frames[s.frame].time;
     // The scene's camera path until the user drags or zooms; then the user's orbit.
     const CameraDesc camera = s.touched ? s.camera(lens) : cameraAt(lens, scene.cameraPath, time);
-    if (s.frameChanged) {
-      const Particles p = reader.readFrame(s.frame, xyz);
-      renderer.prepare(p);
-      // The whole volume, not culled to this camera: the user may orbit before the next frame.
-      if (lights) lights->update(p, reader.summary().frames[s.frame].time);
-      if (rain) showCachedRain(*rain, reader, s.frame, time, p);
-      s.frameChanged = false;
-    }
-    if (rain) rain->follow(camera);
     const auto size = window.framebufferSize();
+    const float aspect = static_cast<float>(size[0]) / static_cast<float>(std::max(size[1], 1));
+    const bool cullLights = lights && scene.lights->cull && !s.touched;
+    if (s.frameChanged) {
+      shown = reader.readFrame(s.frame, xyz);
+      renderer.prepare(shown);
+      if (rain) showCachedRain(*rain, reader, s.frame, time, shown);
+    }
+    if (lights &&
+        (s.frameChanged || (culledAspect != 0 && (!cullLights || aspect != culledAspect)))) {
+      lights->update(shown, time, cullLights ? &camera : nullptr, aspect);
+      culledAspect = cullLights ? aspect : 0;
+    }
+    s.frameChanged = false;
+    if (rain) rain->follow(camera);
     const render::splat::FrameTimings t = renderer.drawToScreen(s.kind, camera, size[0], size[1]);
     // The timeline: a grey bar with the played part in blue (scissored clears, no shader).
     glEnable(GL_SCISSOR_TEST);

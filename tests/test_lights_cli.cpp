@@ -141,6 +141,29 @@ TEST_F(LightsCli, ViewerShowsTheLitFrame) {
   for (std::size_t i = 0; i + 2 < rgb.size(); i += 3)
     warm += rgb[i] > 90 && rgb[i] > rgb[i + 2] + 30;
   EXPECT_GT(warm, 20) << "pixels lit by the fireflies";
+  // The viewer culls the volume to the scene's camera (lights.cull, on): the same picture as the
+  // whole volume's, byte for byte - in a window twice as wide as high, wider than the scene's
+  // 4:3 render section, so a volume culled for the render section's picture would miss lights
+  // at the sides.
+  auto viewShot = [&](const std::string& name, const std::string& keys) {
+    const std::string png = dir_ + "/" + name + ".png";
+    const std::string line = "xvfb-run -a -s '-screen 0 800x600x24' " + test::sphsplatCommand() +
+                             " view " + dir_ + "/ff.h5 --frame last --width 300 --height 150" +
+                             keys + " --exit-after 2 --screenshot " + png + " > /dev/null 2>&1";
+    EXPECT_EQ(std::system(line.c_str()), 0) << line;
+    return pixels(png);
+  };
+  // From close to the cup, which sees a small part of the tank (RenderCulledIsTheUnculledPicture).
+  const std::string cup =
+      " --set camera.position=[0.62,0.3,0.05] --set camera.target=[0.35,0.07,-0.25]";
+  const std::vector<int> culled = viewShot("view_wide_culled", cup);
+  const std::vector<int> all = viewShot("view_wide_whole", cup + " --set lights.cull=false");
+  // Below the HUD (its top rows hold the frame's draw time, which differs between any two runs).
+  const std::size_t belowHud = 80 * 300 * 3;
+  ASSERT_EQ(culled.size(), all.size());
+  ASSERT_GT(culled.size(), belowHud);
+  EXPECT_TRUE(std::equal(culled.begin() + belowHud, culled.end(), all.begin() + belowHud))
+      << "culling changed the viewer's picture";
   // The deferred pipeline in the window: the same picture (the lighting pass writes the depth the
   // window's own depth buffer tests the later layers against).
   const std::string deferred = dir_ + "/view_lights_deferred.png";

@@ -11,13 +11,14 @@ SceneLights::SceneLights(const Scene& scene, splat::FrameRenderer& renderer)
   renderer.setBackground(desc.roomLight * splat::Lighting{}.background);
 }
 
-double SceneLights::update(const Particles& fluid, double time, const CameraDesc* camera) {
+double SceneLights::update(const Particles& fluid, double time, const CameraDesc* camera,
+                           float aspect) {
   lights_ = lightParticles(volume_.desc(), fluid, time, solids_);
   if (camera && volume_.desc().cull) {
     const RenderDesc& r = renderer_.desc();
+    if (aspect <= 0) aspect = static_cast<float>(r.width) / static_cast<float>(r.height);
     const LightView view =
-        lightView(*camera, static_cast<float>(r.width) / static_cast<float>(r.height), r.splatSize,
-                  r.kernelRadius, renderer_.spacing());
+        lightView(*camera, aspect, r.splatSize, r.kernelRadius, renderer_.spacing());
     seconds_ = volume_.update(lights_, &view);
   } else {
     seconds_ = volume_.update(lights_);

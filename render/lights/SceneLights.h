@@ -20,10 +20,11 @@ class SceneLights {
   SceneLights(const Scene& scene, splat::FrameRenderer& renderer);
   // The lights of the frame with fluid particles `fluid` (velocities too for colour_by "speed")
   // at simulated time `time` (s), accumulated into the volume. `camera`: the camera the frame is
-  // drawn through, at the renderer's width / height; with lights.cull only what it may see is
-  // accumulated (LightCulling.h). Null: the whole volume (`view`, whose user moves the camera
-  // between accumulations). Returns the seconds the volume took.
-  double update(const Particles& fluid, double time, const CameraDesc* camera = nullptr);
+  // drawn through, over a picture of width / height `aspect` (0: the renderer's); with
+  // lights.cull only what it may see is accumulated (LightCulling.h). Null: the whole volume
+  // (`view`, once its user moves the camera). Returns the seconds the volume took.
+  double update(const Particles& fluid, double time, const CameraDesc* camera = nullptr,
+                float aspect = 0);
 
   LightVolume& volume() { return volume_; }
   const std::vector<LightParticle>& lights() const { return lights_; }
