@@ -6,6 +6,7 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 #include "io/JsonReader.h"
 #include "sim/Observables.h"
@@ -23,6 +24,17 @@ std::string resolve(const std::string& folder, const std::string& path) {
 // T = t sqrt(2 g / a), for the measured points with T <= max_T (tests/test_dam_break.cpp checks
 // the same front). Columns: RMS and max of |Z - Z_ref| / Z_ref over those points, and their mean
 // with sign (negative: the simulated front lags the experiment), in percent.
+// Options for the gate study (docs/benchmarks.md, "The dam-break front: convergence, gate, walls
+// and viscosity"):
+//   time_offset  s: the experiment's clock started this long before the simulated column was let
+//                go (a gate held shut that long, then gone): point k is compared with the
+//                simulation at t_k - time_offset
+//   edge         count the front at the water's edge, half a spacing ahead of the leading
+//                particle's centre (what a photograph sees), not at the centre
+//   per_point    one column per measured point: its signed deviation in percent
+//   fit_offset   the time_offset in [-50, 100] ms that minimises the RMS, and that RMS, from the
+//                front recorded after every step (linear between steps)
+//   series       write the front after every step to PREFIX-front.csv (t, T, Z)
 class SurgeFrontMetric : public SweepMetric {
  public:
   SurgeFrontMetric(io::JsonReader& r, const std::string& folder) {
@@ -31,6 +43,12 @@ class SurgeFrontMetric : public SweepMetric {
     fluid_ =
         static_cast<std::size_t>(r.number("fluid", 0.0, "an integer >= 0 (index in fluids[])",
                                           [](double v) { return v >= 0 && v == std::floor(v); }));
+    offset_ = r.number("time_offset", 0.0, "a number of seconds in [0, 1]",
+                       [](double v) { return v >= 0 && v <= 1; });
+    edge_ = r.boolean("edge", false);
+    perPoint_ = r.boolean("per_point", false);
+    fit_ = r.boolean("fit_offset", false);
+    series_ = r.boolean("series", false);
     std::ifstream in(path);
     if (!in) r.fail("reference", "cannot open " + path);
     std::string line;
@@ -45,10 +63,16 @@ class SurgeFrontMetric : public SweepMetric {
   }
 
   std::vector<std::string> columns() const override {
-    return {"front_rms_pct", "front_max_pct", "front_bias_pct"};
+    std::vector<std::string> c = {"front_rms_pct", "front_max_pct", "front_bias_pct"};
+    if (perPoint_) {
+      for (std::size_t k = 0; k < T_.size(); ++k)
+        c.push_back("front_e" + std::to_string(k + 1) + "_pct");
+    }
+    if (fit_) c.insert(c.end(), {"front_fit_offset_ms", "front_fit_rms_pct"});
+    return c;
   }
 
-  void start(const Simulation& sim, const MetricContext&) override {
+  void start(const Simulation& sim, const MetricContext& context) override {
     const Scene& s = sim.scene();
     if (fluid_ >= s.fluids.size() || s.fluids[fluid_].shape != FluidBlock::Shape::Box) {
       throw InputError(s.sourcePath + ": surge_front needs fluids[" + std::to_string(fluid_) +
@@ -59,32 +83,105 @@ class SurgeFrontMetric : public SweepMetric {
     const double dx = s.solver.spacing;
     wall_ = s.fluids[fluid_].lo.x();
     a_ = dx * std::max(1L, std::lround((s.fluids[fluid_].hi.x() - wall_) / dx));
+    shift_ = edge_ ? 0.5 * dx : 0.0;
     const double g = s.solver.gravity.norm();
+    tScale_ = std::sqrt(2 * g / a_);
     times_.clear();
-    for (double T : T_) times_.push_back(T / std::sqrt(2 * g / a_));
+    for (double T : T_) times_.push_back(T / tScale_ - offset_);
     Z_.clear();
+    seriesT_.clear(), seriesZ_.clear();
+    recordStep(sim);
+    // Points the experiment saw while the gate still held the column: the column at rest.
+    while (Z_.size() < times_.size() && times_[Z_.size()] <= 1e-12) Z_.push_back(seriesZ_[0]);
+    seriesPath_ = series_ ? context.seriesPrefix + "-front.csv" : "";
   }
-  std::vector<double> sampleTimes() const override { return times_; }
+  std::vector<double> sampleTimes() const override {
+    std::vector<double> t;
+    for (double x : times_)
+      if (x > 1e-12) t.push_back(x);
+    return t;
+  }
+  std::uint64_t stepInterval() const override { return fit_ || series_ ? 1 : 0; }
   void observe(const Simulation& sim) override {
+    if (fit_ || series_) recordStep(sim);
     if (Z_.size() >= times_.size() || std::abs(sim.time() - times_[Z_.size()]) > 1e-9) return;
-    Z_.push_back((surgeFront(sim.fluid()) - wall_) / a_);
+    Z_.push_back(front(sim));
+  }
+  void finish(const Simulation&) override {
+    if (seriesPath_.empty()) return;
+    std::ofstream out(seriesPath_);
+    out << "t,T,Z\n";
+    char line[96];
+    for (std::size_t i = 0; i < seriesT_.size(); ++i) {
+      std::snprintf(line, sizeof line, "%.9g,%.6g,%.6g\n", seriesT_[i], seriesT_[i] * tScale_,
+                    seriesZ_[i]);
+      out << line;
+    }
   }
   std::vector<double> values() const override {
-    if (Z_.size() < Zref_.size()) return {kNaN, kNaN, kNaN};
+    std::vector<double> v;
+    if (Z_.size() < Zref_.size()) {
+      v.assign(columns().size(), kNaN);
+      return v;
+    }
     double sum = 0, worst = 0, bias = 0;
+    std::vector<double> each;
     for (std::size_t k = 0; k < Z_.size(); ++k) {
       const double e = (Z_[k] - Zref_[k]) / Zref_[k];
       sum += e * e, worst = std::max(worst, std::abs(e)), bias += e;
+      each.push_back(100 * e);
     }
-    return {100 * std::sqrt(sum / Z_.size()), 100 * worst, 100 * bias / Z_.size()};
+    v = {100 * std::sqrt(sum / Z_.size()), 100 * worst, 100 * bias / Z_.size()};
+    if (perPoint_) v.insert(v.end(), each.begin(), each.end());
+    if (fit_) {
+      const auto [offset, rms] = bestOffset();
+      v.insert(v.end(), {1e3 * offset, 100 * rms});
+    }
+    return v;
   }
 
  private:
-  double maxT_ = 3;
+  double front(const Simulation& sim) const {
+    return (surgeFront(sim.fluid()) + shift_ - wall_) / a_;
+  }
+  void recordStep(const Simulation& sim) {
+    if (!seriesT_.empty() && sim.time() <= seriesT_.back()) return;  // a sample after its step
+    seriesT_.push_back(sim.time()), seriesZ_.push_back(front(sim));
+  }
+  // The recorded front at time t (linear between steps; the initial front before the release);
+  // NaN past the last step.
+  double frontAt(double t) const {
+    if (t <= seriesT_.front()) return seriesZ_.front();
+    const auto it = std::lower_bound(seriesT_.begin(), seriesT_.end(), t);
+    if (it == seriesT_.end()) return kNaN;
+    const std::size_t j = static_cast<std::size_t>(it - seriesT_.begin());
+    const double w = (t - seriesT_[j - 1]) / (seriesT_[j] - seriesT_[j - 1]);
+    return seriesZ_[j - 1] + w * (seriesZ_[j] - seriesZ_[j - 1]);
+  }
+  // The time offset (s; 0.25 ms grid over [-50, 100] ms) whose RMS deviation is least.
+  std::pair<double, double> bestOffset() const {
+    double best = kNaN, bestRms = std::numeric_limits<double>::infinity();
+    for (int i = -200; i <= 400; ++i) {
+      const double d = 0.00025 * i;
+      double sum = 0;
+      for (std::size_t k = 0; k < T_.size(); ++k) {
+        const double e = (frontAt(T_[k] / tScale_ - d) - Zref_[k]) / Zref_[k];
+        sum += e * e;
+      }
+      const double rms = std::sqrt(sum / T_.size());
+      if (rms < bestRms) best = d, bestRms = rms;  // NaN (past the run's end) never wins
+    }
+    return {best, std::isfinite(bestRms) ? bestRms : kNaN};
+  }
+
+  double maxT_ = 3, offset_ = 0;
+  bool edge_ = false, perPoint_ = false, fit_ = false, series_ = false;
   std::size_t fluid_ = 0;
-  std::vector<double> T_, Zref_;   // reference points
-  std::vector<double> times_, Z_;  // their simulated times (s) and the measured fronts
-  double wall_ = 0, a_ = 1;
+  std::vector<double> T_, Zref_;           // reference points
+  std::vector<double> times_, Z_;          // their simulated times (s) and the measured fronts
+  std::vector<double> seriesT_, seriesZ_;  // the front after every step (fit_offset, series)
+  std::string seriesPath_;
+  double wall_ = 0, a_ = 1, shift_ = 0, tScale_ = 1;
 };
 
 // Compression (rho - rho0) / rho0 of the fluid at every output frame, in percent: the mean over

@@ -4,7 +4,9 @@
 //
 // Built in:
 //   surge_front  dam break against Martin & Moyce (1952): RMS and max relative deviation of the
-//                surge front Z = x / a at the measured points with T <= max_T
+//                surge front Z = x / a at the measured points with T <= max_T; options: a
+//                time offset (a gate held shut), the front at the water's edge, per-point
+//                deviations, the best-fitting offset, the front after every step as a CSV
 //   density      compression (rho - rho0) / rho0 at every output frame: mean and max
 //   energy       total energy (kinetic + potential + EOS elastic) and mean density every N steps,
 //                written as a time series; their drift after a settling time
