@@ -10,6 +10,7 @@
 
 #include "sim/RainDesc.h"
 #include "sim/Solid.h"
+#include "sim/rain/RainRandom.h"
 #include "sim/rain/RainSpace.h"
 
 namespace sph::rain {
@@ -88,6 +89,7 @@ class RainSystem {
   std::uint64_t spawn(std::size_t i, const RainObstacles& obstacles);
   static bool blocked(const Vec3& p, const RainObstacles& obstacles);
   std::uint8_t layerOf(std::size_t i) const;
+  std::uint8_t layerFrom(const DropRandom& u) const;  // layerOf with the drop's numbers
   // Where the path from `from` to `to` (which is in the water) first enters a water cell
   // outside the solids: sampled every quarter cell.
   static Vec3 entryPoint(const Vec3& from, const Vec3& to, const RainObstacles& obstacles);
