@@ -347,7 +347,7 @@ TEST(RainScene, KeysAreReadAndBadValuesRefusedWithOneLine) {
     "camera": {"position": [0, 0, 1], "target": [0, 0, 0],
                "path": [{"time": 0}, {"time": 2, "target": [1, 0, 1], "fov": 30}]},
     "rain": {"count": 500, "near": 0.2, "far": 8, "fall_speed": 4, "wind": [1, 0, 0],
-             "exposure": 0.02, "seed": 9, "spawn": "region", "sampling": "paper",
+             "exposure": 0.02, "seed": 9, "spawn": "region", "sampling": "paper", "lod_width": 0.5,
              "region": {"min": [-1, -1, -1], "max": [1, 1, 1]},
              "spotlight": {"position": [0, 2, 0], "colour": [1, 0, 0], "intensity": 2}}})";
   const Scene s = io::parseScene(text, "r.json");
@@ -357,6 +357,7 @@ TEST(RainScene, KeysAreReadAndBadValuesRefusedWithOneLine) {
   EXPECT_EQ(s.rain->spawn, RainSpawn::Region);
   EXPECT_EQ(s.rain->sampling, RainSampling::Paper);
   EXPECT_EQ(s.rain->seed, 9u);
+  EXPECT_EQ(s.rain->lodWidth, 0.5f);
   ASSERT_TRUE(s.rain->spotlight.has_value());
   EXPECT_EQ(s.rain->spotlight->colour, Vec3(1, 0, 0));
   ASSERT_EQ(s.cameraPath.size(), 2u);
@@ -384,6 +385,8 @@ TEST(RainScene, KeysAreReadAndBadValuesRefusedWithOneLine) {
             "r.json: rain.spotlight.base_radius:"},
            {R"({"spotlight": {"position": [0, 1, 0], "colour": [2, 0, 0]}})",
             "r.json: rain.spotlight.colour:"},
+           {R"({"lod_width": 1.5})", "r.json: rain.lod_width: expected a number in [0, 1]"},
+           {R"({"lod_width": 0.5, "draw": "triangles"})", "r.json: rain.lod_width: only used"},
            {R"({"raincount": 5})", "r.json: rain.raincount: unknown key"},
        }) {
     const std::string e = errorOf(b.rain);

@@ -65,7 +65,8 @@ class StreakRaster {
  private:
   RainDesc desc_;
   StreakImages images_;
-  std::vector<float> alpha_;  // images_ as floats in [0, 1], each padded by its edge texels
+  std::vector<float> alpha_;    // images_ as floats in [0, 1], each padded by its edge texels
+  std::vector<float> profile_;  // alpha_'s rows averaged across the width (rain.lod_width)
   std::vector<float> layer_;
   std::vector<float> farDepth_;  // the frame's depth when draw() is given none: beyond every streak
   // The drops each band of rows takes, per thread of the binning pass (its own contiguous share
