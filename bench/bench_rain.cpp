@@ -54,7 +54,14 @@ void RainUpdate(benchmark::State& state) {
   rain::RainSystem r(desc(state.range(0), state.range(1)), kAspect);
   r.reset(cameraAtFrame(0));
   int frame = 0;
+  const rain::RainCounters before = r.counters();
   for (auto _ : state) r.update(cameraAtFrame(++frame), 1.0f / 30);
+  // Respawns per frame and sphere (or box) samples per respawn: what the update's time is spent on.
+  const rain::RainCounters& c = r.counters();
+  const double respawns = static_cast<double>(c.accepted - before.accepted);
+  state.counters["respawns/frame"] = respawns / static_cast<double>(state.iterations());
+  state.counters["samples/respawn"] =
+      respawns > 0 ? (respawns + static_cast<double>(c.rejected - before.rejected)) / respawns : 0;
   state.counters["drops/s"] = benchmark::Counter(
       static_cast<double>(state.iterations() * state.range(0)), benchmark::Counter::kIsRate);
 }

@@ -176,6 +176,22 @@ TEST(RainSampling, UniformFillsTheBallEvenlyEquation7DoesNot) {
   EXPECT_GT(innerPaper, 0.4);               // eq. (7) piles drops near the centre
 }
 
+TEST(RainSampling, CubeRootIsWithinTwoUlpOfTheLibrarys) {
+  double worst = 0;
+  auto check = [&](float u) {
+    const float ref = std::cbrt(u);
+    const double ulp = std::nextafter(ref, 2.0f) - ref;
+    worst = std::max(worst, std::abs(static_cast<double>(rain::cubeRoot(u)) - ref) / ulp);
+  };
+  for (int i = 0; i < 1000000; ++i) check(rain::unitRandom(5, static_cast<std::uint64_t>(i), 0, 0));
+  for (int e = 1; e <= 24; ++e) check(std::ldexp(1.0f, -e));  // every power of two down to 2^-24
+  check(1.0f), check(1.0f - 1.0f / 16777216);
+  EXPECT_LE(worst, 2.0);
+  EXPECT_EQ(rain::cubeRoot(0), 0.0f);
+  EXPECT_EQ(rain::cubeRoot(std::nanf("")), 0.0f);
+  EXPECT_NEAR(rain::cubeRoot(0.125f), 0.5f, 1e-7f);
+}
+
 TEST(RainSystem, RespawnKeepsTheBudgetAndNoDropIsEverInsideASolid) {
   const CameraDesc c = lookingAlongZ();
   RainDesc d = rainDesc(RainSpawn::View);

@@ -38,6 +38,10 @@ struct RainObstacles {
 // for the paper's per-axis radii (eq. (6)-(7)); u = {u0, u1, u2, u3, u4}.
 Vec3 sampleBall(RainSampling sampling, const float u[5]);
 
+// The cube root of u in [0, 1] (the radius of a uniform point of the ball), within 2 ulp of
+// std::cbrt; 0 for u <= 0 or NaN.
+float cubeRoot(float u);
+
 bool insideSolid(const Vec3& p, const std::vector<Solid>& solids);
 
 struct RainCounters {
