@@ -128,15 +128,21 @@ int clipPolygon(const Vec4f* in, int n, Vec4f* out, Plane inside) {
   return m;
 }
 
+// Half the streak's width, transformed: halfWidth along cross(head - tail, eye - middle), or
+// along the camera's right when that vanishes (shaders/rain.vert).
+Vec4f halfWidthOf(const Frame& f, const Vec3& head) {
+  Vec3 side = f.dir.cross(f.eye - (head - 0.5f * f.dir));
+  const float length = side.norm();
+  side = length > 1e-12f ? Vec3(side * (f.halfWidth / length)) : Vec3(f.right * f.halfWidth);
+  return f.apply(side, 0);
+}
+
 // Sets up the streak of the drop at `head`; false if it covers no pixel of the viewport.
 // Mirrors shaders/rain.vert: the quad from tail to head, halfWidth either side along
 // cross(head - tail, eye - middle), or along the camera's right when that vanishes.
 bool setUp(const Frame& f, const Vec3& head, Streak& s) {
   const Vec4f h = f.apply(head, 1), t = h - f.along;
-  Vec3 side = f.dir.cross(f.eye - (head - 0.5f * f.dir));
-  const float length = side.norm();
-  side = length > 1e-12f ? Vec3(side * (f.halfWidth / length)) : Vec3(f.right * f.halfWidth);
-  const Vec4f half = f.apply(side, 0);
+  const Vec4f half = halfWidthOf(f, head);
   const Vec4f o = t - half, a = half * 2, b = f.along;
   Vec4f poly[8] = {o, o + a, h + half, o + b};
   int n = 4;
@@ -216,10 +222,7 @@ bool setUpLine(const Frame& f, const Vec3& head, float lodWidth, Line& l) {
   const float xh = h.x * rh, yh = h.y * rh, xt = t.x * rt, yt = t.y * rt;
   const float dx = xh - xt, dy = yh - yt;
   if (!(std::abs(dy) >= std::max(std::abs(dx), 1.0f))) return false;  // flat or short: exact
-  Vec3 side = f.dir.cross(f.eye - (head - 0.5f * f.dir));
-  const float length = side.norm();
-  side = length > 1e-12f ? Vec3(side * (f.halfWidth / length)) : Vec3(f.right * f.halfWidth);
-  const Vec4f half = f.apply(side, 0);
+  const Vec4f half = halfWidthOf(f, head);
   // The quad's horizontal extent in a row at each end: its two long edges, 2 half apart, cut by
   // the row, (X' + dX) / (W + dW) - X' / W = (dX - x dW) / W to first order.
   const float slope = dx / dy;

@@ -49,7 +49,8 @@ class StreakRaster {
   // Rasterises the drops into layer(). `unlit`: the linear colour of a drop outside the
   // spotlight's cone (eq. (13)). `depth`: the frame's window depth per pixel (width x height,
   // row 0 at the bottom, GL's order), a fragment is kept where it is nearer (GL_LESS); null:
-  // no depth test.
+  // no depth test. With desc.lodWidth > 0, streaks narrower than that many pixels are drawn as
+  // lines of one sample per row instead (docs/rain.md, "Level of detail").
   void draw(const StreakView& view, const StreakDrops& drops, const Vec3& unlit,
             const float* depth);
 
