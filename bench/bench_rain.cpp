@@ -54,7 +54,14 @@ void RainUpdate(benchmark::State& state) {
   rain::RainSystem r(desc(state.range(0), state.range(1)), kAspect);
   r.reset(cameraAtFrame(0));
   int frame = 0;
+  const rain::RainCounters before = r.counters();
   for (auto _ : state) r.update(cameraAtFrame(++frame), 1.0f / 30);
+  // Respawns per frame and sphere (or box) samples per respawn: what the update's time is spent on.
+  const rain::RainCounters& c = r.counters();
+  const double respawns = static_cast<double>(c.accepted - before.accepted);
+  state.counters["respawns/frame"] = respawns / static_cast<double>(state.iterations());
+  state.counters["samples/respawn"] =
+      respawns > 0 ? (respawns + static_cast<double>(c.rejected - before.rejected)) / respawns : 0;
   state.counters["drops/s"] = benchmark::Counter(
       static_cast<double>(state.iterations() * state.range(0)), benchmark::Counter::kIsRate);
 }
@@ -138,9 +145,10 @@ BENCHMARK(RainDraw)
 
 // The CPU rasteriser of rain.draw "cpu" alone (render/rain/StreakRaster.h, no GL: what RainDraw's
 // "cpu" cases spend besides the depth read-back, the layer upload and the blend pass), against an
-// empty depth buffer. args: drops.
+// empty depth buffer. args: drops, rain.lod_width in hundredths of a pixel (0: every streak exact).
 void RainRaster(benchmark::State& state) {
-  const RainDesc d = desc(state.range(0), 0);
+  RainDesc d = desc(state.range(0), 0);
+  d.lodWidth = static_cast<float>(state.range(1)) / 100;
   rain::RainSystem r(d, kAspect);
   r.reset(cameraAtFrame(0));
   render::rain::StreakRaster raster(d, render::rain::generateStreakImages(8, 16, 64, d.seed));
@@ -154,14 +162,20 @@ void RainRaster(benchmark::State& state) {
   state.counters["fragments/drop"] =
       static_cast<double>(raster.fragments()) / static_cast<double>(state.range(0));
 }
-BENCHMARK(RainRaster)->Arg(10000)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond);
+BENCHMARK(RainRaster)
+    ->ArgsProduct({{10000, 100000, 1000000}, {0}})
+    ->Args({1000000, 50})
+    ->Args({1000000, 100})
+    ->Unit(benchmark::kMillisecond);
 
 // The paper's Fig. 8 layout: a whole frame of rain against the budget - update (move + respawn)
 // + upload + draw + read back, 960x540, no water - while the camera pans 90 degrees a second.
-// args: drops, spawn (0 view, 1 box, 2 region), rain.draw (0 "cpu", 1 "triangles").
+// args: drops, spawn (0 view, 1 box, 2 region), rain.draw (0 "cpu", 1 "triangles"),
+// rain.lod_width in hundredths of a pixel.
 void RainFrame(benchmark::State& state) {
   RainDesc d = desc(state.range(0), state.range(1));
   d.draw = static_cast<sph::RainDraw>(state.range(2));
+  d.lodWidth = static_cast<float>(state.range(3)) / 100;
   RainFrameDraw rain(d);
   int frame = 0;
   for (auto _ : state) {
@@ -175,7 +189,9 @@ void RainFrame(benchmark::State& state) {
                                          : 0.0;
 }
 BENCHMARK(RainFrame)
-    ->ArgsProduct({{1000, 10000, 100000, 1000000}, {0, 1, 2}, {0}})
+    ->ArgsProduct({{1000, 10000, 100000, 1000000}, {0, 1, 2}, {0}, {0}})
+    ->Args({1000000, 0, 0, 50})
+    ->Args({1000000, 0, 0, 100})
     ->Unit(benchmark::kMillisecond);
 
 // --- The paper's claim in numbers (issue 13, "Measured" 1): drops inside the view frustum ---

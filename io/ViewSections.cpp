@@ -167,6 +167,12 @@ RainDesc readRain(JsonReader r) {
                                              "an integer in [1, 64] (array texture layers)",
                                              [](double v) { return integerIn(v, 1, 64); }));
   d.draw = r.choice("draw", std::optional(RainDraw::Cpu));
+  d.lodWidth = static_cast<float>(
+      r.number("lod_width", d.lodWidth,
+               "a number in [0, 1] (pixels: narrower streaks are drawn as lines; 0 = none)",
+               [](double v) { return v >= 0 && v <= 1; }));
+  if (d.lodWidth > 0 && d.draw != RainDraw::Cpu)
+    r.fail("lod_width", "only used with \"draw\": \"cpu\"");
   if (auto l = r.optionalObject("spotlight")) d.spotlight = readSpotlight(*l);
   d.feedFluid = r.boolean("feed_fluid", false);
   // Up to a cubic metre: a "drop" that stands for many, to show the fill in a short run.

@@ -89,6 +89,9 @@ struct RainDesc {
   Aabb region;           // m, the fixed rain box of spawn "region"
   int streakLayers = 8;  // procedurally generated streak images in the array texture
   RainDraw draw = RainDraw::Cpu;
+  // rain.lod_width (docs/rain.md, "Level of detail"): with draw "cpu", streaks narrower than this
+  // many pixels are drawn as lines of one sample per row; 0, the default: every streak exact.
+  float lodWidth = 0;
   std::optional<SpotlightDesc> spotlight;
   // rain.feed_fluid (docs/rain.md, "Rain that fills the pool"): false, the paper, a drop that
   // lands in the water vanishes; true, its water joins the SPH fluid (sim/rain/RainFeed.h).

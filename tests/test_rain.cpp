@@ -176,6 +176,22 @@ TEST(RainSampling, UniformFillsTheBallEvenlyEquation7DoesNot) {
   EXPECT_GT(innerPaper, 0.4);               // eq. (7) piles drops near the centre
 }
 
+TEST(RainSampling, CubeRootIsWithinTwoUlpOfTheLibrarys) {
+  double worst = 0;
+  auto check = [&](float u) {
+    const float ref = std::cbrt(u);
+    const double ulp = std::nextafter(ref, 2.0f) - ref;
+    worst = std::max(worst, std::abs(static_cast<double>(rain::cubeRoot(u)) - ref) / ulp);
+  };
+  for (int i = 0; i < 1000000; ++i) check(rain::unitRandom(5, static_cast<std::uint64_t>(i), 0, 0));
+  for (int e = 1; e <= 24; ++e) check(std::ldexp(1.0f, -e));  // every power of two down to 2^-24
+  check(1.0f), check(1.0f - 1.0f / 16777216);
+  EXPECT_LE(worst, 2.0);
+  EXPECT_EQ(rain::cubeRoot(0), 0.0f);
+  EXPECT_EQ(rain::cubeRoot(std::nanf("")), 0.0f);
+  EXPECT_NEAR(rain::cubeRoot(0.125f), 0.5f, 1e-7f);
+}
+
 TEST(RainSystem, RespawnKeepsTheBudgetAndNoDropIsEverInsideASolid) {
   const CameraDesc c = lookingAlongZ();
   RainDesc d = rainDesc(RainSpawn::View);
@@ -347,7 +363,7 @@ TEST(RainScene, KeysAreReadAndBadValuesRefusedWithOneLine) {
     "camera": {"position": [0, 0, 1], "target": [0, 0, 0],
                "path": [{"time": 0}, {"time": 2, "target": [1, 0, 1], "fov": 30}]},
     "rain": {"count": 500, "near": 0.2, "far": 8, "fall_speed": 4, "wind": [1, 0, 0],
-             "exposure": 0.02, "seed": 9, "spawn": "region", "sampling": "paper",
+             "exposure": 0.02, "seed": 9, "spawn": "region", "sampling": "paper", "lod_width": 0.5,
              "region": {"min": [-1, -1, -1], "max": [1, 1, 1]},
              "spotlight": {"position": [0, 2, 0], "colour": [1, 0, 0], "intensity": 2}}})";
   const Scene s = io::parseScene(text, "r.json");
@@ -357,6 +373,7 @@ TEST(RainScene, KeysAreReadAndBadValuesRefusedWithOneLine) {
   EXPECT_EQ(s.rain->spawn, RainSpawn::Region);
   EXPECT_EQ(s.rain->sampling, RainSampling::Paper);
   EXPECT_EQ(s.rain->seed, 9u);
+  EXPECT_EQ(s.rain->lodWidth, 0.5f);
   ASSERT_TRUE(s.rain->spotlight.has_value());
   EXPECT_EQ(s.rain->spotlight->colour, Vec3(1, 0, 0));
   ASSERT_EQ(s.cameraPath.size(), 2u);
@@ -384,6 +401,8 @@ TEST(RainScene, KeysAreReadAndBadValuesRefusedWithOneLine) {
             "r.json: rain.spotlight.base_radius:"},
            {R"({"spotlight": {"position": [0, 1, 0], "colour": [2, 0, 0]}})",
             "r.json: rain.spotlight.colour:"},
+           {R"({"lod_width": 1.5})", "r.json: rain.lod_width: expected a number in [0, 1]"},
+           {R"({"lod_width": 0.5, "draw": "triangles"})", "r.json: rain.lod_width: only used"},
            {R"({"raincount": 5})", "r.json: rain.raincount: unknown key"},
        }) {
     const std::string e = errorOf(b.rain);

@@ -51,8 +51,13 @@ RainDesc desc(std::size_t count, RainDraw draw) {
   return d;
 }
 
-TEST(StreakRaster, TheLayerIsTheSameBitForBitForAnyThreadCount) {
-  const RainDesc d = desc(20000, RainDraw::Cpu);
+// rain.lod_width 0 (every streak exact) and 1 (the lines of the level of detail).
+class StreakRasterLod : public ::testing::TestWithParam<float> {};
+INSTANTIATE_TEST_SUITE_P(LodWidth, StreakRasterLod, ::testing::Values(0.0f, 1.0f));
+
+TEST_P(StreakRasterLod, TheLayerIsTheSameBitForBitForAnyThreadCount) {
+  RainDesc d = desc(20000, RainDraw::Cpu);
+  d.lodWidth = GetParam();
   sph::rain::RainSystem drops(d, kAspect);
   drops.reset(camera());
   // A depth buffer with a near wall over the left third, so the depth test takes part.
@@ -79,8 +84,9 @@ TEST(StreakRaster, TheLayerIsTheSameBitForBitForAnyThreadCount) {
   omp_set_num_threads(threads);
 }
 
-TEST(StreakRaster, NothingIsDrawnBehindTheDepthAndEverythingInFrontOfIt) {
-  const RainDesc d = desc(2000, RainDraw::Cpu);
+TEST_P(StreakRasterLod, NothingIsDrawnBehindTheDepthAndEverythingInFrontOfIt) {
+  RainDesc d = desc(2000, RainDraw::Cpu);
+  d.lodWidth = GetParam();
   sph::rain::RainSystem drops(d, kAspect);
   drops.reset(camera());
   const StreakView view{cameraFrame(camera(), kAspect), kWidth, kHeight};
@@ -97,6 +103,72 @@ TEST(StreakRaster, NothingIsDrawnBehindTheDepthAndEverythingInFrontOfIt) {
   raster.draw(view, input, Vec3(0.4f, 0.45f, 0.5f), nullptr);
   EXPECT_GT(all, 2000u);
   EXPECT_EQ(raster.fragments(), all);
+}
+
+// The level of detail against the exact streaks (docs/rain.md, "Level of detail"): the same
+// drops over a mid-grey frame, 8-bit sRGB values. The lines spread a streak's light over every
+// row instead of the rows whose pixel centre it happens to cover, so single pixels differ by up
+// to a streak's full alpha; the light in total stays the same and the picture stays close.
+TEST(StreakRaster, LevelOfDetailKeepsTheLightAndStaysCloseToTheExactStreaks) {
+  RainDesc d = desc(20000, RainDraw::Cpu);
+  d.spotlight.reset();  // one colour: the light in total compares as one number
+  sph::rain::RainSystem drops(d, kAspect);
+  drops.reset(camera());
+  const StreakView view{cameraFrame(camera(), kAspect), kWidth, kHeight};
+  const StreakDrops input{&drops.positions(), &drops.layers(), drops.velocity()};
+  auto frame = [&](float lodWidth, std::uint64_t& fragments) {
+    RainDesc e = d;
+    e.lodWidth = lodWidth;
+    StreakRaster raster(e, generateStreakImages(e.streakLayers, 16, 64, e.seed));
+    raster.draw(view, input, Vec3(0.9f, 0.9f, 0.9f), nullptr);
+    fragments = raster.fragments();
+    std::vector<double> out;
+    for (std::size_t i = 0; i < raster.layer().size(); i += 4)
+      for (int c = 0; c < 3; ++c)
+        out.push_back(std::round(255 * (raster.layer()[i + c] + raster.layer()[i + 3] * 0.5f)));
+    return out;
+  };
+  std::uint64_t exactFragments = 0;
+  const std::vector<double> exact = frame(0, exactFragments);
+  for (const float lodWidth : {0.5f, 1.0f}) {
+    std::uint64_t fragments = 0;
+    const std::vector<double> lod = frame(lodWidth, fragments);
+    double mse = 0, worst = 0, lightExact = 0, lightLod = 0;
+    for (std::size_t i = 0; i < exact.size(); ++i) {
+      mse += (lod[i] - exact[i]) * (lod[i] - exact[i]);
+      worst = std::max(worst, std::abs(lod[i] - exact[i]));
+      lightExact += exact[i] - 128, lightLod += lod[i] - 128;
+    }
+    mse /= static_cast<double>(exact.size());
+    // The same over blocks of 4 x 4 pixels, averaged: the picture at a scale of a few pixels.
+    double blockMse = 0;
+    int blocks = 0;
+    for (int by = 0; by + 4 <= kHeight; by += 4)
+      for (int bx = 0; bx + 4 <= kWidth; bx += 4)
+        for (int c = 0; c < 3; ++c) {
+          double diff = 0;
+          for (int y = by; y < by + 4; ++y)
+            for (int x = bx; x < bx + 4; ++x) {
+              const std::size_t i = 3 * (static_cast<std::size_t>(y) * kWidth + x) + c;
+              diff += (lod[i] - exact[i]) / 16;
+            }
+          blockMse += diff * diff, ++blocks;
+        }
+    blockMse /= blocks;
+    const double psnr = 10 * std::log10(255.0 * 255.0 / std::max(mse, 1e-12));
+    const double blockPsnr = 10 * std::log10(255.0 * 255.0 / std::max(blockMse, 1e-12));
+    std::printf(
+        "lod_width %.1f: PSNR %.1f dB (4x4 blocks: %.1f dB), worst %.0f of 255, light "
+        "%.4f of the exact's, fragments %llu against %llu\n",
+        lodWidth, psnr, blockPsnr, worst, lightLod / lightExact,
+        static_cast<unsigned long long>(fragments),
+        static_cast<unsigned long long>(exactFragments));
+    EXPECT_NEAR(lightLod / lightExact, 1.0, 0.01) << lodWidth;
+    EXPECT_GT(psnr, lodWidth < 0.75f ? 27.0 : 22.0) << lodWidth;
+    EXPECT_GT(blockPsnr, lodWidth < 0.75f ? 40.0 : 36.0) << lodWidth;
+    EXPECT_LE(worst, lodWidth < 0.75f ? 90.0 : 110.0) << lodWidth;
+    EXPECT_GT(fragments, exactFragments) << lodWidth;  // every row of a line, not ~its width
+  }
 }
 
 class RainRasterGl : public ::testing::Test {

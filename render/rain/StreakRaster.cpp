@@ -128,15 +128,21 @@ int clipPolygon(const Vec4f* in, int n, Vec4f* out, Plane inside) {
   return m;
 }
 
+// Half the streak's width, transformed: halfWidth along cross(head - tail, eye - middle), or
+// along the camera's right when that vanishes (shaders/rain.vert).
+Vec4f halfWidthOf(const Frame& f, const Vec3& head) {
+  Vec3 side = f.dir.cross(f.eye - (head - 0.5f * f.dir));
+  const float length = side.norm();
+  side = length > 1e-12f ? Vec3(side * (f.halfWidth / length)) : Vec3(f.right * f.halfWidth);
+  return f.apply(side, 0);
+}
+
 // Sets up the streak of the drop at `head`; false if it covers no pixel of the viewport.
 // Mirrors shaders/rain.vert: the quad from tail to head, halfWidth either side along
 // cross(head - tail, eye - middle), or along the camera's right when that vanishes.
 bool setUp(const Frame& f, const Vec3& head, Streak& s) {
   const Vec4f h = f.apply(head, 1), t = h - f.along;
-  Vec3 side = f.dir.cross(f.eye - (head - 0.5f * f.dir));
-  const float length = side.norm();
-  side = length > 1e-12f ? Vec3(side * (f.halfWidth / length)) : Vec3(f.right * f.halfWidth);
-  const Vec4f half = f.apply(side, 0);
+  const Vec4f half = halfWidthOf(f, head);
   const Vec4f o = t - half, a = half * 2, b = f.along;
   Vec4f poly[8] = {o, o + a, h + half, o + b};
   int n = 4;
@@ -191,6 +197,44 @@ bool setUp(const Frame& f, const Vec3& head, Streak& s) {
       s.rightP[k] = p, s.rightQ[k] = q;
     }
   }
+  return true;
+}
+
+// The level of detail of rain.lod_width (docs/rain.md, "Level of detail"): a streak narrower
+// than that many pixels, wholly between near and far and steeper than 45 degrees on the screen,
+// drawn as a line of one sample per row - at the centre line, with the streak image averaged
+// across its width and weighted by the share of the row the streak covers, its coordinate along
+// the streak and its depth interpolated affinely between the ends (no perspective divide). The
+// exact quads cover a pixel centre in about that share of the rows, at full alpha: the same
+// light on average, spread evenly, in ~1/4 of the work per row.
+struct Line {
+  float xt, yt, zt;  // the tail in window coordinates (pixels, depth)
+  float dx, dz;      // the head minus the tail, per unit of s
+  float invDy;       // s = (y - yt) invDy: 0 at the tail, 1 at the head
+  float coverage;    // share of a row the streak covers, < 1
+  int first, end;    // rows whose centre lies between the ends
+};
+
+bool setUpLine(const Frame& f, const Vec3& head, float lodWidth, Line& l) {
+  const Vec4f h = f.apply(head, 1), t = h - f.along;
+  if (!(h.w > 0 && t.w > 0 && h.z >= 0 && h.z <= h.w && t.z >= 0 && t.z <= t.w)) return false;
+  const float rh = 1 / h.w, rt = 1 / t.w;
+  const float xh = h.x * rh, yh = h.y * rh, xt = t.x * rt, yt = t.y * rt;
+  const float dx = xh - xt, dy = yh - yt;
+  if (!(std::abs(dy) >= std::max(std::abs(dx), 1.0f))) return false;  // flat or short: exact
+  const Vec4f half = halfWidthOf(f, head);
+  // The quad's horizontal extent in a row at each end: its two long edges, 2 half apart, cut by
+  // the row, (X' + dX) / (W + dW) - X' / W = (dX - x dW) / W to first order.
+  const float slope = dx / dy;
+  auto gap = [&](float x, float y, float r) {
+    return 2 * std::abs((half.x - x * half.w) * r - slope * (half.y - y * half.w) * r);
+  };
+  l.coverage = std::max(gap(xh, yh, rh), gap(xt, yt, rt));
+  if (!(l.coverage < lodWidth)) return false;
+  l.xt = xt, l.yt = yt, l.zt = t.z * rt;
+  l.dx = dx, l.dz = h.z * rh - l.zt, l.invDy = 1 / dy;
+  l.first = floorToInt(std::ceil(std::min(yt, yh) - 0.5f), 0, f.height);
+  l.end = floorToInt(std::ceil(std::max(yt, yh) - 0.5f), 0, f.height);
   return true;
 }
 
@@ -261,6 +305,15 @@ StreakRaster::StreakRaster(const RainDesc& desc, StreakImages images)
       for (int column = 0; column < pw; ++column)
         alpha_[(static_cast<std::size_t>(l) * ph + row) * pw + column] =
             images_.at(l, std::clamp(row - 1, 0, h - 1), std::clamp(column - 1, 0, w - 1)) / 255.0f;
+  // The level of detail's lines: each padded row of each image averaged across its width.
+  profile_.assign(static_cast<std::size_t>(images_.layers) * ph, 0.0f);
+  for (int l = 0; l < images_.layers; ++l)
+    for (int row = 0; row < ph; ++row) {
+      float sum = 0;
+      for (int column = 0; column < w; ++column)
+        sum += alpha_[(static_cast<std::size_t>(l) * ph + row) * pw + column + 1];
+      profile_[static_cast<std::size_t>(l) * ph + row] = sum / static_cast<float>(w);
+    }
 }
 
 void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const Vec3& unlit,
@@ -319,6 +372,7 @@ void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const 
   }
   const float* const frameDepth = depth;
   constexpr int kChunk = 16;
+  const bool lod = desc_.lodWidth > 0;
   std::uint64_t fragments = 0;
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : fragments)
   for (int band = 0; band < bandCount; ++band) {
@@ -329,6 +383,28 @@ void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const 
       out[i] = out[i + 1] = out[i + 2] = 0, out[i + 3] = 1;
     for (int thread = 0; thread < threads; ++thread) {
       for (const std::uint32_t i : bins_[static_cast<std::size_t>(thread) * bandCount + band]) {
+        Line line;
+        if (lod && setUpLine(f, heads[i], desc_.lodWidth, line)) {
+          const int first = std::max(bandFirst, line.first), end = std::min(bandEnd, line.end);
+          if (end <= first) continue;
+          const Vec3 c = colourOf(heads[i]);
+          const float* p = profile_.data() + static_cast<std::size_t>(layers[i]) * ph;
+          for (int row = first; row < end; ++row) {
+            const float sAlong = std::min(
+                std::max(0.0f, (static_cast<float>(row) + 0.5f - line.yt) * line.invDy), 1.0f);
+            const float x = line.xt + sAlong * line.dx;
+            if (!(x >= 0 && x < static_cast<float>(width_))) continue;
+            const int pixel = row * width_ + static_cast<int>(x);
+            const float z = line.zt + sAlong * line.dz;
+            const bool keep = z < frameDepth[pixel];
+            const float tt = sAlong * fh + 0.5f;  // padded texel rows, as fragmentAlpha
+            const int t0 = static_cast<int>(tt);
+            const float a = p[t0] + (tt - static_cast<float>(t0)) * (p[t0 + 1] - p[t0]);
+            fragments += keep;
+            blend(out + 4 * static_cast<std::size_t>(pixel), c, keep ? a * line.coverage : 0.0f);
+          }
+          continue;
+        }
         Streak s;
         if (!setUp(f, heads[i], s)) continue;
         const int first = std::max(bandFirst, floorToInt(std::ceil(s.yMin - 0.5f), 0, height_));

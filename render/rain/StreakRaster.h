@@ -49,7 +49,8 @@ class StreakRaster {
   // Rasterises the drops into layer(). `unlit`: the linear colour of a drop outside the
   // spotlight's cone (eq. (13)). `depth`: the frame's window depth per pixel (width x height,
   // row 0 at the bottom, GL's order), a fragment is kept where it is nearer (GL_LESS); null:
-  // no depth test.
+  // no depth test. With desc.lodWidth > 0, streaks narrower than that many pixels are drawn as
+  // lines of one sample per row instead (docs/rain.md, "Level of detail").
   void draw(const StreakView& view, const StreakDrops& drops, const Vec3& unlit,
             const float* depth);
 
@@ -65,7 +66,8 @@ class StreakRaster {
  private:
   RainDesc desc_;
   StreakImages images_;
-  std::vector<float> alpha_;  // images_ as floats in [0, 1], each padded by its edge texels
+  std::vector<float> alpha_;    // images_ as floats in [0, 1], each padded by its edge texels
+  std::vector<float> profile_;  // alpha_'s rows averaged across the width (rain.lod_width)
   std::vector<float> layer_;
   std::vector<float> farDepth_;  // the frame's depth when draw() is given none: beyond every streak
   // The drops each band of rows takes, per thread of the binning pass (its own contiguous share

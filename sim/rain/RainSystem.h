@@ -10,6 +10,7 @@
 
 #include "sim/RainDesc.h"
 #include "sim/Solid.h"
+#include "sim/rain/RainRandom.h"
 #include "sim/rain/RainSpace.h"
 
 namespace sph::rain {
@@ -36,6 +37,10 @@ struct RainObstacles {
 // A point in the ball of radius 1 about the origin from three uniform numbers and a fourth set
 // for the paper's per-axis radii (eq. (6)-(7)); u = {u0, u1, u2, u3, u4}.
 Vec3 sampleBall(RainSampling sampling, const float u[5]);
+
+// The cube root of u in [0, 1] (the radius of a uniform point of the ball), within 2 ulp of
+// std::cbrt; 0 for u <= 0 or NaN.
+float cubeRoot(float u);
 
 bool insideSolid(const Vec3& p, const std::vector<Solid>& solids);
 
@@ -88,6 +93,7 @@ class RainSystem {
   std::uint64_t spawn(std::size_t i, const RainObstacles& obstacles);
   static bool blocked(const Vec3& p, const RainObstacles& obstacles);
   std::uint8_t layerOf(std::size_t i) const;
+  std::uint8_t layerFrom(const DropRandom& u) const;  // layerOf with the drop's numbers
   // Where the path from `from` to `to` (which is in the water) first enters a water cell
   // outside the solids: sampled every quarter cell.
   static Vec3 entryPoint(const Vec3& from, const Vec3& to, const RainObstacles& obstacles);
