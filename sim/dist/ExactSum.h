@@ -3,8 +3,9 @@
 // such sums is integer addition, associative and commutative, so the total is the same whatever
 // the order the terms are added in, however they are split between threads or ranks, and is
 // rounded only once, at the end (toDouble()). The distributed run (docs/scaling.md) needs that for
-// the one global sum of a step (the gradient correction, sim/SphPasses.cpp): a serial sum in
-// particle order would depend on which rank holds which particles.
+// the global sums of a step (the gradient correction, sim/SphPasses.cpp; DFSPH's error means,
+// sim/Dfsph.cpp): a serial sum in particle order would depend on which rank holds which
+// particles.
 #pragma once
 
 #include <array>

@@ -13,8 +13,8 @@
 // the particles present. Each particle carries the key of its place in the global order (its cell
 // in the domain's lattice, then its place within the cell, both fixed by the owner of the cell);
 // before the grid's stable sort the local arrays are put in key order, so the sort reproduces the
-// global order on every rank. The step's one global sum (the gradient correction) is exact
-// (ExactSum) and so independent of the split; max/min reductions are exact.
+// global order on every rank. The step's global sums (the gradient correction, DFSPH's error
+// means) are exact (ExactSum) and so independent of the split; max/min reductions are exact.
 //
 // MPI-free: the collectives go through dist::Communicator (mpi/MpiCommunicator.h implements it).
 #pragma once
