@@ -97,7 +97,7 @@ RunState broadcastRunState(dist::Communicator& ranks, const RunState& state) {
   dist::Bytes b;
   if (ranks.rank() == 0) {
     put(b, state.time), put(b, state.step), put(b, state.lastDt), put(b, state.maxSpeed);
-    put(b, state.maxAcceleration), put(b, state.nextId);
+    put(b, state.maxAcceleration), put(b, state.nextId), put(b, state.lostParticles);
     put(b, static_cast<std::uint64_t>(state.emitters.size()));
     for (const EmitterState& e : state.emitters) {
       put(b, e.travelled), put(b, e.emitted);
@@ -108,7 +108,8 @@ RunState broadcastRunState(dist::Communicator& ranks, const RunState& state) {
   RunState s;
   std::size_t at = 0;
   take(b, at, s.time), take(b, at, s.step), take(b, at, s.lastDt), take(b, at, s.maxSpeed);
-  take(b, at, s.maxAcceleration), take(b, at, s.nextId);
+  // The lost particles so far: every rank checks the tolerance with them (Simulation::step).
+  take(b, at, s.maxAcceleration), take(b, at, s.nextId), take(b, at, s.lostParticles);
   std::uint64_t emitters = 0;
   take(b, at, emitters);
   s.emitters.resize(emitters);

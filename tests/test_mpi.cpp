@@ -262,6 +262,42 @@ TEST(MpiLost, ParticlesLeavingTheDomainAreRemovedAndCountedAsByOneProcess) {
       << threeStrict.output;
 }
 
+TEST(MpiLost, AResumedRunCountsTheParticlesLostBeforeOnEveryRank) {
+  // The thrown block of the test above with a tolerance of 100: a run to 0.225 s loses fewer,
+  // the resume loses the 101st and stops as one process does (exit 3, the same message). The
+  // particles leave through the last rank's slab, whose guard decides: it must count the
+  // particles lost before the resume, which rank 0 read from the cache.
+  const std::string dir = test::makeTempDir();
+  const std::string file = dir + "/thrown.json";
+  std::ofstream(file) << R"({"solver": {"spacing": 0.01, "gravity": [0, 0, 0],
+      "max_lost_particles": 100, "end_time": 0.25},
+    "domain": {"min": [-0.1, -0.1, -0.1], "max": [0.3, 0.15, 0.15]},
+    "fluids": [{"min": [0, 0, 0], "max": [0.1, 0.05, 0.05], "velocity": [1.0, 0, 0]}],
+    "output": {"fps": 40}})";
+  const auto one = runShell(plain(file, ""));
+  ASSERT_EQ(one.exitCode, 3) << one.output;
+  const std::string words = "more than solver.max_lost_particles = 100";
+  auto line = [&](const std::string& out) {
+    const std::size_t at = out.find(words);
+    if (at == std::string::npos) return std::string();
+    const std::size_t from = out.rfind('\n', at) + 1;
+    return out.substr(from, out.find('\n', at) - from);
+  };
+  ASSERT_NE(line(one.output), "") << one.output;
+  const std::string out = dir + "/part.h5";
+  const auto first = runShell(ranks(2, file, "--end 0.225 -o '" + out + "'"));
+  ASSERT_EQ(first.exitCode, 0) << first.output;
+  {
+    const io::CacheReader part(out);
+    const auto [state, fluid] = part.readRestart(part.frameCount() - 1);
+    ASSERT_GT(state.lostParticles, 0u) << "none lost before the resume";
+    ASSERT_LE(state.lostParticles, 100u);
+  }
+  const auto resumed = runShell(ranks(3, file, "--resume '" + out + "'"));
+  EXPECT_EQ(resumed.exitCode, 3) << resumed.output;
+  EXPECT_EQ(line(resumed.output), line(one.output)) << resumed.output;
+}
+
 // DFSPH (solver.pressure "dfsph", the accurate preset) on K processes: its Jacobi iterations read
 // the neighbours' velocities of the iteration before, so the ghosts' velocities are sent again
 // before every source pass; the warm start travels with the particles and into the resume
