@@ -51,12 +51,6 @@ void refuseUnsupported(const Scene& scene, int ranks) {
                      "OpenGL); run without mpirun, or set collision.method to \"cdt-cpu\" "
                      "(the same detection on the CPU) or \"exact\" (docs/scaling.md)");
   }
-  if (scene.solver.pressure == PressureSolver::Dfsph) {
-    throw InputError(where +
-                     ": solver.pressure \"dfsph\" runs on one process only (its iterations need "
-                     "sums and a convergence test agreed over the ranks, not built yet); run "
-                     "without mpirun or set solver.pressure to \"wcsph\" (docs/scaling.md)");
-  }
   if (scene.rain && scene.rain->feedFluid) {
     throw InputError(where +
                      ": rain.feed_fluid runs on one process only (the landed drops become "
@@ -103,7 +97,7 @@ RunState broadcastRunState(dist::Communicator& ranks, const RunState& state) {
   dist::Bytes b;
   if (ranks.rank() == 0) {
     put(b, state.time), put(b, state.step), put(b, state.lastDt), put(b, state.maxSpeed);
-    put(b, state.maxAcceleration), put(b, state.nextId);
+    put(b, state.maxAcceleration), put(b, state.nextId), put(b, state.lostParticles);
     put(b, static_cast<std::uint64_t>(state.emitters.size()));
     for (const EmitterState& e : state.emitters) {
       put(b, e.travelled), put(b, e.emitted);
@@ -114,7 +108,8 @@ RunState broadcastRunState(dist::Communicator& ranks, const RunState& state) {
   RunState s;
   std::size_t at = 0;
   take(b, at, s.time), take(b, at, s.step), take(b, at, s.lastDt), take(b, at, s.maxSpeed);
-  take(b, at, s.maxAcceleration), take(b, at, s.nextId);
+  // The lost particles so far: every rank checks the tolerance with them (Simulation::step).
+  take(b, at, s.maxAcceleration), take(b, at, s.nextId), take(b, at, s.lostParticles);
   std::uint64_t emitters = 0;
   take(b, at, emitters);
   s.emitters.resize(emitters);
@@ -127,17 +122,26 @@ RunState broadcastRunState(dist::Communicator& ranks, const RunState& state) {
 }
 
 void GatheringSink::frame(const Simulation&, std::size_t index) {
-  Particles all = halo_.gather(sim_.fluid());
+  // DFSPH's warm start is attached to the halo (Simulation::setHalo), density then divergence.
+  std::vector<std::vector<float>> attached;
+  Particles all = halo_.gather(sim_.fluid(), &attached);
   if (halo_.rank() != 0) return;
-  // The sinks see the whole fluid, in the order one process would hold it.
-  std::swap(sim_.fluid(), all);
+  PressureWarmStart warm;
+  if (attached.size() == 2) warm.density.swap(attached[0]), warm.divergence.swap(attached[1]);
+  // The sinks see the whole fluid and its warm start (the resume record), in the order one
+  // process would hold them.
+  auto swapIn = [&] {
+    std::swap(sim_.fluid(), all);
+    if (attached.size() == 2) std::swap(sim_.warmStart(), warm);
+  };
+  swapIn();
   try {
     for (FrameSink* sink : sinks_) sink->frame(sim_, index);
   } catch (...) {
-    std::swap(sim_.fluid(), all);
+    swapIn();
     throw;
   }
-  std::swap(sim_.fluid(), all);
+  swapIn();
 }
 
 std::string describeExchanges(dist::Halo& halo, const StepProfile& profile) {
@@ -154,7 +158,17 @@ std::string describeExchanges(dist::Halo& halo, const StepProfile& profile) {
       halo.rank(), halo.ranks(), total > 0 ? 100 * profile[Pass::Exchange] / total : 0.0,
       s.bytesSent / steps, s.ghostsReceived / steps, static_cast<unsigned long long>(s.migrated),
       static_cast<unsigned long long>(s.migratedAllRanks), s.imbalanceSum / steps, s.imbalanceMax);
-  return text;
+  std::string line = text;
+  if (s.refreshes > 0) {  // DFSPH: the ghosts' velocities sent again before every source pass
+    const double simSteps = profile.steps ? static_cast<double>(profile.steps) : 1.0;
+    std::snprintf(text, sizeof text,
+                  "; DFSPH ghost velocity refreshes %.1f per step, %.0f bytes sent per step, "
+                  "%.1f%% of the step",
+                  s.refreshes / simSteps, s.refreshBytesSent / simSteps,
+                  total > 0 ? 100 * s.refreshSeconds / total : 0.0);
+    line += text;
+  }
+  return line;
 }
 
 }  // namespace sph::app

@@ -30,21 +30,55 @@
 //
 // Built with -ffast-math like SphPasses.cpp (sim/CMakeLists.txt), under the same rules: every
 // per-particle computation runs in a cell-range loop of forEachCellWithCandidates (the same split
-// whatever the thread count), and the error means are serial sums in a fixed order.
+// whatever the thread count), and the error means are exact sums.
+//
+// On K processes (docs/scaling.md) the fluid holds this rank's particles and two cell planes of
+// ghosts beyond each face of its slab, so the pairs of the first plane's ghosts are complete and
+// their factors, sources and stiffnesses are the single process's. A velocity pass leaves the
+// ghosts' velocities stale (the second plane's read stiffnesses beyond it): their owners send
+// them again before every source pass (dist::Halo::refreshGhosts). The warm start travels with
+// its particles and ghosts (Halo::attach), and every decision (the warm start, when to stop) is
+// taken from global sums, exact, so every rank iterates as the single process does.
 #include <algorithm>
 #include <cmath>
 
 #include "sim/DfsphPairs.h"
 #include "sim/SphPasses.h"
+#include "sim/dist/ExactSum.h"
+#include "sim/dist/Halo.h"
 
 namespace sph {
 namespace {
 
-// Serial mean of `v` over the fluid: a fixed order, so the same bits for any thread count.
-double meanOf(const std::vector<float>& v, std::size_t n) {
-  double sum = 0;
-  for (std::size_t i = 0; i < n; ++i) sum += v[i];
-  return n > 0 ? sum / static_cast<double>(n) : 0.0;
+bool owned(const StepContext& c, std::size_t i) {
+  return !c.ghost || !(*c.ghost)[i];
+}
+
+// The mean of `v` over the fluid (every rank's owned particles): an exact sum, rounded once, so
+// the same double whatever the split of the particles between threads and ranks.
+double meanOverFluid(const StepContext& c, const std::vector<float>& v) {
+  const std::size_t n = c.fluid.size();
+  const std::uint8_t* ghost = c.ghost ? c.ghost->data() : nullptr;
+  dist::ExactSum sum;
+  sum.addAll(v.data(), n, ghost);
+  auto count = static_cast<std::int64_t>(ghost ? std::count(ghost, ghost + n, 0) : n);
+  if (c.ranks) dist::sumOverRanks(*c.ranks, sum, count);
+  return count > 0 ? sum.toDouble() / static_cast<double>(count) : 0.0;
+}
+
+// True if any particle of the fluid (on any rank) has a non-zero warm start.
+bool anyWarm(const StepContext& c, const std::vector<float>& warm) {
+  std::int64_t warmed = 0;
+  for (std::size_t i = 0; i < warm.size(); ++i) {
+    if (owned(c, i) && warm[i] != 0.0f) {
+      warmed = 1;
+      break;
+    }
+  }
+  if (!c.ranks) return warmed != 0;
+  std::vector<std::int64_t> any{warmed};
+  c.ranks->sumInPlace(any);
+  return any[0] > 0;
 }
 
 // One source pass: for every particle the rate Ds_i/Dt of the current velocities (1/s), turned
@@ -106,9 +140,7 @@ std::pair<int, double> jacobiSolve(StepContext& c, std::vector<float>& warm, dou
   s.source.resize(n);
   s.stiffness.resize(n);
   warm.resize(n, 0.0f);  // new particles start from 0
-  bool warmed = false;
-  for (std::size_t i = 0; i < n; ++i) warmed = warmed || warm[i] != 0.0f;
-  if (warmed) {
+  if (anyWarm(c, warm)) {
     // Half the last step's sum: every iteration adds a non-negative stiffness (only compression
     // is corrected), so a full warm start could only grow from step to step, never relax.
     std::transform(warm.begin(), warm.end(), s.stiffness.begin(), [](float k) { return 0.5f * k; });
@@ -120,8 +152,10 @@ std::pair<int, double> jacobiSolve(StepContext& c, std::vector<float>& warm, dou
   int iterations = 0;
   double error = 0;
   while (true) {
+    // The ghosts' velocities as their owners have them now (distributed runs).
+    if (c.halo) c.halo->refreshGhosts({&c.fluid.vx, &c.fluid.vy, &c.fluid.vz});
     sourcePass(c, rate);
-    error = meanOf(s.source, n);
+    error = meanOverFluid(c, s.source);
     if ((error <= tolerance && iterations >= minIterations) || iterations >= maxIterations) break;
     velocityPass(c, warm, acceleration);
     ++iterations;

@@ -28,7 +28,11 @@ struct PairSpan {
 
 // Calls body(i, pairs) for every fluid particle, in parallel by rows of cells, with its pairs of
 // this step. Each particle's pairs start at the same offset from a cache line whatever the thread
-// count, so the simd loops over them peel the same way and the sums keep their bits.
+// count, so the simd loops over them peel the same way and the sums keep their bits. On K
+// processes with slabs across x a row holds only the rank's part, so the offsets differ from the
+// single process's; the release build's loops do not peel (with every row shifted by 5 floats a
+// run kept its bits, 2026-11-26), and tests/test_mpi.cpp (MpiDfsph, slabs across x) would see it
+// if a compiler or -march did.
 template <class Body>
 void forEachParticlePairs(const StepContext& c, Body&& body) {
   const StepScratch& s = c.scratch;

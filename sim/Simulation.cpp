@@ -49,13 +49,19 @@ StepContext Simulation::context(float dt) {
   StepContext c{dt,         scene_.solver,   derived_, boundary_,           fluid_,
                 grid_,      boundaryFields_, scratch_, gradientCorrection_, state_.warmStart,
                 solveStats_};
-  if (halo_) c.ghost = &halo_->ghost(), c.ranks = &halo_->comm();
+  if (halo_) c.ghost = &halo_->ghost(), c.ranks = &halo_->comm(), c.halo = halo_;
   return c;
 }
 
 void Simulation::setHalo(dist::Halo* halo) {
   halo_ = halo;
-  if (halo_) halo_->adopt(fluid_);
+  if (!halo_) return;
+  halo_->adopt(fluid_);
+  // DFSPH's warm start is run state per particle: it moves with its particle (docs/scaling.md).
+  if (scene_.solver.model == SolverModel::Sph && scene_.solver.pressure == PressureSolver::Dfsph) {
+    halo_->attach(state_.warmStart.density);
+    halo_->attach(state_.warmStart.divergence);
+  }
 }
 
 void Simulation::step(double limit) {
@@ -101,6 +107,7 @@ void Simulation::step(double limit) {
     timed(Pass::Divergence, [&] { solveDivergence(c); });
     timed(Pass::Forces, [&] { computeDfsphViscosity(c), predictVelocity(c); });
     timed(Pass::Pressure, [&] { solveDensity(c); });
+    if (halo_) timed(Pass::Exchange, [&] { halo_->dropGhosts(fluid_); });
   } else if (sph) {
     timed(Pass::Pressure, [&] { computePressure(c); });
     timed(Pass::Forces, [&] { computeForces(c); });

@@ -74,6 +74,9 @@ class Simulation {
   const rain::RainFeed* rainFeed() const { return rainFeed_.get(); }
   void restoreRain(double time, const std::vector<Vec3>& positions,
                    const std::vector<std::uint32_t>& generations);
+  // DFSPH's warm start, in the fluid's order (run state; a distributed run's frames swap in the
+  // gathered one, app/DistributedRun.h).
+  PressureWarmStart& warmStart() { return state_.warmStart; }
   // What the DFSPH solvers did (zeros for WCSPH).
   const PressureSolveStats& solveStats() const { return solveStats_; }
 

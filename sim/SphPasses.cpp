@@ -78,14 +78,7 @@ void updateGradientCorrection(StepContext& c) {
     sum.add(gradientMoment[i]);
     ++count;
   }
-  if (c.ranks) {
-    sum.normalise();
-    std::vector<std::int64_t> all(sum.digits().begin(), sum.digits().end());
-    all.push_back(count);
-    c.ranks->sumInPlace(all);
-    std::copy(all.begin(), all.end() - 1, sum.digits().begin());
-    count = all.back();
-  }
+  if (c.ranks) dist::sumOverRanks(*c.ranks, sum, count);
   constexpr std::int64_t kMinimumSample = 64;  // fewer: a spray or a drop; trust the lattice
   c.gradientCorrection = count >= kMinimumSample
                              ? static_cast<float>(static_cast<double>(count) / sum.toDouble())

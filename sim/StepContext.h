@@ -16,6 +16,9 @@
 #include "sim/dist/Communicator.h"
 
 namespace sph {
+namespace dist {
+class Halo;
+}
 
 // Per boundary particle (Boundary.h: dynamic boundary particles). The part of the density that
 // other boundary particles contribute is fixed and computed once; the fluid's part is added each
@@ -94,6 +97,8 @@ struct StepContext {
   // sums but are another rank's to count), and the ranks to add global sums over. Null alone.
   const std::vector<std::uint8_t>* ghost = nullptr;
   dist::Communicator* ranks = nullptr;
+  // The same run's decomposition: DFSPH's iterations refresh the ghosts' velocities through it.
+  dist::Halo* halo = nullptr;
 };
 
 }  // namespace sph

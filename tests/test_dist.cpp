@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <random>
@@ -96,6 +97,44 @@ TEST(ExactSum, IsExactAndIndependentOfOrderAndSplit) {
   for (float t : terms) reference += std::abs(t) == 1e30f ? 0.0f : t;  // they cancel exactly
   EXPECT_NEAR(forward.toDouble(), static_cast<double>(reference),
               1e-12 * std::abs(static_cast<double>(reference)) + 1e-30);
+}
+
+TEST(ExactSum, AddAllIsAddOneByOne) {
+  // addAll() (DFSPH's error means, sim/Dfsph.cpp) sums by exponent first: the same exact sum,
+  // digit for digit once normalised, over every exponent (subnormals, the largest floats, signs)
+  // and with the skipped values left out.
+  std::mt19937 rng(5);
+  std::vector<float> v;
+  std::vector<std::uint8_t> skip;
+  for (int i = 0; i < 50000; ++i) {
+    std::uint32_t bits = rng();
+    if (((bits >> 23) & 0xff) == 0xff) bits &= ~(1u << 30);  // no inf or NaN
+    float f;
+    std::memcpy(&f, &bits, sizeof f);
+    v.push_back(f);
+    skip.push_back(rng() % 4 == 0 ? 1 : 0);
+  }
+  v.push_back(std::numeric_limits<float>::denorm_min()), skip.push_back(0);
+  v.push_back(std::numeric_limits<float>::max()), skip.push_back(0);
+  v.push_back(-std::numeric_limits<float>::max()), skip.push_back(0);
+  v.push_back(-0.0f), skip.push_back(0);
+  ExactSum one, all, allSkipping;
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (!skip[i]) one.add(v[i]);
+  allSkipping.addAll(v.data(), v.size(), skip.data());
+  one.normalise(), allSkipping.normalise();
+  EXPECT_EQ(one.digits(), allSkipping.digits());
+  ExactSum every;
+  for (float f : v) every.add(f);
+  all.addAll(v.data(), v.size());
+  every.normalise(), all.normalise();
+  EXPECT_EQ(every.digits(), all.digits());
+  EXPECT_NE(every.digits(), one.digits());  // the skipped values did count for something
+  // Subnormals are exact too (add() once shifted their significand by a negative count).
+  ExactSum tiny;
+  tiny.add(std::numeric_limits<float>::denorm_min()), tiny.add(1e-40f), tiny.add(1e-40f);
+  EXPECT_EQ(tiny.toDouble(), static_cast<double>(std::numeric_limits<float>::denorm_min()) +
+                                 2.0 * static_cast<double>(1e-40f));
 }
 
 // A cloud of particles in a 1 x 0.3 x 0.3 m domain (longest along x): a dense block of water on
@@ -276,6 +315,71 @@ TEST(Halo, OwnedParticlesAreEveryParticleOnceAndGhostsEqualABruteForceSearchAcro
     // The run's figure (docs/benchmarks.md, "Scale"): every rank tells the same count, that of
     // the exchanges after the first up to the one before the last.
     for (std::uint64_t c : counted) EXPECT_EQ(c, beforeLast);
+  }
+}
+
+TEST(Halo, AttachedArraysAndRefreshedGhostsFollowTheirParticles) {
+  // DFSPH's needs (sim/Dfsph.cpp): an attached per-particle array (the warm start) travels with
+  // its particle through migration, to its ghosts, through the sorts and into the gathered frame;
+  // refreshGhosts() overwrites every ghost's copy with its owner's current value, along the
+  // ghost lists kept through the key order and the grid sort.
+  const Aabb domain{Vec3(0, 0, 0), Vec3(1.0f, 0.3f, 0.3f)};
+  auto warmOf = [](std::uint32_t id, int step) { return 0.5f * id + 1000.0f * step; };
+  auto velocityOf = [](std::uint32_t id, int step) { return -0.25f * id - 7.0f * step; };
+  for (int ranks = 1; ranks <= 4; ++ranks) {
+    SCOPED_TRACE(std::to_string(ranks) + " ranks");
+    test::ThreadRanks threads(ranks);
+    std::vector<int> wrongWarm(ranks, 0), staleGhosts(ranks, 0), ghostsSeen(ranks, 0);
+    std::vector<int> wrongGathered(ranks, 0);
+    std::vector<std::size_t> gathered(ranks, 0);
+    threads.run([&](Communicator& comm) {
+      const int me = comm.rank();
+      Particles fluid = me == 0 ? fullCloud() : Particles{};
+      std::vector<float> warm;  // empty until the first exchange sizes it, as alone
+      Halo halo(comm, domain, kSupport);
+      halo.adopt(fluid);
+      halo.attach(warm);
+      NeighbourGrid grid;
+      std::vector<std::uint32_t> order, scratch;
+      for (int step = 0; step < kSteps; ++step) {
+        const float cs = halo.exchange(fluid, kSupport);
+        EXPECT_EQ(warm.size(), fluid.size());
+        for (std::size_t i = 0; i < fluid.size(); ++i)  // step 0: exchange() gave 0
+          wrongWarm[me] += warm[i] != (step == 0 ? 0.0f : warmOf(fluid.id[i], step - 1));
+        grid.build(fluid.x.data(), fluid.y.data(), fluid.z.data(), fluid.size(), cs, order,
+                   NeighbourGrid::kExactCellSize);
+        fluid.permute(order, scratch);
+        halo.sorted(grid, order);
+        // The owners change their velocities; the ghosts' copies are stale until the refresh.
+        for (std::size_t i = 0; i < fluid.size(); ++i)
+          if (!halo.ghost()[i]) fluid.vx[i] = velocityOf(fluid.id[i], step);
+        halo.refreshGhosts({&fluid.vx});
+        for (std::size_t i = 0; i < fluid.size(); ++i) {
+          if (!halo.ghost()[i]) continue;
+          ++ghostsSeen[me];
+          staleGhosts[me] += fluid.vx[i] != velocityOf(fluid.id[i], step);
+        }
+        for (std::size_t i = 0; i < fluid.size(); ++i) warm[i] = warmOf(fluid.id[i], step);
+        halo.dropGhosts(fluid);
+        EXPECT_EQ(warm.size(), fluid.size());
+        placeCloud(fluid, step + 1);
+      }
+      std::vector<std::vector<float>> attached;
+      const Particles all = halo.gather(fluid, &attached);
+      if (me != 0) return;
+      gathered[me] = all.size();
+      EXPECT_EQ(attached.size(), 1u);
+      if (attached.size() != 1 || attached[0].size() != all.size()) return;
+      for (std::size_t k = 0; k < all.size(); ++k)
+        wrongGathered[me] += attached[0][k] != warmOf(all.id[k], kSteps - 1);
+    });
+    for (int r = 0; r < ranks; ++r) {
+      EXPECT_EQ(wrongWarm[r], 0) << "rank " << r;
+      EXPECT_EQ(staleGhosts[r], 0) << "rank " << r;
+      EXPECT_EQ(ranks > 1, ghostsSeen[r] > 0) << "rank " << r;
+      EXPECT_EQ(wrongGathered[r], 0);
+    }
+    EXPECT_EQ(gathered[0], kCloud);
   }
 }
 

@@ -3,13 +3,16 @@
 // such sums is integer addition, associative and commutative, so the total is the same whatever
 // the order the terms are added in, however they are split between threads or ranks, and is
 // rounded only once, at the end (toDouble()). The distributed run (docs/scaling.md) needs that for
-// the one global sum of a step (the gradient correction, sim/SphPasses.cpp): a serial sum in
-// particle order would depend on which rank holds which particles.
+// the global sums of a step (the gradient correction, sim/SphPasses.cpp; DFSPH's error means,
+// sim/Dfsph.cpp): a serial sum in particle order would depend on which rank holds which
+// particles.
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
+
+#include "sim/dist/Communicator.h"
 
 namespace sph::dist {
 
@@ -22,6 +25,9 @@ class ExactSum {
 
   // Adds a finite float exactly (non-finite values are the caller's bug).
   void add(float value);
+  // Adds v[i] for every i < n with skip[i] == 0 (every i without `skip`), exactly, as add() would
+  // one by one, in a third of the time: by exponent first, one integer addition a value.
+  void addAll(const float* v, std::size_t n, const std::uint8_t* skip = nullptr);
   // Adds another sum (a thread's, a rank's) exactly.
   void merge(const Digits& other);
   const Digits& digits() const { return digits_; }
@@ -33,8 +39,14 @@ class ExactSum {
   void normalise();
 
  private:
+  // Adds value * 2^(shift - 149) (shift >= 0, |value| < 2^62).
+  void addShifted(std::int64_t value, int shift);
+
   Digits digits_{};  // unnormalised: each digit may exceed 32 bits between normalise() calls
   std::uint32_t pending_ = 0;  // additions since the last normalise()
 };
+
+// Adds every rank's `sum` and `count` (collective): each rank then holds the totals.
+void sumOverRanks(Communicator& ranks, ExactSum& sum, std::int64_t& count);
 
 }  // namespace sph::dist

@@ -18,7 +18,6 @@ namespace {
 constexpr std::uint64_t kEmitted = std::uint64_t(1) << 63;
 constexpr int kWithinBits = 24;  // a cell holds fewer than 2^24 particles
 constexpr long long kFar = 1LL << 60;
-constexpr std::size_t kRecordBytes = Particles::kFieldCount * 4 + 8;
 
 long long planeOf(float x, double invCell) {
   return static_cast<long long>(std::floor(static_cast<double>(x) * invCell));
@@ -28,46 +27,67 @@ const std::vector<float>& axisOf(const Particles& f, int axis) {
   return axis == 0 ? f.x : axis == 1 ? f.y : f.z;
 }
 
-void pack(const Particles& f, std::size_t i, std::uint64_t key, Bytes& out) {
+using Attached = std::vector<std::vector<float>*>;
+
+// A particle's record: its 13 fields, its attached values, its key.
+std::size_t recordBytes(const Attached& attached) {
+  return Particles::kFieldCount * 4 + attached.size() * 4 + 8;
+}
+
+void pack(const Particles& f, std::size_t i, std::uint64_t key, const Attached& attached,
+          Bytes& out) {
   const std::size_t at = out.size();
-  out.resize(at + kRecordBytes);
+  out.resize(at + recordBytes(attached));
   std::uint8_t* p = out.data() + at;
   f.forEachField([&](const auto& field) {
     std::memcpy(p, &field[i], 4);
     p += 4;
   });
+  for (const std::vector<float>* a : attached) {
+    std::memcpy(p, &(*a)[i], 4);
+    p += 4;
+  }
   std::memcpy(p, &key, 8);
 }
 
-// Appends the records of `in` to f and their keys to keys.
-void unpack(const Bytes& in, Particles& f, std::vector<std::uint64_t>& keys) {
-  const std::size_t count = in.size() / kRecordBytes, base = f.size();
+// Appends the records of `in` to f, their attached values to `attached` and their keys to keys.
+void unpack(const Bytes& in, Particles& f, std::vector<std::uint64_t>& keys,
+            const Attached& attached) {
+  const std::size_t bytes = recordBytes(attached);
+  const std::size_t count = in.size() / bytes, base = f.size();
   f.resize(base + count);
   keys.resize(base + count);
+  for (std::vector<float>* a : attached) a->resize(base + count);
   for (std::size_t r = 0; r < count; ++r) {
-    const std::uint8_t* p = in.data() + r * kRecordBytes;
+    const std::uint8_t* p = in.data() + r * bytes;
     f.forEachField([&](auto& field) {
       std::memcpy(&field[base + r], p, 4);
       p += 4;
     });
+    for (std::vector<float>* a : attached) {
+      std::memcpy(&(*a)[base + r], p, 4);
+      p += 4;
+    }
     std::memcpy(&keys[base + r], p, 8);
   }
 }
 
 // Keeps the particles with keep[i] != 0, in order.
-void compact(Particles& f, std::vector<std::uint64_t>& keys,
+void compact(Particles& f, std::vector<std::uint64_t>& keys, const Attached& attached,
              const std::vector<std::uint8_t>& keep) {
   std::size_t n = 0;
   for (std::size_t i = 0; i < keep.size(); ++i) {
     if (!keep[i]) continue;
     if (n != i) {
       f.forEachField([&](auto& field) { field[n] = field[i]; });
+      for (std::vector<float>* a : attached) (*a)[n] = (*a)[i];
       keys[n] = keys[i];
     }
     ++n;
   }
   f.resize(n);
   keys.resize(n);
+  for (std::vector<float>* a : attached) a->resize(n);
 }
 
 template <class T>
@@ -126,6 +146,10 @@ void Halo::adopt(const Particles& fluid) {
   ghost_.clear();
 }
 
+void Halo::attach(std::vector<float>& field) {
+  attached_.push_back(&field);  // exchange() sizes it: until then it may be empty, as alone
+}
+
 bool Halo::owns(const Vec3& p) const {
   const double inv = 1.0 / static_cast<double>(cellSize_);
   return slabs_.ownerOf(planeOf(p[slabs_.axis], inv)) == rank();
@@ -135,6 +159,7 @@ float Halo::exchange(Particles& f, float h) {
   const auto start = std::chrono::steady_clock::now();
   const int ranksCount = ranks(), me = rank(), axis = slabs_.axis;
   for (std::size_t i = keys_.size(); i < f.size(); ++i) keys_.push_back(kEmitted | f.id[i]);
+  for (std::vector<float>* a : attached_) a->resize(f.size(), 0.0f);  // as sortParticles() does
   ghost_.clear();
 
   // The grid every rank builds has the cell size the single process's grid would choose: from
@@ -183,31 +208,42 @@ float Halo::exchange(Particles& f, float h) {
   for (std::size_t i = 0; i < f.size(); ++i) {
     const int owner = slabs_.ownerOf(planeOf(along[i], inv));
     if (owner == me) continue;
-    pack(f, i, keys_[i], send[owner]);
+    pack(f, i, keys_[i], attached_, send[owner]);
     keep[i] = 0;
     ++migratedLast_;
   }
   stats_.migrated += migratedLast_;
   for (const Bytes& b : send) stats_.bytesSent += b.size();
-  compact(f, keys_, keep);
+  compact(f, keys_, attached_, keep);
   // What stayed is in key order: last step's sorted owned particles, then the emitted ones
   // (keys above every cell's, in id order).
   const std::size_t stayed = f.size();
-  for (const Bytes& b : comm_.allToAll(send)) unpack(b, f, keys_);
+  for (const Bytes& b : comm_.allToAll(send)) unpack(b, f, keys_, attached_);
   const std::size_t owned = f.size();
 
-  // Ghosts: the owned particles within kGhostPlanes planes of another rank's slab.
+  // Ghosts: the owned particles within kGhostPlanes planes of another rank's slab. The lists of
+  // who went where stay for refreshGhosts().
   for (Bytes& b : send) b.clear();
+  sentTo_.assign(ranksCount, {});
+  receivedFrom_.assign(ranksCount, {});
   for (std::size_t i = 0; i < owned; ++i) {
     const long long p = planeOf(along[i], inv);
     for (int r = 0; r < ranksCount; ++r) {
       if (r == me) continue;
-      if (p >= slabs_.first[r] - kGhostPlanes && p < slabs_.first[r + 1] + kGhostPlanes)
-        pack(f, i, keys_[i], send[r]);
+      if (p >= slabs_.first[r] - kGhostPlanes && p < slabs_.first[r + 1] + kGhostPlanes) {
+        pack(f, i, keys_[i], attached_, send[r]);
+        sentTo_[r].push_back(static_cast<std::uint32_t>(i));
+      }
     }
   }
   for (const Bytes& b : send) stats_.bytesSent += b.size();
-  for (const Bytes& b : comm_.allToAll(send)) unpack(b, f, keys_);
+  const std::vector<Bytes> ghosts = comm_.allToAll(send);
+  for (int r = 0; r < ranksCount; ++r) {
+    const std::size_t from = f.size();
+    unpack(ghosts[r], f, keys_, attached_);
+    for (std::size_t i = from; i < f.size(); ++i)
+      receivedFrom_[r].push_back(static_cast<std::uint32_t>(i));
+  }
   ghost_.assign(f.size(), 1);
   std::fill(ghost_.begin(), ghost_.begin() + static_cast<std::ptrdiff_t>(owned), 0);
   stats_.ghostsReceived += f.size() - owned;
@@ -223,8 +259,7 @@ float Halo::exchange(Particles& f, float h) {
   std::inplace_merge(order_.begin(), arrivals, order_.end(), byKey);
   std::vector<std::uint32_t> scratch;
   f.permute(order_, scratch);
-  permuteVector(keys_, order_);
-  permuteVector(ghost_, order_);
+  permuted(order_);
   cellSize_ = cs;
   stats_.steps += 1;
   stats_.exchangeSeconds +=
@@ -246,9 +281,20 @@ std::uint64_t Halo::globalKey(const CellCoord& cell, std::uint32_t within) const
   return (linear << kWithinBits) | within;
 }
 
-void Halo::sorted(const NeighbourGrid& grid, const std::vector<std::uint32_t>& order) {
+void Halo::permuted(const std::vector<std::uint32_t>& order) {
   permuteVector(keys_, order);
   permuteVector(ghost_, order);
+  for (std::vector<float>* a : attached_) permuteVector(*a, order);
+  // The particle at old index order[i] is now at i.
+  std::vector<std::uint32_t> to(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i) to[order[i]] = static_cast<std::uint32_t>(i);
+  for (auto* lists : {&sentTo_, &receivedFrom_})
+    for (std::vector<std::uint32_t>& list : *lists)
+      for (std::uint32_t& i : list) i = to[i];
+}
+
+void Halo::sorted(const NeighbourGrid& grid, const std::vector<std::uint32_t>& order) {
+  permuted(order);
   // Cells are whole planes' worth of one owner: an owned particle's cell holds only owned ones.
   parallelFor(grid.cellCount(), [&](std::size_t cell) {
     const std::uint32_t begin = grid.cellBegin(cell), end = grid.cellEnd(cell);
@@ -258,11 +304,42 @@ void Halo::sorted(const NeighbourGrid& grid, const std::vector<std::uint32_t>& o
   });
 }
 
+void Halo::refreshGhosts(std::initializer_list<std::vector<float>*> fields) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::size_t bytes = 4 * fields.size();
+  std::vector<Bytes> send(sentTo_.size());
+  for (std::size_t r = 0; r < sentTo_.size(); ++r) {
+    send[r].resize(sentTo_[r].size() * bytes);
+    std::uint8_t* p = send[r].data();
+    for (std::uint32_t i : sentTo_[r])
+      for (const std::vector<float>* field : fields) {
+        std::memcpy(p, &(*field)[i], 4);
+        p += 4;
+      }
+    stats_.refreshBytesSent += send[r].size();
+  }
+  const std::vector<Bytes> received = comm_.allToAll(send);
+  for (std::size_t r = 0; r < receivedFrom_.size(); ++r) {
+    SPH_ASSERT(received[r].size() == receivedFrom_[r].size() * bytes);
+    const std::uint8_t* p = received[r].data();
+    for (std::uint32_t i : receivedFrom_[r])
+      for (std::vector<float>* field : fields) {
+        std::memcpy(&(*field)[i], p, 4);
+        p += 4;
+      }
+  }
+  stats_.refreshes += 1;
+  stats_.refreshSeconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 void Halo::dropGhosts(Particles& f) {
   std::vector<std::uint8_t> keep(ghost_.size());
   for (std::size_t i = 0; i < keep.size(); ++i) keep[i] = ghost_[i] ? 0 : 1;
-  compact(f, keys_, keep);
+  compact(f, keys_, attached_, keep);
   ghost_.clear();
+  sentTo_.clear();
+  receivedFrom_.clear();
 }
 
 void Halo::removeLocal(const std::vector<std::uint8_t>& keep) {
@@ -280,26 +357,31 @@ std::uint64_t Halo::globalCount(std::size_t local) {
   return static_cast<std::uint64_t>(n[0]);
 }
 
-Particles Halo::gather(const Particles& f) {
-  return merged(f, /*everyRank=*/false, nullptr);
+Particles Halo::gather(const Particles& f, std::vector<std::vector<float>>* attached) {
+  return merged(f, /*everyRank=*/false, nullptr, attached);
 }
 
 Particles Halo::allGather(const Particles& f, std::vector<std::uint32_t>& mine) {
-  return merged(f, /*everyRank=*/true, &mine);
+  return merged(f, /*everyRank=*/true, &mine, nullptr);
 }
 
-Particles Halo::merged(const Particles& f, bool everyRank, std::vector<std::uint32_t>* mine) {
+Particles Halo::merged(const Particles& f, bool everyRank, std::vector<std::uint32_t>* mine,
+                       std::vector<std::vector<float>>* attached) {
   SPH_ASSERT(ghost_.empty() && keys_.size() == f.size());
+  const Attached sent = attached ? attached_ : Attached{};
   Bytes packed;
-  packed.reserve(f.size() * kRecordBytes);
-  for (std::size_t i = 0; i < f.size(); ++i) pack(f, i, keys_[i], packed);
+  packed.reserve(f.size() * recordBytes(sent));
+  for (std::size_t i = 0; i < f.size(); ++i) pack(f, i, keys_[i], sent, packed);
   Particles all;
   std::vector<std::uint64_t> keys;
+  std::vector<std::vector<float>> values(sent.size());
+  Attached into;
+  for (std::vector<float>& v : values) into.push_back(&v);
   std::size_t myFirst = 0;
   const std::vector<Bytes> parts = everyRank ? comm_.allGather(packed) : comm_.gatherToRoot(packed);
   for (std::size_t r = 0; r < parts.size(); ++r) {
     if (static_cast<int>(r) == rank()) myFirst = all.size();
-    unpack(parts[r], all, keys);
+    unpack(parts[r], all, keys, into);
   }
   std::vector<std::uint32_t> order(all.size());
   std::iota(order.begin(), order.end(), 0u);
@@ -312,6 +394,10 @@ Particles Halo::merged(const Particles& f, bool everyRank, std::vector<std::uint
   }
   std::vector<std::uint32_t> scratch;
   all.permute(order, scratch);
+  if (attached) {
+    for (std::vector<float>& v : values) permuteVector(v, order);
+    attached->swap(values);
+  }
   return all;
 }
 

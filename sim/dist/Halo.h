@@ -4,7 +4,8 @@
 // filling a cup moves the water). Each step the rank receives copies of the particles in the two
 // cell planes beyond each face of its slab (ghosts): enough for its own particles' densities and
 // forces and for the boundary particles those use (sim/SphPasses.cpp), so no second exchange
-// within the step is needed.
+// within the step is needed, except by DFSPH's iterations, whose velocities change within the
+// step: refreshGhosts() sends them again along the step's ghost lists.
 //
 // Bit-identical to one process, whatever the number of ranks (the test:
 // tests/test_mpi.cpp): a particle's sums run over the same candidates in the same order as in a
@@ -12,14 +13,15 @@
 // the particles present. Each particle carries the key of its place in the global order (its cell
 // in the domain's lattice, then its place within the cell, both fixed by the owner of the cell);
 // before the grid's stable sort the local arrays are put in key order, so the sort reproduces the
-// global order on every rank. The step's one global sum (the gradient correction) is exact
-// (ExactSum) and so independent of the split; max/min reductions are exact.
+// global order on every rank. The step's global sums (the gradient correction, DFSPH's error
+// means) are exact (ExactSum) and so independent of the split; max/min reductions are exact.
 //
 // MPI-free: the collectives go through dist::Communicator (mpi/MpiCommunicator.h implements it).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <initializer_list>
 #include <optional>
 #include <vector>
 
@@ -59,7 +61,10 @@ struct HaloStats {
   // hands rank 0's starting fluid out) up to the one before the last (each exchange's count
   // rides on the next one's plane histogram).
   std::uint64_t migratedAllRanks = 0;
-  double exchangeSeconds = 0;                 // rebalance + migration + ghosts + key order
+  double exchangeSeconds = 0;  // rebalance + migration + ghosts + key order
+  // refreshGhosts(): calls, bytes sent to other ranks, seconds (DFSPH's iterations).
+  std::uint64_t refreshes = 0, refreshBytesSent = 0;
+  double refreshSeconds = 0;
   double imbalanceSum = 0, imbalanceMax = 0;  // max/mean owned particles per rank, per step
 };
 
@@ -78,6 +83,12 @@ class Halo {
   void adopt(const Particles& fluid);
   // True if this rank's slab holds point p (the emitters' nozzles, docs/scaling.md).
   bool owns(const Vec3& p) const;
+  // A per-particle array kept beside the fluid, in its order (DFSPH's warm start, part of the run
+  // state): from now on it moves with its particles wherever the halo moves the fluid (migration,
+  // ghosts, the key order, sorted(), dropGhosts(), gather()); exchange() gives the particles it
+  // does not cover yet (all, if it is empty; emitted ones) 0. removeLocal() leaves it to the
+  // caller, who removes the particles from it as from the fluid. The caller keeps `field` alive.
+  void attach(std::vector<float>& field);
 
   // Before the step's sort: re-cuts the slabs, migrates the particles that left this rank's slab
   // (the emitted ones included) and appends the ghosts, then puts the local arrays in global key
@@ -89,6 +100,11 @@ class Halo {
   void sorted(const NeighbourGrid& grid, const std::vector<std::uint32_t>& order);
   // 1 for a ghost, in the local order (valid from exchange() until dropGhosts()).
   const std::vector<std::uint8_t>& ghost() const { return ghost_; }
+  // Sends the owned particles' `fields` again to the ranks that hold them as ghosts (this step's
+  // ghost lists, kept through the sorts) and overwrites the ghosts' copies: DFSPH's iterations
+  // change the velocities the next iteration reads (docs/scaling.md). Between exchange() and
+  // dropGhosts(); every array as long as the local fluid.
+  void refreshGhosts(std::initializer_list<std::vector<float>*> fields);
   // Removes the ghosts (keeping the owned particles' order).
   void dropGhosts(Particles& fluid);
   // The caller removed the owned particles with keep[i] == 0, keeping the others' order (the
@@ -96,8 +112,9 @@ class Halo {
   void removeLocal(const std::vector<std::uint8_t>& keep);
 
   // The owned fluid of every rank on rank 0, in the single-process order (a frame to write);
-  // empty on the other ranks.
-  Particles gather(const Particles& fluid);
+  // empty on the other ranks. With `attached`: the attached arrays too, in attach() order and the
+  // same particle order.
+  Particles gather(const Particles& fluid, std::vector<std::vector<float>>* attached = nullptr);
   // The owned fluid of every rank on every rank, in the single-process order; mine[i]: where this
   // rank's particle i is in it (a collision pass that needs the whole fluid, docs/scaling.md).
   Particles allGather(const Particles& fluid, std::vector<std::uint32_t>& mine);
@@ -117,7 +134,11 @@ class Halo {
 
  private:
   std::uint64_t globalKey(const CellCoord& cell, std::uint32_t within) const;
-  Particles merged(const Particles& fluid, bool everyRank, std::vector<std::uint32_t>* mine);
+  Particles merged(const Particles& fluid, bool everyRank, std::vector<std::uint32_t>* mine,
+                   std::vector<std::vector<float>>* attached);
+  // The sort `order` (new[i] = old[order[i]]) moved the particles: the keys, ghost flags,
+  // attached arrays and ghost lists follow.
+  void permuted(const std::vector<std::uint32_t>& order);
 
   Communicator& comm_;
   Aabb domain_;
@@ -126,7 +147,11 @@ class Halo {
   std::vector<std::uint64_t> keys_;   // per local particle: its place in the global order
   std::vector<std::uint8_t> ghost_;   // per local particle
   std::vector<std::uint32_t> order_;  // scratch
-  std::uint64_t migratedLast_ = 0;    // sent from here in the last exchange
+  std::vector<std::vector<float>*> attached_;
+  // This step's ghost lists: the local indices of the owned particles sent to rank r as ghosts,
+  // and of the ghosts received from rank r, each in the order of the message.
+  std::vector<std::vector<std::uint32_t>> sentTo_, receivedFrom_;
+  std::uint64_t migratedLast_ = 0;  // sent from here in the last exchange
   HaloStats stats_;
 };
 
