@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "app/CollectiveCacheSink.h"
 #include "app/Commands.h"
 #include "app/DistributedRun.h"
 #include "app/Interrupt.h"
@@ -149,10 +150,19 @@ int runJob(const RunRequest& request) {
   std::vector<FrameSink*> sinks;
   if (cache) sinks.push_back(cache.get());
   if (pictures) sinks.push_back(pictures.get());
-  std::unique_ptr<GatheringSink> gathering;
+  std::unique_ptr<FrameSink> distributed;
+  bool together = false;
   if (halo) {
-    gathering = std::make_unique<GatheringSink>(*halo, sim, sinks);
-    sinks = {gathering.get()};
+    // Rank 0 knows whether there is a cache; with parallel HDF5 every rank writes its part of
+    // each frame (app/CollectiveCacheSink.h), else rank 0 gathers the frames and writes them.
+    std::vector<std::int64_t> caching{cache ? 1 : 0};
+    ranks->sumInPlace(caching);
+    together = caching[0] && !pictures && writeCacheTogether(scene);
+    if (together)
+      distributed = std::make_unique<CollectiveCacheSink>(*halo, cache.get());
+    else
+      distributed = std::make_unique<GatheringSink>(*halo, sim, sinks);
+    sinks = {distributed.get()};
   }
   RunOutcome outcome;
   try {
@@ -237,6 +247,10 @@ int runJob(const RunRequest& request) {
                 prof.steps ? 1e3 * wall / prof.steps : 0.0);
     if (o.verbose) printPassSplit(prof);
     if (cache) std::printf("  %s\n", cache->summary(wall).c_str());
+    if (together)
+      std::printf(
+          "  frames after the first written by all %d ranks together (parallel HDF5, MPI-IO)\n",
+          ranks->size());
   }
   if (cache) cache->close();
   setLockstep(false);
