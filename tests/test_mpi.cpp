@@ -218,6 +218,59 @@ TEST_F(Mpi, AKilledRankZeroLeavesACacheThatResumesOnOtherRanks) {
   for (std::size_t k = 0; k < after.frameCount(); ++k) EXPECT_GT(after.readFrame(k).size(), 0u);
 }
 
+TEST_F(Mpi, ARankKilledAtAnyWriteOfTheCacheLeavesItReadableAndResumable) {
+  // One rank is killed just before its N-th write to the cache (tests/KillAtWrite.cpp), at
+  // writes spread over the whole run: its frames written together over MPI-IO and, for rank 0,
+  // its own (frame 0, the views, the statuses, the journal, the growth). The cache then holds
+  // frames equal to the single process's, and resuming it (on 3 ranks, or 1 plain process)
+  // gives the single process's cache.
+  const std::string shim = SPHSPLAT_KILL_SHIM;
+  auto twoRanks = [&](const std::string& out, const std::string& env0, const std::string& env1) {
+    const std::string rank =
+        test::sphsplatBinary() + " run '" + scene_ + "' --threads 1 --quiet -o '" + out + "'";
+    return "OMP_WAIT_POLICY=PASSIVE mpirun --oversubscribe --allow-run-as-root -np 1 env " + env0 +
+           " LD_PRELOAD='" + shim + "' " + rank + " : -np 1 env " + env1 + " LD_PRELOAD='" + shim +
+           "' " + rank;
+  };
+  long counts[2] = {0, 0};
+  {
+    const std::string out = dir_ + "/counted.h5";
+    auto r = runShell(twoRanks(out, "SPHSPLAT_WRITE_COUNT_FILE=" + dir_ + "/count0",
+                               "SPHSPLAT_WRITE_COUNT_FILE=" + dir_ + "/count1"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    test::expectSameCache(reference_, out);
+    for (int k = 0; k < 2; ++k) {
+      std::ifstream(dir_ + "/count" + std::to_string(k)) >> counts[k];
+      ASSERT_GT(counts[k], 0) << "rank " << k;
+    }
+  }
+  int resumed = 0;
+  for (int victim = 0; victim < 2; ++victim) {
+    for (int i = 1; i <= 4; ++i) {
+      const long n = counts[victim] * i / 5;
+      SCOPED_TRACE("rank " + std::to_string(victim) + " killed before write " + std::to_string(n) +
+                   " of " + std::to_string(counts[victim]));
+      const std::string out =
+          dir_ + "/kill" + std::to_string(victim) + "_" + std::to_string(i) + ".h5";
+      const std::string kill = "SPHSPLAT_KILL_AT_WRITE=" + std::to_string(n);
+      auto r = runShell(twoRanks(out, victim == 0 ? kill : "A=0", victim == 1 ? kill : "A=0"));
+      EXPECT_NE(r.exitCode, 0) << r.output;
+      if (!test::fileExists(out)) continue;  // killed before frame 0 was in: no cache
+      {
+        const io::CacheReader killed(out);
+        const io::CacheReader reference(reference_);
+        for (std::size_t k = 0; k < killed.frameCount(); ++k)
+          EXPECT_TRUE(test::sameBits(reference.readFrame(k), killed.readFrame(k))) << "frame " << k;
+      }
+      const std::string resume = "--resume '" + out + "'";
+      auto c = runShell(++resumed % 2 ? ranks(3, scene_, resume) : plain(scene_, resume));
+      ASSERT_EQ(c.exitCode, 0) << c.output;
+      test::expectSameCache(reference_, out);
+    }
+  }
+  EXPECT_GT(resumed, 4);
+}
+
 TEST(MpiMigration, ParticleCountAndMassAreConservedAsTheWaterCrossesFaces) {
   // A dam break in a closed tank that is longest along x, so the slabs are cut across x and the
   // collapsing column runs through every face; no emitter and no way out, so every frame must
