@@ -1,6 +1,7 @@
 #include "app/CollectiveCacheSink.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <numeric>
 
@@ -43,6 +44,7 @@ bool writeCacheTogether(const Scene& scene) {
 }
 
 void CollectiveCacheSink::frame(const Simulation& sim, std::size_t) {
+  const auto start = std::chrono::steady_clock::now();
   dist::Communicator& ranks = halo_.comm();
   // This rank's particles in the single-process order (their keys'), and the runs of places
   // they fill in the frame's arrays.
@@ -81,6 +83,7 @@ void CollectiveCacheSink::frame(const Simulation& sim, std::size_t) {
     cache_->writeFrameTogether(sim, mine, state, slice);
   else
     io::CacheWriter::joinFrame(target.path, target.frame, mine, state, slice);
+  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace sph::app

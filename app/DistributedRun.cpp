@@ -1,5 +1,6 @@
 #include "app/DistributedRun.h"
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -127,6 +128,7 @@ RunState broadcastRunState(dist::Communicator& ranks, const RunState& state) {
 }
 
 void GatheringSink::frame(const Simulation&, std::size_t index) {
+  const auto start = std::chrono::steady_clock::now();
   Particles all = halo_.gather(sim_.fluid());
   if (halo_.rank() != 0) return;
   // The sinks see the whole fluid, in the order one process would hold it.
@@ -138,6 +140,7 @@ void GatheringSink::frame(const Simulation&, std::size_t index) {
     throw;
   }
   std::swap(sim_.fluid(), all);
+  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 std::string describeExchanges(dist::Halo& halo, const StepProfile& profile) {

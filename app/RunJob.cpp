@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -151,6 +152,7 @@ int runJob(const RunRequest& request) {
   if (cache) sinks.push_back(cache.get());
   if (pictures) sinks.push_back(pictures.get());
   std::unique_ptr<FrameSink> distributed;
+  std::function<double()> frameSeconds;  // rank 0's time handing frames out (run -v)
   bool together = false;
   if (halo) {
     // Rank 0 knows whether there is a cache; with parallel HDF5 every rank writes its part of
@@ -158,10 +160,15 @@ int runJob(const RunRequest& request) {
     std::vector<std::int64_t> caching{cache ? 1 : 0};
     ranks->sumInPlace(caching);
     together = caching[0] && !pictures && writeCacheTogether(scene);
-    if (together)
-      distributed = std::make_unique<CollectiveCacheSink>(*halo, cache.get());
-    else
-      distributed = std::make_unique<GatheringSink>(*halo, sim, sinks);
+    if (together) {
+      auto sink = std::make_unique<CollectiveCacheSink>(*halo, cache.get());
+      frameSeconds = [p = sink.get()] { return p->seconds(); };
+      distributed = std::move(sink);
+    } else {
+      auto sink = std::make_unique<GatheringSink>(*halo, sim, sinks);
+      frameSeconds = [p = sink.get()] { return p->seconds(); };
+      distributed = std::move(sink);
+    }
     sinks = {distributed.get()};
   }
   RunOutcome outcome;
@@ -251,6 +258,10 @@ int runJob(const RunRequest& request) {
       std::printf(
           "  frames after the first written by all %d ranks together (parallel HDF5, MPI-IO)\n",
           ranks->size());
+    if (o.verbose && frameSeconds) {
+      std::printf("  frames after the first: %.3g s on rank 0 to %s\n", frameSeconds(),
+                  together ? "write them together" : "gather and write them");
+    }
   }
   if (cache) cache->close();
   setLockstep(false);
