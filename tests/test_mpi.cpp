@@ -60,6 +60,13 @@ class Mpi : public ::testing::Test {
     ASSERT_EQ(r.exitCode, 0) << r.output;
     ASSERT_GT(io::CacheReader(reference_).summary().frames.back().particles, 800u);
   }
+  // A shell script: a 2-rank run to 5 s, one rank of it (`pick` of mpirun's children: "head -1"
+  // or "tail -1") killed with SIGKILL 3 s after the cache appears; prints "mpirun-exit CODE".
+  std::string killOneRankMidRun(const std::string& out, const std::string& pick) const {
+    return ranks(2, scene_, "--end 5 -o '" + out + "'") + " & M=$!; " +
+           "for i in $(seq 600); do [ -f '" + out + "' ] && break; sleep 0.1; done; sleep 3; " +
+           "kill -9 $(pgrep -P $M | " + pick + "); wait $M; echo mpirun-exit $?";
+  }
   std::string dir_, scene_, reference_;
 };
 
@@ -168,11 +175,7 @@ TEST_F(Mpi, AKilledRankLeavesEveryFinishedFrameReadable) {
   // kill -9 one rank in the middle of a long run: mpirun ends the others, and the cache keeps
   // the frames committed before, each readable and equal to the single process's.
   const std::string out = dir_ + "/killed.h5";
-  const std::string script = ranks(2, scene_, "--end 5 -o '" + out + "'") + " & M=$!; " +
-                             "for i in $(seq 600); do [ -f '" + out +
-                             "' ] && break; sleep 0.1; done; sleep 3; " +
-                             "kill -9 $(pgrep -P $M | tail -1); wait $M; echo mpirun-exit $?";
-  auto r = runShell(script);
+  auto r = runShell(killOneRankMidRun(out, "tail -1"));
   EXPECT_NE(r.output.find("mpirun-exit"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("mpirun-exit 0"), std::string::npos) << r.output;
   const io::CacheReader killed(out);
@@ -183,15 +186,10 @@ TEST_F(Mpi, AKilledRankLeavesEveryFinishedFrameReadable) {
 }
 
 TEST_F(Mpi, AKilledRankZeroLeavesACacheThatResumesOnOtherRanks) {
-  // Rank 0 holds the lock, grows the file and writes the journal; killed mid-run (in the middle
-  // of a frame written together, most likely, as frames are written every 0.025 s of a 5 s
-  // run), the cache keeps its finished frames, and three ranks resume it to its end.
+  // Rank 0 holds the lock, grows the file and writes the journal; killed mid-run, the cache
+  // keeps its finished frames, and three ranks resume it.
   const std::string out = dir_ + "/killed0.h5";
-  const std::string script = ranks(2, scene_, "--end 5 -o '" + out + "'") + " & M=$!; " +
-                             "for i in $(seq 600); do [ -f '" + out +
-                             "' ] && break; sleep 0.1; done; sleep 3; " +
-                             "kill -9 $(pgrep -P $M | head -1); wait $M; echo mpirun-exit $?";
-  auto r = runShell(script);
+  auto r = runShell(killOneRankMidRun(out, "head -1"));
   EXPECT_EQ(r.output.find("mpirun-exit 0"), std::string::npos) << r.output;
   std::size_t kept = 0;
   double lastTime = 0;
