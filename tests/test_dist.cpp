@@ -279,5 +279,53 @@ TEST(Halo, OwnedParticlesAreEveryParticleOnceAndGhostsEqualABruteForceSearchAcro
   }
 }
 
+TEST(Halo, GlobalPlacesAreWhereTheGatheredFrameHoldsEachParticle) {
+  // The places each rank writes its particles to when the ranks write a frame together
+  // (parallel HDF5, app/CollectiveCacheSink.h): the gathered single-process order's indices,
+  // every index of it exactly once, after steps that moved particles across the faces.
+  const Aabb domain{Vec3(0, 0, 0), Vec3(1.0f, 0.3f, 0.3f)};
+  for (int ranks = 1; ranks <= 4; ++ranks) {
+    SCOPED_TRACE(std::to_string(ranks) + " ranks");
+    std::vector<std::vector<std::uint64_t>> places(ranks);
+    std::vector<std::vector<std::uint32_t>> ids(ranks);
+    Particles gathered;
+    test::ThreadRanks threads(ranks);
+    threads.run([&](Communicator& comm) {
+      Particles fluid = comm.rank() == 0 ? fullCloud() : Particles{};
+      Halo halo(comm, domain, kSupport);
+      halo.adopt(fluid);
+      NeighbourGrid grid;
+      std::vector<std::uint32_t> order, scratch;
+      for (int step = 0; step < 3; ++step) {
+        const float cs = halo.exchange(fluid, kSupport);
+        grid.build(fluid.x.data(), fluid.y.data(), fluid.z.data(), fluid.size(), cs, order,
+                   NeighbourGrid::kExactCellSize);
+        fluid.permute(order, scratch);
+        halo.sorted(grid, order);
+        halo.dropGhosts(fluid);
+        placeCloud(fluid, step + 1);
+      }
+      places[comm.rank()] = halo.globalPlaces();
+      ids[comm.rank()] = fluid.id;
+      Particles all = halo.gather(fluid);
+      if (comm.rank() == 0) gathered = std::move(all);
+    });
+    ASSERT_EQ(gathered.size(), kCloud);
+    std::vector<int> taken(kCloud, 0);
+    for (int r = 0; r < ranks; ++r) {
+      ASSERT_EQ(places[r].size(), ids[r].size());
+      if (ranks > 1) {
+        EXPECT_GT(ids[r].size(), 0u) << "rank " << r;
+      }
+      for (std::size_t i = 0; i < ids[r].size(); ++i) {
+        ASSERT_LT(places[r][i], kCloud);
+        EXPECT_EQ(gathered.id[places[r][i]], ids[r][i]) << "rank " << r << " particle " << i;
+        ++taken[places[r][i]];
+      }
+    }
+    EXPECT_EQ(std::count(taken.begin(), taken.end(), 1), static_cast<long>(kCloud));
+  }
+}
+
 }  // namespace
 }  // namespace sph::dist
