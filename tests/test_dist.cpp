@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <map>
 #include <numeric>
 #include <random>
@@ -155,7 +156,10 @@ constexpr int kSteps = 4;
 
 // The exchanges of kSteps steps on `ranks` threads, driven as Simulation::step drives them (the
 // exchange, the grid's sort and the new keys, the ghosts dropped), the particles moved between.
-std::vector<std::vector<Seen>> exchangeSteps(int ranks, std::vector<std::uint64_t>& migratedSeen) {
+// `after`, if given, sees each rank's halo and fluid at the end.
+std::vector<std::vector<Seen>> exchangeSteps(
+    int ranks, std::vector<std::uint64_t>& migratedSeen,
+    const std::function<void(Communicator&, Halo&, const Particles&)>& after = {}) {
   const Aabb domain{Vec3(0, 0, 0), Vec3(1.0f, 0.3f, 0.3f)};
   std::vector<std::vector<Seen>> seen(kSteps, std::vector<Seen>(ranks));
   migratedSeen.assign(ranks, 0);
@@ -181,6 +185,7 @@ std::vector<std::vector<Seen>> exchangeSteps(int ranks, std::vector<std::uint64_
       placeCloud(fluid, step + 1);
     }
     migratedSeen[comm.rank()] = halo.stats().migratedAllRanks;
+    if (after) after(comm, halo, fluid);
   });
   return seen;
 }
@@ -283,28 +288,13 @@ TEST(Halo, GlobalPlacesAreWhereTheGatheredFrameHoldsEachParticle) {
   // The places each rank writes its particles to when the ranks write a frame together
   // (parallel HDF5, app/CollectiveCacheSink.h): the gathered single-process order's indices,
   // every index of it exactly once, after steps that moved particles across the faces.
-  const Aabb domain{Vec3(0, 0, 0), Vec3(1.0f, 0.3f, 0.3f)};
   for (int ranks = 1; ranks <= 4; ++ranks) {
     SCOPED_TRACE(std::to_string(ranks) + " ranks");
     std::vector<std::vector<std::uint64_t>> places(ranks);
     std::vector<std::vector<std::uint32_t>> ids(ranks);
     Particles gathered;
-    test::ThreadRanks threads(ranks);
-    threads.run([&](Communicator& comm) {
-      Particles fluid = comm.rank() == 0 ? fullCloud() : Particles{};
-      Halo halo(comm, domain, kSupport);
-      halo.adopt(fluid);
-      NeighbourGrid grid;
-      std::vector<std::uint32_t> order, scratch;
-      for (int step = 0; step < 3; ++step) {
-        const float cs = halo.exchange(fluid, kSupport);
-        grid.build(fluid.x.data(), fluid.y.data(), fluid.z.data(), fluid.size(), cs, order,
-                   NeighbourGrid::kExactCellSize);
-        fluid.permute(order, scratch);
-        halo.sorted(grid, order);
-        halo.dropGhosts(fluid);
-        placeCloud(fluid, step + 1);
-      }
+    std::vector<std::uint64_t> migrated;
+    exchangeSteps(ranks, migrated, [&](Communicator& comm, Halo& halo, const Particles& fluid) {
       places[comm.rank()] = halo.globalPlaces();
       ids[comm.rank()] = fluid.id;
       Particles all = halo.gather(fluid);
