@@ -1,5 +1,6 @@
 #include "app/DistributedRun.h"
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -122,6 +123,7 @@ RunState broadcastRunState(dist::Communicator& ranks, const RunState& state) {
 }
 
 void GatheringSink::frame(const Simulation&, std::size_t index) {
+  const auto start = std::chrono::steady_clock::now();
   // DFSPH's warm start is attached to the halo (Simulation::setHalo), density then divergence.
   std::vector<std::vector<float>> attached;
   Particles all = halo_.gather(sim_.fluid(), &attached);
@@ -142,6 +144,7 @@ void GatheringSink::frame(const Simulation&, std::size_t index) {
     throw;
   }
   swapIn();
+  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 std::string describeExchanges(dist::Halo& halo, const StepProfile& profile) {

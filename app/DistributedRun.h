@@ -44,11 +44,14 @@ class GatheringSink final : public FrameSink {
   GatheringSink(dist::Halo& halo, Simulation& sim, std::vector<FrameSink*> sinks)
       : halo_(halo), sim_(sim), sinks_(std::move(sinks)) {}
   void frame(const Simulation& sim, std::size_t index) override;
+  // Wall time in frame() on rank 0 (s): gathering and the sinks (run -v, docs/benchmarks.md).
+  double seconds() const { return seconds_; }
 
  private:
   dist::Halo& halo_;
   Simulation& sim_;
   std::vector<FrameSink*> sinks_;
+  double seconds_ = 0;
 };
 
 // "2 ranks x 1 thread" style summary of a distributed run's exchanges (run --verbose).

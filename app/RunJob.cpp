@@ -7,10 +7,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "app/CollectiveCacheSink.h"
 #include "app/Commands.h"
 #include "app/DistributedRun.h"
 #include "app/Interrupt.h"
@@ -149,10 +151,25 @@ int runJob(const RunRequest& request) {
   std::vector<FrameSink*> sinks;
   if (cache) sinks.push_back(cache.get());
   if (pictures) sinks.push_back(pictures.get());
-  std::unique_ptr<GatheringSink> gathering;
+  std::unique_ptr<FrameSink> distributed;
+  std::function<double()> frameSeconds;  // rank 0's time handing frames out (run -v)
+  bool together = false;
   if (halo) {
-    gathering = std::make_unique<GatheringSink>(*halo, sim, sinks);
-    sinks = {gathering.get()};
+    // Rank 0 knows whether there is a cache; with parallel HDF5 every rank writes its part of
+    // each frame (app/CollectiveCacheSink.h), else rank 0 gathers the frames and writes them.
+    std::vector<std::int64_t> caching{cache ? 1 : 0};
+    ranks->sumInPlace(caching);
+    together = caching[0] && !pictures && writeCacheTogether(scene);
+    if (together) {
+      auto sink = std::make_unique<CollectiveCacheSink>(*halo, cache.get());
+      frameSeconds = [p = sink.get()] { return p->seconds(); };
+      distributed = std::move(sink);
+    } else {
+      auto sink = std::make_unique<GatheringSink>(*halo, sim, sinks);
+      frameSeconds = [p = sink.get()] { return p->seconds(); };
+      distributed = std::move(sink);
+    }
+    sinks = {distributed.get()};
   }
   RunOutcome outcome;
   try {
@@ -237,6 +254,14 @@ int runJob(const RunRequest& request) {
                 prof.steps ? 1e3 * wall / prof.steps : 0.0);
     if (o.verbose) printPassSplit(prof);
     if (cache) std::printf("  %s\n", cache->summary(wall).c_str());
+    if (together)
+      std::printf(
+          "  frames after the first written by all %d ranks together (parallel HDF5, MPI-IO)\n",
+          ranks->size());
+    if (o.verbose && frameSeconds) {
+      std::printf("  frames after the first: %.3g s on rank 0 to %s\n", frameSeconds(),
+                  together ? "write them together" : "gather and write them");
+    }
   }
   if (cache) cache->close();
   setLockstep(false);

@@ -55,10 +55,18 @@ constexpr std::uint64_t kGrowthMargin = 1 << 20;
 // tests/test_cache_crash.cpp kills the writer at every write() of a run, and also tears each
 // write that spans pages, and checks 1-6; tests/test_cache_concurrent.cpp checks 4 and 7 after
 // every write of a rendering run, and reads the cache in a loop while it is written.
+//
+// All ranks writing a frame together (slice_, parallel HDF5 over MPI-IO) keep every point: the
+// flush is collective, rank 0 (the one with fd_) grows the file and writes the journal before it
+// and the others wait for that; after it they wait for each other, so that every rank's writes of
+// the objects are done before any rank writes the header that links them (point 2). A rank
+// killed at any moment leaves the file as a killed single process would (tests/test_mpi.cpp).
 void CacheWriter::commitObjects(hid_t rewritten) {
   growFile();
   if (rewritten >= 0) journalHeader(rewritten);
+  if (slice_) slice_->ranks->allGather({});  // a barrier: the file is grown, the journal written
   check(H5Fflush(file_.get(), H5F_SCOPE_LOCAL), "flush the cache");
+  if (slice_) slice_->ranks->allGather({});  // every rank's part of this commit is written
   // HDF5 cuts the file to its end of allocation after a flush when the last block it allocated
   // is not written yet (a global heap block, an image's chunk): restore the margin before the
   // next superblock is written.
@@ -66,6 +74,18 @@ void CacheWriter::commitObjects(hid_t rewritten) {
 }
 
 void CacheWriter::growFile() {
+  if (fd_ < 0) return;  // a rank other than 0 writing a frame together with it
+  if (slice_) {
+    // Over MPI-IO: to the frame's bound (CacheFrames.cpp, writeFrame), as the end of allocation
+    // cannot be read there.
+    struct stat st {};
+    if (fstat(fd_, &st) != 0) throw h5::Error("stat the cache", std::strerror(errno));
+    if (static_cast<std::uint64_t>(st.st_size) < frameEnd_ &&
+        ftruncate(fd_, static_cast<off_t>(frameEnd_)) != 0) {
+      throw h5::Error("grow the cache file", std::strerror(errno));
+    }
+    return;
+  }
   haddr_t eoa = 0;
   check(H5Fget_eoa(file_.get(), &eoa), "read the end of allocation");
   struct stat st {};
@@ -83,6 +103,9 @@ void CacheWriter::growFile() {
 void CacheWriter::journalHeader(hid_t object) {
   H5O_info_t info;
   check(H5Oget_info2(object, &info, H5O_INFO_BASIC | H5O_INFO_HDR), "read an object header's size");
+  // Rank 0 journals for all ranks writing together (the others read the header all the same: the
+  // ranks' HDF5 calls must be alike, CacheFrames.cpp).
+  if (fd_ < 0) return;
   // A header of one block, as the root is sized to stay (more blocks would be more writes).
   if (info.hdr.nchunks != 1 || userBlock_ == 0) return;
   journalRegion(fd_, userBlock_ + info.addr, info.hdr.space.total, userBlock_);

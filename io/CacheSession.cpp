@@ -229,10 +229,22 @@ void CacheSession::create(const Simulation& sim, const CacheProvenance& provenan
 
 void CacheSession::writeFrame(const Simulation& sim) {
   writer_->writeFrame(sim.fluid(), sim.runState());
+  recordFrame(sim, sim.fluid().size());
+}
+
+void CacheSession::writeFrameTogether(const Simulation& sim, const Particles& mine,
+                                      const RunState& state, const FrameSlice& slice) {
+  if (rain_ || rainShown_)
+    throw InputError(path_ + ": a scene with rain is written by rank 0 alone (docs/scaling.md)");
+  writer_->writeFrame(mine, state, &slice);
+  recordFrame(sim, static_cast<std::size_t>(slice.part.total));
+}
+
+void CacheSession::recordFrame(const Simulation& sim, std::size_t particles) {
   CacheFrame f;
   f.index = writer_->frameCount() - 1;
   f.time = sim.time();
-  f.particles = sim.fluid().size();
+  f.particles = particles;
   f.step = sim.stepCount();
   f.hasRestart = true;
   if (rain_) rain_->advanceTo(sim.time(), sim.fluid());

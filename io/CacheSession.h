@@ -45,6 +45,12 @@ class CacheSession final : public FrameSink {
   void create(const Simulation& sim, const CacheProvenance& provenance, std::size_t expectedFrames);
   // Writes and commits the current state as the next frame and adds it to the sidecar.
   void writeFrame(const Simulation& sim);
+  // The same, written by all ranks of an MPI run together (rank 0 calls this, the others
+  // CacheWriter::joinFrame with path() and frameCount(); docs/scaling.md): `mine` is rank 0's
+  // part of the frame, `state` the run's. Not for a scene with rain (its drops are stepped on
+  // the whole fluid, which rank 0 then gathers instead).
+  void writeFrameTogether(const Simulation& sim, const Particles& mine, const RunState& state,
+                          const FrameSlice& slice);
   // FrameSink: the run loop's frames go to writeFrame().
   void frame(const Simulation& sim, std::size_t) override { writeFrame(sim); }
   // Stores a rendered image of frame `frame` (already written) as /Render#<renderer>#<frame>.
@@ -60,6 +66,10 @@ class CacheSession final : public FrameSink {
   ~CacheSession() override;
 
   const std::string& path() const { return path_; }
+  // The file the writer writes (PATH.partial until frame 0 is in) and its frame count: what the
+  // other ranks of a frame written together open (writeFrameTogether).
+  const std::string& writerPath() const { return writer_->path(); }
+  std::size_t writerFrameCount() const { return writer_->frameCount(); }
   std::size_t frameCount() const;
   // "frames 0-41 (t = 0 - 1.367 s)" of what the cache holds now.
   std::string framesText() const;
@@ -85,6 +95,8 @@ class CacheSession final : public FrameSink {
   std::vector<CacheFrame> frames_;
   double particleFrames_ = 0;         // sum over frames of the particle count
   double particleFramesWritten_ = 0;  // the same, of the frames this run wrote
+  // The sidecar, the rain and the counts of a frame just written (of `particles` particles).
+  void recordFrame(const Simulation& sim, std::size_t particles);
   // Sets rain_ (stepped here) or points rainShown_ at the simulation's feeding rain.
   void followRain(const Simulation& sim);
   std::unique_ptr<rain::RainStepper> rain_;

@@ -20,6 +20,7 @@
 #include "io/Hdf5.h"
 #include "sim/Boundary.h"
 #include "sim/Simulation.h"
+#include "sim/dist/Communicator.h"
 
 namespace sph::io {
 
@@ -28,6 +29,14 @@ struct CacheProvenance {
   std::string programVersion;  // "0.1.0"
   int threads = 0;             // worker threads of the run (bit-exact resume needs the same)
   std::vector<std::string> overrides;  // the --set edits applied to the scene file
+};
+
+// This rank's part of a frame that all ranks of an MPI run write together with parallel HDF5
+// (docs/scaling.md, "The cache is written by all ranks"): its particles go to `part`'s places of
+// the frame's arrays. Every rank passes the same RunState (rank 0's).
+struct FrameSlice {
+  dist::Communicator* ranks = nullptr;
+  h5::Part part;
 };
 
 class CacheWriter {
@@ -52,7 +61,14 @@ class CacheWriter {
 
   // Writes and commits frame frameCount(): the fields asked for, the frame time as TimeValue and,
   // if enabled, the resume record (RunState + the fields the frame lacks of restartFields()).
-  void writeFrame(const Particles& fluid, const RunState& state);
+  // With `slice`, all ranks write the frame together: rank 0 calls this on its writer while
+  // every other rank calls joinFrame() with its part (the file is opened through MPI-IO for the
+  // frame and closed again, so that everything else stays rank 0's, as before).
+  void writeFrame(const Particles& fluid, const RunState& state, const FrameSlice* slice = nullptr);
+  // The other ranks' half of writeFrame(fluid, state, slice): frame `frame` of the cache at
+  // `path` (rank 0's writer's frameCount() and path()).
+  static void joinFrame(const std::string& path, std::size_t frame, const Particles& fluid,
+                        const RunState& state, const FrameSlice& slice);
 
   // Stores one rendered image of frame `frame` (which must already be written) for `renderer`
   // (letters, digits, '_' and '-'): `rgb` holds height rows of width RGB triplets, top row first.
@@ -92,10 +108,18 @@ class CacheWriter {
   void reopen();
   void addMissingVectorViews();
   h5::Handle writeVectorViews(std::size_t frame, std::size_t particles);
+  void linkVectorViews(std::size_t frame, std::size_t particles);
   void commitObjects(hid_t rewritten = H5I_INVALID_HID);
   void growFile();
   void journalHeader(hid_t object);
   void writeField(hid_t group, cache::Field field, const Particles& fluid);
+  void writeFrameObjects(const Particles& fluid, const RunState& state);
+  void writeRestart(hid_t record, const Particles& fluid, const RunState& state);
+  std::uint64_t writeValues(hid_t group, const char* name, hid_t memType, hid_t fileType,
+                            const void* data, std::size_t count);
+  bool onAllRanks(bool mine) const;
+  bool constantEverywhere(const std::vector<float>& v, float& first) const;
+  std::size_t frameParticles(const Particles& fluid) const;
 
   std::string path_;
   h5::Handle file_;
@@ -108,6 +132,8 @@ class CacheWriter {
   h5::Storage storage_;
   double secondsWriting_ = 0;
   std::uint64_t frameDataBytes_ = 0;
+  const FrameSlice* slice_ = nullptr;  // during a frame written by all ranks together
+  std::uint64_t frameEnd_ = 0;         // ... the file size that holds whatever it allocates
 };
 
 }  // namespace sph::io

@@ -96,7 +96,8 @@ namespace {
 void setLinkStorage(hid_t plist, unsigned expectedLinks) {
   // Links stay in the group's object header ("compact" storage) up to kMaxCompactLinks, and the
   // header is allocated for the expected count up front, so adding a link rewrites one block of
-  // the header in place instead of growing it or converting it to a B-tree (io/CacheWriter.cpp, rootLinkEstimate).
+  // the header in place instead of growing it or converting it to a B-tree (io/CacheWriter.cpp,
+  // rootLinkEstimate).
   check(H5Pset_link_phase_change(plist, kMaxCompactLinks, kMaxCompactLinks),
         "set the compact link limit");
   check(H5Pset_est_link_info(plist, std::min(std::max(expectedLinks, 1u), kMaxCompactLinks), 12),
@@ -374,6 +375,8 @@ Handle createDataset(hid_t loc, const std::string& name, hid_t fileType,
     check(H5Pset_deflate(dcpl.get(), static_cast<unsigned>(storage.deflateLevel)),
           "set deflate on " + label);
   }
+  if (storage.collective)
+    check(H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_NEVER), "set no fill values on " + label);
   if (name.empty()) {
     return checked(H5Dcreate_anon(loc, fileType, space.get(), dcpl.get(), H5P_DEFAULT),
                    "create " + label);

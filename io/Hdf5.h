@@ -51,6 +51,9 @@ class Handle {
   hid_t get() const { return id_; }
   explicit operator bool() const { return id_ >= 0; }
   void reset();
+  // Forgets the identifier without closing it (a file whose close would be a collective call
+  // the other processes will not make).
+  void release() { id_ = -1; }
   // Closes now and reports a failure (a file's close writes what is left).
   void close(const std::string& what);
 
@@ -114,6 +117,9 @@ std::vector<std::string> attributeNames(hid_t obj);
 struct Storage {
   int deflateLevel = 0;              // 0 = no compression
   std::size_t chunkBytes = 1 << 20;  // upper bound of one chunk (bytes)
+  // Written by all ranks together (writeDatasetPart): no fill values, which parallel HDF5 would
+  // write into the space it allocates at creation before the ranks write their parts.
+  bool collective = false;
 };
 
 // Creates a dataset of shape `dims` in `loc` named `name`, or an anonymous one (linked later with
@@ -126,6 +132,25 @@ Handle createDataset(hid_t loc, const std::string& name, hid_t fileType,
 // stored as `fileType` (e.g. H5T_IEEE_F32LE). Returns the bytes it takes in the file.
 std::uint64_t writeDataset(hid_t loc, const std::string& name, hid_t memType, hid_t fileType,
                            const void* data, std::size_t count, const Storage& storage);
+
+// Parallel HDF5 (Hdf5Parallel.cpp): whether this build has it, so that the ranks of an MPI run
+// write the cache together (docs/scaling.md, "The cache is written by all ranks").
+bool haveParallel();
+// File access through MPI-IO on all processes of MPI_COMM_WORLD: each call on the file is then
+// collective. Only where haveParallel().
+Handle parallelFileAccessProps();
+
+// This process's part of a 1-D dataset written by all processes together: the dataset holds
+// `total` values; this process's values, in order, go to `runs` (first index, count).
+struct Part {
+  std::uint64_t total = 0;
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> runs;
+  std::size_t count() const;  // this process's values
+};
+// Like writeDataset, collectively (every process calls it, each with its part; collective
+// transfers, which parallel HDF5 needs for filters): the values this process holds.
+std::uint64_t writeDatasetPart(hid_t loc, const std::string& name, hid_t memType, hid_t fileType,
+                               const void* data, const Part& part, const Storage& storage);
 
 // Creates `name` in `loc`: a virtual dataset of shape [count][3] whose columns are the 1-D
 // datasets `columns` (paths in the same file, `count` values each), stored as `fileType`. No data

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -194,7 +195,10 @@ constexpr int kSteps = 4;
 
 // The exchanges of kSteps steps on `ranks` threads, driven as Simulation::step drives them (the
 // exchange, the grid's sort and the new keys, the ghosts dropped), the particles moved between.
-std::vector<std::vector<Seen>> exchangeSteps(int ranks, std::vector<std::uint64_t>& migratedSeen) {
+// `after`, if given, sees each rank's halo and fluid at the end.
+std::vector<std::vector<Seen>> exchangeSteps(
+    int ranks, std::vector<std::uint64_t>& migratedSeen,
+    const std::function<void(Communicator&, Halo&, const Particles&)>& after = {}) {
   const Aabb domain{Vec3(0, 0, 0), Vec3(1.0f, 0.3f, 0.3f)};
   std::vector<std::vector<Seen>> seen(kSteps, std::vector<Seen>(ranks));
   migratedSeen.assign(ranks, 0);
@@ -220,6 +224,7 @@ std::vector<std::vector<Seen>> exchangeSteps(int ranks, std::vector<std::uint64_
       placeCloud(fluid, step + 1);
     }
     migratedSeen[comm.rank()] = halo.stats().migratedAllRanks;
+    if (after) after(comm, halo, fluid);
   });
   return seen;
 }
@@ -380,6 +385,39 @@ TEST(Halo, AttachedArraysAndRefreshedGhostsFollowTheirParticles) {
       EXPECT_EQ(wrongGathered[r], 0);
     }
     EXPECT_EQ(gathered[0], kCloud);
+  }
+}
+
+TEST(Halo, GlobalPlacesAreWhereTheGatheredFrameHoldsEachParticle) {
+  // The places each rank writes its particles to when the ranks write a frame together
+  // (parallel HDF5, app/CollectiveCacheSink.h): the gathered single-process order's indices,
+  // every index of it exactly once, after steps that moved particles across the faces.
+  for (int ranks = 1; ranks <= 4; ++ranks) {
+    SCOPED_TRACE(std::to_string(ranks) + " ranks");
+    std::vector<std::vector<std::uint64_t>> places(ranks);
+    std::vector<std::vector<std::uint32_t>> ids(ranks);
+    Particles gathered;
+    std::vector<std::uint64_t> migrated;
+    exchangeSteps(ranks, migrated, [&](Communicator& comm, Halo& halo, const Particles& fluid) {
+      places[comm.rank()] = halo.globalPlaces();
+      ids[comm.rank()] = fluid.id;
+      Particles all = halo.gather(fluid);
+      if (comm.rank() == 0) gathered = std::move(all);
+    });
+    ASSERT_EQ(gathered.size(), kCloud);
+    std::vector<int> taken(kCloud, 0);
+    for (int r = 0; r < ranks; ++r) {
+      ASSERT_EQ(places[r].size(), ids[r].size());
+      if (ranks > 1) {
+        EXPECT_GT(ids[r].size(), 0u) << "rank " << r;
+      }
+      for (std::size_t i = 0; i < ids[r].size(); ++i) {
+        ASSERT_LT(places[r][i], kCloud);
+        EXPECT_EQ(gathered.id[places[r][i]], ids[r][i]) << "rank " << r << " particle " << i;
+        ++taken[places[r][i]];
+      }
+    }
+    EXPECT_EQ(std::count(taken.begin(), taken.end(), 1), static_cast<long>(kCloud));
   }
 }
 

@@ -1,0 +1,89 @@
+#include "app/CollectiveCacheSink.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <numeric>
+
+#include "app/DistributedRun.h"
+
+namespace sph::app {
+namespace {
+
+// Rank 0's cache file (the writer's: PATH.partial until frame 0 is published), the index of the
+// frame to write and the run's lost-particle count, on every rank.
+struct Target {
+  std::string path;
+  std::uint64_t frame = 0;
+  std::uint64_t lost = 0;
+};
+
+Target broadcastTarget(dist::Communicator& ranks, const io::CacheSession* cache,
+                       const Simulation& sim) {
+  dist::Bytes b;
+  if (ranks.rank() == 0) {
+    const std::uint64_t head[2] = {cache->writerFrameCount(), sim.lostParticles()};
+    b.resize(sizeof head);
+    std::memcpy(b.data(), head, sizeof head);
+    const std::string& path = cache->writerPath();
+    b.insert(b.end(), path.begin(), path.end());
+  }
+  ranks.broadcastFromRoot(b);
+  Target t;
+  std::uint64_t head[2];
+  std::memcpy(head, b.data(), sizeof head);
+  t.frame = head[0], t.lost = head[1];
+  t.path.assign(b.begin() + sizeof head, b.end());
+  return t;
+}
+
+}  // namespace
+
+bool writeCacheTogether(const Scene& scene) {
+  return io::h5::haveParallel() && !scene.rain;
+}
+
+void CollectiveCacheSink::frame(const Simulation& sim, std::size_t) {
+  const auto start = std::chrono::steady_clock::now();
+  dist::Communicator& ranks = halo_.comm();
+  // This rank's particles in the single-process order (their keys'), and the runs of places
+  // they fill in the frame's arrays.
+  std::vector<std::uint64_t> places = halo_.globalPlaces();
+  std::vector<std::uint32_t> order(places.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return places[a] < places[b]; });
+  Particles mine = sim.fluid();
+  RunState state = broadcastRunState(ranks, sim.runState());
+  state.warmStart = sim.runState().warmStart;
+  if (!std::is_sorted(places.begin(), places.end())) {
+    std::vector<std::uint32_t> scratch;
+    mine.permute(order, scratch);
+    for (std::vector<float>* v : {&state.warmStart.density, &state.warmStart.divergence}) {
+      if (v->size() != order.size()) continue;
+      std::vector<float> sorted(v->size());
+      for (std::size_t i = 0; i < order.size(); ++i) sorted[i] = (*v)[order[i]];
+      v->swap(sorted);
+    }
+    std::sort(places.begin(), places.end());
+  }
+  io::FrameSlice slice;
+  slice.ranks = &ranks;
+  slice.part.total = halo_.globalCount(mine.size());
+  for (std::uint64_t place : places) {
+    auto& runs = slice.part.runs;
+    if (!runs.empty() && runs.back().first + runs.back().second == place)
+      ++runs.back().second;
+    else
+      runs.emplace_back(place, 1);
+  }
+  const Target target = broadcastTarget(ranks, cache_, sim);
+  state.lostParticles = target.lost;
+  if (cache_)
+    cache_->writeFrameTogether(sim, mine, state, slice);
+  else
+    io::CacheWriter::joinFrame(target.path, target.frame, mine, state, slice);
+  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace sph::app
