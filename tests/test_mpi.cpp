@@ -311,18 +311,26 @@ TEST(MpiMigration, ParticleCountAndMassAreConservedAsTheWaterCrossesFaces) {
   }
 }
 
+// A block thrown at 1 m/s through the domain's +x face, tolerating `maxLost` lost particles;
+// returns the scene file written into `dir`.
+std::string thrownBlockScene(const std::string& dir, int maxLost) {
+  const std::string file = dir + "/thrown.json";
+  std::ofstream(file) << R"({"solver": {"spacing": 0.01, "gravity": [0, 0, 0],
+      "max_lost_particles": )"
+                      << maxLost << R"(, "end_time": 0.25},
+    "domain": {"min": [-0.1, -0.1, -0.1], "max": [0.3, 0.15, 0.15]},
+    "fluids": [{"min": [0, 0, 0], "max": [0.1, 0.05, 0.05], "velocity": [1.0, 0, 0]}],
+    "output": {"fps": 40}})";
+  return file;
+}
+
 TEST(MpiLost, ParticlesLeavingTheDomainAreRemovedAndCountedAsByOneProcess) {
   // A block thrown at 1 m/s through the domain's +x face (the longest axis, so it leaves through
   // the last rank's slab): half of it leaves over some 70 steps, each particle removed and
   // counted as one process does (solver.max_lost_particles); the caches are bit-identical. Past
   // the tolerance every rank stops with the single process's message.
   const std::string dir = test::makeTempDir();
-  const std::string file = dir + "/thrown.json";
-  std::ofstream(file) << R"({"solver": {"spacing": 0.01, "gravity": [0, 0, 0],
-      "max_lost_particles": 1000, "end_time": 0.25},
-    "domain": {"min": [-0.1, -0.1, -0.1], "max": [0.3, 0.15, 0.15]},
-    "fluids": [{"min": [0, 0, 0], "max": [0.1, 0.05, 0.05], "velocity": [1.0, 0, 0]}],
-    "output": {"fps": 40}})";
+  const std::string file = thrownBlockScene(dir, 1000);
   auto line = [](const std::string& out, const std::string& words) {
     const std::size_t at = out.find(words);
     if (at == std::string::npos) return std::string();
@@ -361,12 +369,7 @@ TEST(MpiLost, AResumedRunCountsTheParticlesLostBeforeOnEveryRank) {
   // particles leave through the last rank's slab, whose guard decides: it must count the
   // particles lost before the resume, which rank 0 read from the cache.
   const std::string dir = test::makeTempDir();
-  const std::string file = dir + "/thrown.json";
-  std::ofstream(file) << R"({"solver": {"spacing": 0.01, "gravity": [0, 0, 0],
-      "max_lost_particles": 100, "end_time": 0.25},
-    "domain": {"min": [-0.1, -0.1, -0.1], "max": [0.3, 0.15, 0.15]},
-    "fluids": [{"min": [0, 0, 0], "max": [0.1, 0.05, 0.05], "velocity": [1.0, 0, 0]}],
-    "output": {"fps": 40}})";
+  const std::string file = thrownBlockScene(dir, 100);
   const auto one = runShell(plain(file, ""));
   ASSERT_EQ(one.exitCode, 3) << one.output;
   const std::string words = "more than solver.max_lost_particles = 100";
