@@ -117,6 +117,12 @@ void CacheWriter::writeFrame(const Particles& fluid, const RunState& state,
     slice_ = nullptr;
     throw InputError(path_ + ": cannot write frame " + std::to_string(frame) + " (" + e.what() +
                      ")");
+  } catch (...) {
+    // The same for any other failure (a setting that does not read back, memory): slice_ points
+    // into the caller's frame and must not outlive it.
+    if (slice_) file_.release();
+    slice_ = nullptr;
+    throw;
   }
   frames_ = frame + 1;
   secondsWriting_ +=
@@ -125,16 +131,26 @@ void CacheWriter::writeFrame(const Particles& fluid, const RunState& state,
 
 void CacheWriter::joinFrame(const std::string& path, std::size_t frame, const Particles& fluid,
                             const RunState& state, const FrameSlice& slice) {
+  h5::silence();  // one line on failure (below), not HDF5's stack: this rank never created a cache
   try {
     h5::Handle file =
         checked(H5Fopen(path.c_str(), H5F_ACC_RDWR, h5::parallelFileAccessProps().get()),
                 "open the cache on every rank");
     // No lock and no file descriptor: growing the file and the journal are rank 0's.
     CacheWriter w(path, std::move(file), -1);
-    w.frames_ = frame;
-    w.readSettings();
-    w.slice_ = &slice;
-    w.writeFrameObjects(fluid, state);
+    try {
+      w.frames_ = frame;
+      w.readSettings();
+      w.slice_ = &slice;
+      w.writeFrameObjects(fluid, state);
+    } catch (...) {
+      // Failed on this rank alone: closing the MPI-IO file is collective and would wait forever
+      // for the other ranks, which are in another collective call; the run stops every rank
+      // (app/DistributedRun.h) with what is committed.
+      w.file_.release();
+      w.slice_ = nullptr;
+      throw;
+    }
     w.file_.close("close the cache on every rank");
   } catch (const h5::Error& e) {
     throw InputError(path + ": cannot write frame " + std::to_string(frame) + " (" + e.what() +
