@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cstring>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 
 #include "app/DistributedRun.h"
 
@@ -49,6 +51,12 @@ void CollectiveCacheSink::frame(const Simulation& sim, std::size_t) {
   // This rank's particles in the single-process order (their keys'), and the runs of places
   // they fill in the frame's arrays.
   std::vector<std::uint64_t> places = halo_.globalPlaces();
+  // One place per particle, or this rank's selection would not match its buffer and the
+  // collective write would wait forever for it: stop this rank (the others are aborted with it).
+  if (places.size() != sim.fluid().size())
+    throw std::logic_error(std::to_string(places.size()) + " cache places for " +
+                           std::to_string(sim.fluid().size()) + " particles on rank " +
+                           std::to_string(halo_.rank()));
   std::vector<std::uint32_t> order(places.size());
   std::iota(order.begin(), order.end(), 0u);
   std::stable_sort(order.begin(), order.end(),
