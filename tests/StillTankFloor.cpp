@@ -1,5 +1,7 @@
 #include "tests/StillTankFloor.h"
 
+#include <cstdio>
+
 #include "sim/Observables.h"
 
 namespace sph::test {
@@ -27,6 +29,14 @@ void StillTankFloor::advanceTo(Simulation& sim, double t) {
               (weight * sim.scene().solver.gravity.norm());
     ++steps_;
   }
+}
+
+void StillTankFloor::print(const char* solver, double expected) const {
+  std::printf(
+      "%s floor sensor: centre %.1f Pa, whole floor %.1f Pa, rho0 g d %.1f Pa (%+.2f%%, %+.2f%%); "
+      "walls' load / weight %.4f (%d steps)\n",
+      solver, centrePressure(), floorPressure(), expected, 100 * (centrePressure() / expected - 1),
+      100 * (floorPressure() / expected - 1), loadOverWeight(), steps());
 }
 
 }  // namespace sph::test

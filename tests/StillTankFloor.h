@@ -25,6 +25,8 @@ class StillTankFloor {
   // fluid at rest whose p is the pressure its solver applied.
   double loadOverWeight() const { return total_ / steps_; }
   int steps() const { return steps_; }
+  // One line: the readings against the floor's `expected` pressure (Pa), named `solver`.
+  void print(const char* solver, double expected) const;
 
  private:
   double width_;

@@ -87,12 +87,7 @@ TEST(Dfsph, StillTankHoldsDensityAtALargeStep) {
   // reads ~2% low, where WCSPH reads within 1% (docs/benchmarks.md, "Bottom pressure of DFSPH").
   floor.advanceTo(sim, 0.9);
   const double floorExpected = rho0 * g * surface;
-  std::printf(
-      "dfsph floor sensor: centre %.1f Pa, whole floor %.1f Pa, rho0 g d %.1f Pa (%+.2f%%, "
-      "%+.2f%%); walls' load / weight %.4f (%d steps)\n",
-      floor.centrePressure(), floor.floorPressure(), floorExpected,
-      100 * (floor.centrePressure() / floorExpected - 1),
-      100 * (floor.floorPressure() / floorExpected - 1), floor.loadOverWeight(), floor.steps());
+  floor.print("dfsph", floorExpected);
   EXPECT_NEAR(floor.loadOverWeight(), 1.0, 0.005);
   EXPECT_NEAR(floor.centrePressure(), floorExpected, 0.03 * floorExpected);
   EXPECT_NEAR(floor.floorPressure(), floorExpected, 0.03 * floorExpected);

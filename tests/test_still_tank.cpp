@@ -49,12 +49,7 @@ TEST(StillTank, HydrostaticPressureAndDensityAfterSettling) {
   // The floor's sensor (the middle 6 x 6 cm; every step from 0.75 s): the depth of the floor is
   // the surface's height.
   const double floorExpected = rho0 * g * surface;
-  std::printf(
-      "floor sensor: centre %.1f Pa, whole floor %.1f Pa, rho0 g d %.1f Pa (%+.2f%%, %+.2f%%); "
-      "walls' load / weight %.4f (%d steps)\n",
-      floor.centrePressure(), floor.floorPressure(), floorExpected,
-      100 * (floor.centrePressure() / floorExpected - 1),
-      100 * (floor.floorPressure() / floorExpected - 1), floor.loadOverWeight(), floor.steps());
+  floor.print("wcsph", floorExpected);
   EXPECT_NEAR(floor.centrePressure(), floorExpected, 0.01 * floorExpected);
   // At rest the walls hold the water's weight: p and the walls' pressure are what the solver
   // applied.
