@@ -184,7 +184,7 @@ void solveDivergence(StepContext& c) {
 
 // Constant-density solver on the velocities after the non-pressure forces (2017, Algorithm 3);
 // the pressure acceleration is added to a, and for output p_i, the pressure that gives the same
-// force in the WCSPH formula.
+// force in the WCSPH formula as both solvers' stiffness of this step.
 void solveDensity(StepContext& c) {
   Particles& f = c.fluid;
   StepScratch& s = c.scratch;
@@ -203,10 +203,14 @@ void solveDensity(StepContext& c) {
   c.solveStats.steps += 1;
   // The WCSPH force is c sum m (p_i/rho_i^2 + p_j/rho_j^2) gradW_spiky (c the lattice gradient
   // correction); DFSPH's is sum (m/rho0) n (k_i + k_j) gradW_spiky (n the density normalisation):
-  // the same force for p_i = rho_i^2 / rho0 (n / c) k_i.
+  // the same force for p_i = rho_i^2 / rho0 (n / c) k_i. k_i is all this step applied: the
+  // divergence solver's sum with the constant-density solver's (each warm start included). Near
+  // a wall p_i is not the physical pressure: the walls push with k_i alone, as if they held no
+  // pressure (docs/benchmarks.md, "Bottom pressure of DFSPH").
   const float scale = invRho0 * c.derived.densityNormalisation / c.derived.gradientCorrection;
   const std::vector<float>& k = c.warmStart.density;
-  for (std::size_t i = 0; i < f.size(); ++i) f.p[i] = f.rho[i] * f.rho[i] * scale * k[i];
+  const std::vector<float>& kv = c.warmStart.divergence;
+  for (std::size_t i = 0; i < f.size(); ++i) f.p[i] = f.rho[i] * f.rho[i] * scale * (k[i] + kv[i]);
 }
 
 }  // namespace sph

@@ -4,6 +4,9 @@
 // array order; none of them changes the state.
 #pragma once
 
+#include <vector>
+
+#include "sim/Boundary.h"
 #include "sim/Particles.h"
 #include "sim/SolverParams.h"
 #include "sim/Types.h"
@@ -44,6 +47,19 @@ struct LayerMean {
   std::size_t count = 0;
 };
 LayerMean bottomLayer(const Particles& fluid, double top);
+
+// The force (N) the fluid's pressure exerts on the boundary particles inside `sensor`: what a
+// load cell behind that part of the wall reads, so its normal component over the part's area is
+// the pressure a sensor flush with the wall measures. The pair is the pressure term of both
+// solvers: c m^2 (p_i/rho_i^2 + p_b/rho_b^2) |gradW_spiky(x_i - x_b)| pushing fluid particle i
+// away from boundary particle b and b away from i (SphPasses.cpp, computeForces()), with
+// `boundaryPressureTerm` p_b/rho_b^2 (Simulation::boundaryPressureTerm(): WCSPH's wall pressure,
+// zeros for DFSPH, whose walls push with k_i alone, the p_i/rho_i^2 term of its output p;
+// Dfsph.cpp) and c the step's gradient correction (Simulation::gradientCorrection()). Read after a
+// step, the fluid has moved by dt v since its p was computed: at rest, a small part of a spacing.
+Vec3d wallLoad(const Particles& fluid, const BoundaryParticles& boundary,
+               const std::vector<float>& boundaryPressureTerm, const Aabb& sensor, double mass,
+               double h, double gradientCorrection);
 
 // Mean height (m) of the water's free surface over the x-z rectangle of `columns`, at the
 // centres of an n x n grid of vertical lines across it: on each, where the fill fraction

@@ -67,6 +67,9 @@ class Simulation {
   const StepProfile& profile() const { return profile_; }
   // Scale of the pressure force at the last step (1 / mean discrete gradient moment).
   float gradientCorrection() const { return gradientCorrection_; }
+  // p_b / rho_b^2 (m^5 / (kg s^2)) of every boundary particle at the last step, in the order of
+  // boundary().particles(): WCSPH's wall pressure; zeros for DFSPH, whose walls hold none.
+  const std::vector<float>& boundaryPressureTerm() const { return boundaryFields_.pressureTerm; }
   const std::vector<Emitter>& emitters() const { return emitters_; }
   // rain.feed_fluid: the rain whose landed water joins the fluid at every tick (null without;
   // sim/rain/RainFeed.h). Its drops are part of the state: restore() leaves them as they are,

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "sim/Kernels.h"
 #include "sim/Observables.h"
 
 namespace sph {
@@ -43,6 +44,43 @@ TEST(Observables, DensityErrorCountsOnlyCompressionButDeviationBothWays) {
   EXPECT_NEAR(e.meanDensity, 1010.0, 1e-9);
   EXPECT_EQ(e.maxDensity, 1030.0);
   EXPECT_EQ(densityError(Particles{}, 1000.0).meanCompression, 0.0);
+}
+
+TEST(Observables, WallLoadIsThePressurePairForceOnTheSensorsBoundaryParticles) {
+  // Two fluid particles above two boundary particles of a floor (h = 0.02 m, m = 0.001 kg, c =
+  // 1.05): one 0.01 m straight above b0, one 0.01 m above and 0.01 m across from b1 (and 0.01 m
+  // across, 0.01 m up from b0; sqrt(2) 0.01 m from b0 and 0.01 sqrt(5) m from b1).
+  Particles f;
+  f.append(Vec3(0, 0.01f, 0), Vec3::Zero(), 0, 1000);
+  f.append(Vec3(0.01f, 0.01f, 0), Vec3::Zero(), 1, 1000);
+  f.rho = {1000.0f, 1000.0f};
+  f.p = {2000.0f, 1000.0f};
+  BoundaryParticles b;
+  b.x = {0.0f, 0.02f}, b.y = {0.0f, 0.0f}, b.z = {0.0f, 0.0f};
+  const double h = 0.02, m = 0.001, c = 1.05;
+  const float pb = 3e-4f;   // p_b / rho_b^2 of both
+  const double tol = 1e-7;  // ~2e-6 of the forces: positions in float
+  // |F| = c m^2 (p_i/rho_i^2 + p_b/rho_b^2) 45 / (pi h^6) (h - r)^2, along i -> b.
+  auto pair = [&](double pi, double wall, double r) {
+    return c * m * m * (pi / 1e6 + wall) * 45 / (kPi * std::pow(h, 6)) * (h - r) * (h - r);
+  };
+  const double r0 = 0.01, r1 = 0.01 * std::sqrt(2.0), s2 = std::sqrt(2.0);
+  const Aabb left{Vec3(-0.005f, -0.01f, -0.01f), Vec3(0.005f, 0.005f, 0.01f)};
+  const Vec3d onB0 = wallLoad(f, b, {pb, pb}, left, m, h, c);
+  // b0: straight down from particle 0, down and back (-x) from particle 1.
+  EXPECT_NEAR(onB0.y(), -(pair(2000, pb, r0) + pair(1000, pb, r1) / s2), tol);
+  EXPECT_NEAR(onB0.x(), -pair(1000, pb, r1) / s2, tol);
+  EXPECT_NEAR(onB0.z(), 0, 1e-12);
+  // b1 (0.02, 0, 0): particle 0 is 0.01 sqrt(5) > h away; particle 1 is r1 away, down and +x.
+  const Aabb right{Vec3(0.015f, -0.01f, -0.01f), Vec3(0.025f, 0.005f, 0.01f)};
+  const Vec3d onB1 = wallLoad(f, b, {pb, pb}, right, m, h, c);
+  EXPECT_NEAR(onB1.x(), pair(1000, pb, r1) / s2, tol);
+  EXPECT_NEAR(onB1.y(), -pair(1000, pb, r1) / s2, tol);
+  // No wall pressure (DFSPH): only the fluid's p_i / rho_i^2; a box around both: their sum.
+  const Vec3d both = wallLoad(f, b, {}, Aabb{Vec3::Constant(-1), Vec3::Constant(1)}, m, h, c);
+  EXPECT_NEAR(both.y(), -(pair(2000, 0, r0) + 2 * pair(1000, 0, r1) / s2), tol);
+  EXPECT_NEAR(both.x(), 0, 1e-12);
+  EXPECT_EQ(wallLoad(Particles{}, b, {}, left, m, h, c), Vec3d::Zero());
 }
 
 // e(rho) = integral from rho0 to rho of p(r) / r^2 dr (per unit mass), by Simpson's rule.

@@ -1,6 +1,7 @@
 // Hydrostatic validation (DESIGN.md): water at rest in the shipped still tank (narrowed to a few
 // thousand particles) must carry the pressure rho0 g depth at the bottom (within 1%, issue 15),
-// stay within 1% of the rest density and lose no particle.
+// read in the bottom layer's p and by a sensor in the floor (tests/StillTankFloor.h, the same
+// reading as DFSPH's in test_dfsph.cpp), stay within 1% of the rest density and lose no particle.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +9,7 @@
 
 #include "sim/Observables.h"
 #include "sim/Simulation.h"
+#include "tests/StillTankFloor.h"
 #include "tests/TestSupport.h"
 
 namespace sph {
@@ -28,8 +30,9 @@ TEST(StillTank, HydrostaticPressureAndDensityAfterSettling) {
   // WCSPH pressure is noisy step to step; average the bottom layer over 15 frames of 0.05 s.
   double pressure = 0, expected = 0, densityDeviation = 0;
   int frames = 0;
+  test::StillTankFloor floor(0.12);
   for (double t = 0.8; t <= 1.5 + 1e-9; t += 0.05, ++frames) {
-    sim.advanceTo(t);
+    floor.advanceTo(sim, t);
     const Particles& p = sim.fluid();
     const LayerMean bottom = bottomLayer(p, dx);
     ASSERT_GT(bottom.count, 100u);
@@ -43,6 +46,14 @@ TEST(StillTank, HydrostaticPressureAndDensityAfterSettling) {
       pressure, expected, 100 * (pressure - expected) / expected, 100 * densityDeviation);
   EXPECT_NEAR(pressure, expected, 0.01 * expected) << "bottom pressure " << pressure << " Pa";
   EXPECT_LT(densityDeviation, 0.01);
+  // The floor's sensor (the middle 6 x 6 cm; every step from 0.75 s): the depth of the floor is
+  // the surface's height.
+  const double floorExpected = rho0 * g * surface;
+  floor.print("wcsph", floorExpected);
+  EXPECT_NEAR(floor.centrePressure(), floorExpected, 0.01 * floorExpected);
+  // At rest the walls hold the water's weight: p and the walls' pressure are what the solver
+  // applied.
+  EXPECT_NEAR(floor.loadOverWeight(), 1.0, 0.005);
 
   const Particles& p = sim.fluid();
   ASSERT_EQ(p.size(), count);  // none lost

@@ -1,0 +1,37 @@
+// The floor of the narrowed still tank (tests/test_still_tank.cpp, test_dfsph.cpp) read as a
+// pressure sensor would read it, the same way for both pressure solvers: the force the fluid's
+// pressure pairs put on the floor's boundary particles (wallLoad(), sim/Observables.h) over the
+// area they stand for, sampled after every step and averaged (DFSPH's stiffness alternates from
+// one step to the next, and frames a fixed number of steps apart would see one phase only).
+#pragma once
+
+#include "sim/Simulation.h"
+
+namespace sph::test {
+
+class StillTankFloor {
+ public:
+  // A tank `width` (m) square whose floor is the plane y = 0.
+  explicit StillTankFloor(double width) : width_(width) {}
+
+  // Steps `sim` to time `t` (s) as advanceTo() does, reading the floor after every step.
+  void advanceTo(Simulation& sim, double t);
+
+  // Mean downward force over area (Pa) on the centre of the floor (the middle half of each side,
+  // away from the side walls' corners), and on all of the floor under the water.
+  double centrePressure() const { return centre_ / steps_; }
+  double floorPressure() const { return floor_ / steps_; }
+  // Mean upward force of every boundary particle on the fluid over the fluid's weight: 1 for a
+  // fluid at rest whose p is the pressure its solver applied.
+  double loadOverWeight() const { return total_ / steps_; }
+  int steps() const { return steps_; }
+  // One line: the readings against the floor's `expected` pressure (Pa), named `solver`.
+  void print(const char* solver, double expected) const;
+
+ private:
+  double width_;
+  double centre_ = 0, floor_ = 0, total_ = 0;
+  int steps_ = 0;
+};
+
+}  // namespace sph::test
