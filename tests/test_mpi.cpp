@@ -5,13 +5,19 @@
 // MPI's mpirun (oversubscribed: this machine has 2 cores).
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <string>
+#include <vector>
 
 #include "io/CacheReader.h"
 #include "io/Hdf5.h"
+#include "sim/InputError.h"
 #include "tests/CacheTestSupport.h"
 
 namespace sph {
@@ -267,6 +273,74 @@ TEST_F(Mpi, ARankKilledAtAnyWriteOfTheCacheLeavesItReadableAndResumable) {
     }
   }
   EXPECT_GT(resumed, 4);
+}
+
+TEST_F(Mpi, ReadersDuringFramesWrittenTogetherNeverFail) {
+  // Readers in a loop while two ranks write 20 frames together over MPI-IO, whose HDF5 driver
+  // cuts the file to its end of allocation after each flush: sphsplat's reader (info, export,
+  // render, view) never refuses the cache and every frame it reads is the finished cache's, bit
+  // for bit; a plain HDF5 open (h5py, ParaView) may meet a commit under way but never a file
+  // shorter than its superblock says ("truncated file").
+  std::map<std::size_t, std::vector<Particles>> seen;  // frame -> each read of it
+  std::vector<std::string> failures;
+  std::map<std::string, int> plainFailures;
+  long opens = 0, plainOpens = 0;
+  std::string out;
+  for (int run = 0; run < 4 && opens < 300; ++run) {
+    out = dir_ + "/read" + std::to_string(run) + ".h5";
+    const std::string command =
+        ranks(2, scene_, "--end 0.05 --set output.fps=400 -o '" + out + "'") + " >/dev/null 2>&1";
+    const pid_t pid = fork();
+    if (pid == 0) {
+      execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    ASSERT_GT(pid, 0);
+    int status = 0;
+    std::size_t lastFrames = 0;
+    for (long round = 0; waitpid(pid, &status, WNOHANG) == 0; ++round) {
+      if (!test::fileExists(out)) {  // still PATH.partial: frame 0 is not in yet
+        usleep(1000);
+        continue;
+      }
+      try {
+        ++opens;
+        const io::CacheReader reader(out);
+        const std::size_t n = reader.frameCount();
+        if (n < lastFrames)
+          failures.push_back("frames went from " + std::to_string(lastFrames) + " to " +
+                             std::to_string(n));
+        lastFrames = n;
+        if (!reader.summary().damagedFrame.empty())
+          failures.push_back("damaged frame: " + reader.summary().damagedFrame);
+        for (std::size_t k = round % 10 == 0 ? 0 : n - 1; k < n; ++k)
+          seen[k].push_back(reader.readFrame(k));
+      } catch (const InputError& e) {
+        failures.push_back(e.what());
+      }
+      ++plainOpens;
+      const std::string plain = test::plainOpenError(out);
+      if (!plain.empty()) ++plainFailures[plain];
+    }
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "the run failed";
+    const io::CacheReader done(out);
+    ASSERT_EQ(done.frameCount(), 21u);
+    for (auto& [k, reads] : seen) {
+      for (const Particles& p : reads)
+        if (!test::sameBits(done.readFrame(k), p)) failures.push_back("frame " + std::to_string(k));
+    }
+    seen.clear();
+  }
+  std::printf(
+      "sphsplat reader: %ld opens, %zu failures; plain HDF5 open: %ld, %zu kinds of "
+      "failure\n",
+      opens, failures.size(), plainOpens, plainFailures.size());
+  for (const auto& [what, n] : plainFailures) std::printf("  %d x %s\n", n, what.c_str());
+  EXPECT_GE(opens, 200) << "too few opens to mean anything";
+  for (std::size_t i = 0; i < failures.size() && i < 5; ++i) ADD_FAILURE() << failures[i];
+  EXPECT_EQ(failures.size(), 0u);
+  for (const auto& [what, n] : plainFailures)
+    EXPECT_EQ(what.find("truncated file"), std::string::npos) << n << " x " << what;
 }
 
 TEST(MpiMigration, ParticleCountAndMassAreConservedAsTheWaterCrossesFaces) {
