@@ -68,9 +68,10 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
-    return app.exit(e);
+    // --help, --version: every rank parses the same arguments, rank 0 alone prints.
+    return sph::app::isRootProcess() ? app.exit(e) : 0;
   } catch (const CLI::ParseError& e) {
-    app.exit(e);
+    if (sph::app::isRootProcess()) app.exit(e);
     return sph::app::kBadInput;
   }
   try {

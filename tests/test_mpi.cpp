@@ -569,6 +569,22 @@ TEST(MpiRefusals, TheGlCollisionPassAndTheRenderer) {
                 "runs on one process only");
 }
 
+TEST(MpiRefusals, TooManyThreadsIsToldOnceWithTheCoresARankMayUse) {
+  // Every rank parses the same arguments; rank 0 alone tells, and the limit names what it counts
+  // under mpirun: the cores this rank is bound to, not the machine's.
+  const std::string dir = test::makeTempDir();
+  const std::string file = dir + "/scene.json";
+  std::ofstream(file) << scene(0.05);
+  const auto r =
+      runShell("OMP_WAIT_POLICY=PASSIVE mpirun --oversubscribe --allow-run-as-root -np 2 " +
+               test::sphsplatBinary() + " run '" + file + "' --threads 100000");
+  expectRefused(r, "cores mpirun binds this rank to), got '100000'");
+  // A plain process says "here".
+  const auto one = runShell(test::sphsplatBinary() + " run '" + file + "' --threads 100000");
+  EXPECT_EQ(one.exitCode, 2) << one.output;
+  EXPECT_NE(one.output.find(" here), got '100000'"), std::string::npos) << one.output;
+}
+
 TEST(MpiRefusals, AnOutputNoRankCanWrite) {
   const std::string dir = test::makeTempDir();
   const std::string file = dir + "/scene.json";
