@@ -13,11 +13,12 @@ namespace {
 
 // The lock covers one byte far past any data the file will hold, not the whole file: MPI-IO
 // takes POSIX byte-range locks on the cache's data while the ranks write a frame together (ROMIO
-// around its read-modify-write of a collective write's holes and always on NFS, Open MPI's OMPIO
-// on NFS), and POSIX and open file description locks on overlapping ranges conflict even within
-// one process: a whole-file lock made rank 0's own MPI-IO lock wait forever. Readers probe the
-// same byte; a whole-file probe (an older sphsplat) still sees it, and this probe still sees an
-// older run's whole-file lock.
+// around its read-modify-write of a collective write's holes, and every write on NFS), and POSIX
+// and open file description locks on overlapping ranges conflict even within one process: a
+// whole-file lock made rank 0's own ROMIO lock wait forever. (Open MPI's OMPIO on NFS locks the
+// entire file for each write, which no lock on the cache can stay clear of: docs/cache-format.md,
+// "Crash safety" point 5.) Readers probe the same byte; a whole-file probe (an older sphsplat)
+// still sees it, and this probe still sees an older run's whole-file lock.
 constexpr off_t kSentinelByte = off_t{1} << 62;
 
 struct flock sentinel() {
