@@ -17,6 +17,7 @@
 #include "render/gl/GlError.h"
 #include "sim/InputError.h"
 #ifdef SPHSPLAT_MPI
+#include "mpi/FileErrorWatch.h"
 #include "mpi/MpiCommunicator.h"
 #endif
 
@@ -26,7 +27,12 @@ int main(int argc, char** argv) {
 #ifdef SPHSPLAT_MPI
   // Under mpirun: the ranks of a distributed run (docs/scaling.md); a plain process otherwise.
   std::optional<sph::mpi::MpiSession> mpi;
-  if (starter.launched) sph::app::setWorld(mpi.emplace(&argc, &argv).world());
+  if (starter.launched) {
+    sph::app::setWorld(mpi.emplace(&argc, &argv).world());
+    // A rank stuck after its write of the cache failed ends the run after 3 s (a failure HDF5
+    // returns has stopped every rank by then, with its own line).
+    sph::mpi::watchFileErrors(3.0, sph::app::kBadInput);
+  }
 #else
   if (const std::string refusal = sph::app::refusalWithoutMpi(starter); !refusal.empty()) {
     if (starter.rank == 0) std::fprintf(stderr, "sphsplat: %s\n", refusal.c_str());
