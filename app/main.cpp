@@ -1,6 +1,7 @@
 // sphsplat: the command-line program. Thin: parses arguments and hands over to one subcommand.
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <functional>
 #include <new>
@@ -13,6 +14,7 @@
 #include "app/DistributedRun.h"
 #include "app/MpiStarter.h"
 #include "app/OpenMpSpinLimit.h"
+#include "app/StatusRecorder.h"
 #include "app/Version.h"
 #include "render/gl/GlError.h"
 #include "sim/InputError.h"
@@ -22,6 +24,9 @@
 #endif
 
 int main(int argc, char** argv) {
+  // A recorder that rank 0 of an MPI run started (app/StatusRecorder.h): nothing else of main.
+  if (argc == 4 && std::strcmp(argv[1], sph::app::kRecorderArgument) == 0)
+    return sph::app::runStatusRecorder(argv);
   sph::app::relaunchWithOpenMpSpinLimit(argv);
   const sph::app::MpiStarter starter = sph::app::mpiStarter();
 #ifdef SPHSPLAT_MPI
@@ -31,7 +36,8 @@ int main(int argc, char** argv) {
     sph::app::setWorld(mpi.emplace(&argc, &argv).world());
     // A rank stuck after its write of the cache failed ends the run after 3 s (a failure HDF5
     // returns has stopped every rank by then, with its own line).
-    sph::mpi::watchFileErrors(3.0, sph::app::kBadInput);
+    sph::mpi::watchFileErrors(3.0, sph::app::kBadInput,
+                              [](const char* line) { sph::app::startStatusRecorder(line); });
   }
 #else
   if (const std::string refusal = sph::app::refusalWithoutMpi(starter); !refusal.empty()) {

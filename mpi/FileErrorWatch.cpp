@@ -14,6 +14,7 @@ namespace {
 
 double gGrace = 0;
 int gExitCode = 1;
+void (*gBeforeExit)(const char*) = nullptr;
 
 extern "C" void onFileError(MPI_File*, int* code, ...) {
   static std::atomic<bool> watching{false};
@@ -26,13 +27,13 @@ extern "C" void onFileError(MPI_File*, int* code, ...) {
   // The error goes back to HDF5 as well (this handler returns), which normally fails the frame
   // and stops the run within the grace; the watch only ends a process stuck after it. It makes
   // no MPI call: the main thread may be inside one (MPI_THREAD_FUNNELED).
-  const std::string line = "sphsplat: rank " + std::to_string(rank) +
-                           ": writing the cache failed (" + text +
-                           ") and the ranks could not stop together; ending the run (the cache "
-                           "keeps its committed frames)\n";
-  std::thread([line] {
+  const std::string what = "rank " + std::to_string(rank) + ": writing the cache failed (" + text +
+                           ") and the ranks could not stop together";
+  std::thread([what] {
     std::this_thread::sleep_for(std::chrono::duration<double>(gGrace));
-    std::fputs(line.c_str(), stderr);
+    if (gBeforeExit) gBeforeExit(what.c_str());
+    std::fprintf(stderr, "sphsplat: %s; ending the run (the cache keeps its committed frames)\n",
+                 what.c_str());
     std::fflush(stderr);
     _exit(gExitCode);
   }).detach();
@@ -40,9 +41,10 @@ extern "C" void onFileError(MPI_File*, int* code, ...) {
 
 }  // namespace
 
-void watchFileErrors(double graceSeconds, int exitCode) {
+void watchFileErrors(double graceSeconds, int exitCode, void (*beforeExit)(const char* line)) {
   gGrace = graceSeconds;
   gExitCode = exitCode;
+  gBeforeExit = beforeExit;
   MPI_Errhandler handler;
   MPI_File_create_errhandler(onFileError, &handler);
   // The handler of MPI_FILE_NULL is the one files opened later start with.

@@ -9,8 +9,8 @@ namespace sph::mpi {
 
 // Makes every file opened from now on report its errors here: the first one starts a watch that,
 // if this process still runs `graceSeconds` later, prints one line naming the rank and the MPI
-// error and ends the process with `exitCode` (mpirun then ends the other ranks). Call once,
-// after MPI_Init.
-void watchFileErrors(double graceSeconds, int exitCode);
+// error and ends the process with `exitCode` (mpirun then ends the other ranks); `beforeExit`
+// gets that line (without its newline) first. Call once, after MPI_Init.
+void watchFileErrors(double graceSeconds, int exitCode, void (*beforeExit)(const char* line));
 
 }  // namespace sph::mpi
