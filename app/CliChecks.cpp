@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "app/DistributedRun.h"
 #include "io/MessageText.h"
 #include "sim/Parallel.h"
 
@@ -23,6 +24,14 @@ std::string got(const std::string& text) {
   return "got '" + io::printable(text) + "'";
 }
 
+// Where the limit comes from. omp_get_num_procs counts the processors this process may run on:
+// under mpirun, which binds each rank to its share of the cores, that is the rank's share.
+std::string coresText() {
+  const std::string count = std::to_string(omp_get_num_procs()) + " cores";
+  if (world()) return "4 x the " + count + " mpirun binds this rank to";
+  return "4 x the " + count + " here";
+}
+
 }  // namespace
 
 CLI::Validator threadsCheck() {
@@ -31,8 +40,8 @@ CLI::Validator threadsCheck() {
         const int limit = maxThreadCount();
         long long n = 0;
         if (readInteger(text, n) && n >= 0 && n <= limit) return "";
-        return "expected 0 (all cores) or a thread count up to " + std::to_string(limit) +
-               " (4 x the " + std::to_string(omp_get_num_procs()) + " cores here), " + got(text);
+        return "expected 0 (all cores) or a thread count up to " + std::to_string(limit) + " (" +
+               coresText() + "), " + got(text);
       },
       "0-" + std::to_string(maxThreadCount()));
 }

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "app/DistributedRun.h"
+#include "app/StatusRecorder.h"
 
 namespace sph::app {
 namespace {
@@ -87,10 +88,17 @@ void CollectiveCacheSink::frame(const Simulation& sim, std::size_t) {
   }
   const Target target = broadcastTarget(ranks, cache_, sim);
   state.lostParticles = target.lost;
+  // Until the frame is written, a failure anywhere may end rank 0 before it records why
+  // (app/StatusRecorder.h); left armed when this throws, for the run's failure path.
+  armStatusRecorder(cache_ ? target.path : "",
+                    "the run ended while its ranks wrote frame " + std::to_string(target.frame) +
+                        " together (a rank's write failed, or the run was stopped; see its "
+                        "messages)");
   if (cache_)
     cache_->writeFrameTogether(sim, mine, state, slice);
   else
     io::CacheWriter::joinFrame(target.path, target.frame, mine, state, slice);
+  disarmStatusRecorder();
   seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 

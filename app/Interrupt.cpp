@@ -2,6 +2,8 @@
 
 #include <csignal>
 
+#include "app/StatusRecorder.h"
+
 namespace sph::app {
 namespace {
 
@@ -9,6 +11,9 @@ volatile std::sig_atomic_t received = 0;
 
 extern "C" void onInterrupt(int signal) {
   received = signal;
+  // In a frame the ranks write together, rank 0 may never get out of it (mpirun's SIGKILL
+  // follows within a second): the recorder writes the status if rank 0 does not.
+  startStatusRecorder();
 }
 
 }  // namespace

@@ -21,6 +21,7 @@
 #include "app/Progress.h"
 #include "app/RenderOutput.h"
 #include "app/RunReport.h"
+#include "app/StatusRecorder.h"
 #include "app/Version.h"
 #include "io/SceneLoader.h"
 #include "render/cdt/CollisionSetup.h"
@@ -179,9 +180,14 @@ int runJob(const RunRequest& request) {
     // committed frames and says why it stopped, instead of "running".
     progress.finish(sample());
     if (cache) {
+      const std::string reason = std::string("writing failed: ") + e.what();
+      // Failed in a frame the ranks write together: the cache's file is released mid-frame and
+      // the other ranks may still write; the recorder writes the status once they have ended.
+      if (statusRecorderArmed()) startStatusRecorder(reason.c_str());
       std::string kept;
       try {
-        kept = cache->stop(std::string("writing failed: ") + e.what());
+        kept = cache->stop(reason);
+        cancelStatusRecorder();
       } catch (const std::exception&) {
         kept = "the cache " + cache->path() + " keeps " + cache->framesText();
       }
@@ -201,6 +207,7 @@ int runJob(const RunRequest& request) {
       std::snprintf(reason, sizeof reason, "numerical blow-up at step %llu, t = %.6g s",
                     static_cast<unsigned long long>(e.step), e.time);
       std::fprintf(stderr, "  %s\n", cache->stop(reason).c_str());
+      cancelStatusRecorder();
     }
     return kBlowUp;
   }
@@ -216,13 +223,14 @@ int runJob(const RunRequest& request) {
     if (cache) {
       std::fprintf(stderr, "  %s\n",
                    cache->stop(std::string("interrupted by ") + signalName(signal)).c_str());
+      cancelStatusRecorder();  // started by the signal during a frame the ranks wrote together
       // A resume needs the same scene, edits, end and (for bit-exactness) threads.
       std::fprintf(stderr, "  continue with: %s --resume %s\n", commandLine(o, o.end).c_str(),
                    shellQuote(cache->path()).c_str());
     }
     return 128 + signal;
   }
-  if (cache) cache->finish(sim.time());
+  if (cache) cache->finish(sim.time()), cancelStatusRecorder();
   const std::size_t endParticles =
       halo ? halo->globalCount(sim.fluid().size()) : sim.fluid().size();
   // A distributed run's throughput counts every rank's particles.

@@ -1,6 +1,7 @@
 // sphsplat: the command-line program. Thin: parses arguments and hands over to one subcommand.
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <functional>
 #include <new>
@@ -13,20 +14,31 @@
 #include "app/DistributedRun.h"
 #include "app/MpiStarter.h"
 #include "app/OpenMpSpinLimit.h"
+#include "app/StatusRecorder.h"
 #include "app/Version.h"
 #include "render/gl/GlError.h"
 #include "sim/InputError.h"
 #ifdef SPHSPLAT_MPI
+#include "mpi/FileErrorWatch.h"
 #include "mpi/MpiCommunicator.h"
 #endif
 
 int main(int argc, char** argv) {
+  // A recorder that rank 0 of an MPI run started (app/StatusRecorder.h): nothing else of main.
+  if (argc == 4 && std::strcmp(argv[1], sph::app::kRecorderArgument) == 0)
+    return sph::app::runStatusRecorder(argv);
   sph::app::relaunchWithOpenMpSpinLimit(argv);
   const sph::app::MpiStarter starter = sph::app::mpiStarter();
 #ifdef SPHSPLAT_MPI
   // Under mpirun: the ranks of a distributed run (docs/scaling.md); a plain process otherwise.
   std::optional<sph::mpi::MpiSession> mpi;
-  if (starter.launched) sph::app::setWorld(mpi.emplace(&argc, &argv).world());
+  if (starter.launched) {
+    sph::app::setWorld(mpi.emplace(&argc, &argv).world());
+    // A rank stuck after its write of the cache failed ends the run after 3 s (a failure HDF5
+    // returns has stopped every rank by then, with its own line).
+    sph::mpi::watchFileErrors(3.0, sph::app::kBadInput,
+                              [](const char* line) { sph::app::startStatusRecorder(line); });
+  }
 #else
   if (const std::string refusal = sph::app::refusalWithoutMpi(starter); !refusal.empty()) {
     if (starter.rank == 0) std::fprintf(stderr, "sphsplat: %s\n", refusal.c_str());
@@ -68,9 +80,10 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
-    return app.exit(e);
+    // --help, --version: every rank parses the same arguments, rank 0 alone prints.
+    return sph::app::isRootProcess() ? app.exit(e) : 0;
   } catch (const CLI::ParseError& e) {
-    app.exit(e);
+    if (sph::app::isRootProcess()) app.exit(e);
     return sph::app::kBadInput;
   }
   try {

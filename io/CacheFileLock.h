@@ -7,7 +7,8 @@
 namespace sph::io {
 
 // Takes an exclusive advisory lock (open file description lock, which HDF5's own flock()
-// ignores) on `path` and returns its descriptor; throws InputError naming the file if another
+// ignores) on one byte of `path` far past its data (CacheFileLock.cpp says why not the whole
+// file) and returns its descriptor; throws InputError naming the file if another
 // sphsplat run holds it.
 int lockCacheFile(const std::string& path);
 // Whether a sphsplat run holds that lock on `path` now (a run is writing it).

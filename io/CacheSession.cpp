@@ -39,6 +39,12 @@ std::string number(double v) {
   return s.str();
 }
 
+// run_status of a run that stopped early.
+std::string stoppedStatus(const std::string& reason, std::size_t lastFrame, double lastTime) {
+  return "stopped: " + reason + "; last good frame " + std::to_string(lastFrame) +
+         " (t = " + number(lastTime) + " s)";
+}
+
 std::string megabytes(double bytes) {
   char text[32];
   std::snprintf(text, sizeof text, "%.3g MB", bytes / 1e6);
@@ -281,12 +287,28 @@ std::string CacheSession::stop(const std::string& reason) {
   const std::string last = std::to_string(frames_.size() - 1);
   const std::string lastTime = number(frames_.back().time);
   if (xdmf_) xdmf_->flush();
-  writer_->setStatus("stopped: " + reason + "; last good frame " + last + " (t = " + lastTime +
-                     " s)");
+  writer_->setStatus(stoppedStatus(reason, frames_.size() - 1, frames_.back().time));
   const std::string text = "the cache " + path_ + " keeps " + framesText() +
                            "; the last good frame is " + last + " (t = " + lastTime + " s)";
   close();
   return text;
+}
+
+void CacheSession::recordStop(const std::string& path, const std::string& reason) {
+  // As a resume takes it: a run started on the cache meanwhile keeps it (and records its own).
+  const OutputLock lock = OutputLock::acquire(path, "cache");
+  std::size_t frames = 0;
+  double lastTime = 0;
+  {
+    const CacheReader reader(path);
+    const CacheSummary& s = reader.summary();
+    if (s.frames.empty()) return;
+    frames = s.frames.size();
+    lastTime = s.frames.back().time;
+  }
+  const std::unique_ptr<CacheWriter> writer = CacheWriter::append(path, frames);
+  writer->setStatus(stoppedStatus(reason, frames - 1, lastTime));
+  writer->close();
 }
 
 CacheSession::~CacheSession() {

@@ -61,6 +61,10 @@ class CacheSession final : public FrameSink {
   // The run stopped early (`reason`: "numerical blow-up at ...", "interrupted by SIGINT"):
   // records it in the cache, closes it and returns the line that tells the user what is left.
   std::string stop(const std::string& reason);
+  // The same for the cache at `path` of a run that has ended without recording it (an MPI run
+  // whose ranks stopped in a frame written together, app/StatusRecorder.h): opens it as a
+  // resume would (a header torn by the end restored from the journal) and records the status.
+  static void recordStop(const std::string& path, const std::string& reason);
   void close();
   // Closes what is open; a new cache that never got its first frame leaves nothing behind.
   ~CacheSession() override;

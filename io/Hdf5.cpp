@@ -15,13 +15,25 @@ void silence() {
 
 namespace {
 
+// The serial driver's failed read or write says "file write failed: time = <ctime, with its
+// newline>, filename = ..., errno = 28, error message = 'No space left on device', buf = ...":
+// "file write failed: No space left on device" keeps a message on one line.
+std::string withoutSystemDetail(const std::string& text) {
+  const std::string key = "error message = '";
+  const std::size_t time = text.find(": time = "), at = text.find(key);
+  if (time == std::string::npos || at == std::string::npos) return text;
+  const std::size_t from = at + key.size(), to = text.find('\'', from);
+  if (to == std::string::npos) return text;
+  return text.substr(0, time) + ": " + text.substr(from, to - from);
+}
+
 // H5Ewalk2 visits the stack from the innermost call outwards with H5E_WALK_UPWARD; the first
 // entry says what actually went wrong ("truncated file", "bad object header version").
 herr_t innermost(unsigned n, const H5E_error2_t* e, void* data) {
   if (n != 0) return 0;
   auto* out = static_cast<std::string*>(data);
   if (e->desc && *e->desc) {
-    *out = e->desc;
+    *out = withoutSystemDetail(e->desc);
   } else {
     char msg[256] = {0};
     H5E_type_t type;

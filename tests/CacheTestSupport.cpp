@@ -1,5 +1,6 @@
 #include "tests/CacheTestSupport.h"
 
+#include <hdf5.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 
@@ -139,5 +140,27 @@ void TinyCacheSuite::SetUpTestSuite() {
 }
 std::string TinyCacheSuite::dir_, TinyCacheSuite::scene_, TinyCacheSuite::cache_;
 CommandResult TinyCacheSuite::runOutput_;
+
+std::string hdf5ErrorStack() {
+  std::string text;
+  H5Ewalk2(
+      H5E_DEFAULT, H5E_WALK_UPWARD,
+      [](unsigned, const H5E_error2_t* e, void* data) -> herr_t {
+        if (e->desc && *e->desc) *static_cast<std::string*>(data) += std::string(e->desc) + "; ";
+        return 0;
+      },
+      &text);
+  return text;
+}
+
+std::string plainOpenError(const std::string& path) {
+  const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+  H5Pset_file_locking(fapl, false, true);
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl);
+  const std::string failed = file < 0 ? hdf5ErrorStack() : "";  // before the next call clears it
+  H5Pclose(fapl);
+  if (file >= 0) H5Fclose(file);
+  return failed;
+}
 
 }  // namespace sph::test

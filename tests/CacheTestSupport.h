@@ -41,6 +41,13 @@ std::string sphsplatShell(const std::string& args);
 std::size_t lineCount(const std::string& s);
 
 std::string readFile(const std::string& path);
+
+// Every description on HDF5's error stack, innermost first (an open that fails names what went
+// wrong a few levels up: "truncated file", "incorrect metadata checksum").
+std::string hdf5ErrorStack();
+// What h5py or ParaView do: open `path` read-only with the plain C API (no retry, no knowledge of
+// the writer) and close it again. "" when that went well, else HDF5's messages.
+std::string plainOpenError(const std::string& path);
 bool fileExists(const std::string& path);
 
 // A suite of CLI tests sharing one short run's cache (the tiny scene, 0.1 s, one thread),

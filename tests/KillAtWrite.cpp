@@ -6,6 +6,8 @@
 // SPHSPLAT_TEAR_AT_WRITE=N instead performs the N-th write only up to its first page boundary
 // (SPHSPLAT_TEAR_KEEP=first) or its last one (=last) and then kills: what Linux does when SIGKILL
 // arrives while a write spanning pages is being copied.
+// SPHSPLAT_FAIL_AT_WRITE=N makes the N-th call fail instead, as a full disk does: it returns -1
+// with errno ENOSPC and changes nothing; the calls after it succeed again.
 // SPHSPLAT_WRITE_COUNT_FILE=PATH receives the number of such calls when the process exits, and
 // SPHSPLAT_WRITE_LOG=PATH one line per call: its number, bytes and file offset.
 // SPHSPLAT_READER_VIEW_LOG=PATH checks what a reader opening the cache between two calls would
@@ -19,6 +21,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -52,14 +55,19 @@ long envNumber(const char* name) {
   return v ? std::atol(v) : 0L;
 }
 
+// What beforeChange() returns for a call to fail with ENOSPC (SPHSPLAT_FAIL_AT_WRITE).
+constexpr long kFail = -2;
+
 // Called before each file-changing call on `fd` of `bytes` at `offset` (-1: the file position).
-// Returns how many bytes to write before dying when this call is to be torn, else -1.
+// Returns how many bytes to write before dying when this call is to be torn, kFail when it is to
+// fail, else -1.
 long beforeChange(int fd, std::size_t bytes, long long offset, const void* data = nullptr) {
   const std::string path = cachePath(fd);
   if (path.empty()) return -1;
   ++counted;
   static const long killAt = envNumber("SPHSPLAT_KILL_AT_WRITE");
   static const long tearAt = envNumber("SPHSPLAT_TEAR_AT_WRITE");
+  static const long failAt = envNumber("SPHSPLAT_FAIL_AT_WRITE");
   if (offset < 0) offset = lseek(fd, 0, SEEK_CUR);
   if (const char* log = std::getenv("SPHSPLAT_WRITE_LOG")) {
     if (std::FILE* f = std::fopen(log, "a")) {
@@ -69,6 +77,7 @@ long beforeChange(int fd, std::size_t bytes, long long offset, const void* data 
   }
   if (data) sph::test::readerview::beforeWrite(path.c_str(), fd, data, bytes, offset, counted);
   if (killAt > 0 && counted == killAt) raise(SIGKILL);
+  if (failAt > 0 && counted == failAt) return kFail;
   if (tearAt > 0 && counted == tearAt) {
     const long long page = 4096, end = offset + static_cast<long long>(bytes);
     const char* keep = std::getenv("SPHSPLAT_TEAR_KEEP");
@@ -84,6 +93,12 @@ long beforeChange(int fd, std::size_t bytes, long long offset, const void* data 
 void afterChange(int fd) {
   const std::string path = cachePath(fd);
   if (!path.empty()) sph::test::readerview::afterChange(path.c_str(), fd, counted);
+}
+
+// A call that fails as on a full disk.
+ssize_t full() {
+  errno = ENOSPC;
+  return -1;
 }
 
 template <class F>
@@ -109,6 +124,7 @@ extern "C" {
 ssize_t write(int fd, const void* buf, size_t n) {
   static auto real = next<ssize_t (*)(int, const void*, size_t)>("write");
   const long tear = beforeChange(fd, n, -1, buf);
+  if (tear == kFail) return full();
   if (tear < 0) {
     const ssize_t r = real(fd, buf, n);
     afterChange(fd);
@@ -122,6 +138,7 @@ ssize_t write(int fd, const void* buf, size_t n) {
 ssize_t pwrite(int fd, const void* buf, size_t n, off_t offset) {
   static auto real = next<ssize_t (*)(int, const void*, size_t, off_t)>("pwrite");
   const long tear = beforeChange(fd, n, offset, buf);
+  if (tear == kFail) return full();
   if (tear < 0) {
     const ssize_t r = real(fd, buf, n, offset);
     afterChange(fd);
@@ -135,6 +152,7 @@ ssize_t pwrite(int fd, const void* buf, size_t n, off_t offset) {
 ssize_t pwrite64(int fd, const void* buf, size_t n, off64_t offset) {
   static auto real = next<ssize_t (*)(int, const void*, size_t, off64_t)>("pwrite64");
   const long tear = beforeChange(fd, n, offset, buf);
+  if (tear == kFail) return full();
   if (tear < 0) {
     const ssize_t r = real(fd, buf, n, offset);
     afterChange(fd);
@@ -149,7 +167,9 @@ ssize_t pwritev(int fd, const struct iovec* iov, int count, off_t offset) {
   static auto real = next<ssize_t (*)(int, const struct iovec*, int, off_t)>("pwritev");
   std::size_t n = 0;
   for (int i = 0; i < count; ++i) n += iov[i].iov_len;
-  if (beforeChange(fd, n, offset) >= 0) raise(SIGKILL);  // HDF5's sec2 driver does not use it
+  const long tear = beforeChange(fd, n, offset);
+  if (tear == kFail) return full();
+  if (tear >= 0) raise(SIGKILL);  // HDF5's sec2 driver does not use it
   const ssize_t r = real(fd, iov, count, offset);
   afterChange(fd);
   return r;
@@ -158,6 +178,7 @@ ssize_t pwritev(int fd, const struct iovec* iov, int count, off_t offset) {
 int ftruncate(int fd, off_t length) {
   static auto real = next<int (*)(int, off_t)>("ftruncate");
   const long tear = beforeChange(fd, 0, 0);
+  if (tear == kFail) return static_cast<int>(full());
   const int r = real(fd, length);
   if (tear >= 0) raise(SIGKILL);
   afterChange(fd);
@@ -167,6 +188,7 @@ int ftruncate(int fd, off_t length) {
 int ftruncate64(int fd, off64_t length) {
   static auto real = next<int (*)(int, off64_t)>("ftruncate64");
   const long tear = beforeChange(fd, 0, 0);
+  if (tear == kFail) return static_cast<int>(full());
   const int r = real(fd, length);
   if (tear >= 0) raise(SIGKILL);
   afterChange(fd);

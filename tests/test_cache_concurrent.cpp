@@ -48,20 +48,6 @@ bool running(pid_t pid, int& status) {
   return waitpid(pid, &status, WNOHANG) == 0;
 }
 
-// Every description on HDF5's error stack, innermost first (an open that fails names what went
-// wrong a few levels up: "truncated file", "incorrect metadata checksum").
-std::string errorStack() {
-  std::string text;
-  H5Ewalk2(
-      H5E_DEFAULT, H5E_WALK_UPWARD,
-      [](unsigned, const H5E_error2_t* e, void* data) -> herr_t {
-        if (e->desc && *e->desc) *static_cast<std::string*>(data) += std::string(e->desc) + "; ";
-        return 0;
-      },
-      &text);
-  return text;
-}
-
 // What h5py or ParaView do: open the file with the plain C API (no retry, no knowledge of the
 // writer) and read it. `everything`: every root attribute and every dataset the file links (the
 // virtual ones too); otherwise the root attributes, the newest frame's datasets and the newest
@@ -72,7 +58,8 @@ class RawReader {
     const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
     H5Pset_file_locking(fapl, false, true);
     const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl);
-    const std::string failed = file < 0 ? errorStack() : "";  // before the next call clears it
+    const std::string failed =
+        file < 0 ? test::hdf5ErrorStack() : "";  // before the next call clears it
     H5Pclose(fapl);
     if (file < 0) return "open: " + failed;
     RawReader r;

@@ -2,7 +2,8 @@
 // for bit, for K = 1..4: every frame and every resume record. A resume may change K. Bad use is
 // refused with one line and exit 2. Built and run in every build with MPI (the release preset
 // when Open MPI is installed, SPHSPLAT_MPI=AUTO); the ranks are real processes started by Open
-// MPI's mpirun (oversubscribed: this machine has 2 cores).
+// MPI's mpirun (oversubscribed: this machine has 2 cores). The cache under kills, failed writes
+// and readers: tests/test_mpi_cache.cpp.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,62 +14,16 @@
 #include "io/CacheReader.h"
 #include "io/Hdf5.h"
 #include "tests/CacheTestSupport.h"
+#include "tests/MpiTestSupport.h"
 
 namespace sph {
 namespace {
 
 using test::runShell;
-
-// A dam break (the water runs along x across every slab face) with a nozzle pouring into the
-// tank (emission on one rank, then migration): ~850 particles. The domain (the tank and its
-// margin) is longest in y: 40 support-radius cells, so slabs are cut across the falling water.
-std::string scene(double end) {
-  return R"({
-  "name": "mpi_dam_pour",
-  "solver": {"spacing": 0.0146, "support": 2.0, "rest_density": 1000, "eos": "tait",
-             "cfl": 0.4, "gravity": [0, -9.81, 0], "end_time": )" +
-         std::to_string(end) + R"(},
-  "fluids": [{"type": "box", "min": [0, 0, 0], "max": [0.146, 0.292, 0.0584]}],
-  "boundaries": [{"type": "tank", "min": [0, 0, 0], "max": [0.584, 0.438, 0.0584]}],
-  "emitters": [{"type": "nozzle", "position": [0.45, 0.35, 0.03], "direction": [0, -1, 0],
-                "radius": 0.02, "speed": 0.8, "start": 0, "stop": 1}],
-  "camera": {"position": [0.3, 0.3, 0.8], "target": [0.3, 0.1, 0.03], "fov": 40},
-  "output": {"fps": 40}
-})";
-}
-
-std::string plain(const std::string& sceneFile, const std::string& args) {
-  return "OMP_WAIT_POLICY=PASSIVE " + test::sphsplatBinary() + " run '" + sceneFile +
-         "' --threads 1 --quiet " + args;
-}
-
-std::string ranks(int k, const std::string& sceneFile, const std::string& args,
-                  const std::string& mode = "--quiet") {
-  return "OMP_WAIT_POLICY=PASSIVE mpirun --oversubscribe --allow-run-as-root -np " +
-         std::to_string(k) + " " + test::sphsplatBinary() + " run '" + sceneFile +
-         "' --threads 1 " + mode + " " + args;
-}
-
-class Mpi : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = test::makeTempDir();
-    scene_ = dir_ + "/scene.json";
-    std::ofstream(scene_) << scene(0.1);
-    reference_ = dir_ + "/plain.h5";
-    auto r = runShell(plain(scene_, "-o '" + reference_ + "'"));
-    ASSERT_EQ(r.exitCode, 0) << r.output;
-    ASSERT_GT(io::CacheReader(reference_).summary().frames.back().particles, 800u);
-  }
-  // A shell script: a 2-rank run to 5 s, one rank of it (`pick` of mpirun's children: "head -1"
-  // or "tail -1") killed with SIGKILL 3 s after the cache appears; prints "mpirun-exit CODE".
-  std::string killOneRankMidRun(const std::string& out, const std::string& pick) const {
-    return ranks(2, scene_, "--end 5 -o '" + out + "'") + " & M=$!; " +
-           "for i in $(seq 600); do [ -f '" + out + "' ] && break; sleep 0.1; done; sleep 3; " +
-           "kill -9 $(pgrep -P $M | " + pick + "); wait $M; echo mpirun-exit $?";
-  }
-  std::string dir_, scene_, reference_;
-};
+using test::mpi::Mpi;
+using test::mpi::plain;
+using test::mpi::ranks;
+using test::mpi::scene;
 
 TEST_F(Mpi, FramesAreBitIdenticalToOneProcessForOneToFourRanks) {
   for (int k = 1; k <= 4; ++k) {
@@ -169,104 +124,6 @@ TEST(MpiGuard, ABlowUpOnOneRankStopsAllWithTheSingleProcessMessage) {
   EXPECT_EQ(message(two.output), message(one.output)) << two.output;
   EXPECT_NE(two.output.find("reproduce: mpirun -np 2 sphsplat run"), std::string::npos)
       << two.output;
-}
-
-TEST_F(Mpi, AKilledRankLeavesEveryFinishedFrameReadable) {
-  // kill -9 one rank in the middle of a long run: mpirun ends the others, and the cache keeps
-  // the frames committed before, each readable and equal to the single process's.
-  const std::string out = dir_ + "/killed.h5";
-  auto r = runShell(killOneRankMidRun(out, "tail -1"));
-  EXPECT_NE(r.output.find("mpirun-exit"), std::string::npos) << r.output;
-  EXPECT_EQ(r.output.find("mpirun-exit 0"), std::string::npos) << r.output;
-  const io::CacheReader killed(out);
-  const io::CacheReader reference(reference_);
-  ASSERT_GE(killed.frameCount(), 1u);
-  for (std::size_t k = 0; k < killed.frameCount() && k < reference.frameCount(); ++k)
-    EXPECT_TRUE(test::sameBits(reference.readFrame(k), killed.readFrame(k))) << "frame " << k;
-}
-
-TEST_F(Mpi, AKilledRankZeroLeavesACacheThatResumesOnOtherRanks) {
-  // Rank 0 holds the lock, grows the file and writes the journal; killed mid-run, the cache
-  // keeps its finished frames, and three ranks resume it.
-  const std::string out = dir_ + "/killed0.h5";
-  auto r = runShell(killOneRankMidRun(out, "head -1"));
-  EXPECT_EQ(r.output.find("mpirun-exit 0"), std::string::npos) << r.output;
-  std::size_t kept = 0;
-  double lastTime = 0;
-  {
-    const io::CacheReader killed(out);
-    const io::CacheReader reference(reference_);
-    kept = killed.frameCount();
-    ASSERT_GE(kept, 1u);
-    lastTime = killed.summary().frames.back().time;
-    for (std::size_t k = 0; k < kept; ++k) {
-      const Particles frame = killed.readFrame(k);  // every finished frame reads back
-      if (k < reference.frameCount()) {
-        EXPECT_TRUE(test::sameBits(reference.readFrame(k), frame)) << "frame " << k;
-      }
-    }
-  }
-  char end[32];
-  std::snprintf(end, sizeof end, "%.6f", lastTime + 0.05);
-  auto resumed =
-      runShell(ranks(3, scene_, std::string("--end ") + end + " --resume '" + out + "'"));
-  ASSERT_EQ(resumed.exitCode, 0) << resumed.output;
-  const io::CacheReader after(out);
-  EXPECT_GE(after.frameCount(), kept + 1);
-  for (std::size_t k = 0; k < after.frameCount(); ++k) EXPECT_GT(after.readFrame(k).size(), 0u);
-}
-
-TEST_F(Mpi, ARankKilledAtAnyWriteOfTheCacheLeavesItReadableAndResumable) {
-  // One rank is killed just before its N-th write to the cache (tests/KillAtWrite.cpp), at
-  // writes spread over the whole run: its frames written together over MPI-IO and, for rank 0,
-  // its own (frame 0, the views, the statuses, the journal, the growth). The cache then holds
-  // frames equal to the single process's, and resuming it (on 3 ranks, or 1 plain process)
-  // gives the single process's cache.
-  const std::string shim = SPHSPLAT_KILL_SHIM;
-  auto twoRanks = [&](const std::string& out, const std::string& env0, const std::string& env1) {
-    const std::string rank =
-        test::sphsplatBinary() + " run '" + scene_ + "' --threads 1 --quiet -o '" + out + "'";
-    return "OMP_WAIT_POLICY=PASSIVE mpirun --oversubscribe --allow-run-as-root -np 1 env " + env0 +
-           " LD_PRELOAD='" + shim + "' " + rank + " : -np 1 env " + env1 + " LD_PRELOAD='" + shim +
-           "' " + rank;
-  };
-  long counts[2] = {0, 0};
-  {
-    const std::string out = dir_ + "/counted.h5";
-    auto r = runShell(twoRanks(out, "SPHSPLAT_WRITE_COUNT_FILE=" + dir_ + "/count0",
-                               "SPHSPLAT_WRITE_COUNT_FILE=" + dir_ + "/count1"));
-    ASSERT_EQ(r.exitCode, 0) << r.output;
-    test::expectSameCache(reference_, out);
-    for (int k = 0; k < 2; ++k) {
-      std::ifstream(dir_ + "/count" + std::to_string(k)) >> counts[k];
-      ASSERT_GT(counts[k], 0) << "rank " << k;
-    }
-  }
-  int resumed = 0;
-  for (int victim = 0; victim < 2; ++victim) {
-    for (int i = 1; i <= 4; ++i) {
-      const long n = counts[victim] * i / 5;
-      SCOPED_TRACE("rank " + std::to_string(victim) + " killed before write " + std::to_string(n) +
-                   " of " + std::to_string(counts[victim]));
-      const std::string out =
-          dir_ + "/kill" + std::to_string(victim) + "_" + std::to_string(i) + ".h5";
-      const std::string kill = "SPHSPLAT_KILL_AT_WRITE=" + std::to_string(n);
-      auto r = runShell(twoRanks(out, victim == 0 ? kill : "A=0", victim == 1 ? kill : "A=0"));
-      EXPECT_NE(r.exitCode, 0) << r.output;
-      if (!test::fileExists(out)) continue;  // killed before frame 0 was in: no cache
-      {
-        const io::CacheReader killed(out);
-        const io::CacheReader reference(reference_);
-        for (std::size_t k = 0; k < killed.frameCount(); ++k)
-          EXPECT_TRUE(test::sameBits(reference.readFrame(k), killed.readFrame(k))) << "frame " << k;
-      }
-      const std::string resume = "--resume '" + out + "'";
-      auto c = runShell(++resumed % 2 ? ranks(3, scene_, resume) : plain(scene_, resume));
-      ASSERT_EQ(c.exitCode, 0) << c.output;
-      test::expectSameCache(reference_, out);
-    }
-  }
-  EXPECT_GT(resumed, 4);
 }
 
 TEST(MpiMigration, ParticleCountAndMassAreConservedAsTheWaterCrossesFaces) {
@@ -493,6 +350,22 @@ TEST(MpiRefusals, TheGlCollisionPassAndTheRenderer) {
   std::ofstream(file) << scene(0.05);
   expectRefused(runShell(ranks(2, file, "--set collision.method=cdt-gl")),
                 "runs on one process only");
+}
+
+TEST(MpiRefusals, TooManyThreadsIsToldOnceWithTheCoresARankMayUse) {
+  // Every rank parses the same arguments; rank 0 alone tells, and the limit names what it counts
+  // under mpirun: the cores this rank is bound to, not the machine's.
+  const std::string dir = test::makeTempDir();
+  const std::string file = dir + "/scene.json";
+  std::ofstream(file) << scene(0.05);
+  const auto r =
+      runShell("OMP_WAIT_POLICY=PASSIVE mpirun --oversubscribe --allow-run-as-root -np 2 " +
+               test::sphsplatBinary() + " run '" + file + "' --threads 100000");
+  expectRefused(r, "cores mpirun binds this rank to), got '100000'");
+  // A plain process says "here".
+  const auto one = runShell(test::sphsplatBinary() + " run '" + file + "' --threads 100000");
+  EXPECT_EQ(one.exitCode, 2) << one.output;
+  EXPECT_NE(one.output.find(" here), got '100000'"), std::string::npos) << one.output;
 }
 
 TEST(MpiRefusals, AnOutputNoRankCanWrite) {

@@ -1,0 +1,35 @@
+// Recording why an MPI run stopped when rank 0 cannot (docs/scaling.md, "A write that fails on
+// one rank"). While the ranks write a frame together, a failure on any rank can leave rank 0 in
+// a collective call it never returns from, or released from the cache's MPI-IO file mid-frame;
+// mpirun then ends it. So for that stretch rank 0 keeps a recorder ready: when the run must stop
+// (its own failure, the watch of mpi/FileErrorWatch.h, or mpirun's SIGTERM) it starts one, a
+// fresh `sphsplat` process that waits until rank 0 has exited and the other ranks have had time
+// to be ended, then writes "stopped: ..." into the cache as one process would, through the
+// commit protocol (io/CacheSession.h, recordStop). A run that still stops cleanly and records its
+// status itself tells a started recorder to do nothing.
+#pragma once
+
+#include <string>
+
+namespace sph::app {
+
+// The hidden first argument that makes `sphsplat` a recorder (app/main.cpp, before anything else).
+inline constexpr const char* kRecorderArgument = "--record-stopped-run";
+// The recorder's process: `argv` = {exe, kRecorderArgument, CACHE, REASON}; the pipe from rank 0
+// is its descriptor 3. Returns the exit code.
+int runStatusRecorder(char** argv);
+
+// Rank 0, around a frame written together: the cache (its path now) and the reason to record if
+// the run ends in it.
+void armStatusRecorder(const std::string& cache, const std::string& reason);
+void disarmStatusRecorder();
+// Whether a frame written together is under way on this rank (every rank arms with an empty
+// cache path: a SIGTERM then ends the process at once, so it writes no more).
+bool statusRecorderArmed();
+// Starts the recorder if armed and not started yet; `reason` (if not null) replaces the armed
+// one. Async-signal-safe when `reason` is null (the SIGTERM handler, the watch).
+void startStatusRecorder(const char* reason = nullptr);
+// Rank 0 recorded the status itself after all: a started recorder exits without writing.
+void cancelStatusRecorder();
+
+}  // namespace sph::app
