@@ -66,6 +66,10 @@ struct HaloStats {
   std::uint64_t refreshes = 0, refreshBytesSent = 0;
   double refreshSeconds = 0;
   double imbalanceSum = 0, imbalanceMax = 0;  // max/mean owned particles per rank, per step
+  // globalPlaces() (the frames the ranks write together): calls, the bytes this rank received
+  // from other ranks in its collectives, seconds.
+  std::uint64_t placesCalls = 0, placesBytesReceived = 0;
+  double placesSeconds = 0;
 };
 
 class Halo {

@@ -1,6 +1,7 @@
 // Halo::globalPlaces: each owned particle's index in the single-process order, from every rank's
 // keys (docs/scaling.md, "What is bit-identical": the global order is the order of the keys).
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 
 #include "sim/Assert.h"
@@ -10,11 +11,14 @@ namespace sph::dist {
 
 std::vector<std::uint64_t> Halo::globalPlaces() {
   SPH_ASSERT(ghost_.empty());
+  const auto start = std::chrono::steady_clock::now();
   Bytes mine(keys_.size() * sizeof(std::uint64_t));
   if (!keys_.empty()) std::memcpy(mine.data(), keys_.data(), mine.size());
   const std::vector<Bytes> all = comm_.allGather(mine);
   std::vector<std::uint64_t> places(keys_.size(), 0);
   std::vector<std::uint64_t> theirs;
+  for (const Bytes& b : all) stats_.placesBytesReceived += b.size();
+  stats_.placesBytesReceived -= mine.size();
   for (const Bytes& b : all) {
     theirs.resize(b.size() / sizeof(std::uint64_t));
     if (!theirs.empty()) std::memcpy(theirs.data(), b.data(), b.size());
@@ -25,6 +29,9 @@ std::vector<std::uint64_t> Halo::globalPlaces() {
       places[i] += static_cast<std::uint64_t>(
           std::lower_bound(theirs.begin(), theirs.end(), keys_[i]) - theirs.begin());
   }
+  stats_.placesCalls += 1;
+  stats_.placesSeconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return places;
 }
 
