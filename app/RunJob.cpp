@@ -264,10 +264,11 @@ int runJob(const RunRequest& request) {
       const dist::HaloStats& hs = halo->stats();
       if (together && hs.placesCalls > 0)
         std::printf(
-            "  their places (Halo::globalPlaces): %.3g ms and %llu bytes received a frame "
-            "on rank 0\n",
+            "  their places (Halo::globalPlaces): %.3g ms, %llu bytes received and %llu "
+            "keys gathered a frame on rank 0\n",
             1e3 * hs.placesSeconds / hs.placesCalls,
-            static_cast<unsigned long long>(hs.placesBytesReceived / hs.placesCalls));
+            static_cast<unsigned long long>(hs.placesBytesReceived / hs.placesCalls),
+            static_cast<unsigned long long>(hs.placesStrays / hs.placesCalls));
     }
   }
   if (cache) cache->close();
