@@ -41,13 +41,17 @@ std::vector<std::uint64_t> Halo::globalPlaces() {
   const long long d0 = keyedLattice_.dims[0], d1 = keyedLattice_.dims[1];
   const long long lo = keyed_ ? keyedSlabs_.first[rank()] : 0;
   const long long hi = keyed_ ? keyedSlabs_.first[rank() + 1] : 0;
+  long long lastLinear = -1;  // the keys come in order, a cell's after each other: decode once
+  std::int64_t lastUnit = kStray;
   const auto unitOf = [&](std::uint64_t key) -> std::int64_t {
     if (!keyed_ || (key & kEmitted)) return kStray;
     const auto linear = static_cast<long long>(key >> kWithinBits);
+    if (linear == lastLinear) return lastUnit;
     const long long c[3] = {linear % d0, linear / d0 % d1, linear / d0 / d1};
     const long long plane = c[axis] + keyedLattice_.origin[axis];
-    if (plane < lo || plane >= hi) return kStray;
-    return axis == 0 ? linear / d0 : axis == 1 ? c[2] : 0;
+    lastLinear = linear;
+    lastUnit = plane < lo || plane >= hi ? kStray : axis == 0 ? linear / d0 : axis == 1 ? c[2] : 0;
+    return lastUnit;
   };
 
   // This rank's keys in key order (the arrays are, but for particles emitted since the sort).
