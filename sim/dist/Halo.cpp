@@ -274,8 +274,7 @@ Halo::KeyLattice Halo::keyLattice() const {
   return l;
 }
 
-std::uint64_t Halo::globalKey(const KeyLattice& l, const CellCoord& cell,
-                              std::uint32_t within) const {
+std::uint64_t Halo::globalKey(const KeyLattice& l, const CellCoord& cell, std::uint32_t within) {
   long long c[3];
   for (int a = 0; a < 3; ++a) c[a] = std::clamp(cell[a] - l.origin[a], 0LL, l.dims[a] - 1);
   const std::uint64_t linear =

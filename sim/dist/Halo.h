@@ -127,8 +127,8 @@ class Halo {
   // particles ordered by key), for the ranks writing a frame together (parallel HDF5, each rank
   // its places of the arrays). Costs two collectives of one counter per row (slabs across x),
   // plane (across y) or none (across z) of the key lattice that the fluid spans, not a gather of
-  // every key; the particles whose keys do not follow the rank order (migrated or emitted since
-  // the last sorted()) are gathered. HaloPlaces.cpp.
+  // every key; the keys that do not follow the rank order (migrated or emitted since the last
+  // sorted(), all of them before the first: the particle model) are gathered. HaloPlaces.cpp.
   std::vector<std::uint64_t> globalPlaces();
 
   // The guard's verdict of every rank (each passes what its own checkStability() threw, or
@@ -154,8 +154,8 @@ class Halo {
     long long origin[3] = {0, 0, 0}, dims[3] = {1, 1, 1};
   };
   KeyLattice keyLattice() const;  // of cellSize_
-  std::uint64_t globalKey(const KeyLattice& lattice, const CellCoord& cell,
-                          std::uint32_t within) const;
+  static std::uint64_t globalKey(const KeyLattice& lattice, const CellCoord& cell,
+                                 std::uint32_t within);
   Particles merged(const Particles& fluid, bool everyRank, std::vector<std::uint32_t>* mine,
                    std::vector<std::vector<float>>* attached);
   // The sort `order` (new[i] = old[order[i]]) moved the particles: the keys, ghost flags,
