@@ -265,7 +265,7 @@ int runJob(const RunRequest& request) {
       if (together && hs.placesCalls > 0)
         std::printf(
             "  their places (Halo::globalPlaces): %.3g ms, %llu bytes received and %llu "
-            "keys gathered a frame on rank 0\n",
+            "keys sent to be placed a frame on rank 0\n",
             1e3 * hs.placesSeconds / hs.placesCalls,
             static_cast<unsigned long long>(hs.placesBytesReceived / hs.placesCalls),
             static_cast<unsigned long long>(hs.placesStrays / hs.placesCalls));

@@ -67,7 +67,8 @@ struct HaloStats {
   double refreshSeconds = 0;
   double imbalanceSum = 0, imbalanceMax = 0;  // max/mean owned particles per rank, per step
   // globalPlaces() (the frames the ranks write together): calls, the bytes this rank received
-  // from other ranks in its collectives, the stray keys gathered (every rank's), seconds.
+  // from other ranks in its collectives, the keys it sent to be placed elsewhere (migrated since
+  // the sort, or after every cell key: HaloPlaces.cpp), seconds.
   std::uint64_t placesCalls = 0, placesBytesReceived = 0, placesStrays = 0;
   double placesSeconds = 0;
 };
@@ -125,10 +126,10 @@ class Halo {
   std::uint64_t globalCount(std::size_t local);
   // Where each owned particle stands in the single-process order (its index among every rank's
   // particles ordered by key), for the ranks writing a frame together (parallel HDF5, each rank
-  // its places of the arrays). Costs two collectives of one counter per row (slabs across x),
-  // plane (across y) or none (across z) of the key lattice that the fluid spans, not a gather of
-  // every key; the keys that do not follow the rank order (migrated or emitted since the last
-  // sorted(), all of them before the first: the particle model) are gathered. HaloPlaces.cpp.
+  // its places of the arrays). Costs a sum and an exclusive scan of one counter per row (slabs
+  // across x), plane (across y) or none (across z) of the key lattice that the fluid spans, and
+  // for keys migrated or emitted since the last sorted() (all of them before the first: the
+  // particle model) two all-to-alls of 8 bytes a key: nothing is all-gathered. HaloPlaces.cpp.
   std::vector<std::uint64_t> globalPlaces();
 
   // The guard's verdict of every rank (each passes what its own checkStability() threw, or
