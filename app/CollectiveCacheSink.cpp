@@ -58,14 +58,16 @@ void CollectiveCacheSink::frame(const Simulation& sim, std::size_t) {
     throw std::logic_error(std::to_string(places.size()) + " cache places for " +
                            std::to_string(sim.fluid().size()) + " particles on rank " +
                            std::to_string(halo_.rank()));
-  std::vector<std::uint32_t> order(places.size());
-  std::iota(order.begin(), order.end(), 0u);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::uint32_t a, std::uint32_t b) { return places[a] < places[b]; });
   Particles mine = sim.fluid();
   RunState state = broadcastRunState(ranks, sim.runState());
   state.warmStart = sim.runState().warmStart;
+  // The local arrays are in key order, so the places ascend, but for particles emitted or
+  // migrated since the last sort.
   if (!std::is_sorted(places.begin(), places.end())) {
+    std::vector<std::uint32_t> order(places.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return places[a] < places[b]; });
     std::vector<std::uint32_t> scratch;
     mine.permute(order, scratch);
     for (std::vector<float>* v : {&state.warmStart.density, &state.warmStart.divergence}) {

@@ -20,7 +20,7 @@ class CollectiveCacheSink final : public FrameSink {
   // `cache`: rank 0's session; null on the other ranks.
   CollectiveCacheSink(dist::Halo& halo, io::CacheSession* cache) : halo_(halo), cache_(cache) {}
   void frame(const Simulation& sim, std::size_t index) override;
-  // Wall time in frame() on this rank (s), the places' all-gather included.
+  // Wall time in frame() on this rank (s), finding the places included.
   double seconds() const { return seconds_; }
 
  private:

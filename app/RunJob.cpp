@@ -269,6 +269,14 @@ int runJob(const RunRequest& request) {
     if (o.verbose && frameSeconds) {
       std::printf("  frames after the first: %.3g s on rank 0 to %s\n", frameSeconds(),
                   together ? "write them together" : "gather and write them");
+      const dist::HaloStats& hs = halo->stats();
+      if (together && hs.placesCalls > 0)
+        std::printf(
+            "  their places (Halo::globalPlaces): %.3g ms, %llu bytes received and %llu "
+            "keys sent to be placed a frame on rank 0\n",
+            1e3 * hs.placesSeconds / hs.placesCalls,
+            static_cast<unsigned long long>(hs.placesBytesReceived / hs.placesCalls),
+            static_cast<unsigned long long>(hs.placesStrays / hs.placesCalls));
     }
   }
   if (cache) cache->close();

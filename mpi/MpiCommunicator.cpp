@@ -2,6 +2,7 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
@@ -67,6 +68,13 @@ class MpiCommunicator final : public dist::Communicator {
     check(MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_INT64_T, MPI_SUM,
                         MPI_COMM_WORLD),
           "sum");
+  }
+  void exclusiveScanInPlace(std::vector<std::int64_t>& v) override {
+    check(MPI_Exscan(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_INT64_T, MPI_SUM,
+                     MPI_COMM_WORLD),
+          "exclusive scan");
+    // MPI leaves rank 0's buffer undefined.
+    if (rank_ == 0) std::fill(v.begin(), v.end(), 0);
   }
 
   std::vector<dist::Bytes> allToAll(const std::vector<dist::Bytes>& send) override {

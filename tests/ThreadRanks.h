@@ -52,6 +52,14 @@ class ThreadRanks {
     void sumInPlace(std::vector<std::int64_t>& v) override {
       reduce(all_.ints_, v, [](std::int64_t a, std::int64_t b) { return a + b; });
     }
+    void exclusiveScanInPlace(std::vector<std::int64_t>& v) override {
+      all_.ints_[rank_] = v;
+      all_.barrier_.wait();
+      std::fill(v.begin(), v.end(), 0);
+      for (int r = 0; r < rank_; ++r)
+        for (std::size_t i = 0; i < v.size(); ++i) v[i] += all_.ints_[r][i];
+      all_.barrier_.wait();
+    }
     std::vector<dist::Bytes> allToAll(const std::vector<dist::Bytes>& send) override {
       all_.parcels_[rank_] = send;
       all_.barrier_.wait();

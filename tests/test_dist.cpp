@@ -10,7 +10,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <functional>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -21,6 +20,7 @@
 #include "sim/NeighbourGrid.h"
 #include "sim/dist/ExactSum.h"
 #include "sim/dist/Halo.h"
+#include "tests/HaloCloud.h"
 #include "tests/ThreadRanks.h"
 
 namespace sph::dist {
@@ -138,39 +138,10 @@ TEST(ExactSum, AddAllIsAddOneByOne) {
                                  2.0 * static_cast<double>(1e-40f));
 }
 
-// A cloud of particles in a 1 x 0.3 x 0.3 m domain (longest along x): a dense block of water on
-// the left and a sparse spray everywhere. Its positions at step s are a function of the id, and
-// every step moves most particles by up to 0.3 m along x, so they cross slab faces; the other
-// fields are distinct per id, so a record that travels wrong shows.
-constexpr std::uint32_t kCloud = 2500;
-constexpr float kSupport = 0.04f;  // 25 cell planes along x
-
-Vec3 cloudAt(std::uint32_t id, int step) {
-  std::mt19937 rng(id * 7919u + 13u);
-  std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  const bool spray = id % 5 == 0;
-  Vec3 p(spray ? u(rng) : 0.5f * u(rng), (spray ? 0.3f : 0.15f) * u(rng), 0.3f * u(rng));
-  const float shift = 0.3f * std::sin(0.37f * static_cast<float>(id) + 1.3f * step);
-  p.x() = std::clamp(p.x() + (step == 0 ? 0.0f : shift), 0.0f, 0.999f);
-  return p;
-}
-
-void placeCloud(Particles& f, int step) {
-  for (std::size_t i = 0; i < f.size(); ++i) {
-    const Vec3 p = cloudAt(f.id[i], step);
-    f.x[i] = p.x(), f.y[i] = p.y(), f.z[i] = p.z();
-  }
-}
-
-Particles fullCloud() {
-  Particles f;
-  for (std::uint32_t id = 0; id < kCloud; ++id) {
-    f.append(Vec3::Zero(), Vec3(0.001f * id, -0.002f * id, 0.5f), id, 1000.0f + 0.25f * id);
-    f.p.back() = 3.0f * id, f.ax.back() = -1.0f * id, f.collideTime.back() = 0.125f * id;
-  }
-  placeCloud(f, 0);
-  return f;
-}
+using test::fullCloud;
+using test::kCloud;
+using test::kSupport;
+using test::placeCloud;
 
 // The record of particle i as raw bits, field by field.
 std::vector<std::uint32_t> bitsOf(const Particles& f, std::size_t i) {
@@ -195,10 +166,7 @@ constexpr int kSteps = 4;
 
 // The exchanges of kSteps steps on `ranks` threads, driven as Simulation::step drives them (the
 // exchange, the grid's sort and the new keys, the ghosts dropped), the particles moved between.
-// `after`, if given, sees each rank's halo and fluid at the end.
-std::vector<std::vector<Seen>> exchangeSteps(
-    int ranks, std::vector<std::uint64_t>& migratedSeen,
-    const std::function<void(Communicator&, Halo&, const Particles&)>& after = {}) {
+std::vector<std::vector<Seen>> exchangeSteps(int ranks, std::vector<std::uint64_t>& migratedSeen) {
   const Aabb domain{Vec3(0, 0, 0), Vec3(1.0f, 0.3f, 0.3f)};
   std::vector<std::vector<Seen>> seen(kSteps, std::vector<Seen>(ranks));
   migratedSeen.assign(ranks, 0);
@@ -224,7 +192,6 @@ std::vector<std::vector<Seen>> exchangeSteps(
       placeCloud(fluid, step + 1);
     }
     migratedSeen[comm.rank()] = halo.stats().migratedAllRanks;
-    if (after) after(comm, halo, fluid);
   });
   return seen;
 }
@@ -385,39 +352,6 @@ TEST(Halo, AttachedArraysAndRefreshedGhostsFollowTheirParticles) {
       EXPECT_EQ(wrongGathered[r], 0);
     }
     EXPECT_EQ(gathered[0], kCloud);
-  }
-}
-
-TEST(Halo, GlobalPlacesAreWhereTheGatheredFrameHoldsEachParticle) {
-  // The places each rank writes its particles to when the ranks write a frame together
-  // (parallel HDF5, app/CollectiveCacheSink.h): the gathered single-process order's indices,
-  // every index of it exactly once, after steps that moved particles across the faces.
-  for (int ranks = 1; ranks <= 4; ++ranks) {
-    SCOPED_TRACE(std::to_string(ranks) + " ranks");
-    std::vector<std::vector<std::uint64_t>> places(ranks);
-    std::vector<std::vector<std::uint32_t>> ids(ranks);
-    Particles gathered;
-    std::vector<std::uint64_t> migrated;
-    exchangeSteps(ranks, migrated, [&](Communicator& comm, Halo& halo, const Particles& fluid) {
-      places[comm.rank()] = halo.globalPlaces();
-      ids[comm.rank()] = fluid.id;
-      Particles all = halo.gather(fluid);
-      if (comm.rank() == 0) gathered = std::move(all);
-    });
-    ASSERT_EQ(gathered.size(), kCloud);
-    std::vector<int> taken(kCloud, 0);
-    for (int r = 0; r < ranks; ++r) {
-      ASSERT_EQ(places[r].size(), ids[r].size());
-      if (ranks > 1) {
-        EXPECT_GT(ids[r].size(), 0u) << "rank " << r;
-      }
-      for (std::size_t i = 0; i < ids[r].size(); ++i) {
-        ASSERT_LT(places[r][i], kCloud);
-        EXPECT_EQ(gathered.id[places[r][i]], ids[r][i]) << "rank " << r << " particle " << i;
-        ++taken[places[r][i]];
-      }
-    }
-    EXPECT_EQ(std::count(taken.begin(), taken.end(), 1), static_cast<long>(kCloud));
   }
 }
 

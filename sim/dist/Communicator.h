@@ -22,6 +22,9 @@ class Communicator {
   virtual void maxInPlace(std::vector<double>& values) = 0;
   virtual void minInPlace(std::vector<double>& values) = 0;
   virtual void sumInPlace(std::vector<std::int64_t>& values) = 0;
+  // Element-wise, the sum over the ranks below this one (rank r gets ranks 0..r-1's values; rank
+  // 0 gets zeros): where a rank's share starts when the ranks' shares are laid out in rank order.
+  virtual void exclusiveScanInPlace(std::vector<std::int64_t>& values) = 0;
   // send[r] goes to rank r; returns what each rank sent to this one (received[r] from rank r).
   virtual std::vector<Bytes> allToAll(const std::vector<Bytes>& send) = 0;
   // Every rank's `mine`, indexed by rank, on every rank.

@@ -13,10 +13,6 @@
 namespace sph::dist {
 namespace {
 
-// Emitted particles join after every particle of the previous order, in id order (as
-// Particles::append puts them at the end of the single process's arrays).
-constexpr std::uint64_t kEmitted = std::uint64_t(1) << 63;
-constexpr int kWithinBits = 24;  // a cell holds fewer than 2^24 particles
 constexpr long long kFar = 1LL << 60;
 
 long long planeOf(float x, double invCell) {
@@ -143,6 +139,7 @@ Halo::Halo(Communicator& comm, const Aabb& domain, float h) : comm_(comm), domai
 void Halo::adopt(const Particles& fluid) {
   keys_.resize(fluid.size());
   std::iota(keys_.begin(), keys_.end(), std::uint64_t(0));
+  keyed_ = false;
   ghost_.clear();
 }
 
@@ -267,16 +264,21 @@ float Halo::exchange(Particles& f, float h) {
   return cs;
 }
 
-std::uint64_t Halo::globalKey(const CellCoord& cell, std::uint32_t within) const {
+Halo::KeyLattice Halo::keyLattice() const {
   const double inv = 1.0 / static_cast<double>(cellSize_);
-  long long origin[3], dims[3];
+  KeyLattice l;
   for (int a = 0; a < 3; ++a) {
-    origin[a] = planeOf(domain_.lo[a], inv) - kGhostPlanes;
-    dims[a] = planeOf(domain_.hi[a], inv) + kGhostPlanes - origin[a] + 1;
+    l.origin[a] = planeOf(domain_.lo[a], inv) - kGhostPlanes;
+    l.dims[a] = planeOf(domain_.hi[a], inv) + kGhostPlanes - l.origin[a] + 1;
   }
+  return l;
+}
+
+std::uint64_t Halo::globalKey(const KeyLattice& l, const CellCoord& cell, std::uint32_t within) {
   long long c[3];
-  for (int a = 0; a < 3; ++a) c[a] = std::clamp(cell[a] - origin[a], 0LL, dims[a] - 1);
-  const std::uint64_t linear = static_cast<std::uint64_t>((c[2] * dims[1] + c[1]) * dims[0] + c[0]);
+  for (int a = 0; a < 3; ++a) c[a] = std::clamp(cell[a] - l.origin[a], 0LL, l.dims[a] - 1);
+  const std::uint64_t linear =
+      static_cast<std::uint64_t>((c[2] * l.dims[1] + c[1]) * l.dims[0] + c[0]);
   SPH_ASSERT(within < (1u << kWithinBits));
   return (linear << kWithinBits) | within;
 }
@@ -295,12 +297,15 @@ void Halo::permuted(const std::vector<std::uint32_t>& order) {
 
 void Halo::sorted(const NeighbourGrid& grid, const std::vector<std::uint32_t>& order) {
   permuted(order);
+  keyed_ = true;
+  keyedLattice_ = keyLattice();
+  keyedSlabs_ = slabs_;
   // Cells are whole planes' worth of one owner: an owned particle's cell holds only owned ones.
   parallelFor(grid.cellCount(), [&](std::size_t cell) {
     const std::uint32_t begin = grid.cellBegin(cell), end = grid.cellEnd(cell);
     if (begin == end || ghost_[begin]) return;
     const CellCoord g = grid.globalOf(cell);
-    for (std::uint32_t s = begin; s < end; ++s) keys_[s] = globalKey(g, s - begin);
+    for (std::uint32_t s = begin; s < end; ++s) keys_[s] = globalKey(keyedLattice_, g, s - begin);
   });
 }
 

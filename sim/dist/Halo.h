@@ -66,6 +66,11 @@ struct HaloStats {
   std::uint64_t refreshes = 0, refreshBytesSent = 0;
   double refreshSeconds = 0;
   double imbalanceSum = 0, imbalanceMax = 0;  // max/mean owned particles per rank, per step
+  // globalPlaces() (the frames the ranks write together): calls, the bytes this rank received
+  // from other ranks in its collectives, the keys it sent to be placed elsewhere (migrated since
+  // the sort, or after every cell key: HaloPlaces.cpp), seconds.
+  std::uint64_t placesCalls = 0, placesBytesReceived = 0, placesStrays = 0;
+  double placesSeconds = 0;
 };
 
 class Halo {
@@ -121,7 +126,10 @@ class Halo {
   std::uint64_t globalCount(std::size_t local);
   // Where each owned particle stands in the single-process order (its index among every rank's
   // particles ordered by key), for the ranks writing a frame together (parallel HDF5, each rank
-  // its places of the arrays). Costs an all-gather of 8 bytes a particle. HaloPlaces.cpp.
+  // its places of the arrays). Costs a sum and an exclusive scan of one counter per row (slabs
+  // across x), plane (across y) or none (across z) of the key lattice that the fluid spans, and
+  // for keys migrated or emitted since the last sorted() (all of them before the first: the
+  // particle model) two all-to-alls of 8 bytes a key: nothing is all-gathered. HaloPlaces.cpp.
   std::vector<std::uint64_t> globalPlaces();
 
   // The guard's verdict of every rank (each passes what its own checkStability() threw, or
@@ -137,7 +145,18 @@ class Halo {
   const HaloStats& stats() const { return stats_; }
 
  private:
-  std::uint64_t globalKey(const CellCoord& cell, std::uint32_t within) const;
+  // A key: the cell's index in the lattice of the domain grown by kGhostPlanes, row-major
+  // (x fastest), above kWithinBits bits of the place within the cell. Emitted particles join
+  // after every particle of the previous order, in id order (as Particles::append puts them at
+  // the end of the single process's arrays): kEmitted | id.
+  static constexpr std::uint64_t kEmitted = std::uint64_t(1) << 63;
+  static constexpr int kWithinBits = 24;  // a cell holds fewer than 2^24 particles
+  struct KeyLattice {
+    long long origin[3] = {0, 0, 0}, dims[3] = {1, 1, 1};
+  };
+  KeyLattice keyLattice() const;  // of cellSize_
+  static std::uint64_t globalKey(const KeyLattice& lattice, const CellCoord& cell,
+                                 std::uint32_t within);
   Particles merged(const Particles& fluid, bool everyRank, std::vector<std::uint32_t>* mine,
                    std::vector<std::vector<float>>* attached);
   // The sort `order` (new[i] = old[order[i]]) moved the particles: the keys, ghost flags,
@@ -147,8 +166,13 @@ class Halo {
   Communicator& comm_;
   Aabb domain_;
   Slabs slabs_;
-  float cellSize_ = 0;                // of the last exchange
-  std::vector<std::uint64_t> keys_;   // per local particle: its place in the global order
+  float cellSize_ = 0;               // of the last exchange
+  std::vector<std::uint64_t> keys_;  // per local particle: its place in the global order
+  // The lattice and the cut of the last sorted(), which keyed every owned particle (false until
+  // the first: keys_ then hold the starting order). globalPlaces() reads a key's cell back.
+  bool keyed_ = false;
+  KeyLattice keyedLattice_;
+  Slabs keyedSlabs_;
   std::vector<std::uint8_t> ghost_;   // per local particle
   std::vector<std::uint32_t> order_;  // scratch
   std::vector<std::vector<float>*> attached_;
