@@ -95,7 +95,8 @@ void CollectiveCacheSink::frame(const Simulation& sim, std::size_t) {
   armStatusRecorder(cache_ ? target.path : "",
                     "the run ended while its ranks wrote frame " + std::to_string(target.frame) +
                         " together (a rank's write failed, or the run was stopped; see its "
-                        "messages)");
+                        "messages)",
+                    target.frame + 1);
   if (cache_)
     cache_->writeFrameTogether(sim, mine, state, slice);
   else

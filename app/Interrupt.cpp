@@ -1,5 +1,6 @@
 #include "app/Interrupt.h"
 
+#include <cerrno>
 #include <csignal>
 
 #include "app/StatusRecorder.h"
@@ -10,10 +11,12 @@ namespace {
 volatile std::sig_atomic_t received = 0;
 
 extern "C" void onInterrupt(int signal) {
+  const int savedErrno = errno;  // the recorder's start makes system calls
   received = signal;
   // In a frame the ranks write together, rank 0 may never get out of it (mpirun's SIGKILL
   // follows within a second): the recorder writes the status if rank 0 does not.
   startStatusRecorder();
+  errno = savedErrno;
 }
 
 }  // namespace

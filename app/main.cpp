@@ -25,7 +25,7 @@
 
 int main(int argc, char** argv) {
   // A recorder that rank 0 of an MPI run started (app/StatusRecorder.h): nothing else of main.
-  if (argc == 4 && std::strcmp(argv[1], sph::app::kRecorderArgument) == 0)
+  if (argc == sph::app::kRecorderArgc && std::strcmp(argv[1], sph::app::kRecorderArgument) == 0)
     return sph::app::runStatusRecorder(argv);
   sph::app::relaunchWithOpenMpSpinLimit(argv);
   const sph::app::MpiStarter starter = sph::app::mpiStarter();
@@ -47,6 +47,9 @@ int main(int argc, char** argv) {
 #endif
   // Errors are told once: by the only process, or by rank 0 (every rank meets the same ones).
   const auto tell = [](const char* format, const char* what) {
+#ifdef SPHSPLAT_MPI
+    sph::mpi::noteStopping();
+#endif
     if (sph::app::isRootProcess() || sph::app::inLockstep()) std::fprintf(stderr, format, what);
 #ifdef SPHSPLAT_MPI
     // This rank alone failed while the others wait in a collective: end them all.

@@ -294,7 +294,8 @@ std::string CacheSession::stop(const std::string& reason) {
   return text;
 }
 
-void CacheSession::recordStop(const std::string& path, const std::string& reason) {
+void CacheSession::recordStop(const std::string& path, const std::string& reason,
+                              std::size_t maxFrames) {
   // As a resume takes it: a run started on the cache meanwhile keeps it (and records its own).
   const OutputLock lock = OutputLock::acquire(path, "cache");
   std::size_t frames = 0;
@@ -303,6 +304,9 @@ void CacheSession::recordStop(const std::string& path, const std::string& reason
     const CacheReader reader(path);
     const CacheSummary& s = reader.summary();
     if (s.frames.empty()) return;
+    // A resume that ran in between recorded its own status (or, killed, holds more frames than
+    // the stopped run could have written): that is the cache's state now, not this run's.
+    if (s.status.rfind("running", 0) != 0 || s.frames.size() > maxFrames) return;
     frames = s.frames.size();
     lastTime = s.frames.back().time;
   }

@@ -63,8 +63,9 @@ class CacheSession final : public FrameSink {
   std::string stop(const std::string& reason);
   // The same for the cache at `path` of a run that has ended without recording it (an MPI run
   // whose ranks stopped in a frame written together, app/StatusRecorder.h): opens it as a
-  // resume would (a header torn by the end restored from the journal) and records the status.
-  static void recordStop(const std::string& path, const std::string& reason);
+  // resume would (a header torn by the end restored from the journal) and records the status,
+  // if the cache still says "running" with at most `maxFrames` frames (else a resume has run).
+  static void recordStop(const std::string& path, const std::string& reason, std::size_t maxFrames);
   void close();
   // Closes what is open; a new cache that never got its first frame leaves nothing behind.
   ~CacheSession() override;

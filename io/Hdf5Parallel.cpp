@@ -34,9 +34,12 @@ bool haveParallel() {
 // (HDF5 passes its EOA, which the ranks share), as the collective call requires. Linked into the
 // program, this definition comes before the MPI library's for libhdf5 (the MPI profiling
 // interface: PMPI_File_set_size is the library's own).
-extern "C" int MPI_File_set_size(MPI_File file, MPI_Offset size) {
+// (A size of 0, an emptied file, stays 0. Exported whatever the build's default visibility:
+// without it libhdf5 would call the library's own and the readers' refusals would come back.)
+extern "C" __attribute__((visibility("default"))) int MPI_File_set_size(MPI_File file,
+                                                                        MPI_Offset size) {
   constexpr MPI_Offset kReaderMargin = 1 << 20;  // as io/CacheCommit.cpp's kGrowthMargin
-  return PMPI_File_set_size(file, size + kReaderMargin);
+  return PMPI_File_set_size(file, size > 0 ? size + kReaderMargin : 0);
 }
 
 namespace sph::io::h5 {

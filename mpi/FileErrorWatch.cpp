@@ -14,6 +14,7 @@ namespace {
 
 double gGrace = 0;
 int gExitCode = 1;
+std::atomic<bool> gStopping{false};  // this rank has told why it stops (noteStopping)
 void (*gBeforeExit)(const char*) = nullptr;
 
 extern "C" void onFileError(MPI_File*, int* code, ...) {
@@ -32,9 +33,12 @@ extern "C" void onFileError(MPI_File*, int* code, ...) {
   std::thread([what] {
     std::this_thread::sleep_for(std::chrono::duration<double>(gGrace));
     if (gBeforeExit) gBeforeExit(what.c_str());
-    std::fprintf(stderr, "sphsplat: %s; ending the run (the cache keeps its committed frames)\n",
-                 what.c_str());
-    std::fflush(stderr);
+    // One line per rank: a rank that has told its own failure only ends.
+    if (!gStopping.load()) {
+      std::fprintf(stderr, "sphsplat: %s; ending the run (the cache keeps its committed frames)\n",
+                   what.c_str());
+      std::fflush(stderr);
+    }
     _exit(gExitCode);
   }).detach();
 }
@@ -49,6 +53,10 @@ void watchFileErrors(double graceSeconds, int exitCode, void (*beforeExit)(const
   MPI_File_create_errhandler(onFileError, &handler);
   // The handler of MPI_FILE_NULL is the one files opened later start with.
   MPI_File_set_errhandler(MPI_FILE_NULL, handler);
+}
+
+void noteStopping() {
+  gStopping.store(true);
 }
 
 }  // namespace sph::mpi

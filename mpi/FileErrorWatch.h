@@ -12,5 +12,8 @@ namespace sph::mpi {
 // error and ends the process with `exitCode` (mpirun then ends the other ranks); `beforeExit`
 // gets that line (without its newline) first. Call once, after MPI_Init.
 void watchFileErrors(double graceSeconds, int exitCode, void (*beforeExit)(const char* line));
+// This rank has printed why it stops: a watch that fires after this ends the process without a
+// second line.
+void noteStopping();
 
 }  // namespace sph::mpi

@@ -5,7 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "io/CacheReader.h"
@@ -41,6 +45,23 @@ inline std::string ranks(int k, const std::string& sceneFile, const std::string&
   return "OMP_WAIT_POLICY=PASSIVE mpirun --oversubscribe --allow-run-as-root -np " +
          std::to_string(k) + " " + test::sphsplatBinary() + " run '" + sceneFile +
          "' --threads 1 " + mode + " " + args;
+}
+
+// Waits (at most 70 s) until no status recorder for the cache `path` runs (app/StatusRecorder.h):
+// rank 0 of a run stopped in a frame its ranks wrote together starts one, which records the
+// status a moment after mpirun returns, holding the cache's lock while it writes.
+inline void waitForStatusRecorder(const std::string& path) {
+  const std::string argument = std::string("--record-stopped-run") + '\0' + path + '\0';
+  const auto runs = [&] {
+    std::error_code error;
+    for (const auto& entry : std::filesystem::directory_iterator("/proc", error)) {
+      std::ifstream file(entry.path() / "cmdline", std::ios::binary);
+      const std::string line((std::istreambuf_iterator<char>(file)), {});
+      if (line.find(argument) != std::string::npos) return true;
+    }
+    return false;
+  };
+  for (int i = 0; i < 700 && runs(); ++i) usleep(100000);
 }
 
 // "romio321": Open MPI's ROMIO component (MPI-IO as MPICH has it), for OMPI_MCA_io; "" if this

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "io/CacheReader.h"
+#include "io/CacheSession.h"
 #include "sim/InputError.h"
 #include "tests/CacheTestSupport.h"
 
@@ -204,6 +205,34 @@ TEST_F(CacheCrash, ResumingAKilledRunGivesTheUninterruptedRun) {
     ++resumed;
   }
   EXPECT_GE(resumed, 4);
+}
+
+TEST_F(CacheCrash, RecordingAStopOfAKilledRunWritesOnlyOverItsOwnRunningStatus) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "a preload library cannot come before the AddressSanitizer runtime";
+#endif
+  // The recorder of an MPI run that stopped in a frame its ranks wrote together
+  // (app/StatusRecorder.h) records "stopped" over "running", and only over the state that run
+  // left: not over a resume's status, nor over a cache with more frames than it could write.
+  const std::string path = dir_ + "/record.h5";
+  runShell(preload() + " SPHSPLAT_KILL_AT_WRITE=" + std::to_string(writes_ * 2 / 3) + " " +
+           run("record.h5"));
+  ASSERT_TRUE(fileExists(path));
+  const auto status = [&] { return io::CacheReader(path).summary().status; };
+  ASSERT_EQ(status().rfind("running", 0), 0u) << status();
+  const std::size_t frames = io::CacheReader(path).frameCount();
+  ASSERT_GE(frames, 2u);
+  io::CacheSession::recordStop(path, "the test's reason", frames - 1);
+  EXPECT_EQ(status().rfind("running", 0), 0u) << "more frames than the run wrote: " << status();
+  io::CacheSession::recordStop(path, "the test's reason", frames);
+  const std::string recorded =
+      "stopped: the test's reason; last good frame " + std::to_string(frames - 1) + " (t = ";
+  EXPECT_EQ(status().rfind(recorded, 0), 0u) << status();
+  io::CacheSession::recordStop(path, "another reason", frames);
+  EXPECT_EQ(status().find("another reason"), std::string::npos) << status();
+  const std::vector<Particles> kept = readAllFrames(path);
+  ASSERT_EQ(kept.size(), frames);
+  for (std::size_t k = 0; k < frames; ++k) EXPECT_TRUE(test::sameBits(reference_[k], kept[k]));
 }
 
 TEST_F(CacheCrash, KillNineFromOutsideAtMomentsSpreadOverARun) {

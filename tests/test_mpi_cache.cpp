@@ -32,6 +32,7 @@ TEST_F(Mpi, AKilledRankLeavesEveryFinishedFrameReadable) {
   // the frames committed before, each readable and equal to the single process's.
   const std::string out = dir_ + "/killed.h5";
   auto r = runShell(killOneRankMidRun(out, "tail -1"));
+  test::mpi::waitForStatusRecorder(out);
   EXPECT_NE(r.output.find("mpirun-exit"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("mpirun-exit 0"), std::string::npos) << r.output;
   const io::CacheReader killed(out);
@@ -46,6 +47,7 @@ TEST_F(Mpi, AKilledRankZeroLeavesACacheThatResumesOnOtherRanks) {
   // keeps its finished frames, and three ranks resume it.
   const std::string out = dir_ + "/killed0.h5";
   auto r = runShell(killOneRankMidRun(out, "head -1"));
+  test::mpi::waitForStatusRecorder(out);
   EXPECT_EQ(r.output.find("mpirun-exit 0"), std::string::npos) << r.output;
   std::size_t kept = 0;
   double lastTime = 0;
@@ -93,7 +95,8 @@ TEST_F(Mpi, ARankKilledAtAnyWriteOfTheCacheLeavesItReadableAndResumable) {
       auto r =
           runShell(twoShimmedRanks(out, victim == 0 ? kill : "A=0", victim == 1 ? kill : "A=0"));
       EXPECT_NE(r.exitCode, 0) << r.output;
-      if (!test::fileExists(out)) continue;  // killed before frame 0 was in: no cache
+      test::mpi::waitForStatusRecorder(out);  // a resume now would meet it: it holds the lock
+      if (!test::fileExists(out)) continue;   // killed before frame 0 was in: no cache
       {
         const io::CacheReader killed(out);
         const io::CacheReader reference(reference_);

@@ -15,11 +15,11 @@
 //
 // The other keys come after every cell key: those of particles emitted since the sort
 // (kEmitted | id, in id order), or, before the first sort (the particle model never sorts),
-// the starting order's indices and the emitted ones after them. Laid end to end they are dense,
-// so each goes to the rank owning its share of that range, which sorts what it receives and
-// places it after the shares of the ranks below (one more exclusive scan), and sends the places
-// back. A rank receives the keys of its share (even shares, as the range is dense) and its own
-// keys' places; nothing is all-gathered.
+// the starting order's indices and the emitted ones after them. Laid end to end they are nearly
+// dense (lost particles leave gaps), so each goes to the rank owning its share of that range, which
+// sorts what it receives and places it after the shares of the ranks below (one more exclusive
+// scan), and sends the places back. A rank receives the keys of its share (about even shares; the
+// gaps only make them less even) and its own keys' places; nothing is all-gathered.
 #include <algorithm>
 #include <chrono>
 #include <cstring>
