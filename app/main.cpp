@@ -1,6 +1,7 @@
 // sphsplat: the command-line program. Thin: parses arguments and hands over to one subcommand.
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <functional>
@@ -33,6 +34,10 @@ int main(int argc, char** argv) {
   // Under mpirun: the ranks of a distributed run (docs/scaling.md); a plain process otherwise.
   std::optional<sph::mpi::MpiSession> mpi;
   if (starter.launched) {
+    // Open MPI's OMPIO locks the whole file around each write on NFS (its automatic choice),
+    // which would wait for ever on the run's own lock of the cache (io/CacheFileLock.cpp): ask
+    // it for the written ranges only, unless the user chose (mpirun --mca exports the setting).
+    setenv("OMPI_MCA_fs_ufs_lock_algorithm", "3", 0);
     sph::app::setWorld(mpi.emplace(&argc, &argv).world());
     // A rank stuck after its write of the cache failed ends the run after 3 s (a failure HDF5
     // returns has stopped every rank by then, with its own line).
