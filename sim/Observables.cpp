@@ -1,13 +1,13 @@
 #include "sim/Observables.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
 
 #include "sim/Kernels.h"
 #include "sim/LatticeSums.h"
+#include "sim/NeighbourGrid.h"
 
 namespace sph {
 
@@ -75,60 +75,39 @@ Vec3d wallLoad(const Particles& fluid, const BoundaryParticles& boundary,
                double h, double gradientCorrection) {
   // |gradW_spiky| = 45 / (pi h^6) (h - r)^2.
   const double scale = gradientCorrection * mass * mass * 45.0 / (kPi * std::pow(h, 6));
-  // The fluid within reach of the sensor, binned in cells of side h over its bounding box.
+  // The fluid within reach of the sensor, binned in cells of side h (the simulation's grid).
   const float reachH = static_cast<float>(h);
   const Aabb reach{sensor.lo - Vec3::Constant(reachH), sensor.hi + Vec3::Constant(reachH)};
   std::vector<std::uint32_t> near;
-  Aabb box{Vec3::Constant(std::numeric_limits<float>::max()),
-           Vec3::Constant(-std::numeric_limits<float>::max())};
+  std::vector<float> nx, ny, nz;
   for (std::size_t i = 0; i < fluid.size(); ++i) {
     if (!reach.contains(fluid.position(i))) continue;
     near.push_back(static_cast<std::uint32_t>(i));
-    box.grow(fluid.position(i));
+    nx.push_back(fluid.x[i]), ny.push_back(fluid.y[i]), nz.push_back(fluid.z[i]);
   }
   if (near.empty()) return Vec3d::Zero();
-  std::array<int, 3> dims{};
-  for (int a = 0; a < 3; ++a) dims[a] = static_cast<int>((box.hi[a] - box.lo[a]) / h) + 1;
-  auto cellOf = [&](const Vec3& x, int a) {
-    return static_cast<int>(std::floor((x[a] - box.lo[a]) / h));
-  };
-  auto index = [&](int cx, int cy, int cz) {
-    return (static_cast<std::size_t>(cz) * dims[1] + cy) * dims[0] + cx;
-  };
-  std::vector<std::uint32_t> start(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2] + 1, 0);
-  for (std::uint32_t i : near) {
-    const Vec3 x = fluid.position(i);
-    ++start[index(cellOf(x, 0), cellOf(x, 1), cellOf(x, 2)) + 1];
-  }
-  for (std::size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
-  std::vector<std::uint32_t> sorted(near.size()), fill(start.begin(), start.end() - 1);
-  for (std::uint32_t i : near) {
-    const Vec3 x = fluid.position(i);
-    sorted[fill[index(cellOf(x, 0), cellOf(x, 1), cellOf(x, 2))]++] = i;
-  }
+  NeighbourGrid grid;
+  std::vector<std::uint32_t> order;
+  // Cells no smaller than h (float h may round below it): the 3x3x3 around b hold all within h.
+  grid.build(nx.data(), ny.data(), nz.data(), near.size(), reachH * (1 + 1e-6f), order,
+             NeighbourGrid::kExactCellSize);
   Vec3d force = Vec3d::Zero();
   for (std::size_t b = 0; b < boundary.size(); ++b) {
     const Vec3 xbf(boundary.x[b], boundary.y[b], boundary.z[b]);
     if (!sensor.contains(xbf)) continue;
     const Vec3d xb = xbf.cast<double>();
     const double pb = boundaryPressureTerm.empty() ? 0.0 : boundaryPressureTerm[b];
-    int lo[3], hi[3];
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = std::max(cellOf(xbf, a) - 1, 0), hi[a] = std::min(cellOf(xbf, a) + 1, dims[a] - 1);
-    }
-    for (int cz = lo[2]; cz <= hi[2]; ++cz)
-      for (int cy = lo[1]; cy <= hi[1]; ++cy)
-        for (int cx = lo[0]; cx <= hi[0]; ++cx) {
-          const std::size_t c = index(cx, cy, cz);
-          for (std::uint32_t q = start[c]; q < start[c + 1]; ++q) {
-            const std::uint32_t i = sorted[q];
-            const Vec3d d = xb - fluid.position(i).cast<double>();  // from i towards b
+    grid.forEachNeighbourRange(
+        grid.cellOf(xbf.x(), xbf.y(), xbf.z()), [&](std::uint32_t begin, std::uint32_t end) {
+          for (std::uint32_t q = begin; q < end; ++q) {
+            const std::uint32_t i = near[order[q]];
+            const Vec3d d = xb - fluid.position(i).cast<double>();  // i -> b
             const double r = d.norm();
             if (r <= 0 || r >= h) continue;
             const double rho = fluid.rho[i];
             force += scale * (fluid.p[i] / (rho * rho) + pb) * (h - r) * (h - r) / r * d;
           }
-        }
+        });
   }
   return force;
 }
