@@ -264,8 +264,9 @@ int runJob(const RunRequest& request) {
     if (cache) std::printf("  %s\n", cache->summary(wall).c_str());
     if (together)
       std::printf(
-          "  frames after the first written by all %d ranks together (parallel HDF5, MPI-IO)\n",
-          ranks->size());
+          "  frames after the first written by all %d ranks together (parallel HDF5, MPI-IO: "
+          "%s)\n",
+          ranks->size(), mpiIoChoice().c_str());
     if (o.verbose && frameSeconds) {
       std::printf("  frames after the first: %.3g s on rank 0 to %s\n", frameSeconds(),
                   together ? "write them together" : "gather and write them");
