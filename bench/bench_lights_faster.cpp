@@ -12,6 +12,10 @@
 //   bench_lights_faster cpu        accumulate "cpu" against "atomic" in Fig. 11's world, 65,536
 //                                  to 4M lights (--max-lights), and on the fireflies' frame; whole
 //                                  volume: ms and the largest texel difference
+//   bench_lights_faster frame      Fig. 11's whole deferred frame as a user gets it on llvmpipe
+//                                  (accumulate "cpu", culled to the table's camera, 960 x 540) at
+//                                  262,144 and 1M lights: accumulation, G-buffer pass, lighting
+//                                  pass and frame, each the minimum of --repeat frames
 // Options: --repeat N (min of N, default 3), --max-lights N (default 1048576), --accumulate cpu
 // (fig11, fireflies: the CPU accumulation instead of the atomic one).
 #include <algorithm>
@@ -185,6 +189,45 @@ void cpu() {
               lights.size(), 1e3 * ta, 1e3 * tc, ta / tc, worst, more);
 }
 
+// Fig. 11's frame: the accumulation (whole volume and culled, taken in turn), then the deferred
+// draw, per frame; each figure its minimum over `repeat` frames.
+void frame() {
+  render::solids::SolidRenderer solids(bench::fig11Solids(),
+                                       Aabb{Vec3(0, -1, 0), Vec3(128, 128, 128)}, 0.5f);
+  const int width = 960, height = 540;
+  render::splat::SplatRenderer renderer(width, height);
+  renderer.setLayers({&solids});
+  const CameraDesc camera = bench::fig11Camera();
+  std::printf(
+      "Fig. 11 frame (128^3 voxels of 1 m, range 0.5 m, trilinear, deferred, cpu; %d x %d, %zu "
+      "triangles): ms, min of %d frames\n",
+      width, height, solids.triangles(), repeat);
+  std::printf("%-8s %9s %9s %9s %9s %9s %9s\n", "lights", "acc all", "acc cull", "G-buffer",
+              "lighting", "draw", "frame");
+  for (std::size_t n : {262144u, 1048576u}) {
+    if (n > maxLights) continue;
+    LightsDesc d = bench::fig11Lights(n);
+    d.pipeline = LightPipeline::Deferred, d.accumulate = LightAccumulate::Cpu;
+    const std::vector<LightParticle> lights = lightParticles(d, Particles{}, 0.0);
+    const LightView view = lightView(camera, static_cast<float>(width) / static_cast<float>(height),
+                                     1.5f, 2.5f, d.voxelSize);
+    LightVolume all(d), culled(d);
+    auto [tAll, tCulled] = pairedMin(all, nullptr, culled, &view, lights);
+    draw(renderer, camera, culled);  // compiles llvmpipe's variants
+    double gbuffer = 1e30, lighting = 1e30, drawn = 1e30;
+    for (int k = 0; k < repeat; ++k) {
+      const render::splat::RenderImage image = draw(renderer, camera, culled);
+      drawn = std::min(drawn, image.seconds);
+      gbuffer = std::min(gbuffer, renderer.lastPasses().gbuffer);
+      lighting = std::min(lighting, renderer.lastPasses().lighting);
+    }
+    std::printf("%-8zu %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f\n", n, 1e3 * tAll, 1e3 * tCulled,
+                1e3 * gbuffer, 1e3 * lighting, 1e3 * drawn,
+                1e3 * (std::min(tAll, tCulled) + drawn));
+    std::fflush(stdout);
+  }
+}
+
 void fireflies() {
   const Scene scene = io::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/fireflies.json");
   LightsDesc d = *scene.lights;
@@ -215,10 +258,11 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--accumulate") && !std::strcmp(argv[i + 1], "cpu"))
       accumulate = LightAccumulate::Cpu;
   }
-  if (what != "fig11" && what != "fireflies" && what != "cpu") {
-    std::fprintf(stderr,
-                 "usage: bench_lights_faster fig11|fireflies|cpu [--repeat N] [--max-lights N] "
-                 "[--accumulate cpu]\n");
+  if (what != "fig11" && what != "fireflies" && what != "cpu" && what != "frame") {
+    std::fprintf(
+        stderr,
+        "usage: bench_lights_faster fig11|fireflies|cpu|frame [--repeat N] [--max-lights N] "
+        "[--accumulate cpu]\n");
     return 2;
   }
   render::gl::GlContext context = render::gl::GlContext::headless();
@@ -226,5 +270,6 @@ int main(int argc, char** argv) {
   if (what == "fig11") fig11();
   if (what == "fireflies") fireflies();
   if (what == "cpu") cpu();
+  if (what == "frame") frame();
   return 0;
 }
