@@ -28,7 +28,7 @@ struct VoxelSums {
   std::size_t lights = 0;  // the lights the cull kept (all of them without one)
   // Scratch of the binning, kept with the sums so that a frame allocates nothing.
   std::vector<int> bucketOf;
-  std::vector<std::uint32_t> sorted;
+  std::vector<LightParticle> sorted;
 };
 // IEEE binary16 of `f`, rounded toward zero (F16C where the build has it): llvmpipe's own
 // float-to-half conversion (the resolve pass's imageStore, a float upload) truncates so, and the
