@@ -54,67 +54,65 @@ void accumulateOnCpu(const LightsDesc& d, const std::vector<LightParticle>& ligh
   if (box.empty()) return;
   // The shader's loop: the voxel a light lies in and int(range / h) + 1 voxels either side.
   const int dist = static_cast<int>(d.range / d.voxelSize) + 1;
-  auto voxelOf = [&](float x, int a) {
-    return static_cast<int>(std::floor((x - d.origin[a]) / d.voxelSize));
-  };
+  const float r = d.range / d.voxelSize + 1e-3f;
   // The voxels along axis a whose centres lie within range of x (one or two of the shader's three
   // when range < h; a thousandth of a voxel more for rounding, the distance test decides), inside
   // the shader's loop and the box. The voxels the shader visits beyond are all out of range.
-  auto within = [&](float x, int a, int& lo, int& hi) {
-    const std::size_t s = static_cast<std::size_t>(a);
-    const float g = (x - d.origin[a]) / d.voxelSize - 0.5f, r = d.range / d.voxelSize + 1e-3f;
-    const int c = voxelOf(x, a);
-    lo = std::max({static_cast<int>(std::ceil(g - r)), c - dist, box.lo[s]});
-    hi = std::min({static_cast<int>(std::floor(g + r)), c + dist, box.hi[s] - 1});
+  auto within = [&](float x, std::size_t a, int& lo, int& hi) {
+    const float cell = (x - d.origin[static_cast<int>(a)]) / d.voxelSize, g = cell - 0.5f;
+    const int c = static_cast<int>(std::floor(cell));
+    lo = std::max({static_cast<int>(std::ceil(g - r)), c - dist, box.lo[a]});
+    hi = std::min({static_cast<int>(std::floor(g + r)), c + dist, box.hi[a] - 1});
     return lo <= hi;
   };
-  // The lights by the z slice they lie in (those the cull keeps that reach a voxel of the box
-  // only), in their given order: each slice then visits its 2 dist + 1 neighbouring buckets.
-  // Copied in that order, not indexed: a slice then reads them in a row, where indices into the
-  // given order would fetch a cache line per light (most of a 1M-light frame's time).
-  // Binned in parallel: each of `parts` runs of the lights counts its own per bucket, then puts
-  // its lights after the earlier runs' of the same bucket.
-  const int zFirst = box.lo[2] - dist, buckets = box.hi[2] - box.lo[2] + 2 * dist;
+  // Each light the cull keeps, with the voxels it reaches along x and y, in the list of every z
+  // slice of the box it reaches (one, rarely two at Fig. 11's range), in the lights' given order:
+  // a slice then reads exactly its lights, in a row. Binned in parallel: each of `parts` runs of
+  // the lights counts its own per slice, then puts them after the earlier runs' of that slice.
   const std::size_t parts = static_cast<std::size_t>(threadCount()), n = lights.size();
-  const std::size_t nb = static_cast<std::size_t>(buckets);
-  std::vector<std::size_t> count(parts * nb, 0), kept(parts, 0);
+  const std::size_t slices = static_cast<std::size_t>(box.hi[2] - box.lo[2]);
+  std::vector<std::size_t> count(parts * slices, 0), kept(parts, 0);
   std::vector<VoxelBox> reach(parts);  // per run: the voxels its lights reach (lo, hi inclusive)
-  out.bucketOf.resize(n);
+  out.reachOf.resize(n);
   parallelFor(parts, [&](std::size_t part) {
-    VoxelBox& r = reach[part];
-    r.lo = box.hi;
-    for (std::size_t a = 0; a < 3; ++a) r.hi[a] = box.lo[a] - 1;
+    VoxelBox& rp = reach[part];
+    rp.lo = box.hi;
+    for (std::size_t a = 0; a < 3; ++a) rp.hi[a] = box.lo[a] - 1;
     for (std::size_t i = n * part / parts; i < n * (part + 1) / parts; ++i) {
       const LightParticle& l = lights[i];
-      out.bucketOf[i] = -1;
+      VoxelBox& v = out.reachOf[i];  // lo, hi inclusive; left empty for a light that adds nothing
+      v.lo = {0, 0, 0}, v.hi = {-1, -1, -1};
       if (cull && !cull->keeps(l)) continue;
       ++kept[part];
-      const int b = voxelOf(l.position[2], 2) - zFirst;
       std::array<int, 3> lo{}, hi{};
-      if (b < 0 || b >= buckets || !within(l.position[0], 0, lo[0], hi[0]) ||
-          !within(l.position[1], 1, lo[1], hi[1]) || !within(l.position[2], 2, lo[2], hi[2]))
+      if (!within(l.position[0], 0, lo[0], hi[0]) || !within(l.position[1], 1, lo[1], hi[1]) ||
+          !within(l.position[2], 2, lo[2], hi[2]))
         continue;  // no voxel of the box within its range
+      v.lo = lo, v.hi = hi;
       for (std::size_t a = 0; a < 3; ++a)
-        r.lo[a] = std::min(r.lo[a], lo[a]), r.hi[a] = std::max(r.hi[a], hi[a]);
-      out.bucketOf[i] = b;
-      ++count[part * nb + static_cast<std::size_t>(b)];
+        rp.lo[a] = std::min(rp.lo[a], lo[a]), rp.hi[a] = std::max(rp.hi[a], hi[a]);
+      for (int z = lo[2]; z <= hi[2]; ++z)
+        ++count[part * slices + static_cast<std::size_t>(z - box.lo[2])];
     }
   });
-  // Where each run's lights of each bucket start in `sorted`: buckets in order, runs in order.
-  std::vector<std::size_t> next(parts * nb), start(nb + 1, 0);
+  // Where each run's lights of each slice start in `binned`: slices in order, runs in order.
+  std::vector<std::size_t> next(parts * slices), start(slices + 1, 0);
   std::size_t total = 0;
-  for (std::size_t b = 0; b < nb; ++b) {
-    start[b] = total;
+  for (std::size_t z = 0; z < slices; ++z) {
+    start[z] = total;
     for (std::size_t part = 0; part < parts; ++part)
-      next[part * nb + b] = total, total += count[part * nb + b];
+      next[part * slices + z] = total, total += count[part * slices + z];
   }
-  start[nb] = total;
-  out.sorted.resize(total);
+  start[slices] = total;
+  out.binned.resize(total);
   parallelFor(parts, [&](std::size_t part) {
-    std::size_t* at = next.data() + part * nb;
-    for (std::size_t i = n * part / parts; i < n * (part + 1) / parts; ++i)
-      if (const int b = out.bucketOf[i]; b >= 0)
-        out.sorted[at[static_cast<std::size_t>(b)]++] = lights[i];
+    std::size_t* at = next.data() + part * slices;
+    for (std::size_t i = n * part / parts; i < n * (part + 1) / parts; ++i) {
+      const VoxelBox& v = out.reachOf[i];
+      for (int z = v.lo[2]; z <= v.hi[2]; ++z)
+        out.binned[at[static_cast<std::size_t>(z - box.lo[2])]++] = {
+            lights[i], {v.lo[0], v.hi[0], v.lo[1], v.hi[1]}};
+    }
   });
   VoxelBox& t = out.touched;
   t.lo = box.hi, t.hi = box.lo;
@@ -143,29 +141,25 @@ void accumulateOnCpu(const LightsDesc& d, const std::vector<LightParticle>& ligh
     std::vector<std::array<std::int64_t, 6>>& sums =
         sliceSums[static_cast<std::size_t>(threadIndex())];
     if (sums.size() < slice) sums.assign(slice, std::array<std::int64_t, 6>{});
-    const int bLo = std::max(z - dist - zFirst, 0), bHi = std::min(z + dist - zFirst, buckets - 1);
     const float vz = d.origin.z() + (static_cast<float>(z) + 0.5f) * d.voxelSize;
-    for (std::size_t s = start[static_cast<std::size_t>(bLo)];
-         s < start[static_cast<std::size_t>(bHi) + 1]; ++s) {
-      const LightParticle& l = out.sorted[s];
-      if (std::abs(l.position[2] - vz) > d.range + 1e-3f * d.voxelSize) continue;  // as `within`
-      int xLo = 0, xHi = 0, yLo = 0, yHi = 0;
-      within(l.position[0], 0, xLo, xHi);
-      within(l.position[1], 1, yLo, yHi);
-      for (int y = yLo; y <= yHi; ++y) {
+    const std::size_t list = static_cast<std::size_t>(z - box.lo[2]);
+    for (std::size_t s = start[list]; s < start[list + 1]; ++s) {
+      const LightParticle& l = out.binned[s].light;
+      const std::array<int, 4>& xy = out.binned[s].xy;
+      for (int y = xy[2]; y <= xy[3]; ++y) {
         const float vy = d.origin.y() + (static_cast<float>(y) + 0.5f) * d.voxelSize;
-        for (int x = xLo; x <= xHi; ++x) {
+        for (int x = xy[0]; x <= xy[1]; ++x) {
           const float vx = d.origin.x() + (static_cast<float>(x) + 0.5f) * d.voxelSize;
           const float dx = l.position[0] - vx, dy = l.position[1] - vy, dz = l.position[2] - vz;
-          const float r = std::sqrt(dx * dx + dy * dy + dz * dz);
-          if (r > d.range) continue;
+          const float dr = std::sqrt(dx * dx + dy * dy + dz * dz);
+          if (dr > d.range) continue;
           const float att =
-              1.0f / (d.attenuation[0] + d.attenuation[1] * r + d.attenuation[2] * r * r);
+              1.0f / (d.attenuation[0] + d.attenuation[1] * dr + d.attenuation[2] * dr * dr);
           // (p - voxel) / d * intensity, in the shader's order of operations.
           const float w = l.colour[3];
-          const float terms[6] = {att * l.colour[0],         att * l.colour[1],
-                                  att * l.colour[2],         r > 0 ? dx / r * w : 0.0f,
-                                  r > 0 ? dy / r * w : 0.0f, r > 0 ? dz / r * w : 0.0f};
+          const float terms[6] = {att * l.colour[0],           att * l.colour[1],
+                                  att * l.colour[2],           dr > 0 ? dx / dr * w : 0.0f,
+                                  dr > 0 ? dy / dr * w : 0.0f, dr > 0 ? dz / dr * w : 0.0f};
           std::array<std::int64_t, 6>& sum =
               sums[static_cast<std::size_t>(y - t.lo[1]) * static_cast<std::size_t>(nx) +
                    static_cast<std::size_t>(x - t.lo[0])];

@@ -26,9 +26,14 @@ struct VoxelSums {
   VoxelBox touched;
   std::vector<std::array<std::uint16_t, 4>> colour, direction;
   std::size_t lights = 0;  // the lights the cull kept (all of them without one)
-  // Scratch of the binning, kept with the sums so that a frame allocates nothing.
-  std::vector<int> bucketOf;
-  std::vector<LightParticle> sorted;
+  // Scratch of the binning, kept with the sums so that a frame allocates nothing: per light the
+  // voxels it reaches, and per z slice the lights that reach it with their x and y voxel ranges.
+  struct BinnedLight {
+    LightParticle light;
+    std::array<int, 4> xy;  // x first, last, y first, last
+  };
+  std::vector<VoxelBox> reachOf;
+  std::vector<BinnedLight> binned;
 };
 // IEEE binary16 of `f`, rounded toward zero (F16C where the build has it): llvmpipe's own
 // float-to-half conversion (the resolve pass's imageStore, a float upload) truncates so, and the
