@@ -9,12 +9,10 @@
 
 layout(binding = 0) uniform sampler2D u_gLit;
 layout(binding = 1) uniform sampler2D u_gAlbedo;
-layout(binding = 2) uniform sampler2D u_gNormal;
-layout(binding = 3) uniform sampler2D u_gDepth;
-layout(binding = 4) uniform sampler2D u_gPosition;  // the water's only (gbuffer_out.glsl)
+layout(binding = 2) uniform sampler2D u_gPosition;
+layout(binding = 3) uniform sampler2D u_gNormal;
+layout(binding = 4) uniform sampler2D u_gDepth;
 uniform vec3 u_eye;
-uniform mat4 u_inverseProjView;  // window depth and pixel back to world (render/splat/DeferredTarget.cpp)
-uniform vec2 u_pixelSize;        // 2 / the G-buffer's width and height
 
 layout(location = 0) out vec4 o_colour;
 layout(location = 1) out vec4 o_normal;  // the error figures' normal and coverage (splat.frag)
@@ -28,20 +26,12 @@ void main() {
   ivec2 px = ivec2(gl_FragCoord.xy);
   vec4 lit = texelFetch(u_gLit, px, 0);
   if (lit.a < 0.5) discard;  // nothing drawn here: the cleared background stays
+  vec3 position = texelFetch(u_gPosition, px, 0).xyz;
   vec4 normal = texelFetch(u_gNormal, px, 0);
-  bool water = normal.a > 0.5;
-  vec3 n = 2.0 * normal.xyz - 1.0;
-  float depth = texelFetch(u_gDepth, px, 0).r;
-  vec3 position;
-  if (water) {
-    position = texelFetch(u_gPosition, px, 0).xyz;
-  } else {  // the pixel's centre at its depth, as the solid's fragment saw it
-    vec4 p = u_inverseProjView * vec4(gl_FragCoord.xy * u_pixelSize - 1.0, 2.0 * depth - 1.0, 1.0);
-    position = p.xyz / p.w;
-  }
+  vec3 n = normal.xyz;
   vec3 albedo = texelFetch(u_gAlbedo, px, 0).rgb;
   vec3 c = lit.rgb + particleLight(albedo, position, n, normalize(u_eye - position));
   o_colour = vec4(toSrgb(c), 1.0);
-  o_normal = water ? vec4(n, 1.0) : vec4(0.0);  // the water's only, as forward
-  gl_FragDepth = depth;
+  o_normal = normal.a > 0.5 ? vec4(n, 1.0) : vec4(0.0);  // the water's only, as forward
+  gl_FragDepth = texelFetch(u_gDepth, px, 0).r;
 }

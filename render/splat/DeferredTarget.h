@@ -1,14 +1,13 @@
 // The deferred pipeline of the particle lights (lights.pipeline "deferred"; seed 004 Fig. 11;
 // docs/lights.md, "Deferred"): a G-buffer of the frame's opaque surfaces (shaders/gbuffer_out.glsl:
-// their colour lit by all but the particle lights, albedo, normal, depth, the water's position),
-// then one full-screen pass (shaders/deferred_lighting.frag) that adds the particle lights' Phong
-// terms once per pixel instead of once per fragment drawn. Exists only when a scene's lights are
+// their colour lit by all but the particle lights, albedo, world position, normal, depth), then one
+// full-screen pass (shaders/deferred_lighting.frag) that adds the particle lights' Phong terms
+// once per pixel instead of once per fragment drawn. Exists only when a scene's lights are
 // deferred (ExtraLights::deferred()); SplatRenderer makes it on first use. Needs a current context.
 #pragma once
 
 #include "render/gl/GlHandle.h"
 #include "render/gl/ShaderLibrary.h"
-#include "sim/Camera.h"
 #include "sim/Types.h"
 
 namespace sph::render::splat {
@@ -19,19 +18,17 @@ class DeferredTarget {
  public:
   explicit DeferredTarget(const gl::ShaderLibrary& shaders);
   // Makes the G-buffer width x height (kept while the size stays), binds it as the draw
-  // framebuffer and clears it (nothing drawn, depth 1). `water`: the frame draws water into it,
-  // whose world positions are kept (the solids' are found from the depth).
-  void begin(int width, int height, bool water);
+  // framebuffer and clears it (nothing drawn, depth 1).
+  void begin(int width, int height);
   // Draws the lighting pass into `framebuffer` (0: the window's), whose viewport is set: every
-  // pixel the G-buffer holds a surface gets its colour and depth; the others keep theirs. `camera`
-  // is the frame's the G-buffer was drawn through.
-  void light(GLuint framebuffer, const ExtraLights& lights, const CameraFrame& camera);
+  // pixel the G-buffer holds a surface gets its colour and depth; the others keep theirs.
+  void light(GLuint framebuffer, const ExtraLights& lights, const Vec3& eye);
 
  private:
   gl::Program lighting_;
   gl::Framebuffer framebuffer_;
   gl::VertexArray vao_;
-  gl::Texture lit_, albedo_, normal_, depth_, position_;
+  gl::Texture lit_, albedo_, position_, normal_, depth_;
   int width_ = 0, height_ = 0;
 };
 

@@ -266,8 +266,7 @@ void SplatRenderer::drawDeferred(const SplatFrame& frame, SplatKind kind, const 
   if (!deferred_) deferred_ = std::make_unique<DeferredTarget>(shaders_);
   const auto start = Clock::now();
   // 1. The G-buffer: the opaque layers (solids) and the water when it is opaque.
-  const bool opaque = lighting.alpha >= 1.0f;
-  deferred_->begin(w, h, opaque && (!frame.points.empty() || !frame.indices.empty()));
+  deferred_->begin(w, h);
   glViewport(0, 0, w, h);
   // The error figures' frame has the solids too (drawLayers); the lighting pass keeps them out of
   // its normal target.
@@ -276,11 +275,12 @@ void SplatRenderer::drawDeferred(const SplatFrame& frame, SplatKind kind, const 
     if (layer->order() == FrameLayer::Order::BeforeSplats && !layer->drawGBuffer(cam, lighting))
       forward.push_back(layer);
   }
+  const bool opaque = lighting.alpha >= 1.0f;
   if (opaque) drawSplats(frame, kind, cam, lighting, gbufferProgramFor(kind));
   glFinish();  // the passes' times apart (Fig. 11's breakdown; llvmpipe drains between them anyway)
   const auto gbuffer = Clock::now();
   // 2. One full-screen pass adds the particle lights where the G-buffer holds a surface.
-  deferred_->light(static_cast<GLuint>(target), *lighting.extra, cam);
+  deferred_->light(static_cast<GLuint>(target), *lighting.extra, cam.eye);
   glFinish();
   passes_.gbuffer = std::chrono::duration<double>(gbuffer - start).count();
   passes_.lighting = std::chrono::duration<double>(Clock::now() - gbuffer).count();
