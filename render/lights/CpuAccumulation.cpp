@@ -66,38 +66,52 @@ void accumulateOnCpu(const LightsDesc& d, const std::vector<LightParticle>& ligh
     return lo <= hi;
   };
   // Each light the cull keeps, with the voxels it reaches along x and y, in the list of every z
-  // slice of the box it reaches (one, rarely two at Fig. 11's range): a slice then reads exactly
-  // its lights, in a row, and finds no range again. One pass over the lights, in parallel: each
-  // of `parts` runs of them fills its own lists, and a slice reads the runs' lists in order (the
-  // lights' given order; the sums are integers, so the order changes nothing anyway). The lists
-  // keep their storage from frame to frame.
+  // slice of the box it reaches (one, rarely two at Fig. 11's range), in the lights' given order:
+  // a slice then reads exactly its lights, in a row. Binned in parallel: each of `parts` runs of
+  // the lights counts its own per slice, then puts them after the earlier runs' of that slice.
   const std::size_t parts = static_cast<std::size_t>(threadCount()), n = lights.size();
   const std::size_t slices = static_cast<std::size_t>(box.hi[2] - box.lo[2]);
-  std::vector<std::size_t> kept(parts, 0);
+  std::vector<std::size_t> count(parts * slices, 0), kept(parts, 0);
   std::vector<VoxelBox> reach(parts);  // per run: the voxels its lights reach (lo, hi inclusive)
-  out.lists.resize(parts * slices);
+  out.reachOf.resize(n);
   parallelFor(parts, [&](std::size_t part) {
     VoxelBox& rp = reach[part];
     rp.lo = box.hi;
     for (std::size_t a = 0; a < 3; ++a) rp.hi[a] = box.lo[a] - 1;
-    std::vector<VoxelSums::BinnedLight>* lists = out.lists.data() + part * slices;
-    for (std::size_t z = 0; z < slices; ++z) lists[z].clear();
     for (std::size_t i = n * part / parts; i < n * (part + 1) / parts; ++i) {
       const LightParticle& l = lights[i];
+      VoxelBox& v = out.reachOf[i];  // lo, hi inclusive; left empty for a light that adds nothing
+      v.lo = {0, 0, 0}, v.hi = {-1, -1, -1};
       if (cull && !cull->keeps(l)) continue;
       ++kept[part];
       std::array<int, 3> lo{}, hi{};
       if (!within(l.position[0], 0, lo[0], hi[0]) || !within(l.position[1], 1, lo[1], hi[1]) ||
           !within(l.position[2], 2, lo[2], hi[2]))
         continue;  // no voxel of the box within its range
+      v.lo = lo, v.hi = hi;
       for (std::size_t a = 0; a < 3; ++a)
         rp.lo[a] = std::min(rp.lo[a], lo[a]), rp.hi[a] = std::max(rp.hi[a], hi[a]);
-      const VoxelSums::BinnedLight b{
-          {l.position[0], l.position[1], l.position[2]},
-          {l.colour[0], l.colour[1], l.colour[2], l.colour[3]},
-          {static_cast<std::int16_t>(lo[0]), static_cast<std::int16_t>(hi[0]),
-           static_cast<std::int16_t>(lo[1]), static_cast<std::int16_t>(hi[1])}};
-      for (int z = lo[2]; z <= hi[2]; ++z) lists[z - box.lo[2]].push_back(b);
+      for (int z = lo[2]; z <= hi[2]; ++z)
+        ++count[part * slices + static_cast<std::size_t>(z - box.lo[2])];
+    }
+  });
+  // Where each run's lights of each slice start in `binned`: slices in order, runs in order.
+  std::vector<std::size_t> next(parts * slices), start(slices + 1, 0);
+  std::size_t total = 0;
+  for (std::size_t z = 0; z < slices; ++z) {
+    start[z] = total;
+    for (std::size_t part = 0; part < parts; ++part)
+      next[part * slices + z] = total, total += count[part * slices + z];
+  }
+  start[slices] = total;
+  out.binned.resize(total);
+  parallelFor(parts, [&](std::size_t part) {
+    std::size_t* at = next.data() + part * slices;
+    for (std::size_t i = n * part / parts; i < n * (part + 1) / parts; ++i) {
+      const VoxelBox& v = out.reachOf[i];
+      for (int z = v.lo[2]; z <= v.hi[2]; ++z)
+        out.binned[at[static_cast<std::size_t>(z - box.lo[2])]++] = {
+            lights[i], {v.lo[0], v.hi[0], v.lo[1], v.hi[1]}};
     }
   });
   VoxelBox& t = out.touched;
@@ -129,29 +143,28 @@ void accumulateOnCpu(const LightsDesc& d, const std::vector<LightParticle>& ligh
     if (sums.size() < slice) sums.assign(slice, std::array<std::int64_t, 6>{});
     const float vz = d.origin.z() + (static_cast<float>(z) + 0.5f) * d.voxelSize;
     const std::size_t list = static_cast<std::size_t>(z - box.lo[2]);
-    for (std::size_t part = 0; part < parts; ++part) {
-      for (const VoxelSums::BinnedLight& l : out.lists[part * slices + list]) {
-        const std::array<std::int16_t, 4>& xy = l.xy;
-        for (int y = xy[2]; y <= xy[3]; ++y) {
-          const float vy = d.origin.y() + (static_cast<float>(y) + 0.5f) * d.voxelSize;
-          for (int x = xy[0]; x <= xy[1]; ++x) {
-            const float vx = d.origin.x() + (static_cast<float>(x) + 0.5f) * d.voxelSize;
-            const float dx = l.position[0] - vx, dy = l.position[1] - vy, dz = l.position[2] - vz;
-            const float dr = std::sqrt(dx * dx + dy * dy + dz * dz);
-            if (dr > d.range) continue;
-            const float att =
-                1.0f / (d.attenuation[0] + d.attenuation[1] * dr + d.attenuation[2] * dr * dr);
-            // (p - voxel) / d * intensity, in the shader's order of operations.
-            const float w = l.colour[3];
-            const float terms[6] = {att * l.colour[0],           att * l.colour[1],
-                                    att * l.colour[2],           dr > 0 ? dx / dr * w : 0.0f,
-                                    dr > 0 ? dy / dr * w : 0.0f, dr > 0 ? dz / dr * w : 0.0f};
-            std::array<std::int64_t, 6>& sum =
-                sums[static_cast<std::size_t>(y - t.lo[1]) * static_cast<std::size_t>(nx) +
-                     static_cast<std::size_t>(x - t.lo[0])];
-            for (int c = 0; c < 6; ++c)
-              sum[static_cast<std::size_t>(c)] += roundToInteger(terms[c] * scale);
-          }
+    for (std::size_t s = start[list]; s < start[list + 1]; ++s) {
+      const LightParticle& l = out.binned[s].light;
+      const std::array<int, 4>& xy = out.binned[s].xy;
+      for (int y = xy[2]; y <= xy[3]; ++y) {
+        const float vy = d.origin.y() + (static_cast<float>(y) + 0.5f) * d.voxelSize;
+        for (int x = xy[0]; x <= xy[1]; ++x) {
+          const float vx = d.origin.x() + (static_cast<float>(x) + 0.5f) * d.voxelSize;
+          const float dx = l.position[0] - vx, dy = l.position[1] - vy, dz = l.position[2] - vz;
+          const float dr = std::sqrt(dx * dx + dy * dy + dz * dz);
+          if (dr > d.range) continue;
+          const float att =
+              1.0f / (d.attenuation[0] + d.attenuation[1] * dr + d.attenuation[2] * dr * dr);
+          // (p - voxel) / d * intensity, in the shader's order of operations.
+          const float w = l.colour[3];
+          const float terms[6] = {att * l.colour[0],           att * l.colour[1],
+                                  att * l.colour[2],           dr > 0 ? dx / dr * w : 0.0f,
+                                  dr > 0 ? dy / dr * w : 0.0f, dr > 0 ? dz / dr * w : 0.0f};
+          std::array<std::int64_t, 6>& sum =
+              sums[static_cast<std::size_t>(y - t.lo[1]) * static_cast<std::size_t>(nx) +
+                   static_cast<std::size_t>(x - t.lo[0])];
+          for (int c = 0; c < 6; ++c)
+            sum[static_cast<std::size_t>(c)] += roundToInteger(terms[c] * scale);
         }
       }
     }

@@ -26,15 +26,14 @@ struct VoxelSums {
   VoxelBox touched;
   std::vector<std::array<std::uint16_t, 4>> colour, direction;
   std::size_t lights = 0;  // the lights the cull kept (all of them without one)
-  // Scratch of the binning, kept with the sums so that a frame allocates nothing: per run of the
-  // lights and z slice of the box, the lights that reach the slice, with their x and y voxels
-  // (16 bits: GL's 3D textures are at most 16,384 a side).
+  // Scratch of the binning, kept with the sums so that a frame allocates nothing: per light the
+  // voxels it reaches, and per z slice the lights that reach it with their x and y voxel ranges.
   struct BinnedLight {
-    std::array<float, 3> position;
-    std::array<float, 4> colour;
-    std::array<std::int16_t, 4> xy;  // x first, last, y first, last
+    LightParticle light;
+    std::array<int, 4> xy;  // x first, last, y first, last
   };
-  std::vector<std::vector<BinnedLight>> lists;
+  std::vector<VoxelBox> reachOf;
+  std::vector<BinnedLight> binned;
 };
 // IEEE binary16 of `f`, rounded toward zero (F16C where the build has it): llvmpipe's own
 // float-to-half conversion (the resolve pass's imageStore, a float upload) truncates so, and the
