@@ -12,6 +12,11 @@
 //   bench_lights_faster cpu        accumulate "cpu" against "atomic" in Fig. 11's world, 65,536
 //                                  to 4M lights (--max-lights), and on the fireflies' frame; whole
 //                                  volume: ms and the largest texel difference
+//   bench_lights_faster frame      Fig. 11's whole deferred frame as a user gets it on llvmpipe
+//                                  (accumulate "cpu", culled to the table's camera, 960 x 540) at
+//                                  262,144 and 1M lights: accumulation (whole volume and culled),
+//                                  G-buffer pass, lighting pass, draw and frame (culled + draw),
+//                                  each the minimum of --repeat frames, with CPU ms beside
 // Options: --repeat N (min of N, default 3), --max-lights N (default 1048576), --accumulate cpu
 // (fig11, fireflies: the CPU accumulation instead of the atomic one).
 #include <algorithm>
@@ -19,6 +24,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <string>
 #include <utility>
 #include <vector>
@@ -185,6 +191,62 @@ void cpu() {
               lights.size(), 1e3 * ta, 1e3 * tc, ta / tc, worst, more);
 }
 
+// CPU seconds of this process so far, every thread (OpenMP's and llvmpipe's) included: on a
+// machine shared with other work its differences move less than the wall clock's.
+double cpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// Fig. 11's frame: the accumulation (whole volume and culled, taken in turn), then the deferred
+// draw, per frame; each figure its minimum over `repeat` frames, in wall-clock ms and in CPU ms
+// (all threads: up to twice the wall clock on two cores). The frame is the culled accumulation
+// and the draw: what the defaults (lights.cull on, "auto" = "cpu" on llvmpipe) give.
+void frame() {
+  render::solids::SolidRenderer solids(bench::fig11Solids(),
+                                       Aabb{Vec3(0, -1, 0), Vec3(128, 128, 128)}, 0.5f);
+  const int width = 960, height = 540;
+  render::splat::SplatRenderer renderer(width, height);
+  renderer.setLayers({&solids});
+  const CameraDesc camera = bench::fig11Camera();
+  std::printf(
+      "Fig. 11 frame (128^3 voxels of 1 m, range 0.5 m, trilinear, deferred, cpu; %d x %d, %zu "
+      "triangles): ms, min of %d frames; [CPU ms, all threads]\n",
+      width, height, solids.triangles(), repeat);
+  std::printf("%-8s %9s %9s %9s %9s %9s %9s %9s %9s\n", "lights", "acc all", "acc cull", "G-buffer",
+              "lighting", "draw", "frame", "[acc cul]", "[draw]");
+  for (std::size_t n : {262144u, 1048576u}) {
+    if (n > maxLights) continue;
+    LightsDesc d = bench::fig11Lights(n);
+    d.pipeline = LightPipeline::Deferred, d.accumulate = LightAccumulate::Cpu;
+    const std::vector<LightParticle> lights = lightParticles(d, Particles{}, 0.0);
+    const LightView view = lightView(camera, static_cast<float>(width) / static_cast<float>(height),
+                                     1.5f, 2.5f, d.voxelSize);
+    LightVolume all(d), culled(d);
+    all.update(lights), culled.update(lights, &view);  // sizes the buffers
+    draw(renderer, camera, culled);                    // compiles llvmpipe's variants
+    double tAll = 1e30, tCulled = 1e30, gbuffer = 1e30, lighting = 1e30, drawn = 1e30;
+    double cpuCulled = 1e30, cpuDraw = 1e30;
+    for (int k = 0; k < repeat; ++k) {
+      tAll = std::min(tAll, all.update(lights));
+      const double c0 = cpuSeconds();
+      tCulled = std::min(tCulled, culled.update(lights, &view));
+      const double c1 = cpuSeconds();
+      const render::splat::RenderImage image = draw(renderer, camera, culled);
+      const double c2 = cpuSeconds();
+      cpuCulled = std::min(cpuCulled, c1 - c0), cpuDraw = std::min(cpuDraw, c2 - c1);
+      drawn = std::min(drawn, image.seconds);
+      gbuffer = std::min(gbuffer, renderer.lastPasses().gbuffer);
+      lighting = std::min(lighting, renderer.lastPasses().lighting);
+    }
+    std::printf("%-8zu %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f\n", n, 1e3 * tAll,
+                1e3 * tCulled, 1e3 * gbuffer, 1e3 * lighting, 1e3 * drawn, 1e3 * (tCulled + drawn),
+                1e3 * cpuCulled, 1e3 * cpuDraw);
+    std::fflush(stdout);
+  }
+}
+
 void fireflies() {
   const Scene scene = io::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/fireflies.json");
   LightsDesc d = *scene.lights;
@@ -215,10 +277,11 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--accumulate") && !std::strcmp(argv[i + 1], "cpu"))
       accumulate = LightAccumulate::Cpu;
   }
-  if (what != "fig11" && what != "fireflies" && what != "cpu") {
-    std::fprintf(stderr,
-                 "usage: bench_lights_faster fig11|fireflies|cpu [--repeat N] [--max-lights N] "
-                 "[--accumulate cpu]\n");
+  if (what != "fig11" && what != "fireflies" && what != "cpu" && what != "frame") {
+    std::fprintf(
+        stderr,
+        "usage: bench_lights_faster fig11|fireflies|cpu|frame [--repeat N] [--max-lights N] "
+        "[--accumulate cpu]\n");
     return 2;
   }
   render::gl::GlContext context = render::gl::GlContext::headless();
@@ -226,5 +289,6 @@ int main(int argc, char** argv) {
   if (what == "fig11") fig11();
   if (what == "fireflies") fireflies();
   if (what == "cpu") cpu();
+  if (what == "frame") frame();
   return 0;
 }

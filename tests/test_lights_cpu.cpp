@@ -121,5 +121,27 @@ TEST_F(LightsCpuGl, CulledToAViewItFillsTheSameBox) {
   expectSame(atomic.readDirection(), onCpu.readDirection(), "direction");
 }
 
+// Only the voxels a frame's lights reach are uploaded: lights that move between frames (spread,
+// then a cluster in one corner, then none) leave nothing of the last frame behind.
+TEST_F(LightsCpuGl, MovingLightsLeaveNoStaleVoxels) {
+  const std::vector<LightParticle> spread = someLights();
+  std::vector<LightParticle> corner;
+  for (int i = 0; i < 20; ++i)
+    corner.push_back(light(Vec3(0.8f + 0.005f * i, 0.4f, 0.6f - 0.004f * i), Vec3::Ones(), 1.0f));
+  LightVolume moving(volume(LightAccumulate::Cpu)), fresh(volume(LightAccumulate::Cpu));
+  moving.update(spread);
+  moving.update(corner);
+  fresh.update(corner);
+  const Texels colour = moving.readColour();
+  std::size_t lit = 0;
+  for (const auto& t : colour) lit += t[0] > 0;
+  EXPECT_GT(lit, 20u);
+  EXPECT_LT(lit, colour.size() / 100) << "the corner's voxels only";
+  EXPECT_TRUE(colour == fresh.readColour());
+  EXPECT_TRUE(moving.readDirection() == fresh.readDirection());
+  moving.update({});
+  for (const auto& t : moving.readColour()) ASSERT_EQ(t[0], 0.0f);
+}
+
 }  // namespace
 }  // namespace sph::render::lights

@@ -16,18 +16,32 @@
 
 namespace sph::render::lights {
 
-// The two textures' values over `box` (x fastest, then y, then z), RGBA per voxel as the
-// textures' half floats (IEEE binary16 bits, see toHalf): colour (alpha 0) and
-// direction (alpha 0), each light's terms rounded to steps of 1 / scale. Half floats, the
-// textures' own format: the upload is a copy.
+// The two textures' values over `touched` (x fastest, then y, then z), RGBA per voxel as the
+// textures' half floats (IEEE binary16 bits, see toHalf): colour (alpha 0) and direction (alpha
+// 0), each light's terms rounded to steps of 1 / scale. Half floats, the textures' own format:
+// the upload is a copy. Kept from frame to frame (its storage and the binning's are reused).
 struct VoxelSums {
+  // The voxels of the frame's box within range of a light it kept (the smallest box holding
+  // them): every other voxel of the frame's box is zero, and is neither converted nor uploaded.
+  VoxelBox touched;
   std::vector<std::array<std::uint16_t, 4>> colour, direction;
+  std::size_t lights = 0;  // the lights the cull kept (all of them without one)
+  // Scratch of the binning, kept with the sums so that a frame allocates nothing: per light the
+  // voxels it reaches, and per z slice the lights that reach it with their x and y voxel ranges.
+  struct BinnedLight {
+    LightParticle light;
+    std::array<int, 4> xy;  // x first, last, y first, last
+  };
+  std::vector<VoxelBox> reachOf;
+  std::vector<BinnedLight> binned;
 };
 // IEEE binary16 of `f`, rounded toward zero (F16C where the build has it): llvmpipe's own
 // float-to-half conversion (the resolve pass's imageStore, a float upload) truncates so, and the
 // "cpu" volume is then the "atomic" one texel for texel (tests/test_lights_cpu.cpp).
 std::uint16_t toHalf(float f);
-VoxelSums accumulateOnCpu(const LightsDesc& desc, const std::vector<LightParticle>& lights,
-                          const VoxelBox& box, float scale);
+// The sums of `lights` over the voxels of `box` into `out`; with a `cull`, only the lights it
+// keeps (as the atomic path runs only lightsInView's).
+void accumulateOnCpu(const LightsDesc& desc, const std::vector<LightParticle>& lights,
+                     const VoxelBox& box, float scale, const ViewCull* cull, VoxelSums& out);
 
 }  // namespace sph::render::lights

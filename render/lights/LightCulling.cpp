@@ -100,28 +100,25 @@ VoxelBox viewVoxels(const LightsDesc& d, const LightView& view) {
   return b;
 }
 
+ViewCull::ViewCull(const LightsDesc& d, const LightView& view, const VoxelBox& box)
+    : frustum_(view.projView),
+      reach_(d.range + filterReach(d) + view.margin + slack(d)),
+      range_(d.range + slack(d)),
+      empty_(box.empty()) {
+  for (int a = 0; a < 3; ++a) {
+    const std::size_t s = static_cast<std::size_t>(a);
+    lo_[a] = d.origin[a] + (static_cast<float>(box.lo[s]) + 0.5f) * d.voxelSize;
+    hi_[a] = d.origin[a] + (static_cast<float>(box.hi[s]) - 0.5f) * d.voxelSize;
+  }
+}
+
 std::vector<LightParticle> lightsInView(const LightsDesc& d,
                                         const std::vector<LightParticle>& lights,
                                         const LightView& view, const VoxelBox& box) {
+  const ViewCull cull(d, view, box);
   std::vector<LightParticle> kept;
-  if (box.empty()) return kept;
-  const Frustum frustum(view.projView);
-  const float reach = d.range + filterReach(d) + view.margin + slack(d);
-  // The box's voxel centres, and how far from them a light still reaches one.
-  Vec3 lo, hi;
-  for (int a = 0; a < 3; ++a) {
-    const std::size_t s = static_cast<std::size_t>(a);
-    lo[a] = d.origin[a] + (static_cast<float>(box.lo[s]) + 0.5f) * d.voxelSize;
-    hi[a] = d.origin[a] + (static_cast<float>(box.hi[s]) - 0.5f) * d.voxelSize;
-  }
-  const float range = d.range + slack(d);
-  for (const LightParticle& l : lights) {
-    const Vec3 p(l.position[0], l.position[1], l.position[2]);
-    if (!frustum.sphereVisible(p, reach)) continue;
-    const Vec3 nearest = p.cwiseMax(lo).cwiseMin(hi);
-    if ((nearest - p).squaredNorm() > range * range) continue;
-    kept.push_back(l);
-  }
+  for (const LightParticle& l : lights)
+    if (cull.keeps(l)) kept.push_back(l);
   return kept;
 }
 

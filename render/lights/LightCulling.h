@@ -52,8 +52,26 @@ VoxelBox wholeVolume(const LightsDesc& desc);
 // meeting of three of its twelve planes), widened by one voxel for rounding.
 VoxelBox viewVoxels(const LightsDesc& desc, const LightView& view);
 
-// The lights of `lights` that may change a voxel of `box` read from `view`: within range +
-// filterReach + margin of the frustum (each plane) and within range of the box's voxel centres.
+// Whether a light may change a voxel of `box` read from `view`: within range + filterReach +
+// margin of the frustum (each plane) and within range of the box's voxel centres. Made once a
+// frame; the CPU accumulation asks it while it bins the lights, with no copy of the kept ones.
+class ViewCull {
+ public:
+  ViewCull(const LightsDesc& desc, const LightView& view, const VoxelBox& box);
+  bool keeps(const LightParticle& light) const {
+    const Vec3 p(light.position[0], light.position[1], light.position[2]);
+    if (empty_ || !frustum_.sphereVisible(p, reach_)) return false;
+    return (p.cwiseMax(lo_).cwiseMin(hi_) - p).squaredNorm() <= range_ * range_;
+  }
+
+ private:
+  Frustum frustum_;
+  float reach_ = 0, range_ = 0;
+  Vec3 lo_, hi_;  // the box's outermost voxel centres
+  bool empty_ = true;
+};
+
+// The lights of `lights` that ViewCull(desc, view, box) keeps, in their order.
 std::vector<LightParticle> lightsInView(const LightsDesc& desc,
                                         const std::vector<LightParticle>& lights,
                                         const LightView& view, const VoxelBox& box);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <string>
 
 #include "render/gl/GlError.h"
@@ -69,6 +70,14 @@ void clearBox(const gl::Texture& t, const VoxelBox& b, bool integer) {
 
 bool sameBox(const VoxelBox& a, const VoxelBox& b) {
   return a.lo == b.lo && a.hi == b.hi;
+}
+
+// Whether box `outer` holds every voxel of `inner`.
+bool holds(const VoxelBox& outer, const VoxelBox& inner) {
+  if (inner.empty()) return true;
+  for (std::size_t a = 0; a < 3; ++a)
+    if (inner.lo[a] < outer.lo[a] || inner.hi[a] > outer.hi[a]) return false;
+  return true;
 }
 
 // `auto` decided for this GL: llvmpipe and the other software rasterisers run the compute
@@ -158,16 +167,16 @@ void LightVolume::setFilter(LightFilter filter, float tension, int oversampling)
 double LightVolume::update(const std::vector<LightParticle>& all, const LightView* view) {
   const auto start = std::chrono::steady_clock::now();
   box_ = view ? viewVoxels(desc_, *view) : wholeVolume(desc_);
+  if (desc_.accumulate == LightAccumulate::Cpu) {
+    scale_ = fixedScale(desc_), rescaled_ = false;  // 64-bit sums: no voxel can wrap
+    accumulateOnCpu(all, view);  // culls the lights as it bins them: no copy of the kept ones
+    glFinish();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
   std::vector<LightParticle> inView;
   if (view) inView = lightsInView(desc_, all, *view, box_);
   const std::vector<LightParticle>& lights = view ? inView : all;
   lastLights_ = lights.size();
-  if (desc_.accumulate == LightAccumulate::Cpu) {
-    scale_ = fixedScale(desc_), rescaled_ = false;  // 64-bit sums: no voxel can wrap
-    accumulateOnCpu(lights);
-    glFinish();
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  }
   if (lights.size() > capacity_) {
     capacity_ = lights.size();
     glNamedBufferData(lights_.id(), static_cast<GLsizeiptr>(capacity_ * sizeof(LightParticle)),
@@ -191,17 +200,22 @@ double LightVolume::update(const std::vector<LightParticle>& all, const LightVie
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-void LightVolume::accumulateOnCpu(const std::vector<LightParticle>& lights) {
-  if (!sameBox(dirty_, box_)) {
+void LightVolume::accumulateOnCpu(const std::vector<LightParticle>& lights, const LightView* view) {
+  std::optional<ViewCull> cull;
+  if (view) cull.emplace(desc_, *view, box_);
+  lights::accumulateOnCpu(desc_, lights, box_, scale_, cull ? &*cull : nullptr, cpuSums_);
+  lastLights_ = cpuSums_.lights;
+  // Only the voxels the lights reached are uploaded (Fig. 11's lie in the lowest fifth of the
+  // volume); every other voxel must read zero: what the last frame left outside them is cleared.
+  const VoxelBox& b = cpuSums_.touched;
+  if (!holds(b, dirty_)) {
     clearBox(colour_, dirty_, false);
     clearBox(direction_, dirty_, false);
   }
-  dirty_ = box_;
-  if (box_.empty()) return;
-  const VoxelSums sums = lights::accumulateOnCpu(desc_, lights, box_, scale_);
-  const VoxelBox& b = box_;
+  dirty_ = b;
+  if (b.empty()) return;
   for (const auto* t : {&colour_, &direction_}) {
-    const auto& data = t == &colour_ ? sums.colour : sums.direction;
+    const auto& data = t == &colour_ ? cpuSums_.colour : cpuSums_.direction;
     glTextureSubImage3D(t->id(), 0, b.lo[0], b.lo[1], b.lo[2], b.hi[0] - b.lo[0], b.hi[1] - b.lo[1],
                         b.hi[2] - b.lo[2], GL_RGBA, GL_HALF_FLOAT, data.data());
   }

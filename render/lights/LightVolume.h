@@ -11,6 +11,7 @@
 
 #include "render/gl/GlHandle.h"
 #include "render/gl/ShaderLibrary.h"
+#include "render/lights/CpuAccumulation.h"
 #include "render/lights/LightCulling.h"
 #include "render/splat/ExtraLights.h"
 #include "sim/LightParticles.h"
@@ -86,14 +87,16 @@ class LightVolume final : public splat::ExtraLights {
   bool rescaled_ = false;
   std::size_t lastLights_ = 0;
   // The voxels of this frame, and those the textures may hold non-zero values in (the last
-  // frame's box; the whole volume before the first, its storage being undefined).
+  // frame's box, or with "cpu" the voxels it uploaded; the whole volume before the first, its
+  // storage being undefined).
   VoxelBox box_, dirty_;
+  VoxelSums cpuSums_;  // "cpu": the last frame's sums, their storage reused
   // Clears the volume and accumulates the uploaded `count` lights at fixed-point `scale` into
   // box_; returns whether a voxel's sum wrapped (atomic only).
   bool accumulate(std::size_t count, float scale);
-  // lights.accumulate "cpu": the sums of `lights` over box_ on the CPU (CpuAccumulation.h),
-  // uploaded into the two textures.
-  void accumulateOnCpu(const std::vector<LightParticle>& lights);
+  // lights.accumulate "cpu": the sums of `lights` (those `view` keeps, if any) over box_ on the
+  // CPU (CpuAccumulation.h); only the voxels they reach are uploaded into the two textures.
+  void accumulateOnCpu(const std::vector<LightParticle>& lights, const LightView* view);
 };
 
 }  // namespace sph::render::lights
