@@ -3,7 +3,7 @@
 // - computeDfsphDensityAndFactor(), the step's one neighbour search: the summation density (seed
 //   003, eq. (1), spiky kernel), Bender & Koschier's per-particle factor (2017, eq. 9; Dfsph.cpp
 //   gives the notation) and the fluid pairs with V_j gradW_ij and h - r_ij, stored for the passes
-//   after it (StepScratch::pairRows). One pass where WCSPH's density pass and a separate factor
+//   after it (StepScratch::pairs). One pass where WCSPH's density pass and a separate factor
 //   pass each searched the neighbours.
 // - computeDfsphViscosity(), the non-pressure forces of DFSPH (viscosity, no-slip walls, gravity)
 //   as a gather over the stored pairs: the same terms as computeForces() (SphPasses.cpp) without
@@ -165,8 +165,7 @@ void computeDfsphDensityAndFactor(StepContext& c) {
     for (std::size_t i = from; i < n; ++i)
       s.indexBits[i] = bitsAs<float>(static_cast<std::uint32_t>(i));
   }
-  s.pairRows.resize(std::max(s.pairRows.size(), rowCount(c.grid)));
-  for (StepScratch::PairRow& r : s.pairRows) r.used = 0;
+  s.pairs.begin(rowCount(c.grid), threadCount());
   const float h = c.derived.h;
   const SpikyPairShape spiky{h, h * h};
   const float g = dfsphGradientScale(c);
@@ -190,9 +189,9 @@ void computeDfsphDensityAndFactor(StepContext& c) {
       {b.x.data(), b.y.data(), b.z.data()}, h,
       [&](std::size_t row, std::uint32_t begin, std::uint32_t end, const CandidateBatch<4>& fb,
           const CandidateBatch<3>& bb) {
-        CandidateBatch<4>& t = gradients[threadIndex()];
+        const int thread = threadIndex();
+        CandidateBatch<4>& t = gradients[thread];
         t.resize(fb.padded);
-        StepScratch::PairRow& pairs = s.pairRows[row];
         const float* fx = fb.field[0].data();
         const float* fy = fb.field[1].data();
         const float* fz = fb.field[2].data();
@@ -202,12 +201,10 @@ void computeDfsphDensityAndFactor(StepContext& c) {
           float gx = sums.gx, gy = sums.gy, gz = sums.gz;
           const float squares = sums.squares, cubes = sums.cubes;
           // The pairs: the candidates inside the support.
-          const std::size_t at = pairs.used;
-          pairs.makeRoom(at + fb.padded);
-          const std::uint32_t count = packPairs(
-              fb.padded, fb.field[3].data(), t, pairs.index.data() + at, pairs.gx.data() + at,
-              pairs.gy.data() + at, pairs.gz.data() + at, pairs.hr.data() + at);
-          pairs.used = at + count;
+          const PairStore::Row to = s.pairs.room(row, thread, fb.padded);
+          const std::uint32_t count =
+              packPairs(fb.padded, fb.field[3].data(), t, to.index, to.gx, to.gy, to.gz, to.hr);
+          s.pairs.add(row, thread, count);
           s.pairCount[i] = count;
           const BoundarySums wall = boundaryCandidates(xi, yi, zi, bb, spiky);
           const float bx = wall.gx, by = wall.gy, bz = wall.gz, bcubes = wall.cubes,
@@ -222,6 +219,7 @@ void computeDfsphDensityAndFactor(StepContext& c) {
           s.factor[i] = 1.0f / std::max(denominator, floor);
         }
       });
+  s.pairs.end();
 }
 
 // a_i = nu (rho0 / rho_i) [sum_j m / rho_j (v_j - v_i) lapW_visc - (no-slip) sum_b m / rho0 v_i
