@@ -46,8 +46,8 @@ int runJob(const RunRequest& request) {
   // Before anything is allocated: the CDT's id range (once --end is applied) and the machine's
   // memory; a scene past either stops here with one line naming the key to change.
   cdt::requireIdsInRange(scene);
+  setThreadCount(o.threads);  // first: DFSPH's estimate counts a spare pair chunk a thread
   const MemoryEstimate memory = checkMemory(scene);
-  setThreadCount(o.threads);
   // The cache's paths are checked before anything runs (nothing is overwritten by surprise).
   std::unique_ptr<io::CacheSession> cache;
   if (!ranks) {

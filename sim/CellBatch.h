@@ -67,10 +67,15 @@ struct CandidateBatch {
   void resize(std::size_t n) { reserve(n); }
   // Appends those of [begin, end) whose position lies within sqrt(reach2) of the box [lo, hi]:
   // the candidates some particle of the cell can actually reach. At support 2 spacings this drops
-  // the far corners of the 27-cell block, about a quarter of it.
+  // the far corners of the 27-cell block, about a quarter of it. Without a branch: every
+  // candidate is copied and the count advances past those kept, as a quarter of them mispredicted
+  // (this loop was 28% of DFSPH's density-and-factor pass, docs/benchmarks.md).
   void appendNear(const std::array<const float*, N>& src, std::uint32_t begin, std::uint32_t end,
                   const float lo[3], const float hi[3], float reach2) {
     reserve(count + (end - begin) + kBatchLanes);
+    std::array<float*, N> to;
+    for (int f = 0; f < N; ++f) to[f] = field[f].data();
+    std::size_t at = count;
     for (std::uint32_t q = begin; q < end; ++q) {
       float d2 = 0;
       for (int a = 0; a < 3; ++a) {
@@ -78,10 +83,10 @@ struct CandidateBatch {
         const float d = std::max(std::max(lo[a] - v, v - hi[a]), 0.0f);
         d2 += d * d;
       }
-      if (d2 >= reach2) continue;
-      for (int f = 0; f < N; ++f) field[f][count] = src[f][q];
-      ++count;
+      for (int f = 0; f < N; ++f) to[f][at] = src[f][q];
+      at += d2 >= reach2 ? 0 : 1;  // the same test as a branch would make, NaN included
     }
+    count = at;
   }
   // Pads to a multiple of kBatchLanes: positions far away, every other field 0.
   void pad() {

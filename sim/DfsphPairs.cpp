@@ -3,7 +3,7 @@
 // - computeDfsphDensityAndFactor(), the step's one neighbour search: the summation density (seed
 //   003, eq. (1), spiky kernel), Bender & Koschier's per-particle factor (2017, eq. 9; Dfsph.cpp
 //   gives the notation) and the fluid pairs with V_j gradW_ij and h - r_ij, stored for the passes
-//   after it (StepScratch::pairRows). One pass where WCSPH's density pass and a separate factor
+//   after it (StepScratch::pairs). One pass where WCSPH's density pass and a separate factor
 //   pass each searched the neighbours.
 // - computeDfsphViscosity(), the non-pressure forces of DFSPH (viscosity, no-slip walls, gravity)
 //   as a gather over the stored pairs: the same terms as computeForces() (SphPasses.cpp) without
@@ -15,6 +15,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+#include <immintrin.h>
+#endif
 
 #include "sim/DfsphPairs.h"
 #include "sim/SphPasses.h"
@@ -79,6 +82,46 @@ FluidSums fluidCandidates(float xi, float yi, float zi, std::size_t padded,
   return {gx, gy, gz, squares, cubes};
 }
 
+// Copies the candidates inside the support (h - r > 0: not the particle itself, not the padding)
+// to the row's arrays from `out`, in their order, and returns how many: the particle's pairs.
+// `padded` candidates (a multiple of kBatchLanes, the batch's arrays cache-line aligned); the
+// row has room for `padded` values at `out`. Data movement only, so both versions store the
+// same pairs: with AVX-512 each 8 lanes are compressed in a register and stored whole (the lanes
+// past the count are overwritten by the next particle's pairs), which took this loop from 42%
+// to ~10% of the pass (docs/benchmarks.md); the scalar one stores every lane and advances past
+// those inside.
+std::uint32_t packPairs(std::size_t padded, const float* __restrict bits,
+                        const CandidateBatch<4>& t, std::uint32_t* __restrict pi,
+                        float* __restrict px, float* __restrict py, float* __restrict pz,
+                        float* __restrict ph) {
+  const float* __restrict tx = t.field[0].data();
+  const float* __restrict ty = t.field[1].data();
+  const float* __restrict tz = t.field[2].data();
+  const float* __restrict th = t.field[3].data();
+  std::uint32_t count = 0;
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+  for (std::size_t j = 0; j < padded; j += 8) {
+    const __m256 hr = _mm256_load_ps(th + j);
+    const __mmask8 in = _mm256_cmp_ps_mask(hr, _mm256_setzero_ps(), _CMP_GT_OQ);
+    const __m256i index = _mm256_castps_si256(_mm256_loadu_ps(bits + j));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(pi + count),
+                        _mm256_maskz_compress_epi32(in, index));
+    _mm256_storeu_ps(px + count, _mm256_maskz_compress_ps(in, _mm256_load_ps(tx + j)));
+    _mm256_storeu_ps(py + count, _mm256_maskz_compress_ps(in, _mm256_load_ps(ty + j)));
+    _mm256_storeu_ps(pz + count, _mm256_maskz_compress_ps(in, _mm256_load_ps(tz + j)));
+    _mm256_storeu_ps(ph + count, _mm256_maskz_compress_ps(in, hr));
+    count += static_cast<std::uint32_t>(__builtin_popcount(in));
+  }
+#else
+  for (std::size_t j = 0; j < padded; ++j) {
+    pi[count] = bitsAs<std::uint32_t>(bits[j]);
+    px[count] = tx[j], py[count] = ty[j], pz[count] = tz[j], ph[count] = th[j];
+    count += th[j] > 0.0f ? 1u : 0u;
+  }
+#endif
+  return count;
+}
+
 // The same over the boundary candidates: sum (h - r)^2 / r (x_i - x_b), sum (h - r)^3 and sum
 // (h - r).
 struct BoundarySums {
@@ -122,8 +165,7 @@ void computeDfsphDensityAndFactor(StepContext& c) {
     for (std::size_t i = from; i < n; ++i)
       s.indexBits[i] = bitsAs<float>(static_cast<std::uint32_t>(i));
   }
-  s.pairRows.resize(std::max(s.pairRows.size(), rowCount(c.grid)));
-  for (StepScratch::PairRow& r : s.pairRows) r.used = 0;
+  s.pairs.begin(rowCount(c.grid), threadCount());
   const float h = c.derived.h;
   const SpikyPairShape spiky{h, h * h};
   const float g = dfsphGradientScale(c);
@@ -147,13 +189,9 @@ void computeDfsphDensityAndFactor(StepContext& c) {
       {b.x.data(), b.y.data(), b.z.data()}, h,
       [&](std::size_t row, std::uint32_t begin, std::uint32_t end, const CandidateBatch<4>& fb,
           const CandidateBatch<3>& bb) {
-        CandidateBatch<4>& t = gradients[threadIndex()];
+        const int thread = threadIndex();
+        CandidateBatch<4>& t = gradients[thread];
         t.resize(fb.padded);
-        const float* tx = t.field[0].data();
-        const float* ty = t.field[1].data();
-        const float* tz = t.field[2].data();
-        const float* th = t.field[3].data();
-        StepScratch::PairRow& pairs = s.pairRows[row];
         const float* fx = fb.field[0].data();
         const float* fy = fb.field[1].data();
         const float* fz = fb.field[2].data();
@@ -162,23 +200,11 @@ void computeDfsphDensityAndFactor(StepContext& c) {
           const FluidSums sums = fluidCandidates(xi, yi, zi, fb.padded, fx, fy, fz, spiky, g, t);
           float gx = sums.gx, gy = sums.gy, gz = sums.gz;
           const float squares = sums.squares, cubes = sums.cubes;
-          // The pairs: the candidates inside the support (h - r > 0; the particle itself has 0),
-          // packed without a branch.
-          const std::size_t at = pairs.used;
-          pairs.makeRoom(at + fb.count);
-          std::uint32_t* pi = pairs.index.data() + at;
-          float* px = pairs.gx.data() + at;
-          float* py = pairs.gy.data() + at;
-          float* pz = pairs.gz.data() + at;
-          float* ph = pairs.hr.data() + at;
-          const float* bits = fb.field[3].data();
-          std::uint32_t count = 0;
-          for (std::size_t j = 0; j < fb.count; ++j) {
-            pi[count] = bitsAs<std::uint32_t>(bits[j]);
-            px[count] = tx[j], py[count] = ty[j], pz[count] = tz[j], ph[count] = th[j];
-            count += th[j] > 0.0f ? 1u : 0u;
-          }
-          pairs.used = at + count;
+          // The pairs: the candidates inside the support.
+          const PairStore::Row to = s.pairs.room(row, thread, fb.padded);
+          const std::uint32_t count =
+              packPairs(fb.padded, fb.field[3].data(), t, to.index, to.gx, to.gy, to.gz, to.hr);
+          s.pairs.add(row, thread, count);
           s.pairCount[i] = count;
           const BoundarySums wall = boundaryCandidates(xi, yi, zi, bb, spiky);
           const float bx = wall.gx, by = wall.gy, bz = wall.gz, bcubes = wall.cubes,
@@ -193,6 +219,7 @@ void computeDfsphDensityAndFactor(StepContext& c) {
           s.factor[i] = 1.0f / std::max(denominator, floor);
         }
       });
+  s.pairs.end();
 }
 
 // a_i = nu (rho0 / rho_i) [sum_j m / rho_j (v_j - v_i) lapW_visc - (no-slip) sum_b m / rho0 v_i

@@ -1,5 +1,5 @@
-// DFSPH's stored fluid pairs (StepScratch::pairRows): the per-step neighbour list that
-// computeDfsphDensityAndFactor() builds and every other DFSPH pass walks (sim/DfsphPairs.cpp,
+// DFSPH's stored fluid pairs (StepScratch::pairs, sim/PairStore.h): the per-step neighbour list
+// that computeDfsphDensityAndFactor() builds and every other DFSPH pass walks (sim/DfsphPairs.cpp,
 // sim/Dfsph.cpp). Internal to those files, which are built with -ffast-math.
 #pragma once
 
@@ -38,12 +38,11 @@ void forEachParticlePairs(const StepContext& c, Body&& body) {
   const StepScratch& s = c.scratch;
   parallelForDynamic(rowCount(c.grid), 4, [&](std::size_t row) {
     const auto [begin, end] = rowRange(c.grid, row);
-    const StepScratch::PairRow& r = s.pairRows[row];
+    const PairStore::Row r = s.pairs.row(row);
     std::size_t at = 0;
     for (std::uint32_t i = begin; i < end; ++i) {
       const std::uint32_t count = s.pairCount[i];
-      body(i, PairSpan{r.index.data() + at, r.gx.data() + at, r.gy.data() + at, r.gz.data() + at,
-                       r.hr.data() + at, count});
+      body(i, PairSpan{r.index + at, r.gx + at, r.gy + at, r.gz + at, r.hr + at, count});
       at += count;
     }
   });

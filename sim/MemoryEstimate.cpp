@@ -5,6 +5,8 @@
 
 #include "sim/Boundary.h"
 #include "sim/Kernels.h"
+#include "sim/PairStore.h"
+#include "sim/Parallel.h"
 #include "sim/SceneSetup.h"
 
 namespace sph {
@@ -19,16 +21,32 @@ namespace {
 // dropped) its position, three per-step fields and its grid slot.
 constexpr double kBytesPerFluidParticle = 76;
 constexpr double kBytesPerBoundaryParticle = 50;
-// DFSPH's on top (sim/Dfsph.cpp, solver.pressure "dfsph"): every fluid pair of the step stored
-// with its V gradW and h - r (20 bytes; ~33 neighbours at support 2 spacings), in rows whose room
-// grows to twice what a row once needed, and 9 more per-particle arrays (G, alpha, source,
-// stiffness, the two warm starts, the wall weight). Fitted, as above, to the dam break's peak
-// resident memory at spacings 3, 2.5, 1.8 and 1.4 mm (9.0e4 to 8.9e5 fluid particles: 102, 148,
-// 291 and 835 MB, 2026-11-26, pairs of 16 bytes): the rows' doubling put 540-810 bytes a particle
-// on top of WCSPH's at those sizes; the 4 bytes of h - r a pair (sim/DfsphPairs.cpp) added 172
-// and 123 bytes a particle at 2.5 and 1.8 mm (peak 148 -> 174-179 MB and 291 -> 343-351 MB, same
-// day): 760 puts the estimate at 0.87x and 1.10x of those peaks.
-constexpr double kDfsphBytesPerFluidParticle = 760;
+// DFSPH's on top (sim/Dfsph.cpp, solver.pressure "dfsph"): 9 per-particle arrays (G, alpha,
+// source, stiffness, the two warm starts, the wall weight, the pair count, 1/rho), and every fluid
+// pair of the step stored with its V gradW and h - r (PairStore::kBytesPerPair, 20 bytes): the
+// neighbours of a particle inside the rest lattice (26 at support 2 spacings) times a margin for
+// compression and the unused ends of the store's chunks, plus two chunks a thread (the one it
+// fills and a spare). The margin, 1.15, fits the peak resident memory of the dam break at 2.5 and
+// 1.8 mm after 2 steps (1.6e5 and 4.2e5 fluid particles, 133 and 317 MB; estimate 1.10x and
+// 1.08x) and of the peer's dam break through its impact at 0.04 m to 0.5 s and 0.025 m to 0.2 s
+// (1.6e4 and 5.9e4 fluid particles, 37 and 75 MB; 1.05x and 1.00x), 2026-11-26, 2 threads. Before
+// the store followed the step's need (a vector a row, kept at twice the most it ever held) those
+// two impact runs peaked at 73 and 106 MB, 2.0x and 1.4x.
+constexpr double kDfsphBytesPerParticleArrays = 36;
+constexpr double kDfsphPairMargin = 1.15;
+
+// Lattice points within the support of one (0 < r < h, in spacings): a particle's fluid pairs.
+double latticeNeighbours(float support) {
+  const int reach = static_cast<int>(std::ceil(support));
+  int count = 0;
+  for (int i = -reach; i <= reach; ++i)
+    for (int j = -reach; j <= reach; ++j)
+      for (int k = -reach; k <= reach; ++k) {
+        const int r2 = i * i + j * j + k * k;
+        if (r2 > 0 && r2 < support * support) ++count;
+      }
+  return count;
+}
 // A rain drop (sim/rain/RainSystem.h: position, respawn count, streak layer) and its copy for the
 // cache's /Rain#N: 28.7 bytes a drop measured (peak resident memory of 10^7 drops, 307 MB against
 // 20 MB for one drop, 2026-11-26, no render section).
@@ -67,8 +85,14 @@ MemoryEstimate estimateMemory(const Scene& scene) {
       scene.render || (scene.collision && scene.collision->method == CollisionMethod::CdtGl);
   const bool dfsph =
       scene.solver.model == SolverModel::Sph && scene.solver.pressure == PressureSolver::Dfsph;
+  const double pairBytes = static_cast<double>(PairStore::kBytesPerPair);
   const double perFluidParticle =
-      kBytesPerFluidParticle + (dfsph ? kDfsphBytesPerFluidParticle : 0);
+      kBytesPerFluidParticle +
+      (dfsph ? kDfsphBytesPerParticleArrays +
+                   kDfsphPairMargin * pairBytes * latticeNeighbours(scene.solver.support)
+             : 0);
+  const double pairChunks =
+      dfsph ? 2.0 * threadCount() * pairBytes * static_cast<double>(PairStore::kChunkPairs) : 0;
   double perDrop = kBytesPerRainDrop;
   if (scene.rain) {
     m.rainDrops = static_cast<double>(scene.rain->count);
@@ -79,7 +103,7 @@ MemoryEstimate estimateMemory(const Scene& scene) {
       perFluidParticle * (m.fluidParticles + m.emittedParticles + m.rainParticles);
   const double boundaryBytes = kBytesPerBoundaryParticle * m.boundaryParticles;
   const double rainBytes = perDrop * m.rainDrops;
-  m.bytes = kBaseBytes + (gl ? kGlBytes : 0) + fluidBytes + boundaryBytes + rainBytes;
+  m.bytes = kBaseBytes + (gl ? kGlBytes : 0) + fluidBytes + boundaryBytes + rainBytes + pairChunks;
   // The key to change: the rain's budget or an emitter's size when it is most of the memory,
   // else the spacing.
   if (rainBytes > fluidBytes + boundaryBytes)

@@ -10,6 +10,7 @@
 #include "sim/Boundary.h"
 #include "sim/CellBatch.h"
 #include "sim/NeighbourGrid.h"
+#include "sim/PairStore.h"
 #include "sim/Particles.h"
 #include "sim/SceneSetup.h"
 #include "sim/SolverParams.h"
@@ -47,17 +48,8 @@ struct StepScratch {
   // neighbours j of its particles in particle order, each with V_j gradW_ij (1/m) and h - r_ij
   // (m, the viscosity's Laplacian, computeDfsphViscosity()); pairCount[i]
   // of them belong to particle i (i itself excluded). Rows start on a cache line, so a
-  // particle's pairs have the same alignment whichever thread built or reads them.
-  struct PairRow {
-    std::vector<std::uint32_t, CacheLineAllocator<std::uint32_t>> index;
-    std::vector<float, CacheLineAllocator<float>> gx, gy, gz, hr;
-    std::size_t used = 0;  // pairs held; the vectors are room (grown, never shrunk)
-    void makeRoom(std::size_t n) {
-      if (index.size() >= n) return;
-      index.resize(2 * n), gx.resize(2 * n), gy.resize(2 * n), gz.resize(2 * n), hr.resize(2 * n);
-    }
-  };
-  std::vector<PairRow> pairRows;
+  // particle's pairs have the same alignment whichever thread built or reads them (PairStore.h).
+  PairStore pairs;
   std::vector<std::uint32_t> pairCount;
   std::vector<float> indexBits;  // i's bits as a float: carries indices through the batches
 };
