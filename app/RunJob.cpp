@@ -67,22 +67,33 @@ int runJob(const RunRequest& request) {
   if (scene.render)
     framesLock = lockDirectory(RenderOutput::directoryFor(scene, cache ? cache->path() : ""));
 
+  // On K processes the slabs exist before the fluid: each rank generates only its slab of the
+  // starting fluid (sim/dist/StartSlab.h), and no rank holds the whole of it.
+  std::unique_ptr<dist::Halo> halo;
+  if (ranks) halo = std::make_unique<dist::Halo>(*ranks, scene.domain, deriveParams(scene).h);
   const auto setupStart = std::chrono::steady_clock::now();
-  Simulation sim(scene);  // samples the boundaries, once for the whole run
+  // Samples the boundaries, once for the whole run.
+  const std::unique_ptr<Simulation> simulation =
+      halo ? std::make_unique<Simulation>(scene, *halo) : std::make_unique<Simulation>(scene);
+  Simulation& sim = *simulation;
   const double setupSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - setupStart).count();
   sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
   const double end = scene.solver.endTime;
   const double frameInterval = 1.0 / scene.output.fps;
-  if (!o.quiet) printHeader(o, scene, sim, cache.get(), setupSeconds, memory);
+  const std::size_t startParticles =
+      halo ? halo->globalCount(sim.fluid().size()) : sim.fluid().size();
+  if (!o.quiet) printHeader(o, scene, sim, startParticles, cache.get(), setupSeconds, memory);
 
-  std::uint64_t frames = 1;  // the next output frame; the initial state is frame 0
+  std::uint64_t frames = 1;                   // the next output frame; the initial state is frame 0
+  bool resumed = cache && cache->resuming();  // rank 0 knows; on K processes every rank learns
   const io::CacheProvenance provenance{SPHSPLAT_VERSION_STRING, threadCount(), o.overrides};
   if (ranks) {
     // Whether rank 0 resumes, and from where: every rank follows.
     std::vector<std::int64_t> resume{cache && cache->resuming() ? 1 : 0,
                                      cache && cache->resuming() && cache->lastFrameTime() >= end};
     ranks->sumInPlace(resume);
+    resumed = resume[0] != 0;
     if (resume[1]) {
       if (root)
         std::printf("%s already reaches t = %g s; nothing to do (--end sets a later end time)\n",
@@ -95,12 +106,11 @@ int runJob(const RunRequest& request) {
       ranks->sumInPlace(frame);
       frames = static_cast<std::uint64_t>(frame[0]) + 1;
       const RunState state = broadcastRunState(*ranks, sim.runState());
-      if (!root) sim.restore(state, Particles{});
+      if (!root)
+        sim.restore(state, Particles{});  // rank 0 holds the frame; the first step shares it out
       if (!o.quiet)
         std::printf("  resuming %s from frame %llu at t = %g s\n", cache->path().c_str(),
                     static_cast<unsigned long long>(frames - 1), sim.time());
-    } else if (!root) {
-      sim.fluid().clear();  // rank 0 holds the initial fluid; the first step shares it out
     }
   } else if (cache && cache->resuming()) {
     if (cache->lastFrameTime() >= end) {
@@ -113,23 +123,19 @@ int runJob(const RunRequest& request) {
       std::printf("  resuming %s from frame %llu at t = %g s\n", cache->path().c_str(),
                   static_cast<unsigned long long>(frames - 1), sim.time());
   }
-  std::unique_ptr<dist::Halo> halo;
-  if (ranks) {
-    halo = std::make_unique<dist::Halo>(*ranks, scene.domain, sim.params().h);
-    sim.setHalo(halo.get());
-  }
+  if (halo) sim.setHalo(halo.get());
   installInterruptHandlers();
 
   Progress progress(Progress::detect(o.quiet), scene.name);
   const auto start = std::chrono::steady_clock::now();
-  if (cache && !cache->resuming()) {
+  if (cache && !halo && !resumed) {
     cache->create(sim, provenance, plannedFrameCount(end, frameInterval));
     cache->writeFrame(sim);
   }
   // Pictures while simulating (scene `render` section): the GL context exists only then.
   std::unique_ptr<RenderOutput> pictures =
       RenderOutput::prepare(scene, sim.boundary().particles(), cache.get());
-  if (pictures && !(cache && cache->resuming())) pictures->frame(sim, 0);
+  if (pictures && !resumed) pictures->frame(sim, 0);
   auto sample = [&]() {
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -171,6 +177,15 @@ int runJob(const RunRequest& request) {
       distributed = std::move(sink);
     }
     sinks = {distributed.get()};
+    if (caching[0] && !resumed) {
+      // Frame 0 as every later frame (each rank holds its slab of it): rank 0 creates the file
+      // under PATH.partial (its checks stop every rank), all ranks write the frame, and rank 0
+      // publishes it as PATH once the frame is committed.
+      onRootAgreeing(*ranks, [&] {
+        if (cache) cache->create(sim, provenance, plannedFrameCount(end, frameInterval));
+      });
+      distributed->frame(sim, 0);
+    }
   }
   RunOutcome outcome;
   try {
@@ -263,11 +278,10 @@ int runJob(const RunRequest& request) {
     if (o.verbose) printPassSplit(prof);
     if (cache) std::printf("  %s\n", cache->summary(wall).c_str());
     if (together)
-      std::printf(
-          "  frames after the first written by all %d ranks together (parallel HDF5, MPI-IO)\n",
-          ranks->size());
+      std::printf("  frames written by all %d ranks together (parallel HDF5, MPI-IO)\n",
+                  ranks->size());
     if (o.verbose && frameSeconds) {
-      std::printf("  frames after the first: %.3g s on rank 0 to %s\n", frameSeconds(),
+      std::printf("  frames: %.3g s on rank 0 to %s\n", frameSeconds(),
                   together ? "write them together" : "gather and write them");
       const dist::HaloStats& hs = halo->stats();
       if (together && hs.placesCalls > 0)

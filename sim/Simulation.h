@@ -41,6 +41,10 @@ struct RunState {
 class Simulation {
  public:
   explicit Simulation(const Scene& scene);
+  // One rank of a distributed run (sim/dist/StartSlab.h): generates only this rank's slab of the
+  // starting fluid, cut as `start`'s first exchange will cut it (collective: every rank
+  // constructs its own at the same point). setHalo(start) must follow before any step.
+  Simulation(const Scene& scene, dist::Halo& start);
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
@@ -97,6 +101,9 @@ class Simulation {
   void restore(const RunState& state, Particles fluid);
 
  private:
+  // The constructors' work: the boundary's densities, the starting fluid (this rank's slab of
+  // it with `start`) and the state that depends on it.
+  void setUp(dist::Halo* start);
   float chooseTimeStep() const;
   // The context the passes of a step of `dt` seconds work on.
   StepContext context(float dt);
@@ -119,6 +126,9 @@ class Simulation {
   float gradientCorrection_ = 1;  // scale of the pressure force this step
   PressureSolveStats solveStats_;
   dist::Halo* halo_ = nullptr;  // a distributed run's decomposition; null alone
+  // The fluid is this rank's part of the starting fluid, each particle's id its place in the
+  // starting order (until restore()).
+  bool slabStart_ = false;
   Particles emittedElsewhere_;  // what another rank's emitters released (discarded)
   std::unique_ptr<rain::RainFeed> rainFeed_;
 };
