@@ -14,6 +14,7 @@
 
 #include "app/CollectiveCacheSink.h"
 #include "app/Commands.h"
+#include "app/DistributedResume.h"
 #include "app/DistributedRun.h"
 #include "app/Interrupt.h"
 #include "app/MachineMemory.h"
@@ -100,17 +101,42 @@ int runJob(const RunRequest& request) {
                     cache->path().c_str(), cache->lastFrameTime());
       return kOk;
     }
-    std::vector<std::int64_t> frame{0};
     if (resume[0]) {
-      if (root) frame[0] = static_cast<std::int64_t>(cache->restore(sim, provenance));
+      // Rank 0 checks the cache against the scene (its message stops every rank), then every
+      // rank reads its slab of the last frame (app/DistributedResume.h), and once all have
+      // closed the file rank 0 opens it for appending.
+      std::vector<std::int64_t> frame{0};
+      onRootAgreeing(*ranks, [&] {
+        frame[0] = static_cast<std::int64_t>(cache->checkResume(sim, provenance));
+      });
       ranks->sumInPlace(frame);
       frames = static_cast<std::uint64_t>(frame[0]) + 1;
-      const RunState state = broadcastRunState(*ranks, sim.runState());
-      if (!root)
-        sim.restore(state, Particles{});  // rank 0 holds the frame; the first step shares it out
-      if (!o.quiet)
-        std::printf("  resuming %s from frame %llu at t = %g s\n", cache->path().c_str(),
-                    static_cast<unsigned long long>(frames - 1), sim.time());
+      dist::Bytes path;
+      if (root) path.assign(cache->path().begin(), cache->path().end());
+      ranks->broadcastFromRoot(path);
+      {
+        std::unique_ptr<io::CacheReader> own;
+        if (!root) own = std::make_unique<io::CacheReader>(std::string(path.begin(), path.end()));
+        ResumePart part = readResumePart(*halo, root ? cache->reader() : *own,
+                                         static_cast<std::size_t>(frame[0]), sim.params().h);
+        io::CacheSession::checkRecord(std::string(path.begin(), path.end()), part.state, sim);
+        sim.restore(part.state, std::move(part.fluid), std::move(part.keys));
+      }
+      // Every rank's count (its reader is closed once it is in): the most any rank read.
+      std::vector<std::int64_t> read(static_cast<std::size_t>(ranks->size()), 0);
+      read[static_cast<std::size_t>(ranks->rank())] = static_cast<std::int64_t>(sim.fluid().size());
+      ranks->sumInPlace(read);
+      onRootAgreeing(*ranks, [&] { cache->finishRestore(sim); });
+      if (!o.quiet) {
+        long long all = 0;
+        for (std::int64_t n : read) all += n;
+        std::printf(
+            "  resuming %s from frame %llu at t = %g s (each of the %d ranks read its slab of it: "
+            "at most %lld of its %lld particles)\n",
+            cache->path().c_str(), static_cast<unsigned long long>(frames - 1), sim.time(),
+            ranks->size(), static_cast<long long>(*std::max_element(read.begin(), read.end())),
+            all);
+      }
     }
   } else if (cache && cache->resuming()) {
     if (cache->lastFrameTime() >= end) {

@@ -37,7 +37,7 @@ void Simulation::setUp(dist::Halo* start) {
     dist::StartSlab slab = dist::startSlab(*start, scene_, boundary_, scene_.solver.restDensity);
     fluid_ = std::move(slab.fluid);
     state_.nextId = static_cast<std::uint32_t>(slab.total);
-    slabStart_ = true;
+    startKeys_.assign(fluid_.id.begin(), fluid_.id.end());
   } else {
     fluid_ = initialFluid(scene_, boundary_, scene_.solver.restDensity);
     state_.nextId = static_cast<std::uint32_t>(fluid_.size());
@@ -77,11 +77,10 @@ StepContext Simulation::context(float dt) {
 void Simulation::setHalo(dist::Halo* halo) {
   halo_ = halo;
   if (!halo_) return;
-  // A slab start's ids are the particles' places in the starting order (its keys); a fluid
-  // restored on rank 0 (or the whole starting fluid there) is in that order from 0.
-  std::vector<std::uint64_t> keys;
-  if (slabStart_) keys.assign(fluid_.id.begin(), fluid_.id.end());
-  halo_->adopt(fluid_, std::move(keys));
+  // The particles' places in the starting order (a slab start's ids, a resumed slab's indices in
+  // the frame), or none: a whole fluid is in that order from 0.
+  halo_->adopt(fluid_, std::move(startKeys_));
+  startKeys_.clear();
   // DFSPH's warm start is run state per particle: it moves with its particle (docs/scaling.md).
   if (scene_.solver.model == SolverModel::Sph && scene_.solver.pressure == PressureSolver::Dfsph) {
     halo_->attach(state_.warmStart.density);
@@ -283,8 +282,8 @@ RunState Simulation::runState() const {
   return s;
 }
 
-void Simulation::restore(const RunState& state, Particles fluid) {
-  slabStart_ = false;
+void Simulation::restore(const RunState& state, Particles fluid, std::vector<std::uint64_t> keys) {
+  startKeys_ = std::move(keys);
   state_ = state;
   fluid_ = std::move(fluid);
   for (std::size_t e = 0; e < emitters_.size() && e < state.emitters.size(); ++e) {

@@ -97,8 +97,9 @@ class Simulation {
 
   RunState runState() const;
   // Replaces state and fluid with a saved one (the same scene must be loaded); a feeding rain's
-  // drops are set apart, by restoreRain().
-  void restore(const RunState& state, Particles fluid);
+  // drops are set apart, by restoreRain(). A distributed run's rank gives its part of the frame
+  // with `keys`, the particles' indices in it (empty: the whole frame, or nothing).
+  void restore(const RunState& state, Particles fluid, std::vector<std::uint64_t> keys = {});
 
  private:
   // The constructors' work: the boundary's densities, the starting fluid (this rank's slab of
@@ -126,9 +127,9 @@ class Simulation {
   float gradientCorrection_ = 1;  // scale of the pressure force this step
   PressureSolveStats solveStats_;
   dist::Halo* halo_ = nullptr;  // a distributed run's decomposition; null alone
-  // The fluid is this rank's part of the starting fluid, each particle's id its place in the
-  // starting order (until restore()).
-  bool slabStart_ = false;
+  // A distributed run's keys of the fluid (sim/dist/Halo.h, adopt), handed to setHalo(): a slab
+  // start's ids, a resumed slab's indices in the frame; empty when the fluid is whole (0, 1, ...).
+  std::vector<std::uint64_t> startKeys_;
   Particles emittedElsewhere_;  // what another rank's emitters released (discarded)
   std::unique_ptr<rain::RainFeed> rainFeed_;
 };
