@@ -12,6 +12,7 @@ namespace {
 
 dist::Communicator* gWorld = nullptr;
 bool gLockstep = false;
+std::string gMpiIoChoice;
 
 template <class T>
 void put(dist::Bytes& out, const T& v) {
@@ -31,6 +32,12 @@ dist::Communicator* world() {
 }
 void setWorld(dist::Communicator* ranks) {
   gWorld = ranks;
+}
+const std::string& mpiIoChoice() {
+  return gMpiIoChoice;
+}
+void setMpiIoChoice(std::string choice) {
+  gMpiIoChoice = std::move(choice);
 }
 void setLockstep(bool on) {
   gLockstep = on;

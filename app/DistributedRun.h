@@ -18,6 +18,9 @@ namespace sph::app {
 // The ranks of this run (null: a plain single process).
 dist::Communicator* world();
 void setWorld(dist::Communicator* ranks);
+// What the ranks write the cache with (mpi/MpiIoChoice.h: "ROMIO (romio321)"), for the summary.
+const std::string& mpiIoChoice();
+void setMpiIoChoice(std::string choice);
 // True where messages are printed and files written: the only process, or rank 0.
 bool isRootProcess();
 // Set once the ranks run in lockstep (every rank in the same collectives): from then on an error

@@ -304,8 +304,8 @@ int runJob(const RunRequest& request) {
     if (o.verbose) printPassSplit(prof);
     if (cache) std::printf("  %s\n", cache->summary(wall).c_str());
     if (together)
-      std::printf("  frames written by all %d ranks together (parallel HDF5, MPI-IO)\n",
-                  ranks->size());
+      std::printf("  frames written by all %d ranks together (parallel HDF5, MPI-IO: %s)\n",
+                  ranks->size(), mpiIoChoice().c_str());
     if (o.verbose && frameSeconds) {
       std::printf("  frames: %.3g s on rank 0 to %s\n", frameSeconds(),
                   together ? "write them together" : "gather and write them");

@@ -22,6 +22,7 @@
 #ifdef SPHSPLAT_MPI
 #include "mpi/FileErrorWatch.h"
 #include "mpi/MpiCommunicator.h"
+#include "mpi/MpiIoChoice.h"
 #endif
 
 int main(int argc, char** argv) {
@@ -38,6 +39,8 @@ int main(int argc, char** argv) {
     // which would wait for ever on the run's own lock of the cache (io/CacheFileLock.cpp): ask
     // it for the written ranges only, unless the user chose (mpirun --mca exports the setting).
     setenv("OMPI_MCA_fs_ufs_lock_algorithm", "3", 0);
+    // ROMIO reports a write the disk refused; OMPIO 4.1 does not (mpi/MpiIoChoice.h).
+    sph::app::setMpiIoChoice(sph::mpi::preferRomio());
     sph::app::setWorld(mpi.emplace(&argc, &argv).world());
     // A rank stuck after its write of the cache failed ends the run after 3 s (a failure HDF5
     // returns has stopped every rank by then, with its own line).

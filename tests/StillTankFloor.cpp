@@ -1,5 +1,6 @@
 #include "tests/StillTankFloor.h"
 
+#include <cmath>
 #include <cstdio>
 
 #include "sim/Observables.h"
@@ -9,8 +10,12 @@ namespace sph::test {
 void StillTankFloor::advanceTo(Simulation& sim, double t) {
   const float w = static_cast<float>(width_), below = -1.0f, above = 1e3f;
   // Boundary particles stand at the centres of lattice cells: a box whose sides lie on cell
-  // faces holds those of a floor area (its side)^2.
-  const Aabb centre{Vec3(0.25f * w, below, 0.25f * w), Vec3(0.75f * w, 0, 0.75f * w)};
+  // faces holds those of a floor area (its side)^2 (a quarter of a side that is not a whole
+  // number of cells would cut through a row of them and count it or not).
+  const double margin = std::round(0.25 * width_ / spacing_) * spacing_;
+  const float lo = static_cast<float>(margin), hi = static_cast<float>(width_ - margin);
+  const double side = width_ - 2 * margin;
+  const Aabb centre{Vec3(lo, below, lo), Vec3(hi, 0, hi)};
   const Aabb floor{Vec3(0, below, 0), Vec3(w, 0, w)};
   const Aabb all{Vec3::Constant(-above), Vec3::Constant(above)};
   while (sim.time() < t) {
@@ -23,7 +28,7 @@ void StillTankFloor::advanceTo(Simulation& sim, double t) {
     };
     const double weight =
         static_cast<double>(p.size()) * d.mass * sim.scene().solver.gravity.norm();
-    centre_ += -load(centre).y() / (0.25 * width_ * width_);
+    centre_ += -load(centre).y() / (side * side);
     floor_ += -load(floor).y() / (width_ * width_);
     total_ += load(all).dot(sim.scene().solver.gravity.cast<double>()) /
               (weight * sim.scene().solver.gravity.norm());

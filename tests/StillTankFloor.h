@@ -11,14 +11,15 @@ namespace sph::test {
 
 class StillTankFloor {
  public:
-  // A tank `width` (m) square whose floor is the plane y = 0.
-  explicit StillTankFloor(double width) : width_(width) {}
+  // A tank `width` (m) square whose floor is the plane y = 0, its boundary particles at the
+  // centres of a lattice of `spacing` (m) from the tank's corner at the origin.
+  StillTankFloor(double width, double spacing) : width_(width), spacing_(spacing) {}
 
   // Steps `sim` to time `t` (s) as advanceTo() does, reading the floor after every step.
   void advanceTo(Simulation& sim, double t);
 
   // Mean downward force over area (Pa) on the centre of the floor (the middle half of each side,
-  // away from the side walls' corners), and on all of the floor under the water.
+  // to whole lattice cells, away from the side walls), and on all of the floor under the water.
   double centrePressure() const { return centre_ / steps_; }
   double floorPressure() const { return floor_ / steps_; }
   // Mean upward force of every boundary particle on the fluid over the fluid's weight: 1 for a
@@ -29,7 +30,7 @@ class StillTankFloor {
   void print(const char* solver, double expected) const;
 
  private:
-  double width_;
+  double width_, spacing_;
   double centre_ = 0, floor_ = 0, total_ = 0;
   int steps_ = 0;
 };

@@ -52,7 +52,7 @@ TEST(Dfsph, StillTankHoldsDensityAtALargeStep) {
   const std::uint64_t steps0 = sim.stepCount();
   double pressure = 0, expected = 0, compression = 0, maxCompression = 0;
   int frames = 0;
-  test::StillTankFloor floor(0.12);
+  test::StillTankFloor floor(0.12, dx);
   for (double t = 0.35; t <= 0.6 + 1e-9; t += 0.05, ++frames) {
     floor.advanceTo(sim, t);
     const Particles& p = sim.fluid();

@@ -33,7 +33,7 @@ TEST_F(Mpi, FramesAreBitIdenticalToOneProcessForOneToFourRanks) {
     ASSERT_EQ(r.exitCode, 0) << r.output;
     // With parallel HDF5 the ranks write each frame together, else rank 0 gathers and writes.
     const bool together =
-        r.output.find(" ranks together (parallel HDF5, MPI-IO)") != std::string::npos;
+        r.output.find(" ranks together (parallel HDF5, MPI-IO: ") != std::string::npos;
     EXPECT_EQ(together, io::h5::haveParallel()) << r.output;
     test::expectSameCache(reference_, out);
     EXPECT_TRUE(test::fileExists(dir_ + "/k" + std::to_string(k) + ".xdmf"));

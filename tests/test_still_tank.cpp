@@ -30,7 +30,7 @@ TEST(StillTank, HydrostaticPressureAndDensityAfterSettling) {
   // WCSPH pressure is noisy step to step; average the bottom layer over 15 frames of 0.05 s.
   double pressure = 0, expected = 0, densityDeviation = 0;
   int frames = 0;
-  test::StillTankFloor floor(0.12);
+  test::StillTankFloor floor(0.12, dx);
   for (double t = 0.8; t <= 1.5 + 1e-9; t += 0.05, ++frames) {
     floor.advanceTo(sim, t);
     const Particles& p = sim.fluid();

@@ -1,0 +1,47 @@
+// The still tank's floor read as a pressure sensor (docs/benchmarks.md, "Bottom pressure of
+// DFSPH"), for a tank of any width: how much of DFSPH's floor error is its walls' (a ring along
+// them carries more than its share, so the centre reads low by an amount that shrinks as the
+// tank widens). The sensor is the tests' (tests/StillTankFloor.h).
+//
+//   still_tank_floor WIDTH [SOLVER [SETTLE END]]   e.g. still_tank_floor 0.4 dfsph 0.3 0.9
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "io/SceneLoader.h"
+#include "sim/Simulation.h"
+#include "tests/StillTankFloor.h"
+
+int main(int argc, char** argv) {
+  if (argc < 2 || argc > 5 || argc == 4) {
+    std::fprintf(stderr, "usage: %s WIDTH [wcsph|dfsph [SETTLE END]]  (m, s)\n", argv[0]);
+    return 2;
+  }
+  const double width = std::atof(argv[1]);
+  const std::string solver = argc > 2 ? argv[2] : "dfsph";
+  const double settle = argc > 4 ? std::atof(argv[3]) : 0.3;
+  const double end = argc > 4 ? std::atof(argv[4]) : 0.9;
+  if (!(width > 0.04) || !(settle >= 0) || !(end > settle) ||
+      (solver != "wcsph" && solver != "dfsph")) {
+    std::fprintf(stderr, "%s: WIDTH must be > 0.04 m, SOLVER wcsph or dfsph, END > SETTLE >= 0\n",
+                 argv[0]);
+    return 2;
+  }
+  const std::string w = std::to_string(width);
+  const sph::Scene scene = sph::io::loadScene(
+      SPHSPLAT_SOURCE_DIR "/scenes/still_tank.json",
+      {"fluids[0].max=[" + w + ",0.3," + w + "]", "boundaries[0].max=[" + w + ",0.4," + w + "]",
+       "solver.pressure=" + solver});
+  sph::Simulation sim(scene);
+  const double dx = scene.solver.spacing, rho0 = scene.solver.restDensity;
+  // The depth of the water at rest density: its volume over the floor.
+  const double depth = static_cast<double>(sim.fluid().size()) * dx * dx * dx / (width * width);
+  const double expected = rho0 * scene.solver.gravity.norm() * depth;
+  sim.advanceTo(settle);
+  sph::test::StillTankFloor floor(width, dx);
+  floor.advanceTo(sim, end);
+  std::printf("%s, tank %.3g m square, %zu particles, depth %.4f m, read %g-%g s:\n  ",
+              solver.c_str(), width, sim.fluid().size(), depth, settle, end);
+  floor.print(solver.c_str(), expected);
+  return 0;
+}
