@@ -14,6 +14,7 @@
 
 #include "app/CollectiveCacheSink.h"
 #include "app/Commands.h"
+#include "app/DistributedResume.h"
 #include "app/DistributedRun.h"
 #include "app/Interrupt.h"
 #include "app/MachineMemory.h"
@@ -67,40 +68,75 @@ int runJob(const RunRequest& request) {
   if (scene.render)
     framesLock = lockDirectory(RenderOutput::directoryFor(scene, cache ? cache->path() : ""));
 
+  // On K processes the slabs exist before the fluid: each rank generates only its slab of the
+  // starting fluid (sim/dist/StartSlab.h), and no rank holds the whole of it.
+  std::unique_ptr<dist::Halo> halo;
+  if (ranks) halo = std::make_unique<dist::Halo>(*ranks, scene.domain, deriveParams(scene).h);
   const auto setupStart = std::chrono::steady_clock::now();
-  Simulation sim(scene);  // samples the boundaries, once for the whole run
+  // Samples the boundaries, once for the whole run.
+  const std::unique_ptr<Simulation> simulation =
+      halo ? std::make_unique<Simulation>(scene, *halo) : std::make_unique<Simulation>(scene);
+  Simulation& sim = *simulation;
   const double setupSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - setupStart).count();
   sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
   const double end = scene.solver.endTime;
   const double frameInterval = 1.0 / scene.output.fps;
-  if (!o.quiet) printHeader(o, scene, sim, cache.get(), setupSeconds, memory);
+  const std::size_t startParticles =
+      halo ? halo->globalCount(sim.fluid().size()) : sim.fluid().size();
+  if (!o.quiet) printHeader(o, scene, sim, startParticles, cache.get(), setupSeconds, memory);
 
-  std::uint64_t frames = 1;  // the next output frame; the initial state is frame 0
+  std::uint64_t frames = 1;                   // the next output frame; the initial state is frame 0
+  bool resumed = cache && cache->resuming();  // rank 0 knows; on K processes every rank learns
   const io::CacheProvenance provenance{SPHSPLAT_VERSION_STRING, threadCount(), o.overrides};
   if (ranks) {
     // Whether rank 0 resumes, and from where: every rank follows.
     std::vector<std::int64_t> resume{cache && cache->resuming() ? 1 : 0,
                                      cache && cache->resuming() && cache->lastFrameTime() >= end};
     ranks->sumInPlace(resume);
+    resumed = resume[0] != 0;
     if (resume[1]) {
       if (root)
         std::printf("%s already reaches t = %g s; nothing to do (--end sets a later end time)\n",
                     cache->path().c_str(), cache->lastFrameTime());
       return kOk;
     }
-    std::vector<std::int64_t> frame{0};
     if (resume[0]) {
-      if (root) frame[0] = static_cast<std::int64_t>(cache->restore(sim, provenance));
+      // Rank 0 checks the cache against the scene (its message stops every rank), then every
+      // rank reads its slab of the last frame (app/DistributedResume.h), and once all have
+      // closed the file rank 0 opens it for appending.
+      std::vector<std::int64_t> frame{0};
+      onRootAgreeing(*ranks, [&] {
+        frame[0] = static_cast<std::int64_t>(cache->checkResume(sim, provenance));
+      });
       ranks->sumInPlace(frame);
       frames = static_cast<std::uint64_t>(frame[0]) + 1;
-      const RunState state = broadcastRunState(*ranks, sim.runState());
-      if (!root) sim.restore(state, Particles{});
-      if (!o.quiet)
-        std::printf("  resuming %s from frame %llu at t = %g s\n", cache->path().c_str(),
-                    static_cast<unsigned long long>(frames - 1), sim.time());
-    } else if (!root) {
-      sim.fluid().clear();  // rank 0 holds the initial fluid; the first step shares it out
+      dist::Bytes path;
+      if (root) path.assign(cache->path().begin(), cache->path().end());
+      ranks->broadcastFromRoot(path);
+      {
+        std::unique_ptr<io::CacheReader> own;
+        if (!root) own = std::make_unique<io::CacheReader>(std::string(path.begin(), path.end()));
+        ResumePart part = readResumePart(*halo, root ? cache->reader() : *own,
+                                         static_cast<std::size_t>(frame[0]), sim.params().h);
+        io::CacheSession::checkRecord(std::string(path.begin(), path.end()), part.state, sim);
+        sim.restore(part.state, std::move(part.fluid), std::move(part.keys));
+      }
+      // Every rank's count (its reader is closed once it is in): the most any rank read.
+      std::vector<std::int64_t> read(static_cast<std::size_t>(ranks->size()), 0);
+      read[static_cast<std::size_t>(ranks->rank())] = static_cast<std::int64_t>(sim.fluid().size());
+      ranks->sumInPlace(read);
+      onRootAgreeing(*ranks, [&] { cache->finishRestore(sim); });
+      if (!o.quiet) {
+        long long all = 0;
+        for (std::int64_t n : read) all += n;
+        std::printf(
+            "  resuming %s from frame %llu at t = %g s (each of the %d ranks read its slab of it: "
+            "at most %lld of its %lld particles)\n",
+            cache->path().c_str(), static_cast<unsigned long long>(frames - 1), sim.time(),
+            ranks->size(), static_cast<long long>(*std::max_element(read.begin(), read.end())),
+            all);
+      }
     }
   } else if (cache && cache->resuming()) {
     if (cache->lastFrameTime() >= end) {
@@ -113,23 +149,19 @@ int runJob(const RunRequest& request) {
       std::printf("  resuming %s from frame %llu at t = %g s\n", cache->path().c_str(),
                   static_cast<unsigned long long>(frames - 1), sim.time());
   }
-  std::unique_ptr<dist::Halo> halo;
-  if (ranks) {
-    halo = std::make_unique<dist::Halo>(*ranks, scene.domain, sim.params().h);
-    sim.setHalo(halo.get());
-  }
+  if (halo) sim.setHalo(halo.get());
   installInterruptHandlers();
 
   Progress progress(Progress::detect(o.quiet), scene.name);
   const auto start = std::chrono::steady_clock::now();
-  if (cache && !cache->resuming()) {
+  if (cache && !halo && !resumed) {
     cache->create(sim, provenance, plannedFrameCount(end, frameInterval));
     cache->writeFrame(sim);
   }
   // Pictures while simulating (scene `render` section): the GL context exists only then.
   std::unique_ptr<RenderOutput> pictures =
       RenderOutput::prepare(scene, sim.boundary().particles(), cache.get());
-  if (pictures && !(cache && cache->resuming())) pictures->frame(sim, 0);
+  if (pictures && !resumed) pictures->frame(sim, 0);
   auto sample = [&]() {
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -171,6 +203,15 @@ int runJob(const RunRequest& request) {
       distributed = std::move(sink);
     }
     sinks = {distributed.get()};
+    if (caching[0] && !resumed) {
+      // Frame 0 as every later frame (each rank holds its slab of it): rank 0 creates the file
+      // under PATH.partial (its checks stop every rank), all ranks write the frame, and rank 0
+      // publishes it as PATH once the frame is committed.
+      onRootAgreeing(*ranks, [&] {
+        if (cache) cache->create(sim, provenance, plannedFrameCount(end, frameInterval));
+      });
+      distributed->frame(sim, 0);
+    }
   }
   RunOutcome outcome;
   try {
@@ -263,12 +304,10 @@ int runJob(const RunRequest& request) {
     if (o.verbose) printPassSplit(prof);
     if (cache) std::printf("  %s\n", cache->summary(wall).c_str());
     if (together)
-      std::printf(
-          "  frames after the first written by all %d ranks together (parallel HDF5, MPI-IO: "
-          "%s)\n",
-          ranks->size(), mpiIoChoice().c_str());
+      std::printf("  frames written by all %d ranks together (parallel HDF5, MPI-IO: %s)\n",
+                  ranks->size(), mpiIoChoice().c_str());
     if (o.verbose && frameSeconds) {
-      std::printf("  frames after the first: %.3g s on rank 0 to %s\n", frameSeconds(),
+      std::printf("  frames: %.3g s on rank 0 to %s\n", frameSeconds(),
                   together ? "write them together" : "gather and write them");
       const dist::HaloStats& hs = halo->stats();
       if (together && hs.placesCalls > 0)

@@ -76,11 +76,12 @@ std::string reproduceCommand(const RunRequest& o, const RunPlan& plan, const Run
 // What the run is about to do: particles, the main derived numbers and, with --verbose, the
 // domain and every piece of work the scene skips (docs/benchmarks.md, "What a scene skips").
 void printHeader(const RunRequest& o, const Scene& scene, const Simulation& sim,
-                 const io::CacheSession* cache, double setupSeconds, const MemoryEstimate& memory) {
+                 std::size_t fluidParticles, const io::CacheSession* cache, double setupSeconds,
+                 const MemoryEstimate& memory) {
   const DerivedParams& d = sim.params();
   const double frameInterval = 1.0 / scene.output.fps;
   std::printf("%s: %zu fluid particles, %zu boundary particles, %s%d thread%s\n",
-              scene.name.c_str(), sim.fluid().size(), sim.boundary().particles().size(),
+              scene.name.c_str(), fluidParticles, sim.boundary().particles().size(),
               world() ? (std::to_string(world()->size()) + " processes x ").c_str() : "",
               threadCount(), threadCount() == 1 ? "" : "s");
   std::printf(

@@ -19,10 +19,12 @@ std::string commandLine(const RunRequest& o, double end);
 std::string shellQuote(const std::string& word);
 // Runs to the blow-up and no further (see RunReport.cpp).
 std::string reproduceCommand(const RunRequest& o, const RunPlan& plan, const RunOutcome& outcome);
-// What the run is about to do: particles, the main derived numbers and, with --verbose, the
-// domain and every piece of work the scene skips (docs/benchmarks.md, "What a scene skips").
+// What the run is about to do: particles (`fluidParticles`: on all ranks), the main derived
+// numbers and, with --verbose, the domain and every piece of work the scene skips
+// (docs/benchmarks.md, "What a scene skips").
 void printHeader(const RunRequest& o, const Scene& scene, const Simulation& sim,
-                 const io::CacheSession* cache, double setupSeconds, const MemoryEstimate& memory);
+                 std::size_t fluidParticles, const io::CacheSession* cache, double setupSeconds,
+                 const MemoryEstimate& memory);
 // The share of the run's time in each pass (--verbose).
 void printPassSplit(const StepProfile& profile);
 

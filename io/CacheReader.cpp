@@ -353,7 +353,8 @@ void CacheReader::checkFrame(std::size_t frame) const {
        " is out of range: " + frameRange(summary_.frames.size()));
 }
 
-Particles CacheReader::readFrame(std::size_t frame, const cache::FieldSet& fields) const {
+Particles CacheReader::readFrame(std::size_t frame, const cache::FieldSet& fields,
+                                 const h5::Runs* runs) const {
   checkFrame(frame);
   const std::string group = "/" + cache::stepName(frame);
   Particles p;
@@ -375,9 +376,9 @@ Particles CacheReader::readFrame(std::size_t frame, const cache::FieldSet& field
              " values but " + group + "/x has " + std::to_string(n));
       }
       if (field == cache::Field::Id)
-        p.id = h5::readDataset<std::uint32_t>(g.get(), dataset);
+        p.id = h5::readDataset<std::uint32_t>(g.get(), dataset, runs);
       else
-        p.*cache::floatMember(field) = h5::readDataset<float>(g.get(), dataset);
+        p.*cache::floatMember(field) = h5::readDataset<float>(g.get(), dataset, runs);
     }
   } catch (const h5::Error& e) {
     fail("cannot read dataset " + group + "/" + dataset + " (" + e.what() + ")");
@@ -402,7 +403,8 @@ rain::FeedState CacheReader::readRainFeed(std::size_t frame) const {
   return f;
 }
 
-std::pair<RunState, Particles> CacheReader::readRestart(std::size_t frame) const {
+std::pair<RunState, Particles> CacheReader::readRestart(std::size_t frame,
+                                                        const h5::Runs* runs) const {
   checkFrame(frame);
   const std::string group = "/" + cache::restartName(frame);
   if (!summary_.frames[frame].hasRestart) {
@@ -410,8 +412,13 @@ std::pair<RunState, Particles> CacheReader::readRestart(std::size_t frame) const
          (summary_.restart ? ")" : "): the run was written with output.restart = false"));
   }
   // Every field the frame holds, then what the resume record adds.
-  Particles p = readFrame(frame, summary_.fields);
+  Particles p = readFrame(frame, summary_.fields, runs);
   const std::size_t n = summary_.frames[frame].particles;
+  std::size_t selected = n;  // the particles read
+  if (runs) {
+    selected = 0;
+    for (const auto& run : *runs) selected += run.second;
+  }
   RunState s;
   std::string item = "attributes";
   try {
@@ -448,7 +455,8 @@ std::pair<RunState, Particles> CacheReader::readRestart(std::size_t frame) const
       item = cache::fieldName(field);
       if (!h5::hasLink(r, item) && field != cache::Field::Id &&
           h5::hasAttribute(r, item + "_constant")) {
-        (p.*cache::floatMember(field)).assign(n, h5::readFloatAttribute(r, item + "_constant"));
+        (p.*cache::floatMember(field))
+            .assign(selected, h5::readFloatAttribute(r, item + "_constant"));
         continue;
       }
       if (!h5::hasLink(r, item))
@@ -458,9 +466,9 @@ std::pair<RunState, Particles> CacheReader::readRestart(std::size_t frame) const
              " values");
       }
       if (field == cache::Field::Id)
-        p.id = h5::readDataset<std::uint32_t>(r, item);
+        p.id = h5::readDataset<std::uint32_t>(r, item, runs);
       else
-        p.*cache::floatMember(field) = h5::readDataset<float>(r, item);
+        p.*cache::floatMember(field) = h5::readDataset<float>(r, item, runs);
     }
     // DFSPH's warm start, when the run had one (a WCSPH run has none).
     const std::pair<const char*, std::vector<float>*> warm[] = {
@@ -473,13 +481,13 @@ std::pair<RunState, Particles> CacheReader::readRestart(std::size_t frame) const
         fail("dataset " + group + "/" + item + " does not have the frame's " + std::to_string(n) +
              " values");
       }
-      *values = h5::readDataset<float>(r, item);
+      *values = h5::readDataset<float>(r, item, runs);
     }
   } catch (const h5::Error& e) {
     fail("cannot read " + item + " of the resume record " + group + " (" + e.what() + ")");
   }
   // What neither holds is recomputed by the next step before it is read.
-  p.forEachField([n](auto& field) { field.resize(n); });
+  p.forEachField([selected](auto& field) { field.resize(selected); });
   return {s, p};
 }
 

@@ -76,14 +76,17 @@ class CacheReader {
 
   // The fields of frame `frame` that the cache holds (others left empty), in the order the
   // run had them in memory. `fields` limits what is read; a field asked for but missing is an
-  // error naming the dataset.
-  Particles readFrame(std::size_t frame, const cache::FieldSet& fields) const;
+  // error naming the dataset. With `runs`, only the particles at those indices (a rank's slab).
+  Particles readFrame(std::size_t frame, const cache::FieldSet& fields,
+                      const h5::Runs* runs = nullptr) const;
   // Frame `frame` with every field the cache holds.
   Particles readFrame(std::size_t frame) const { return readFrame(frame, summary_.fields); }
 
   // The state to continue the run from frame `frame`: RunState and every particle array (those
-  // not recorded, which the first step recomputes, are zero).
-  std::pair<RunState, Particles> readRestart(std::size_t frame) const;
+  // not recorded, which the first step recomputes, are zero). With `runs`, only the particles at
+  // those indices, and their part of the per-particle state (DFSPH's warm start).
+  std::pair<RunState, Particles> readRestart(std::size_t frame,
+                                             const h5::Runs* runs = nullptr) const;
   // rain.feed_fluid's ledger of frame `frame` (RunState::rain) without its particles: all zero
   // for a frame without a resume record or a run without fed rain.
   rain::FeedState readRainFeed(std::size_t frame) const;

@@ -129,6 +129,23 @@ std::unique_ptr<CacheSession> CacheSession::prepare(const CacheSessionOptions& f
 }
 
 std::size_t CacheSession::restore(Simulation& sim, const CacheProvenance& provenance) {
+  const std::size_t last = checkResume(sim, provenance);
+  auto [state, fluid] = reader_->readRestart(last);
+  checkRecord(path_, state, sim);
+  sim.restore(state, std::move(fluid));
+  finishRestore(sim);
+  return last;
+}
+
+void CacheSession::checkRecord(const std::string& path, const RunState& state,
+                               const Simulation& sim) {
+  if (state.emitters.size() != sim.emitters().size()) {
+    throw InputError(path + ": the resume record has " + std::to_string(state.emitters.size()) +
+                     " emitters, the scene " + std::to_string(sim.emitters().size()));
+  }
+}
+
+std::size_t CacheSession::checkResume(const Simulation& sim, const CacheProvenance& provenance) {
   const CacheSummary& s = reader_->summary();
   const Scene& scene = sim.scene();
   if (cache::dynamicsFingerprint(scene) != s.sceneFingerprint) {
@@ -162,13 +179,12 @@ std::size_t CacheSession::restore(Simulation& sim, const CacheProvenance& proven
                  "uninterrupted one bit for bit only with the same thread count\n",
                  path_.c_str(), static_cast<long long>(s.threads), provenance.threads);
   }
+  return s.frames.size() - 1;
+}
+
+void CacheSession::finishRestore(Simulation& sim) {
+  const CacheSummary& s = reader_->summary();
   const std::size_t last = s.frames.size() - 1;
-  auto [state, fluid] = reader_->readRestart(last);
-  if (state.emitters.size() != sim.emitters().size()) {
-    throw InputError(path_ + ": the resume record has " + std::to_string(state.emitters.size()) +
-                     " emitters, the scene " + std::to_string(sim.emitters().size()));
-  }
-  sim.restore(state, std::move(fluid));
   followRain(sim);
   // The drops as the run left them: the resumed run continues them exactly. A feeding rain's are
   // part of the run's state (sim/rain/RainFeed.h): a cache without them cannot be resumed.
@@ -196,7 +212,6 @@ std::size_t CacheSession::restore(Simulation& sim, const CacheProvenance& proven
   writer_->setStatus("running (resumed from frame " + std::to_string(last) + ")");
   xdmf_ = std::make_unique<XdmfWriter>(xdmfPath_, baseName(path_), fields_, doublePositions_,
                                        boundaryParticles_, frames_);
-  return last;
 }
 
 void CacheSession::followRain(const Simulation& sim) {

@@ -38,6 +38,14 @@ class CacheSession final : public FrameSink {
   // Resume: checks that `sim`'s scene is the cache's, puts `sim` in the state of the cache's last
   // frame and opens the cache for appending. Returns the index of that frame.
   std::size_t restore(Simulation& sim, const CacheProvenance& provenance);
+  // restore() in three parts, for a resume on K processes (app/DistributedResume.h): rank 0
+  // checks that `sim`'s scene is the cache's and gets the last frame's index; every rank reads
+  // its part of that frame (rank 0 through reader()) and checks it (checkRecord); once every
+  // rank has closed its reader, rank 0 opens the cache for appending (finishRestore).
+  std::size_t checkResume(const Simulation& sim, const CacheProvenance& provenance);
+  const CacheReader& reader() const { return *reader_; }
+  static void checkRecord(const std::string& path, const RunState& state, const Simulation& sim);
+  void finishRestore(Simulation& sim);
   // Time of the cache's last frame (resume), s.
   double lastFrameTime() const;
 

@@ -454,4 +454,23 @@ void readDataset(hid_t loc, const std::string& name, hid_t memType, void* out) {
         "read dataset '" + name + "'");
 }
 
+void readDatasetRuns(hid_t loc, const std::string& name, hid_t memType, const Runs& runs,
+                     void* out) {
+  Handle set = checked(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), "open dataset '" + name + "'");
+  Handle file = checked(H5Dget_space(set.get()), "read the shape of dataset '" + name + "'");
+  check(H5Sselect_none(file.get()), "select in dataset '" + name + "'");
+  hsize_t n = 0;
+  for (const auto& [first, count] : runs) {
+    const hsize_t start[1] = {first}, block[1] = {count};
+    check(H5Sselect_hyperslab(file.get(), H5S_SELECT_OR, start, nullptr, block, nullptr),
+          "select a part of dataset '" + name + "'");
+    n += count;
+  }
+  if (n == 0) return;
+  const hsize_t dims[1] = {n};
+  Handle memory = checked(H5Screate_simple(1, dims, nullptr), "create a dataspace");
+  check(H5Dread(set.get(), memType, memory.get(), file.get(), H5P_DEFAULT, out),
+        "read dataset '" + name + "'");
+}
+
 }  // namespace sph::io::h5

@@ -163,6 +163,12 @@ void createColumnView(hid_t loc, const std::string& name, hid_t fileType, std::s
 std::size_t datasetLength(hid_t loc, const std::string& name);
 // Reads a whole 1-D dataset converted to `memType`; `out` must hold datasetLength() values.
 void readDataset(hid_t loc, const std::string& name, hid_t memType, void* out);
+// Index runs (first, count) of a 1-D dataset, ascending and disjoint.
+using Runs = std::vector<std::pair<std::uint64_t, std::uint64_t>>;
+// Reads the values of `runs`, in order, converted to `memType`; `out` holds their total count
+// (a resume on K processes: each rank reads its slab, app/DistributedResume.h).
+void readDatasetRuns(hid_t loc, const std::string& name, hid_t memType, const Runs& runs,
+                     void* out);
 
 template <class T>
 hid_t nativeType();
@@ -187,6 +193,17 @@ template <class T>
 std::vector<T> readDataset(hid_t loc, const std::string& name) {
   std::vector<T> out(datasetLength(loc, name));
   if (!out.empty()) readDataset(loc, name, nativeType<T>(), out.data());
+  return out;
+}
+
+// The whole dataset, or with `runs` only their values.
+template <class T>
+std::vector<T> readDataset(hid_t loc, const std::string& name, const Runs* runs) {
+  if (!runs) return readDataset<T>(loc, name);
+  std::size_t n = 0;
+  for (const auto& run : *runs) n += run.second;
+  std::vector<T> out(n);
+  if (n > 0) readDatasetRuns(loc, name, nativeType<T>(), *runs, out.data());
   return out;
 }
 

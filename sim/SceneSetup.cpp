@@ -132,28 +132,39 @@ Aabb defaultDomain(const Scene& scene) {
   return box;
 }
 
+FluidLattice fluidLattice(const FluidBlock& f, float dx) {
+  Vec3 lo = f.lo, hi = f.hi;
+  if (f.shape == FluidBlock::Shape::Sphere) {
+    lo = f.centre - Vec3::Constant(f.radius), hi = f.centre + Vec3::Constant(f.radius);
+  }
+  FluidLattice l;
+  l.lo = lo;
+  for (int a = 0; a < 3; ++a)
+    l.n[a] = std::max(0, static_cast<int>(std::lround((hi[a] - lo[a]) / dx)));
+  return l;
+}
+
+__attribute__((noinline)) Vec3 latticePoint(const FluidLattice& l, float dx, int i, int j, int k) {
+  return l.lo + dx * Vec3(i + 0.5f, j + 0.5f, k + 0.5f);
+}
+
+bool keepsStartPoint(const FluidBlock& f, const Boundary& boundary, const Vec3& p, float dx) {
+  if (f.shape == FluidBlock::Shape::Sphere && (p - f.centre).norm() > f.radius) return false;
+  return boundary.distance(p) >= 0.4f * dx;
+}
+
 Particles initialFluid(const Scene& scene, const Boundary& boundary, float restDensity) {
   Particles fluid;
   const float dx = scene.solver.spacing;
   std::uint32_t nextId = 0;
-  auto add = [&](const Vec3& p, const Vec3& v) {
-    if (boundary.distance(p) < 0.4f * dx) return;
-    fluid.append(p, v, nextId++, restDensity);
-  };
   for (const FluidBlock& f : scene.fluids) {
-    Vec3 lo = f.lo, hi = f.hi;
-    if (f.shape == FluidBlock::Shape::Sphere) {
-      lo = f.centre - Vec3::Constant(f.radius), hi = f.centre + Vec3::Constant(f.radius);
-    }
-    int n[3];
-    for (int a = 0; a < 3; ++a)
-      n[a] = std::max(0, static_cast<int>(std::lround((hi[a] - lo[a]) / dx)));
-    for (int k = 0; k < n[2]; ++k)
-      for (int j = 0; j < n[1]; ++j)
-        for (int i = 0; i < n[0]; ++i) {
-          const Vec3 p = lo + dx * Vec3(i + 0.5f, j + 0.5f, k + 0.5f);
-          if (f.shape == FluidBlock::Shape::Sphere && (p - f.centre).norm() > f.radius) continue;
-          add(p, f.velocity);
+    const FluidLattice l = fluidLattice(f, dx);
+    for (int k = 0; k < l.n[2]; ++k)
+      for (int j = 0; j < l.n[1]; ++j)
+        for (int i = 0; i < l.n[0]; ++i) {
+          const Vec3 p = latticePoint(l, dx, i, j, k);
+          if (keepsStartPoint(f, boundary, p, dx))
+            fluid.append(p, f.velocity, nextId++, restDensity);
         }
   }
   return fluid;

@@ -56,6 +56,23 @@ Aabb defaultDomain(const Scene& scene);
 // Ids start at 0 in block order.
 Particles initialFluid(const Scene& scene, const class Boundary& boundary, float restDensity);
 
+// One fluid block's starting lattice as initialFluid walks it: n[a] points along axis a from the
+// corner lo, visited block by block, z slowest, x fastest (the particles' ids count that order).
+// A distributed start (sim/dist/StartSlab.h) generates parts of it with the same functions.
+struct FluidLattice {
+  Vec3 lo = Vec3::Zero();
+  int n[3] = {0, 0, 0};
+};
+FluidLattice fluidLattice(const FluidBlock& block, float spacing);
+// Point (i, j, k) of a lattice. Out of line, so every caller gets the same bits from one compiled
+// instance (an inlined copy could contract the multiply-add differently: a point's cell plane
+// must not depend on who computed it).
+Vec3 latticePoint(const FluidLattice& lattice, float spacing, int i, int j, int k);
+// Whether initialFluid keeps lattice point p of `block` (inside a sphere block, not within 0.4
+// spacing of a solid).
+bool keepsStartPoint(const FluidBlock& block, const class Boundary& boundary, const Vec3& p,
+                     float spacing);
+
 // An upper bound of the fluid particles a scene makes by solver.end_time, from its description
 // alone (nothing allocated): every lattice point of each fluid block's box, and per emitter the
 // layers it can release between start and min(stop, end_time), or its max_particles, and what

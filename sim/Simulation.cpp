@@ -9,6 +9,7 @@
 #include "sim/InputError.h"
 #include "sim/SphPasses.h"
 #include "sim/Validate.h"
+#include "sim/dist/StartSlab.h"
 
 namespace sph {
 
@@ -17,16 +18,36 @@ Simulation::Simulation(const Scene& scene)
       derived_(deriveParams(scene)),
       boundary_(scene.boundaries, scene.domain, scene.solver.spacing, derived_.boundaryLayers,
                 derived_.h) {
+  setUp(nullptr);
+}
+
+Simulation::Simulation(const Scene& scene, dist::Halo& start)
+    : scene_(scene),
+      derived_(deriveParams(scene)),
+      boundary_(scene.boundaries, scene.domain, scene.solver.spacing, derived_.boundaryLayers,
+                derived_.h) {
+  setUp(&start);
+}
+
+void Simulation::setUp(dist::Halo* start) {
   gradientCorrection_ = derived_.gradientCorrection;
   StepContext setup = context(0);
   computeStaticBoundaryDensity(setup);
-  fluid_ = initialFluid(scene_, boundary_, scene_.solver.restDensity);
-  state_.nextId = static_cast<std::uint32_t>(fluid_.size());
+  if (start) {
+    dist::StartSlab slab = dist::startSlab(*start, scene_, boundary_, scene_.solver.restDensity);
+    fluid_ = std::move(slab.fluid);
+    state_.nextId = static_cast<std::uint32_t>(slab.total);
+    startKeys_.assign(fluid_.id.begin(), fluid_.id.end());
+  } else {
+    fluid_ = initialFluid(scene_, boundary_, scene_.solver.restDensity);
+    state_.nextId = static_cast<std::uint32_t>(fluid_.size());
+  }
   for (const EmitterDesc& e : scene_.emitters) emitters_.emplace_back(e, scene_.solver.spacing);
   state_.maxAcceleration = scene_.solver.gravity.norm();
   for (std::size_t i = 0; i < fluid_.size(); ++i) {
     state_.maxSpeed = std::max(state_.maxSpeed, fluid_.velocity(i).norm());
   }
+  if (start) start->maxOverRanks(state_.maxSpeed, state_.maxAcceleration);  // exact maxima
   rainFeed_ = rain::RainFeed::create(scene_);
 }
 
@@ -56,7 +77,10 @@ StepContext Simulation::context(float dt) {
 void Simulation::setHalo(dist::Halo* halo) {
   halo_ = halo;
   if (!halo_) return;
-  halo_->adopt(fluid_);
+  // The particles' places in the starting order (a slab start's ids, a resumed slab's indices in
+  // the frame), or none: a whole fluid is in that order from 0.
+  halo_->adopt(fluid_, std::move(startKeys_));
+  startKeys_.clear();
   // DFSPH's warm start is run state per particle: it moves with its particle (docs/scaling.md).
   if (scene_.solver.model == SolverModel::Sph && scene_.solver.pressure == PressureSolver::Dfsph) {
     halo_->attach(state_.warmStart.density);
@@ -258,7 +282,8 @@ RunState Simulation::runState() const {
   return s;
 }
 
-void Simulation::restore(const RunState& state, Particles fluid) {
+void Simulation::restore(const RunState& state, Particles fluid, std::vector<std::uint64_t> keys) {
+  startKeys_ = std::move(keys);
   state_ = state;
   fluid_ = std::move(fluid);
   for (std::size_t e = 0; e < emitters_.size() && e < state.emitters.size(); ++e) {

@@ -41,6 +41,10 @@ struct RunState {
 class Simulation {
  public:
   explicit Simulation(const Scene& scene);
+  // One rank of a distributed run (sim/dist/StartSlab.h): generates only this rank's slab of the
+  // starting fluid, cut as `start`'s first exchange will cut it (collective: every rank
+  // constructs its own at the same point). setHalo(start) must follow before any step.
+  Simulation(const Scene& scene, dist::Halo& start);
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
@@ -93,10 +97,14 @@ class Simulation {
 
   RunState runState() const;
   // Replaces state and fluid with a saved one (the same scene must be loaded); a feeding rain's
-  // drops are set apart, by restoreRain().
-  void restore(const RunState& state, Particles fluid);
+  // drops are set apart, by restoreRain(). A distributed run's rank gives its part of the frame
+  // with `keys`, the particles' indices in it (empty: the whole frame, or nothing).
+  void restore(const RunState& state, Particles fluid, std::vector<std::uint64_t> keys = {});
 
  private:
+  // The constructors' work: the boundary's densities, the starting fluid (this rank's slab of
+  // it with `start`) and the state that depends on it.
+  void setUp(dist::Halo* start);
   float chooseTimeStep() const;
   // The context the passes of a step of `dt` seconds work on.
   StepContext context(float dt);
@@ -119,6 +127,9 @@ class Simulation {
   float gradientCorrection_ = 1;  // scale of the pressure force this step
   PressureSolveStats solveStats_;
   dist::Halo* halo_ = nullptr;  // a distributed run's decomposition; null alone
+  // A distributed run's keys of the fluid (sim/dist/Halo.h, adopt), handed to setHalo(): a slab
+  // start's ids, a resumed slab's indices in the frame; empty when the fluid is whole (0, 1, ...).
+  std::vector<std::uint64_t> startKeys_;
   Particles emittedElsewhere_;  // what another rank's emitters released (discarded)
   std::unique_ptr<rain::RainFeed> rainFeed_;
 };

@@ -10,6 +10,8 @@
 // with errno ENOSPC and changes nothing; the calls after it succeed again.
 // SPHSPLAT_WRITE_COUNT_FILE=PATH receives the number of such calls when the process exits, and
 // SPHSPLAT_WRITE_LOG=PATH one line per call: its number, bytes and file offset.
+// SPHSPLAT_COUNT_ONLY=SUFFIX counts (and so kills, tears, fails and logs at) only the calls on
+// files whose name ends in SUFFIX (".partial": a new cache before its frame 0 is published).
 // SPHSPLAT_READER_VIEW_LOG=PATH checks what a reader opening the cache between two calls would
 // meet (ReaderView.h).
 #include <dlfcn.h>
@@ -64,6 +66,10 @@ constexpr long kFail = -2;
 long beforeChange(int fd, std::size_t bytes, long long offset, const void* data = nullptr) {
   const std::string path = cachePath(fd);
   if (path.empty()) return -1;
+  static const std::string only =
+      std::getenv("SPHSPLAT_COUNT_ONLY") ? std::getenv("SPHSPLAT_COUNT_ONLY") : "";
+  if (path.size() < only.size() || path.compare(path.size() - only.size(), only.size(), only) != 0)
+    return -1;
   ++counted;
   static const long killAt = envNumber("SPHSPLAT_KILL_AT_WRITE");
   static const long tearAt = envNumber("SPHSPLAT_TEAR_AT_WRITE");

@@ -93,12 +93,13 @@ class Mpi : public ::testing::Test {
   }
   // Two ranks of the scene writing `out`, each under the preload library of the crash tests
   // (tests/KillAtWrite.cpp) with its own variables (`env0`, `env1`: "VAR=VALUE ..."); `before`
-  // goes in front of mpirun (variables, `timeout N`).
+  // goes in front of mpirun (variables, `timeout N`), `args` after the run's own.
   std::string twoShimmedRanks(const std::string& out, const std::string& env0,
-                              const std::string& env1, const std::string& before = "") const {
+                              const std::string& env1, const std::string& before = "",
+                              const std::string& args = "") const {
     const std::string shim = SPHSPLAT_KILL_SHIM;
-    const std::string rank =
-        test::sphsplatBinary() + " run '" + scene_ + "' --threads 1 --quiet -o '" + out + "'";
+    const std::string rank = test::sphsplatBinary() + " run '" + scene_ +
+                             "' --threads 1 --quiet -o '" + out + "' " + args;
     return "OMP_WAIT_POLICY=PASSIVE " + before +
            " mpirun --oversubscribe --allow-run-as-root -np 1 env " + env0 + " LD_PRELOAD='" +
            shim + "' " + rank + " : -np 1 env " + env1 + " LD_PRELOAD='" + shim + "' " + rank;

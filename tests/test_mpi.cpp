@@ -45,9 +45,18 @@ TEST_F(Mpi, AResumeMayChangeTheNumberOfRanks) {
   // Ends on frame times (2 x 1/40 s): an --end between frames ends a frame early, alone too.
   auto a = runShell(ranks(2, scene_, "--end 0.05 -o '" + out + "'"));
   ASSERT_EQ(a.exitCode, 0) << a.output;
-  auto b = runShell(ranks(3, scene_, "--resume '" + out + "'"));
+  auto b = runShell(ranks(3, scene_, "--resume '" + out + "'", ""));
   ASSERT_EQ(b.exitCode, 0) << b.output;
   test::expectSameCache(reference_, out);
+  // Each rank read only its slab of the last frame (app/DistributedResume.h): about a third.
+  long long most = 0, all = 0;
+  const std::size_t at = b.output.find("ranks read its slab of it: at most ");
+  ASSERT_NE(at, std::string::npos) << b.output;
+  ASSERT_EQ(std::sscanf(b.output.c_str() + at,
+                        "ranks read its slab of it: at most %lld of its %lld", &most, &all),
+            2);
+  EXPECT_EQ(static_cast<std::size_t>(all), io::CacheReader(out).summary().frames[2].particles);
+  EXPECT_LT(most, all / 2) << b.output;
   // and back to one plain process
   const std::string out2 = dir_ + "/resumed_plain.h5";
   auto c = runShell(ranks(4, scene_, "--end 0.05 -o '" + out2 + "'"));

@@ -8,9 +8,11 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "io/CacheReader.h"
@@ -111,6 +113,48 @@ TEST_F(Mpi, ARankKilledAtAnyWriteOfTheCacheLeavesItReadableAndResumable) {
     }
   }
   EXPECT_GT(resumed, 4);
+}
+
+TEST_F(Mpi, ARankKilledBeforeFrameZeroIsCommittedLeavesTheExistingCacheUntouched) {
+  // Frame 0 is written by all ranks into PATH.partial, which rank 0 publishes as PATH once the
+  // frame is committed (docs/scaling.md, "A distributed start"). A rank killed before any of its
+  // writes to PATH.partial (from rank 0's creation of the file to the commit's last header
+  // write) leaves the cache already at PATH byte for byte as it was, and the next run replaces
+  // it with the single process's cache.
+  long counts[2] = {0, 0};
+  {
+    const std::string only = "SPHSPLAT_COUNT_ONLY=.partial SPHSPLAT_WRITE_COUNT_FILE=" + dir_;
+    auto r =
+        runShell(twoShimmedRanks(dir_ + "/counted.h5", only + "/partial0", only + "/partial1"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    for (int k = 0; k < 2; ++k) {
+      std::ifstream(dir_ + "/partial" + std::to_string(k)) >> counts[k];
+      ASSERT_GT(counts[k], 0) << "rank " << k << " wrote nothing to the new cache's frame 0";
+    }
+  }
+  const std::string out = dir_ + "/existing.h5";
+  std::filesystem::copy_file(reference_, out);
+  const std::string before = test::readFile(out);
+  // Rank 0 at its first write (the file's creation) and its last (the commit's header), rank 1
+  // in the middle of its part of the frame.
+  const std::pair<int, long> kills[] = {{0, 1}, {0, counts[0]}, {1, (counts[1] + 1) / 2}};
+  for (const auto& [victim, n] : kills) {
+    {
+      SCOPED_TRACE("rank " + std::to_string(victim) + " killed before its write " +
+                   std::to_string(n) + " of " + std::to_string(counts[victim]) +
+                   " to the .partial");
+      const std::string kill =
+          "SPHSPLAT_COUNT_ONLY=.partial SPHSPLAT_KILL_AT_WRITE=" + std::to_string(n);
+      auto r = runShell(twoShimmedRanks(out, victim == 0 ? kill : "A=0", victim == 1 ? kill : "A=0",
+                                        "", "--overwrite"));
+      EXPECT_NE(r.exitCode, 0) << r.output;
+      test::mpi::waitForStatusRecorder(out + ".partial");
+      EXPECT_TRUE(test::readFile(out) == before) << "the existing cache changed";
+    }
+  }
+  auto r = runShell(ranks(2, scene_, "--overwrite -o '" + out + "'"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  test::expectSameCache(reference_, out);
 }
 
 TEST_F(Mpi, ReadersDuringFramesWrittenTogetherNeverFail) {

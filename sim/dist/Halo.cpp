@@ -15,10 +15,6 @@ namespace {
 
 constexpr long long kFar = 1LL << 60;
 
-long long planeOf(float x, double invCell) {
-  return static_cast<long long>(std::floor(static_cast<double>(x) * invCell));
-}
-
 const std::vector<float>& axisOf(const Particles& f, int axis) {
   return axis == 0 ? f.x : axis == 1 ? f.y : f.z;
 }
@@ -136,11 +132,22 @@ Halo::Halo(Communicator& comm, const Aabb& domain, float h) : comm_(comm), domai
   slabs_ = Slabs::balance(axis, comm.size(), p0, std::vector<std::int64_t>(p1 - p0 + 1, 0));
 }
 
-void Halo::adopt(const Particles& fluid) {
-  keys_.resize(fluid.size());
-  std::iota(keys_.begin(), keys_.end(), std::uint64_t(0));
+void Halo::adopt(const Particles& fluid, std::vector<std::uint64_t> keys) {
+  if (keys.empty()) {
+    keys.resize(fluid.size());
+    std::iota(keys.begin(), keys.end(), std::uint64_t(0));
+  }
+  SPH_ASSERT(keys.size() == fluid.size());
+  keys_.swap(keys);
   keyed_ = false;
+  startOrder_ = true;
   ghost_.clear();
+}
+
+void Halo::startWith(const Slabs& slabs, float cellSize) {
+  SPH_ASSERT(slabs.axis == slabs_.axis && slabs.ranks() == ranks());
+  slabs_ = slabs;
+  cellSize_ = cellSize;
 }
 
 void Halo::attach(std::vector<float>& field) {
@@ -155,6 +162,7 @@ bool Halo::owns(const Vec3& p) const {
 float Halo::exchange(Particles& f, float h) {
   const auto start = std::chrono::steady_clock::now();
   const int ranksCount = ranks(), me = rank(), axis = slabs_.axis;
+  startOrder_ = false;
   for (std::size_t i = keys_.size(); i < f.size(); ++i) keys_.push_back(kEmitted | f.id[i]);
   for (std::vector<float>* a : attached_) a->resize(f.size(), 0.0f);  // as sortParticles() does
   ghost_.clear();
@@ -180,7 +188,8 @@ float Halo::exchange(Particles& f, float h) {
   std::vector<std::int64_t> counts(static_cast<std::size_t>(p1 - p0 + 1), 0);
   const std::vector<float>& along = axisOf(f, axis);
   for (float v : along) ++counts[static_cast<std::size_t>(planeOf(v, inv) - p0)];
-  // The previous exchange's migrations (none counted for the first, the hand-out) ride along.
+  // The previous exchange's migrations (none counted for the first: a resume's hand-out) ride
+  // along.
   counts.push_back(stats_.steps > 1 ? static_cast<std::int64_t>(migratedLast_) : 0);
   comm_.sumInPlace(counts);
   stats_.migratedAllRanks += static_cast<std::uint64_t>(counts.back());

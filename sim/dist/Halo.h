@@ -19,6 +19,7 @@
 // MPI-free: the collectives go through dist::Communicator (mpi/MpiCommunicator.h implements it).
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <initializer_list>
@@ -48,6 +49,11 @@ struct Slabs {
                        const std::vector<std::int64_t>& counts);
 };
 
+// The cell plane holding coordinate x for cells of 1 / invCell (the slabs' and the keys' planes).
+inline long long planeOf(float x, double invCell) {
+  return static_cast<long long>(std::floor(static_cast<double>(x) * invCell));
+}
+
 // Ghost planes beyond each face: the density of a ghost one plane out needs the plane beyond it.
 constexpr int kGhostPlanes = 2;
 
@@ -58,7 +64,7 @@ struct HaloStats {
   std::uint64_t ghostsReceived = 0;  // summed over steps
   std::uint64_t migrated = 0;        // particles that changed rank, sent from here
   // Particles that changed rank, summed over all ranks, from the second exchange on (the first
-  // hands rank 0's starting fluid out) up to the one before the last (each exchange's count
+  // hands a resumed frame out from rank 0) up to the one before the last (each exchange's count
   // rides on the next one's plane histogram).
   std::uint64_t migratedAllRanks = 0;
   double exchangeSeconds = 0;  // rebalance + migration + ghosts + key order
@@ -83,9 +89,15 @@ class Halo {
   int ranks() const { return comm_.size(); }
   const Slabs& slabs() const { return slabs_; }
 
-  // Takes the run's starting fluid (the full initial or resumed state on rank 0, nothing on the
-  // others) in global order; the first exchange() hands every rank its share.
-  void adopt(const Particles& fluid);
+  // Takes this rank's part of the run's starting fluid, in global order: `keys` are the
+  // particles' places in the single-process starting order (empty: 0, 1, ... as when rank 0
+  // holds the whole fluid and the others nothing). Together the ranks' keys must be 0 .. N - 1:
+  // until the first exchange() a key is its particle's place in a frame (globalPlaces() then
+  // needs no collective). The first exchange() hands out whatever is not on its owner.
+  void adopt(const Particles& fluid, std::vector<std::uint64_t> keys = {});
+  // Sets the slabs and cell size the first exchange() will find (sim/dist/StartSlab.h: the
+  // starting fluid cut before anything is generated), so owns() and the start agree with it.
+  void startWith(const Slabs& slabs, float cellSize);
   // True if this rank's slab holds point p (the emitters' nozzles, docs/scaling.md).
   bool owns(const Vec3& p) const;
   // A per-particle array kept beside the fluid, in its order (DFSPH's warm start, part of the run
@@ -171,6 +183,8 @@ class Halo {
   // The lattice and the cut of the last sorted(), which keyed every owned particle (false until
   // the first: keys_ then hold the starting order). globalPlaces() reads a key's cell back.
   bool keyed_ = false;
+  // From adopt() to the first exchange(): keys_ are the places of the starting order.
+  bool startOrder_ = false;
   KeyLattice keyedLattice_;
   Slabs keyedSlabs_;
   std::vector<std::uint8_t> ghost_;   // per local particle

@@ -105,6 +105,12 @@ std::vector<std::uint64_t> placesByShares(Communicator& comm,
 
 std::vector<std::uint64_t> Halo::globalPlaces() {
   SPH_ASSERT(ghost_.empty());
+  // Before the first exchange (frame 0 of a distributed start or of a resume) a key is the
+  // particle's index in the starting order, laid out 0 .. N - 1 over the ranks: its place.
+  if (startOrder_) {
+    stats_.placesCalls += 1;
+    return keys_;
+  }
   const auto start = std::chrono::steady_clock::now();
   const std::size_t n = keys_.size();
   const int me = rank(), ranksCount = ranks();

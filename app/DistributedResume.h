@@ -1,0 +1,35 @@
+// A resume on K processes (docs/scaling.md, "A distributed resume"): each rank reads only its
+// slab of the cache's last frame, so no rank holds the whole of it.
+//
+// The frame is in the single-process order, so a particle's index in it is its key and its place
+// (as the starting order's index is at a fresh start). The cut is the one the first exchange will
+// make from these particles: each rank reads an equal share of the frame's positions in chunks
+// (hyperslab reads), for the bounding box (a min and a max over the ranks) and then, once the
+// cell size is known from it (NeighbourGrid::cellSizeFor), for the histogram of cell planes along
+// the slab axis (an integer sum). Each rank then reads the slab-axis coordinate of the whole frame
+// in chunks to find the runs of indices in its slab, and reads those runs of every array and of
+// the resume record. Memory: a chunk and the rank's particles; reading: 5 N / K + N values of the
+// positions and the rank's part of every array, a rank.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "io/CacheReader.h"
+#include "sim/Simulation.h"
+#include "sim/dist/Halo.h"
+
+namespace sph::app {
+
+struct ResumePart {
+  RunState state;
+  Particles fluid;                  // this rank's particles of the frame, in its order
+  std::vector<std::uint64_t> keys;  // their indices in the frame
+};
+
+// Collective. Sets `halo`'s first cut (Halo::startWith) and returns this rank's part of frame
+// `frame` of `reader`'s cache (its resume record). `h`: the support radius.
+ResumePart readResumePart(dist::Halo& halo, const io::CacheReader& reader, std::size_t frame,
+                          float h);
+
+}  // namespace sph::app
