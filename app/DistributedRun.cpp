@@ -98,7 +98,11 @@ void onRootAgreeing(dist::Communicator& ranks, const std::function<void()>& work
     }
   }
   ranks.broadcastFromRoot(message);
-  if (!message.empty()) throw InputError(std::string(message.begin(), message.end()));
+  if (message.empty()) return;
+  // Every rank stops here with the same error: told once by rank 0 and exit 2, not K times with
+  // an abort, whether or not the ranks were already in lockstep.
+  setLockstep(false);
+  throw InputError(std::string(message.begin(), message.end()));
 }
 
 RunState broadcastRunState(dist::Communicator& ranks, const RunState& state) {

@@ -115,6 +115,8 @@ int runJob(const RunRequest& request) {
       if (root) path.assign(cache->path().begin(), cache->path().end());
       ranks->broadcastFromRoot(path);
       {
+        // The start's slab is not needed: released before the resume's is read.
+        sim.fluid() = Particles{};
         std::unique_ptr<io::CacheReader> own;
         if (!root) own = std::make_unique<io::CacheReader>(std::string(path.begin(), path.end()));
         ResumePart part = readResumePart(*halo, root ? cache->reader() : *own,

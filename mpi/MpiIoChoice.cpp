@@ -46,8 +46,19 @@ std::string preferRomio() {
 #ifdef OPEN_MPI
   if (const char* chosen = std::getenv("OMPI_MCA_io"))
     return std::string("as OMPI_MCA_io says (") + chosen + ")";
-  const std::string romio = findRomioComponent(componentDirectories());
-  if (romio.empty()) return "OMPIO (this Open MPI has no ROMIO component)";
+  std::string romio;
+  for (const std::string& dir : componentDirectories()) {
+    const std::string found = findRomioComponent({dir});
+    if (found.empty()) continue;
+    // The list is exclusive: a plug-in that is there but cannot load (a missing library, a
+    // leftover of another install) would leave no MPI-IO at all, where OMPIO works.
+    if (void* plugin = dlopen((dir + "/mca_io_" + found + ".so").c_str(), RTLD_LAZY | RTLD_LOCAL)) {
+      dlclose(plugin);
+      romio = found;
+      break;
+    }
+  }
+  if (romio.empty()) return "OMPIO (this Open MPI has no ROMIO component that loads)";
   setenv("OMPI_MCA_io", romio.c_str(), 0);
   return "ROMIO (" + romio + ")";
 #else

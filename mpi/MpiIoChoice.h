@@ -22,8 +22,8 @@ std::vector<std::string> componentDirectories();
 
 // Call before MPI starts. Unless OMPI_MCA_io is set (by the user, or by `mpirun --mca io ...`),
 // asks Open MPI for its ROMIO component when one is installed. Returns what the run writes with,
-// for `run`'s summary: "ROMIO (romio321)", "OMPIO (no ROMIO component found)", or the user's
-// choice.
+// for `run`'s summary: "ROMIO (romio321)", "OMPIO (this Open MPI has no ROMIO component that
+// loads)", or the user's choice. A ROMIO plug-in is chosen only if it loads (dlopen).
 std::string preferRomio();
 
 }  // namespace sph::mpi

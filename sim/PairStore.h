@@ -23,7 +23,8 @@ namespace sph {
 
 class PairStore {
  public:
-  // Pairs a chunk holds (20 bytes each: 2.6 MB); a row that needs more gets a chunk of its own.
+  // Pairs a chunk holds (20 bytes each: 2.6 MB); a row that needs more gets a chunk twice its
+  // need, which the thread's later rows then fill.
   static constexpr std::size_t kChunkPairs = std::size_t{1} << 17;
 
   // One row's pairs: `used` of them from each pointer.
@@ -116,7 +117,9 @@ class PairStore {
     std::unique_ptr<std::uint32_t[], FreeDelete> index;
     std::unique_ptr<float[], FreeDelete> gx, gy, gz, hr;
   };
-  struct Arena {  // one thread's chunks; it fills chunks[current] up to fill
+  // One thread's chunks; it fills chunks[current] up to fill. On a cache line of its own: every
+  // particle's pairs move `fill`, and neighbouring threads' arenas would share a line.
+  struct alignas(64) Arena {
     std::vector<std::unique_ptr<Chunk>> chunks;
     std::size_t current = 0, fill = 0;
   };

@@ -13,8 +13,8 @@ void StillTankFloor::advanceTo(Simulation& sim, double t) {
   // faces holds those of a floor area (its side)^2 (a quarter of a side that is not a whole
   // number of cells would cut through a row of them and count it or not).
   const double margin = std::round(0.25 * width_ / spacing_) * spacing_;
-  const float lo = static_cast<float>(margin), hi = static_cast<float>(width_ - margin);
-  const double side = width_ - 2 * margin;
+  const double side = std::round((width_ - 2 * margin) / spacing_) * spacing_;
+  const float lo = static_cast<float>(margin), hi = static_cast<float>(margin + side);
   const Aabb centre{Vec3(lo, below, lo), Vec3(hi, 0, hi)};
   const Aabb floor{Vec3(0, below, 0), Vec3(w, 0, w)};
   const Aabb all{Vec3::Constant(-above), Vec3::Constant(above)};

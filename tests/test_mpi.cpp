@@ -313,9 +313,29 @@ TEST_F(MpiDfsph, FramesAreBitIdenticalToOneProcessForOneToFourRanks) {
   test::expectSameCache(plainPour, pourK3);
 }
 
+TEST_F(MpiDfsph, AGatheredFrameZeroHasNoWarmStartYet) {
+  // A scene with rain is gathered to rank 0 every frame (the drops meet the whole fluid), frame 0
+  // too: before the first exchange DFSPH's warm start exists on no rank, and the gather must not
+  // read it (it read past empty arrays).
+  const std::string rain = dir_ + "/rain.json";
+  std::ofstream(rain) << R"({"solver": {"spacing": 0.015, "end_time": 0.06},
+    "fluids": [{"type": "box", "min": [0, 0, 0], "max": [0.15, 0.15, 0.06]}],
+    "boundaries": [{"type": "tank", "min": [0, 0, 0], "max": [0.6, 0.2, 0.06]}],
+    "camera": {"position": [0.3, 0.3, 0.8], "target": [0.3, 0.1, 0.03], "fov": 40},
+    "rain": {"count": 300, "near": 0.05, "far": 0.8, "fall_speed": 3, "seed": 7},
+    "output": {"fps": 50}})";
+  const std::string one = dir_ + "/rain1.h5", two = dir_ + "/rain2.h5";
+  const auto a = runShell(plain(rain, kAccurate + "-o '" + one + "'"));
+  ASSERT_EQ(a.exitCode, 0) << a.output;
+  const auto b = runShell(ranks(2, rain, kAccurate + "-o '" + two + "'"));
+  ASSERT_EQ(b.exitCode, 0) << b.output;
+  test::expectSameCache(one, two);
+}
+
 TEST_F(MpiDfsph, AResumeMayChangeTheNumberOfRanks) {
-  // The warm start of the resume record is gathered in the single-process order and handed out
-  // with the particles again: from K = 2 to K = 3, and from K = 4 to a plain process.
+  // The warm start of the resume record is written in the single-process order, and each rank of
+  // the resume reads its slab's part of it with the particles: from K = 2 to K = 3, and from K = 4
+  // to a plain process.
   const std::string out = dir_ + "/resumed.h5";
   auto a = runShell(ranks(2, collapse_, kAccurate + "--end 0.06 -o '" + out + "'"));
   ASSERT_EQ(a.exitCode, 0) << a.output;
@@ -375,6 +395,20 @@ TEST(MpiRefusals, TooManyThreadsIsToldOnceWithTheCoresARankMayUse) {
   const auto one = runShell(test::sphsplatBinary() + " run '" + file + "' --threads 100000");
   EXPECT_EQ(one.exitCode, 2) << one.output;
   EXPECT_NE(one.output.find(" here), got '100000'"), std::string::npos) << one.output;
+}
+
+TEST(MpiRefusals, AResumeOfAnotherSceneIsToldOnce) {
+  // Rank 0 checks a resume against the scene once the ranks run in lockstep: its refusal is one
+  // line and exit 2 on every rank, not one line a rank and an abort.
+  const std::string dir = test::makeTempDir();
+  const std::string file = dir + "/scene.json", out = dir + "/run.h5";
+  std::ofstream(file) << scene(0.05);
+  const auto first = runShell(ranks(2, file, "-o '" + out + "'"));
+  ASSERT_EQ(first.exitCode, 0) << first.output;
+  const auto r =
+      runShell(ranks(2, file, "--end 0.1 --set solver.viscosity=0.002 --resume '" + out + "'"));
+  expectRefused(r, "not the scene the cache");
+  EXPECT_EQ(r.output.find("MPI_ABORT"), std::string::npos) << r.output;
 }
 
 TEST(MpiRefusals, AnOutputNoRankCanWrite) {

@@ -240,18 +240,23 @@ TEST(MpiIo, TheRanksWriteThroughRomioUnlessTheUserChose) {
 
   const std::string installed = romioComponent();  // what ompi_info lists
   EXPECT_EQ(mpi::findRomioComponent(mpi::componentDirectories()), installed);
+  const char* users = std::getenv("OMPI_MCA_io");  // put back at the end
+  const std::string before = users ? users : "";
   setenv("OMPI_MCA_io", "ompio", 1);
   EXPECT_EQ(mpi::preferRomio(), "as OMPI_MCA_io says (ompio)");
   EXPECT_STREQ(std::getenv("OMPI_MCA_io"), "ompio");
   unsetenv("OMPI_MCA_io");
   if (installed.empty()) {
-    EXPECT_EQ(mpi::preferRomio(), "OMPIO (this Open MPI has no ROMIO component)");
+    EXPECT_EQ(mpi::preferRomio(), "OMPIO (this Open MPI has no ROMIO component that loads)");
     EXPECT_EQ(std::getenv("OMPI_MCA_io"), nullptr);
   } else {
     EXPECT_EQ(mpi::preferRomio(), "ROMIO (" + installed + ")");
     EXPECT_EQ(std::getenv("OMPI_MCA_io"), installed);
   }
-  unsetenv("OMPI_MCA_io");
+  if (users)
+    setenv("OMPI_MCA_io", before.c_str(), 1);
+  else
+    unsetenv("OMPI_MCA_io");
 }
 
 TEST_F(Mpi, FramesWrittenTogetherThroughEitherMpiIoMatchOneProcess) {

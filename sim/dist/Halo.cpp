@@ -188,8 +188,8 @@ float Halo::exchange(Particles& f, float h) {
   std::vector<std::int64_t> counts(static_cast<std::size_t>(p1 - p0 + 1), 0);
   const std::vector<float>& along = axisOf(f, axis);
   for (float v : along) ++counts[static_cast<std::size_t>(planeOf(v, inv) - p0)];
-  // The previous exchange's migrations (none counted for the first: a resume's hand-out) ride
-  // along.
+  // The previous exchange's migrations (none counted for the first, which moves none: each rank
+  // starts or resumes with its own slab) ride along.
   counts.push_back(stats_.steps > 1 ? static_cast<std::int64_t>(migratedLast_) : 0);
   comm_.sumInPlace(counts);
   stats_.migratedAllRanks += static_cast<std::uint64_t>(counts.back());
@@ -382,7 +382,9 @@ Particles Halo::allGather(const Particles& f, std::vector<std::uint32_t>& mine) 
 Particles Halo::merged(const Particles& f, bool everyRank, std::vector<std::uint32_t>* mine,
                        std::vector<std::vector<float>>* attached) {
   SPH_ASSERT(ghost_.empty() && keys_.size() == f.size());
-  const Attached sent = attached ? attached_ : Attached{};
+  // Before the first exchange the attached fields (DFSPH's warm start) are not sized yet and a
+  // start has none: a gathered frame 0 carries none, as the single process's (every rank agrees).
+  const Attached sent = attached && !startOrder_ ? attached_ : Attached{};
   Bytes packed;
   packed.reserve(f.size() * recordBytes(sent));
   for (std::size_t i = 0; i < f.size(); ++i) pack(f, i, keys_[i], sent, packed);

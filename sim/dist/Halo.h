@@ -64,8 +64,8 @@ struct HaloStats {
   std::uint64_t ghostsReceived = 0;  // summed over steps
   std::uint64_t migrated = 0;        // particles that changed rank, sent from here
   // Particles that changed rank, summed over all ranks, from the second exchange on (the first
-  // hands a resumed frame out from rank 0) up to the one before the last (each exchange's count
-  // rides on the next one's plane histogram).
+  // cuts the slabs the start or the resume already has, so it moves none) up to the one before
+  // the last (each exchange's count rides on the next one's plane histogram).
   std::uint64_t migratedAllRanks = 0;
   double exchangeSeconds = 0;  // rebalance + migration + ghosts + key order
   // refreshGhosts(): calls, bytes sent to other ranks, seconds (DFSPH's iterations).
