@@ -287,6 +287,15 @@ class MpiDfsph : public ::testing::Test {
     EXPECT_GE(std::stod(r.output.substr(at + 7)), 2.0) << r.output;
   }
   static inline const std::string kAccurate = "--set quality=accurate ";
+  // The scene `file` with the accurate preset on one process and on `k` ranks: the same cache.
+  void expectRanksMatchOneProcess(const std::string& file, int k, const std::string& name) {
+    const std::string one = dir_ + "/" + name + "_1.h5", many = dir_ + "/" + name + "_k.h5";
+    const auto a = runShell(plain(file, kAccurate + "-o '" + one + "'"));
+    ASSERT_EQ(a.exitCode, 0) << a.output;
+    const auto b = runShell(ranks(k, file, kAccurate + "-o '" + many + "'"));
+    ASSERT_EQ(b.exitCode, 0) << b.output;
+    test::expectSameCache(one, many);
+  }
   std::string dir_, collapse_, reference_;
 };
 
@@ -305,12 +314,7 @@ TEST_F(MpiDfsph, FramesAreBitIdenticalToOneProcessForOneToFourRanks) {
   // start wherever they are first sorted, and migrate with theirs.
   const std::string pour = dir_ + "/pour.json";
   std::ofstream(pour) << scene(0.1);
-  const std::string plainPour = dir_ + "/plain_pour.h5", pourK3 = dir_ + "/pour_k3.h5";
-  const auto a = runShell(plain(pour, kAccurate + "-o '" + plainPour + "'"));
-  ASSERT_EQ(a.exitCode, 0) << a.output;
-  const auto b = runShell(ranks(3, pour, kAccurate + "-o '" + pourK3 + "'"));
-  ASSERT_EQ(b.exitCode, 0) << b.output;
-  test::expectSameCache(plainPour, pourK3);
+  expectRanksMatchOneProcess(pour, 3, "pour");
 }
 
 TEST_F(MpiDfsph, AGatheredFrameZeroHasNoWarmStartYet) {
@@ -324,12 +328,7 @@ TEST_F(MpiDfsph, AGatheredFrameZeroHasNoWarmStartYet) {
     "camera": {"position": [0.3, 0.3, 0.8], "target": [0.3, 0.1, 0.03], "fov": 40},
     "rain": {"count": 300, "near": 0.05, "far": 0.8, "fall_speed": 3, "seed": 7},
     "output": {"fps": 50}})";
-  const std::string one = dir_ + "/rain1.h5", two = dir_ + "/rain2.h5";
-  const auto a = runShell(plain(rain, kAccurate + "-o '" + one + "'"));
-  ASSERT_EQ(a.exitCode, 0) << a.output;
-  const auto b = runShell(ranks(2, rain, kAccurate + "-o '" + two + "'"));
-  ASSERT_EQ(b.exitCode, 0) << b.output;
-  test::expectSameCache(one, two);
+  expectRanksMatchOneProcess(rain, 2, "rain");
 }
 
 TEST_F(MpiDfsph, AResumeMayChangeTheNumberOfRanks) {
