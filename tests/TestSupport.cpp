@@ -82,15 +82,4 @@ CommandResult runSphsplat(const std::string& arguments) {
   return runShell(sphsplatCommand() + " " + arguments);
 }
 
-std::string writeTempFile(const std::string& text, const std::string& suffix) {
-  std::string pattern = "/tmp/sphsplat-test-XXXXXX" + suffix;
-  std::vector<char> name(pattern.begin(), pattern.end());
-  name.push_back('\0');
-  const int fd = mkstemps(name.data(), static_cast<int>(suffix.size()));
-  if (fd < 0) throw std::runtime_error("mkstemps failed");
-  close(fd);
-  std::ofstream(name.data()) << text;
-  return name.data();
-}
-
 }  // namespace sph::test
