@@ -80,9 +80,12 @@ std::string describeMemory(const MemoryEstimate& e, const MachineMemory& m) {
   s << ", " << count(e.boundaryParticles) << " boundary particles";
   if (e.rainDrops > 0) s << ", " << count(e.rainDrops) << " rain drops";
   s << "); ";
-  s << "the machine has " << humanBytes(m.availableBytes) << " free";
-  if (!m.limitedBy.empty()) s << " under " << m.limitedBy;
-  s << " of " << humanBytes(m.totalBytes);
+  // "25.3 GB, 22.7 GB of it free" or "25.3 GB, of which ulimit -v leaves 921.6 MB".
+  s << "the machine has " << humanBytes(m.totalBytes);
+  if (m.limitedBy.empty())
+    s << ", " << humanBytes(m.availableBytes) << " of it free";
+  else
+    s << ", of which " << m.limitedBy << " leaves " << humanBytes(m.availableBytes);
   return s.str();
 }
 
@@ -104,8 +107,9 @@ std::optional<std::string> memoryRefusal(const Scene& scene, const MemoryEstimat
       scene.sourcePath + ": " + e.largestKey + ": this scene needs " + describeMemory(e, m);
   if (processFits) {
     text += "; the " + std::to_string(ranksOnMachine) + " processes on this machine need about " +
-            humanBytes(together) + " together, and it has " + humanBytes(m.sharedBytes) + " free";
-    if (!m.sharedLimitedBy.empty()) text += " under " + m.sharedLimitedBy;
+            humanBytes(together) + " together, and " +
+            (m.sharedLimitedBy.empty() ? "it has " : m.sharedLimitedBy + " leaves ") +
+            humanBytes(m.sharedBytes) + (m.sharedLimitedBy.empty() ? " free" : "");
   }
   text += "; " + advice;
   text += e.ranks <= 1   ? " or shrink the scene"

@@ -41,7 +41,8 @@ std::optional<std::string> memoryRefusal(const Scene& scene, const MemoryEstimat
 // How many of the run's ranks run on this machine (the same host name); collective.
 int ranksOnThisMachine(dist::Communicator& ranks);
 
-// "about 41.3 MB (96 fluid particles, ...); the machine has 21.0 GB free of 23.4 GB".
+// "about 41.3 MB (96 fluid particles, ...); the machine has 23.4 GB, 21.0 GB of it free" (or
+// "..., of which ulimit -v leaves 921.6 MB").
 std::string describeMemory(const MemoryEstimate& estimate, const MachineMemory& machine);
 
 }  // namespace sph::app

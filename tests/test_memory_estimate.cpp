@@ -75,7 +75,7 @@ TEST(MemoryEstimate, ASceneTooBigForItsMemoryIsRefusedBeforeItAllocates) {
   EXPECT_TRUE(std::regex_search(
       m.output, std::regex("dam_break.json: solver.spacing: this scene needs about [0-9.]+ GB "
                            "\\([0-9.e+]+ fluid particles, [0-9.e+]+ boundary particles\\); the "
-                           "machine has [0-9.]+ MB free under ulimit -v of [0-9.]+ GB; raise "
+                           "machine has [0-9.]+ GB, of which ulimit -v leaves [0-9.]+ MB; raise "
                            "solver.spacing")))
       << m.output;
   EXPECT_EQ(m.output.find('\n'), m.output.size() - 1) << "one line";
@@ -191,7 +191,7 @@ TEST(MemoryEstimate, RanksThatFitAloneButNotTogetherAreRefusedNamingTheirSum) {
   machine.sharedBytes = 100 * e.bytes;
   const std::optional<std::string> alone = app::memoryRefusal(scene, e, machine, 1);
   ASSERT_TRUE(alone);
-  EXPECT_NE(alone->find("under ulimit -v"), std::string::npos) << *alone;
+  EXPECT_NE(alone->find("of which ulimit -v leaves"), std::string::npos) << *alone;
   EXPECT_NE(alone->find("run on more processes"), std::string::npos) << *alone;
   EXPECT_EQ(alone->find("on this machine need"), std::string::npos) << *alone;
 }
