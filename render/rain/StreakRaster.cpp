@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "render/rain/StreakLine.h"
 #include "render/splat/Lighting.h"
 #include "sim/rain/Spotlight.h"
 
@@ -200,21 +201,8 @@ bool setUp(const Frame& f, const Vec3& head, Streak& s) {
   return true;
 }
 
-// The level of detail of rain.lod_width (docs/rain.md, "Level of detail"): a streak narrower
-// than that many pixels, wholly between near and far and steeper than 45 degrees on the screen,
-// drawn as a line of one sample per row - at the centre line, with the streak image averaged
-// across its width and weighted by the share of the row the streak covers, its coordinate along
-// the streak and its depth interpolated affinely between the ends (no perspective divide). The
-// exact quads cover a pixel centre in about that share of the rows, at full alpha: the same
-// light on average, spread evenly, in ~1/4 of the work per row.
-struct Line {
-  float xt, yt, zt;  // the tail in window coordinates (pixels, depth)
-  float dx, dz;      // the head minus the tail, per unit of s
-  float invDy;       // s = (y - yt) invDy: 0 at the tail, 1 at the head
-  float coverage;    // share of a row the streak covers, < 1
-  int first, end;    // rows whose centre lies between the ends
-};
-
+// The line of the level of detail (render/rain/StreakLine.h) for the drop at `head`; false when
+// its streak is drawn exact.
 bool setUpLine(const Frame& f, const Vec3& head, float lodWidth, Line& l) {
   const Vec4f h = f.apply(head, 1), t = h - f.along;
   if (!(h.w > 0 && t.w > 0 && h.z >= 0 && h.z <= h.w && t.z >= 0 && t.z <= t.w)) return false;
@@ -281,15 +269,6 @@ inline float fragmentAlpha(const Streak& s, const Row& r, int x, float frameDept
   const float a0 = image[i] + ws * (image[i + 1] - image[i]);
   const float a1 = image[i + pw] + ws * (image[i + pw + 1] - image[i + pw]);
   return keep ? a0 + wt * (a1 - a0) : 0.0f;
-}
-
-// "Over" in drop order into (L, T); alpha 0 leaves the pixel exactly as it was.
-inline void blend(float* p, const Vec3& c, float alpha) {
-  const float kept = 1 - alpha;
-  p[0] = p[0] * kept + c.x() * alpha;
-  p[1] = p[1] * kept + c.y() * alpha;
-  p[2] = p[2] * kept + c.z() * alpha;
-  p[3] *= kept;
 }
 
 }  // namespace
@@ -371,16 +350,17 @@ void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const 
     depth = farDepth_.data();
   }
   const float* const frameDepth = depth;
+  bands_.resize(static_cast<std::size_t>(maxThreads));
   constexpr int kChunk = 16;
   const bool lod = desc_.lodWidth > 0;
   std::uint64_t fragments = 0;
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : fragments)
   for (int band = 0; band < bandCount; ++band) {
     const int bandFirst = band * rowsPerBand, bandEnd = std::min(height_, bandFirst + rowsPerBand);
-    float* const out = layer_.data();
-    for (std::size_t i = 4 * static_cast<std::size_t>(bandFirst) * width_;
-         i < 4 * static_cast<std::size_t>(bandEnd) * width_; i += 4)
-      out[i] = out[i + 1] = out[i + 2] = 0, out[i + 3] = 1;
+    StreakBand& b = bands_[static_cast<std::size_t>(omp_get_thread_num())];
+    b.begin(bandFirst, bandEnd, width_, frameDepth);
+    float* const out = b.layer();
+    const float* const bandDepth = b.depth();
     for (int thread = 0; thread < threads; ++thread) {
       for (const std::uint32_t i : bins_[static_cast<std::size_t>(thread) * bandCount + band]) {
         Line line;
@@ -389,20 +369,7 @@ void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const 
           if (end <= first) continue;
           const Vec3 c = colourOf(heads[i]);
           const float* p = profile_.data() + static_cast<std::size_t>(layers[i]) * ph;
-          for (int row = first; row < end; ++row) {
-            const float sAlong = std::min(
-                std::max(0.0f, (static_cast<float>(row) + 0.5f - line.yt) * line.invDy), 1.0f);
-            const float x = line.xt + sAlong * line.dx;
-            if (!(x >= 0 && x < static_cast<float>(width_))) continue;
-            const int pixel = row * width_ + static_cast<int>(x);
-            const float z = line.zt + sAlong * line.dz;
-            const bool keep = z < frameDepth[pixel];
-            const float tt = sAlong * fh + 0.5f;  // padded texel rows, as fragmentAlpha
-            const int t0 = static_cast<int>(tt);
-            const float a = p[t0] + (tt - static_cast<float>(t0)) * (p[t0 + 1] - p[t0]);
-            fragments += keep;
-            blend(out + 4 * static_cast<std::size_t>(pixel), c, keep ? a * line.coverage : 0.0f);
-          }
+          fragments += drawLineRows(line, first, end, b, c, p, fh, simd_);
           continue;
         }
         Streak s;
@@ -422,37 +389,37 @@ void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const 
         for (int chunkFirst = first; chunkFirst < end; chunkFirst += kChunk) {
           const int rows = std::min(kChunk, end - chunkFirst);
           alignas(64) float alphas[kChunk];
-          alignas(64) int pixels[kChunk], wider[kChunk];
+          alignas(64) int pixels[kChunk], xs[kChunk], wider[kChunk];
           int covered = 0;
 #pragma omp simd reduction(+ : covered)
           for (int k = 0; k < rows; ++k) {
             const Row r = rowOf(s, chunkFirst + k, xLo, xHi, width_);
             const int x = std::min(r.x0, width_ - 1);
-            const int pixel = (chunkFirst + k) * width_ + x;
+            const int pixel = b.at(x, chunkFirst + k);
             bool keep = false;
-            alphas[k] = fragmentAlpha(s, r, x, frameDepth[pixel], image, pw, fw, fh, keep);
+            alphas[k] = fragmentAlpha(s, r, x, bandDepth[pixel], image, pw, fw, fh, keep);
             covered += keep;
-            pixels[k] = pixel;
+            pixels[k] = pixel, xs[k] = x;
             wider[k] = r.x1 - x - 1;
           }
           fragments += static_cast<std::uint64_t>(covered);
           for (int k = 0; k < rows; ++k)
-            blend(out + 4 * static_cast<std::size_t>(pixels[k]), c, alphas[k]);
+            blendOver(out + 4 * static_cast<std::size_t>(pixels[k]), c, alphas[k]);
           for (int k = 0; k < rows; ++k) {
             if (wider[k] <= 0) continue;
             const Row r = rowOf(s, chunkFirst + k, xLo, xHi, width_);
-            for (int x = pixels[k] - (chunkFirst + k) * width_ + 1; x < r.x1; ++x) {
-              const int pixel = (chunkFirst + k) * width_ + x;
+            for (int x = xs[k] + 1; x < r.x1; ++x) {
+              const int pixel = b.at(x, chunkFirst + k);
               bool keep = false;
-              const float alpha =
-                  fragmentAlpha(s, r, x, frameDepth[pixel], image, pw, fw, fh, keep);
+              const float alpha = fragmentAlpha(s, r, x, bandDepth[pixel], image, pw, fw, fh, keep);
               fragments += keep;
-              blend(out + 4 * static_cast<std::size_t>(pixel), c, alpha);
+              blendOver(out + 4 * static_cast<std::size_t>(pixel), c, alpha);
             }
           }
         }
       }
     }
+    b.store(layer_.data());
   }
   fragments_ = fragments;
 }
