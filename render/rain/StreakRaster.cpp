@@ -201,29 +201,82 @@ bool setUp(const Frame& f, const Vec3& head, Streak& s) {
   return true;
 }
 
-// The line of the level of detail (render/rain/StreakLine.h) for the drop at `head`; false when
-// its streak is drawn exact.
-bool setUpLine(const Frame& f, const Vec3& head, float lodWidth, Line& l) {
-  const Vec4f h = f.apply(head, 1), t = h - f.along;
-  if (!(h.w > 0 && t.w > 0 && h.z >= 0 && h.z <= h.w && t.z >= 0 && t.z <= t.w)) return false;
-  const float rh = 1 / h.w, rt = 1 / t.w;
-  const float xh = h.x * rh, yh = h.y * rh, xt = t.x * rt, yt = t.y * rt;
-  const float dx = xh - xt, dy = yh - yt;
-  if (!(std::abs(dy) >= std::max(std::abs(dx), 1.0f))) return false;  // flat or short: exact
-  const Vec4f half = halfWidthOf(f, head);
-  // The quad's horizontal extent in a row at each end: its two long edges, 2 half apart, cut by
-  // the row, (X' + dX) / (W + dW) - X' / W = (dX - x dW) / W to first order.
-  const float slope = dx / dy;
-  auto gap = [&](float x, float y, float r) {
-    return 2 * std::abs((half.x - x * half.w) * r - slope * (half.y - y * half.w) * r);
-  };
-  l.coverage = std::max(gap(xh, yh, rh), gap(xt, yt, rt));
-  if (!(l.coverage < lodWidth)) return false;
-  l.xt = xt, l.yt = yt, l.zt = t.z * rt;
-  l.dx = dx, l.dz = h.z * rh - l.zt, l.invDy = 1 / dy;
-  l.first = floorToInt(std::ceil(std::min(yt, yh) - 0.5f), 0, f.height);
-  l.end = floorToInt(std::ceil(std::max(yt, yh) - 0.5f), 0, f.height);
-  return true;
+// The lines of the level of detail (render/rain/StreakLine.h) of up to 16 drops at once, in SIMD
+// lanes: the set-up of a line is a dozen divisions and a square root, which one drop at a time
+// took as long as drawing its rows in lanes (docs/benchmarks.md, "Cost per frame"). A lane whose
+// streak is drawn exact (through the near or far plane, flat or short on the screen, or not
+// narrower than lod_width) is not `ok`.
+struct Lines {
+  static constexpr int kLanes = 16;
+  alignas(64) float xt[kLanes], yt[kLanes], zt[kLanes], dx[kLanes], dz[kLanes];
+  alignas(64) float invDy[kLanes], coverage[kLanes];
+  alignas(64) int first[kLanes], end[kLanes], ok[kLanes];
+  Line operator[](int k) const {
+    return {xt[k], yt[k], zt[k], dx[k], dz[k], invDy[k], coverage[k], first[k], end[k]};
+  }
+};
+
+// Lanes past `count` repeat the last drop.
+void setUpLines(const Frame& f, const std::vector<Vec3>& heads, const std::uint32_t* drops,
+                int count, float lodWidth, Lines& l) {
+  constexpr int kLanes = Lines::kLanes;
+  alignas(64) float hx[kLanes], hy[kLanes], hz[kLanes], yHead[kLanes];
+  for (int k = 0; k < kLanes; ++k) {
+    const Vec3& p = heads[drops[std::min(k, count - 1)]];
+    hx[k] = p.x(), hy[k] = p.y(), hz[k] = p.z();
+  }
+  // Plain floats, no Eigen and no branches, so that the loop vectorises; the same operations
+  // in the same order as Frame::apply and halfWidthOf (Eigen sums a norm of 3 as x + (y + z)),
+  // so the same bits as setting the lines up one drop at a time gave.
+  const float(&m)[4][4] = f.m;
+  const Vec3 dir = f.dir, eye = f.eye, right = f.right;
+  const Vec4f along = f.along;
+  const float halfWidth = f.halfWidth;
+#pragma omp simd
+  for (int k = 0; k < kLanes; ++k) {
+    const float x = hx[k], y = hy[k], z = hz[k];
+    // h = apply(head, 1), t = h - along
+    const float hX = m[0][0] * x + m[0][1] * y + m[0][2] * z + m[0][3];
+    const float hY = m[1][0] * x + m[1][1] * y + m[1][2] * z + m[1][3];
+    const float hZ = m[2][0] * x + m[2][1] * y + m[2][2] * z + m[2][3];
+    const float hW = m[3][0] * x + m[3][1] * y + m[3][2] * z + m[3][3];
+    const float tX = hX - along.x, tY = hY - along.y, tZ = hZ - along.z, tW = hW - along.w;
+    const bool between = (hW > 0) & (tW > 0) & (hZ >= 0) & (hZ <= hW) & (tZ >= 0) & (tZ <= tW);
+    // halfWidthOf: halfWidth along cross(dir, eye - middle), or along the camera's right
+    const float ex = eye.x() - (x - 0.5f * dir.x()), ey = eye.y() - (y - 0.5f * dir.y()),
+                ez = eye.z() - (z - 0.5f * dir.z());
+    float sx = dir.y() * ez - dir.z() * ey, sy = dir.z() * ex - dir.x() * ez,
+          sz = dir.x() * ey - dir.y() * ex;
+    const float length = std::sqrt(sx * sx + (sy * sy + sz * sz));  // as Eigen sums 3
+    const bool across = length > 1e-12f;
+    const float scale = halfWidth / length;
+    sx = across ? sx * scale : right.x() * halfWidth;
+    sy = across ? sy * scale : right.y() * halfWidth;
+    sz = across ? sz * scale : right.z() * halfWidth;
+    // half = apply(side, 0)
+    const float halfX = m[0][0] * sx + m[0][1] * sy + m[0][2] * sz + m[0][3] * 0.0f;
+    const float halfY = m[1][0] * sx + m[1][1] * sy + m[1][2] * sz + m[1][3] * 0.0f;
+    const float halfW = m[3][0] * sx + m[3][1] * sy + m[3][2] * sz + m[3][3] * 0.0f;
+    const float rh = 1 / hW, rt = 1 / tW;
+    const float xh = hX * rh, yh = hY * rh, xt = tX * rt, yt = tY * rt;
+    const float dx = xh - xt, dy = yh - yt;
+    const bool steep = std::abs(dy) >= std::max(std::abs(dx), 1.0f);  // else flat or short
+    // The quad's horizontal extent in a row at each end: its two long edges, 2 half apart, cut
+    // by the row, (X' + dX) / (W + dW) - X' / W = (dX - x dW) / W to first order.
+    const float slope = dx / dy;
+    const float gapH = 2 * std::abs((halfX - xh * halfW) * rh - slope * (halfY - yh * halfW) * rh);
+    const float gapT = 2 * std::abs((halfX - xt * halfW) * rt - slope * (halfY - yt * halfW) * rt);
+    l.coverage[k] = std::max(gapH, gapT);
+    l.ok[k] = between & steep & (l.coverage[k] < lodWidth);
+    l.xt[k] = xt, l.yt[k] = yt, l.zt[k] = tZ * rt;
+    l.dx[k] = dx, l.dz[k] = hZ * rh - l.zt[k], l.invDy[k] = 1 / dy;
+    yHead[k] = yh;
+  }
+  // Not in the lanes: GCC vectorises no ceil without -fno-trapping-math.
+  for (int k = 0; k < kLanes; ++k) {
+    l.first[k] = floorToInt(std::ceil(std::min(l.yt[k], yHead[k]) - 0.5f), 0, f.height);
+    l.end[k] = floorToInt(std::ceil(std::max(l.yt[k], yHead[k]) - 0.5f), 0, f.height);
+  }
 }
 
 // One row of a streak: y of its pixel centres, the covered pixels [x0, x1), and the parts of
@@ -362,58 +415,68 @@ void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const 
     float* const out = b.layer();
     const float* const bandDepth = b.depth();
     for (int thread = 0; thread < threads; ++thread) {
-      for (const std::uint32_t i : bins_[static_cast<std::size_t>(thread) * bandCount + band]) {
-        Line line;
-        if (lod && setUpLine(f, heads[i], desc_.lodWidth, line)) {
-          const int first = std::max(bandFirst, line.first), end = std::min(bandEnd, line.end);
+      const std::vector<std::uint32_t>& bin =
+          bins_[static_cast<std::size_t>(thread) * bandCount + band];
+      for (std::size_t group = 0; group < bin.size(); group += Lines::kLanes) {
+        const int count =
+            static_cast<int>(std::min<std::size_t>(Lines::kLanes, bin.size() - group));
+        Lines lines;
+        if (lod) setUpLines(f, heads, bin.data() + group, count, desc_.lodWidth, lines);
+        for (int lane = 0; lane < count; ++lane) {
+          const std::uint32_t i = bin[group + lane];
+          if (lod && lines.ok[lane]) {
+            const int first = std::max(bandFirst, lines.first[lane]),
+                      end = std::min(bandEnd, lines.end[lane]);
+            if (end <= first) continue;
+            const Vec3 c = colourOf(heads[i]);
+            const float* p = profile_.data() + static_cast<std::size_t>(layers[i]) * ph;
+            fragments += drawLineRows(lines[lane], first, end, b, c, p, fh, simd_);
+            continue;
+          }
+          Streak s;
+          if (!setUp(f, heads[i], s)) continue;
+          const int first = std::max(bandFirst, floorToInt(std::ceil(s.yMin - 0.5f), 0, height_));
+          const int end = std::min(bandEnd, floorToInt(std::ceil(s.yMax - 0.5f), 0, height_));
           if (end <= first) continue;
           const Vec3 c = colourOf(heads[i]);
-          const float* p = profile_.data() + static_cast<std::size_t>(layers[i]) * ph;
-          fragments += drawLineRows(line, first, end, b, c, p, fh, simd_);
-          continue;
-        }
-        Streak s;
-        if (!setUp(f, heads[i], s)) continue;
-        const int first = std::max(bandFirst, floorToInt(std::ceil(s.yMin - 0.5f), 0, height_));
-        const int end = std::min(bandEnd, floorToInt(std::ceil(s.yMax - 0.5f), 0, height_));
-        if (end <= first) continue;
-        const Vec3 c = colourOf(heads[i]);
-        const float* image = alpha_.data() + static_cast<std::size_t>(layers[i]) * pw * ph;
-        const float xLo = std::max(s.xMin, -1.0f);
-        const float xHi = std::min(s.xMax, static_cast<float>(width_) + 1);
-        // Rows in chunks: a vectorised pass takes each row's first candidate pixel (the only one
-        // of most streaks, under a pixel wide), then the blends and any further pixels of wider
-        // rows. Pixel centres x + 0.5 in [x0, x1) are covered; one candidate is taken even where
-        // a row has none (masked, alpha 0) rather than a branch per row: whether a row of a thin
-        // streak holds a pixel centre is a coin toss to the branch predictor.
-        for (int chunkFirst = first; chunkFirst < end; chunkFirst += kChunk) {
-          const int rows = std::min(kChunk, end - chunkFirst);
-          alignas(64) float alphas[kChunk];
-          alignas(64) int pixels[kChunk], xs[kChunk], wider[kChunk];
-          int covered = 0;
+          const float* image = alpha_.data() + static_cast<std::size_t>(layers[i]) * pw * ph;
+          const float xLo = std::max(s.xMin, -1.0f);
+          const float xHi = std::min(s.xMax, static_cast<float>(width_) + 1);
+          // Rows in chunks: a vectorised pass takes each row's first candidate pixel (the only one
+          // of most streaks, under a pixel wide), then the blends and any further pixels of wider
+          // rows. Pixel centres x + 0.5 in [x0, x1) are covered; one candidate is taken even where
+          // a row has none (masked, alpha 0) rather than a branch per row: whether a row of a thin
+          // streak holds a pixel centre is a coin toss to the branch predictor.
+          for (int chunkFirst = first; chunkFirst < end; chunkFirst += kChunk) {
+            const int rows = std::min(kChunk, end - chunkFirst);
+            alignas(64) float alphas[kChunk];
+            alignas(64) int pixels[kChunk], xs[kChunk], wider[kChunk];
+            int covered = 0;
 #pragma omp simd reduction(+ : covered)
-          for (int k = 0; k < rows; ++k) {
-            const Row r = rowOf(s, chunkFirst + k, xLo, xHi, width_);
-            const int x = std::min(r.x0, width_ - 1);
-            const int pixel = b.at(x, chunkFirst + k);
-            bool keep = false;
-            alphas[k] = fragmentAlpha(s, r, x, bandDepth[pixel], image, pw, fw, fh, keep);
-            covered += keep;
-            pixels[k] = pixel, xs[k] = x;
-            wider[k] = r.x1 - x - 1;
-          }
-          fragments += static_cast<std::uint64_t>(covered);
-          for (int k = 0; k < rows; ++k)
-            blendOver(out + 4 * static_cast<std::size_t>(pixels[k]), c, alphas[k]);
-          for (int k = 0; k < rows; ++k) {
-            if (wider[k] <= 0) continue;
-            const Row r = rowOf(s, chunkFirst + k, xLo, xHi, width_);
-            for (int x = xs[k] + 1; x < r.x1; ++x) {
+            for (int k = 0; k < rows; ++k) {
+              const Row r = rowOf(s, chunkFirst + k, xLo, xHi, width_);
+              const int x = std::min(r.x0, width_ - 1);
               const int pixel = b.at(x, chunkFirst + k);
               bool keep = false;
-              const float alpha = fragmentAlpha(s, r, x, bandDepth[pixel], image, pw, fw, fh, keep);
-              fragments += keep;
-              blendOver(out + 4 * static_cast<std::size_t>(pixel), c, alpha);
+              alphas[k] = fragmentAlpha(s, r, x, bandDepth[pixel], image, pw, fw, fh, keep);
+              covered += keep;
+              pixels[k] = pixel, xs[k] = x;
+              wider[k] = r.x1 - x - 1;
+            }
+            fragments += static_cast<std::uint64_t>(covered);
+            for (int k = 0; k < rows; ++k)
+              blendOver(out + 4 * static_cast<std::size_t>(pixels[k]), c, alphas[k]);
+            for (int k = 0; k < rows; ++k) {
+              if (wider[k] <= 0) continue;
+              const Row r = rowOf(s, chunkFirst + k, xLo, xHi, width_);
+              for (int x = xs[k] + 1; x < r.x1; ++x) {
+                const int pixel = b.at(x, chunkFirst + k);
+                bool keep = false;
+                const float alpha =
+                    fragmentAlpha(s, r, x, bandDepth[pixel], image, pw, fw, fh, keep);
+                fragments += keep;
+                blendOver(out + 4 * static_cast<std::size_t>(pixel), c, alpha);
+              }
             }
           }
         }
