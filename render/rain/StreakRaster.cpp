@@ -74,31 +74,53 @@ int floorToInt(float v, int lo, int hi) {
       std::floor(std::clamp(v, static_cast<float>(lo), static_cast<float>(hi))));
 }
 
-// Rows [first, end) that the streak of the drop at `head` may cover, from its two ends alone (a
-// superset: a band finds the exact ones); false when it is wholly outside the viewport.
-bool roughRows(const Frame& f, const Vec3& head, int& first, int& end) {
-  const Vec4f h = f.apply(head, 1), t = h - f.along;
-  if (std::max(h.w, t.w) + f.marginW <= 0) return false;  // every corner behind the eye
-  if (!(std::min(h.w, t.w) - f.marginW > 0)) {            // a corner may be at or behind the eye
-    first = 0, end = f.height;
-    return true;
+// Row r of the world -> window-homogeneous map applied to the point (x, y, z): Frame::apply's
+// arithmetic on plain floats, for the loops over drops in SIMD lanes.
+inline float applyRow(const float (&r)[4], float x, float y, float z) {
+  return r[0] * x + r[1] * y + r[2] * z + r[3];
+}
+
+// Rows [first, end) that the streaks of the `count` (<= 16) drops from `heads` may cover, from
+// their two ends alone (a superset: a band finds the exact ones); end <= first when a streak is
+// wholly outside the viewport. 16 drops at a time in SIMD lanes (the floors after them: GCC
+// vectorises none without -fno-trapping-math).
+void roughRows(const Frame& f, const Vec3* heads, int count, int* first, int* end) {
+  constexpr int kLanes = 16;
+  alignas(64) float hx[kLanes], hy[kLanes], hz[kLanes], yLo[kLanes], yHi[kLanes];
+  alignas(64) int state[kLanes];  // 0: outside, 1: every row (a corner at or behind the eye), 2
+  for (int k = 0; k < kLanes; ++k) {
+    const Vec3& p = heads[std::min(k, count - 1)];
+    hx[k] = p.x(), hy[k] = p.y(), hz[k] = p.z();
   }
-  // A corner (X' + dx) / (W + dw) is within (|dx| + |x| |dw|) / (W - |dw|) of x = X' / W.
-  float xLo = 1e30f, xHi = -1e30f, yLo = 1e30f, yHi = -1e30f;
-  for (const Vec4f& e : {h, t}) {
-    const float r = 1 / e.w, rm = 1 / (e.w - f.marginW);
-    const float x = e.x * r, y = e.y * r;
-    const float mx = (f.marginX + std::abs(x) * f.marginW) * rm;
-    const float my = (f.marginY + std::abs(y) * f.marginW) * rm;
-    xLo = std::min(xLo, x - mx), xHi = std::max(xHi, x + mx);
-    yLo = std::min(yLo, y - my), yHi = std::max(yHi, y + my);
+  const float mW = f.marginW, mX = f.marginX, mY = f.marginY;
+  const float width = static_cast<float>(f.width), height = static_cast<float>(f.height);
+#pragma omp simd
+  for (int k = 0; k < kLanes; ++k) {
+    const float hX = applyRow(f.m[0], hx[k], hy[k], hz[k]);
+    const float hY = applyRow(f.m[1], hx[k], hy[k], hz[k]);
+    const float hW = applyRow(f.m[3], hx[k], hy[k], hz[k]);
+    const float tX = hX - f.along.x, tY = hY - f.along.y, tW = hW - f.along.w;
+    const bool behind = std::max(hW, tW) + mW <= 0;       // every corner behind the eye
+    const bool straddles = !(std::min(hW, tW) - mW > 0);  // a corner may be at or behind it
+    // A corner (X' + dx) / (W + dw) is within (|dx| + |x| |dw|) / (W - |dw|) of x = X' / W.
+    const float rh = 1 / hW, rmh = 1 / (hW - mW), rt = 1 / tW, rmt = 1 / (tW - mW);
+    const float xh = hX * rh, yh = hY * rh, xt = tX * rt, yt = tY * rt;
+    const float mxh = (mX + std::abs(xh) * mW) * rmh, myh = (mY + std::abs(yh) * mW) * rmh;
+    const float mxt = (mX + std::abs(xt) * mW) * rmt, myt = (mY + std::abs(yt) * mW) * rmt;
+    const float xLo = std::min(std::min(1e30f, xh - mxh), xt - mxt);
+    const float xHi = std::max(std::max(-1e30f, xh + mxh), xt + mxt);
+    yLo[k] = std::min(std::min(1e30f, yh - myh), yt - myt);
+    yHi[k] = std::max(std::max(-1e30f, yh + myh), yt + myt);
+    const bool in = (xHi >= 0) & (xLo <= width) & (yHi[k] >= 0) & (yLo[k] <= height);
+    const int b = behind, st = straddles, i = in;  // ints, so that the loop vectorises
+    state[k] = (1 - b) * (st + (1 - st) * 2 * i);
   }
-  if (!(xHi >= 0 && xLo <= static_cast<float>(f.width) && yHi >= 0 &&
-        yLo <= static_cast<float>(f.height)))
-    return false;
-  first = floorToInt(yLo - 1, 0, f.height);
-  end = floorToInt(yHi + 2, 0, f.height);
-  return end > first;
+  for (int k = 0; k < count; ++k) {
+    first[k] = 0, end[k] = state[k] == 1 ? f.height : 0;
+    if (state[k] != 2) continue;
+    first[k] = floorToInt(yLo[k] - 1, 0, f.height);
+    end[k] = floorToInt(yHi[k] + 2, 0, f.height);
+  }
 }
 
 // One streak, set up for its rows: the pixels whose centre (x, y) lies in the quad, clipped to
@@ -236,10 +258,10 @@ void setUpLines(const Frame& f, const std::vector<Vec3>& heads, const std::uint3
   for (int k = 0; k < kLanes; ++k) {
     const float x = hx[k], y = hy[k], z = hz[k];
     // h = apply(head, 1), t = h - along
-    const float hX = m[0][0] * x + m[0][1] * y + m[0][2] * z + m[0][3];
-    const float hY = m[1][0] * x + m[1][1] * y + m[1][2] * z + m[1][3];
-    const float hZ = m[2][0] * x + m[2][1] * y + m[2][2] * z + m[2][3];
-    const float hW = m[3][0] * x + m[3][1] * y + m[3][2] * z + m[3][3];
+    const float hX = applyRow(m[0], x, y, z);
+    const float hY = applyRow(m[1], x, y, z);
+    const float hZ = applyRow(m[2], x, y, z);
+    const float hW = applyRow(m[3], x, y, z);
     const float tX = hX - along.x, tY = hY - along.y, tZ = hZ - along.z, tW = hW - along.w;
     const bool between = (hW > 0) & (tW > 0) & (hZ >= 0) & (hZ <= hW) & (tZ >= 0) & (tZ <= tW);
     // halfWidthOf: halfWidth along cross(dir, eye - middle), or along the camera's right
@@ -372,11 +394,15 @@ void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const 
     const std::size_t begin = n * static_cast<std::size_t>(thread) / count;
     const std::size_t end = n * static_cast<std::size_t>(thread + 1) / count;
     std::vector<std::uint32_t>* bins = bins_.data() + static_cast<std::size_t>(thread) * bandCount;
-    for (std::size_t i = begin; i < end; ++i) {
-      int first = 0, last = 0;
-      if (!roughRows(f, heads[i], first, last)) continue;
-      for (int band = first / rowsPerBand; band <= (last - 1) / rowsPerBand; ++band)
-        bins[band].push_back(static_cast<std::uint32_t>(i));
+    for (std::size_t group = begin; group < end; group += 16) {
+      const int lanes = static_cast<int>(std::min<std::size_t>(16, end - group));
+      int first[16], last[16];
+      roughRows(f, heads.data() + group, lanes, first, last);
+      for (int k = 0; k < lanes; ++k) {
+        if (last[k] <= first[k]) continue;
+        for (int band = first[k] / rowsPerBand; band <= (last[k] - 1) / rowsPerBand; ++band)
+          bins[band].push_back(static_cast<std::uint32_t>(group + k));
+      }
     }
   }
 
