@@ -1,6 +1,7 @@
 #include "render/rain/StreakLine.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 
 #if defined(__AVX512F__)
@@ -11,6 +12,11 @@
 #endif
 
 namespace sph::render::rain {
+
+using detail::applyRow;
+using detail::floorToInt;
+using detail::Vec4f;
+
 namespace {
 
 // One row at a time. The AVX-512 path below repeats this arithmetic operation for operation -
@@ -125,6 +131,68 @@ std::uint64_t rowsInLanes(const Line& line, int first, int end, StreakBand& b, c
 #endif
 
 }  // namespace
+
+void setUpLines(const detail::Frame& f, const std::vector<Vec3>& heads, const std::uint32_t* drops,
+                int count, float lodWidth, Lines& l) {
+  constexpr int kLanes = Lines::kLanes;
+  alignas(64) float hx[kLanes], hy[kLanes], hz[kLanes], yHead[kLanes];
+  for (int k = 0; k < kLanes; ++k) {
+    const Vec3& p = heads[drops[std::min(k, count - 1)]];
+    hx[k] = p.x(), hy[k] = p.y(), hz[k] = p.z();
+  }
+  // Plain floats, no Eigen and no branches, so that the loop vectorises; the same operations
+  // in the same order as Frame::apply and halfWidthOf (Eigen sums a norm of 3 as x + (y + z)),
+  // so the same bits as setting the lines up one drop at a time gave.
+  const float(&m)[4][4] = f.m;
+  const Vec3 dir = f.dir, eye = f.eye, right = f.right;
+  const Vec4f along = f.along;
+  const float halfWidth = f.halfWidth;
+#pragma omp simd
+  for (int k = 0; k < kLanes; ++k) {
+    const float x = hx[k], y = hy[k], z = hz[k];
+    // h = apply(head, 1), t = h - along
+    const float hX = applyRow(m[0], x, y, z);
+    const float hY = applyRow(m[1], x, y, z);
+    const float hZ = applyRow(m[2], x, y, z);
+    const float hW = applyRow(m[3], x, y, z);
+    const float tX = hX - along.x, tY = hY - along.y, tZ = hZ - along.z, tW = hW - along.w;
+    const bool between = (hW > 0) & (tW > 0) & (hZ >= 0) & (hZ <= hW) & (tZ >= 0) & (tZ <= tW);
+    // halfWidthOf: halfWidth along cross(dir, eye - middle), or along the camera's right
+    const float ex = eye.x() - (x - 0.5f * dir.x()), ey = eye.y() - (y - 0.5f * dir.y()),
+                ez = eye.z() - (z - 0.5f * dir.z());
+    float sx = dir.y() * ez - dir.z() * ey, sy = dir.z() * ex - dir.x() * ez,
+          sz = dir.x() * ey - dir.y() * ex;
+    const float length = std::sqrt(sx * sx + (sy * sy + sz * sz));  // as Eigen sums 3
+    const bool across = length > 1e-12f;
+    const float scale = halfWidth / length;
+    sx = across ? sx * scale : right.x() * halfWidth;
+    sy = across ? sy * scale : right.y() * halfWidth;
+    sz = across ? sz * scale : right.z() * halfWidth;
+    // half = apply(side, 0)
+    const float halfX = m[0][0] * sx + m[0][1] * sy + m[0][2] * sz + m[0][3] * 0.0f;
+    const float halfY = m[1][0] * sx + m[1][1] * sy + m[1][2] * sz + m[1][3] * 0.0f;
+    const float halfW = m[3][0] * sx + m[3][1] * sy + m[3][2] * sz + m[3][3] * 0.0f;
+    const float rh = 1 / hW, rt = 1 / tW;
+    const float xh = hX * rh, yh = hY * rh, xt = tX * rt, yt = tY * rt;
+    const float dx = xh - xt, dy = yh - yt;
+    const bool steep = std::abs(dy) >= std::max(std::abs(dx), 1.0f);  // else flat or short
+    // The quad's horizontal extent in a row at each end: its two long edges, 2 half apart, cut
+    // by the row, (X' + dX) / (W + dW) - X' / W = (dX - x dW) / W to first order.
+    const float slope = dx / dy;
+    const float gapH = 2 * std::abs((halfX - xh * halfW) * rh - slope * (halfY - yh * halfW) * rh);
+    const float gapT = 2 * std::abs((halfX - xt * halfW) * rt - slope * (halfY - yt * halfW) * rt);
+    l.coverage[k] = std::max(gapH, gapT);
+    l.ok[k] = between & steep & (l.coverage[k] < lodWidth);
+    l.xt[k] = xt, l.yt[k] = yt, l.zt[k] = tZ * rt;
+    l.dx[k] = dx, l.dz[k] = hZ * rh - l.zt[k], l.invDy[k] = 1 / dy;
+    yHead[k] = yh;
+  }
+  // Not in the lanes: GCC vectorises no ceil without -fno-trapping-math.
+  for (int k = 0; k < kLanes; ++k) {
+    l.first[k] = floorToInt(std::ceil(std::min(l.yt[k], yHead[k]) - 0.5f), 0, f.height);
+    l.end[k] = floorToInt(std::ceil(std::max(l.yt[k], yHead[k]) - 0.5f), 0, f.height);
+  }
+}
 
 std::uint64_t drawLineRows(const Line& line, int first, int end, StreakBand& b, const Vec3& c,
                            const float* profile, float fh, bool simd) {

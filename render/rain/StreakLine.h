@@ -5,7 +5,10 @@
 
 #include <cstdint>
 
+#include <vector>
+
 #include "render/rain/StreakBand.h"
+#include "render/rain/StreakFrame.h"
 #include "sim/Types.h"
 
 namespace sph::render::rain {
@@ -23,6 +26,26 @@ struct Line {
   float coverage;    // share of a row the streak covers, < 1
   int first, end;    // rows whose centre lies between the ends
 };
+
+// The lines of the level of detail (render/rain/StreakLine.h) of up to 16 drops at once, in SIMD
+// lanes: the set-up of a line is a dozen divisions and a square root, which one drop at a time
+// took as long as drawing its rows in lanes (docs/benchmarks.md, "Cost per frame"). A lane whose
+// streak is drawn exact (through the near or far plane, flat or short on the screen, or not
+// narrower than lod_width) is not `ok`.
+struct Lines {
+  static constexpr int kLanes = 16;
+  alignas(64) float xt[kLanes], yt[kLanes], zt[kLanes], dx[kLanes], dz[kLanes];
+  alignas(64) float invDy[kLanes], coverage[kLanes];
+  alignas(64) int first[kLanes], end[kLanes], ok[kLanes];
+  Line operator[](int k) const {
+    return {xt[k], yt[k], zt[k], dx[k], dz[k], invDy[k], coverage[k], first[k], end[k]};
+  }
+};
+
+// Sets up the lines of the `count` (<= 16) drops `drops` of `heads` in `f`; lanes past `count`
+// repeat the last drop.
+void setUpLines(const detail::Frame& f, const std::vector<Vec3>& heads, const std::uint32_t* drops,
+                int count, float lodWidth, Lines& l);
 
 // Blends rows [first, end) of `line` (within the band `b`) in colour `c`, the streak image's
 // profile `profile` (padded rows, `fh` unpadded) along it; returns the fragments that passed the

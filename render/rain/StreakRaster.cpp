@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "render/rain/StreakFrame.h"
 #include "render/rain/StreakLine.h"
 #include "render/splat/Lighting.h"
 #include "sim/rain/Spotlight.h"
@@ -12,38 +13,15 @@
 namespace sph::render::rain {
 namespace {
 
+using detail::applyRow;
+using detail::floorToInt;
+using detail::Frame;
+using detail::Vec4f;
+
 // GLSL's toSrgb of shaders/rain.vert, component-wise.
 Vec3 toSrgb(const Vec3& c) {
   return Vec3(splat::toSrgb(c.x()), splat::toSrgb(c.y()), splat::toSrgb(c.z()));
 }
-
-struct Vec4f {
-  float x, y, z, w;
-  Vec4f operator+(const Vec4f& o) const { return {x + o.x, y + o.y, z + o.z, w + o.w}; }
-  Vec4f operator-(const Vec4f& o) const { return {x - o.x, y - o.y, z - o.z, w - o.w}; }
-  Vec4f operator*(float s) const { return {x * s, y * s, z * s, w * s}; }
-};
-
-// What is the same for every streak of a frame. Points are carried in "window-homogeneous"
-// coordinates (X', Y', Z', W) = ((X + W) w / 2, (Y + W) h / 2, (Z + W) / 2, W) of the clip
-// coordinates (X, Y, Z, W): X' / W is the window x in pixels and Z' / W the window depth, and the
-// map stays linear, so a streak is a parallelogram there as in the world.
-struct Frame {
-  float m[4][4];         // world -> window-homogeneous, m[row][column]
-  Vec4f along;           // the streak's tail-to-head vector (exposure x velocity), transformed
-  Vec3 dir, eye, right;  // m; the tail-to-head vector in the world
-  float halfWidth;       // m
-  // At most how far a corner is from its end of the streak in X', Y' and W: the half-width
-  // times the norm of the matrix row.
-  float marginX, marginY, marginW;
-  int width, height;  // pixels
-  Vec4f apply(const Vec3& p, float w) const {
-    return {m[0][0] * p.x() + m[0][1] * p.y() + m[0][2] * p.z() + m[0][3] * w,
-            m[1][0] * p.x() + m[1][1] * p.y() + m[1][2] * p.z() + m[1][3] * w,
-            m[2][0] * p.x() + m[2][1] * p.y() + m[2][2] * p.z() + m[2][3] * w,
-            m[3][0] * p.x() + m[3][1] * p.y() + m[3][2] * p.z() + m[3][3] * w};
-  }
-};
 
 Frame frameOf(const StreakView& view, const RainDesc& desc, const Vec3& velocity) {
   Frame f{};
@@ -67,17 +45,6 @@ Frame frameOf(const StreakView& view, const RainDesc& desc, const Vec3& velocity
   f.marginW = 1.01f * f.halfWidth * rowNorm(3);
   f.width = view.width, f.height = view.height;
   return f;
-}
-
-int floorToInt(float v, int lo, int hi) {
-  return static_cast<int>(
-      std::floor(std::clamp(v, static_cast<float>(lo), static_cast<float>(hi))));
-}
-
-// Row r of the world -> window-homogeneous map applied to the point (x, y, z): Frame::apply's
-// arithmetic on plain floats, for the loops over drops in SIMD lanes.
-inline float applyRow(const float (&r)[4], float x, float y, float z) {
-  return r[0] * x + r[1] * y + r[2] * z + r[3];
 }
 
 // Rows [first, end) that the streaks of the `count` (<= 16) drops from `heads` may cover, from
@@ -221,84 +188,6 @@ bool setUp(const Frame& f, const Vec3& head, Streak& s) {
     }
   }
   return true;
-}
-
-// The lines of the level of detail (render/rain/StreakLine.h) of up to 16 drops at once, in SIMD
-// lanes: the set-up of a line is a dozen divisions and a square root, which one drop at a time
-// took as long as drawing its rows in lanes (docs/benchmarks.md, "Cost per frame"). A lane whose
-// streak is drawn exact (through the near or far plane, flat or short on the screen, or not
-// narrower than lod_width) is not `ok`.
-struct Lines {
-  static constexpr int kLanes = 16;
-  alignas(64) float xt[kLanes], yt[kLanes], zt[kLanes], dx[kLanes], dz[kLanes];
-  alignas(64) float invDy[kLanes], coverage[kLanes];
-  alignas(64) int first[kLanes], end[kLanes], ok[kLanes];
-  Line operator[](int k) const {
-    return {xt[k], yt[k], zt[k], dx[k], dz[k], invDy[k], coverage[k], first[k], end[k]};
-  }
-};
-
-// Lanes past `count` repeat the last drop.
-void setUpLines(const Frame& f, const std::vector<Vec3>& heads, const std::uint32_t* drops,
-                int count, float lodWidth, Lines& l) {
-  constexpr int kLanes = Lines::kLanes;
-  alignas(64) float hx[kLanes], hy[kLanes], hz[kLanes], yHead[kLanes];
-  for (int k = 0; k < kLanes; ++k) {
-    const Vec3& p = heads[drops[std::min(k, count - 1)]];
-    hx[k] = p.x(), hy[k] = p.y(), hz[k] = p.z();
-  }
-  // Plain floats, no Eigen and no branches, so that the loop vectorises; the same operations
-  // in the same order as Frame::apply and halfWidthOf (Eigen sums a norm of 3 as x + (y + z)),
-  // so the same bits as setting the lines up one drop at a time gave.
-  const float(&m)[4][4] = f.m;
-  const Vec3 dir = f.dir, eye = f.eye, right = f.right;
-  const Vec4f along = f.along;
-  const float halfWidth = f.halfWidth;
-#pragma omp simd
-  for (int k = 0; k < kLanes; ++k) {
-    const float x = hx[k], y = hy[k], z = hz[k];
-    // h = apply(head, 1), t = h - along
-    const float hX = applyRow(m[0], x, y, z);
-    const float hY = applyRow(m[1], x, y, z);
-    const float hZ = applyRow(m[2], x, y, z);
-    const float hW = applyRow(m[3], x, y, z);
-    const float tX = hX - along.x, tY = hY - along.y, tZ = hZ - along.z, tW = hW - along.w;
-    const bool between = (hW > 0) & (tW > 0) & (hZ >= 0) & (hZ <= hW) & (tZ >= 0) & (tZ <= tW);
-    // halfWidthOf: halfWidth along cross(dir, eye - middle), or along the camera's right
-    const float ex = eye.x() - (x - 0.5f * dir.x()), ey = eye.y() - (y - 0.5f * dir.y()),
-                ez = eye.z() - (z - 0.5f * dir.z());
-    float sx = dir.y() * ez - dir.z() * ey, sy = dir.z() * ex - dir.x() * ez,
-          sz = dir.x() * ey - dir.y() * ex;
-    const float length = std::sqrt(sx * sx + (sy * sy + sz * sz));  // as Eigen sums 3
-    const bool across = length > 1e-12f;
-    const float scale = halfWidth / length;
-    sx = across ? sx * scale : right.x() * halfWidth;
-    sy = across ? sy * scale : right.y() * halfWidth;
-    sz = across ? sz * scale : right.z() * halfWidth;
-    // half = apply(side, 0)
-    const float halfX = m[0][0] * sx + m[0][1] * sy + m[0][2] * sz + m[0][3] * 0.0f;
-    const float halfY = m[1][0] * sx + m[1][1] * sy + m[1][2] * sz + m[1][3] * 0.0f;
-    const float halfW = m[3][0] * sx + m[3][1] * sy + m[3][2] * sz + m[3][3] * 0.0f;
-    const float rh = 1 / hW, rt = 1 / tW;
-    const float xh = hX * rh, yh = hY * rh, xt = tX * rt, yt = tY * rt;
-    const float dx = xh - xt, dy = yh - yt;
-    const bool steep = std::abs(dy) >= std::max(std::abs(dx), 1.0f);  // else flat or short
-    // The quad's horizontal extent in a row at each end: its two long edges, 2 half apart, cut
-    // by the row, (X' + dX) / (W + dW) - X' / W = (dX - x dW) / W to first order.
-    const float slope = dx / dy;
-    const float gapH = 2 * std::abs((halfX - xh * halfW) * rh - slope * (halfY - yh * halfW) * rh);
-    const float gapT = 2 * std::abs((halfX - xt * halfW) * rt - slope * (halfY - yt * halfW) * rt);
-    l.coverage[k] = std::max(gapH, gapT);
-    l.ok[k] = between & steep & (l.coverage[k] < lodWidth);
-    l.xt[k] = xt, l.yt[k] = yt, l.zt[k] = tZ * rt;
-    l.dx[k] = dx, l.dz[k] = hZ * rh - l.zt[k], l.invDy[k] = 1 / dy;
-    yHead[k] = yh;
-  }
-  // Not in the lanes: GCC vectorises no ceil without -fno-trapping-math.
-  for (int k = 0; k < kLanes; ++k) {
-    l.first[k] = floorToInt(std::ceil(std::min(l.yt[k], yHead[k]) - 0.5f), 0, f.height);
-    l.end[k] = floorToInt(std::ceil(std::max(l.yt[k], yHead[k]) - 0.5f), 0, f.height);
-  }
 }
 
 // One row of a streak: y of its pixel centres, the covered pixels [x0, x1), and the parts of
