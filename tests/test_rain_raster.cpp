@@ -84,6 +84,39 @@ TEST_P(StreakRasterLod, TheLayerIsTheSameBitForBitForAnyThreadCount) {
   omp_set_num_threads(threads);
 }
 
+// The lines of the level of detail drawn 16 rows at a time in AVX-512 lanes against one row at a
+// time (render/rain/StreakLine.cpp): the same layer bit for bit, both for streaks slanted by the
+// wind and seen from above (a step of 16 rows spans several columns: blended row by row) and for
+// rain falling straight down before a level camera (one column: blended in lanes). Where the build
+// has no AVX-512 both are the row-at-a-time path.
+TEST(StreakRaster, LinesInSimdLanesGiveTheSameLayerAsOneRowAtATime) {
+  for (const bool slanted : {true, false}) {
+    RainDesc d = desc(20000, RainDraw::Cpu);
+    d.lodWidth = 1;
+    CameraDesc c = camera();
+    if (!slanted) d.wind = Vec3::Zero(), c.target = Vec3(c.position.x(), c.position.y(), 0);
+    sph::rain::RainSystem drops(d, kAspect);
+    drops.reset(c);
+    // A near wall over the left third and a slope over the rest: lines cut by the depth test.
+    std::vector<float> depth(static_cast<std::size_t>(kWidth) * kHeight, 1.0f);
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x)
+        depth[static_cast<std::size_t>(y) * kWidth + x] =
+            x < kWidth / 3 ? 0.9f : 0.97f + 0.03f * static_cast<float>(y) / kHeight;
+    const StreakView view{cameraFrame(c, kAspect), kWidth, kHeight};
+    const StreakDrops input{&drops.positions(), &drops.layers(), drops.velocity()};
+    StreakRaster lanes(d, generateStreakImages(d.streakLayers, 16, 64, d.seed));
+    StreakRaster rows(d, generateStreakImages(d.streakLayers, 16, 64, d.seed));
+    rows.setSimd(false);
+    lanes.draw(view, input, Vec3(0.4f, 0.45f, 0.5f), depth.data());
+    rows.draw(view, input, Vec3(0.4f, 0.45f, 0.5f), depth.data());
+    EXPECT_GT(rows.fragments(), 20000u) << slanted;
+    EXPECT_LT(rows.fragments(), 20000u * 60) << slanted;  // some cut by the depth
+    EXPECT_EQ(lanes.fragments(), rows.fragments()) << slanted;
+    EXPECT_TRUE(lanes.layer() == rows.layer()) << slanted;
+  }
+}
+
 TEST_P(StreakRasterLod, NothingIsDrawnBehindTheDepthAndEverythingInFrontOfIt) {
   RainDesc d = desc(2000, RainDraw::Cpu);
   d.lodWidth = GetParam();

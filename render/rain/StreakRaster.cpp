@@ -5,44 +5,23 @@
 #include <algorithm>
 #include <cmath>
 
+#include "render/rain/StreakFrame.h"
+#include "render/rain/StreakLine.h"
 #include "render/splat/Lighting.h"
 #include "sim/rain/Spotlight.h"
 
 namespace sph::render::rain {
 namespace {
 
+using detail::applyRow;
+using detail::floorToInt;
+using detail::Frame;
+using detail::Vec4f;
+
 // GLSL's toSrgb of shaders/rain.vert, component-wise.
 Vec3 toSrgb(const Vec3& c) {
   return Vec3(splat::toSrgb(c.x()), splat::toSrgb(c.y()), splat::toSrgb(c.z()));
 }
-
-struct Vec4f {
-  float x, y, z, w;
-  Vec4f operator+(const Vec4f& o) const { return {x + o.x, y + o.y, z + o.z, w + o.w}; }
-  Vec4f operator-(const Vec4f& o) const { return {x - o.x, y - o.y, z - o.z, w - o.w}; }
-  Vec4f operator*(float s) const { return {x * s, y * s, z * s, w * s}; }
-};
-
-// What is the same for every streak of a frame. Points are carried in "window-homogeneous"
-// coordinates (X', Y', Z', W) = ((X + W) w / 2, (Y + W) h / 2, (Z + W) / 2, W) of the clip
-// coordinates (X, Y, Z, W): X' / W is the window x in pixels and Z' / W the window depth, and the
-// map stays linear, so a streak is a parallelogram there as in the world.
-struct Frame {
-  float m[4][4];         // world -> window-homogeneous, m[row][column]
-  Vec4f along;           // the streak's tail-to-head vector (exposure x velocity), transformed
-  Vec3 dir, eye, right;  // m; the tail-to-head vector in the world
-  float halfWidth;       // m
-  // At most how far a corner is from its end of the streak in X', Y' and W: the half-width
-  // times the norm of the matrix row.
-  float marginX, marginY, marginW;
-  int width, height;  // pixels
-  Vec4f apply(const Vec3& p, float w) const {
-    return {m[0][0] * p.x() + m[0][1] * p.y() + m[0][2] * p.z() + m[0][3] * w,
-            m[1][0] * p.x() + m[1][1] * p.y() + m[1][2] * p.z() + m[1][3] * w,
-            m[2][0] * p.x() + m[2][1] * p.y() + m[2][2] * p.z() + m[2][3] * w,
-            m[3][0] * p.x() + m[3][1] * p.y() + m[3][2] * p.z() + m[3][3] * w};
-  }
-};
 
 Frame frameOf(const StreakView& view, const RainDesc& desc, const Vec3& velocity) {
   Frame f{};
@@ -68,36 +47,47 @@ Frame frameOf(const StreakView& view, const RainDesc& desc, const Vec3& velocity
   return f;
 }
 
-int floorToInt(float v, int lo, int hi) {
-  return static_cast<int>(
-      std::floor(std::clamp(v, static_cast<float>(lo), static_cast<float>(hi))));
-}
-
-// Rows [first, end) that the streak of the drop at `head` may cover, from its two ends alone (a
-// superset: a band finds the exact ones); false when it is wholly outside the viewport.
-bool roughRows(const Frame& f, const Vec3& head, int& first, int& end) {
-  const Vec4f h = f.apply(head, 1), t = h - f.along;
-  if (std::max(h.w, t.w) + f.marginW <= 0) return false;  // every corner behind the eye
-  if (!(std::min(h.w, t.w) - f.marginW > 0)) {            // a corner may be at or behind the eye
-    first = 0, end = f.height;
-    return true;
+// Rows [first, end) that the streaks of the `count` (<= 16) drops from `heads` may cover, from
+// their two ends alone (a superset: a band finds the exact ones); end <= first when a streak is
+// wholly outside the viewport. 16 drops at a time in SIMD lanes (the floors after them: GCC
+// vectorises none without -fno-trapping-math).
+void roughRows(const Frame& f, const Vec3* heads, int count, int* first, int* end) {
+  constexpr int kLanes = 16;
+  alignas(64) float hx[kLanes], hy[kLanes], hz[kLanes], yLo[kLanes], yHi[kLanes];
+  alignas(64) int state[kLanes];  // 0: outside, 1: every row (a corner at or behind the eye), 2
+  for (int k = 0; k < kLanes; ++k) {
+    const Vec3& p = heads[std::min(k, count - 1)];
+    hx[k] = p.x(), hy[k] = p.y(), hz[k] = p.z();
   }
-  // A corner (X' + dx) / (W + dw) is within (|dx| + |x| |dw|) / (W - |dw|) of x = X' / W.
-  float xLo = 1e30f, xHi = -1e30f, yLo = 1e30f, yHi = -1e30f;
-  for (const Vec4f& e : {h, t}) {
-    const float r = 1 / e.w, rm = 1 / (e.w - f.marginW);
-    const float x = e.x * r, y = e.y * r;
-    const float mx = (f.marginX + std::abs(x) * f.marginW) * rm;
-    const float my = (f.marginY + std::abs(y) * f.marginW) * rm;
-    xLo = std::min(xLo, x - mx), xHi = std::max(xHi, x + mx);
-    yLo = std::min(yLo, y - my), yHi = std::max(yHi, y + my);
+  const float mW = f.marginW, mX = f.marginX, mY = f.marginY;
+  const float width = static_cast<float>(f.width), height = static_cast<float>(f.height);
+#pragma omp simd
+  for (int k = 0; k < kLanes; ++k) {
+    const float hX = applyRow(f.m[0], hx[k], hy[k], hz[k]);
+    const float hY = applyRow(f.m[1], hx[k], hy[k], hz[k]);
+    const float hW = applyRow(f.m[3], hx[k], hy[k], hz[k]);
+    const float tX = hX - f.along.x, tY = hY - f.along.y, tW = hW - f.along.w;
+    const bool behind = std::max(hW, tW) + mW <= 0;       // every corner behind the eye
+    const bool straddles = !(std::min(hW, tW) - mW > 0);  // a corner may be at or behind it
+    // A corner (X' + dx) / (W + dw) is within (|dx| + |x| |dw|) / (W - |dw|) of x = X' / W.
+    const float rh = 1 / hW, rmh = 1 / (hW - mW), rt = 1 / tW, rmt = 1 / (tW - mW);
+    const float xh = hX * rh, yh = hY * rh, xt = tX * rt, yt = tY * rt;
+    const float mxh = (mX + std::abs(xh) * mW) * rmh, myh = (mY + std::abs(yh) * mW) * rmh;
+    const float mxt = (mX + std::abs(xt) * mW) * rmt, myt = (mY + std::abs(yt) * mW) * rmt;
+    const float xLo = std::min(std::min(1e30f, xh - mxh), xt - mxt);
+    const float xHi = std::max(std::max(-1e30f, xh + mxh), xt + mxt);
+    yLo[k] = std::min(std::min(1e30f, yh - myh), yt - myt);
+    yHi[k] = std::max(std::max(-1e30f, yh + myh), yt + myt);
+    const bool in = (xHi >= 0) & (xLo <= width) & (yHi[k] >= 0) & (yLo[k] <= height);
+    const int b = behind, st = straddles, i = in;  // ints, so that the loop vectorises
+    state[k] = (1 - b) * (st + (1 - st) * 2 * i);
   }
-  if (!(xHi >= 0 && xLo <= static_cast<float>(f.width) && yHi >= 0 &&
-        yLo <= static_cast<float>(f.height)))
-    return false;
-  first = floorToInt(yLo - 1, 0, f.height);
-  end = floorToInt(yHi + 2, 0, f.height);
-  return end > first;
+  for (int k = 0; k < count; ++k) {
+    first[k] = 0, end[k] = state[k] == 1 ? f.height : 0;
+    if (state[k] != 2) continue;
+    first[k] = floorToInt(yLo[k] - 1, 0, f.height);
+    end[k] = floorToInt(yHi[k] + 2, 0, f.height);
+  }
 }
 
 // One streak, set up for its rows: the pixels whose centre (x, y) lies in the quad, clipped to
@@ -200,44 +190,6 @@ bool setUp(const Frame& f, const Vec3& head, Streak& s) {
   return true;
 }
 
-// The level of detail of rain.lod_width (docs/rain.md, "Level of detail"): a streak narrower
-// than that many pixels, wholly between near and far and steeper than 45 degrees on the screen,
-// drawn as a line of one sample per row - at the centre line, with the streak image averaged
-// across its width and weighted by the share of the row the streak covers, its coordinate along
-// the streak and its depth interpolated affinely between the ends (no perspective divide). The
-// exact quads cover a pixel centre in about that share of the rows, at full alpha: the same
-// light on average, spread evenly, in ~1/4 of the work per row.
-struct Line {
-  float xt, yt, zt;  // the tail in window coordinates (pixels, depth)
-  float dx, dz;      // the head minus the tail, per unit of s
-  float invDy;       // s = (y - yt) invDy: 0 at the tail, 1 at the head
-  float coverage;    // share of a row the streak covers, < 1
-  int first, end;    // rows whose centre lies between the ends
-};
-
-bool setUpLine(const Frame& f, const Vec3& head, float lodWidth, Line& l) {
-  const Vec4f h = f.apply(head, 1), t = h - f.along;
-  if (!(h.w > 0 && t.w > 0 && h.z >= 0 && h.z <= h.w && t.z >= 0 && t.z <= t.w)) return false;
-  const float rh = 1 / h.w, rt = 1 / t.w;
-  const float xh = h.x * rh, yh = h.y * rh, xt = t.x * rt, yt = t.y * rt;
-  const float dx = xh - xt, dy = yh - yt;
-  if (!(std::abs(dy) >= std::max(std::abs(dx), 1.0f))) return false;  // flat or short: exact
-  const Vec4f half = halfWidthOf(f, head);
-  // The quad's horizontal extent in a row at each end: its two long edges, 2 half apart, cut by
-  // the row, (X' + dX) / (W + dW) - X' / W = (dX - x dW) / W to first order.
-  const float slope = dx / dy;
-  auto gap = [&](float x, float y, float r) {
-    return 2 * std::abs((half.x - x * half.w) * r - slope * (half.y - y * half.w) * r);
-  };
-  l.coverage = std::max(gap(xh, yh, rh), gap(xt, yt, rt));
-  if (!(l.coverage < lodWidth)) return false;
-  l.xt = xt, l.yt = yt, l.zt = t.z * rt;
-  l.dx = dx, l.dz = h.z * rh - l.zt, l.invDy = 1 / dy;
-  l.first = floorToInt(std::ceil(std::min(yt, yh) - 0.5f), 0, f.height);
-  l.end = floorToInt(std::ceil(std::max(yt, yh) - 0.5f), 0, f.height);
-  return true;
-}
-
 // One row of a streak: y of its pixel centres, the covered pixels [x0, x1), and the parts of
 // the homography and depth that depend on y alone.
 struct Row {
@@ -281,15 +233,6 @@ inline float fragmentAlpha(const Streak& s, const Row& r, int x, float frameDept
   const float a0 = image[i] + ws * (image[i + 1] - image[i]);
   const float a1 = image[i + pw] + ws * (image[i + pw + 1] - image[i + pw]);
   return keep ? a0 + wt * (a1 - a0) : 0.0f;
-}
-
-// "Over" in drop order into (L, T); alpha 0 leaves the pixel exactly as it was.
-inline void blend(float* p, const Vec3& c, float alpha) {
-  const float kept = 1 - alpha;
-  p[0] = p[0] * kept + c.x() * alpha;
-  p[1] = p[1] * kept + c.y() * alpha;
-  p[2] = p[2] * kept + c.z() * alpha;
-  p[3] *= kept;
 }
 
 }  // namespace
@@ -340,11 +283,15 @@ void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const 
     const std::size_t begin = n * static_cast<std::size_t>(thread) / count;
     const std::size_t end = n * static_cast<std::size_t>(thread + 1) / count;
     std::vector<std::uint32_t>* bins = bins_.data() + static_cast<std::size_t>(thread) * bandCount;
-    for (std::size_t i = begin; i < end; ++i) {
-      int first = 0, last = 0;
-      if (!roughRows(f, heads[i], first, last)) continue;
-      for (int band = first / rowsPerBand; band <= (last - 1) / rowsPerBand; ++band)
-        bins[band].push_back(static_cast<std::uint32_t>(i));
+    for (std::size_t group = begin; group < end; group += 16) {
+      const int lanes = static_cast<int>(std::min<std::size_t>(16, end - group));
+      int first[16], last[16];
+      roughRows(f, heads.data() + group, lanes, first, last);
+      for (int k = 0; k < lanes; ++k) {
+        if (last[k] <= first[k]) continue;
+        for (int band = first[k] / rowsPerBand; band <= (last[k] - 1) / rowsPerBand; ++band)
+          bins[band].push_back(static_cast<std::uint32_t>(group + k));
+      }
     }
   }
 
@@ -371,88 +318,86 @@ void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const 
     depth = farDepth_.data();
   }
   const float* const frameDepth = depth;
+  bands_.resize(static_cast<std::size_t>(maxThreads));
   constexpr int kChunk = 16;
   const bool lod = desc_.lodWidth > 0;
   std::uint64_t fragments = 0;
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : fragments)
   for (int band = 0; band < bandCount; ++band) {
     const int bandFirst = band * rowsPerBand, bandEnd = std::min(height_, bandFirst + rowsPerBand);
-    float* const out = layer_.data();
-    for (std::size_t i = 4 * static_cast<std::size_t>(bandFirst) * width_;
-         i < 4 * static_cast<std::size_t>(bandEnd) * width_; i += 4)
-      out[i] = out[i + 1] = out[i + 2] = 0, out[i + 3] = 1;
+    StreakBand& b = bands_[static_cast<std::size_t>(omp_get_thread_num())];
+    b.begin(bandFirst, bandEnd, width_, frameDepth);
+    float* const out = b.layer();
+    const float* const bandDepth = b.depth();
     for (int thread = 0; thread < threads; ++thread) {
-      for (const std::uint32_t i : bins_[static_cast<std::size_t>(thread) * bandCount + band]) {
-        Line line;
-        if (lod && setUpLine(f, heads[i], desc_.lodWidth, line)) {
-          const int first = std::max(bandFirst, line.first), end = std::min(bandEnd, line.end);
+      const std::vector<std::uint32_t>& bin =
+          bins_[static_cast<std::size_t>(thread) * bandCount + band];
+      for (std::size_t group = 0; group < bin.size(); group += Lines::kLanes) {
+        const int count =
+            static_cast<int>(std::min<std::size_t>(Lines::kLanes, bin.size() - group));
+        Lines lines;
+        if (lod) setUpLines(f, heads, bin.data() + group, count, desc_.lodWidth, lines);
+        for (int lane = 0; lane < count; ++lane) {
+          const std::uint32_t i = bin[group + lane];
+          if (lod && lines.ok[lane]) {
+            const int first = std::max(bandFirst, lines.first[lane]),
+                      end = std::min(bandEnd, lines.end[lane]);
+            if (end <= first) continue;
+            const Vec3 c = colourOf(heads[i]);
+            const float* p = profile_.data() + static_cast<std::size_t>(layers[i]) * ph;
+            fragments += drawLineRows(lines[lane], first, end, b, c, p, fh, simd_);
+            continue;
+          }
+          Streak s;
+          if (!setUp(f, heads[i], s)) continue;
+          const int first = std::max(bandFirst, floorToInt(std::ceil(s.yMin - 0.5f), 0, height_));
+          const int end = std::min(bandEnd, floorToInt(std::ceil(s.yMax - 0.5f), 0, height_));
           if (end <= first) continue;
           const Vec3 c = colourOf(heads[i]);
-          const float* p = profile_.data() + static_cast<std::size_t>(layers[i]) * ph;
-          for (int row = first; row < end; ++row) {
-            const float sAlong = std::min(
-                std::max(0.0f, (static_cast<float>(row) + 0.5f - line.yt) * line.invDy), 1.0f);
-            const float x = line.xt + sAlong * line.dx;
-            if (!(x >= 0 && x < static_cast<float>(width_))) continue;
-            const int pixel = row * width_ + static_cast<int>(x);
-            const float z = line.zt + sAlong * line.dz;
-            const bool keep = z < frameDepth[pixel];
-            const float tt = sAlong * fh + 0.5f;  // padded texel rows, as fragmentAlpha
-            const int t0 = static_cast<int>(tt);
-            const float a = p[t0] + (tt - static_cast<float>(t0)) * (p[t0 + 1] - p[t0]);
-            fragments += keep;
-            blend(out + 4 * static_cast<std::size_t>(pixel), c, keep ? a * line.coverage : 0.0f);
-          }
-          continue;
-        }
-        Streak s;
-        if (!setUp(f, heads[i], s)) continue;
-        const int first = std::max(bandFirst, floorToInt(std::ceil(s.yMin - 0.5f), 0, height_));
-        const int end = std::min(bandEnd, floorToInt(std::ceil(s.yMax - 0.5f), 0, height_));
-        if (end <= first) continue;
-        const Vec3 c = colourOf(heads[i]);
-        const float* image = alpha_.data() + static_cast<std::size_t>(layers[i]) * pw * ph;
-        const float xLo = std::max(s.xMin, -1.0f);
-        const float xHi = std::min(s.xMax, static_cast<float>(width_) + 1);
-        // Rows in chunks: a vectorised pass takes each row's first candidate pixel (the only one
-        // of most streaks, under a pixel wide), then the blends and any further pixels of wider
-        // rows. Pixel centres x + 0.5 in [x0, x1) are covered; one candidate is taken even where
-        // a row has none (masked, alpha 0) rather than a branch per row: whether a row of a thin
-        // streak holds a pixel centre is a coin toss to the branch predictor.
-        for (int chunkFirst = first; chunkFirst < end; chunkFirst += kChunk) {
-          const int rows = std::min(kChunk, end - chunkFirst);
-          alignas(64) float alphas[kChunk];
-          alignas(64) int pixels[kChunk], wider[kChunk];
-          int covered = 0;
+          const float* image = alpha_.data() + static_cast<std::size_t>(layers[i]) * pw * ph;
+          const float xLo = std::max(s.xMin, -1.0f);
+          const float xHi = std::min(s.xMax, static_cast<float>(width_) + 1);
+          // Rows in chunks: a vectorised pass takes each row's first candidate pixel (the only one
+          // of most streaks, under a pixel wide), then the blends and any further pixels of wider
+          // rows. Pixel centres x + 0.5 in [x0, x1) are covered; one candidate is taken even where
+          // a row has none (masked, alpha 0) rather than a branch per row: whether a row of a thin
+          // streak holds a pixel centre is a coin toss to the branch predictor.
+          for (int chunkFirst = first; chunkFirst < end; chunkFirst += kChunk) {
+            const int rows = std::min(kChunk, end - chunkFirst);
+            alignas(64) float alphas[kChunk];
+            alignas(64) int pixels[kChunk], xs[kChunk], wider[kChunk];
+            int covered = 0;
 #pragma omp simd reduction(+ : covered)
-          for (int k = 0; k < rows; ++k) {
-            const Row r = rowOf(s, chunkFirst + k, xLo, xHi, width_);
-            const int x = std::min(r.x0, width_ - 1);
-            const int pixel = (chunkFirst + k) * width_ + x;
-            bool keep = false;
-            alphas[k] = fragmentAlpha(s, r, x, frameDepth[pixel], image, pw, fw, fh, keep);
-            covered += keep;
-            pixels[k] = pixel;
-            wider[k] = r.x1 - x - 1;
-          }
-          fragments += static_cast<std::uint64_t>(covered);
-          for (int k = 0; k < rows; ++k)
-            blend(out + 4 * static_cast<std::size_t>(pixels[k]), c, alphas[k]);
-          for (int k = 0; k < rows; ++k) {
-            if (wider[k] <= 0) continue;
-            const Row r = rowOf(s, chunkFirst + k, xLo, xHi, width_);
-            for (int x = pixels[k] - (chunkFirst + k) * width_ + 1; x < r.x1; ++x) {
-              const int pixel = (chunkFirst + k) * width_ + x;
+            for (int k = 0; k < rows; ++k) {
+              const Row r = rowOf(s, chunkFirst + k, xLo, xHi, width_);
+              const int x = std::min(r.x0, width_ - 1);
+              const int pixel = b.at(x, chunkFirst + k);
               bool keep = false;
-              const float alpha =
-                  fragmentAlpha(s, r, x, frameDepth[pixel], image, pw, fw, fh, keep);
-              fragments += keep;
-              blend(out + 4 * static_cast<std::size_t>(pixel), c, alpha);
+              alphas[k] = fragmentAlpha(s, r, x, bandDepth[pixel], image, pw, fw, fh, keep);
+              covered += keep;
+              pixels[k] = pixel, xs[k] = x;
+              wider[k] = r.x1 - x - 1;
+            }
+            fragments += static_cast<std::uint64_t>(covered);
+            for (int k = 0; k < rows; ++k)
+              blendOver(out + 4 * static_cast<std::size_t>(pixels[k]), c, alphas[k]);
+            for (int k = 0; k < rows; ++k) {
+              if (wider[k] <= 0) continue;
+              const Row r = rowOf(s, chunkFirst + k, xLo, xHi, width_);
+              for (int x = xs[k] + 1; x < r.x1; ++x) {
+                const int pixel = b.at(x, chunkFirst + k);
+                bool keep = false;
+                const float alpha =
+                    fragmentAlpha(s, r, x, bandDepth[pixel], image, pw, fw, fh, keep);
+                fragments += keep;
+                blendOver(out + 4 * static_cast<std::size_t>(pixel), c, alpha);
+              }
             }
           }
         }
       }
     }
+    b.store(layer_.data());
   }
   fragments_ = fragments;
 }

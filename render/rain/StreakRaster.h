@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "render/rain/StreakBand.h"
 #include "render/rain/StreakImages.h"
 #include "sim/Camera.h"
 #include "sim/RainDesc.h"
@@ -41,7 +42,7 @@ class StreakRaster {
   // are set up once (a streak is set up again in every band it crosses), small enough that a
   // band's layer and depth (1.2 MB at 960 pixels a row) mostly stay in a core's cache and that
   // 2 threads share 9 bands evenly. 32 rows took ~10% longer, 135 the same (1M drops, 1 thread).
-  static constexpr int kRowsPerBand = 64;
+  static constexpr int kRowsPerBand = StreakBand::kRows;
 
   // `desc`: the streak's exposure and width and the spotlight; `images`: the streak images.
   StreakRaster(const RainDesc& desc, StreakImages images);
@@ -62,6 +63,10 @@ class StreakRaster {
   int height() const { return height_; }
   // Fragments that passed the depth test in the last draw (what GL_SAMPLES_PASSED counted).
   std::uint64_t fragments() const { return fragments_; }
+  // The lines of the level of detail 16 rows at a time in AVX-512 lanes (default, where the
+  // build has AVX-512) or one row at a time (false): the same layer, bit for bit; for tests and
+  // benchmarks.
+  void setSimd(bool simd) { simd_ = simd; }
 
  private:
   RainDesc desc_;
@@ -73,8 +78,10 @@ class StreakRaster {
   // The drops each band of rows takes, per thread of the binning pass (its own contiguous share
   // of the drops): bins_[thread * bands + band], in drop order.
   std::vector<std::vector<std::uint32_t>> bins_;
+  std::vector<StreakBand> bands_;  // per thread: the band it draws, column by column
   int width_ = 0, height_ = 0;
   std::uint64_t fragments_ = 0;
+  bool simd_ = true;
 };
 
 }  // namespace sph::render::rain

@@ -19,7 +19,18 @@ constexpr std::uint64_t kDrawsPerTry = 8;
 
 WaterCells::WaterCells(const std::vector<Vec3>& fluid, float cell) : cell_(cell) {
   cells_.reserve(fluid.size());
-  for (const Vec3& p : fluid) cells_.insert(key(p));
+  for (const Vec3& p : fluid) {
+    cells_.insert(key(p));
+    const Vec3 corner = (p / cell_).array().floor().matrix() * cell_;
+    bounds_.grow(corner), bounds_.grow(Vec3(corner + Vec3::Constant(cell_)));
+  }
+}
+
+bool WaterCells::near(const Vec3& a, const Vec3& b) const {
+  // A cell's margin: the corners are rounded, and so is the key of a point on a face.
+  const Vec3 margin = Vec3::Constant(cell_);
+  return (a.cwiseMin(b).array() <= (bounds_.hi + margin).array()).all() &&
+         (a.cwiseMax(b).array() >= (bounds_.lo - margin).array()).all();
 }
 
 std::uint64_t WaterCells::key(const Vec3& p) const {
@@ -167,15 +178,23 @@ void RainSystem::restore(const CameraDesc& camera, const std::vector<Vec3>& posi
   landings_.clear();
 }
 
-Vec3 RainSystem::entryPoint(const Vec3& from, const Vec3& to, const RainObstacles& obstacles) {
-  const float quarter = 0.25f * obstacles.water->cell();
+bool RainSystem::entersWater(const Vec3& from, const Vec3& to, const RainObstacles& obstacles,
+                             Vec3& entry) {
+  const WaterCells& water = *obstacles.water;
+  if (!water.near(from, to)) return false;
+  const float quarter = 0.25f * water.cell();
   const int samples = std::max(1, static_cast<int>(std::ceil((to - from).norm() / quarter)));
-  for (int k = 1; k < samples; ++k) {
-    const Vec3 p = from + (static_cast<float>(k) / static_cast<float>(samples)) * (to - from);
-    if (obstacles.water->contains(p) && !(obstacles.solids && insideSolid(p, *obstacles.solids)))
-      return p;
+  for (int k = 1; k <= samples; ++k) {
+    const Vec3 p =
+        k == samples
+            ? to
+            : Vec3(from + (static_cast<float>(k) / static_cast<float>(samples)) * (to - from));
+    if (water.contains(p) && !(obstacles.solids && insideSolid(p, *obstacles.solids))) {
+      entry = p;
+      return true;
+    }
   }
-  return to;
+  return false;
 }
 
 void RainSystem::update(const CameraDesc& camera, float dt, const RainObstacles& obstacles) {
@@ -194,13 +213,16 @@ void RainSystem::update(const CameraDesc& camera, float dt, const RainObstacles&
     const Vec3 p = positions_[i] + step;
     positions_[i] = p;
     bool respawn = true;
+    Vec3 entry;
+    // The water first: a drop whose path over the step entered it landed there, also when it
+    // went on into the floor or out of the sheet of water (docs/rain.md, "Replay").
     if (!inSpawnVolume(p)) {
       ++left;
+    } else if (obstacles.water && entersWater(p - step, p, obstacles, entry)) {
+      ++water;
+      if (feed) hit_[i] = 1, entries_[i] = entry;
     } else if (obstacles.solids && insideSolid(p, *obstacles.solids)) {
       ++solid;
-    } else if (obstacles.water && obstacles.water->contains(p)) {
-      ++water;
-      if (feed) hit_[i] = 1, entries_[i] = entryPoint(p - step, p, obstacles);
     } else {
       respawn = false;
     }

@@ -21,11 +21,14 @@ class WaterCells {
   WaterCells(const std::vector<Vec3>& fluid, float cell);
   bool contains(const Vec3& p) const;
   float cell() const { return cell_; }
+  // Whether the segment from a to b may meet a cell: false when their bounding boxes are apart.
+  bool near(const Vec3& a, const Vec3& b) const;
 
  private:
   std::uint64_t key(const Vec3& p) const;
   float cell_;
   std::unordered_set<std::uint64_t> cells_;
+  Aabb bounds_;  // of the cells' corners
 };
 
 // What stops a drop besides leaving the rain space.
@@ -94,9 +97,11 @@ class RainSystem {
   static bool blocked(const Vec3& p, const RainObstacles& obstacles);
   std::uint8_t layerOf(std::size_t i) const;
   std::uint8_t layerFrom(const DropRandom& u) const;  // layerOf with the drop's numbers
-  // Where the path from `from` to `to` (which is in the water) first enters a water cell
-  // outside the solids: sampled every quarter cell.
-  static Vec3 entryPoint(const Vec3& from, const Vec3& to, const RainObstacles& obstacles);
+  // Whether the path from `from` to `to` enters a water cell outside the solids, and where it
+  // first does (`entry`): sampled every quarter cell, `to` last. Over a frame interval a drop
+  // falls further than a thin sheet of water is deep: testing `to` alone let it through.
+  static bool entersWater(const Vec3& from, const Vec3& to, const RainObstacles& obstacles,
+                          Vec3& entry);
 
   RainDesc desc_;
   float aspect_;
