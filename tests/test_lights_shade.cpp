@@ -42,20 +42,10 @@ LightsDesc scene(LightShade shade) {
   return d;
 }
 
-std::vector<LightParticle> sceneLights(unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  std::vector<LightParticle> lights;
-  for (int i = 0; i < 96; ++i)
-    lights.push_back(light(Vec3(u(rng) - 0.5f, 0.02f + 0.4f * u(rng), u(rng) - 0.5f),
-                           Vec3(1.0f, 0.4f + 0.6f * u(rng), 0.2f + 0.8f * u(rng)), 0.5f));
-  return lights;
-}
-
 TEST_F(LightsShade, TheCpuTermIsTheGlTermAtPointsThroughEachFilter) {
   LightVolume volume(scene(LightShade::Cpu));
   ASSERT_TRUE(volume.shadesOnCpu());
-  volume.update(sceneLights(3));
+  volume.update(test::sheetLights(3));
   std::mt19937 rng(8);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
   std::vector<ProbePoint> points;
@@ -93,23 +83,13 @@ TEST_F(LightsShade, TheCpuTermIsTheGlTermAtPointsThroughEachFilter) {
 // CPU, whole volume and culled to the camera, opaque and translucent water (the latter drawn
 // forward over the frame: it samples the 3D textures, which "cpu" uploads only then).
 TEST_F(LightsShade, ShadedOnTheCpuTheDeferredFrameIsTheGlOneToOneStep) {
-  const std::vector<LightParticle> lights = sceneLights(14);
-  solids::SolidRenderer solids(
-      test::floorSphereBlock(Vec3(0, 0.15f, 0), 0.15f, Vec3(0.15f, 0, -0.35f),
-                             Vec3(0.35f, 0.2f, -0.15f)),
-      Aabb{Vec3(-1, -1, -1), Vec3(1, 1, 1)}, 0.02f);
-  splat::SplatFrame water;
-  water.halfSize = 0.03f;
-  for (int j = 0; j < 16; ++j)
-    for (int i = 0; i < 16; ++i)
-      water.points.push_back(
-          splat::SplatVertex{{-0.45f + 0.06f * i, 0.04f, -0.45f + 0.06f * j}, {0, 1, 0}});
+  const std::vector<LightParticle> lights = test::sheetLights(14);
+  solids::SolidRenderer solids(test::sheetSolids(), Aabb{Vec3(-1, -1, -1), Vec3(1, 1, 1)}, 0.02f);
+  const splat::SplatFrame water = test::waterSheet();
   const int width = 160, height = 120;
   splat::SplatRenderer r(width, height);
   r.setLayers({&solids});
-  CameraDesc camera;
-  camera.position = Vec3(0.6f, 0.55f, 0.8f), camera.target = Vec3(0, 0.1f, 0);
-  camera.fovYDegrees = 50;
+  const CameraDesc camera = test::sheetCamera();
   const LightView view = lightView(camera, static_cast<float>(width) / height, 1.5f, 2.5f, 0.05f);
   LightVolume gl(scene(LightShade::Gl)), cpu(scene(LightShade::Cpu));
   ASSERT_FALSE(gl.shadesOnCpu());
@@ -126,17 +106,13 @@ TEST_F(LightsShade, ShadedOnTheCpuTheDeferredFrameIsTheGlOneToOneStep) {
       EXPECT_GT(r.lastPasses().particles, 0.0) << "the CPU pass ran";
       lighting.extra = nullptr;
       const splat::RenderImage unlit = r.render(water, splat::SplatKind::Point, camera, lighting);
-      int worst = 0, lit = 0;
-      for (std::size_t i = 0; i < a.rgb.size(); ++i) {
-        worst = std::max(worst, std::abs(int(a.rgb[i]) - int(b.rgb[i])));
-        lit += std::abs(int(a.rgb[i]) - int(unlit.rgb[i])) > 8;
-      }
-      EXPECT_LE(worst, 1) << "alpha " << alpha << (v ? ", culled" : "");
-      EXPECT_GT(lit, width * height / 4) << "alpha " << alpha << (v ? ", culled" : "");
+      const test::Steps diff = test::steps(a, b, unlit);
+      EXPECT_LE(diff.worst, 1) << "alpha " << alpha << (v ? ", culled" : "");
+      EXPECT_GT(diff.lit, width * height / 4) << "alpha " << alpha << (v ? ", culled" : "");
     }
   }
   // Lights that move: the next frame's term, not the last one's.
-  const std::vector<LightParticle> moved = sceneLights(15);
+  const std::vector<LightParticle> moved = test::sheetLights(15);
   gl.update(moved), cpu.update(moved);
   splat::Lighting lighting;
   lighting.extra = &gl;
@@ -145,10 +121,7 @@ TEST_F(LightsShade, ShadedOnTheCpuTheDeferredFrameIsTheGlOneToOneStep) {
   lighting.extra = &cpu;
   const splat::RenderImage b =
       r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera, lighting);
-  int worst = 0;
-  for (std::size_t i = 0; i < a.rgb.size(); ++i)
-    worst = std::max(worst, std::abs(int(a.rgb[i]) - int(b.rgb[i])));
-  EXPECT_LE(worst, 1) << "moved lights";
+  EXPECT_LE(test::steps(a, b, a).worst, 1) << "moved lights";
 }
 
 // Shaded on the CPU, a frame uploads nothing until something samples the textures; what is read
@@ -156,9 +129,9 @@ TEST_F(LightsShade, ShadedOnTheCpuTheDeferredFrameIsTheGlOneToOneStep) {
 // included: the voxels left from the last upload read zero).
 TEST_F(LightsShade, TheTexturesHoldTheFrameWhenReadThoughNotUploadedEachFrame) {
   LightVolume gl(scene(LightShade::Gl)), cpu(scene(LightShade::Cpu));
-  std::vector<LightParticle> few = sceneLights(4);
+  std::vector<LightParticle> few = test::sheetLights(4);
   few.resize(8);
-  for (const std::vector<LightParticle>& lights : {sceneLights(4), few}) {
+  for (const std::vector<LightParticle>& lights : {test::sheetLights(4), few}) {
     gl.update(lights), cpu.update(lights);
     EXPECT_EQ(cpu.readColour(), gl.readColour());
     EXPECT_EQ(cpu.readDirection(), gl.readDirection());

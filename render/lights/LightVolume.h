@@ -2,7 +2,8 @@
 // docs/lights.md): two RGBA16F 3D textures over the scene's `lights.volume`, the sum of every
 // light's attenuated colour and of its intensity-weighted direction per voxel, rebuilt by compute
 // shaders from the lights of each frame and sampled by the surfaces' shading through
-// shaders/extra_lights.glsl (nearest, trilinear or tricubic, optionally oversampled).
+// shaders/extra_lights.glsl (nearest, trilinear or tricubic, optionally oversampled), or with
+// lights.shade "cpu" evaluated on the CPU from the sums it accumulated there (CpuShading.h).
 // Needs a current GL 4.5 context; exists only when a scene has `lights`.
 #pragma once
 
