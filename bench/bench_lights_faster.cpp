@@ -15,16 +15,20 @@
 //   bench_lights_faster frame      Fig. 11's whole deferred frame as a user gets it on llvmpipe
 //                                  (accumulate "cpu", culled to the table's camera, 960 x 540) at
 //                                  262,144 and 1M lights: accumulation (whole volume and culled),
-//                                  G-buffer pass, lighting pass, draw and frame (culled + draw),
-//                                  each the minimum of --repeat frames, with CPU ms beside
+//                                  G-buffer pass, the particle lights' term on the CPU (read-back,
+//                                  shading, upload; lights.shade "cpu"), lighting pass, draw and
+//                                  frame (culled + draw), each the minimum of --repeat frames,
+//                                  with CPU ms beside
 // Options: --repeat N (min of N, default 3), --max-lights N (default 1048576), --accumulate cpu
-// (fig11, fireflies: the CPU accumulation instead of the atomic one).
+// (fig11, fireflies: the CPU accumulation instead of the atomic one), --shade gl|cpu|auto (frame:
+// lights.shade, default auto = cpu there).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -37,6 +41,7 @@
 #include "render/lights/LightVolume.h"
 #include "render/solids/SolidRenderer.h"
 #include "render/splat/SplatRenderer.h"
+#include "sim/EnumNames.h"
 #include "sim/LightParticles.h"
 #include "sim/Parallel.h"
 #include "sim/SceneSetup.h"
@@ -49,6 +54,7 @@ namespace {
 int repeat = 3;
 std::size_t maxLights = 1048576;
 LightAccumulate accumulate = LightAccumulate::Atomic;  // fig11, fireflies: --accumulate
+LightShade shade = LightShade::Auto;                   // frame: --shade
 
 struct View {
   const char* name;
@@ -211,22 +217,23 @@ void frame() {
   renderer.setLayers({&solids});
   const CameraDesc camera = bench::fig11Camera();
   std::printf(
-      "Fig. 11 frame (128^3 voxels of 1 m, range 0.5 m, trilinear, deferred, cpu; %d x %d, %zu "
-      "triangles): ms, min of %d frames; [CPU ms, all threads]\n",
-      width, height, solids.triangles(), repeat);
-  std::printf("%-8s %9s %9s %9s %9s %9s %9s %9s %9s\n", "lights", "acc all", "acc cull", "G-buffer",
-              "lighting", "draw", "frame", "[acc cul]", "[draw]");
+      "Fig. 11 frame (128^3 voxels of 1 m, range 0.5 m, trilinear, deferred, accumulate cpu, "
+      "shade %s; %d x %d, %zu triangles): ms, min of %d frames; [CPU ms, all threads]\n",
+      nameOf(shade), width, height, solids.triangles(), repeat);
+  std::printf("%-8s %9s %9s %9s %9s %9s %9s %9s %9s %9s\n", "lights", "acc all", "acc cull",
+              "G-buffer", "cpu shade", "lighting", "draw", "frame", "[acc cul]", "[draw]");
   for (std::size_t n : {262144u, 1048576u}) {
     if (n > maxLights) continue;
     LightsDesc d = bench::fig11Lights(n);
-    d.pipeline = LightPipeline::Deferred, d.accumulate = LightAccumulate::Cpu;
+    d.pipeline = LightPipeline::Deferred, d.accumulate = LightAccumulate::Cpu, d.shade = shade;
     const std::vector<LightParticle> lights = lightParticles(d, Particles{}, 0.0);
     const LightView view = lightView(camera, static_cast<float>(width) / static_cast<float>(height),
                                      1.5f, 2.5f, d.voxelSize);
     LightVolume all(d), culled(d);
     all.update(lights), culled.update(lights, &view);  // sizes the buffers
     draw(renderer, camera, culled);                    // compiles llvmpipe's variants
-    double tAll = 1e30, tCulled = 1e30, gbuffer = 1e30, lighting = 1e30, drawn = 1e30;
+    double tAll = 1e30, tCulled = 1e30, gbuffer = 1e30, particles = 1e30, lighting = 1e30,
+           drawn = 1e30;
     double cpuCulled = 1e30, cpuDraw = 1e30;
     for (int k = 0; k < repeat; ++k) {
       tAll = std::min(tAll, all.update(lights));
@@ -238,11 +245,12 @@ void frame() {
       cpuCulled = std::min(cpuCulled, c1 - c0), cpuDraw = std::min(cpuDraw, c2 - c1);
       drawn = std::min(drawn, image.seconds);
       gbuffer = std::min(gbuffer, renderer.lastPasses().gbuffer);
+      particles = std::min(particles, renderer.lastPasses().particles);
       lighting = std::min(lighting, renderer.lastPasses().lighting);
     }
-    std::printf("%-8zu %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f\n", n, 1e3 * tAll,
-                1e3 * tCulled, 1e3 * gbuffer, 1e3 * lighting, 1e3 * drawn, 1e3 * (tCulled + drawn),
-                1e3 * cpuCulled, 1e3 * cpuDraw);
+    std::printf("%-8zu %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f\n", n, 1e3 * tAll,
+                1e3 * tCulled, 1e3 * gbuffer, 1e3 * particles, 1e3 * lighting, 1e3 * drawn,
+                1e3 * (tCulled + drawn), 1e3 * cpuCulled, 1e3 * cpuDraw);
     std::fflush(stdout);
   }
 }
@@ -276,12 +284,20 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--repeat")) repeat = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "--accumulate") && !std::strcmp(argv[i + 1], "cpu"))
       accumulate = LightAccumulate::Cpu;
+    if (!std::strcmp(argv[i], "--shade")) {
+      const std::optional<LightShade> s = parseEnum<LightShade>(argv[i + 1]);
+      if (!s) {
+        std::fprintf(stderr, "--shade: expected gl, cpu or auto, got %s\n", argv[i + 1]);
+        return 2;
+      }
+      shade = *s;
+    }
   }
   if (what != "fig11" && what != "fireflies" && what != "cpu" && what != "frame") {
     std::fprintf(
         stderr,
         "usage: bench_lights_faster fig11|fireflies|cpu|frame [--repeat N] [--max-lights N] "
-        "[--accumulate cpu]\n");
+        "[--accumulate cpu] [--shade gl|cpu|auto]\n");
     return 2;
   }
   render::gl::GlContext context = render::gl::GlContext::headless();

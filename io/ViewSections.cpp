@@ -273,6 +273,24 @@ LightsDesc readLights(JsonReader r) {
                                              [](double v) { return integerIn(v, 1, 4); }));
   d.pipeline = r.choice("pipeline", std::optional(LightPipeline::Forward));
   d.accumulate = r.choice("accumulate", std::optional(LightAccumulate::Auto));
+  d.shade = r.choice("shade", std::optional(LightShade::Auto));
+  if (d.shade == LightShade::Cpu) {
+    // The CPU pass reads the deferred G-buffer back and samples the volume the CPU accumulated
+    // (docs/lights.md, "Shading on the CPU"); what it cannot do is refused, not changed.
+    if (d.pipeline != LightPipeline::Deferred)
+      r.fail("shade",
+             "\"cpu\" shades the deferred pipeline's G-buffer; expected \"pipeline\": "
+             "\"deferred\" (or \"shade\": \"gl\" or \"auto\")");
+    if (d.accumulate == LightAccumulate::Atomic || d.accumulate == LightAccumulate::Paper)
+      r.fail("shade", std::string("\"cpu\" samples the volume the CPU accumulated; expected "
+                                  "\"accumulate\": \"cpu\" or \"auto\", got \"") +
+                          nameOf(d.accumulate) + "\"");
+    if (d.filter == LightFilter::Tricubic)
+      r.fail("shade",
+             "\"cpu\" filters nearest or trilinear (tricubic's 64 texels a pixel stay "
+             "on the GL path); use \"shade\": \"gl\" or \"auto\"");
+    d.accumulate = LightAccumulate::Cpu;  // "auto": the volume must be on the CPU
+  }
   d.cull = r.boolean("cull", true);
   d.diffuse = static_cast<float>(r.number("diffuse", d.diffuse, "a number in [0, 10]",
                                           [](double v) { return v >= 0 && v <= 10; }));

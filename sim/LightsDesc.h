@@ -98,6 +98,27 @@ constexpr const char* nameOf(LightAccumulate v) {
   return nullptr;
 }
 
+// Where the particle lights' Phong term is computed per pixel (lights.shade; docs/lights.md,
+// "Shading on the CPU").
+enum class LightShade {
+  Gl,    // the lighting pass (or each surface's shader) samples the two 3D textures
+  Cpu,   // deferred only: the CPU computes it from the G-buffer read back and the volume it
+         // accumulated (render/lights/CpuShading.h); the lighting pass adds one 2D texture
+  Auto,  // cpu where the volume is on the CPU anyway (accumulate "cpu", deferred, filter nearest
+         // or trilinear), gl otherwise; decided when the volume is made
+};
+constexpr const char* nameOf(LightShade v) {
+  switch (v) {
+    case LightShade::Gl:
+      return "gl";
+    case LightShade::Cpu:
+      return "cpu";
+    case LightShade::Auto:
+      return "auto";
+  }
+  return nullptr;
+}
+
 // Light particles that exist only as lights: `count` points placed uniformly at random in the
 // box from `seed`, each drifting at `speed` in a random direction and wrapping around the box.
 // Their positions at time t are a pure function of (seed, index, t), so caches need not store
@@ -130,6 +151,7 @@ struct LightsDesc {
   int oversampling = 1;  // samples per axis inside one voxel around the point (1 = off)
   LightPipeline pipeline = LightPipeline::Forward;
   LightAccumulate accumulate = LightAccumulate::Atomic;
+  LightShade shade = LightShade::Gl;
   // Frustum culling (seed 004's future work): a frame drawn through a camera clears, accumulates
   // and resolves only the voxels its visible points may read, with only the lights that reach
   // them; the picture is the same (docs/lights.md, "Frustum culling").

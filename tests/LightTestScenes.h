@@ -1,8 +1,14 @@
-// Lights and solids for the particle-light tests (test_lights, test_lights_cull, test_lights_cpu).
+// Lights and solids for the particle-light tests (test_lights, test_lights_cull, test_lights_cpu,
+// test_lights_shade).
 #pragma once
 
+#include <algorithm>
+#include <cstdlib>
+#include <random>
 #include <vector>
 
+#include "render/splat/SplatRenderer.h"
+#include "sim/CameraDesc.h"
 #include "sim/LightParticles.h"
 #include "sim/Scene.h"
 
@@ -22,6 +28,53 @@ inline std::vector<BoundaryShape> floorSphereBlock(const Vec3& centre, float rad
   sphere.kind = BoundaryShape::Kind::Sphere, sphere.centre = centre, sphere.radius = radius;
   block.kind = BoundaryShape::Kind::Block, block.lo = blockLo, block.hi = blockHi;
   return {plane, sphere, block};
+}
+
+// The scene two renderings of one frame are compared on (forward against deferred, GL against
+// CPU shading): 96 warm lights over a floor, a sphere and a block, a sheet of point splats over
+// the floor partly behind the sphere, and a camera that sees them all.
+inline std::vector<LightParticle> sheetLights(unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<LightParticle> lights;
+  for (int i = 0; i < 96; ++i)
+    lights.push_back(light(Vec3(u(rng) - 0.5f, 0.02f + 0.4f * u(rng), u(rng) - 0.5f),
+                           Vec3(1.0f, 0.4f + 0.6f * u(rng), 0.2f + 0.8f * u(rng)), 0.5f));
+  return lights;
+}
+inline std::vector<BoundaryShape> sheetSolids() {
+  return floorSphereBlock(Vec3(0, 0.15f, 0), 0.15f, Vec3(0.15f, 0, -0.35f),
+                          Vec3(0.35f, 0.2f, -0.15f));
+}
+inline render::splat::SplatFrame waterSheet() {
+  render::splat::SplatFrame water;
+  water.halfSize = 0.03f;
+  for (int j = 0; j < 16; ++j)
+    for (int i = 0; i < 16; ++i)
+      water.points.push_back(
+          render::splat::SplatVertex{{-0.45f + 0.06f * i, 0.04f, -0.45f + 0.06f * j}, {0, 1, 0}});
+  return water;
+}
+inline CameraDesc sheetCamera() {
+  CameraDesc camera;
+  camera.position = Vec3(0.6f, 0.55f, 0.8f), camera.target = Vec3(0, 0.1f, 0);
+  camera.fovYDegrees = 50;
+  return camera;
+}
+
+// Two pictures of one frame: the largest difference of a channel (8-bit steps), and how many
+// channels of `a` differ from `unlit` by more than 8 steps (that the lights show at all).
+struct Steps {
+  int worst = 0, lit = 0;
+};
+inline Steps steps(const render::splat::RenderImage& a, const render::splat::RenderImage& b,
+                   const render::splat::RenderImage& unlit) {
+  Steps s;
+  for (std::size_t i = 0; i < a.rgb.size(); ++i) {
+    s.worst = std::max(s.worst, std::abs(int(a.rgb[i]) - int(b.rgb[i])));
+    s.lit += std::abs(int(a.rgb[i]) - int(unlit.rgb[i])) > 8;
+  }
+  return s;
 }
 
 }  // namespace sph::test

@@ -22,10 +22,10 @@ template <class E>
 class EnumNamesTest : public ::testing::Test {};
 using AllChoices =
     ::testing::Types<LightSource, LightColouring, LightFilter, LightPipeline, LightAccumulate,
-                     CollisionMethod, CollisionResponse, CdtCameraMode, CdtPositionSource,
-                     EquationOfState, DensityKernel, SolverModel, Walls, PressureSolver,
-                     SplatProjection, RenderDesc::Splat, render::splat::SplatKind, io::Quality,
-                     sweep::RunStatus, RainSpawn, RainSampling, RainDraw>;
+                     LightShade, CollisionMethod, CollisionResponse, CdtCameraMode,
+                     CdtPositionSource, EquationOfState, DensityKernel, SolverModel, Walls,
+                     PressureSolver, SplatProjection, RenderDesc::Splat, render::splat::SplatKind,
+                     io::Quality, sweep::RunStatus, RainSpawn, RainSampling, RainDraw>;
 TYPED_TEST_SUITE(EnumNamesTest, AllChoices);
 
 TYPED_TEST(EnumNamesTest, EveryEnumeratorHasAUniqueNameThatParsesBack) {

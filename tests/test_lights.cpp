@@ -486,34 +486,19 @@ TEST_F(LightsGl, DeferredGivesTheForwardImageToOneStep) {
   d.origin = Vec3(-0.6f, -0.1f, -0.6f), d.voxelSize = 0.05f, d.voxels = {24, 24, 24};
   d.attenuation = {1.0f, 0.0f, 20.0f}, d.range = 0.3f, d.filter = LightFilter::Trilinear;
   d.specular = 0.5f, d.shininess = 16, d.roomLight = 0.3f;
-  std::mt19937 rng(14);
-  std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  std::vector<LightParticle> lights;
-  for (int i = 0; i < 96; ++i)
-    lights.push_back(light(Vec3(u(rng) - 0.5f, 0.02f + 0.4f * u(rng), u(rng) - 0.5f),
-                           Vec3(1.0f, 0.4f + 0.6f * u(rng), 0.2f + 0.8f * u(rng)), 0.5f));
+  const std::vector<LightParticle> lights = test::sheetLights(14);
   LightVolume forward(d);
   d.pipeline = LightPipeline::Deferred;
   LightVolume deferred(d);
   ASSERT_FALSE(forward.deferred());
   ASSERT_TRUE(deferred.deferred());
   forward.update(lights), deferred.update(lights);
-  solids::SolidRenderer solids(
-      test::floorSphereBlock(Vec3(0, 0.15f, 0), 0.15f, Vec3(0.15f, 0, -0.35f),
-                             Vec3(0.35f, 0.2f, -0.15f)),
-      Aabb{Vec3(-1, -1, -1), Vec3(1, 1, 1)}, 0.02f);
-  splat::SplatFrame water;  // a sheet of point splats over the floor, partly behind the sphere
-  water.halfSize = 0.03f;
-  for (int j = 0; j < 16; ++j)
-    for (int i = 0; i < 16; ++i)
-      water.points.push_back(
-          splat::SplatVertex{{-0.45f + 0.06f * i, 0.04f, -0.45f + 0.06f * j}, {0, 1, 0}});
+  solids::SolidRenderer solids(test::sheetSolids(), Aabb{Vec3(-1, -1, -1), Vec3(1, 1, 1)}, 0.02f);
+  const splat::SplatFrame water = test::waterSheet();  // partly behind the sphere
   const int width = 160, height = 120;
   splat::SplatRenderer r(width, height);
   r.setLayers({&solids});
-  CameraDesc camera;
-  camera.position = Vec3(0.6f, 0.55f, 0.8f), camera.target = Vec3(0, 0.1f, 0);
-  camera.fovYDegrees = 50;
+  const CameraDesc camera = test::sheetCamera();
   for (float alpha : {1.0f, 0.5f}) {
     splat::Lighting lighting;
     lighting.alpha = alpha;
@@ -525,12 +510,8 @@ TEST_F(LightsGl, DeferredGivesTheForwardImageToOneStep) {
     EXPECT_GT(r.lastPasses().lighting, 0.0) << "the lighting pass ran";
     lighting.extra = nullptr;
     const splat::RenderImage unlit = r.render(water, splat::SplatKind::Point, camera, lighting);
-    int worst = 0, lit = 0;
-    for (std::size_t i = 0; i < f.rgb.size(); ++i) {
-      worst = std::max(worst, std::abs(int(f.rgb[i]) - int(g.rgb[i])));
-      lit += std::abs(int(f.rgb[i]) - int(unlit.rgb[i])) > 8;
-    }
-    EXPECT_LE(worst, 1) << "alpha " << alpha;
+    const test::Steps diff = test::steps(f, g, unlit);
+    EXPECT_LE(diff.worst, 1) << "alpha " << alpha;
     // The error figures' normal target: the water's coverage and normals, as forward draws them.
     lighting.extra = &forward;
     const splat::RenderImage fs = r.render(water, splat::SplatKind::Point, camera, lighting,
@@ -544,7 +525,7 @@ TEST_F(LightsGl, DeferredGivesTheForwardImageToOneStep) {
       normalDiff = std::max(normalDiff, std::abs(fs.normal[i] - gs.normal[i]));
     EXPECT_LT(normalDiff, 1e-3f) << "alpha " << alpha;
     // Not two dark pictures: the particle lights (and the room light) change much of the frame.
-    EXPECT_GT(lit, width * height / 4) << "alpha " << alpha;
+    EXPECT_GT(diff.lit, width * height / 4) << "alpha " << alpha;
   }
 }
 

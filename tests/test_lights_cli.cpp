@@ -105,6 +105,27 @@ TEST_F(LightsCli, RenderDeferredDrawsTheForwardPicture) {
   EXPECT_LT(share, 0.02) << "pixels more than one step apart";
 }
 
+// lights.shade: deferred on llvmpipe, "auto" shades on the CPU and says so; the picture is the
+// GL-shaded one to one 8-bit step. "cpu" asked for with the forward pipeline: exit 2, the key.
+TEST_F(LightsCli, RenderShadedOnTheCpuIsTheGlShadedPicture) {
+  const std::string deferred = " --set lights.pipeline=deferred";
+  const auto cpu = runSphsplat("render " + dir_ + "/ff.h5 --frames last --out " + dir_ +
+                               "/shade_cpu" + deferred);
+  ASSERT_EQ(cpu.exitCode, 0) << cpu.output;
+  EXPECT_NE(cpu.output.find("shaded on the CPU"), std::string::npos) << cpu.output;
+  const auto gl = runSphsplat("render " + dir_ + "/ff.h5 --frames last --out " + dir_ +
+                              "/shade_gl" + deferred + " --set lights.shade=gl");
+  ASSERT_EQ(gl.exitCode, 0) << gl.output;
+  EXPECT_EQ(gl.output.find("shaded on the CPU"), std::string::npos) << gl.output;
+  const auto a = pixels(dir_ + "/shade_cpu/fireflies_quad_00001.png");
+  ASSERT_FALSE(a.empty());
+  EXPECT_EQ(differing(a, pixels(dir_ + "/shade_gl/fireflies_quad_00001.png")), 0.0);
+  const auto bad = runSphsplat("render " + dir_ + "/ff.h5 --frames last --out " + dir_ +
+                               "/shade_bad --set lights.shade=cpu");
+  EXPECT_EQ(bad.exitCode, 2) << bad.output;
+  EXPECT_NE(bad.output.find("lights.shade"), std::string::npos) << bad.output;
+}
+
 // lights.cull (on by default): `render` says it culls, and draws the picture of the whole
 // volume byte for byte - from the scene's camera (the water's quad splats in view) and from a
 // close one on the cup that sees a small part of the tank.

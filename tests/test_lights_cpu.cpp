@@ -75,6 +75,20 @@ TEST(CpuAccumulation, HalfFloatsRoundTowardZero) {
   EXPECT_EQ(toHalf(-1.0f - 1.99f * std::ldexp(1.0f, -10)), 0xbc01);
 }
 
+// lights.shade "cpu" reads the sums back: every finite half is its float exactly (a few by hand,
+// and each one converts back to itself).
+TEST(CpuAccumulation, HalfFloatsReadBackExactly) {
+  EXPECT_EQ(fromHalf(0x3c00), 1.0f);
+  EXPECT_EQ(fromHalf(0xc000), -2.0f);
+  EXPECT_EQ(fromHalf(0x7bff), 65504.0f);
+  EXPECT_EQ(fromHalf(0x0001), std::ldexp(1.0f, -24));
+  EXPECT_EQ(fromHalf(0x3c01), 1.0f + std::ldexp(1.0f, -10));
+  for (std::uint32_t h = 0; h < 0x10000; ++h) {
+    if ((h & 0x7c00) == 0x7c00) continue;  // infinities and NaNs: never in a sum
+    ASSERT_EQ(toHalf(fromHalf(static_cast<std::uint16_t>(h))), h) << std::hex << h;
+  }
+}
+
 class LightsCpuGl : public ::testing::Test {
  protected:
   void SetUp() override { context_ = std::make_unique<gl::GlContext>(gl::GlContext::headless()); }

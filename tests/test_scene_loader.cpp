@@ -118,6 +118,13 @@ TEST(SceneLoader, LightsSectionIsReadAndValidated) {
       io::parseScene(with(R"({"accumulate": "cpu", "cull": false, )" + volume + "}"), "s.json");
   EXPECT_EQ(c.lights->accumulate, LightAccumulate::Cpu);
   EXPECT_FALSE(c.lights->cull);
+  // lights.shade: "auto" by default (LightVolume decides); "cpu" takes the volume onto the CPU.
+  EXPECT_EQ(s.lights->shade, LightShade::Auto);
+  const Scene sc = io::parseScene(
+      with(R"({"shade": "cpu", "pipeline": "deferred", "filter": "nearest", )" + volume + "}"),
+      "s.json");
+  EXPECT_EQ(sc.lights->shade, LightShade::Cpu);
+  EXPECT_EQ(sc.lights->accumulate, LightAccumulate::Cpu) << "auto: the volume on the CPU";
   const std::pair<std::string, std::string> bad[] = {
       {R"({"source": "rain", )" + volume + "}", "lights.source"},
       {R"({"source": "emitter", )" + volume + "}", "lights.emitter"},
@@ -131,6 +138,12 @@ TEST(SceneLoader, LightsSectionIsReadAndValidated) {
       {R"({"oversampling": 9, )" + volume + "}", "lights.oversampling"},
       {R"({"accumulate": "racy", )" + volume + "}", "lights.accumulate"},
       {R"({"cull": "view", )" + volume + "}", "lights.cull"},
+      {R"({"shade": "gpu", )" + volume + "}", "lights.shade"},
+      {R"({"shade": "cpu", )" + volume + "}", "lights.shade"},  // forward
+      {R"({"shade": "cpu", "pipeline": "deferred", "accumulate": "atomic", )" + volume + "}",
+       "lights.shade"},
+      {R"({"shade": "cpu", "pipeline": "deferred", "filter": "tricubic", )" + volume + "}",
+       "lights.shade"},
       {R"({"colour": [2, 0, 0], )" + volume + "}", "lights.colour"},
       {R"({"fast_speed": 2, )" + volume + "}", "lights.fast_speed"},
       {R"({"volume": {"min": [0, 0, 0], "voxel_size": 1, "voxels": 0}})", "lights.volume.voxels"},

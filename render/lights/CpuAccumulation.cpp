@@ -33,6 +33,22 @@ std::uint16_t toHalf(float f) {
 #endif
 }
 
+float fromHalf(std::uint16_t h) {
+#ifdef __F16C__
+  return _cvtsh_ss(h);
+#else
+  const int exponent = (h >> 10) & 0x1f, mantissa = h & 0x3ff;
+  float v = 0;
+  if (exponent == 0)
+    v = std::ldexp(static_cast<float>(mantissa), -24);  // zero or subnormal
+  else if (exponent == 31)
+    v = mantissa ? NAN : INFINITY;
+  else
+    v = std::ldexp(static_cast<float>(mantissa | 0x400), exponent - 25);
+  return (h & 0x8000) ? -v : v;
+#endif
+}
+
 namespace {
 
 // std::llrint (to nearest, ties to even, in the default rounding mode) without the call into libm

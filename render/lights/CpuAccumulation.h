@@ -39,6 +39,8 @@ struct VoxelSums {
 // float-to-half conversion (the resolve pass's imageStore, a float upload) truncates so, and the
 // "cpu" volume is then the "atomic" one texel for texel (tests/test_lights_cpu.cpp).
 std::uint16_t toHalf(float f);
+// The float IEEE binary16 `h` stands for, exactly (lights.shade "cpu" reads the sums so).
+float fromHalf(std::uint16_t h);
 // The sums of `lights` over the voxels of `box` into `out`; with a `cull`, only the lights it
 // keeps (as the atomic path runs only lightsInView's).
 void accumulateOnCpu(const LightsDesc& desc, const std::vector<LightParticle>& lights,

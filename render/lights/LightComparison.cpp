@@ -119,12 +119,12 @@ std::vector<LightComparison> compareLights(LightVolume& volume,
     c.name = s.label();
     auto start = std::chrono::steady_clock::now();
     volume.terms = 3;
-    const std::vector<Vec3> total = volume.probe(g.points, base);
+    const std::vector<Vec3> total = volume.shade(g.points, base);
     c.seconds = since(start);
     volume.terms = 1;
-    const std::vector<Vec3> diffuse = volume.probe(g.points, base);
+    const std::vector<Vec3> diffuse = volume.shade(g.points, base);
     volume.terms = 2;
-    const std::vector<Vec3> specular = volume.probe(g.points, base);
+    const std::vector<Vec3> specular = volume.shade(g.points, base);
     c.total = lightError(total, exactT);
     c.diffuse = lightError(diffuse, exactD);
     c.specular = lightError(specular, exactS);

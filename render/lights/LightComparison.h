@@ -1,8 +1,9 @@
 // The particle lights' error figures on a picture (`sphsplat compare` on a scene with `lights`;
 // docs/lights.md, "Error figures"): the solids are drawn into a G-buffer (world position and
 // normal per pixel), the shading's particle-light term is evaluated there through each filter
-// (the GPU code of shaders/extra_lights.glsl, via LightVolume::probe) and the exact sum over the
-// lights (ExactLights) at the same points; diffuse and specular apart. Needs a current context.
+// (the GPU code of shaders/extra_lights.glsl, via LightVolume::probe, or with lights.shade "cpu"
+// the CPU's for the filters it has: LightVolume::shade) and the exact sum over the lights
+// (ExactLights) at the same points; diffuse and specular apart. Needs a current context.
 #pragma once
 
 #include <string>
@@ -31,7 +32,7 @@ struct LightComparison {
   std::string name;  // "nearest", ..., "exact"
   splat::RenderImage image;
   LightError total, diffuse, specular;
-  double seconds = 0;  // evaluating the points (GPU probe or CPU sum)
+  double seconds = 0;  // evaluating the points (GPU probe, CPU shading or CPU sum)
 };
 
 // The exact image first, then one per (filter, tension, oversampling) in `settings`, with

@@ -8,7 +8,9 @@
 #include "render/gl/GlError.h"
 #include "render/gl/Shader.h"
 #include "render/lights/CpuAccumulation.h"
+#include "render/lights/CpuShading.h"
 #include "sim/InputError.h"
+#include "sim/Parallel.h"
 
 namespace sph::render::lights {
 namespace {
@@ -94,10 +96,27 @@ LightsDesc decided(LightsDesc desc) {
   return desc;
 }
 
+// lights.shade decided: "auto" is "cpu" where the volume is on the CPU and the frame deferred
+// (the lighting pass's two 3D-texture fetches a pixel are llvmpipe's slowest part of Fig. 11,
+// docs/benchmarks.md) with a filter the CPU pass has; "cpu" asked for where it cannot work is
+// refused as the scene loader refuses it (io/ViewSections.cpp).
+LightsDesc decidedShade(LightsDesc desc) {
+  const bool onCpu = desc.accumulate == LightAccumulate::Cpu;
+  const bool deferred = desc.pipeline == LightPipeline::Deferred;
+  const bool filter = desc.filter != LightFilter::Tricubic;
+  if (desc.shade == LightShade::Auto)
+    desc.shade = onCpu && deferred && filter ? LightShade::Cpu : LightShade::Gl;
+  if (desc.shade == LightShade::Cpu && !(onCpu && deferred && filter))
+    throw InputError(
+        "lights.shade: \"cpu\" needs \"accumulate\": \"cpu\", \"pipeline\": \"deferred\" "
+        "and filter nearest or trilinear");
+  return desc;
+}
+
 }  // namespace
 
 LightVolume::LightVolume(const LightsDesc& requested, const gl::ShaderLibrary& shaders)
-    : desc_(decided(requested)) {
+    : desc_(decidedShade(decided(requested))) {
   const LightsDesc& desc = desc_;
   GLint maxSize = 0;
   glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
@@ -205,6 +224,13 @@ void LightVolume::accumulateOnCpu(const std::vector<LightParticle>& lights, cons
   if (view) cull.emplace(desc_, *view, box_);
   lights::accumulateOnCpu(desc_, lights, box_, scale_, cull ? &*cull : nullptr, cpuSums_);
   lastLights_ = cpuSums_.lights;
+  stale_ = true;
+  // Shaded on the CPU, the lighting pass samples no texture: uploaded only if one is sampled.
+  if (desc_.shade != LightShade::Cpu) upload();
+}
+
+void LightVolume::upload() const {
+  stale_ = false;
   // Only the voxels the lights reached are uploaded (Fig. 11's lie in the lowest fifth of the
   // volume); every other voxel must read zero: what the last frame left outside them is cleared.
   const VoxelBox& b = cpuSums_.touched;
@@ -285,7 +311,37 @@ bool LightVolume::accumulate(std::size_t count, float scale) {
   return wrapped != 0;
 }
 
+bool LightVolume::shadesOnCpu() const {
+  return desc_.shade == LightShade::Cpu && desc_.filter != LightFilter::Tricubic;
+}
+
+void LightVolume::shadeOnCpu(const splat::GBufferPixels& g, const Vec3& eye, float* rgba) const {
+  CpuShading(desc_, cpuSums_, terms).pixels(g.count, g.position, g.normal, g.albedo, eye, rgba);
+}
+
+std::vector<Vec3> LightVolume::probeOnCpu(const std::vector<ProbePoint>& points,
+                                          const Vec3& base) const {
+  if (desc_.accumulate != LightAccumulate::Cpu)
+    throw InputError("lights.shade: the CPU shading needs \"accumulate\": \"cpu\"");
+  const CpuShading shading(desc_, cpuSums_, terms);
+  std::vector<Vec3> out(points.size());
+  parallelForDynamic(points.size(), 1024, [&](std::size_t i) {
+    out[i] = shading.at(points[i].position, points[i].normal, points[i].toEye, base);
+  });
+  return out;
+}
+
+std::vector<Vec3> LightVolume::shade(const std::vector<ProbePoint>& points,
+                                     const Vec3& base) const {
+  return shadesOnCpu() ? probeOnCpu(points, base) : probe(points, base);
+}
+
 void LightVolume::apply(GLuint p) const {
+  // A program that samples the textures (llvmpipe drops unused samplers: -1 where the particle
+  // lights' code is compiled out) needs this frame's sums in them.
+  if (stale_ && (glGetUniformLocation(p, "u_lightColour") >= 0 ||
+                 glGetUniformLocation(p, "u_lightDirection") >= 0))
+    upload();
   glBindTextureUnit(kColourUnit, colour_.id());
   glBindTextureUnit(kDirectionUnit, direction_.id());
   auto loc = [&](const char* name) { return glGetUniformLocation(p, name); };
@@ -345,9 +401,11 @@ std::vector<std::array<float, 4>> readTexture(GLuint t, std::size_t voxels) {
 }  // namespace
 
 std::vector<std::array<float, 4>> LightVolume::readColour() const {
+  if (stale_) upload();
   return readTexture(colour_.id(), desc_.voxelCount());
 }
 std::vector<std::array<float, 4>> LightVolume::readDirection() const {
+  if (stale_) upload();
   return readTexture(direction_.id(), desc_.voxelCount());
 }
 

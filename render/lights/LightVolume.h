@@ -2,7 +2,8 @@
 // docs/lights.md): two RGBA16F 3D textures over the scene's `lights.volume`, the sum of every
 // light's attenuated colour and of its intensity-weighted direction per voxel, rebuilt by compute
 // shaders from the lights of each frame and sampled by the surfaces' shading through
-// shaders/extra_lights.glsl (nearest, trilinear or tricubic, optionally oversampled).
+// shaders/extra_lights.glsl (nearest, trilinear or tricubic, optionally oversampled), or with
+// lights.shade "cpu" evaluated on the CPU from the sums it accumulated there (CpuShading.h).
 // Needs a current GL 4.5 context; exists only when a scene has `lights`.
 #pragma once
 
@@ -54,6 +55,11 @@ class LightVolume final : public splat::ExtraLights {
   void apply(GLuint program) const override;
   // lights.pipeline "deferred": the frame's opaque surfaces are lit in one full-screen pass.
   bool deferred() const override { return desc_.pipeline == LightPipeline::Deferred; }
+  // lights.shade "cpu" (desc().shade, `auto` decided when the volume is made; CpuShading.h):
+  // the lighting pass's term computed on the CPU from the last update's sums. A filter set to
+  // tricubic since (compare's) goes back to the GL path.
+  bool shadesOnCpu() const override;
+  void shadeOnCpu(const splat::GBufferPixels& g, const Vec3& eye, float* rgba) const override;
 
   // Which Phong terms apply() switches on (bit 0 diffuse, bit 1 specular; the error figures).
   int terms = 3;
@@ -62,6 +68,10 @@ class LightVolume final : public splat::ExtraLights {
 
   // The shading term of extra_lights.glsl at each point, on the GPU (base colour `base`).
   std::vector<Vec3> probe(const std::vector<ProbePoint>& points, const Vec3& base) const;
+  // The same term as lights.shade "cpu" computes it (CpuShading.h; accumulate "cpu" only).
+  std::vector<Vec3> probeOnCpu(const std::vector<ProbePoint>& points, const Vec3& base) const;
+  // What a frame shades with: probeOnCpu where shadesOnCpu(), else probe (compare's figures).
+  std::vector<Vec3> shade(const std::vector<ProbePoint>& points, const Vec3& base) const;
 
   // The textures' contents, RGBA per voxel, x fastest (tests, benchmarks).
   std::vector<std::array<float, 4>> readColour() const;
@@ -89,8 +99,14 @@ class LightVolume final : public splat::ExtraLights {
   // The voxels of this frame, and those the textures may hold non-zero values in (the last
   // frame's box, or with "cpu" the voxels it uploaded; the whole volume before the first, its
   // storage being undefined).
-  VoxelBox box_, dirty_;
-  VoxelSums cpuSums_;  // "cpu": the last frame's sums, their storage reused
+  // Mutable: with lights.shade "cpu" the sums are uploaded only when a program that samples the
+  // textures is applied (the forward water over a deferred frame, probe) or they are read.
+  mutable VoxelBox dirty_;
+  VoxelBox box_;
+  VoxelSums cpuSums_;           // "cpu": the last frame's sums, their storage reused
+  mutable bool stale_ = false;  // "cpu": cpuSums_ not uploaded yet
+  // "cpu": the voxels cpuSums_ holds into the two textures, zero where the last upload left any.
+  void upload() const;
   // Clears the volume and accumulates the uploaded `count` lights at fixed-point `scale` into
   // box_; returns whether a voxel's sum wrapped (atomic only).
   bool accumulate(std::size_t count, float scale);

@@ -36,14 +36,16 @@ std::string describeLights(const LightsDesc& d) {
   const std::string source = d.source == LightSource::Emitter
                                  ? std::to_string(d.emitter.count) + " from an emitter"
                                  : std::string("every fluid particle");
-  std::snprintf(
-      line, sizeof line,
-      "particle lights: %s, %d x %d x %d voxels of %g m, range %g m, %s filter%s, %s "
-      "accumulation%s%s",
-      source.c_str(), d.voxels[0], d.voxels[1], d.voxels[2], d.voxelSize, d.range, nameOf(d.filter),
-      d.oversampling > 1 ? " oversampled" : "", nameOf(d.accumulate),
-      d.pipeline == LightPipeline::Deferred ? ", deferred (G-buffer + lighting pass)" : "",
-      d.cull ? ", culled to the view" : "");
+  std::snprintf(line, sizeof line,
+                "particle lights: %s, %d x %d x %d voxels of %g m, range %g m, %s filter%s, %s "
+                "accumulation%s%s",
+                source.c_str(), d.voxels[0], d.voxels[1], d.voxels[2], d.voxelSize, d.range,
+                nameOf(d.filter), d.oversampling > 1 ? " oversampled" : "", nameOf(d.accumulate),
+                d.pipeline != LightPipeline::Deferred ? ""
+                : d.shade == LightShade::Cpu
+                    ? ", deferred (G-buffer + lighting pass), shaded on the CPU"
+                    : ", deferred (G-buffer + lighting pass)",
+                d.cull ? ", culled to the view" : "");
   return line;
 }
 

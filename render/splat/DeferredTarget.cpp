@@ -1,5 +1,7 @@
 #include "render/splat/DeferredTarget.h"
 
+#include <chrono>
+
 #include "render/gl/GlError.h"
 #include "render/gl/Shader.h"
 #include "render/splat/ExtraLights.h"
@@ -7,7 +9,7 @@
 
 namespace sph::render::splat {
 
-DeferredTarget::DeferredTarget(const gl::ShaderLibrary& shaders) {
+DeferredTarget::DeferredTarget(const gl::ShaderLibrary& shaders) : shaders_(shaders) {
   lighting_ = gl::buildProgram(shaders,
                                {{gl::ShaderStage::Vertex, "deferred_lighting.vert"},
                                 {gl::ShaderStage::Fragment, "deferred_lighting.frag"}},
@@ -32,6 +34,7 @@ void DeferredTarget::begin(int width, int height) {
     position_ = texture(GL_RGBA32F);
     normal_ = texture(GL_RGBA32F);
     depth_ = texture(GL_DEPTH_COMPONENT32F);
+    particle_ = gl::Texture{};  // made for lights.shade "cpu" only
     framebuffer_ = gl::Framebuffer::create();
     const GLuint f = framebuffer_.id();
     glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT0, lit_.id(), 0);
@@ -52,14 +55,50 @@ void DeferredTarget::begin(int width, int height) {
   glClearNamedFramebufferfi(framebuffer_.id(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
 }
 
-void DeferredTarget::light(GLuint framebuffer, const ExtraLights& lights, const Vec3& eye) {
+void DeferredTarget::shadeOnCpu(const ExtraLights& lights, const Vec3& eye) {
+  if (cpuLighting_.id() == 0) {
+    cpuLighting_ = gl::buildProgram(shaders_,
+                                    {{gl::ShaderStage::Vertex, "deferred_lighting.vert"},
+                                     {gl::ShaderStage::Fragment, "deferred_lighting.frag"}},
+                                    "deferred lighting, particle lights shaded on the CPU",
+                                    {"SPH_CPU_PARTICLE_LIGHTS"});
+  }
+  if (particle_.id() == 0) {
+    particle_ = gl::Texture::create(GL_TEXTURE_2D);
+    glTextureStorage2D(particle_.id(), 1, GL_RGBA32F, width_, height_);
+  }
+  const std::size_t n = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
+  readPosition_.resize(4 * n), readNormal_.resize(4 * n), readAlbedo_.resize(4 * n);
+  term_.resize(4 * n);
+  // In the targets' own formats: on llvmpipe a copy without conversion.
+  glGetTextureImage(position_.id(), 0, GL_RGBA, GL_FLOAT,
+                    static_cast<GLsizei>(readPosition_.size() * sizeof(float)),
+                    readPosition_.data());
+  glGetTextureImage(normal_.id(), 0, GL_RGBA, GL_FLOAT,
+                    static_cast<GLsizei>(readNormal_.size() * sizeof(float)), readNormal_.data());
+  glGetTextureImage(albedo_.id(), 0, GL_RGBA, GL_HALF_FLOAT,
+                    static_cast<GLsizei>(readAlbedo_.size() * sizeof(std::uint16_t)),
+                    readAlbedo_.data());
+  lights.shadeOnCpu({n, readPosition_.data(), readNormal_.data(), readAlbedo_.data()}, eye,
+                    term_.data());
+  // RGBA32F: the term as the GL pass computes it, in float (the two agree to one 8-bit step).
+  glTextureSubImage2D(particle_.id(), 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, term_.data());
+}
+
+double DeferredTarget::light(GLuint framebuffer, const ExtraLights& lights, const Vec3& eye) {
+  const auto start = std::chrono::steady_clock::now();
+  const bool cpu = lights.shadesOnCpu();
+  if (cpu) shadeOnCpu(lights, eye);
+  const double seconds =
+      cpu ? std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() : 0.0;
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-  const GLuint p = lighting_.id();
-  lights.apply(p);
+  const GLuint p = cpu ? cpuLighting_.id() : lighting_.id();
+  if (!cpu) lights.apply(p);
   setVec3(p, "u_eye", eye);
   GLuint unit = 0;
   for (const gl::Texture* t : {&lit_, &albedo_, &position_, &normal_, &depth_})
     glBindTextureUnit(unit++, t->id());
+  if (cpu) glBindTextureUnit(5, particle_.id());
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_ALWAYS);  // the G-buffer's depth is the frame's: written as it is
   glDepthMask(GL_TRUE);
@@ -71,7 +110,8 @@ void DeferredTarget::light(GLuint framebuffer, const ExtraLights& lights, const 
   glBindVertexArray(0);
   glUseProgram(0);
   glDepthFunc(GL_LESS);
-  for (GLuint u = 0; u < 5; ++u) glBindTextureUnit(u, 0);
+  for (GLuint u = 0; u < 6; ++u) glBindTextureUnit(u, 0);
+  return seconds;
 }
 
 }  // namespace sph::render::splat

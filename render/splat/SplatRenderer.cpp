@@ -280,10 +280,12 @@ void SplatRenderer::drawDeferred(const SplatFrame& frame, SplatKind kind, const 
   glFinish();  // the passes' times apart (Fig. 11's breakdown; llvmpipe drains between them anyway)
   const auto gbuffer = Clock::now();
   // 2. One full-screen pass adds the particle lights where the G-buffer holds a surface.
-  deferred_->light(static_cast<GLuint>(target), *lighting.extra, cam.eye);
+  // With lights.shade "cpu" the term is computed on the CPU first (passes_.particles).
+  passes_.particles = deferred_->light(static_cast<GLuint>(target), *lighting.extra, cam.eye);
   glFinish();
   passes_.gbuffer = std::chrono::duration<double>(gbuffer - start).count();
-  passes_.lighting = std::chrono::duration<double>(Clock::now() - gbuffer).count();
+  passes_.lighting =
+      std::chrono::duration<double>(Clock::now() - gbuffer).count() - passes_.particles;
   // 3. Forward on top, depth tested against the lit frame: layers without a G-buffer program and
   // translucent water, which a G-buffer of one surface per pixel cannot blend (docs/lights.md).
   const bool scored = offscreen && contents_ == ImageContents::ColourAndNormals;

@@ -1,0 +1,172 @@
+// lights.shade "cpu" (render/lights/CpuShading.h): the particle lights' term computed on the CPU
+// from the volume lights.accumulate "cpu" gathered is the GL term - at probe points through each
+// filter it has, and in the deferred frame to one 8-bit step, culled or not, with translucent
+// water drawn forward over it (which samples the 3D textures: uploaded then, and only then);
+// "auto" picks it where the volume is on the CPU and the frame deferred, and "cpu" asked for
+// where it cannot work is refused.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <random>
+#include <string>
+
+#include "render/gl/GlContext.h"
+#include "render/lights/LightCulling.h"
+#include "render/lights/LightVolume.h"
+#include "render/solids/SolidRenderer.h"
+#include "render/splat/SplatRenderer.h"
+#include "sim/Camera.h"
+#include "sim/InputError.h"
+#include "tests/LightTestScenes.h"
+
+namespace sph::render::lights {
+namespace {
+
+using test::light;
+
+class LightsShade : public ::testing::Test {
+ protected:
+  void SetUp() override { context_ = std::make_unique<gl::GlContext>(gl::GlContext::headless()); }
+  std::unique_ptr<gl::GlContext> context_;
+};
+
+// 24^3 voxels of 0.05 m over a floor, a sphere and a block; deferred, accumulated on the CPU.
+LightsDesc scene(LightShade shade) {
+  LightsDesc d;
+  d.origin = Vec3(-0.6f, -0.1f, -0.6f), d.voxelSize = 0.05f, d.voxels = {24, 24, 24};
+  d.attenuation = {1.0f, 0.0f, 20.0f}, d.range = 0.3f, d.filter = LightFilter::Trilinear;
+  d.specular = 0.5f, d.shininess = 16, d.roomLight = 0.3f;
+  d.pipeline = LightPipeline::Deferred, d.accumulate = LightAccumulate::Cpu, d.shade = shade;
+  return d;
+}
+
+TEST_F(LightsShade, TheCpuTermIsTheGlTermAtPointsThroughEachFilter) {
+  LightVolume volume(scene(LightShade::Cpu));
+  ASSERT_TRUE(volume.shadesOnCpu());
+  volume.update(test::sheetLights(3));
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<ProbePoint> points;
+  for (int i = 0; i < 2000; ++i) {  // over the whole volume and a little beyond its faces
+    ProbePoint p;
+    p.position = Vec3(0.65f * u(rng), 0.5f + 0.65f * u(rng), 0.65f * u(rng));
+    p.normal = Vec3(u(rng), u(rng) + 1.2f, u(rng)).normalized();
+    p.toEye = Vec3(u(rng), 1.0f, u(rng)).normalized();
+    points.push_back(p);
+  }
+  const Vec3 base(0.8f, 0.7f, 0.6f);
+  for (LightFilter f : {LightFilter::Nearest, LightFilter::Trilinear}) {
+    for (int n : {1, 2}) {
+      volume.setFilter(f, 0.0f, n);
+      for (int terms : {1, 2, 3}) {
+        volume.terms = terms;
+        const std::vector<Vec3> gl = volume.probe(points, base);
+        const std::vector<Vec3> cpu = volume.probeOnCpu(points, base);
+        float worst = 0;
+        int lit = 0;
+        for (std::size_t i = 0; i < points.size(); ++i) {
+          worst = std::max(worst, (gl[i] - cpu[i]).norm() / (1e-3f + gl[i].norm()));
+          lit += gl[i].maxCoeff() > 0.01f;
+        }
+        // The same texels and float weights: rounding alone (8-bit weights: 3-66% off).
+        EXPECT_LT(worst, 1e-3f) << nameOf(f) << " x" << n << " terms " << terms;
+        EXPECT_GT(lit, 100) << nameOf(f) << " x" << n << " terms " << terms;
+      }
+    }
+  }
+  volume.terms = 3;
+}
+
+// The deferred frame of test_lights.cpp's forward-against-deferred test, shaded by GL and by the
+// CPU, whole volume and culled to the camera, opaque and translucent water (the latter drawn
+// forward over the frame: it samples the 3D textures, which "cpu" uploads only then).
+TEST_F(LightsShade, ShadedOnTheCpuTheDeferredFrameIsTheGlOneToOneStep) {
+  const std::vector<LightParticle> lights = test::sheetLights(14);
+  solids::SolidRenderer solids(test::sheetSolids(), Aabb{Vec3(-1, -1, -1), Vec3(1, 1, 1)}, 0.02f);
+  const splat::SplatFrame water = test::waterSheet();
+  const int width = 160, height = 120;
+  splat::SplatRenderer r(width, height);
+  r.setLayers({&solids});
+  const CameraDesc camera = test::sheetCamera();
+  const LightView view = lightView(camera, static_cast<float>(width) / height, 1.5f, 2.5f, 0.05f);
+  LightVolume gl(scene(LightShade::Gl)), cpu(scene(LightShade::Cpu));
+  ASSERT_FALSE(gl.shadesOnCpu());
+  for (const LightView* v : {static_cast<const LightView*>(nullptr), &view}) {
+    gl.update(lights, v), cpu.update(lights, v);
+    for (float alpha : {1.0f, 0.5f}) {
+      splat::Lighting lighting;
+      lighting.alpha = alpha;
+      lighting.extra = &gl;
+      const splat::RenderImage a = r.render(water, splat::SplatKind::Point, camera, lighting);
+      EXPECT_EQ(r.lastPasses().particles, 0.0);
+      lighting.extra = &cpu;
+      const splat::RenderImage b = r.render(water, splat::SplatKind::Point, camera, lighting);
+      EXPECT_GT(r.lastPasses().particles, 0.0) << "the CPU pass ran";
+      lighting.extra = nullptr;
+      const splat::RenderImage unlit = r.render(water, splat::SplatKind::Point, camera, lighting);
+      const test::Steps diff = test::steps(a, b, unlit);
+      EXPECT_LE(diff.worst, 1) << "alpha " << alpha << (v ? ", culled" : "");
+      EXPECT_GT(diff.lit, width * height / 4) << "alpha " << alpha << (v ? ", culled" : "");
+    }
+  }
+  // Lights that move: the next frame's term, not the last one's.
+  const std::vector<LightParticle> moved = test::sheetLights(15);
+  gl.update(moved), cpu.update(moved);
+  splat::Lighting lighting;
+  lighting.extra = &gl;
+  const splat::RenderImage a =
+      r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera, lighting);
+  lighting.extra = &cpu;
+  const splat::RenderImage b =
+      r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera, lighting);
+  EXPECT_LE(test::steps(a, b, a).worst, 1) << "moved lights";
+}
+
+// Shaded on the CPU, a frame uploads nothing until something samples the textures; what is read
+// then is the frame's volume, as the GL-shaded volume holds it (a smaller box after a larger one
+// included: the voxels left from the last upload read zero).
+TEST_F(LightsShade, TheTexturesHoldTheFrameWhenReadThoughNotUploadedEachFrame) {
+  LightVolume gl(scene(LightShade::Gl)), cpu(scene(LightShade::Cpu));
+  std::vector<LightParticle> few = test::sheetLights(4);
+  few.resize(8);
+  for (const std::vector<LightParticle>& lights : {test::sheetLights(4), few}) {
+    gl.update(lights), cpu.update(lights);
+    EXPECT_EQ(cpu.readColour(), gl.readColour());
+    EXPECT_EQ(cpu.readDirection(), gl.readDirection());
+  }
+}
+
+TEST_F(LightsShade, AutoShadesOnTheCpuWhereTheVolumeIsOnItAndTheFrameDeferred) {
+  EXPECT_TRUE(LightVolume(scene(LightShade::Auto)).shadesOnCpu());
+  LightsDesc d = scene(LightShade::Auto);
+  d.pipeline = LightPipeline::Forward;
+  EXPECT_FALSE(LightVolume(d).shadesOnCpu()) << "forward: no G-buffer to shade";
+  d = scene(LightShade::Auto), d.accumulate = LightAccumulate::Atomic;
+  EXPECT_FALSE(LightVolume(d).shadesOnCpu()) << "the volume is on the GPU";
+  d = scene(LightShade::Auto), d.filter = LightFilter::Tricubic;
+  EXPECT_FALSE(LightVolume(d).shadesOnCpu()) << "tricubic stays on GL";
+  // Asked for where it cannot work: refused (the scene loader says so with the key first).
+  for (auto change : {+[](LightsDesc& x) { x.pipeline = LightPipeline::Forward; },
+                      +[](LightsDesc& x) { x.accumulate = LightAccumulate::Paper; },
+                      +[](LightsDesc& x) { x.filter = LightFilter::Tricubic; }}) {
+    d = scene(LightShade::Cpu);
+    change(d);
+    try {
+      LightVolume v(d);
+      ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("lights.shade"), std::string::npos) << e.what();
+    }
+  }
+  // compare's tricubic rows on a "cpu" volume: the GL path, as the lighting pass would take.
+  LightVolume v(scene(LightShade::Cpu));
+  v.setFilter(LightFilter::Tricubic, 0.0f, 1);
+  EXPECT_FALSE(v.shadesOnCpu());
+  v.setFilter(LightFilter::Trilinear, 0.0f, 1);
+  EXPECT_TRUE(v.shadesOnCpu());
+}
+
+}  // namespace
+}  // namespace sph::render::lights
