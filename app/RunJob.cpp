@@ -189,22 +189,27 @@ int runJob(const RunRequest& request) {
   std::unique_ptr<FrameSink> distributed;
   std::function<double()> frameSeconds;  // rank 0's time handing frames out (run -v)
   bool together = false;
+  const CollectiveCacheSink* collective = nullptr;  // run -v: the rain's water cells
   if (halo) {
     // Rank 0 knows whether there is a cache; with parallel HDF5 every rank writes its part of
     // each frame (app/CollectiveCacheSink.h), else rank 0 gathers the frames and writes them.
     std::vector<std::int64_t> caching{cache ? 1 : 0};
     ranks->sumInPlace(caching);
-    together = caching[0] && !pictures && writeCacheTogether(scene);
+    together = caching[0] && !pictures && writeCacheTogether();
     if (together) {
-      auto sink = std::make_unique<CollectiveCacheSink>(*halo, cache.get());
+      auto sink = std::make_unique<CollectiveCacheSink>(*halo, cache.get(), scene);
       frameSeconds = [p = sink.get()] { return p->seconds(); };
+      collective = sink.get();
       distributed = std::move(sink);
-    } else {
+    } else if (caching[0]) {
+      // (Without a cache no rank has a sink, the renderer being refused on K processes: nothing
+      // is gathered.)
       auto sink = std::make_unique<GatheringSink>(*halo, sim, sinks);
       frameSeconds = [p = sink.get()] { return p->seconds(); };
       distributed = std::move(sink);
     }
-    sinks = {distributed.get()};
+    sinks.clear();
+    if (distributed) sinks.push_back(distributed.get());
     if (caching[0] && !resumed) {
       // Frame 0 as every later frame (each rank holds its slab of it): rank 0 creates the file
       // under PATH.partial (its checks stop every rank), all ranks write the frame, and rank 0
@@ -319,6 +324,11 @@ int runJob(const RunRequest& request) {
             1e3 * hs.placesSeconds / hs.placesCalls,
             static_cast<unsigned long long>(hs.placesBytesReceived / hs.placesCalls),
             static_cast<unsigned long long>(hs.placesStrays / hs.placesCalls));
+      if (collective && scene.rain && collective->frames() > 0)
+        std::printf(
+            "  rain: %.0f bytes of water cells received a frame on rank 0 from the other ranks "
+            "(the drops meet their union; no particle is gathered)\n",
+            static_cast<double>(collective->cellBytesReceived()) / collective->frames());
     }
   }
   if (cache) cache->close();

@@ -22,10 +22,22 @@ WaterCells::WaterCells(const std::vector<Vec3>& fluid, float cell) : cell_(cell)
   for (const Vec3& p : fluid) cells_.insert(key(p));
 }
 
-std::uint64_t WaterCells::key(const Vec3& p) const {
+WaterCells WaterCells::fromKeys(const std::vector<std::uint64_t>& keys, float cell) {
+  WaterCells w(cell);
+  w.cells_.reserve(keys.size());
+  w.cells_.insert(keys.begin(), keys.end());
+  return w;
+}
+
+std::vector<std::uint64_t> WaterCells::keys() const {
+  std::vector<std::uint64_t> k(cells_.begin(), cells_.end());
+  std::sort(k.begin(), k.end());
+  return k;
+}
+
+std::uint64_t WaterCells::keyOf(const Vec3& p, float cell) {
   auto c = [&](float v) {
-    return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v / cell_)) +
-                                      (1 << 20)) &
+    return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v / cell)) + (1 << 20)) &
            0x1fffff;
   };
   return c(p.x()) | c(p.y()) << 21 | c(p.z()) << 42;
