@@ -68,29 +68,12 @@ int runJob(const RunRequest& request) {
   if (scene.render)
     framesLock = lockDirectory(RenderOutput::directoryFor(scene, cache ? cache->path() : ""));
 
-  // On K processes the slabs exist before the fluid: each rank generates only its slab of the
-  // starting fluid (sim/dist/StartSlab.h), and no rank holds the whole of it.
-  std::unique_ptr<dist::Halo> halo;
-  if (ranks) halo = std::make_unique<dist::Halo>(*ranks, scene.domain, deriveParams(scene).h);
-  const auto setupStart = std::chrono::steady_clock::now();
-  // Samples the boundaries, once for the whole run.
-  const std::unique_ptr<Simulation> simulation =
-      halo ? std::make_unique<Simulation>(scene, *halo) : std::make_unique<Simulation>(scene);
-  Simulation& sim = *simulation;
-  const double setupSeconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - setupStart).count();
-  sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
   const double end = scene.solver.endTime;
   const double frameInterval = 1.0 / scene.output.fps;
-  const std::size_t startParticles =
-      halo ? halo->globalCount(sim.fluid().size()) : sim.fluid().size();
-  if (!o.quiet) printHeader(o, scene, sim, startParticles, cache.get(), setupSeconds, memory);
-
-  std::uint64_t frames = 1;                   // the next output frame; the initial state is frame 0
   bool resumed = cache && cache->resuming();  // rank 0 knows; on K processes every rank learns
-  const io::CacheProvenance provenance{SPHSPLAT_VERSION_STRING, threadCount(), o.overrides};
   if (ranks) {
-    // Whether rank 0 resumes, and from where: every rank follows.
+    // Whether rank 0 resumes, before any fluid exists: a resume reads each rank's slab of the
+    // cache's last frame, so no rank generates a start that would be dropped.
     std::vector<std::int64_t> resume{cache && cache->resuming() ? 1 : 0,
                                      cache && cache->resuming() && cache->lastFrameTime() >= end};
     ranks->sumInPlace(resume);
@@ -101,7 +84,31 @@ int runJob(const RunRequest& request) {
                     cache->path().c_str(), cache->lastFrameTime());
       return kOk;
     }
-    if (resume[0]) {
+  }
+  // On K processes the slabs exist before the fluid: each rank generates only its slab of the
+  // starting fluid (sim/dist/StartSlab.h), and no rank holds the whole of it; a resume starts
+  // without fluid.
+  std::unique_ptr<dist::Halo> halo;
+  if (ranks) halo = std::make_unique<dist::Halo>(*ranks, scene.domain, deriveParams(scene).h);
+  const auto setupStart = std::chrono::steady_clock::now();
+  // Samples the boundaries, once for the whole run.
+  const std::unique_ptr<Simulation> simulation =
+      halo ? std::make_unique<Simulation>(
+                 scene, *halo, resumed ? Simulation::Start::Empty : Simulation::Start::Slab)
+           : std::make_unique<Simulation>(scene);
+  Simulation& sim = *simulation;
+  const double setupSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - setupStart).count();
+  sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
+  std::size_t startParticles = halo ? halo->globalCount(sim.fluid().size()) : sim.fluid().size();
+  // A distributed resume holds no fluid yet: the header tells the frame it continues from.
+  if (halo && resumed && root) startParticles = cache->reader().summary().frames.back().particles;
+  if (!o.quiet) printHeader(o, scene, sim, startParticles, cache.get(), setupSeconds, memory);
+
+  std::uint64_t frames = 1;  // the next output frame; the initial state is frame 0
+  const io::CacheProvenance provenance{SPHSPLAT_VERSION_STRING, threadCount(), o.overrides};
+  if (ranks) {
+    if (resumed) {
       // Rank 0 checks the cache against the scene (its message stops every rank), then every
       // rank reads its slab of the last frame (app/DistributedResume.h), and once all have
       // closed the file rank 0 opens it for appending.
@@ -115,8 +122,6 @@ int runJob(const RunRequest& request) {
       if (root) path.assign(cache->path().begin(), cache->path().end());
       ranks->broadcastFromRoot(path);
       {
-        // The start's slab is not needed: released before the resume's is read.
-        sim.fluid() = Particles{};
         std::unique_ptr<io::CacheReader> own;
         if (!root) own = std::make_unique<io::CacheReader>(std::string(path.begin(), path.end()));
         ResumePart part = readResumePart(*halo, root ? cache->reader() : *own,
