@@ -256,8 +256,9 @@ void CacheSession::writeFrame(const Simulation& sim) {
 void CacheSession::writeFrameTogether(const Simulation& sim, const Particles& mine,
                                       const RunState& state, const FrameSlice& slice,
                                       const rain::WaterCells* water) {
-  // Rank 0 holds part of the fluid only: its drops must meet the cells of all of it. (Checked
-  // before the frame: the other ranks are not waiting in a collective yet.)
+  // Rank 0 holds part of the fluid only: its drops must meet the cells of all of it, and a rain
+  // that feeds the fluid is not shared out (refused on K processes before the run; failing here,
+  // on rank 0 alone, ends every rank: app/DistributedRun.h, setLockstep).
   if (rainShown_ != rain_.get() || (rain_ && !water))
     throw InputError(path_ +
                      ": its rain needs the whole fluid, which no rank holds (docs/scaling.md)");
