@@ -1,9 +1,11 @@
 #include "app/MachineMemory.h"
 
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -57,6 +59,7 @@ MachineMemory machineMemory() {
     const double free = std::max(0.0, limit - cgroupUsage());
     if (free < m.availableBytes) m.availableBytes = free, m.limitedBy = "the cgroup's memory.max";
   }
+  m.sharedBytes = m.availableBytes, m.sharedLimitedBy = m.limitedBy;
   struct rlimit as {};
   if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) {
     const double free = std::max(
@@ -68,9 +71,12 @@ MachineMemory machineMemory() {
 
 std::string describeMemory(const MemoryEstimate& e, const MachineMemory& m) {
   std::ostringstream s;
-  s << "about " << humanBytes(e.bytes) << " (" << count(e.fluidParticles) << " fluid particles";
+  s << "about " << humanBytes(e.bytes);
+  if (e.ranks > 1) s << " a process on " << e.ranks << " processes";
+  s << " (" << count(e.fluidParticles) << " fluid particles";
   if (e.emittedParticles > 0) s << " + " << count(e.emittedParticles) << " from nozzles";
   if (e.rainParticles > 0) s << " + up to " << count(e.rainParticles) << " from the rain";
+  if (e.ranks > 1) s << " shared out";
   s << ", " << count(e.boundaryParticles) << " boundary particles";
   if (e.rainDrops > 0) s << ", " << count(e.rainDrops) << " rain drops";
   s << "); ";
@@ -80,19 +86,58 @@ std::string describeMemory(const MemoryEstimate& e, const MachineMemory& m) {
   return s.str();
 }
 
-MemoryEstimate checkMemory(const Scene& scene) {
-  const MemoryEstimate e = estimateMemory(scene);
-  const MachineMemory m = machineMemory();
-  if (m.availableBytes > 0 && e.bytes > m.availableBytes) {
-    const std::string advice = e.largestKey == "solver.spacing"
-                                   ? "raise solver.spacing (memory falls with its cube)"
-                               : e.largestKey == "rain.count" ? "lower rain.count"
-                               : e.largestKey == "rain.drop_volume"
-                                   ? "lower rain.drop_volume or rain.count, or end the run earlier"
-                                   : "make that nozzle smaller or stop it sooner";
-    throw InputError(scene.sourcePath + ": " + e.largestKey + ": this scene needs " +
-                     describeMemory(e, m) + "; " + advice + " or shrink the scene");
+std::optional<std::string> memoryRefusal(const Scene& scene, const MemoryEstimate& e,
+                                         const MachineMemory& m, int ranksOnMachine) {
+  // This process alone, then the ranks of this machine together (rank 0's own part once).
+  const double together =
+      (e.bytes - e.rootOnlyBytes) * std::max(1, ranksOnMachine) + e.rootOnlyBytes;
+  const bool processFits = m.availableBytes <= 0 || e.bytes <= m.availableBytes;
+  const bool machineFits = ranksOnMachine <= 1 || m.sharedBytes <= 0 || together <= m.sharedBytes;
+  if (processFits && machineFits) return std::nullopt;
+  const std::string advice = e.largestKey == "solver.spacing"
+                                 ? "raise solver.spacing (memory falls with its cube)"
+                             : e.largestKey == "rain.count" ? "lower rain.count"
+                             : e.largestKey == "rain.drop_volume"
+                                 ? "lower rain.drop_volume or rain.count, or end the run earlier"
+                                 : "make that nozzle smaller or stop it sooner";
+  std::string text =
+      scene.sourcePath + ": " + e.largestKey + ": this scene needs " + describeMemory(e, m);
+  if (processFits) {
+    text += "; the " + std::to_string(ranksOnMachine) + " processes on this machine need about " +
+            humanBytes(together) + " together, and it has " + humanBytes(m.sharedBytes) + " free";
+    if (!m.sharedLimitedBy.empty()) text += " under " + m.sharedLimitedBy;
   }
+  text += "; " + advice;
+  text += e.ranks <= 1   ? " or shrink the scene"
+          : !processFits ? ", run on more processes or shrink the scene"
+                         : ", spread the processes over more machines or shrink the scene";
+  return text;
+}
+
+int ranksOnThisMachine(dist::Communicator& ranks) {
+  char name[256] = {};
+  gethostname(name, sizeof name - 1);
+  const dist::Bytes mine(name, name + std::strlen(name));
+  int same = 0;
+  for (const dist::Bytes& other : ranks.allGather(mine)) same += other == mine;
+  return same;
+}
+
+MemoryEstimate checkMemory(const Scene& scene, dist::Communicator* ranks, bool gathersFrames) {
+  RankShare share;
+  if (ranks)
+    share.ranks = ranks->size(), share.distributed = true, share.gathersFrames = gathersFrames;
+  const MemoryEstimate e = estimateMemory(scene, share);
+  const int onMachine = ranks ? ranksOnThisMachine(*ranks) : 1;
+  const std::optional<std::string> refusal = memoryRefusal(scene, e, machineMemory(), onMachine);
+  if (!ranks) {
+    if (refusal) throw InputError(*refusal);
+    return e;
+  }
+  // Machines differ: any rank's refusal stops every rank, told once (the first rank's).
+  const dist::Bytes mine = refusal ? dist::Bytes(refusal->begin(), refusal->end()) : dist::Bytes{};
+  for (const dist::Bytes& text : ranks->allGather(mine))
+    if (!text.empty()) throw InputError(std::string(text.begin(), text.end()));
   return e;
 }
 

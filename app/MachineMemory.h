@@ -1,12 +1,16 @@
 // The memory this process may use, and the check that refuses a run that would not fit (issue
 // 12, item 6): the estimate (sim/MemoryEstimate.h) against what the machine has free, a cgroup's
-// memory.max and the process's address-space limit (ulimit -v), whichever is smallest.
+// memory.max and the process's address-space limit (ulimit -v), whichever is smallest. On K
+// processes each rank checks its own share, and the ranks on one machine their sum against what
+// that machine has free (issue 16).
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "sim/MemoryEstimate.h"
 #include "sim/Scene.h"
+#include "sim/dist/Communicator.h"
 
 namespace sph::app {
 
@@ -14,12 +18,28 @@ struct MachineMemory {
   double totalBytes = 0;      // physical memory (MemTotal)
   double availableBytes = 0;  // free for this run: MemAvailable, or a tighter cgroup / ulimit
   std::string limitedBy;      // "" or what made it smaller than MemAvailable ("ulimit -v", ...)
+  // Free for all the processes of this machine together: MemAvailable or a tighter cgroup (a
+  // ulimit -v holds for each process alone).
+  double sharedBytes = 0;
+  std::string sharedLimitedBy;
 };
 MachineMemory machineMemory();
 
 // Throws InputError naming the scene file, the estimate, the machine's memory and the scene key
 // to change if the run (to solver.end_time) needs more than is available. Returns the estimate.
-MemoryEstimate checkMemory(const Scene& scene);
+// With `ranks` (a run on K processes) it is collective: the estimate is one rank's share
+// (RankShare; `gathersFrames` when rank 0 gathers the frames to write them), the ranks on each
+// machine are counted together, and a refusal of any rank stops them all with its one line.
+MemoryEstimate checkMemory(const Scene& scene, dist::Communicator* ranks = nullptr,
+                           bool gathersFrames = false);
+
+// The refusal's text, if `estimate` does not fit `machine` with `ranksOnMachine` ranks of the
+// run on it (1 for one process): checkMemory without the collectives.
+std::optional<std::string> memoryRefusal(const Scene& scene, const MemoryEstimate& estimate,
+                                         const MachineMemory& machine, int ranksOnMachine);
+
+// How many of the run's ranks run on this machine (the same host name); collective.
+int ranksOnThisMachine(dist::Communicator& ranks);
 
 // "about 41.3 MB (96 fluid particles, ...); the machine has 21.0 GB free of 23.4 GB".
 std::string describeMemory(const MemoryEstimate& estimate, const MachineMemory& machine);

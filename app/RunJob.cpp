@@ -48,7 +48,8 @@ int runJob(const RunRequest& request) {
   // memory; a scene past either stops here with one line naming the key to change.
   cdt::requireIdsInRange(scene);
   setThreadCount(o.threads);  // first: DFSPH's estimate counts a spare pair chunk a thread
-  const MemoryEstimate memory = checkMemory(scene);
+  // On K processes each rank's share, the ranks of a machine together (app/MachineMemory.h).
+  const MemoryEstimate memory = checkMemory(scene, ranks, ranks && !writeCacheTogether());
   // The cache's paths are checked before anything runs (nothing is overwritten by surprise).
   std::unique_ptr<io::CacheSession> cache;
   if (!ranks) {

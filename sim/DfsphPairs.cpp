@@ -15,11 +15,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#if defined(__AVX512F__) && defined(__AVX512VL__)
-#include <immintrin.h>
-#endif
 
 #include "sim/DfsphPairs.h"
+#include "sim/PairPacking.h"
 #include "sim/SphPasses.h"
 
 namespace sph {
@@ -80,46 +78,6 @@ FluidSums fluidCandidates(float xi, float yi, float zi, std::size_t padded,
     cubes += hr * hr * hr;
   }
   return {gx, gy, gz, squares, cubes};
-}
-
-// Copies the candidates inside the support (h - r > 0: not the particle itself, not the padding)
-// to the row's arrays from `out`, in their order, and returns how many: the particle's pairs.
-// `padded` candidates (a multiple of kBatchLanes, the batch's arrays cache-line aligned); the
-// row has room for `padded` values at `out`. Data movement only, so both versions store the
-// same pairs: with AVX-512 each 8 lanes are compressed in a register and stored whole (the lanes
-// past the count are overwritten by the next particle's pairs), which took this loop from 42%
-// to ~10% of the pass (docs/benchmarks.md); the scalar one stores every lane and advances past
-// those inside.
-std::uint32_t packPairs(std::size_t padded, const float* __restrict bits,
-                        const CandidateBatch<4>& t, std::uint32_t* __restrict pi,
-                        float* __restrict px, float* __restrict py, float* __restrict pz,
-                        float* __restrict ph) {
-  const float* __restrict tx = t.field[0].data();
-  const float* __restrict ty = t.field[1].data();
-  const float* __restrict tz = t.field[2].data();
-  const float* __restrict th = t.field[3].data();
-  std::uint32_t count = 0;
-#if defined(__AVX512F__) && defined(__AVX512VL__)
-  for (std::size_t j = 0; j < padded; j += 8) {
-    const __m256 hr = _mm256_load_ps(th + j);
-    const __mmask8 in = _mm256_cmp_ps_mask(hr, _mm256_setzero_ps(), _CMP_GT_OQ);
-    const __m256i index = _mm256_castps_si256(_mm256_loadu_ps(bits + j));
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(pi + count),
-                        _mm256_maskz_compress_epi32(in, index));
-    _mm256_storeu_ps(px + count, _mm256_maskz_compress_ps(in, _mm256_load_ps(tx + j)));
-    _mm256_storeu_ps(py + count, _mm256_maskz_compress_ps(in, _mm256_load_ps(ty + j)));
-    _mm256_storeu_ps(pz + count, _mm256_maskz_compress_ps(in, _mm256_load_ps(tz + j)));
-    _mm256_storeu_ps(ph + count, _mm256_maskz_compress_ps(in, hr));
-    count += static_cast<std::uint32_t>(__builtin_popcount(in));
-  }
-#else
-  for (std::size_t j = 0; j < padded; ++j) {
-    pi[count] = bitsAs<std::uint32_t>(bits[j]);
-    px[count] = tx[j], py[count] = ty[j], pz[count] = tz[j], ph[count] = th[j];
-    count += th[j] > 0.0f ? 1u : 0u;
-  }
-#endif
-  return count;
 }
 
 // The same over the boundary candidates: sum (h - r)^2 / r (x_i - x_b), sum (h - r)^3 and sum
@@ -203,7 +161,7 @@ void computeDfsphDensityAndFactor(StepContext& c) {
           // The pairs: the candidates inside the support.
           const PairStore::Row to = s.pairs.room(row, thread, fb.padded);
           const std::uint32_t count =
-              packPairs(fb.padded, fb.field[3].data(), t, to.index, to.gx, to.gy, to.gz, to.hr);
+              packPairs(fb.padded, fb.field[3].data(), t, {to.index, to.gx, to.gy, to.gz, to.hr});
           s.pairs.add(row, thread, count);
           s.pairCount[i] = count;
           const BoundarySums wall = boundaryCandidates(xi, yi, zi, bb, spiky);

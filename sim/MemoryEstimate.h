@@ -23,9 +23,25 @@ struct MemoryEstimate {
   // The scene key that would shrink it most ("solver.spacing", "emitters[0].radius",
   // "rain.count").
   std::string largestKey = "solver.spacing";
+  // On K processes (mpirun -np K) `bytes` is rank 0's, the largest: see RankShare. Of it,
+  // `rootOnlyBytes` is what rank 0 alone holds (the gathered frames, the rain's drops).
+  int ranks = 1;
+  double rootOnlyBytes = 0;
 };
 
-// Up to the scene's solver.end_time (the run's, after --end).
-MemoryEstimate estimateMemory(const Scene& scene);
+// How a run on K processes (docs/scaling.md) shares the scene (`distributed`: a run under mpirun,
+// K = 1 included). Each rank holds its slab of the fluid - a 1/K share, 10% more for the imbalance
+// the re-cut allows (max/mean 1.03 measured on the dam break, docs/benchmarks.md "Scale") and a
+// plane of ghosts of the support radius at each of its two faces - but all of the boundary
+// particles; rank 0 holds every fluid particle once more when the frames are gathered to it
+// (`gathersFrames`: no parallel HDF5).
+struct RankShare {
+  int ranks = 1;
+  bool distributed = false;
+  bool gathersFrames = false;
+};
+
+// Up to the scene's solver.end_time (the run's, after --end); one rank's under `share`.
+MemoryEstimate estimateMemory(const Scene& scene, const RankShare& share = {});
 
 }  // namespace sph

@@ -47,9 +47,7 @@ std::string tinyRenderingScene(double endTime, double fps) {
 }
 
 std::string makeTempDir() {
-  char pattern[] = "/tmp/sphsplat-cache-test-XXXXXX";
-  if (!mkdtemp(pattern)) throw std::runtime_error("mkdtemp failed");
-  return pattern;
+  return makeTempDirectory("sphsplat-cache-test");
 }
 
 std::string sphsplatBinary() {

@@ -22,7 +22,7 @@ std::string tinyCacheScene(double endTime = 0.1, double fps = 100,
 // pixels, a few milliseconds each on llvmpipe) and stored in the cache.
 std::string tinyRenderingScene(double endTime, double fps);
 
-// A fresh empty directory under /tmp.
+// A fresh empty directory under /tmp, removed after a passing run (makeTempDirectory).
 std::string makeTempDir();
 
 // The command that starts the sphsplat binary (sphsplatCommand, TestSupport.h).

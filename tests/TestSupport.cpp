@@ -1,5 +1,6 @@
 #include "tests/TestSupport.h"
 
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -8,7 +9,9 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <numeric>
+#include <regex>
 #include <sstream>
 #include <stdexcept>
 
@@ -82,15 +85,29 @@ CommandResult runSphsplat(const std::string& arguments) {
   return runShell(sphsplatCommand() + " " + arguments);
 }
 
-std::string writeTempFile(const std::string& text, const std::string& suffix) {
-  std::string pattern = "/tmp/sphsplat-test-XXXXXX" + suffix;
-  std::vector<char> name(pattern.begin(), pattern.end());
-  name.push_back('\0');
-  const int fd = mkstemps(name.data(), static_cast<int>(suffix.size()));
-  if (fd < 0) throw std::runtime_error("mkstemps failed");
-  close(fd);
-  std::ofstream(name.data()) << text;
-  return name.data();
+Measured measure(const std::string& command) {
+  const std::string log = makeTempDirectory() + "/out.log";
+  const pid_t pid = fork();
+  if (pid == 0) {
+    if (!freopen(log.c_str(), "w", stdout) || !freopen(log.c_str(), "a", stderr)) _exit(126);
+    execl("/bin/sh", "sh", "-c", ("exec " + command).c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  int status = 0;
+  struct rusage usage {};
+  wait4(pid, &status, 0, &usage);
+  Measured m;
+  m.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  m.peakBytes = usage.ru_maxrss * 1024.0;
+  std::ifstream in(log);
+  m.output.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return m;
+}
+
+double estimatedBytes(const std::string& output) {
+  std::smatch m;
+  if (!std::regex_search(output, m, std::regex("memory: about ([0-9.]+) (MB|GB)"))) return 0;
+  return std::stod(m[1]) * (m[2] == "GB" ? 1e9 : 1e6);
 }
 
 }  // namespace sph::test

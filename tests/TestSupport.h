@@ -34,7 +34,23 @@ std::string sphsplatCommand();
 CommandResult runShell(const std::string& command);
 // Runs the sphsplat binary with the given argument string (shell-quoted by the caller).
 CommandResult runSphsplat(const std::string& arguments);
+// Runs `sh -c COMMAND` (stdout and stderr to a file) and returns its exit code, output and peak
+// resident memory: the largest of the command and the processes it waited for (mpirun's ranks).
+struct Measured {
+  int exitCode = -1;
+  double peakBytes = 0;
+  std::string output;
+};
+Measured measure(const std::string& command);
+// The bytes of `run --verbose`'s "memory: about 41.3 MB" line (0 if there is none).
+double estimatedBytes(const std::string& output);
+
+// Temporary files (tests/TempFiles.cpp): under $TMPDIR or /tmp, removed with the paths a test
+// derives from their names (NAME-dir, NAME.h5, ...) when every test of the program passed; kept
+// and listed when one failed or SPHSPLAT_KEEP_TEST_FILES=1.
 // Writes `text` to a fresh temporary file with the given suffix and returns its path.
 std::string writeTempFile(const std::string& text, const std::string& suffix = ".json");
+// A fresh empty directory, PREFIX-XXXXXX.
+std::string makeTempDirectory(const std::string& prefix = "sphsplat-test");
 
 }  // namespace sph::test

@@ -106,8 +106,7 @@ TEST(CollisionCli, WithoutEglCdtGlStopsWithOneLineAndCdtCpuRuns) {
 }
 
 TEST(CollisionCli, BrokenShaderNamesItsFileAndLine) {
-  char pattern[] = "/tmp/sphsplat-broken-XXXXXX";
-  const std::string dir = mkdtemp(pattern);
+  const std::string dir = test::makeTempDirectory("sphsplat-broken");
   for (const char* name : {"cdt_constants.glsl", "cdt_common.glsl", "cdt_collide.vert",
                            "cdt_write.frag", "cdt_write.comp", "cdt_peel.vert"}) {
     std::ifstream in(test::sourcePath(std::string("shaders/") + name));

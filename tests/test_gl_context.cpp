@@ -17,15 +17,13 @@
 #include "render/gl/GlError.h"
 #include "render/gl/GlHandle.h"
 #include "render/gl/Shader.h"
+#include "tests/TestSupport.h"
 
 namespace sph::render::gl {
 namespace {
 
 std::string tempDirectory() {
-  char pattern[] = "/tmp/sphsplat-shaders-XXXXXX";
-  const char* dir = mkdtemp(pattern);
-  if (!dir) throw std::runtime_error("mkdtemp failed");
-  return dir;
+  return test::makeTempDirectory("sphsplat-shaders");
 }
 
 void writeFile(const std::string& path, const std::string& text) {

@@ -7,9 +7,9 @@
 #include <limits>
 #include <string>
 
-#include "sim/InputError.h"
 #include "io/JsonText.h"
 #include "io/MessageText.h"
+#include "sim/InputError.h"
 
 namespace sph {
 namespace {

@@ -143,5 +143,39 @@ TEST_F(LightsCpuGl, MovingLightsLeaveNoStaleVoxels) {
   for (const auto& t : moving.readColour()) ASSERT_EQ(t[0], 0.0f);
 }
 
+// The other way: a frame whose box holds the last frame's (the corner, then lights spread over
+// it) takes the branch that clears nothing, since every voxel of its box is written again.
+TEST_F(LightsCpuGl, LightsSpreadingOverTheLastFramesBoxRewriteIt) {
+  const std::vector<LightParticle> spread = someLights();
+  std::vector<LightParticle> corner;
+  for (int i = 0; i < 20; ++i)
+    corner.push_back(light(Vec3(0.8f + 0.005f * i, 0.4f, 0.6f - 0.004f * i), Vec3::Ones(), 5.0f));
+  // The box of the voxels a frame lights (what it writes), from the volume read back.
+  auto litBox = [](const Texels& texels) {
+    const std::array<int, 3> n = volume(LightAccumulate::Cpu).voxels;
+    std::array<int, 3> lo = n, hi{-1, -1, -1};
+    for (std::size_t i = 0; i < texels.size(); ++i) {
+      if (texels[i][0] <= 0) continue;
+      const int at[3] = {static_cast<int>(i % n[0]), static_cast<int>(i / n[0] % n[1]),
+                         static_cast<int>(i / (n[0] * n[1]))};
+      for (std::size_t a = 0; a < 3; ++a)
+        lo[a] = std::min(lo[a], at[a]), hi[a] = std::max(hi[a], at[a]);
+    }
+    return std::make_pair(lo, hi);
+  };
+  LightVolume growing(volume(LightAccumulate::Cpu)), fresh(volume(LightAccumulate::Cpu));
+  growing.update(corner);
+  const auto first = litBox(growing.readColour());
+  growing.update(spread);
+  fresh.update(spread);
+  const auto second = litBox(fresh.readColour());
+  for (std::size_t a = 0; a < 3; ++a) {
+    ASSERT_LT(second.first[a], first.first[a]) << "the spread lights' box must hold the corner's";
+    ASSERT_GE(second.second[a], first.second[a]) << "the spread lights' box must hold the corner's";
+  }
+  EXPECT_TRUE(growing.readColour() == fresh.readColour());
+  EXPECT_TRUE(growing.readDirection() == fresh.readDirection());
+}
+
 }  // namespace
 }  // namespace sph::render::lights

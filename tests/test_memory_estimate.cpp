@@ -12,6 +12,7 @@
 #include <regex>
 #include <string>
 
+#include "app/MachineMemory.h"
 #include "sim/Boundary.h"
 #include "sim/MemoryEstimate.h"
 #include "tests/CacheTestSupport.h"
@@ -20,35 +21,9 @@
 namespace sph {
 namespace {
 
-// Runs `sh -c COMMAND` and returns its peak resident memory (bytes) and output.
-struct Measured {
-  int exitCode = -1;
-  double peakBytes = 0;
-  std::string output;
-};
-Measured measure(const std::string& command) {
-  const std::string log = test::makeTempDir() + "/out.log";
-  const pid_t pid = fork();
-  if (pid == 0) {
-    if (!freopen(log.c_str(), "w", stdout) || !freopen(log.c_str(), "a", stderr)) _exit(126);
-    execl("/bin/sh", "sh", "-c", ("exec " + command).c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  int status = 0;
-  struct rusage usage {};
-  wait4(pid, &status, 0, &usage);
-  Measured m;
-  m.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  m.peakBytes = usage.ru_maxrss * 1024.0;
-  m.output = test::readFile(log);
-  return m;
-}
-
-double estimatedBytes(const std::string& output) {
-  std::smatch m;
-  if (!std::regex_search(output, m, std::regex("memory: about ([0-9.]+) (MB|GB)"))) return 0;
-  return std::stod(m[1]) * (m[2] == "GB" ? 1e9 : 1e6);
-}
+using test::estimatedBytes;
+using test::measure;
+using test::Measured;
 
 struct EstimatedRun {
   const char* scene;    // in scenes/
@@ -167,6 +142,58 @@ TEST(MemoryEstimate, BoundaryCountsMatchTheSamplers) {
       EXPECT_NEAR(counted, sampled, 0.02 * sampled) << static_cast<int>(s.kind) << " " << layers;
     }
   }
+}
+
+// On K processes each rank estimates its own share (RankShare): the fluid shared out, the
+// boundary whole, and what only rank 0 holds when it gathers the frames.
+TEST(MemoryEstimate, ARankHoldsItsShareOfTheFluidAndAllOfTheBoundary) {
+  const Scene scene = test::shippedScene("dam_break", {"solver.spacing=0.0021"});
+  const MemoryEstimate one = estimateMemory(scene);
+  const MemoryEstimate k1 = estimateMemory(scene, {1, true, false});
+  const MemoryEstimate k2 = estimateMemory(scene, {2, true, false});
+  const MemoryEstimate k4 = estimateMemory(scene, {4, true, false});
+  const MemoryEstimate gathering = estimateMemory(scene, {2, true, true});
+  EXPECT_EQ(one.ranks, 1);
+  EXPECT_EQ(k4.ranks, 4);
+  // The distributed path's keys, places and buffers cost more than one process's arrays.
+  EXPECT_GT(k1.bytes, one.bytes * 1.3);
+  EXPECT_LT(k2.bytes, k1.bytes);
+  EXPECT_LT(k4.bytes, k2.bytes);
+  // Shares of 1/K: going from 2 to 4 ranks saves about half what going from 1 to 2 did.
+  EXPECT_NEAR((k2.bytes - k4.bytes) / (k1.bytes - k2.bytes), 0.5, 0.15);
+  EXPECT_EQ(k4.boundaryParticles, one.boundaryParticles);
+  EXPECT_EQ(k2.rootOnlyBytes, 0.0);
+  EXPECT_GT(gathering.rootOnlyBytes, 100 * one.fluidParticles) << "a whole frame on rank 0";
+  EXPECT_NEAR(gathering.bytes - k2.bytes, gathering.rootOnlyBytes, 1.0);
+}
+
+// The check's decision (app/MachineMemory.h): a rank's share against what a process may use, and
+// the ranks of one machine together against what it has free.
+TEST(MemoryEstimate, RanksThatFitAloneButNotTogetherAreRefusedNamingTheirSum) {
+  Scene scene = test::shippedScene("dam_break", {"solver.spacing=0.0021"});
+  scene.sourcePath = "dam.json";
+  const MemoryEstimate e = estimateMemory(scene, {4, true, false});
+  app::MachineMemory machine;
+  machine.totalBytes = 64e9;
+  machine.availableBytes = machine.sharedBytes = 1.5 * e.bytes;
+  EXPECT_FALSE(app::memoryRefusal(scene, e, machine, 1)) << "one rank on each machine fits";
+  const std::optional<std::string> together = app::memoryRefusal(scene, e, machine, 4);
+  ASSERT_TRUE(together);
+  EXPECT_EQ(together->rfind("dam.json: solver.spacing: this scene needs about ", 0), 0u)
+      << *together;
+  EXPECT_NE(together->find("a process on 4 processes"), std::string::npos) << *together;
+  EXPECT_NE(together->find("the 4 processes on this machine need about"), std::string::npos)
+      << *together;
+  EXPECT_NE(together->find("spread the processes over more machines"), std::string::npos)
+      << *together;
+  // A process limit (ulimit -v) under one rank's share: more processes would each need less.
+  machine.availableBytes = 0.5 * e.bytes, machine.limitedBy = "ulimit -v";
+  machine.sharedBytes = 100 * e.bytes;
+  const std::optional<std::string> alone = app::memoryRefusal(scene, e, machine, 1);
+  ASSERT_TRUE(alone);
+  EXPECT_NE(alone->find("under ulimit -v"), std::string::npos) << *alone;
+  EXPECT_NE(alone->find("run on more processes"), std::string::npos) << *alone;
+  EXPECT_EQ(alone->find("on this machine need"), std::string::npos) << *alone;
 }
 
 }  // namespace

@@ -13,8 +13,8 @@
 #include <functional>
 #include <string>
 
-#include "sim/InputError.h"
 #include "io/UserFiles.h"
+#include "sim/InputError.h"
 #include "tests/CacheTestSupport.h"
 
 namespace sph {
