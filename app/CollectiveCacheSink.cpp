@@ -9,6 +9,7 @@
 
 #include "app/DistributedRun.h"
 #include "app/StatusRecorder.h"
+#include "sim/rain/RainStepper.h"
 
 namespace sph::app {
 namespace {
@@ -42,8 +43,38 @@ Target broadcastTarget(dist::Communicator& ranks, const io::CacheSession* cache,
 
 }  // namespace
 
-bool writeCacheTogether(const Scene& scene) {
-  return io::h5::haveParallel() && !scene.rain;
+bool writeCacheTogether() {
+  return io::h5::haveParallel();
+}
+
+CollectiveCacheSink::CollectiveCacheSink(dist::Halo& halo, io::CacheSession* cache,
+                                         const Scene& scene)
+    : halo_(halo),
+      cache_(cache),
+      // As rain::RainStepper::create: no drops without a camera.
+      waterCell_(scene.rain && scene.camera ? rain::RainStepper::waterCell(scene) : 0.0f) {}
+
+std::unique_ptr<rain::WaterCells> CollectiveCacheSink::gatherWater(const Particles& fluid) {
+  // A water cell holds several particles (two spacings on a side): its key is fewer bytes than
+  // one particle's position, let alone a particle.
+  std::vector<Vec3> positions;
+  positions.reserve(fluid.size());
+  for (std::size_t i = 0; i < fluid.size(); ++i)
+    positions.emplace_back(fluid.x[i], fluid.y[i], fluid.z[i]);
+  const std::vector<std::uint64_t> keys = rain::WaterCells(positions, waterCell_).keys();
+  dist::Bytes mine(keys.size() * sizeof(std::uint64_t));
+  if (!keys.empty()) std::memcpy(mine.data(), keys.data(), mine.size());
+  const std::vector<dist::Bytes> all = halo_.comm().gatherToRoot(mine);
+  if (halo_.rank() != 0) return nullptr;
+  std::vector<std::uint64_t> union_;
+  for (std::size_t r = 0; r < all.size(); ++r) {
+    const std::size_t n = all[r].size() / sizeof(std::uint64_t);
+    const std::size_t at = union_.size();
+    union_.resize(at + n);
+    if (n > 0) std::memcpy(union_.data() + at, all[r].data(), n * sizeof(std::uint64_t));
+    if (r != 0) cellBytes_ += all[r].size();
+  }
+  return std::make_unique<rain::WaterCells>(rain::WaterCells::fromKeys(union_, waterCell_));
 }
 
 void CollectiveCacheSink::frame(const Simulation& sim, std::size_t) {
@@ -58,6 +89,9 @@ void CollectiveCacheSink::frame(const Simulation& sim, std::size_t) {
     throw std::logic_error(std::to_string(places.size()) + " cache places for " +
                            std::to_string(sim.fluid().size()) + " particles on rank " +
                            std::to_string(halo_.rank()));
+  // Before the frame's collectives: rank 0 steps the drops once the frame is in.
+  const std::unique_ptr<rain::WaterCells> water =
+      waterCell_ > 0 ? gatherWater(sim.fluid()) : nullptr;
   Particles mine = sim.fluid();
   RunState state = broadcastRunState(ranks, sim.runState());
   state.warmStart = sim.runState().warmStart;
@@ -98,10 +132,11 @@ void CollectiveCacheSink::frame(const Simulation& sim, std::size_t) {
                         "messages)",
                     target.frame + 1);
   if (cache_)
-    cache_->writeFrameTogether(sim, mine, state, slice);
+    cache_->writeFrameTogether(sim, mine, state, slice, water.get());
   else
     io::CacheWriter::joinFrame(target.path, target.frame, mine, state, slice);
   disarmStatusRecorder();
+  ++frames_;
   seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 

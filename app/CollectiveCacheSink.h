@@ -5,28 +5,40 @@
 // statuses, the sidecar, the lock), as with the gathering sink (app/DistributedRun.h).
 #pragma once
 
+#include <cstdint>
+#include <memory>
+
 #include "io/CacheSession.h"
 #include "sim/RunLoop.h"
 #include "sim/dist/Halo.h"
+#include "sim/rain/RainSystem.h"
 
 namespace sph::app {
 
-// Whether this run's cache is written by all ranks together: a build with parallel HDF5, and a
-// scene without rain (its drops are stepped on the whole fluid, which rank 0 gathers instead).
-bool writeCacheTogether(const Scene& scene);
+// Whether this run's cache is written by all ranks together: a build with parallel HDF5.
+bool writeCacheTogether();
 
 class CollectiveCacheSink final : public FrameSink {
  public:
-  // `cache`: rank 0's session; null on the other ranks.
-  CollectiveCacheSink(dist::Halo& halo, io::CacheSession* cache) : halo_(halo), cache_(cache) {}
+  // `cache`: rank 0's session; null on the other ranks. For a scene with rain (and a camera)
+  // every rank sends rank 0 the water cells its particles occupy at each frame (not the
+  // particles): rank 0 steps the drops with their union and writes them beside the frame.
+  CollectiveCacheSink(dist::Halo& halo, io::CacheSession* cache, const Scene& scene);
   void frame(const Simulation& sim, std::size_t index) override;
   // Wall time in frame() on this rank (s), finding the places included.
   double seconds() const { return seconds_; }
+  // Rain: bytes of water-cell keys rank 0 received from the other ranks, and frames (run -v).
+  std::uint64_t cellBytesReceived() const { return cellBytes_; }
+  std::uint64_t frames() const { return frames_; }
 
  private:
+  // This rank's occupied water cells; on rank 0 the union of every rank's, else null.
+  std::unique_ptr<rain::WaterCells> gatherWater(const Particles& fluid);
   double seconds_ = 0;
   dist::Halo& halo_;
   io::CacheSession* cache_;
+  float waterCell_ = 0;  // 0: no rain
+  std::uint64_t cellBytes_ = 0, frames_ = 0;
 };
 
 }  // namespace sph::app

@@ -1,6 +1,7 @@
 #include "app/DistributedResume.h"
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 #include <tuple>
 
@@ -28,6 +29,34 @@ void chunks(const io::CacheReader& reader, std::size_t frame, const io::cache::F
 
 const std::vector<float>& coordinate(const Particles& p, int axis) {
   return axis == 0 ? p.x : axis == 1 ? p.y : p.z;
+}
+
+// Appends the indices [first, first + count) to `runs` (ascending), joining a run it continues.
+void addToRuns(io::h5::Runs& runs, std::uint64_t first, std::uint64_t count) {
+  if (!runs.empty() && runs.back().first + runs.back().second == first)
+    runs.back().second += count;
+  else
+    runs.emplace_back(first, count);
+}
+
+dist::Bytes toBytes(const io::h5::Runs& runs) {
+  dist::Bytes b(runs.size() * 2 * sizeof(std::uint64_t));
+  std::size_t at = 0;
+  for (const auto& [first, count] : runs) {
+    std::memcpy(b.data() + at, &first, sizeof first), at += sizeof first;
+    std::memcpy(b.data() + at, &count, sizeof count), at += sizeof count;
+  }
+  return b;
+}
+
+io::h5::Runs fromBytes(const dist::Bytes& b) {
+  io::h5::Runs runs(b.size() / (2 * sizeof(std::uint64_t)));
+  std::size_t at = 0;
+  for (auto& [first, count] : runs) {
+    std::memcpy(&first, b.data() + at, sizeof first), at += sizeof first;
+    std::memcpy(&count, b.data() + at, sizeof count), at += sizeof count;
+  }
+  return runs;
 }
 
 }  // namespace
@@ -60,26 +89,31 @@ ResumePart readResumePart(dist::Halo& halo, const io::CacheReader& reader, std::
     const double inv = 1.0 / static_cast<double>(cellSize);
     const long long p0 = dist::planeOf(blo[axis], inv), p1 = dist::planeOf(bhi[axis], inv);
     std::vector<std::int64_t> counts(static_cast<std::size_t>(p1 - p0 + 1), 0);
+    std::vector<float> share;  // the slab-axis coordinate of this rank's share, kept for step 3
+    share.reserve(to - from);
     chunks(reader, frame, along, from, to, [&](std::uint64_t, const Particles& p) {
       for (float v : coordinate(p, axis))
-        ++counts[static_cast<std::size_t>(dist::planeOf(v, inv) - p0)];
+        ++counts[static_cast<std::size_t>(dist::planeOf(v, inv) - p0)], share.push_back(v);
     });
     comm.sumInPlace(counts);
     const dist::Slabs slabs = dist::Slabs::balance(axis, ranks, p0, counts);
     halo.startWith(slabs, cellSize);
 
-    // 3. The runs of this rank's particles.
-    chunks(reader, frame, along, 0, n, [&](std::uint64_t first, const Particles& p) {
-      const std::vector<float>& c = coordinate(p, axis);
-      for (std::size_t i = 0; i < c.size(); ++i) {
-        if (slabs.ownerOf(dist::planeOf(c[i], inv)) != me) continue;
-        const std::uint64_t index = first + i;
-        if (!runs.empty() && runs.back().first + runs.back().second == index)
-          ++runs.back().second;
-        else
-          runs.emplace_back(index, 1);
-      }
-    });
+    // 3. The runs of this rank's particles: each rank finds, in its share, the runs of indices
+    // of every rank's slab and sends them to that rank (16 bytes a run: the frame is in key
+    // order, grid cell by grid cell, so runs are far fewer than particles); a rank receives its
+    // runs in the shares' order, ascending. No rank reads more than its share of coordinates.
+    std::vector<io::h5::Runs> found(static_cast<std::size_t>(ranks));
+    for (std::size_t i = 0; i < share.size(); ++i) {
+      io::h5::Runs& r =
+          found[static_cast<std::size_t>(slabs.ownerOf(dist::planeOf(share[i], inv)))];
+      addToRuns(r, from + i, 1);
+    }
+    std::vector<dist::Bytes> send(static_cast<std::size_t>(ranks));
+    for (int r = 0; r < ranks; ++r)
+      send[static_cast<std::size_t>(r)] = toBytes(found[static_cast<std::size_t>(r)]);
+    for (const dist::Bytes& b : comm.allToAll(send))
+      for (const auto& [first, count] : fromBytes(b)) addToRuns(runs, first, count);
   }
 
   // 4. Their values, and the run's state.

@@ -6,10 +6,12 @@
 // make from these particles: each rank reads an equal share of the frame's positions in chunks
 // (hyperslab reads), for the bounding box (a min and a max over the ranks) and then, once the
 // cell size is known from it (NeighbourGrid::cellSizeFor), for the histogram of cell planes along
-// the slab axis (an integer sum). Each rank then reads the slab-axis coordinate of the whole frame
-// in chunks to find the runs of indices in its slab, and reads those runs of every array and of
-// the resume record. Memory: a chunk and the rank's particles; reading: 5 N / K + N values of the
-// positions and the rank's part of every array, a rank.
+// the slab axis (an integer sum). Each rank then finds, in its share's slab-axis coordinates (kept
+// from the histogram), the runs of indices of every rank's slab and sends them to that rank (one
+// all-to-all), and reads its runs of every array and of the resume record. Memory: a chunk, the
+// share's coordinate and the rank's particles; reading: 4 N / K values of the positions and the
+// rank's part of every array, a rank (before, every rank also read the whole frame's slab-axis
+// coordinate to find its runs: 4 N / K + N).
 #pragma once
 
 #include <cstdint>

@@ -49,7 +49,7 @@ int runJob(const RunRequest& request) {
   cdt::requireIdsInRange(scene);
   setThreadCount(o.threads);  // first: DFSPH's estimate counts a spare pair chunk a thread
   // On K processes each rank's share, the ranks of a machine together (app/MachineMemory.h).
-  const MemoryEstimate memory = checkMemory(scene, ranks, ranks && !writeCacheTogether(scene));
+  const MemoryEstimate memory = checkMemory(scene, ranks, ranks && !writeCacheTogether());
   // The cache's paths are checked before anything runs (nothing is overwritten by surprise).
   std::unique_ptr<io::CacheSession> cache;
   if (!ranks) {
@@ -69,29 +69,12 @@ int runJob(const RunRequest& request) {
   if (scene.render)
     framesLock = lockDirectory(RenderOutput::directoryFor(scene, cache ? cache->path() : ""));
 
-  // On K processes the slabs exist before the fluid: each rank generates only its slab of the
-  // starting fluid (sim/dist/StartSlab.h), and no rank holds the whole of it.
-  std::unique_ptr<dist::Halo> halo;
-  if (ranks) halo = std::make_unique<dist::Halo>(*ranks, scene.domain, deriveParams(scene).h);
-  const auto setupStart = std::chrono::steady_clock::now();
-  // Samples the boundaries, once for the whole run.
-  const std::unique_ptr<Simulation> simulation =
-      halo ? std::make_unique<Simulation>(scene, *halo) : std::make_unique<Simulation>(scene);
-  Simulation& sim = *simulation;
-  const double setupSeconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - setupStart).count();
-  sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
   const double end = scene.solver.endTime;
   const double frameInterval = 1.0 / scene.output.fps;
-  const std::size_t startParticles =
-      halo ? halo->globalCount(sim.fluid().size()) : sim.fluid().size();
-  if (!o.quiet) printHeader(o, scene, sim, startParticles, cache.get(), setupSeconds, memory);
-
-  std::uint64_t frames = 1;                   // the next output frame; the initial state is frame 0
   bool resumed = cache && cache->resuming();  // rank 0 knows; on K processes every rank learns
-  const io::CacheProvenance provenance{SPHSPLAT_VERSION_STRING, threadCount(), o.overrides};
   if (ranks) {
-    // Whether rank 0 resumes, and from where: every rank follows.
+    // Whether rank 0 resumes, before any fluid exists: a resume reads each rank's slab of the
+    // cache's last frame, so no rank generates a start that would be dropped.
     std::vector<std::int64_t> resume{cache && cache->resuming() ? 1 : 0,
                                      cache && cache->resuming() && cache->lastFrameTime() >= end};
     ranks->sumInPlace(resume);
@@ -102,7 +85,31 @@ int runJob(const RunRequest& request) {
                     cache->path().c_str(), cache->lastFrameTime());
       return kOk;
     }
-    if (resume[0]) {
+  }
+  // On K processes the slabs exist before the fluid: each rank generates only its slab of the
+  // starting fluid (sim/dist/StartSlab.h), and no rank holds the whole of it; a resume starts
+  // without fluid.
+  std::unique_ptr<dist::Halo> halo;
+  if (ranks) halo = std::make_unique<dist::Halo>(*ranks, scene.domain, deriveParams(scene).h);
+  const auto setupStart = std::chrono::steady_clock::now();
+  // Samples the boundaries, once for the whole run.
+  const std::unique_ptr<Simulation> simulation =
+      halo ? std::make_unique<Simulation>(
+                 scene, *halo, resumed ? Simulation::Start::Empty : Simulation::Start::Slab)
+           : std::make_unique<Simulation>(scene);
+  Simulation& sim = *simulation;
+  const double setupSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - setupStart).count();
+  sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
+  std::size_t startParticles = halo ? halo->globalCount(sim.fluid().size()) : sim.fluid().size();
+  // A distributed resume holds no fluid yet: the header tells the frame it continues from.
+  if (halo && resumed && root) startParticles = cache->reader().summary().frames.back().particles;
+  if (!o.quiet) printHeader(o, scene, sim, startParticles, cache.get(), setupSeconds, memory);
+
+  std::uint64_t frames = 1;  // the next output frame; the initial state is frame 0
+  const io::CacheProvenance provenance{SPHSPLAT_VERSION_STRING, threadCount(), o.overrides};
+  if (ranks) {
+    if (resumed) {
       // Rank 0 checks the cache against the scene (its message stops every rank), then every
       // rank reads its slab of the last frame (app/DistributedResume.h), and once all have
       // closed the file rank 0 opens it for appending.
@@ -116,8 +123,6 @@ int runJob(const RunRequest& request) {
       if (root) path.assign(cache->path().begin(), cache->path().end());
       ranks->broadcastFromRoot(path);
       {
-        // The start's slab is not needed: released before the resume's is read.
-        sim.fluid() = Particles{};
         std::unique_ptr<io::CacheReader> own;
         if (!root) own = std::make_unique<io::CacheReader>(std::string(path.begin(), path.end()));
         ResumePart part = readResumePart(*halo, root ? cache->reader() : *own,
@@ -190,22 +195,27 @@ int runJob(const RunRequest& request) {
   std::unique_ptr<FrameSink> distributed;
   std::function<double()> frameSeconds;  // rank 0's time handing frames out (run -v)
   bool together = false;
+  const CollectiveCacheSink* collective = nullptr;  // run -v: the rain's water cells
   if (halo) {
     // Rank 0 knows whether there is a cache; with parallel HDF5 every rank writes its part of
     // each frame (app/CollectiveCacheSink.h), else rank 0 gathers the frames and writes them.
     std::vector<std::int64_t> caching{cache ? 1 : 0};
     ranks->sumInPlace(caching);
-    together = caching[0] && !pictures && writeCacheTogether(scene);
+    together = caching[0] && !pictures && writeCacheTogether();
     if (together) {
-      auto sink = std::make_unique<CollectiveCacheSink>(*halo, cache.get());
+      auto sink = std::make_unique<CollectiveCacheSink>(*halo, cache.get(), scene);
       frameSeconds = [p = sink.get()] { return p->seconds(); };
+      collective = sink.get();
       distributed = std::move(sink);
-    } else {
+    } else if (caching[0]) {
+      // (Without a cache no rank has a sink, the renderer being refused on K processes: nothing
+      // is gathered.)
       auto sink = std::make_unique<GatheringSink>(*halo, sim, sinks);
       frameSeconds = [p = sink.get()] { return p->seconds(); };
       distributed = std::move(sink);
     }
-    sinks = {distributed.get()};
+    sinks.clear();
+    if (distributed) sinks.push_back(distributed.get());
     if (caching[0] && !resumed) {
       // Frame 0 as every later frame (each rank holds its slab of it): rank 0 creates the file
       // under PATH.partial (its checks stop every rank), all ranks write the frame, and rank 0
@@ -320,6 +330,11 @@ int runJob(const RunRequest& request) {
             1e3 * hs.placesSeconds / hs.placesCalls,
             static_cast<unsigned long long>(hs.placesBytesReceived / hs.placesCalls),
             static_cast<unsigned long long>(hs.placesStrays / hs.placesCalls));
+      if (collective && scene.rain && collective->frames() > 0)
+        std::printf(
+            "  rain: %.0f bytes of water cells received a frame on rank 0 from the other ranks "
+            "(the drops meet their union; no particle is gathered)\n",
+            static_cast<double>(collective->cellBytesReceived()) / collective->frames());
     }
   }
   if (cache) cache->close();

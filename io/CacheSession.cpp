@@ -254,21 +254,30 @@ void CacheSession::writeFrame(const Simulation& sim) {
 }
 
 void CacheSession::writeFrameTogether(const Simulation& sim, const Particles& mine,
-                                      const RunState& state, const FrameSlice& slice) {
-  if (rain_ || rainShown_)
-    throw InputError(path_ + ": a scene with rain is written by rank 0 alone (docs/scaling.md)");
+                                      const RunState& state, const FrameSlice& slice,
+                                      const rain::WaterCells* water) {
+  // Rank 0 holds part of the fluid only: its drops must meet the cells of all of it, and a rain
+  // that feeds the fluid is not shared out (refused on K processes before the run; failing here,
+  // on rank 0 alone, ends every rank: app/DistributedRun.h, setLockstep).
+  if (rainShown_ != rain_.get() || (rain_ && !water))
+    throw InputError(path_ +
+                     ": its rain needs the whole fluid, which no rank holds (docs/scaling.md)");
   writer_->writeFrame(mine, state, &slice);
-  recordFrame(sim, static_cast<std::size_t>(slice.part.total));
+  recordFrame(sim, static_cast<std::size_t>(slice.part.total), water);
 }
 
-void CacheSession::recordFrame(const Simulation& sim, std::size_t particles) {
+void CacheSession::recordFrame(const Simulation& sim, std::size_t particles,
+                               const rain::WaterCells* water) {
   CacheFrame f;
   f.index = writer_->frameCount() - 1;
   f.time = sim.time();
   f.particles = particles;
   f.step = sim.stepCount();
   f.hasRestart = true;
-  if (rain_) rain_->advanceTo(sim.time(), sim.fluid());
+  if (rain_ && water)
+    rain_->advanceTo(sim.time(), *water);
+  else if (rain_)
+    rain_->advanceTo(sim.time(), sim.fluid());
   if (rainShown_) {
     // A feeding rain's stepper is at its last tick: the frame's time unless the run ended
     // between two.

@@ -55,10 +55,12 @@ class CacheSession final : public FrameSink {
   void writeFrame(const Simulation& sim);
   // The same, written by all ranks of an MPI run together (rank 0 calls this, the others
   // CacheWriter::joinFrame with path() and frameCount(); docs/scaling.md): `mine` is rank 0's
-  // part of the frame, `state` the run's. Not for a scene with rain (its drops are stepped on
-  // the whole fluid, which rank 0 then gathers instead).
+  // part of the frame, `state` the run's. A scene with rain passes `water`, the cells the whole
+  // fluid occupies (every rank's, app/CollectiveCacheSink.h): the drops are stepped with it and
+  // rank 0 writes them alone once the frame is committed, as one process does. Not for a rain
+  // that feeds the fluid (refused on K processes).
   void writeFrameTogether(const Simulation& sim, const Particles& mine, const RunState& state,
-                          const FrameSlice& slice);
+                          const FrameSlice& slice, const rain::WaterCells* water = nullptr);
   // FrameSink: the run loop's frames go to writeFrame().
   void frame(const Simulation& sim, std::size_t) override { writeFrame(sim); }
   // Stores a rendered image of frame `frame` (already written) as /Render#<renderer>#<frame>.
@@ -108,8 +110,10 @@ class CacheSession final : public FrameSink {
   std::vector<CacheFrame> frames_;
   double particleFrames_ = 0;         // sum over frames of the particle count
   double particleFramesWritten_ = 0;  // the same, of the frames this run wrote
-  // The sidecar, the rain and the counts of a frame just written (of `particles` particles).
-  void recordFrame(const Simulation& sim, std::size_t particles);
+  // The sidecar, the rain and the counts of a frame just written (of `particles` particles);
+  // the rain meets `water` if given, else sim's fluid.
+  void recordFrame(const Simulation& sim, std::size_t particles,
+                   const rain::WaterCells* water = nullptr);
   // Sets rain_ (stepped here) or points rainShown_ at the simulation's feeding rain.
   void followRain(const Simulation& sim);
   std::unique_ptr<rain::RainStepper> rain_;

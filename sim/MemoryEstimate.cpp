@@ -67,6 +67,12 @@ constexpr double kMpiBytes = 7e6;
 // A gathered frame on rank 0 (RankShare::gathersFrames): the fluid's 13 arrays of 4 bytes, its
 // DFSPH warm start (2) and the frame's copy for the cache's chunks (13).
 constexpr double kBytesPerGatheredParticle = 112;
+// A rain scene's water cells on rank 0 when the frames are written together (app/
+// CollectiveCacheSink.h): a cell of two spacings holds about 8 particles of a body of water, and
+// each cell is a received key (8 B), a key of the union (8 B) and a hash-set node (~48 B). Counted
+// from the arrays; rank 0 peaked 3.6 MB above rank 1 at 386,942 particles, its 8,000 drops and
+// the cache's metadata included (docs/benchmarks.md, "Scale").
+constexpr double kBytesPerWaterCellParticle = 8;
 // The imbalance margin of a rank's share of the fluid (RankShare).
 constexpr double kRankImbalance = 1.1;
 // The program itself: code, libraries (HDF5, OpenMP, the C++ runtime), thread stacks.
@@ -123,14 +129,17 @@ MemoryEstimate estimateMemory(const Scene& scene, const RankShare& share) {
         std::max(1.0, std::floor(static_cast<double>(extent.maxCoeff()) / deriveParams(scene).h));
     fluidShare = std::min(1.0, kRankImbalance / m.ranks + 2.0 / planes);
   }
-  const double gathered =
+  // What rank 0 holds of the whole fluid: a gathered frame, or the water cells the drops meet.
+  double onRoot =
       share.gathersFrames && share.distributed ? kBytesPerGatheredParticle * allFluid : 0;
-  const double fluidBytes = perFluidParticle * allFluid * fluidShare + gathered;
+  if (share.distributed && !share.gathersFrames && scene.rain && scene.camera)
+    onRoot = kBytesPerWaterCellParticle * allFluid;
+  const double fluidBytes = perFluidParticle * allFluid * fluidShare + onRoot;
   const double boundaryBytes = kBytesPerBoundaryParticle * m.boundaryParticles;
   const double rainBytes = perDrop * m.rainDrops;
   m.bytes = kBaseBytes + (share.distributed ? kMpiBytes : 0) + (gl ? kGlBytes : 0) + fluidBytes +
             boundaryBytes + rainBytes + pairChunks;
-  if (share.distributed) m.rootOnlyBytes = gathered + rainBytes;
+  if (share.distributed) m.rootOnlyBytes = onRoot + rainBytes;
   // The key to change: the rain's budget or an emitter's size when it is most of the memory,
   // else the spacing.
   if (rainBytes > fluidBytes + boundaryBytes)

@@ -24,7 +24,8 @@ struct MemoryEstimate {
   // "rain.count").
   std::string largestKey = "solver.spacing";
   // On K processes (mpirun -np K) `bytes` is rank 0's, the largest: see RankShare. Of it,
-  // `rootOnlyBytes` is what rank 0 alone holds (the gathered frames, the rain's drops).
+  // `rootOnlyBytes` is what rank 0 alone holds (the gathered frames, the rain's drops and, when
+  // the frames are written together, the water cells they meet).
   int ranks = 1;
   double rootOnlyBytes = 0;
 };

@@ -18,22 +18,24 @@ Simulation::Simulation(const Scene& scene)
       derived_(deriveParams(scene)),
       boundary_(scene.boundaries, scene.domain, scene.solver.spacing, derived_.boundaryLayers,
                 derived_.h) {
-  setUp(nullptr);
+  setUp(nullptr, Start::Slab);
 }
 
-Simulation::Simulation(const Scene& scene, dist::Halo& start)
+Simulation::Simulation(const Scene& scene, dist::Halo& start, Start what)
     : scene_(scene),
       derived_(deriveParams(scene)),
       boundary_(scene.boundaries, scene.domain, scene.solver.spacing, derived_.boundaryLayers,
                 derived_.h) {
-  setUp(&start);
+  setUp(&start, what);
 }
 
-void Simulation::setUp(dist::Halo* start) {
+void Simulation::setUp(dist::Halo* start, Start what) {
   gradientCorrection_ = derived_.gradientCorrection;
   StepContext setup = context(0);
   computeStaticBoundaryDensity(setup);
-  if (start) {
+  if (start && what == Start::Empty) {
+    // A resume: restore() brings the fluid, its ids and the run state.
+  } else if (start) {
     dist::StartSlab slab = dist::startSlab(*start, scene_, boundary_, scene_.solver.restDensity);
     fluid_ = std::move(slab.fluid);
     state_.nextId = static_cast<std::uint32_t>(slab.total);

@@ -41,10 +41,14 @@ struct RunState {
 class Simulation {
  public:
   explicit Simulation(const Scene& scene);
+  // What a rank of a distributed run starts with: its slab of the scene's starting fluid, or no
+  // fluid (a resume, whose restore() brings the rank's part of the cache's frame).
+  enum class Start { Slab, Empty };
   // One rank of a distributed run (sim/dist/StartSlab.h): generates only this rank's slab of the
-  // starting fluid, cut as `start`'s first exchange will cut it (collective: every rank
-  // constructs its own at the same point). setHalo(start) must follow before any step.
-  Simulation(const Scene& scene, dist::Halo& start);
+  // starting fluid, cut as `start`'s first exchange will cut it, or (Start::Empty) none
+  // (collective: every rank constructs its own at the same point, with the same `what`).
+  // setHalo(start) must follow before any step.
+  Simulation(const Scene& scene, dist::Halo& start, Start what = Start::Slab);
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
@@ -104,7 +108,7 @@ class Simulation {
  private:
   // The constructors' work: the boundary's densities, the starting fluid (this rank's slab of
   // it with `start`) and the state that depends on it.
-  void setUp(dist::Halo* start);
+  void setUp(dist::Halo* start, Start what);
   float chooseTimeStep() const;
   // The context the passes of a step of `dt` seconds work on.
   StepContext context(float dt);

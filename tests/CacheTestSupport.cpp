@@ -15,6 +15,7 @@
 
 #include "io/CacheFormat.h"
 #include "io/CacheReader.h"
+#include "io/RainCache.h"
 
 namespace sph::test {
 
@@ -126,6 +127,17 @@ void expectSameCache(const std::string& a, const std::string& b) {
       EXPECT_EQ(sa.emitters[e].travelled, sb.emitters[e].travelled);
       EXPECT_EQ(sa.emitters[e].emitted, sb.emitters[e].emitted);
     }
+    // The rain's drops stored beside the frame (/Rain#N), bit for bit.
+    ASSERT_EQ(ra.summary().frames[k].rainDrops, rb.summary().frames[k].rainDrops) << k;
+    if (ra.summary().frames[k].rainDrops == 0) continue;
+    const io::RainFrame da = io::readRainFrame(ra, k), db = io::readRainFrame(rb, k);
+    EXPECT_EQ(da.time, db.time) << "rain " << k;
+    ASSERT_EQ(da.positions.size(), db.positions.size()) << "rain " << k;
+    EXPECT_EQ(0, std::memcmp(da.positions.data(), db.positions.data(),
+                             da.positions.size() * sizeof(Vec3)))
+        << "rain positions " << k;
+    EXPECT_EQ(da.generations, db.generations) << "rain " << k;
+    EXPECT_EQ(da.layers, db.layers) << "rain " << k;
   }
 }
 

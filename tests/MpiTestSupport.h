@@ -35,6 +35,17 @@ inline std::string scene(double end) {
 })";
 }
 
+// The same with rain (its drops land in the water and are stored beside the frames, /Rain#N):
+// rank 0 steps them with the water cells every rank's particles occupy.
+inline std::string rainScene(double end) {
+  std::string s = scene(end);
+  const std::string output = R"("output": )";
+  s.insert(s.find(output), R"("rain": {"count": 3000, "near": 0.05, "far": 0.8, "fall_speed": 3,
+           "seed": 7},
+  )");
+  return s;
+}
+
 inline std::string plain(const std::string& sceneFile, const std::string& args) {
   return "OMP_WAIT_POLICY=PASSIVE " + test::sphsplatBinary() + " run '" + sceneFile +
          "' --threads 1 --quiet " + args;

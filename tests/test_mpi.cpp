@@ -13,6 +13,9 @@
 
 #include "io/CacheReader.h"
 #include "io/Hdf5.h"
+#include "io/RainCache.h"
+#include "io/SceneLoader.h"
+#include "sim/rain/RainStepper.h"
 #include "tests/CacheTestSupport.h"
 #include "tests/MpiTestSupport.h"
 
@@ -318,9 +321,10 @@ TEST_F(MpiDfsph, FramesAreBitIdenticalToOneProcessForOneToFourRanks) {
 }
 
 TEST_F(MpiDfsph, AGatheredFrameZeroHasNoWarmStartYet) {
-  // A scene with rain is gathered to rank 0 every frame (the drops meet the whole fluid), frame 0
-  // too: before the first exchange DFSPH's warm start exists on no rank, and the gather must not
-  // read it (it read past empty arrays).
+  // A scene with rain, frame 0 included: gathered to rank 0 in a build with the serial HDF5
+  // library, where before the first exchange DFSPH's warm start exists on no rank and the gather
+  // must not read it (it read past empty arrays); with parallel HDF5 written together, the drops
+  // stepped on rank 0 with the ranks' water cells (MpiRain below).
   const std::string rain = dir_ + "/rain.json";
   std::ofstream(rain) << R"({"solver": {"spacing": 0.015, "end_time": 0.06},
     "fluids": [{"type": "box", "min": [0, 0, 0], "max": [0.15, 0.15, 0.06]}],
@@ -354,6 +358,63 @@ TEST_F(MpiDfsph, AResumeMayChangeTheNumberOfRanks) {
   auto d = runShell(plain(collapse_, kAccurate + "--resume '" + out2 + "'"));
   ASSERT_EQ(d.exitCode, 0) << d.output;
   test::expectSameCache(reference_, out2);
+}
+
+// A scene with rain on K processes: the fluid is written by all ranks together as any scene's,
+// and rank 0 steps the drops with the union of the water cells the ranks' particles occupy (no
+// particle is gathered) and writes them beside each frame: the fluid frames and the drops are
+// the single process's, bit for bit, on 2 and 3 ranks and through a resume that changes K.
+TEST(MpiRain, FramesAndDropsWrittenTogetherAreThoseOfOneProcess) {
+  const std::string dir = test::makeTempDir();
+  const std::string file = dir + "/rain.json", one = dir + "/one.h5";
+  std::ofstream(file) << test::mpi::rainScene(0.1);
+  const auto a = runShell(plain(file, "-o '" + one + "'"));
+  ASSERT_EQ(a.exitCode, 0) << a.output;
+  {
+    // The water stops drops in this scene: the stored drops are not those of a rain that meets
+    // the solids alone (so the cells rank 0 is sent matter).
+    const io::CacheReader reader(one);
+    Scene sc = io::loadScene(file);
+    auto dry = rain::RainStepper::create(sc, rain::RainStepper::sceneAspect(sc));
+    bool wet = false;
+    for (std::size_t k = 0; k < reader.frameCount(); ++k) {
+      ASSERT_GT(reader.summary().frames[k].rainDrops, 0u) << k;
+      const io::RainFrame stored = io::readRainFrame(reader, k);
+      dry->advanceTo(stored.time, Particles{});
+      wet = wet || stored.generations != dry->system().generations();
+    }
+    EXPECT_TRUE(wet);
+  }
+  for (int k = 2; k <= 3; ++k) {
+    SCOPED_TRACE("K = " + std::to_string(k));
+    const std::string out = dir + "/k" + std::to_string(k) + ".h5";
+    const auto r = runShell(ranks(k, file, "-o '" + out + "'", "--verbose"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    if (io::h5::haveParallel()) {
+      EXPECT_NE(r.output.find("frames written by all " + std::to_string(k) + " ranks together"),
+                std::string::npos)
+          << r.output;
+      EXPECT_NE(r.output.find("bytes of water cells received a frame on rank 0"), std::string::npos)
+          << r.output;
+    }
+    test::expectSameCache(one, out);
+    // `info` tells the drops as it does of the single process's cache.
+    const auto info = [](const std::string& cache) {
+      const auto i = runShell(test::sphsplatBinary() + " info '" + cache + "'");
+      EXPECT_EQ(i.exitCode, 0) << i.output;
+      const std::size_t at = i.output.find("  rain ");
+      return at == std::string::npos ? std::string("no rain line: " + i.output)
+                                     : i.output.substr(at, i.output.find('\n', at) - at);
+    };
+    EXPECT_EQ(info(out), info(one));
+  }
+  // Stopped at 0.05 s on 3 ranks, resumed on 2: the drops continue from the stored ones.
+  const std::string resumed = dir + "/resumed.h5";
+  const auto b = runShell(ranks(3, file, "--end 0.05 -o '" + resumed + "'"));
+  ASSERT_EQ(b.exitCode, 0) << b.output;
+  const auto c = runShell(ranks(2, file, "--resume '" + resumed + "'"));
+  ASSERT_EQ(c.exitCode, 0) << c.output;
+  test::expectSameCache(one, resumed);
 }
 
 // Our one line, once (rank 0 tells; mpirun may add its own notice about the exit code).

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "io/CacheReader.h"
+#include "io/RainCache.h"
 #include "mpi/MpiIoChoice.h"
 #include "sim/InputError.h"
 #include "tests/CacheTestSupport.h"
@@ -75,6 +76,36 @@ TEST_F(Mpi, AKilledRankZeroLeavesACacheThatResumesOnOtherRanks) {
   const io::CacheReader after(out);
   EXPECT_GE(after.frameCount(), kept + 1);
   for (std::size_t k = 0; k < after.frameCount(); ++k) EXPECT_GT(after.readFrame(k).size(), 0u);
+}
+
+TEST_F(Mpi, AKilledRankOfARainSceneLeavesItsFramesAndDropsReadable) {
+  // The drops are written by rank 0 alone once the ranks have committed the frame: killed mid-
+  // run, every finished frame reads back with its drops (the last one may have none yet), equal
+  // to the single process's.
+  std::ofstream(scene_) << test::mpi::rainScene(0.1);
+  const std::string reference = dir_ + "/rain_plain.h5", out = dir_ + "/rain_killed.h5";
+  auto a = runShell(plain(scene_, "-o '" + reference + "'"));
+  ASSERT_EQ(a.exitCode, 0) << a.output;
+  auto r = runShell(killOneRankMidRun(out, "tail -1"));
+  test::mpi::waitForStatusRecorder(out);
+  EXPECT_EQ(r.output.find("mpirun-exit 0"), std::string::npos) << r.output;
+  const io::CacheReader killed(out), one(reference);
+  ASSERT_GE(killed.frameCount(), 2u);
+  for (std::size_t k = 0; k < killed.frameCount(); ++k) {
+    const Particles frame = killed.readFrame(k);
+    const std::size_t drops = killed.summary().frames[k].rainDrops;
+    if (k + 1 < killed.frameCount()) {
+      EXPECT_EQ(drops, 3000u) << "frame " << k;
+    }
+    if (drops > 0) {
+      EXPECT_EQ(io::readRainFrame(killed, k).positions.size(), drops) << k;
+    }
+    if (k >= one.frameCount()) continue;
+    EXPECT_TRUE(test::sameBits(one.readFrame(k), frame)) << "frame " << k;
+    if (drops == 0) continue;
+    EXPECT_EQ(io::readRainFrame(one, k).generations, io::readRainFrame(killed, k).generations)
+        << "rain " << k;
+  }
 }
 
 TEST_F(Mpi, ARankKilledAtAnyWriteOfTheCacheLeavesItReadableAndResumable) {

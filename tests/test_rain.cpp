@@ -264,6 +264,47 @@ TEST(RainSystem, DropsFallingThroughAThinSheetOfWaterLandInIt) {
   EXPECT_GT(r.counters().hitWater, 1000u);
 }
 
+TEST(RainSystem, TheUnionOfThePartsWaterCellsStopsTheDropsAsTheWholeFluidDoes) {
+  // An MPI run's rank 0 steps the drops with the union of the cells its ranks' particles occupy
+  // (app/CollectiveCacheSink.h): cut across x off the cell grid, so cells straddle the cuts.
+  const CameraDesc c = lookingAlongZ();
+  std::vector<Vec3> pool;
+  std::vector<std::vector<Vec3>> parts(3);
+  for (float x = -1; x < 1; x += 0.02f)
+    for (float z = 0; z < 2; z += 0.02f)
+      for (float y = 0.4f; y < 0.6f; y += 0.02f) {
+        pool.emplace_back(x, y, z);
+        parts[x < -0.33f ? 0 : x < 0.35f ? 1 : 2].emplace_back(x, y, z);
+      }
+  const float cell = 0.04f;
+  const rain::WaterCells whole(pool, cell);
+  std::vector<std::uint64_t> keys;
+  std::size_t withoutLast = 0;
+  for (const std::vector<Vec3>& part : parts) {
+    const std::vector<std::uint64_t> k = rain::WaterCells(part, cell).keys();
+    for (const Vec3& p : part)
+      ASSERT_TRUE(std::binary_search(k.begin(), k.end(), rain::WaterCells::keyOf(p, cell)));
+    withoutLast = keys.size();
+    keys.insert(keys.end(), k.begin(), k.end());
+  }
+  const rain::WaterCells united = rain::WaterCells::fromKeys(keys, cell);
+  EXPECT_EQ(united.keys(), whole.keys());
+  EXPECT_GT(keys.size(), whole.size());  // the straddling cells were sent by two parts
+  keys.resize(withoutLast);              // a part missing is missed
+  EXPECT_LT(rain::WaterCells::fromKeys(keys, cell).size(), whole.size());
+  RainSystem a(rainDesc(RainSpawn::View), kAspect), b(rainDesc(RainSpawn::View), kAspect);
+  rain::RainObstacles withWhole, withUnited;
+  withWhole.water = &whole, withUnited.water = &united;
+  a.reset(c, withWhole), b.reset(c, withUnited);
+  for (int f = 0; f < 30; ++f)
+    a.update(c, 1.0f / 60, withWhole), b.update(c, 1.0f / 60, withUnited);
+  EXPECT_GT(a.counters().hitWater, 100u);
+  EXPECT_EQ(a.counters().hitWater, b.counters().hitWater);
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_EQ(0, std::memcmp(a.positions().data(), b.positions().data(), a.size() * sizeof(Vec3)));
+  EXPECT_EQ(a.generations(), b.generations());
+}
+
 TEST(RainSystem, DropsFallWithTheWind) {
   RainDesc d = rainDesc(RainSpawn::Region, 1000);
   d.wind = Vec3(2, 0, -1);

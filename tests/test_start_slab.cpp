@@ -116,5 +116,27 @@ TEST(StartSlab, EachRankGeneratesItsSlabAndTogetherTheyHoldTheSingleProcesssFlui
   }
 }
 
+TEST(StartSlab, AResumingRankGeneratesNoStart) {
+  // A distributed resume reads each rank's part of the cache's frame (app/DistributedResume.h):
+  // its Simulation is built without the starting slab it would drop, the boundary as always.
+  const Scene s = io::parseScene(scene(0), "start_slab.json");
+  std::vector<std::size_t> fluid(2, 1), boundary(2, 0);
+  std::vector<std::uint32_t> nextId(2, 1);
+  test::ThreadRanks threads(2);
+  threads.run([&](Communicator& comm) {
+    Halo halo(comm, s.domain, deriveParams(s).h);
+    const Simulation sim(s, halo, Simulation::Start::Empty);
+    fluid[comm.rank()] = sim.fluid().size();
+    boundary[comm.rank()] = sim.boundary().particles().size();
+    nextId[comm.rank()] = sim.runState().nextId;
+  });
+  const Simulation alone(s);
+  for (int r = 0; r < 2; ++r) {
+    EXPECT_EQ(fluid[r], 0u) << "rank " << r;
+    EXPECT_EQ(nextId[r], 0u) << "rank " << r;
+    EXPECT_EQ(boundary[r], alone.boundary().particles().size()) << "rank " << r;
+  }
+}
+
 }  // namespace
 }  // namespace sph::dist

@@ -21,27 +21,29 @@ RainStepper::RainStepper(const Scene& scene, float aspect)
     : camera_(*scene.camera),
       path_(scene.cameraPath),
       interval_(1.0 / scene.output.fps),
-      // Cells of two spacings: the particles of a body of water leave none of them empty.
-      waterCell_(2 * scene.solver.spacing),
+      waterCell_(waterCell(scene)),
       system_(*scene.rain, aspect) {
   const float thickness = deriveParams(scene).boundaryLayers * scene.solver.spacing;
   for (const BoundaryShape& b : scene.boundaries) solids_.emplace_back(b, thickness);
 }
 
 void RainStepper::advanceTo(double time, const Particles& fluid) {
+  std::vector<Vec3> water;
+  water.reserve(fluid.size());
+  for (std::size_t i = 0; i < fluid.size(); ++i)
+    water.emplace_back(fluid.x[i], fluid.y[i], fluid.z[i]);
+  advanceTo(time, WaterCells(water, waterCell_));
+}
+
+void RainStepper::advanceTo(double time, const WaterCells& water) {
   RainObstacles solidsOnly;
   solidsOnly.solids = &solids_;
   if (time_ < 0 || time < time_) {
     system_.reset(cameraAt(camera_, path_, 0.0), solidsOnly);
     time_ = 0;
   }
-  std::vector<Vec3> water;
-  water.reserve(fluid.size());
-  for (std::size_t i = 0; i < fluid.size(); ++i)
-    water.emplace_back(fluid.x[i], fluid.y[i], fluid.z[i]);
-  const WaterCells cells(water, waterCell_);
   RainObstacles all = solidsOnly;
-  all.water = &cells;
+  all.water = &water;
   while (time_ < time - 1e-9) {
     const double next = std::min(time_ + interval_, time);
     const bool last = next >= time - 1e-9;

@@ -30,6 +30,12 @@ class RainStepper {
   // 0 after a reset, and again from 0 when `time` lies before it). `fluid` is the water at
   // `time`: it stops drops at the last step; the solids stop them at every step.
   void advanceTo(double time, const Particles& fluid);
+  // The same with the water given as its occupied cells (of waterCell()'s edge): an MPI run's
+  // rank 0 steps the drops with the union of its ranks' cells and never holds the whole fluid.
+  void advanceTo(double time, const WaterCells& water);
+  // The edge (m) of the water cells that stop the drops of `scene`: two spacings, so the
+  // particles of a body of water leave none of them empty.
+  static float waterCell(const Scene& scene) { return 2 * scene.solver.spacing; }
   // Keeps the drops where `camera` looks without moving them (an update of 0 s).
   void follow(const CameraDesc& camera);
   // Continues from a stored state (a resume): the drops at `time` as advanceTo left them.

@@ -33,10 +33,31 @@ bool WaterCells::near(const Vec3& a, const Vec3& b) const {
          (a.cwiseMax(b).array() >= (bounds_.lo - margin).array()).all();
 }
 
-std::uint64_t WaterCells::key(const Vec3& p) const {
+WaterCells WaterCells::fromKeys(const std::vector<std::uint64_t>& keys, float cell) {
+  WaterCells w(cell);
+  w.cells_.reserve(keys.size());
+  w.cells_.insert(keys.begin(), keys.end());
+  // The bounds `near` tests, as the constructor grows them: a cell's corner is its index times
+  // the cell (keyOf's inverse), the same float as floor(p / cell) * cell.
+  auto index = [](std::uint64_t k, int shift) {
+    return static_cast<float>(static_cast<std::int64_t>((k >> shift) & 0x1fffff) - (1 << 20));
+  };
+  for (std::uint64_t k : w.cells_) {
+    const Vec3 corner = Vec3(index(k, 0), index(k, 21), index(k, 42)) * cell;
+    w.bounds_.grow(corner), w.bounds_.grow(Vec3(corner + Vec3::Constant(cell)));
+  }
+  return w;
+}
+
+std::vector<std::uint64_t> WaterCells::keys() const {
+  std::vector<std::uint64_t> k(cells_.begin(), cells_.end());
+  std::sort(k.begin(), k.end());
+  return k;
+}
+
+std::uint64_t WaterCells::keyOf(const Vec3& p, float cell) {
   auto c = [&](float v) {
-    return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v / cell_)) +
-                                      (1 << 20)) &
+    return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v / cell)) + (1 << 20)) &
            0x1fffff;
   };
   return c(p.x()) | c(p.y()) << 21 | c(p.z()) << 42;

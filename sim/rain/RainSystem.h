@@ -19,13 +19,23 @@ namespace sph::rain {
 class WaterCells {
  public:
   WaterCells(const std::vector<Vec3>& fluid, float cell);
+  // The cells of `keys` (keyOf's, with the same `cell`; repeats allowed): the union of the cells
+  // several parts of the fluid occupy (an MPI run's ranks, app/CollectiveCacheSink.h) is the set
+  // the whole fluid gives.
+  static WaterCells fromKeys(const std::vector<std::uint64_t>& keys, float cell);
+  // The key of the cell that holds `p`.
+  static std::uint64_t keyOf(const Vec3& p, float cell);
   bool contains(const Vec3& p) const;
   float cell() const { return cell_; }
   // Whether the segment from a to b may meet a cell: false when their bounding boxes are apart.
   bool near(const Vec3& a, const Vec3& b) const;
+  std::size_t size() const { return cells_.size(); }
+  // The occupied cells' keys, ascending.
+  std::vector<std::uint64_t> keys() const;
 
  private:
-  std::uint64_t key(const Vec3& p) const;
+  explicit WaterCells(float cell) : cell_(cell) {}
+  std::uint64_t key(const Vec3& p) const { return keyOf(p, cell_); }
   float cell_;
   std::unordered_set<std::uint64_t> cells_;
   Aabb bounds_;  // of the cells' corners
