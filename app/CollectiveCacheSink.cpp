@@ -57,11 +57,12 @@ CollectiveCacheSink::CollectiveCacheSink(dist::Halo& halo, io::CacheSession* cac
 std::unique_ptr<rain::WaterCells> CollectiveCacheSink::gatherWater(const Particles& fluid) {
   // A water cell holds several particles (two spacings on a side): its key is fewer bytes than
   // one particle's position, let alone a particle.
-  std::vector<Vec3> positions;
-  positions.reserve(fluid.size());
+  // The rank's cells' keys, ascending, as WaterCells::keys() gives them, without its hash set.
+  std::vector<std::uint64_t> keys(fluid.size());
   for (std::size_t i = 0; i < fluid.size(); ++i)
-    positions.emplace_back(fluid.x[i], fluid.y[i], fluid.z[i]);
-  const std::vector<std::uint64_t> keys = rain::WaterCells(positions, waterCell_).keys();
+    keys[i] = rain::WaterCells::keyOf(Vec3(fluid.x[i], fluid.y[i], fluid.z[i]), waterCell_);
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
   dist::Bytes mine(keys.size() * sizeof(std::uint64_t));
   if (!keys.empty()) std::memcpy(mine.data(), keys.data(), mine.size());
   const std::vector<dist::Bytes> all = halo_.comm().gatherToRoot(mine);

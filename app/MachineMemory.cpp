@@ -89,13 +89,17 @@ std::string describeMemory(const MemoryEstimate& e, const MachineMemory& m) {
   return s.str();
 }
 
-std::optional<std::string> memoryRefusal(const Scene& scene, const MemoryEstimate& e,
-                                         const MachineMemory& m, int ranksOnMachine) {
-  // This process alone, then the ranks of this machine together (rank 0's own part once).
+std::optional<std::string> memoryRefusal(const Scene& scene, const MemoryEstimate& estimate,
+                                         const MachineMemory& m, const RanksHere& here) {
+  // This process alone (what only rank 0 holds on rank 0 alone), then the ranks of this machine
+  // together (rank 0's part where it runs).
+  MemoryEstimate e = estimate;
+  const double shared = e.bytes - e.rootOnlyBytes;
+  if (!here.rankZero) e.bytes = shared;
   const double together =
-      (e.bytes - e.rootOnlyBytes) * std::max(1, ranksOnMachine) + e.rootOnlyBytes;
+      shared * std::max(1, here.count) + (here.withRankZero ? e.rootOnlyBytes : 0);
   const bool processFits = m.availableBytes <= 0 || e.bytes <= m.availableBytes;
-  const bool machineFits = ranksOnMachine <= 1 || m.sharedBytes <= 0 || together <= m.sharedBytes;
+  const bool machineFits = here.count <= 1 || m.sharedBytes <= 0 || together <= m.sharedBytes;
   if (processFits && machineFits) return std::nullopt;
   const std::string advice = e.largestKey == "solver.spacing"
                                  ? "raise solver.spacing (memory falls with its cube)"
@@ -106,7 +110,7 @@ std::optional<std::string> memoryRefusal(const Scene& scene, const MemoryEstimat
   std::string text =
       scene.sourcePath + ": " + e.largestKey + ": this scene needs " + describeMemory(e, m);
   if (processFits) {
-    text += "; the " + std::to_string(ranksOnMachine) + " processes on this machine need about " +
+    text += "; the " + std::to_string(here.count) + " processes on this machine need about " +
             humanBytes(together) + " together, and " +
             (m.sharedLimitedBy.empty() ? "it has " : m.sharedLimitedBy + " leaves ") +
             humanBytes(m.sharedBytes) + (m.sharedLimitedBy.empty() ? " free" : "");
@@ -118,13 +122,17 @@ std::optional<std::string> memoryRefusal(const Scene& scene, const MemoryEstimat
   return text;
 }
 
-int ranksOnThisMachine(dist::Communicator& ranks) {
+RanksHere ranksOnThisMachine(dist::Communicator& ranks) {
   char name[256] = {};
   gethostname(name, sizeof name - 1);
   const dist::Bytes mine(name, name + std::strlen(name));
-  int same = 0;
-  for (const dist::Bytes& other : ranks.allGather(mine)) same += other == mine;
-  return same;
+  const std::vector<dist::Bytes> names = ranks.allGather(mine);
+  RanksHere here;
+  here.count = 0;
+  for (const dist::Bytes& other : names) here.count += other == mine;
+  here.rankZero = ranks.rank() == 0;
+  here.withRankZero = !names.empty() && names[0] == mine;
+  return here;
 }
 
 MemoryEstimate checkMemory(const Scene& scene, dist::Communicator* ranks, bool gathersFrames) {
@@ -132,8 +140,8 @@ MemoryEstimate checkMemory(const Scene& scene, dist::Communicator* ranks, bool g
   if (ranks)
     share.ranks = ranks->size(), share.distributed = true, share.gathersFrames = gathersFrames;
   const MemoryEstimate e = estimateMemory(scene, share);
-  const int onMachine = ranks ? ranksOnThisMachine(*ranks) : 1;
-  const std::optional<std::string> refusal = memoryRefusal(scene, e, machineMemory(), onMachine);
+  const RanksHere here = ranks ? ranksOnThisMachine(*ranks) : RanksHere{};
+  const std::optional<std::string> refusal = memoryRefusal(scene, e, machineMemory(), here);
   if (!ranks) {
     if (refusal) throw InputError(*refusal);
     return e;

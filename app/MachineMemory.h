@@ -33,13 +33,21 @@ MachineMemory machineMemory();
 MemoryEstimate checkMemory(const Scene& scene, dist::Communicator* ranks = nullptr,
                            bool gathersFrames = false);
 
-// The refusal's text, if `estimate` does not fit `machine` with `ranksOnMachine` ranks of the
-// run on it (1 for one process): checkMemory without the collectives.
-std::optional<std::string> memoryRefusal(const Scene& scene, const MemoryEstimate& estimate,
-                                         const MachineMemory& machine, int ranksOnMachine);
+// Where this rank runs: how many of the run's ranks share its machine (the same host name),
+// whether it is rank 0, and whether rank 0 runs on this machine (what only rank 0 holds counts
+// there). One process: {1, true, true}.
+struct RanksHere {
+  int count = 1;
+  bool rankZero = true;
+  bool withRankZero = true;
+};
+// Collective.
+RanksHere ranksOnThisMachine(dist::Communicator& ranks);
 
-// How many of the run's ranks run on this machine (the same host name); collective.
-int ranksOnThisMachine(dist::Communicator& ranks);
+// The refusal's text, if `estimate` (rank 0's, RankShare) does not fit `machine` for this rank
+// and the ranks `here`: checkMemory without the collectives.
+std::optional<std::string> memoryRefusal(const Scene& scene, const MemoryEstimate& estimate,
+                                         const MachineMemory& machine, const RanksHere& here);
 
 // "about 41.3 MB (96 fluid particles, ...); the machine has 23.4 GB, 21.0 GB of it free" (or
 // "..., of which ulimit -v leaves 921.6 MB").

@@ -151,7 +151,7 @@ struct LightsDesc {
   int oversampling = 1;  // samples per axis inside one voxel around the point (1 = off)
   LightPipeline pipeline = LightPipeline::Forward;
   LightAccumulate accumulate = LightAccumulate::Atomic;
-  LightShade shade = LightShade::Gl;
+  LightShade shade = LightShade::Auto;  // as the scene loader's default
   // Frustum culling (seed 004's future work): a frame drawn through a camera clears, accumulates
   // and resolves only the voxels its visible points may read, with only the lights that reach
   // them; the picture is the same (docs/lights.md, "Frustum culling").

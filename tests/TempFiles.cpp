@@ -1,11 +1,11 @@
 // Temporary files and directories of the test suites, removed when the test program ends well.
 //
 // Every suite writes scenes, caches and pictures under /tmp; a full run of the suite makes a few
-// hundred of them, and they used to stay (16 GB after a day of runs on one machine). Each path
-// made here is remembered, and when the program's tests have all passed a gtest listener removes
-// it together with its siblings (the "-dir", ".d", ".h5" paths a test derives from a temporary
-// name: they share its random stem). A failed program keeps them, and says where, so the failure
-// can be looked at; SPHSPLAT_KEEP_TEST_FILES=1 keeps them always.
+// hundred of them, and they used to stay (16 GB after a day of runs on one machine). Each test
+// program makes its files inside one directory of its own, $TMPDIR/sphsplat-test-XXXXXX (so the
+// "-dir", ".d", ".h5" paths a test derives from a temporary name are in it too), and when the
+// program's tests have all passed a gtest listener removes that directory. A failed program keeps
+// it and says where, so the failure can be looked at; SPHSPLAT_KEEP_TEST_FILES=1 keeps it always.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -24,45 +24,51 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Stem {
-  fs::path directory;
-  std::string prefix;  // the name up to the random part's end: siblings start with it
-};
+// mkdtemp / mkstemps on a pattern held in a std::string.
+std::string makeUnique(std::string pattern, int suffix, bool directory) {
+  std::vector<char> name(pattern.begin(), pattern.end());
+  name.push_back('\0');
+  if (directory) {
+    if (!mkdtemp(name.data())) throw std::runtime_error("mkdtemp failed: " + pattern);
+  } else {
+    const int fd = mkstemps(name.data(), suffix);
+    if (fd < 0) throw std::runtime_error("mkstemps failed: " + pattern);
+    close(fd);
+  }
+  return name.data();
+}
 
 class TempFileCleaner : public ::testing::EmptyTestEventListener {
  public:
-  void add(Stem stem) {
+  // The program's own directory, made on first use.
+  const std::string& root() {
     std::lock_guard<std::mutex> lock(mutex_);
-    stems_.push_back(std::move(stem));
+    if (root_.empty()) {
+      const char* dir = std::getenv("TMPDIR");
+      root_ =
+          makeUnique(std::string(dir && *dir ? dir : "/tmp") + "/sphsplat-test-XXXXXX", 0, true);
+    }
+    return root_;
   }
 
   void OnTestProgramEnd(const ::testing::UnitTest& unit) override {
     // A child forked by a test ends its copy of the program too: only the creator removes.
-    if (getpid() != owner_) return;
     std::lock_guard<std::mutex> lock(mutex_);
+    if (getpid() != owner_ || root_.empty()) return;
     const char* keep = std::getenv("SPHSPLAT_KEEP_TEST_FILES");
     if (!unit.Passed() || (keep && *keep && std::string(keep) != "0")) {
-      for (const Stem& s : stems_)
-        std::fprintf(stderr, "[ kept ] %s*\n", (s.directory / s.prefix).c_str());
+      std::fprintf(stderr, "[ kept ] %s\n", root_.c_str());
       return;
     }
-    for (const Stem& s : stems_) removeWithSiblings(s);
-    stems_.clear();
+    std::error_code ec;
+    fs::remove_all(root_, ec);
+    root_.clear();
   }
 
  private:
-  static void removeWithSiblings(const Stem& s) {
-    std::error_code ec;
-    std::vector<fs::path> doomed;
-    for (fs::directory_iterator it(s.directory, ec), end; !ec && it != end; it.increment(ec)) {
-      if (it->path().filename().string().rfind(s.prefix, 0) == 0) doomed.push_back(it->path());
-    }
-    for (const fs::path& p : doomed) fs::remove_all(p, ec);
-  }
-
   const pid_t owner_ = getpid();
   std::mutex mutex_;
-  std::vector<Stem> stems_;
+  std::string root_;
 };
 
 // Registered with gtest on first use, so the suites need no main() of their own; gtest owns it.
@@ -75,35 +81,17 @@ TempFileCleaner& cleaner() {
   return *instance;
 }
 
-std::string tempRoot() {
-  const char* dir = std::getenv("TMPDIR");
-  return dir && *dir ? dir : "/tmp";
-}
-
 }  // namespace
 
 std::string makeTempDirectory(const std::string& prefix) {
-  std::string pattern = tempRoot() + "/" + prefix + "-XXXXXX";
-  std::vector<char> name(pattern.begin(), pattern.end());
-  name.push_back('\0');
-  if (!mkdtemp(name.data())) throw std::runtime_error("mkdtemp failed: " + pattern);
-  const fs::path path(name.data());
-  cleaner().add({path.parent_path(), path.filename().string()});
-  return path.string();
+  return makeUnique(cleaner().root() + "/" + prefix + "-XXXXXX", 0, true);
 }
 
 std::string writeTempFile(const std::string& text, const std::string& suffix) {
-  std::string pattern = tempRoot() + "/sphsplat-test-XXXXXX" + suffix;
-  std::vector<char> name(pattern.begin(), pattern.end());
-  name.push_back('\0');
-  const int fd = mkstemps(name.data(), static_cast<int>(suffix.size()));
-  if (fd < 0) throw std::runtime_error("mkstemps failed: " + pattern);
-  close(fd);
-  std::ofstream(name.data()) << text;
-  const fs::path path(name.data());
-  const std::string file = path.filename().string();
-  cleaner().add({path.parent_path(), file.substr(0, file.size() - suffix.size())});
-  return path.string();
+  const std::string path = makeUnique(cleaner().root() + "/sphsplat-test-XXXXXX" + suffix,
+                                      static_cast<int>(suffix.size()), false);
+  std::ofstream(path) << text;
+  return path;
 }
 
 }  // namespace sph::test

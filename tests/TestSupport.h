@@ -45,9 +45,10 @@ Measured measure(const std::string& command);
 // The bytes of `run --verbose`'s "memory: about 41.3 MB" line (0 if there is none).
 double estimatedBytes(const std::string& output);
 
-// Temporary files (tests/TempFiles.cpp): under $TMPDIR or /tmp, removed with the paths a test
-// derives from their names (NAME-dir, NAME.h5, ...) when every test of the program passed; kept
-// and listed when one failed or SPHSPLAT_KEEP_TEST_FILES=1.
+// Temporary files (tests/TempFiles.cpp): inside one directory of the test program's own under
+// $TMPDIR or /tmp (with the paths a test derives from their names: NAME-dir, NAME.h5, ...),
+// removed when every test of the program passed; kept and named when one failed or
+// SPHSPLAT_KEEP_TEST_FILES=1.
 // Writes `text` to a fresh temporary file with the given suffix and returns its path.
 std::string writeTempFile(const std::string& text, const std::string& suffix = ".json");
 // A fresh empty directory, PREFIX-XXXXXX.

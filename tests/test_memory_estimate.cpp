@@ -176,8 +176,10 @@ TEST(MemoryEstimate, RanksThatFitAloneButNotTogetherAreRefusedNamingTheirSum) {
   app::MachineMemory machine;
   machine.totalBytes = 64e9;
   machine.availableBytes = machine.sharedBytes = 1.5 * e.bytes;
-  EXPECT_FALSE(app::memoryRefusal(scene, e, machine, 1)) << "one rank on each machine fits";
-  const std::optional<std::string> together = app::memoryRefusal(scene, e, machine, 4);
+  EXPECT_FALSE(app::memoryRefusal(scene, e, machine, {1, true, true}))
+      << "one rank on each machine fits";
+  const std::optional<std::string> together =
+      app::memoryRefusal(scene, e, machine, {4, true, true});
   ASSERT_TRUE(together);
   EXPECT_EQ(together->rfind("dam.json: solver.spacing: this scene needs about ", 0), 0u)
       << *together;
@@ -189,11 +191,30 @@ TEST(MemoryEstimate, RanksThatFitAloneButNotTogetherAreRefusedNamingTheirSum) {
   // A process limit (ulimit -v) under one rank's share: more processes would each need less.
   machine.availableBytes = 0.5 * e.bytes, machine.limitedBy = "ulimit -v";
   machine.sharedBytes = 100 * e.bytes;
-  const std::optional<std::string> alone = app::memoryRefusal(scene, e, machine, 1);
+  const std::optional<std::string> alone = app::memoryRefusal(scene, e, machine, {1, true, true});
   ASSERT_TRUE(alone);
   EXPECT_NE(alone->find("of which ulimit -v leaves"), std::string::npos) << *alone;
   EXPECT_NE(alone->find("run on more processes"), std::string::npos) << *alone;
   EXPECT_EQ(alone->find("on this machine need"), std::string::npos) << *alone;
+}
+
+// What only rank 0 holds (a gathered frame, without parallel HDF5) is asked of rank 0 and of the
+// machine rank 0 runs on, not of every rank.
+TEST(MemoryEstimate, RankZerosOwnPartIsAskedOfRankZeroAlone) {
+  Scene scene = test::shippedScene("dam_break", {"solver.spacing=0.0021"});
+  scene.sourcePath = "dam.json";
+  const MemoryEstimate e = estimateMemory(scene, {4, true, true});
+  ASSERT_GT(e.rootOnlyBytes, 0.3 * e.bytes);
+  app::MachineMemory machine;
+  machine.totalBytes = 64e9;
+  // Room for a rank without rank 0's part, not for rank 0.
+  machine.availableBytes = machine.sharedBytes = e.bytes - 0.5 * e.rootOnlyBytes;
+  EXPECT_TRUE(app::memoryRefusal(scene, e, machine, {1, true, true})) << "rank 0";
+  EXPECT_FALSE(app::memoryRefusal(scene, e, machine, {1, false, false})) << "another rank";
+  // Two other ranks on a machine without rank 0 need twice a share, no gathered frame.
+  machine.availableBytes = e.bytes, machine.sharedBytes = 2 * (e.bytes - e.rootOnlyBytes) + 1;
+  EXPECT_FALSE(app::memoryRefusal(scene, e, machine, {2, false, false}));
+  EXPECT_TRUE(app::memoryRefusal(scene, e, machine, {2, false, true})) << "rank 0 is there";
 }
 
 }  // namespace

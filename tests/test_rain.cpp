@@ -264,6 +264,26 @@ TEST(RainSystem, DropsFallingThroughAThinSheetOfWaterLandInIt) {
   EXPECT_GT(r.counters().hitWater, 1000u);
 }
 
+// A pool whose surface is the floor of the rain space (rain_fill's region ends at its pool): a
+// drop that enters the water and ends below the space in the same step landed; it did not leave.
+TEST(RainSystem, ADropThatCrossesTheWaterOutOfTheRainSpaceLandsInIt) {
+  const CameraDesc c = lookingAlongZ();
+  std::vector<Vec3> sheet;  // the cells 0.48 <= y < 0.52 over x, z in [-1, 1]
+  for (float x = -1; x < 1; x += 0.02f)
+    for (float z = -1; z < 1; z += 0.02f) sheet.emplace_back(x, 0.5f, z);
+  const rain::WaterCells water(sheet, 0.04f);
+  rain::RainObstacles obstacles;
+  obstacles.water = &water;
+  RainDesc d = rainDesc(RainSpawn::Region, 5000);
+  d.wind = Vec3::Zero();
+  d.region.lo = Vec3(-0.9f, 0.5f, -0.9f), d.region.hi = Vec3(0.9f, 1.5f, 0.9f);
+  RainSystem r(d, kAspect);
+  r.reset(c, obstacles);
+  for (int f = 0; f < 60; ++f) r.update(c, 1.0f / 30, obstacles);
+  EXPECT_GT(r.counters().hitWater, 5000u);
+  EXPECT_EQ(r.counters().leftSpace, 0u) << "every drop leaves through the water under it";
+}
+
 TEST(RainSystem, TheUnionOfThePartsWaterCellsStopsTheDropsAsTheWholeFluidDoes) {
   // An MPI run's rank 0 steps the drops with the union of the cells its ranks' particles occupy
   // (app/CollectiveCacheSink.h): cut across x off the cell grid, so cells straddle the cuts.

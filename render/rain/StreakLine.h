@@ -50,7 +50,10 @@ void setUpLines(const detail::Frame& f, const std::vector<Vec3>& heads, const st
 // Blends rows [first, end) of `line` (within the band `b`) in colour `c`, the streak image's
 // profile `profile` (padded rows, `fh` unpadded) along it; returns the fragments that passed the
 // depth test. `simd`: 16 rows at a time with AVX-512 where the build has it (the same bits as
-// one row at a time, which a build without it and `simd` false run).
+// one row at a time, which a build without it and `simd` false run - with this compiler: the
+// scalar rows' bits depend on which products GCC 12 fuses with a sum at -O3 -march=native, which
+// another compiler or flag set may change;
+// StreakRaster.LinesInSimdLanesGiveTheSameLayerAsOneRowAtATime checks it in each build).
 std::uint64_t drawLineRows(const Line& line, int first, int end, StreakBand& b, const Vec3& c,
                            const float* profile, float fh, bool simd);
 

@@ -52,6 +52,9 @@ void DeferredTarget::begin(int width, int height) {
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   const float zero[4] = {0, 0, 0, 0};
   glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 0, zero);
+  // The position's alpha says "a surface here" to the CPU shading (lights.shade "cpu"): without
+  // the clear it kept every earlier frame's surfaces, shaded for nothing as the camera moved.
+  glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 2, zero);
   glClearNamedFramebufferfi(framebuffer_.id(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
 }
 

@@ -237,11 +237,11 @@ void RainSystem::update(const CameraDesc& camera, float dt, const RainObstacles&
     Vec3 entry;
     // The water first: a drop whose path over the step entered it landed there, also when it
     // went on into the floor or out of the sheet of water (docs/rain.md, "Replay").
-    if (!inSpawnVolume(p)) {
-      ++left;
-    } else if (obstacles.water && entersWater(p - step, p, obstacles, entry)) {
+    if (obstacles.water && entersWater(p - step, p, obstacles, entry)) {
       ++water;
       if (feed) hit_[i] = 1, entries_[i] = entry;
+    } else if (!inSpawnVolume(p)) {
+      ++left;
     } else if (obstacles.solids && insideSolid(p, *obstacles.solids)) {
       ++solid;
     } else {
