@@ -71,9 +71,9 @@ TEST(UserFiles, OutputsNeverReplaceWhatIsReadNorNonRegularFiles) {
   ASSERT_EQ(link(cache.c_str(), (dir + "/hard.h5").c_str()), 0);
   ASSERT_EQ(chdir(dir.c_str()), 0);
   // The same file by another path text: relative, ./, a symlink, a hard link.
-  for (const std::string& other :
-       {std::string("run.h5"), std::string("./run.h5"), dir + "/../" + dir.substr(5) + "/run.h5",
-        std::string("link.h5"), std::string("hard.h5")}) {
+  for (const std::string& other : {std::string("run.h5"), std::string("./run.h5"),
+                                   dir + "/../" + dir.substr(dir.rfind('/') + 1) + "/run.h5",
+                                   std::string("link.h5"), std::string("hard.h5")}) {
     EXPECT_EQ(errorOf([&] { io::checkOutputPath(other, true, reads); }),
               other + ": is the cache being exported (" + cache +
                   "); refusing to write over it, even with --overwrite")
