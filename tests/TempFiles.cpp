@@ -51,6 +51,14 @@ class TempFileCleaner : public ::testing::EmptyTestEventListener {
     return root_;
   }
 
+  // Removes the directory now (a program about to replace itself with exec).
+  void discard() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::error_code ec;
+    if (!root_.empty()) fs::remove_all(root_, ec);
+    root_.clear();
+  }
+
   void OnTestProgramEnd(const ::testing::UnitTest& unit) override {
     // A child forked by a test ends its copy of the program too: only the creator removes.
     std::lock_guard<std::mutex> lock(mutex_);
@@ -85,6 +93,10 @@ TempFileCleaner& cleaner() {
 
 std::string makeTempDirectory(const std::string& prefix) {
   return makeUnique(cleaner().root() + "/" + prefix + "-XXXXXX", 0, true);
+}
+
+void discardTempFiles() {
+  cleaner().discard();
 }
 
 std::string writeTempFile(const std::string& text, const std::string& suffix) {

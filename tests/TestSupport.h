@@ -53,5 +53,7 @@ double estimatedBytes(const std::string& output);
 std::string writeTempFile(const std::string& text, const std::string& suffix = ".json");
 // A fresh empty directory, PREFIX-XXXXXX.
 std::string makeTempDirectory(const std::string& prefix = "sphsplat-test");
+// Removes them now: for a program that replaces itself with exec before its tests run.
+void discardTempFiles();
 
 }  // namespace sph::test
