@@ -35,7 +35,7 @@ long long parseIndex(const std::string& text, std::size_t frames, const std::str
   }
   if (used != text.size() || v < 0) {
     throw InputError(flag + ": expected a frame index (0, 1, ...), 'last' or -1, got '" +
-                         io::printable(text) + "'");
+                     io::printable(text) + "'");
   }
   return v;
 }
@@ -57,13 +57,13 @@ std::vector<std::size_t> parseFrameRange(const std::string& text, std::size_t fr
   }
   if (first > last) {
     throw InputError(flag + ": frames " + io::printable(text) +
-                         " run backwards (write the first frame first, " + std::to_string(last) +
-                         ":" + std::to_string(first) + ")");
+                     " run backwards (write the first frame first, " + std::to_string(last) + ":" +
+                     std::to_string(first) + ")");
   }
   if (last >= static_cast<long long>(frames)) {
     throw InputError(flag + ": frames " + io::printable(text) +
-                         " are not in the cache (it has frames 0 to " + std::to_string(frames - 1) +
-                         ")");
+                     " are not in the cache (it has frames 0 to " + std::to_string(frames - 1) +
+                     ")");
   }
   std::vector<std::size_t> out;
   for (long long f = first; f <= last; ++f) out.push_back(static_cast<std::size_t>(f));
@@ -74,7 +74,7 @@ std::size_t parseOneFrame(const std::string& text, std::size_t frames, const std
   const std::vector<std::size_t> range = parseFrameRange(text, frames, flag);
   if (range.size() != 1) {
     throw InputError(flag + ": expected one frame (an index, 'last' or -1), got the range '" +
-                         io::printable(text) + "'");
+                     io::printable(text) + "'");
   }
   return range.front();
 }

@@ -39,7 +39,7 @@ std::string formatOf(const ExportOptions& o) {
   if (!o.format.empty()) return o.format;
   const std::string ext = extensionOf(o.output);
   if (ext == "csv" || ext == "ply" || ext == "vtu") return ext;
-  throw InputError("--format: expected csv, ply or vtu (the name " + io::printable(o.output, 240) +
+  throw InputError("--format: expected csv, ply or vtu (the name " + io::printablePath(o.output) +
                    " does not say which)");
 }
 

@@ -49,7 +49,7 @@ std::string formatOf(const MeshOptions& o) {
       !std::filesystem::is_directory(o.output)) {
     const std::string ext = extensionOf(o.output);
     if (ext == "ply" || ext == "obj") return ext;
-    throw InputError("--format: expected ply or obj (the name " + io::printable(o.output, 240) +
+    throw InputError("--format: expected ply or obj (the name " + io::printablePath(o.output) +
                      " does not say which)");
   }
   const std::string ext = extensionOf(o.output);

@@ -48,7 +48,7 @@ OutputNames::OutputNames(const std::string& output, const std::string& format,
     width_ = 5;
     pvd_ = directory_ + "/" + scene + ".pvd";
   } else if (count > 1) {
-    throw InputError(flag + " " + io::printable(output, 240) + ": " + std::to_string(count) +
+    throw InputError(flag + " " + io::printablePath(output) + ": " + std::to_string(count) +
                      " frames need one file each: give a name with %05d where the frame "
                      "number goes (e.g. out/frame_%05d." +
                      format + ") or a directory (ending in /)");
@@ -74,7 +74,7 @@ void OutputNames::parsePattern(const std::string& output, std::size_t at, const 
   const bool ok =
       end < output.size() && output[end] == 'd' && output.find('%', end + 1) == std::string::npos;
   if (!ok) {
-    throw InputError(flag + " " + io::printable(output, 240) +
+    throw InputError(flag + " " + io::printablePath(output) +
                      ": expected one %d or %05d where the frame number goes, and no other %");
   }
   width_ = digitsStart < end ? std::stoi(output.substr(digitsStart, end - digitsStart)) : 1;

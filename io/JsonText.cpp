@@ -7,8 +7,8 @@
 #include <map>
 #include <vector>
 
-#include "sim/InputError.h"
 #include "io/MessageText.h"
+#include "sim/InputError.h"
 
 namespace sph::io {
 namespace {

@@ -13,6 +13,12 @@ namespace sph::io {
 // characters with "..." when longer. No quotes added.
 std::string printable(std::string_view text, std::size_t max = 40);
 
+// A file path for quoting in a message: as printable(), but whole up to 240 characters, since a
+// path cut at 40 loses its file name - the part a user needs - under a deep directory.
+inline std::string printablePath(std::string_view path) {
+  return printable(path, 240);
+}
+
 // A number as a person reads it, %g style with `digits` significant digits and a short exponent:
 // 0.25, 1500, 1e6, 1.79769e308, -3.5e-5, inf, nan. Never a 300-digit expansion.
 std::string readableNumber(double v, int digits = 6);

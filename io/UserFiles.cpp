@@ -9,8 +9,8 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "sim/InputError.h"
 #include "io/MessageText.h"
+#include "sim/InputError.h"
 
 namespace sph::io {
 namespace {

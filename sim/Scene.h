@@ -9,8 +9,8 @@
 
 #include "sim/CameraDesc.h"
 #include "sim/CollisionDesc.h"
-#include "sim/RainDesc.h"
 #include "sim/LightsDesc.h"
+#include "sim/RainDesc.h"
 #include "sim/RenderDesc.h"
 #include "sim/SolverParams.h"
 #include "sim/Types.h"

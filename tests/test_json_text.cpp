@@ -120,5 +120,12 @@ TEST(MessageText, QuotesAreShortAndPrintableNumbersReadable) {
   EXPECT_EQ(io::readableCount(9.3e18), "9.3e18");  // was "-9223372036854775808 particles"
 }
 
+TEST(MessageText, APathIsQuotedWholeUnderADeepDirectory) {
+  const std::string deep = "/tmp/sphsplat-test-Ab12Cd/" + std::string(150, 'd') + "/frame.h5";
+  EXPECT_EQ(io::printablePath(deep), deep);  // printable() would cut the file name off
+  const std::string huge(1000, 'p');
+  EXPECT_EQ(io::printablePath(huge), std::string(237, 'p') + "...");
+}
+
 }  // namespace
 }  // namespace sph

@@ -90,7 +90,8 @@ TEST_F(Mpi, AKilledRankOfARainSceneLeavesItsFramesAndDropsReadable) {
   test::mpi::waitForStatusRecorder(out);
   EXPECT_EQ(r.output.find("mpirun-exit 0"), std::string::npos) << r.output;
   const io::CacheReader killed(out), one(reference);
-  ASSERT_GE(killed.frameCount(), 1u);  // how many frames a loaded machine wrote before the kill varies
+  // How many frames a loaded machine wrote before the kill varies.
+  ASSERT_GE(killed.frameCount(), 1u);
   for (std::size_t k = 0; k < killed.frameCount(); ++k) {
     const Particles frame = killed.readFrame(k);
     const std::size_t drops = killed.summary().frames[k].rainDrops;
