@@ -15,10 +15,10 @@
 //   bench_lights_faster frame      Fig. 11's whole deferred frame as a user gets it on llvmpipe
 //                                  (accumulate "cpu", culled to the table's camera, 960 x 540) at
 //                                  262,144 and 1M lights: accumulation (whole volume and culled),
-//                                  G-buffer pass, the particle lights' term on the CPU (read-back,
-//                                  shading, upload; lights.shade "cpu"), lighting pass, draw and
-//                                  frame (culled + draw), each the minimum of --repeat frames,
-//                                  with CPU ms beside
+//                                  G-buffer pass, each pixel's colour on the CPU (read-back,
+//                                  shading, encoding, upload; lights.shade "cpu"), lighting pass,
+//                                  draw and frame (culled + draw), each the minimum of --repeat
+//                                  frames, with CPU ms beside, and the solids' triangles drawn
 // Options: --repeat N (min of N, default 3), --max-lights N (default 1048576), --accumulate cpu
 // (fig11, fireflies: the CPU accumulation instead of the atomic one), --shade gl|cpu|auto (frame:
 // lights.shade, default auto = cpu there).
