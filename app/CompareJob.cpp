@@ -39,7 +39,7 @@ void compareParticleLights(CacheRendering& c, std::size_t f, const Particles& p,
   volume.update(lights);  // the first dispatch compiles llvmpipe's shader variants
   const double accumulate = volume.update(lights);
   const float thickness = deriveParams(c.scene).boundaryLayers * c.scene.solver.spacing;
-  const render::solids::SolidRenderer solids(c.scene.boundaries, c.scene.domain, thickness);
+  render::solids::SolidRenderer solids(c.scene.boundaries, c.scene.domain, thickness);
   const render::lights::SolidGBuffer g =
       render::lights::solidGBuffer(solids, c.camera, c.desc.width, c.desc.height);
   std::printf(

@@ -15,10 +15,10 @@
 //   bench_lights_faster frame      Fig. 11's whole deferred frame as a user gets it on llvmpipe
 //                                  (accumulate "cpu", culled to the table's camera, 960 x 540) at
 //                                  262,144 and 1M lights: accumulation (whole volume and culled),
-//                                  G-buffer pass, the particle lights' term on the CPU (read-back,
-//                                  shading, upload; lights.shade "cpu"), lighting pass, draw and
-//                                  frame (culled + draw), each the minimum of --repeat frames,
-//                                  with CPU ms beside
+//                                  G-buffer pass, each pixel's colour on the CPU (read-back,
+//                                  shading, encoding, upload; lights.shade "cpu"), lighting pass,
+//                                  draw and frame (culled + draw), each the minimum of --repeat
+//                                  frames, with CPU ms beside, and the solids' triangles drawn
 // Options: --repeat N (min of N, default 3), --max-lights N (default 1048576), --accumulate cpu
 // (fig11, fireflies: the CPU accumulation instead of the atomic one), --shade gl|cpu|auto (frame:
 // lights.shade, default auto = cpu there).
@@ -218,10 +218,12 @@ void frame() {
   const CameraDesc camera = bench::fig11Camera();
   std::printf(
       "Fig. 11 frame (128^3 voxels of 1 m, range 0.5 m, trilinear, deferred, accumulate cpu, "
-      "shade %s; %d x %d, %zu triangles): ms, min of %d frames; [CPU ms, all threads]\n",
-      nameOf(shade), width, height, solids.triangles(), repeat);
-  std::printf("%-8s %9s %9s %9s %9s %9s %9s %9s %9s %9s\n", "lights", "acc all", "acc cull",
-              "G-buffer", "cpu shade", "lighting", "draw", "frame", "[acc cul]", "[draw]");
+      "shade %s; %d x %d; solids tessellated for their size on screen): ms, min of %d frames; "
+      "[CPU ms, all threads]; triangles drawn\n",
+      nameOf(shade), width, height, repeat);
+  std::printf("%-8s %9s %9s %9s %9s %9s %9s %9s %9s %9s %9s\n", "lights", "acc all", "acc cull",
+              "G-buffer", "cpu shade", "lighting", "draw", "frame", "[acc cul]", "[draw]",
+              "triangles");
   for (std::size_t n : {262144u, 1048576u}) {
     if (n > maxLights) continue;
     LightsDesc d = bench::fig11Lights(n);
@@ -248,9 +250,9 @@ void frame() {
       particles = std::min(particles, renderer.lastPasses().particles);
       lighting = std::min(lighting, renderer.lastPasses().lighting);
     }
-    std::printf("%-8zu %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f\n", n, 1e3 * tAll,
+    std::printf("%-8zu %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9zu\n", n, 1e3 * tAll,
                 1e3 * tCulled, 1e3 * gbuffer, 1e3 * particles, 1e3 * lighting, 1e3 * drawn,
-                1e3 * (tCulled + drawn), 1e3 * cpuCulled, 1e3 * cpuDraw);
+                1e3 * (tCulled + drawn), 1e3 * cpuCulled, 1e3 * cpuDraw, solids.triangles());
     std::fflush(stdout);
   }
 }

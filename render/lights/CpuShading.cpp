@@ -1,11 +1,13 @@
 #include "render/lights/CpuShading.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #if defined(__F16C__)
 #include <immintrin.h>
 #endif
 
+#include "render/splat/Srgb8Table.h"
 #include "sim/Parallel.h"
 
 namespace sph::render::lights {
@@ -140,23 +142,40 @@ float CpuShading::power(float x) const {
   return result;
 }
 
-void CpuShading::pixels(std::size_t count, const float* position, const float* normal,
-                        const std::uint16_t* albedo, const Vec3& eye, float* rgba) const {
-  constexpr std::size_t kRow = 1024;
-  parallelForDynamic((count + kRow - 1) / kRow, 1, [&](std::size_t row) {
-    for (std::size_t i = row * kRow; i < std::min(count, (row + 1) * kRow); ++i) {
-      float* out = rgba + 4 * i;
-      const float* p = position + 4 * i;
-      if (p[3] < 0.5f) {  // nothing drawn here
-        out[0] = out[1] = out[2] = out[3] = 0.0f;
+void CpuShading::pixels(const splat::GBufferPixels& g, const Vec3& eye, std::uint8_t* rgba) const {
+  const splat::Srgb8Table& encode = splat::srgb8Table();
+  const std::array<double, 16>& m = g.fromNdc;
+  parallelForDynamic(static_cast<std::size_t>(g.height), 1, [&](std::size_t row) {
+    const double ndcY = 2.0 * (static_cast<double>(row) + 0.5) / g.height - 1.0;
+    for (std::size_t col = 0; col < static_cast<std::size_t>(g.width); ++col) {
+      const std::size_t i = row * static_cast<std::size_t>(g.width) + col;
+      std::uint8_t* out = rgba + 4 * i;
+      const float depth = g.depth[i];
+      if (depth >= 1.0f) {  // nothing drawn here (the depth is cleared to 1 each frame)
+        out[0] = out[1] = out[2] = out[3] = 0;
         continue;
       }
-      const Vec3 at3(p[0], p[1], p[2]);
-      const float* nn = normal + 4 * i;
-      const std::uint16_t* b = albedo + 4 * i;
+      Vec3 at3;
+      if (g.position) {
+        at3 = Vec3(g.position[4 * i], g.position[4 * i + 1], g.position[4 * i + 2]);
+      } else {
+        // The pixel's centre back through the frame's matrices: NDC -> world, in double (depth
+        // near 1 holds the distance in its last bits).
+        const double ndc[3] = {2.0 * (static_cast<double>(col) + 0.5) / g.width - 1.0, ndcY,
+                               2.0 * static_cast<double>(depth) - 1.0};
+        double p[4];
+        for (std::size_t r = 0; r < 4; ++r)
+          p[r] = m[r] * ndc[0] + m[4 + r] * ndc[1] + m[8 + r] * ndc[2] + m[12 + r];
+        at3 = Vec3(static_cast<float>(p[0] / p[3]), static_cast<float>(p[1] / p[3]),
+                   static_cast<float>(p[2] / p[3]));
+      }
+      const float* nn = g.normal + 4 * i;
+      const std::uint16_t* b = g.albedo + 4 * i;
       const Vec3 base(fromHalf(b[0]), fromHalf(b[1]), fromHalf(b[2]));
       const Vec3 c = term(at3, Vec3(nn[0], nn[1], nn[2]), nullptr, eye, base);
-      out[0] = c[0], out[1] = c[1], out[2] = c[2], out[3] = 0.0f;
+      const float* lit = g.lit + 4 * i;
+      for (int k = 0; k < 3; ++k) out[k] = encode(lit[k] + c[k]);
+      out[3] = 255;
     }
   });
 }

@@ -1,7 +1,8 @@
 // lights.shade "cpu" (docs/lights.md, "Shading on the CPU"): the particle lights' Phong term of
 // shaders/extra_lights.glsl (particleLight) computed on the CPU, from the half-float texels that
 // lights.accumulate "cpu" gathered (CpuAccumulation.h) - the very values GL samples from the two
-// 3D textures - for each pixel of the deferred G-buffer read back. On llvmpipe the lighting
+// 3D textures - for each pixel of the deferred G-buffer read back, added to the pixel's other
+// lighting and sRGB-encoded there, so the lighting pass only copies. On llvmpipe the lighting
 // pass's two trilinear 3D-texture fetches a pixel were ~60 CPU ms of Fig. 11's frame
 // (docs/benchmarks.md, issue 14); here they are eight 8-byte loads each, with shared weights.
 // Filters nearest and trilinear, with oversampling; tricubic stays on the GL path.
@@ -11,6 +12,7 @@
 #include <cstdint>
 
 #include "render/lights/CpuAccumulation.h"
+#include "render/splat/ExtraLights.h"
 #include "sim/LightsDesc.h"
 #include "sim/Types.h"
 
@@ -24,11 +26,10 @@ class CpuShading {
 
   // particleLight(base, position, n, toEye) at one point.
   Vec3 at(const Vec3& position, const Vec3& n, const Vec3& toEye, const Vec3& base) const;
-  // Per pixel of a G-buffer of `count` pixels (RGBA each: world position with alpha 1 where a
-  // surface was drawn, unit normal, albedo as half floats), the term seen from `eye` into `rgba`
-  // (alpha 0; all zero where no surface was drawn). OpenMP over rows of 1,024 pixels.
-  void pixels(std::size_t count, const float* position, const float* normal,
-              const std::uint16_t* albedo, const Vec3& eye, float* rgba) const;
+  // Per pixel of a G-buffer read back (ExtraLights.h; the world position from its depth), the lit
+  // colour plus the term seen from `eye`, clamped and sRGB-encoded (Srgb8Table.h) into `rgba`
+  // (RGBA8, alpha 255; all zero where no surface was drawn). OpenMP over rows.
+  void pixels(const splat::GBufferPixels& g, const Vec3& eye, std::uint8_t* rgba) const;
 
  private:
   const LightsDesc& desc_;

@@ -33,7 +33,7 @@ std::string FilterSetting::label() const {
   return s;
 }
 
-SolidGBuffer solidGBuffer(const solids::SolidRenderer& solids, const CameraDesc& camera, int width,
+SolidGBuffer solidGBuffer(solids::SolidRenderer& solids, const CameraDesc& camera, int width,
                           int height, const gl::ShaderLibrary& shaders) {
   const gl::Program program = gl::buildProgram(
       shaders,

@@ -22,7 +22,7 @@ struct SolidGBuffer {
   std::vector<ProbePoint> points;
   std::vector<std::size_t> pixels;  // row 0 at the top
 };
-SolidGBuffer solidGBuffer(const solids::SolidRenderer& solids, const CameraDesc& camera, int width,
+SolidGBuffer solidGBuffer(solids::SolidRenderer& solids, const CameraDesc& camera, int width,
                           int height,
                           const gl::ShaderLibrary& shaders = gl::ShaderLibrary::fromEnvironment());
 

@@ -315,8 +315,9 @@ bool LightVolume::shadesOnCpu() const {
   return desc_.shade == LightShade::Cpu && desc_.filter != LightFilter::Tricubic;
 }
 
-void LightVolume::shadeOnCpu(const splat::GBufferPixels& g, const Vec3& eye, float* rgba) const {
-  CpuShading(desc_, cpuSums_, terms).pixels(g.count, g.position, g.normal, g.albedo, eye, rgba);
+void LightVolume::shadeOnCpu(const splat::GBufferPixels& g, const Vec3& eye,
+                             std::uint8_t* rgba) const {
+  CpuShading(desc_, cpuSums_, terms).pixels(g, eye, rgba);
 }
 
 std::vector<Vec3> LightVolume::probeOnCpu(const std::vector<ProbePoint>& points,

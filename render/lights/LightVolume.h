@@ -59,7 +59,8 @@ class LightVolume final : public splat::ExtraLights {
   // the lighting pass's term computed on the CPU from the last update's sums. A filter set to
   // tricubic since (compare's) goes back to the GL path.
   bool shadesOnCpu() const override;
-  void shadeOnCpu(const splat::GBufferPixels& g, const Vec3& eye, float* rgba) const override;
+  void shadeOnCpu(const splat::GBufferPixels& g, const Vec3& eye,
+                  std::uint8_t* rgba) const override;
 
   // Which Phong terms apply() switches on (bit 0 diffuse, bit 1 specular; the error figures).
   int terms = 3;

@@ -31,7 +31,8 @@ struct SolidMesh {
 
 // The surface of `shape`; containers (tank, cup) are shells `thickness` metres thick, as
 // sim/Solid.h has them. A plane is cut to the shadow of `domain`. `segments`: around a cup or a
-// sphere's equator.
+// sphere's equator (a sphere has segments / 2 rings); SolidRenderer picks them for each draw's
+// size on screen (ScreenTessellation.h).
 SolidMesh tessellate(const BoundaryShape& shape, const Aabb& domain, float thickness,
                      int segments = 64);
 

@@ -1,5 +1,6 @@
 #include "render/solids/SolidRenderer.h"
 
+#include <algorithm>
 #include <cstddef>
 
 #include "render/gl/Shader.h"
@@ -11,23 +12,17 @@ namespace sph::render::solids {
 
 SolidRenderer::SolidRenderer(const std::vector<BoundaryShape>& shapes, const Aabb& domain,
                              float thickness, const gl::ShaderLibrary& shaders)
-    : shaders_(shaders) {
+    : shaders_(shaders),
+      shapes_(shapes),
+      domain_(domain),
+      thickness_(thickness),
+      segments_(shapes.size(), -1) {
   program_ = gl::buildProgram(
       shaders, {{gl::ShaderStage::Vertex, "solid.vert"}, {gl::ShaderStage::Fragment, "solid.frag"}},
       "solids", {"SPH_NO_PARTICLE_LIGHTS"});
-  SolidMesh mesh;
-  for (const BoundaryShape& s : shapes) mesh.append(tessellate(s, domain, thickness));
-  indexCount_ = mesh.indices.size();
   vertices_ = gl::Buffer::create();
   indices_ = gl::Buffer::create();
   vao_ = gl::VertexArray::create();
-  if (indexCount_ == 0) return;
-  glNamedBufferData(vertices_.id(),
-                    static_cast<GLsizeiptr>(mesh.vertices.size() * sizeof(SolidVertex)),
-                    mesh.vertices.data(), GL_STATIC_DRAW);
-  glNamedBufferData(indices_.id(),
-                    static_cast<GLsizeiptr>(mesh.indices.size() * sizeof(std::uint32_t)),
-                    mesh.indices.data(), GL_STATIC_DRAW);
   const GLuint vao = vao_.id();
   glVertexArrayVertexBuffer(vao, 0, vertices_.id(), 0, sizeof(SolidVertex));
   for (GLuint a = 0; a < 2; ++a) {
@@ -38,6 +33,31 @@ SolidRenderer::SolidRenderer(const std::vector<BoundaryShape>& shapes, const Aab
     glVertexArrayAttribBinding(vao, a, 0);
   }
   glVertexArrayElementBuffer(vao, indices_.id());
+}
+
+void SolidRenderer::fit(const Mat4& projView) {
+  GLint viewport[4] = {0, 0, 0, 0};
+  glGetIntegerv(GL_VIEWPORT, viewport);
+  bool changed = false;
+  for (std::size_t i = 0; i < shapes_.size(); ++i) {
+    const int n =
+        screenSegments(shapes_[i], thickness_, projView, viewport[2], viewport[3], tessellation);
+    changed |= n != segments_[i];
+    segments_[i] = n;
+  }
+  if (!changed) return;
+  SolidMesh mesh;
+  for (std::size_t i = 0; i < shapes_.size(); ++i)
+    mesh.append(tessellate(shapes_[i], domain_, thickness_, std::max(segments_[i], 4)));
+  indexCount_ = mesh.indices.size();
+  ++meshBuilds_;
+  if (indexCount_ == 0) return;
+  glNamedBufferData(vertices_.id(),
+                    static_cast<GLsizeiptr>(mesh.vertices.size() * sizeof(SolidVertex)),
+                    mesh.vertices.data(), GL_STATIC_DRAW);
+  glNamedBufferData(indices_.id(),
+                    static_cast<GLsizeiptr>(mesh.indices.size() * sizeof(std::uint32_t)),
+                    mesh.indices.data(), GL_STATIC_DRAW);
 }
 
 void SolidRenderer::setLighting(GLuint p, const CameraFrame& camera,
@@ -59,7 +79,7 @@ void SolidRenderer::setLighting(GLuint p, const CameraFrame& camera,
 }
 
 void SolidRenderer::draw(const CameraFrame& camera, const splat::Lighting& lighting) {
-  if (indexCount_ == 0) return;
+  if (shapes_.empty()) return;
   if (lighting.extra != nullptr && litProgram_.id() == 0) {
     litProgram_ = gl::buildProgram(
         shaders_,
@@ -72,7 +92,7 @@ void SolidRenderer::draw(const CameraFrame& camera, const splat::Lighting& light
 }
 
 bool SolidRenderer::drawGBuffer(const CameraFrame& camera, const splat::Lighting& lighting) {
-  if (indexCount_ == 0) return true;
+  if (shapes_.empty()) return true;
   if (gbufferProgram_.id() == 0) {
     gbufferProgram_ = gl::buildProgram(
         shaders_,
@@ -84,7 +104,8 @@ bool SolidRenderer::drawGBuffer(const CameraFrame& camera, const splat::Lighting
   return true;
 }
 
-void SolidRenderer::drawWith(GLuint p, const CameraFrame& camera) const {
+void SolidRenderer::drawWith(GLuint p, const CameraFrame& camera) {
+  fit(camera.projView);
   if (indexCount_ == 0) return;
   glProgramUniformMatrix4fv(p, glGetUniformLocation(p, "u_projView"), 1, GL_FALSE,
                             camera.projView.m.data());

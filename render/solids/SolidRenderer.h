@@ -9,6 +9,7 @@
 
 #include "render/gl/GlHandle.h"
 #include "render/gl/ShaderLibrary.h"
+#include "render/solids/ScreenTessellation.h"
 #include "render/solids/SolidMesh.h"
 #include "render/splat/FrameLayer.h"
 #include "sim/Scene.h"
@@ -22,7 +23,8 @@ struct SolidMaterial {
 
 class SolidRenderer final : public splat::FrameLayer {
  public:
-  // Tessellates `shapes` (walls `thickness` m thick) and uploads them. Needs a current context.
+  // Keeps `shapes` (walls `thickness` m thick) to tessellate for each draw's camera and viewport
+  // (`tessellation`). Needs a current context.
   SolidRenderer(const std::vector<BoundaryShape>& shapes, const Aabb& domain, float thickness,
                 const gl::ShaderLibrary& shaders = gl::ShaderLibrary::fromEnvironment());
   Order order() const override { return Order::BeforeSplats; }
@@ -32,23 +34,39 @@ class SolidRenderer final : public splat::FrameLayer {
   bool drawGBuffer(const CameraFrame& camera, const splat::Lighting& lighting) override;
 
   // The same triangles with `program` (its vertex stage solid.vert: u_projView), depth tested,
-  // into the current framebuffer: G-buffers (render/lights/LightComparison.h).
-  void drawWith(GLuint program, const CameraFrame& camera) const;
+  // into the current framebuffer and viewport: G-buffers (render/lights/LightComparison.h).
+  void drawWith(GLuint program, const CameraFrame& camera);
 
+  // The triangles of the last draw (0 before the first).
   std::size_t triangles() const { return indexCount_ / 3; }
+  // The segments the last draw tessellated each shape with, in the order given (0: a shape with
+  // no curve).
+  const std::vector<int>& segments() const { return segments_; }
+  // How many times the mesh was built and uploaded: once, then once per change of segments.
+  std::size_t meshBuilds() const { return meshBuilds_; }
   SolidMaterial material;
+  // How finely the spheres and cups are tessellated for their size on screen
+  // (ScreenTessellation.h); floor = cap = 64 is the fixed tessellation of before.
+  TessellationBound tessellation;
 
  private:
   void setLighting(GLuint program, const CameraFrame& camera,
                    const splat::Lighting& lighting) const;
+  // Tessellates the shapes for `projView` in the current viewport where a shape's segments
+  // change, and uploads the mesh; nothing (no allocation) while they stay.
+  void fit(const Mat4& projView);
   gl::ShaderLibrary shaders_;
+  std::vector<BoundaryShape> shapes_;
+  Aabb domain_;
+  float thickness_;
+  std::vector<int> segments_;  // per shape, what the buffers hold; -1 before the first draw
   // Without the particle lights' code (SPH_NO_PARTICLE_LIGHTS), as the splats' programs: llvmpipe
   // pays for the volume sampling behind a switch that is off (docs/benchmarks.md, "Particle
   // lights"). The lit program (forward) and the G-buffer's (deferred) are built on first use.
   gl::Program program_, litProgram_, gbufferProgram_;
   gl::Buffer vertices_, indices_;
   gl::VertexArray vao_;
-  std::size_t indexCount_ = 0;
+  std::size_t indexCount_ = 0, meshBuilds_ = 0;
 };
 
 }  // namespace sph::render::solids

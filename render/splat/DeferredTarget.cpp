@@ -1,5 +1,7 @@
 #include "render/splat/DeferredTarget.h"
 
+#include <Eigen/LU>
+#include <array>
 #include <chrono>
 
 #include "render/gl/GlError.h"
@@ -8,6 +10,22 @@
 #include "render/splat/ProgramUniforms.h"
 
 namespace sph::render::splat {
+namespace {
+
+// projView's inverse, column-major, in double: the CPU shading's way from a pixel's depth back to
+// the world.
+std::array<double, 16> inverse(const Mat4& m) {
+  Eigen::Matrix4d a;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) a(r, c) = m(r, c);
+  const Eigen::Matrix4d inv = a.inverse();
+  std::array<double, 16> out{};
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) out[static_cast<std::size_t>(4 * c + r)] = inv(r, c);
+  return out;
+}
+
+}  // namespace
 
 DeferredTarget::DeferredTarget(const gl::ShaderLibrary& shaders) : shaders_(shaders) {
   lighting_ = gl::buildProgram(shaders,
@@ -17,7 +35,7 @@ DeferredTarget::DeferredTarget(const gl::ShaderLibrary& shaders) : shaders_(shad
   vao_ = gl::VertexArray::create();
 }
 
-void DeferredTarget::begin(int width, int height) {
+void DeferredTarget::begin(int width, int height, bool positions) {
   if (width != width_ || height != height_) {
     width_ = width, height_ = height;
     auto texture = [&](GLenum format) {
@@ -34,7 +52,7 @@ void DeferredTarget::begin(int width, int height) {
     position_ = texture(GL_RGBA32F);
     normal_ = texture(GL_RGBA32F);
     depth_ = texture(GL_DEPTH_COMPONENT32F);
-    particle_ = gl::Texture{};  // made for lights.shade "cpu" only
+    final_ = gl::Texture{};  // made for lights.shade "cpu" only
     framebuffer_ = gl::Framebuffer::create();
     const GLuint f = framebuffer_.id();
     glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT0, lit_.id(), 0);
@@ -42,66 +60,85 @@ void DeferredTarget::begin(int width, int height) {
     glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT2, position_.id(), 0);
     glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT3, normal_.id(), 0);
     glNamedFramebufferTexture(f, GL_DEPTH_ATTACHMENT, depth_.id(), 0);
-    const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
-                              GL_COLOR_ATTACHMENT3};
-    glNamedFramebufferDrawBuffers(f, 4, buffers);
     if (glCheckNamedFramebufferStatus(f, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
       throw gl::GlError(
           "the deferred G-buffer (4 float targets + depth) is incomplete on this driver");
+    drawsPosition_ = -1;
   }
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+  // Without point splats the CPU shading reads the depth instead of the position: llvmpipe then
+  // neither writes nor reads back 16 bytes a pixel.
+  const GLuint f = framebuffer_.id();
+  if (drawsPosition_ != (positions ? 1 : 0)) {
+    drawsPosition_ = positions ? 1 : 0;
+    const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1,
+                              positions ? GLenum{GL_COLOR_ATTACHMENT2} : GLenum{GL_NONE},
+                              GL_COLOR_ATTACHMENT3};
+    glNamedFramebufferDrawBuffers(f, 4, buffers);
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, f);
   const float zero[4] = {0, 0, 0, 0};
-  glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 0, zero);
-  // The position's alpha says "a surface here" to the CPU shading (lights.shade "cpu"): without
-  // the clear it kept every earlier frame's surfaces, shaded for nothing as the camera moved.
-  glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 2, zero);
-  glClearNamedFramebufferfi(framebuffer_.id(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
+  glClearNamedFramebufferfv(f, GL_COLOR, 0, zero);
+  // A surface is where the depth is below 1 (the CPU shading) or lit's alpha is 1 (the lighting
+  // pass): both cleared each frame, so no earlier frame's surface is shaded as the camera moves,
+  // and the position target needs no clear.
+  glClearNamedFramebufferfi(f, GL_DEPTH_STENCIL, 0, 1.0f, 0);
 }
 
-void DeferredTarget::shadeOnCpu(const ExtraLights& lights, const Vec3& eye) {
+void DeferredTarget::shadeOnCpu(const ExtraLights& lights, const Vec3& eye, const Mat4& projView) {
   if (cpuLighting_.id() == 0) {
     cpuLighting_ = gl::buildProgram(shaders_,
                                     {{gl::ShaderStage::Vertex, "deferred_lighting.vert"},
                                      {gl::ShaderStage::Fragment, "deferred_lighting.frag"}},
-                                    "deferred lighting, particle lights shaded on the CPU",
+                                    "deferred lighting, the colours shaded on the CPU",
                                     {"SPH_CPU_PARTICLE_LIGHTS"});
   }
-  if (particle_.id() == 0) {
-    particle_ = gl::Texture::create(GL_TEXTURE_2D);
-    glTextureStorage2D(particle_.id(), 1, GL_RGBA32F, width_, height_);
+  if (final_.id() == 0) {
+    final_ = gl::Texture::create(GL_TEXTURE_2D);
+    glTextureStorage2D(final_.id(), 1, GL_RGBA8, width_, height_);
   }
   const std::size_t n = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
-  readPosition_.resize(4 * n), readNormal_.resize(4 * n), readAlbedo_.resize(4 * n);
-  term_.resize(4 * n);
+  readDepth_.resize(n), readNormal_.resize(4 * n), readAlbedo_.resize(4 * n),
+      readLit_.resize(4 * n);
+  colours_.resize(4 * n);
   // In the targets' own formats: on llvmpipe a copy without conversion.
-  glGetTextureImage(position_.id(), 0, GL_RGBA, GL_FLOAT,
-                    static_cast<GLsizei>(readPosition_.size() * sizeof(float)),
-                    readPosition_.data());
-  glGetTextureImage(normal_.id(), 0, GL_RGBA, GL_FLOAT,
-                    static_cast<GLsizei>(readNormal_.size() * sizeof(float)), readNormal_.data());
-  glGetTextureImage(albedo_.id(), 0, GL_RGBA, GL_HALF_FLOAT,
-                    static_cast<GLsizei>(readAlbedo_.size() * sizeof(std::uint16_t)),
-                    readAlbedo_.data());
-  lights.shadeOnCpu({n, readPosition_.data(), readNormal_.data(), readAlbedo_.data()}, eye,
-                    term_.data());
-  // RGBA32F: the term as the GL pass computes it, in float (the two agree to one 8-bit step).
-  glTextureSubImage2D(particle_.id(), 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, term_.data());
+  auto read = [](const gl::Texture& t, GLenum format, GLenum type, std::size_t bytes, void* to) {
+    glGetTextureImage(t.id(), 0, format, type, static_cast<GLsizei>(bytes), to);
+  };
+  read(depth_, GL_DEPTH_COMPONENT, GL_FLOAT, n * sizeof(float), readDepth_.data());
+  read(normal_, GL_RGBA, GL_FLOAT, 4 * n * sizeof(float), readNormal_.data());
+  read(albedo_, GL_RGBA, GL_HALF_FLOAT, 4 * n * sizeof(std::uint16_t), readAlbedo_.data());
+  read(lit_, GL_RGBA, GL_FLOAT, 4 * n * sizeof(float), readLit_.data());
+  if (drawsPosition_ == 1) {
+    readPosition_.resize(4 * n);
+    read(position_, GL_RGBA, GL_FLOAT, 4 * n * sizeof(float), readPosition_.data());
+  }
+  GBufferPixels g;
+  g.width = width_, g.height = height_;
+  g.depth = readDepth_.data(), g.normal = readNormal_.data(), g.albedo = readAlbedo_.data();
+  g.lit = readLit_.data();
+  g.position = drawsPosition_ == 1 ? readPosition_.data() : nullptr;
+  g.fromNdc = inverse(projView);
+  lights.shadeOnCpu(g, eye, colours_.data());
+  glTextureSubImage2D(final_.id(), 0, 0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE,
+                      colours_.data());
 }
 
-double DeferredTarget::light(GLuint framebuffer, const ExtraLights& lights, const Vec3& eye) {
+double DeferredTarget::light(GLuint framebuffer, const ExtraLights& lights, const Vec3& eye,
+                             const Mat4& projView, bool normals) {
   const auto start = std::chrono::steady_clock::now();
   const bool cpu = lights.shadesOnCpu();
-  if (cpu) shadeOnCpu(lights, eye);
+  if (cpu) shadeOnCpu(lights, eye, projView);
   const double seconds =
       cpu ? std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() : 0.0;
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
   const GLuint p = cpu ? cpuLighting_.id() : lighting_.id();
   if (!cpu) lights.apply(p);
   setVec3(p, "u_eye", eye);
+  setInt(p, "u_normals", normals ? 1 : 0);
   GLuint unit = 0;
   for (const gl::Texture* t : {&lit_, &albedo_, &position_, &normal_, &depth_})
     glBindTextureUnit(unit++, t->id());
-  if (cpu) glBindTextureUnit(5, particle_.id());
+  if (cpu) glBindTextureUnit(5, final_.id());
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_ALWAYS);  // the G-buffer's depth is the frame's: written as it is
   glDepthMask(GL_TRUE);

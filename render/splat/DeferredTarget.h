@@ -11,6 +11,7 @@
 
 #include "render/gl/GlHandle.h"
 #include "render/gl/ShaderLibrary.h"
+#include "sim/Camera.h"
 #include "sim/Types.h"
 
 namespace sph::render::splat {
@@ -21,13 +22,20 @@ class DeferredTarget {
  public:
   explicit DeferredTarget(const gl::ShaderLibrary& shaders);
   // Makes the G-buffer width x height (kept while the size stays), binds it as the draw
-  // framebuffer and clears it (nothing drawn, depth 1).
-  void begin(int width, int height);
+  // framebuffer and clears it (nothing drawn, depth 1). `positions` false: the position target is
+  // not drawn (the CPU shading then finds a pixel's position from its depth); it must be drawn for
+  // the GL lighting pass and for point splats, whose pixels all take their centre's position. It
+  // is never cleared: a pixel holds a surface where its depth is below 1 (lit's alpha is 1), and
+  // such a pixel's position was written this frame.
+  void begin(int width, int height, bool positions);
   // Draws the lighting pass into `framebuffer` (0: the window's), whose viewport is set: every
   // pixel the G-buffer holds a surface gets its colour and depth; the others keep theirs.
-  // Where lights.shadesOnCpu(), first reads the G-buffer back, has the lights' term computed on
-  // the CPU and uploads it (lights.shade "cpu"); returns the seconds that took (0 otherwise).
-  double light(GLuint framebuffer, const ExtraLights& lights, const Vec3& eye);
+  // Where lights.shadesOnCpu(), first reads the G-buffer back, has each pixel's colour computed on
+  // the CPU and uploads it (lights.shade "cpu"; the pass then copies it); returns the seconds that
+  // took (0 otherwise). `projView`: the frame's. `normals`: the framebuffer's second target takes
+  // the water's normals (the error figures' frame).
+  double light(GLuint framebuffer, const ExtraLights& lights, const Vec3& eye, const Mat4& projView,
+               bool normals);
 
  private:
   const gl::ShaderLibrary& shaders_;
@@ -36,13 +44,15 @@ class DeferredTarget {
   gl::Framebuffer framebuffer_;
   gl::VertexArray vao_;
   gl::Texture lit_, albedo_, position_, normal_, depth_;
-  gl::Texture particle_;  // lights.shade "cpu": the term per pixel, RGBA32F
-  // The G-buffer read back and the term computed from it, kept between frames.
-  std::vector<float> readPosition_, readNormal_, term_;
+  gl::Texture final_;  // lights.shade "cpu": each pixel's colour, RGBA8 sRGB-encoded
+  // The G-buffer read back and the colours computed from it, kept between frames.
+  std::vector<float> readDepth_, readPosition_, readNormal_, readLit_;
   std::vector<std::uint16_t> readAlbedo_;
-  // Reads the G-buffer back, computes the lights' term on the CPU and uploads it into particle_.
-  void shadeOnCpu(const ExtraLights& lights, const Vec3& eye);
+  std::vector<std::uint8_t> colours_;
+  // Reads the G-buffer back, computes each pixel's colour on the CPU and uploads it into final_.
+  void shadeOnCpu(const ExtraLights& lights, const Vec3& eye, const Mat4& projView);
   int width_ = 0, height_ = 0;
+  int drawsPosition_ = -1;  // this frame's draw buffers: 1 with the position target, 0 without
 };
 
 }  // namespace sph::render::splat

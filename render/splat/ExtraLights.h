@@ -3,6 +3,7 @@
 // that shades surfaces. Lighting::extra points to one, or is null and the hook adds nothing.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 
@@ -13,14 +14,23 @@ namespace sph::render::splat {
 
 struct Lighting;
 
-// The deferred G-buffer read back (render/splat/DeferredTarget.cpp), `count` pixels in GL's row
-// order, RGBA each: world position (alpha 1 where a surface was drawn), unit normal, albedo (IEEE
-// half floats, the target's own format).
+// The deferred G-buffer read back for the CPU shading (render/splat/DeferredTarget.cpp), width x
+// height pixels in GL's row order (row 0 at the bottom): the window depth (1 where nothing was
+// drawn), and RGBA each the unit normal, the albedo (IEEE half floats, the target's own format)
+// and the colour lit by all but these lights (linear). A pixel's world position is `position`'s
+// (RGBA) where there is one (the frame has point splats, each lit at its centre), else found from
+// its depth through `fromNdc`, the inverse of the frame's projection * view (column-major).
 struct GBufferPixels {
-  std::size_t count = 0;
-  const float* position = nullptr;
+  int width = 0, height = 0;
+  const float* depth = nullptr;
   const float* normal = nullptr;
   const std::uint16_t* albedo = nullptr;
+  const float* lit = nullptr;
+  const float* position = nullptr;
+  std::array<double, 16> fromNdc{};
+  std::size_t count() const {
+    return static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  }
 };
 
 class ExtraLights {
@@ -31,12 +41,15 @@ class ExtraLights {
   // True: the lights are added in one full-screen pass over a G-buffer of the opaque surfaces
   // (render/splat/DeferredTarget.h) instead of in each surface's shader (lights.pipeline).
   virtual bool deferred() const { return false; }
-  // Deferred only. True: the lights' term is computed per pixel on the CPU by shadeOnCpu from the
-  // G-buffer read back, and the lighting pass adds it from a 2D texture instead of calling the
+  // Deferred only. True: each pixel's whole colour is computed on the CPU by shadeOnCpu from the
+  // G-buffer read back, and the lighting pass copies it from a 2D texture instead of calling the
   // hook (lights.shade "cpu"; the lighting pass then never calls apply()).
   virtual bool shadesOnCpu() const { return false; }
-  // The term per pixel of `g` seen from `eye`, RGBA (alpha unused) into `rgba` (4 g.count floats).
-  virtual void shadeOnCpu(const GBufferPixels& /*g*/, const Vec3& /*eye*/, float* /*rgba*/) const {}
+  // Per pixel of `g` seen from `eye`, its lit colour plus the lights' term, clamped and
+  // sRGB-encoded as shaders/deferred_lighting.frag does, into `rgba` (RGBA8, 4 g.count() bytes;
+  // alpha 255 where a surface was drawn, all 0 elsewhere).
+  virtual void shadeOnCpu(const GBufferPixels& /*g*/, const Vec3& /*eye*/,
+                          std::uint8_t* /*rgba*/) const {}
 };
 
 // What every surface-shading program calls after its lighting uniforms: l.extra's, or the

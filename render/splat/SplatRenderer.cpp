@@ -266,7 +266,9 @@ void SplatRenderer::drawDeferred(const SplatFrame& frame, SplatKind kind, const 
   if (!deferred_) deferred_ = std::make_unique<DeferredTarget>(shaders_);
   const auto start = Clock::now();
   // 1. The G-buffer: the opaque layers (solids) and the water when it is opaque.
-  deferred_->begin(w, h);
+  const bool opaque = lighting.alpha >= 1.0f;
+  const bool points = opaque && kind == SplatKind::Point && !frame.points.empty();
+  deferred_->begin(w, h, !lighting.extra->shadesOnCpu() || points);
   glViewport(0, 0, w, h);
   // The error figures' frame has the solids too (drawLayers); the lighting pass keeps them out of
   // its normal target.
@@ -275,20 +277,20 @@ void SplatRenderer::drawDeferred(const SplatFrame& frame, SplatKind kind, const 
     if (layer->order() == FrameLayer::Order::BeforeSplats && !layer->drawGBuffer(cam, lighting))
       forward.push_back(layer);
   }
-  const bool opaque = lighting.alpha >= 1.0f;
   if (opaque) drawSplats(frame, kind, cam, lighting, gbufferProgramFor(kind));
   glFinish();  // the passes' times apart (Fig. 11's breakdown; llvmpipe drains between them anyway)
   const auto gbuffer = Clock::now();
   // 2. One full-screen pass adds the particle lights where the G-buffer holds a surface.
   // With lights.shade "cpu" the term is computed on the CPU first (passes_.particles).
-  passes_.particles = deferred_->light(static_cast<GLuint>(target), *lighting.extra, cam.eye);
+  const bool scored = offscreen && contents_ == ImageContents::ColourAndNormals;
+  passes_.particles =
+      deferred_->light(static_cast<GLuint>(target), *lighting.extra, cam.eye, cam.projView, scored);
   glFinish();
   passes_.gbuffer = std::chrono::duration<double>(gbuffer - start).count();
   passes_.lighting =
       std::chrono::duration<double>(Clock::now() - gbuffer).count() - passes_.particles;
   // 3. Forward on top, depth tested against the lit frame: layers without a G-buffer program and
   // translucent water, which a G-buffer of one surface per pixel cannot blend (docs/lights.md).
-  const bool scored = offscreen && contents_ == ImageContents::ColourAndNormals;
   if (scored) selectDrawBuffers(ImageContents::Colour);
   for (FrameLayer* layer : forward) layer->draw(cam, lighting);
   if (scored) selectDrawBuffers(contents_);

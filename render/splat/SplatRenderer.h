@@ -51,9 +51,9 @@ class SplatRenderer {
                     const Lighting& lighting, int viewportWidth, int viewportHeight);
 
   // The last draw's deferred passes (lights.pipeline "deferred"; zero when forward), seconds:
-  // the G-buffer of the opaque surfaces, the particle lights' term on the CPU (lights.shade
-  // "cpu": read-back, shading and upload; zero on the GL path) and the full-screen lighting pass
-  // (seed 004 Fig. 11).
+  // the G-buffer of the opaque surfaces, each pixel's colour on the CPU (lights.shade "cpu":
+  // read-back, shading, encoding and upload; zero on the GL path) and the full-screen lighting
+  // pass, a copy after the CPU's (seed 004 Fig. 11).
   struct DrawPasses {
     double gbuffer = 0, particles = 0, lighting = 0;
   };
