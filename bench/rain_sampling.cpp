@@ -19,7 +19,7 @@
 
 #include "sim/rain/RainRandom.h"
 #include "sim/rain/RainSystem.h"
-#include "sim/rain/ViewSampler.h"
+#include "sim/rain/UnitBall.h"
 
 namespace {
 
@@ -76,19 +76,9 @@ int main(int argc, char** argv) {
     rain.reset(camera);
     const rain::RainSpace& s = rain.space();
     std::vector<double> radius(kBins, 0), depth(kBins, 0);
-    // `uniform`: the points of the cube inside the ball, from the hashes of draws 0, 1, ...
     std::uint64_t draw = 0;
     for (std::size_t i = 0; i < kDrops; ++i) {
-      Vec3 b;
-      if (sampling == RainSampling::Uniform) {
-        do b = rain::cubePoint(rain::hash4(7, 0, 0, draw++));
-        while (b.squaredNorm() > 1);
-      } else {
-        float u[5];
-        for (int j = 0; j < 5; ++j) u[j] = rain::unitRandom(7, i, 0, static_cast<std::uint64_t>(j));
-        b = rain::paperBallPoint(u);
-      }
-      const double r = b.norm();
+      const double r = rain::unitBallPoint(sampling, 7, i, draw).norm();
       radius[std::min(kBins - 1, static_cast<int>(r * kBins))] += 1;
     }
     for (const Vec3& p : rain.positions()) {

@@ -17,6 +17,7 @@
 #include "sim/rain/RainRandom.h"
 #include "sim/rain/RainSystem.h"
 #include "sim/rain/Spotlight.h"
+#include "sim/rain/UnitBall.h"
 #include "sim/rain/ViewSampler.h"
 
 namespace sph {
@@ -167,15 +168,7 @@ BallStatistics ballStatistics(RainSampling sampling, int n) {
   int inner = 0;
   std::uint64_t draw = 0;
   for (int i = 0; i < n; ++i) {
-    Vec3 b;
-    if (sampling == RainSampling::Uniform) {
-      do b = rain::cubePoint(rain::hash4(3, 0, 0, draw++));
-      while (b.squaredNorm() > 1);
-    } else {
-      float u[5];
-      for (int k = 0; k < 5; ++k) u[k] = rain::unitRandom(3, static_cast<std::uint64_t>(i), 0, k);
-      b = rain::paperBallPoint(u);
-    }
+    const Vec3 b = rain::unitBallPoint(sampling, 3, static_cast<std::uint64_t>(i), draw);
     const float r = b.norm();
     EXPECT_LE(r, 1.0f + 1e-6f);
     ++radial[std::min(9, static_cast<int>(r * r * r * 10))];
