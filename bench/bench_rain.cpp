@@ -24,6 +24,7 @@
 #include "sim/Camera.h"
 #include "sim/rain/RainRandom.h"
 #include "sim/rain/RainSystem.h"
+#include "sim/rain/ViewSampler.h"
 
 namespace sph {
 namespace {
@@ -63,6 +64,12 @@ void RainUpdate(benchmark::State& state) {
   state.counters["respawns/frame"] = respawns / static_cast<double>(state.iterations());
   state.counters["samples/respawn"] =
       respawns > 0 ? (respawns + static_cast<double>(c.rejected - before.rejected)) / respawns : 0;
+  // `uniform` view: the cube's candidates, the sphere's samples and those outside it.
+  state.counters["candidates/respawn"] =
+      respawns > 0 ? (respawns + static_cast<double>(c.rejected - before.rejected) +
+                      static_cast<double>(c.outsideSphere - before.outsideSphere)) /
+                         respawns
+                   : 0;
   state.counters["drops/s"] = benchmark::Counter(
       static_cast<double>(state.iterations() * state.range(0)), benchmark::Counter::kIsRate);
 }
@@ -265,19 +272,21 @@ BENCHMARK(RainInView)
 // --- The paper's Table 1 (issue 13, "Measured" 3): random number methods for spawning ---
 
 // args: method (0 rand(), 1 srand(seed) + rand(), 2 std::mt19937 + uniform_real_distribution,
-// 3 ours: the counter-based hash, OpenMP), sampling (0 uniform, 1 the paper's eq. (7)). One
-// iteration places 10^6 drops in the rain space of the still camera (sphere sample + side-plane
-// test, eq. (5)-(9)); counters: chi-square of the sphere samples' radii ((r / R)^3 in 10 bins,
-// 9 dof, 27.9 is p = 0.001) and directions (cos(phi) x theta in 10 x 10 bins, 99 dof, 148.2 is
-// p = 0.001) against the uniform ball.
+// 3 ours: the counter-based hash, OpenMP), sampling (0 uniform: rejection from the sphere's
+// cube, 1 the paper's eq. (7)). One iteration places 10^6 drops in the rain space of the still
+// camera (sphere sample + side-plane test, eq. (5)-(9)); counters: chi-square of the sphere
+// samples' radii ((r / R)^3 in 10 bins, 9 dof, 27.9 is p = 0.001) and directions (cos(phi) x theta
+// in 10 x 10 bins, 99 dof, 148.2 is p = 0.001) against the uniform ball.
 void RainSpawnRng(benchmark::State& state) {
   const int method = static_cast<int>(state.range(0));
   const auto sampling = static_cast<RainSampling>(state.range(1));
   const rain::RainSpace space = rain::RainSpace::build(cameraAtFrame(0), kAspect, 0.1f, 5);
   constexpr std::size_t kSpawns = 1000000;
   std::vector<Vec3> ball;  // every sphere sample of the last iteration, unit ball
-  std::uint64_t iteration = 0;
+  std::uint64_t iteration = 0, candidates = 0;
   // The paper's serial generators; `record` keeps every sphere sample (outside the timing).
+  // Uniform sampling as ours (sim/rain/ViewSampler.h): rejection from the cube, 3 numbers a
+  // candidate.
   auto spawnSerial = [&](bool record) {
     std::mt19937 engine(2021);
     std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
@@ -286,11 +295,22 @@ void RainSpawnRng(benchmark::State& state) {
       if (method == 2) return uniform(engine);
       return static_cast<float>(std::rand()) / (static_cast<float>(RAND_MAX) + 1.0f);
     };
+    auto ballPoint = [&]() {
+      if (sampling == RainSampling::Paper) {
+        const float u[5] = {next(), next(), next(), next(), next()};
+        return rain::paperBallPoint(u);
+      }
+      for (;;) {
+        candidates += record;
+        const float u[3] = {next(), next(), next()};
+        const Vec3 q(2 * u[0] - 1, 2 * u[1] - 1, 2 * u[2] - 1);
+        if (q.squaredNorm() <= 1) return q;
+      }
+    };
     std::vector<Vec3> placed(kSpawns);
     for (std::size_t i = 0; i < kSpawns; ++i) {
       for (;;) {
-        const float u[5] = {next(), next(), next(), next(), next()};
-        const Vec3 b = rain::sampleBall(sampling, u);
+        const Vec3 b = ballPoint();
         if (record) ball.push_back(b);
         if (space.insideSides(space.centre + space.radius * b)) {
           placed[i] = b;
@@ -300,8 +320,16 @@ void RainSpawnRng(benchmark::State& state) {
     }
     benchmark::DoNotOptimize(placed.data());
   };
+  // Ours, `paper`: eq. (7) from the counter-based numbers, as RainSystem draws them.
+  auto paperTry = [&](std::size_t i, std::uint64_t t) {
+    float u[5];
+    for (int j = 0; j < 5; ++j) u[j] = rain::unitRandom(2021 + iteration, i, 0, 8 * t + j);
+    return rain::paperBallPoint(u);
+  };
+  const auto always = [](const Vec3&) { return true; };
   for (auto _ : state) {
     ball.clear();
+    candidates = 0;
     ++iteration;
     if (method < 3) {
       spawnSerial(false);
@@ -311,14 +339,18 @@ void RainSpawnRng(benchmark::State& state) {
       const auto n = static_cast<std::ptrdiff_t>(kSpawns);
 #pragma omp parallel for schedule(static)
       for (std::ptrdiff_t k = 0; k < n; ++k) {
-        const auto i = static_cast<std::uint64_t>(k);
+        const auto i = static_cast<std::size_t>(k);
+        if (sampling == RainSampling::Uniform) {  // the shipped sampler
+          rain::ViewSpawnCount count;
+          rain::spawnInView(space, rain::DropRandom(2021 + iteration, i, 0), 1 << 20, always,
+                            placed[i], count);
+          tries[i] = static_cast<std::uint32_t>(count.rejected + count.outsideSphere);
+          continue;
+        }
         for (std::uint64_t t = 0;; ++t) {
-          float u[5];
-          for (int j = 0; j < 5; ++j) u[j] = rain::unitRandom(2021 + iteration, i, 0, 8 * t + j);
-          const Vec3 b = rain::sampleBall(sampling, u);
+          const Vec3 b = paperTry(i, t);
           if (space.insideSides(space.centre + space.radius * b)) {
-            placed[static_cast<std::size_t>(k)] = b,
-            tries[static_cast<std::size_t>(k)] = static_cast<std::uint32_t>(t);
+            placed[i] = b, tries[i] = static_cast<std::uint32_t>(t);
             break;
           }
         }
@@ -328,10 +360,15 @@ void RainSpawnRng(benchmark::State& state) {
       // after the timed part.
       state.PauseTiming();
       for (std::size_t i = 0; i < kSpawns; ++i) {
+        const rain::DropRandom u(2021 + iteration, i, 0);
         for (std::uint64_t t = 0; t <= tries[i]; ++t) {
-          float u[5];
-          for (int j = 0; j < 5; ++j) u[j] = rain::unitRandom(2021 + iteration, i, 0, 8 * t + j);
-          ball.push_back(rain::sampleBall(sampling, u));
+          if (sampling == RainSampling::Paper) {
+            ball.push_back(paperTry(i, t));
+            continue;
+          }
+          ++candidates;
+          const std::uint64_t hash = u.bits(1 + t);
+          if (rain::viewCandidate(space, hash).inSphere) ball.push_back(rain::cubePoint(hash));
         }
       }
       state.ResumeTiming();
@@ -360,6 +397,10 @@ void RainSpawnRng(benchmark::State& state) {
   state.counters["chi2_direction"] = chiSquare(angular);
   state.counters["samples_per_spawn"] =
       static_cast<double>(ball.size()) / static_cast<double>(kSpawns);
+  // `uniform`: the cube's candidates (sphere samples and those outside the sphere)
+  if (sampling == RainSampling::Uniform)
+    state.counters["candidates_per_spawn"] =
+        static_cast<double>(candidates) / static_cast<double>(kSpawns);
   state.counters["spawns/s"] = benchmark::Counter(static_cast<double>(state.iterations() * kSpawns),
                                                   benchmark::Counter::kIsRate);
 }

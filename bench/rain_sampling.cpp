@@ -1,8 +1,9 @@
 // The distribution behind `rain.sampling` (issue 13, "Measured 3"; docs/benchmarks.md, "The
 // paper's Table 1"), once with our uniform ball sampling and once with eq. (7) read literally (a
 // separate random radius per axis). Prints CSV for scripts/plot_rain_sampling.py, per sampling
-// and bin: the density of the radius of 10^6 points of the sphere of eq. (5) (sampleBall with
-// the counter-based numbers, before the side planes; in sphere radii, the uniform ball is
+// and bin: the density of the radius of 10^6 points of the sphere of eq. (5) (with the
+// counter-based numbers, before the side planes: `uniform` the cube's points inside the ball as
+// sim/rain/ViewSampler.h takes them, `paper` eq. (6)-(7); in sphere radii, the uniform ball is
 // 3 r^2), and the density of the depth (distance from the camera along its axis, in units of
 // `far`) of the 10^6 drops the shipped RainSystem spawns in the rain space of a still camera.
 // With the argument `fov` (issue 13, "Measured 4"): per vertical field of view, the share of
@@ -18,6 +19,7 @@
 
 #include "sim/rain/RainRandom.h"
 #include "sim/rain/RainSystem.h"
+#include "sim/rain/UnitBall.h"
 
 namespace {
 
@@ -74,10 +76,9 @@ int main(int argc, char** argv) {
     rain.reset(camera);
     const rain::RainSpace& s = rain.space();
     std::vector<double> radius(kBins, 0), depth(kBins, 0);
+    std::uint64_t draw = 0;
     for (std::size_t i = 0; i < kDrops; ++i) {
-      float u[5];
-      for (int j = 0; j < 5; ++j) u[j] = rain::unitRandom(7, i, 0, static_cast<std::uint64_t>(j));
-      const double r = rain::sampleBall(sampling, u).norm();
+      const double r = rain::unitBallPoint(sampling, 7, i, draw).norm();
       radius[std::min(kBins - 1, static_cast<int>(r * kBins))] += 1;
     }
     for (const Vec3& p : rain.positions()) {

@@ -16,7 +16,7 @@ import matplotlib
 matplotlib.use("Agg")  # no display needed
 import matplotlib.pyplot as plt  # noqa: E402
 
-LABEL = {"uniform": 'ours, "uniform": radius R cbrt(u)', "paper": '"paper": eq. (7), a radius per axis'}
+LABEL = {"uniform": 'ours, "uniform": points of the cube in the ball', "paper": '"paper": eq. (7), a radius per axis'}
 COLOUR = {"uniform": "tab:blue", "paper": "tab:red"}
 
 

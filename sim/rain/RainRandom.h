@@ -41,7 +41,12 @@ class DropRandom {
  public:
   DropRandom(std::uint64_t seed, std::uint64_t drop, std::uint64_t generation)
       : key_(dropKey(seed, drop)), offset_(generation * 0x85157af5ULL + 0x1b873593ULL) {}
-  float operator()(std::uint64_t draw) const { return unitOf(mix64(key_ ^ (offset_ + draw))); }
+  float operator()(std::uint64_t draw) const { return unitOf(bits(draw)); }
+  // The whole 64-bit hash of a draw (sim/rain/ViewSampler.h takes a point of a cube from it).
+  std::uint64_t bits(std::uint64_t draw) const { return mix64(key_ ^ (offset_ + draw)); }
+  // What bits() mixes, for the same hash in SIMD lanes: mix64(key() ^ (offset() + draw)).
+  std::uint64_t key() const { return key_; }
+  std::uint64_t offset() const { return offset_; }
 
  private:
   std::uint64_t key_, offset_;

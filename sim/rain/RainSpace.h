@@ -6,6 +6,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 
 #include "sim/CameraDesc.h"
 #include "sim/Types.h"
@@ -29,11 +30,18 @@ struct RainSpace {
 
   // eq. (8)-(9): p - nbl against B and L, p - ntr against R and T; all >= 0 inside.
   bool insideSides(const Vec3& p) const {
-    const Vec3 toNbl = p - nbl, toNtr = p - ntr;
-    return toNtr.dot(R) >= 0 && toNbl.dot(L) >= 0 && toNtr.dot(T) >= 0 && toNbl.dot(B) >= 0;
+    return (along(p, ntr, R) >= 0) & (along(p, nbl, L) >= 0) & (along(p, ntr, T) >= 0) &
+           (along(p, nbl, B) >= 0);
   }
-  bool insideSphere(const Vec3& p) const { return (p - centre).squaredNorm() <= radius * radius; }
-  bool contains(const Vec3& p) const { return insideSphere(p) && insideSides(p); }
+  bool insideSphere(const Vec3& p) const { return along(p, centre, p - centre) <= radius * radius; }
+  // `&`, not `&&`: no branch, so that a loop over many drops can run in SIMD lanes.
+  bool contains(const Vec3& p) const { return insideSphere(p) & insideSides(p); }
+  // (p - o).n with explicit fused multiply-adds, x last: the compiler may fuse a dot product's
+  // products with its sums or not, and a spawn in SIMD lanes must round as one at a time
+  // (sim/rain/ViewSampler.h), so the rounding is written out and the same in every file.
+  static float along(const Vec3& p, const Vec3& o, const Vec3& n) {
+    return std::fma(p.x() - o.x(), n.x(), std::fma(p.y() - o.y(), n.y(), (p.z() - o.z()) * n.z()));
+  }
   // Volume (m^3) of frustum intersected with sphere, by a fixed quasi-random estimate (0.3%).
   double volume() const;
 };

@@ -12,6 +12,7 @@
 #include "sim/Solid.h"
 #include "sim/rain/RainRandom.h"
 #include "sim/rain/RainSpace.h"
+#include "sim/rain/ViewSampler.h"
 
 namespace sph::rain {
 
@@ -47,20 +48,19 @@ struct RainObstacles {
   const WaterCells* water = nullptr;
 };
 
-// A point in the ball of radius 1 about the origin from three uniform numbers and a fourth set
-// for the paper's per-axis radii (eq. (6)-(7)); u = {u0, u1, u2, u3, u4}.
-Vec3 sampleBall(RainSampling sampling, const float u[5]);
-
-// The cube root of u in [0, 1] (the radius of a uniform point of the ball), within 2 ulp of
-// std::cbrt; 0 for u <= 0 or NaN.
-float cubeRoot(float u);
+// sampling "paper": a point of the ball of radius 1 about the origin as eq. (6)-(7) read
+// literally, a separate random radius per axis, from five uniform numbers u0..u4 (eq. (6)'s
+// theta and phi, then the radii of x, y and z). Not uniform (docs/rain.md). The default sampling,
+// "uniform", is sim/rain/ViewSampler.h.
+Vec3 paperBallPoint(const float u[5]);
 
 bool insideSolid(const Vec3& p, const std::vector<Solid>& solids);
 
 struct RainCounters {
   std::uint64_t leftSpace = 0, hitSolid = 0, hitWater = 0;  // respawns by cause, cumulative
-  std::uint64_t rejected = 0;  // sphere samples the side planes refused (eq. (8)-(9))
-  std::uint64_t accepted = 0;  // spawns
+  std::uint64_t rejected = 0;       // sphere samples the side planes refused (eq. (8)-(9))
+  std::uint64_t outsideSphere = 0;  // sampling "uniform": candidates of the cube outside the sphere
+  std::uint64_t accepted = 0;       // spawns
 };
 
 class RainSystem {
@@ -102,8 +102,10 @@ class RainSystem {
  private:
   void setCamera(const CameraDesc& camera);
   // Draws drop i's position for its current generation, outside the obstacles; returns the
-  // side-plane rejections.
-  std::uint64_t spawn(std::size_t i, const RainObstacles& obstacles);
+  // candidates it refused.
+  ViewSpawnCount spawn(std::size_t i, const RainObstacles& obstacles);
+  // Moves drops begin..end-1 by `step`; out[k] = 1 where drop begin + k left the spawn volume.
+  void moveAndTest(std::size_t begin, std::size_t end, const Vec3& step, std::uint8_t* out);
   static bool blocked(const Vec3& p, const RainObstacles& obstacles);
   std::uint8_t layerOf(std::size_t i) const;
   std::uint8_t layerFrom(const DropRandom& u) const;  // layerOf with the drop's numbers

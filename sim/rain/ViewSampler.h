@@ -1,0 +1,112 @@
+// Drops placed uniformly in the rain space of spawn "view" with sampling "uniform" (docs/rain.md,
+// "Placing a drop"): uniform in the sphere of eq. (5) by rejection from its bounding cube, then
+// kept where the side planes of eq. (8)-(9) say it is inside the frustum - the paper's "a random
+// point of the sphere, kept if inside the frustum" without its trigonometry and cube root. A
+// candidate is one 64-bit hash: 21 bits an axis. The sphere holds pi/6 of the cube, so at the
+// 45-degree, 16:9 rain space a drop takes ~4 candidates (2.1 of them in the sphere): 16 are
+// computed at once in AVX-512 lanes where the build has AVX-512 F and DQ (64-bit multiplies for
+// the hash), one at a time otherwise, with the same bits either way.
+#pragma once
+
+#include <cstdint>
+
+#include "sim/Types.h"
+#include "sim/rain/RainRandom.h"
+#include "sim/rain/RainSpace.h"
+
+namespace sph::rain {
+
+#if defined(__AVX512F__) && defined(__AVX512DQ__)
+inline constexpr bool kViewCandidatesInLanes = true;
+#else
+inline constexpr bool kViewCandidatesInLanes = false;
+#endif
+
+// 21 bits as one of 2^21 evenly spaced values in (-1, 1), symmetric about 0: the odd multiples
+// of 2^-21 (exact in a float).
+inline float cubeCoordinate(std::uint64_t bits21) {
+  return static_cast<float>(static_cast<std::int32_t>(2 * bits21) - 0x1fffff) * (1.0f / 2097152.0f);
+}
+
+// The point of the cube (-1, 1)^3 that a 64-bit hash gives: x from bits 0-20, y from 21-41, z from
+// 42-62 (mix64's bits are equally good; bit 63 is not used).
+inline Vec3 cubePoint(std::uint64_t hash) {
+  return Vec3(cubeCoordinate(hash & 0x1fffff), cubeCoordinate((hash >> 21) & 0x1fffff),
+              cubeCoordinate((hash >> 42) & 0x1fffff));
+}
+
+// A candidate: the point of the sphere's bounding cube, whether it is in the sphere, and whether
+// it is in the rain space (sphere and side planes: RainSpace::contains, to the bit).
+struct ViewCandidate {
+  Vec3 p;
+  bool inSphere, inside;
+};
+
+inline ViewCandidate viewCandidate(const RainSpace& s, std::uint64_t hash) {
+  const Vec3 q = cubePoint(hash);
+  const Vec3 p(std::fma(s.radius, q.x(), s.centre.x()), std::fma(s.radius, q.y(), s.centre.y()),
+               std::fma(s.radius, q.z(), s.centre.z()));
+  const bool sphere = s.insideSphere(p);
+  return {p, sphere, sphere && s.insideSides(p)};
+}
+
+// The candidates of draws first .. first + 15 of a drop's numbers: bit k of the masks is
+// candidate k (draw first + k).
+struct ViewCandidates16 {
+  float x[16], y[16], z[16];
+  std::uint32_t inSphere = 0, inside = 0;
+};
+
+// In AVX-512 lanes where kViewCandidatesInLanes, else viewCandidate 16 times: the same bits
+// (RainSampling.CandidatesInSimdLanesAreTheOnesOneAtATime).
+void viewCandidates16(const RainSpace& s, const DropRandom& u, std::uint64_t first,
+                      ViewCandidates16& out);
+
+// Candidates a spawn drew before the one it took (or all, when it took none).
+struct ViewSpawnCount {
+  std::uint64_t rejected = 0;       // in the sphere, refused by the side planes (eq. (8)-(9))
+  std::uint64_t outsideSphere = 0;  // in the cube, outside the sphere
+};
+
+// Places a drop: the first of `tries` candidates (draws 1, 2, ... of `u`; draw 0 is the drop's
+// streak image) inside the rain space for which `free(p)` holds (outside the obstacles). False
+// when none is.
+template <class Free>
+bool spawnInView(const RainSpace& s, const DropRandom& u, int tries, const Free& free, Vec3& p,
+                 ViewSpawnCount& count) {
+  if constexpr (kViewCandidatesInLanes) {
+    ViewCandidates16 c;
+    for (int first = 0; first < tries; first += 16) {
+      viewCandidates16(s, u, 1 + static_cast<std::uint64_t>(first), c);
+      const std::uint32_t valid = tries - first >= 16 ? 0xffffu : (1u << (tries - first)) - 1;
+      std::uint32_t before = valid;  // the candidates drawn before the one taken
+      bool found = false;
+      for (std::uint32_t m = c.inside & valid; m != 0 && !found; m &= m - 1) {
+        const int k = __builtin_ctz(m);
+        const Vec3 q(c.x[k], c.y[k], c.z[k]);
+        if (!free(q)) continue;
+        p = q, found = true;
+        before = (1u << k) - 1;
+      }
+      count.rejected += static_cast<unsigned>(__builtin_popcount(c.inSphere & ~c.inside & before));
+      count.outsideSphere += static_cast<unsigned>(__builtin_popcount(~c.inSphere & before));
+      if (found) return true;
+    }
+    return false;
+  } else {
+    for (int t = 0; t < tries; ++t) {
+      const ViewCandidate c = viewCandidate(s, u.bits(1 + static_cast<std::uint64_t>(t)));
+      if (!c.inSphere) {
+        ++count.outsideSphere;
+      } else if (!c.inside) {
+        ++count.rejected;
+      } else if (free(c.p)) {
+        p = c.p;
+        return true;
+      }
+    }
+    return false;
+  }
+}
+
+}  // namespace sph::rain
