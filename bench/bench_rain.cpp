@@ -226,6 +226,9 @@ void RainFrameSums(benchmark::State& state) {
 BENCHMARK(RainFrameSums)
     ->Args({1000000, 0, 0, 50})
     ->Args({1000000, 0, 0, 100})
+    ->Args({1000000, 0, 0, 200})
+    ->Args({1000000, 0, 0, 400})
+    ->Args({1000000, 0, 0, 800})
     ->Unit(benchmark::kMillisecond);
 
 // --- The paper's claim in numbers (issue 13, "Measured" 1): drops inside the view frustum ---
