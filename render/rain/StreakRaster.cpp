@@ -257,57 +257,8 @@ StreakRaster::StreakRaster(const RainDesc& desc, StreakImages images)
         sum += alpha_[(static_cast<std::size_t>(l) * ph + row) * pw + column + 1];
       profile_[static_cast<std::size_t>(l) * ph + row] = sum / static_cast<float>(w);
     }
-  // The far tier's sums (rain.far_tier "sums"): each profile's mean along the streak, as the
-  // lines fetch it (s in [0, 1] at padded texel row s h + 0.5, linear between rows), by the
-  // midpoint rule over 4,096 steps.
-  meanProfile_.assign(static_cast<std::size_t>(images_.layers), 0.0f);
-  constexpr int kSteps = 4096;
-  for (int l = 0; l < images_.layers; ++l) {
-    const float* p = profile_.data() + static_cast<std::size_t>(l) * ph;
-    double sum = 0;
-    for (int k = 0; k < kSteps; ++k) {
-      const double t = (k + 0.5) / kSteps * h + 0.5;
-      const int t0 = static_cast<int>(t);
-      sum += p[t0] + (t - t0) * (p[t0 + 1] - p[t0]);
-    }
-    meanProfile_[static_cast<std::size_t>(l)] = static_cast<float>(sum / kSteps);
-  }
-  // A streak k (2..8) pixels wide in the sums is k lines side by side, line j taking the strip
-  // [j / k, (j + 1) / k) across the image: each strip's mean (the image along the streak averaged
-  // as above, bilinear across it as the exact streaks fetch it), scaled so that the k strips'
-  // mean is meanProfile_ (the same light as one line of that width).
-  stripMean_.assign(static_cast<std::size_t>(images_.layers) * kStripTable, 0.0f);
-  for (int l = 0; l < images_.layers; ++l) {
-    std::vector<double> column(static_cast<std::size_t>(pw), 0.0);  // padded columns, along-mean
-    for (int c = 0; c < pw; ++c) {
-      for (int k = 0; k < kSteps; ++k) {
-        const double t = (k + 0.5) / kSteps * h + 0.5;
-        const int t0 = static_cast<int>(t);
-        const float* a = alpha_.data() + (static_cast<std::size_t>(l) * ph + t0) * pw + c;
-        column[static_cast<std::size_t>(c)] += a[0] + (t - t0) * (a[pw] - a[0]);
-      }
-      column[static_cast<std::size_t>(c)] /= kSteps;
-    }
-    const auto across = [&](double u) {  // u in [0, 1] across the width
-      const double ts = u * w + 0.5;
-      const int s0 = std::min(static_cast<int>(ts), pw - 2);
-      return column[s0] + (ts - s0) * (column[s0 + 1] - column[s0]);
-    };
-    for (int k = 1; k <= kMaxStrips; ++k) {
-      float* strips = stripMean_.data() + static_cast<std::size_t>(l) * kStripTable +
-                      static_cast<std::size_t>(k * (k - 1) / 2);
-      double total = 0;
-      for (int j = 0; j < k; ++j) {
-        constexpr int kSamples = 64;
-        double sum = 0;
-        for (int m = 0; m < kSamples; ++m) sum += across((j + (m + 0.5) / kSamples) / k);
-        strips[j] = static_cast<float>(sum / kSamples);
-        total += strips[j];
-      }
-      const double scale = total > 0 ? meanProfile_[static_cast<std::size_t>(l)] * k / total : 0;
-      for (int j = 0; j < k; ++j) strips[j] = static_cast<float>(strips[j] * scale);
-    }
-  }
+  // The far tier's sums (rain.far_tier "sums"): the images' means along and across.
+  sums_.setImages(alpha_, profile_, images_.layers, w, h);
 }
 
 void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const Vec3& unlit,
@@ -371,27 +322,16 @@ void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const 
         for (int k = 0; k < lanes; ++k) {
           const std::size_t i = group + k;
           colours[k] = colourOf(heads[i]);
-          alphas[k] = lines.coverage[k] * meanProfile_[layers[i]];
+          alphas[k] = lines.coverage[k] * sums_.meanAlong(layers[i]);
         }
         farFragments += sums_.addLines(thread, lines, lanes, colours, alphas);
-        // Wider than a pixel: `strips` lines side by side across the row's extent.
+        // Wider than a pixel: lines side by side across the row's extent.
         bool exact = false;
         for (int k = 0; k < lanes; ++k) {
           exact = exact || !lines.ok[k];
-          const float coverage = lines.coverage[k];
-          if (!lines.ok[k] || coverage <= 1 || lines.end[k] <= lines.first[k]) continue;
-          const std::size_t i = group + k;
-          const int strips = std::min(kMaxStrips, static_cast<int>(std::ceil(coverage)));
-          const float* mean = stripMean_.data() +
-                              static_cast<std::size_t>(layers[i]) * kStripTable +
-                              static_cast<std::size_t>(strips * (strips - 1) / 2);
-          const float step = coverage / static_cast<float>(strips);
-          for (int j = 0; j < strips; ++j) {
-            Line strip = lines[k];
-            strip.xt += (static_cast<float>(j) + 0.5f) * step - 0.5f * coverage;
-            farFragments +=
-                sums_.add(thread, strip, lines.first[k], lines.end[k], colours[k], step * mean[j]);
-          }
+          if (!lines.ok[k] || lines.coverage[k] <= 1 || lines.end[k] <= lines.first[k]) continue;
+          farFragments += sums_.addWide(thread, lines[k], lines.first[k], lines.end[k], colours[k],
+                                        layers[group + k]);
         }
         if (!exact) continue;  // every drop of the group is in the sums: none to bin
       }

@@ -73,13 +73,8 @@ class StreakRaster {
  private:
   RainDesc desc_;
   StreakImages images_;
-  std::vector<float> alpha_;        // images_ as floats in [0, 1], each padded by its edge texels
-  std::vector<float> profile_;      // alpha_'s rows averaged across the width (rain.lod_width)
-  std::vector<float> meanProfile_;  // each profile's mean along the streak (rain.far_tier "sums")
-  // The sums' streaks k pixels wide, k = 1..kMaxStrips: per image, the mean of strip j of k across
-  // it at [k (k - 1) / 2 + j].
-  static constexpr int kMaxStrips = 8, kStripTable = kMaxStrips * (kMaxStrips + 1) / 2;
-  std::vector<float> stripMean_;
+  std::vector<float> alpha_;    // images_ as floats in [0, 1], each padded by its edge texels
+  std::vector<float> profile_;  // alpha_'s rows averaged across the width (rain.lod_width)
   std::vector<float> layer_;
   std::vector<float> farDepth_;  // the frame's depth when draw() is given none: beyond every streak
   // The drops each band of rows takes, per thread of the binning pass (its own contiguous share

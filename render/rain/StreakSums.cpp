@@ -22,6 +22,75 @@ StreakSums::StreakSums() : weights_(kWeights + 2) {
         static_cast<float>(-std::log1p(-std::min(0.99, i / static_cast<double>(kWeights))));
 }
 
+void StreakSums::setImages(const std::vector<float>& alpha, const std::vector<float>& profile,
+                           int layers, int w, int h) {
+  const int pw = w + 2, ph = h + 2;
+  // Each profile's mean along the streak, as the lines fetch it (s in [0, 1] at padded texel row
+  // s h + 0.5, linear between rows), by the midpoint rule over 4,096 steps.
+  meanAlong_.assign(static_cast<std::size_t>(layers), 0.0f);
+  constexpr int kSteps = 4096;
+  for (int l = 0; l < layers; ++l) {
+    const float* p = profile.data() + static_cast<std::size_t>(l) * ph;
+    double sum = 0;
+    for (int k = 0; k < kSteps; ++k) {
+      const double t = (k + 0.5) / kSteps * h + 0.5;
+      const int t0 = static_cast<int>(t);
+      sum += p[t0] + (t - t0) * (p[t0 + 1] - p[t0]);
+    }
+    meanAlong_[static_cast<std::size_t>(l)] = static_cast<float>(sum / kSteps);
+  }
+  // A streak k (2..8) pixels wide is k lines side by side, line j taking the strip [j / k,
+  // (j + 1) / k) across the image: each strip's mean (the image along the streak averaged as
+  // above, bilinear across it as the exact streaks fetch it).
+  stripMean_.assign(static_cast<std::size_t>(layers) * kStripTable, 0.0f);
+  for (int l = 0; l < layers; ++l) {
+    std::vector<double> column(static_cast<std::size_t>(pw), 0.0);  // padded columns, along-mean
+    for (int c = 0; c < pw; ++c) {
+      for (int k = 0; k < kSteps; ++k) {
+        const double t = (k + 0.5) / kSteps * h + 0.5;
+        const int t0 = static_cast<int>(t);
+        const float* a = alpha.data() + (static_cast<std::size_t>(l) * ph + t0) * pw + c;
+        column[static_cast<std::size_t>(c)] += a[0] + (t - t0) * (a[pw] - a[0]);
+      }
+      column[static_cast<std::size_t>(c)] /= kSteps;
+    }
+    const auto across = [&](double u) {  // u in [0, 1] across the width
+      const double ts = u * w + 0.5;
+      const int s0 = std::min(static_cast<int>(ts), pw - 2);
+      return column[s0] + (ts - s0) * (column[s0 + 1] - column[s0]);
+    };
+    for (int k = 1; k <= kMaxStrips; ++k) {
+      float* strips = stripMean_.data() + static_cast<std::size_t>(l) * kStripTable +
+                      static_cast<std::size_t>(k * (k - 1) / 2);
+      double total = 0;
+      for (int j = 0; j < k; ++j) {
+        constexpr int kSamples = 64;
+        double sum = 0;
+        for (int m = 0; m < kSamples; ++m) sum += across((j + (m + 0.5) / kSamples) / k);
+        strips[j] = static_cast<float>(sum / kSamples);
+        total += strips[j];
+      }
+      const double scale = total > 0 ? meanAlong_[static_cast<std::size_t>(l)] * k / total : 0;
+      for (int j = 0; j < k; ++j) strips[j] = static_cast<float>(strips[j] * scale);
+    }
+  }
+}
+
+std::uint64_t StreakSums::addWide(int thread, const Line& line, int first, int end, const Vec3& c,
+                                  int layer) {
+  const int strips = std::min(kMaxStrips, static_cast<int>(std::ceil(line.coverage)));
+  const float* mean = stripMean_.data() + static_cast<std::size_t>(layer) * kStripTable +
+                      static_cast<std::size_t>(strips * (strips - 1) / 2);
+  const float step = line.coverage / static_cast<float>(strips);
+  std::uint64_t fragments = 0;
+  for (int j = 0; j < strips; ++j) {
+    Line strip = line;
+    strip.xt += (static_cast<float>(j) + 0.5f) * step - 0.5f * line.coverage;
+    fragments += add(thread, strip, first, end, c, step * mean[j]);
+  }
+  return fragments;
+}
+
 void StreakSums::begin(int width, int height, const float* depth, int threads) {
   const std::size_t size = 4 * static_cast<std::size_t>(width) * height;
   if (width != width_ || height != height_) sums_.clear();  // zeroed anew below

@@ -34,6 +34,13 @@ namespace sph::render::rain {
 class StreakSums {
  public:
   StreakSums();
+  // The streak images as the raster holds them (StreakRaster.cpp): `alpha` each padded by its
+  // edge texels, `profile` their padded rows averaged across; `w` x `h` unpadded.
+  void setImages(const std::vector<float>& alpha, const std::vector<float>& profile, int layers,
+                 int w, int h);
+  // Image `layer`'s mean along the streak, as the lines fetch it: a line's alpha is its coverage
+  // times this.
+  float meanAlong(int layer) const { return meanAlong_[static_cast<std::size_t>(layer)]; }
   // Starts a frame of width x height pixels for up to `threads` threads adding lines; `depth`:
   // the frame's window depth (row-major, row 0 at the bottom), a line's row is kept where it is
   // nearer (GL_LESS). Not in a parallel region (it runs its own).
@@ -49,6 +56,10 @@ class StreakSums {
   // and the drops are in no order on the screen). Returns the fragments.
   std::uint64_t addLines(int thread, const Lines& lines, int count, const Vec3* colour,
                          const float* alpha);
+  // Thread `thread` adds rows [first, end) of `line`, `line.coverage` (1 to 8) pixels wide, in
+  // image `layer`: ceil(coverage) lines side by side across the row's extent, each with its
+  // strip of the image across; returns the fragments.
+  std::uint64_t addWide(int thread, const Line& line, int first, int end, const Vec3& c, int layer);
   // Adds what addLines() of `thread` left to add: its last group's runs are added only at its
   // next call, after the memory was asked for that group's places, so a group's cache misses are
   // waited for while the previous group is added. Call when the thread has added all its lines.
@@ -72,7 +83,12 @@ class StreakSums {
     std::int32_t v[Lines::kLanes][4];
   };
   std::vector<Pending> pending_;  // per thread
-  std::vector<float> weights_;    // -ln(1 - a) at a = i / kWeights, for valueOf()
+  std::vector<float> meanAlong_;  // per image
+  // The streaks k = 1..kMaxStrips pixels wide: per image, the mean of strip j of k across it at
+  // [k (k - 1) / 2 + j], scaled so that the k strips' mean is meanAlong_ (the same light).
+  static constexpr int kMaxStrips = 8, kStripTable = kMaxStrips * (kMaxStrips + 1) / 2;
+  std::vector<float> stripMean_;
+  std::vector<float> weights_;  // -ln(1 - a) at a = i / kWeights, for valueOf()
   // Per thread, row-major: height x width x (c.r b, c.g b, c.b b, b), kept all zero between frames.
   std::vector<std::vector<std::int32_t>> sums_;
   std::vector<float> nearest_;  // [tile][column]: the nearest frame depth in the tile's rows
