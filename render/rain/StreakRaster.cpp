@@ -348,8 +348,8 @@ void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const 
   if (sumsTier) sums_.resolve(layer_.data());
 
   // 3. The bands, each walking its drops in order (with the sums: the drops not in them, over
-  // them); several per thread so that uneven bands even
-  // out (which thread takes which band changes no pixel).
+  // them); several per thread so that uneven bands even out (which thread takes which band
+  // changes no pixel).
   const int pw = images_.width + 2, ph = images_.height + 2;  // alpha_: padded
   const float fw = static_cast<float>(images_.width), fh = static_cast<float>(images_.height);
   bands_.resize(static_cast<std::size_t>(maxThreads));
