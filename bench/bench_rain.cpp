@@ -154,9 +154,11 @@ BENCHMARK(RainDraw)
 // The CPU rasteriser of rain.draw "cpu" alone (render/rain/StreakRaster.h, no GL: what RainDraw's
 // "cpu" cases spend besides the depth read-back, the layer upload and the blend pass), against an
 // empty depth buffer. args: drops, rain.lod_width in hundredths of a pixel (0: every streak exact).
-void RainRaster(benchmark::State& state) {
+// `farTier`: rain.far_tier (RainRasterSums: "sums").
+void rainRaster(benchmark::State& state, RainFarTier farTier) {
   RainDesc d = desc(state.range(0), 0);
   d.lodWidth = static_cast<float>(state.range(1)) / 100;
+  d.farTier = farTier;
   rain::RainSystem r(d, kAspect);
   r.reset(cameraAtFrame(0));
   render::rain::StreakRaster raster(d, render::rain::generateStreakImages(8, 16, 64, d.seed));
@@ -177,20 +179,34 @@ void RainRaster(benchmark::State& state) {
     hash = (hash ^ bytes[i]) * 16777619u;
   state.counters["layer_hash"] = static_cast<double>(hash);
 }
+void RainRaster(benchmark::State& state) {
+  rainRaster(state, RainFarTier::Lines);
+}
 BENCHMARK(RainRaster)
     ->ArgsProduct({{10000, 100000, 1000000}, {0}})
     ->Args({1000000, 50})
     ->Args({1000000, 100})
     ->Unit(benchmark::kMillisecond);
+void RainRasterSums(benchmark::State& state) {
+  rainRaster(state, RainFarTier::Sums);
+}
+BENCHMARK(RainRasterSums)
+    ->Args({1000000, 50})
+    ->Args({1000000, 100})
+    ->Args({1000000, 200})
+    ->Args({1000000, 400})
+    ->Args({1000000, 800})
+    ->Unit(benchmark::kMillisecond);
 
 // The paper's Fig. 8 layout: a whole frame of rain against the budget - update (move + respawn)
 // + upload + draw + read back, 960x540, no water - while the camera pans 90 degrees a second.
 // args: drops, spawn (0 view, 1 box, 2 region), rain.draw (0 "cpu", 1 "triangles"),
-// rain.lod_width in hundredths of a pixel.
-void RainFrame(benchmark::State& state) {
+// rain.lod_width in hundredths of a pixel. `farTier`: rain.far_tier (RainFrameSums: "sums").
+void rainFrame(benchmark::State& state, RainFarTier farTier) {
   RainDesc d = desc(state.range(0), state.range(1));
   d.draw = static_cast<sph::RainDraw>(state.range(2));
   d.lodWidth = static_cast<float>(state.range(3)) / 100;
+  d.farTier = farTier;
   RainFrameDraw rain(d);
   int frame = 0;
   for (auto _ : state) {
@@ -203,10 +219,23 @@ void RainFrame(benchmark::State& state) {
                                                static_cast<double>(state.range(0))
                                          : 0.0;
 }
+void RainFrame(benchmark::State& state) {
+  rainFrame(state, RainFarTier::Lines);
+}
 BENCHMARK(RainFrame)
     ->ArgsProduct({{1000, 10000, 100000, 1000000}, {0, 1, 2}, {0}, {0}})
     ->Args({1000000, 0, 0, 50})
     ->Args({1000000, 0, 0, 100})
+    ->Unit(benchmark::kMillisecond);
+void RainFrameSums(benchmark::State& state) {
+  rainFrame(state, RainFarTier::Sums);
+}
+BENCHMARK(RainFrameSums)
+    ->Args({1000000, 0, 0, 50})
+    ->Args({1000000, 0, 0, 100})
+    ->Args({1000000, 0, 0, 200})
+    ->Args({1000000, 0, 0, 400})
+    ->Args({1000000, 0, 0, 800})
     ->Unit(benchmark::kMillisecond);
 
 // --- The paper's claim in numbers (issue 13, "Measured" 1): drops inside the view frustum ---

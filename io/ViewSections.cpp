@@ -167,12 +167,24 @@ RainDesc readRain(JsonReader r) {
                                              "an integer in [1, 64] (array texture layers)",
                                              [](double v) { return integerIn(v, 1, 64); }));
   d.draw = r.choice("draw", std::optional(RainDraw::Cpu));
-  d.lodWidth = static_cast<float>(
-      r.number("lod_width", d.lodWidth,
-               "a number in [0, 1] (pixels: narrower streaks are drawn as lines; 0 = none)",
-               [](double v) { return v >= 0 && v <= 1; }));
+  d.farTier = r.choice("far_tier", std::optional(RainFarTier::Lines));
+  // The lines take one pixel a row, so streaks up to 1 pixel wide; the sums draw wider ones as
+  // several lines side by side (render/rain/StreakSums.h), up to 8.
+  if (d.farTier == RainFarTier::Lines) {
+    d.lodWidth = static_cast<float>(
+        r.number("lod_width", d.lodWidth,
+                 "a number in [0, 1] (pixels: narrower streaks are drawn as lines; 0 = none)",
+                 [](double v) { return v >= 0 && v <= 1; }));
+  } else {
+    d.lodWidth = static_cast<float>(r.number(
+        "lod_width", d.lodWidth,
+        "a number in [0, 8] with \"far_tier\": \"sums\" (pixels: narrower streaks are summed)",
+        [](double v) { return v >= 0 && v <= 8; }));
+  }
   if (d.lodWidth > 0 && d.draw != RainDraw::Cpu)
     r.fail("lod_width", "only used with \"draw\": \"cpu\"");
+  if (d.farTier != RainFarTier::Lines && !(d.lodWidth > 0))
+    r.fail("far_tier", "only used with a \"lod_width\" > 0 (the streaks it draws)");
   if (auto l = r.optionalObject("spotlight")) d.spotlight = readSpotlight(*l);
   d.feedFluid = r.boolean("feed_fluid", false);
   // Up to a cubic metre: a "drop" that stands for many, to show the fill in a short run.

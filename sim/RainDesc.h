@@ -62,6 +62,23 @@ constexpr const char* nameOf(RainDraw v) {
   return nullptr;
 }
 
+// How the far tier - the streaks narrower than rain.lod_width pixels - is drawn (scene key
+// rain.far_tier; docs/rain.md, "Level of detail").
+enum class RainFarTier {
+  Lines,  // one sample per row, blended in drop order with the rest (the level of detail's lines)
+  Sums,   // each streak's light added once per column it crosses into running sums down the
+          // columns: a cost per drop, not per row; the drop order within the tier is lost
+};
+constexpr const char* nameOf(RainFarTier v) {
+  switch (v) {
+    case RainFarTier::Lines:
+      return "lines";
+    case RainFarTier::Sums:
+      return "sums";
+  }
+  return nullptr;
+}
+
 // The cone spotlight of seed 002 section 3.2 (eq. (10)-(13)): apex at `position`, axis
 // `direction`, cone height `height` and base radius `baseRadius` (its half-angle is
 // atan(baseRadius / height)).
@@ -92,6 +109,9 @@ struct RainDesc {
   // rain.lod_width (docs/rain.md, "Level of detail"): with draw "cpu", streaks narrower than this
   // many pixels are drawn as lines of one sample per row; 0, the default: every streak exact.
   float lodWidth = 0;
+  // rain.far_tier: how those streaks are drawn (needs lod_width > 0); "lines" takes lod_width up
+  // to 1 pixel, "sums" up to 8 (wider streaks as several lines side by side).
+  RainFarTier farTier = RainFarTier::Lines;
   std::optional<SpotlightDesc> spotlight;
   // rain.feed_fluid (docs/rain.md, "Rain that fills the pool"): false, the paper, a drop that
   // lands in the water vanishes; true, its water joins the SPH fluid (sim/rain/RainFeed.h).

@@ -25,7 +25,7 @@ using AllChoices =
                      LightShade, CollisionMethod, CollisionResponse, CdtCameraMode,
                      CdtPositionSource, EquationOfState, DensityKernel, SolverModel, Walls,
                      PressureSolver, SplatProjection, RenderDesc::Splat, render::splat::SplatKind,
-                     io::Quality, sweep::RunStatus, RainSpawn, RainSampling, RainDraw>;
+                     io::Quality, sweep::RunStatus, RainSpawn, RainSampling, RainDraw, RainFarTier>;
 TYPED_TEST_SUITE(EnumNamesTest, AllChoices);
 
 TYPED_TEST(EnumNamesTest, EveryEnumeratorHasAUniqueNameThatParsesBack) {

@@ -552,6 +552,7 @@ TEST(RainScene, KeysAreReadAndBadValuesRefusedWithOneLine) {
                "path": [{"time": 0}, {"time": 2, "target": [1, 0, 1], "fov": 30}]},
     "rain": {"count": 500, "near": 0.2, "far": 8, "fall_speed": 4, "wind": [1, 0, 0],
              "exposure": 0.02, "seed": 9, "spawn": "region", "sampling": "paper", "lod_width": 0.5,
+             "far_tier": "sums",
              "region": {"min": [-1, -1, -1], "max": [1, 1, 1]},
              "spotlight": {"position": [0, 2, 0], "colour": [1, 0, 0], "intensity": 2}}})";
   const Scene s = io::parseScene(text, "r.json");
@@ -562,6 +563,7 @@ TEST(RainScene, KeysAreReadAndBadValuesRefusedWithOneLine) {
   EXPECT_EQ(s.rain->sampling, RainSampling::Paper);
   EXPECT_EQ(s.rain->seed, 9u);
   EXPECT_EQ(s.rain->lodWidth, 0.5f);
+  EXPECT_EQ(s.rain->farTier, RainFarTier::Sums);
   ASSERT_TRUE(s.rain->spotlight.has_value());
   EXPECT_EQ(s.rain->spotlight->colour, Vec3(1, 0, 0));
   ASSERT_EQ(s.cameraPath.size(), 2u);
@@ -591,6 +593,12 @@ TEST(RainScene, KeysAreReadAndBadValuesRefusedWithOneLine) {
             "r.json: rain.spotlight.colour:"},
            {R"({"lod_width": 1.5})", "r.json: rain.lod_width: expected a number in [0, 1]"},
            {R"({"lod_width": 0.5, "draw": "triangles"})", "r.json: rain.lod_width: only used"},
+           {R"({"lod_width": 1, "far_tier": "slabs"})", "r.json: rain.far_tier:"},
+           {R"({"far_tier": "sums"})", "r.json: rain.far_tier: only used with a \"lod_width\" > 0"},
+           {R"({"far_tier": "sums", "lod_width": 9})",
+            "r.json: rain.lod_width: expected a number in [0, 8] with \"far_tier\": \"sums\""},
+           {R"({"far_tier": "lines", "lod_width": 2})",
+            "r.json: rain.lod_width: expected a number in [0, 1]"},
            {R"({"raincount": 5})", "r.json: rain.raincount: unknown key"},
        }) {
     const std::string e = errorOf(b.rain);

@@ -30,13 +30,24 @@ class StreakBand {
   static constexpr int kRows = 64;  // StreakRaster::kRowsPerBand
 
   // Starts the band of rows [first, end) (end - first <= kRows) of a `width`-pixel frame: every
-  // pixel (L, T) = (0, 0, 0, 1), the depth gathered from `frameDepth` (row-major, width a row).
-  void begin(int first, int end, int width, const float* frameDepth) {
+  // pixel (L, T) = (0, 0, 0, 1), or with `layer` (row-major, 4 floats a pixel) that layer's
+  // pixels; the depth gathered from `frameDepth` (row-major, width a row).
+  void begin(int first, int end, int width, const float* frameDepth, const float* layer = nullptr) {
     first_ = first, rows_ = end - first, width_ = width;
     const std::size_t pixels = static_cast<std::size_t>(kRows) * width;
     layer_.resize(4 * pixels), depth_.resize(pixels);
-    for (std::size_t i = 0; i < 4 * pixels; i += 4)
-      layer_[i] = layer_[i + 1] = layer_[i + 2] = 0, layer_[i + 3] = 1;
+    if (layer == nullptr) {
+      for (std::size_t i = 0; i < 4 * pixels; i += 4)
+        layer_[i] = layer_[i + 1] = layer_[i + 2] = 0, layer_[i + 3] = 1;
+    } else {
+      for (int x0 = 0; x0 < width; x0 += kBlock)
+        for (int r = 0; r < rows_; ++r) {
+          const float* in = layer + 4 * static_cast<std::size_t>(first + r) * width;
+          for (int x = x0; x < std::min(x0 + kBlock, width); ++x)
+            std::copy(in + 4 * x, in + 4 * x + 4,
+                      layer_.data() + 4 * static_cast<std::size_t>(at(x, first + r)));
+        }
+    }
     // In blocks of columns, so that both the rows read and the columns written stay in cache.
     for (int x0 = 0; x0 < width; x0 += kBlock)
       for (int r = 0; r < rows_; ++r) {

@@ -257,6 +257,8 @@ StreakRaster::StreakRaster(const RainDesc& desc, StreakImages images)
         sum += alpha_[(static_cast<std::size_t>(l) * ph + row) * pw + column + 1];
       profile_[static_cast<std::size_t>(l) * ph + row] = sum / static_cast<float>(w);
     }
+  // The far tier's sums (rain.far_tier "sums"): the images' means along and across.
+  sums_.setImages(alpha_, profile_, images_.layers, w, h);
 }
 
 void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const Vec3& unlit,
@@ -270,32 +272,7 @@ void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const 
   const int rowsPerBand = kRowsPerBand;
   const int bandCount = std::max(1, (height_ + rowsPerBand - 1) / rowsPerBand);
 
-  // 1. Bin the drops by the bands of rows they may cover: each thread its contiguous share of
-  // the drops, so that bins taken in thread order are in drop order.
-  const int maxThreads = omp_get_max_threads();
-  bins_.resize(static_cast<std::size_t>(maxThreads) * bandCount);
-  for (auto& bin : bins_) bin.clear();
-  int threads = 1;
-#pragma omp parallel num_threads(maxThreads)
-  {
-    const int thread = omp_get_thread_num(), count = omp_get_num_threads();
-    if (thread == 0) threads = count;
-    const std::size_t begin = n * static_cast<std::size_t>(thread) / count;
-    const std::size_t end = n * static_cast<std::size_t>(thread + 1) / count;
-    std::vector<std::uint32_t>* bins = bins_.data() + static_cast<std::size_t>(thread) * bandCount;
-    for (std::size_t group = begin; group < end; group += 16) {
-      const int lanes = static_cast<int>(std::min<std::size_t>(16, end - group));
-      int first[16], last[16];
-      roughRows(f, heads.data() + group, lanes, first, last);
-      for (int k = 0; k < lanes; ++k) {
-        if (last[k] <= first[k]) continue;
-        for (int band = first[k] / rowsPerBand; band <= (last[k] - 1) / rowsPerBand; ++band)
-          bins[band].push_back(static_cast<std::uint32_t>(group + k));
-      }
-    }
-  }
-
-  // 2. The colours: eq. (13), texture x light colour x intensity inside the cone, the unlit
+  // 1. The colours: eq. (13), texture x light colour x intensity inside the cone, the unlit
   // tint outside, sRGB-encoded as the frame is.
   const Vec3 unlitSrgb = toSrgb(unlit);
   const std::optional<SpotlightDesc>& light = desc_.spotlight;
@@ -307,26 +284,90 @@ void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const 
     if (w == 1) return litSrgb;
     return toSrgb(unlit + w * (light->colour * light->intensity - unlit));
   };
-
-  // 3. The bands, each walking its drops in order; several per thread so that uneven bands even
-  // out (which thread takes which band changes no pixel).
-  const int pw = images_.width + 2, ph = images_.height + 2;  // alpha_: padded
-  const float fw = static_cast<float>(images_.width), fh = static_cast<float>(images_.height);
   // No depth test: a frame that is all far plane.
   if (depth == nullptr) {
     farDepth_.assign(static_cast<std::size_t>(width_) * height_, 2.0f);
     depth = farDepth_.data();
   }
   const float* const frameDepth = depth;
+
+  // 2. Bin the drops by the bands of rows they may cover: each thread its contiguous share of
+  // the drops, so that bins taken in thread order are in drop order. With rain.far_tier "sums"
+  // the far tier's lines are added to the sums here, in one pass over the drops, and only the
+  // other drops are binned, to be drawn over it.
+  const bool lod = desc_.lodWidth > 0;
+  const bool sumsTier = lod && desc_.farTier == RainFarTier::Sums;
+  const int maxThreads = omp_get_max_threads();
+  bins_.resize(static_cast<std::size_t>(maxThreads) * bandCount);
+  for (auto& bin : bins_) bin.clear();
+  if (sumsTier) sums_.begin(width_, height_, frameDepth, maxThreads);
+  int threads = 1;
+  std::uint64_t farFragments = 0;
+#pragma omp parallel num_threads(maxThreads) reduction(+ : farFragments)
+  {
+    const int thread = omp_get_thread_num(), count = omp_get_num_threads();
+    if (thread == 0) threads = count;
+    const std::size_t begin = n * static_cast<std::size_t>(thread) / count;
+    const std::size_t end = n * static_cast<std::size_t>(thread + 1) / count;
+    std::vector<std::uint32_t>* bins = bins_.data() + static_cast<std::size_t>(thread) * bandCount;
+    for (std::size_t group = begin; group < end; group += 16) {
+      const int lanes = static_cast<int>(std::min<std::size_t>(16, end - group));
+      Lines lines;
+      if (sumsTier) {
+        std::uint32_t index[Lines::kLanes];
+        for (int k = 0; k < lanes; ++k) index[k] = static_cast<std::uint32_t>(group + k);
+        setUpLines(f, heads, index, lanes, desc_.lodWidth, lines);
+        Vec3 colours[Lines::kLanes];
+        float alphas[Lines::kLanes];
+        for (int k = 0; k < lanes; ++k) {
+          const std::size_t i = group + k;
+          colours[k] = colourOf(heads[i]);
+          alphas[k] = lines.coverage[k] * sums_.meanAlong(layers[i]);
+        }
+        farFragments += sums_.addLines(thread, lines, lanes, colours, alphas);
+        // Wider than a pixel: lines side by side across the row's extent.
+        bool exact = false;
+        for (int k = 0; k < lanes; ++k) {
+          exact = exact || !lines.ok[k];
+          if (!lines.ok[k] || lines.coverage[k] <= 1 || lines.end[k] <= lines.first[k]) continue;
+          farFragments += sums_.addWide(thread, lines[k], lines.first[k], lines.end[k], colours[k],
+                                        layers[group + k]);
+        }
+        if (!exact) continue;  // every drop of the group is in the sums: none to bin
+      }
+      int first[16], last[16];
+      roughRows(f, heads.data() + group, lanes, first, last);
+      for (int k = 0; k < lanes; ++k) {
+        if (last[k] <= first[k] || (sumsTier && lines.ok[k])) continue;
+        for (int band = first[k] / rowsPerBand; band <= (last[k] - 1) / rowsPerBand; ++band)
+          bins[band].push_back(static_cast<std::uint32_t>(group + k));
+      }
+    }
+    if (sumsTier) sums_.flush(thread);
+  }
+  if (sumsTier) sums_.resolve(layer_.data());
+
+  // 3. The bands, each walking its drops in order (with the sums: the drops not in them, over
+  // them); several per thread so that uneven bands even out (which thread takes which band
+  // changes no pixel).
+  const int pw = images_.width + 2, ph = images_.height + 2;  // alpha_: padded
+  const float fw = static_cast<float>(images_.width), fh = static_cast<float>(images_.height);
   bands_.resize(static_cast<std::size_t>(maxThreads));
   constexpr int kChunk = 16;
-  const bool lod = desc_.lodWidth > 0;
-  std::uint64_t fragments = 0;
+  std::uint64_t fragments = farFragments;
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : fragments)
   for (int band = 0; band < bandCount; ++band) {
     const int bandFirst = band * rowsPerBand, bandEnd = std::min(height_, bandFirst + rowsPerBand);
     StreakBand& b = bands_[static_cast<std::size_t>(omp_get_thread_num())];
-    b.begin(bandFirst, bandEnd, width_, frameDepth);
+    if (sumsTier) {
+      // Only drops of no line are in the bins, drawn over the sums; a band without any keeps the
+      // sums' pixels as resolve() wrote them.
+      bool any = false;
+      for (int thread = 0; thread < threads; ++thread)
+        any = any || !bins_[static_cast<std::size_t>(thread) * bandCount + band].empty();
+      if (!any) continue;
+    }
+    b.begin(bandFirst, bandEnd, width_, frameDepth, sumsTier ? layer_.data() : nullptr);
     float* const out = b.layer();
     const float* const bandDepth = b.depth();
     for (int thread = 0; thread < threads; ++thread) {

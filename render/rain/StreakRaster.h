@@ -18,6 +18,7 @@
 
 #include "render/rain/StreakBand.h"
 #include "render/rain/StreakImages.h"
+#include "render/rain/StreakSums.h"
 #include "sim/Camera.h"
 #include "sim/RainDesc.h"
 
@@ -51,7 +52,8 @@ class StreakRaster {
   // spotlight's cone (eq. (13)). `depth`: the frame's window depth per pixel (width x height,
   // row 0 at the bottom, GL's order), a fragment is kept where it is nearer (GL_LESS); null:
   // no depth test. With desc.lodWidth > 0, streaks narrower than that many pixels are drawn as
-  // lines of one sample per row instead (docs/rain.md, "Level of detail").
+  // lines of one sample per row instead, or with desc.farTier "sums" added once per column into
+  // running sums (render/rain/StreakSums.h; docs/rain.md, "Level of detail").
   void draw(const StreakView& view, const StreakDrops& drops, const Vec3& unlit,
             const float* depth);
 
@@ -79,6 +81,7 @@ class StreakRaster {
   // of the drops): bins_[thread * bands + band], in drop order.
   std::vector<std::vector<std::uint32_t>> bins_;
   std::vector<StreakBand> bands_;  // per thread: the band it draws, column by column
+  StreakSums sums_;                // rain.far_tier "sums": the far tier's lines
   int width_ = 0, height_ = 0;
   std::uint64_t fragments_ = 0;
   bool simd_ = true;

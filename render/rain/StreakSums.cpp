@@ -1,0 +1,290 @@
+#include "render/rain/StreakSums.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+
+namespace sph::render::rain {
+namespace {
+
+// Fixed point of the sums: b_i (at most -ln(0.01) = 4.6, see add()) in units of 2^-18, so a pixel
+// holds up to 8,192 in int32 - ~1,800 opaque lines - and a line's b is kept to 4e-6.
+constexpr float kScale = 262144.0f;
+// Entries of the table of b = -ln(1 - a) (valueOf()): linear between them it is within 2e-4 of b
+// at a = 0.99 and 1e-7 at a = 0.5. logf took a tenth of the tier's time.
+constexpr int kWeights = 4096;
+
+}  // namespace
+
+StreakSums::StreakSums() : weights_(kWeights + 2) {
+  for (int i = 0; i < kWeights + 2; ++i)
+    weights_[static_cast<std::size_t>(i)] =
+        static_cast<float>(-std::log1p(-std::min(0.99, i / static_cast<double>(kWeights))));
+}
+
+void StreakSums::setImages(const std::vector<float>& alpha, const std::vector<float>& profile,
+                           int layers, int w, int h) {
+  const int pw = w + 2, ph = h + 2;
+  // Each profile's mean along the streak, as the lines fetch it (s in [0, 1] at padded texel row
+  // s h + 0.5, linear between rows), by the midpoint rule over 4,096 steps.
+  meanAlong_.assign(static_cast<std::size_t>(layers), 0.0f);
+  constexpr int kSteps = 4096;
+  for (int l = 0; l < layers; ++l) {
+    const float* p = profile.data() + static_cast<std::size_t>(l) * ph;
+    double sum = 0;
+    for (int k = 0; k < kSteps; ++k) {
+      const double t = (k + 0.5) / kSteps * h + 0.5;
+      const int t0 = static_cast<int>(t);
+      sum += p[t0] + (t - t0) * (p[t0 + 1] - p[t0]);
+    }
+    meanAlong_[static_cast<std::size_t>(l)] = static_cast<float>(sum / kSteps);
+  }
+  // A streak k (2..8) pixels wide is k lines side by side, line j taking the strip [j / k,
+  // (j + 1) / k) across the image: each strip's mean (the image along the streak averaged as
+  // above, bilinear across it as the exact streaks fetch it).
+  stripMean_.assign(static_cast<std::size_t>(layers) * kStripTable, 0.0f);
+  for (int l = 0; l < layers; ++l) {
+    std::vector<double> column(static_cast<std::size_t>(pw), 0.0);  // padded columns, along-mean
+    for (int c = 0; c < pw; ++c) {
+      for (int k = 0; k < kSteps; ++k) {
+        const double t = (k + 0.5) / kSteps * h + 0.5;
+        const int t0 = static_cast<int>(t);
+        const float* a = alpha.data() + (static_cast<std::size_t>(l) * ph + t0) * pw + c;
+        column[static_cast<std::size_t>(c)] += a[0] + (t - t0) * (a[pw] - a[0]);
+      }
+      column[static_cast<std::size_t>(c)] /= kSteps;
+    }
+    const auto across = [&](double u) {  // u in [0, 1] across the width
+      const double ts = u * w + 0.5;
+      const int s0 = std::min(static_cast<int>(ts), pw - 2);
+      return column[s0] + (ts - s0) * (column[s0 + 1] - column[s0]);
+    };
+    for (int k = 1; k <= kMaxStrips; ++k) {
+      float* strips = stripMean_.data() + static_cast<std::size_t>(l) * kStripTable +
+                      static_cast<std::size_t>(k * (k - 1) / 2);
+      double total = 0;
+      for (int j = 0; j < k; ++j) {
+        constexpr int kSamples = 64;
+        double sum = 0;
+        for (int m = 0; m < kSamples; ++m) sum += across((j + (m + 0.5) / kSamples) / k);
+        strips[j] = static_cast<float>(sum / kSamples);
+        total += strips[j];
+      }
+      const double scale = total > 0 ? meanAlong_[static_cast<std::size_t>(l)] * k / total : 0;
+      for (int j = 0; j < k; ++j) strips[j] = static_cast<float>(strips[j] * scale);
+    }
+  }
+}
+
+std::uint64_t StreakSums::addWide(int thread, const Line& line, int first, int end, const Vec3& c,
+                                  int layer) {
+  const int strips = std::min(kMaxStrips, static_cast<int>(std::ceil(line.coverage)));
+  const float* mean = stripMean_.data() + static_cast<std::size_t>(layer) * kStripTable +
+                      static_cast<std::size_t>(strips * (strips - 1) / 2);
+  const float step = line.coverage / static_cast<float>(strips);
+  std::uint64_t fragments = 0;
+  for (int j = 0; j < strips; ++j) {
+    Line strip = line;
+    strip.xt += (static_cast<float>(j) + 0.5f) * step - 0.5f * line.coverage;
+    fragments += add(thread, strip, first, end, c, step * mean[j]);
+  }
+  return fragments;
+}
+
+void StreakSums::begin(int width, int height, const float* depth, int threads) {
+  const std::size_t size = 4 * static_cast<std::size_t>(width) * height;
+  if (width != width_ || height != height_) sums_.clear();  // zeroed anew below
+  width_ = width, height_ = height, depth_ = depth;
+  threads_ = threads;
+  if (static_cast<int>(sums_.size()) < threads) sums_.resize(static_cast<std::size_t>(threads));
+  pending_.assign(sums_.size(), Pending{});
+  for (auto& s : sums_)
+    if (s.size() != size) s.assign(size, 0);
+  const int tiles = (height + kTileRows - 1) / kTileRows;
+  nearest_.resize(static_cast<std::size_t>(tiles) * width);
+#pragma omp parallel for schedule(static)
+  for (int tile = 0; tile < tiles; ++tile) {
+    float* nearest = nearest_.data() + static_cast<std::size_t>(tile) * width;
+    const int first = tile * kTileRows, end = std::min(height, first + kTileRows);
+    std::copy(depth + static_cast<std::size_t>(first) * width,
+              depth + static_cast<std::size_t>(first + 1) * width, nearest);
+    for (int r = first + 1; r < end; ++r) {
+      const float* row = depth + static_cast<std::size_t>(r) * width;
+#pragma omp simd
+      for (int x = 0; x < width; ++x) nearest[x] = std::min(nearest[x], row[x]);
+    }
+  }
+}
+
+void StreakSums::addRun(std::int32_t* sums, int column, int first, int end,
+                        const std::int32_t* v) const {
+  std::int32_t* start = sums + 4 * (static_cast<std::size_t>(first) * width_ + column);
+  for (int k = 0; k < 4; ++k) start[k] += v[k];
+  if (end >= height_) return;  // runs on to the last row
+  std::int32_t* stop = sums + 4 * (static_cast<std::size_t>(end) * width_ + column);
+  for (int k = 0; k < 4; ++k) stop[k] -= v[k];
+}
+
+inline bool StreakSums::valueOf(const Vec3& c, float alpha, std::int32_t* v) const {
+  // b = -ln(1 - a), a at most 0.99: a line is never quite opaque, so T = exp(-sum b) > 0 and the
+  // colour sum over the b sum stays defined.
+  const float x = std::clamp(alpha, 0.0f, 0.99f) * kWeights;
+  const int i = static_cast<int>(x);
+  const float* w = weights_.data() + i;
+  const float b = w[0] + (x - static_cast<float>(i)) * (w[1] - w[0]);
+  v[0] = static_cast<std::int32_t>(b * c.x() * kScale + 0.5f);
+  v[1] = static_cast<std::int32_t>(b * c.y() * kScale + 0.5f);
+  v[2] = static_cast<std::int32_t>(b * c.z() * kScale + 0.5f);
+  v[3] = static_cast<std::int32_t>(b * kScale + 0.5f);
+  return v[3] > 0;
+}
+
+std::uint64_t StreakSums::addLines(int thread, const Lines& lines, int count, const Vec3* colour,
+                                   const float* alpha) {
+  constexpr int kLanes = Lines::kLanes;
+  std::int32_t* const sums = sums_[static_cast<std::size_t>(thread)].data();
+  Pending next;
+  alignas(64) std::int32_t v[kLanes][4];
+  // Per lane: 1 one visible run (into `next`), 0 for add(), -1 nothing.
+  int kind[kLanes];
+  std::uint64_t fragments = 0;
+  for (int k = 0; k < count; ++k) {
+    kind[k] = -1;
+    const int first = lines.first[k], end = lines.end[k];
+    if (!lines.ok[k] || end <= first || lines.coverage[k] > 1) continue;
+    if (!valueOf(colour[k], alpha[k], v[k])) continue;
+    kind[k] = 0;
+    const auto sAt = [&](int row) {
+      return std::min(
+          std::max(0.0f, (static_cast<float>(row) + 0.5f - lines.yt[k]) * lines.invDy[k]), 1.0f);
+    };
+    const float s0 = sAt(first), s1 = sAt(end - 1);
+    const float x0 = lines.xt[k] + s0 * lines.dx[k], x1 = lines.xt[k] + s1 * lines.dx[k];
+    if (!(x0 >= 0 && x0 < static_cast<float>(width_)) ||
+        static_cast<int>(x0) != static_cast<int>(x1))
+      continue;  // partly outside the frame, or over several columns: add()
+    const int column = static_cast<int>(x0);
+    const float zFar = std::max(lines.zt[k] + s0 * lines.dz[k], lines.zt[k] + s1 * lines.dz[k]);
+    float nearest = 2;
+    for (int tile = first / kTileRows; tile <= (end - 1) / kTileRows; ++tile)
+      nearest = std::min(nearest, nearest_[static_cast<std::size_t>(tile) * width_ + column]);
+    if (!(zFar < nearest)) continue;  // the frame may be nearer somewhere: add(), row by row
+    kind[k] = 1;
+    const int j = next.count++;
+    next.start[j] = 4 * (static_cast<std::size_t>(first) * width_ + column);
+    next.stop[j] = end < height_
+                       ? static_cast<std::ptrdiff_t>(
+                             next.start[j] + 4 * static_cast<std::size_t>(end - first) * width_)
+                       : -1;
+    std::copy(v[k], v[k] + 4, next.v[j]);
+    __builtin_prefetch(sums + next.start[j], 1);
+    if (next.stop[j] >= 0) __builtin_prefetch(sums + next.stop[j], 1);
+    fragments += static_cast<std::uint64_t>(end - first);
+  }
+  flush(thread);
+  pending_[static_cast<std::size_t>(thread)] = next;
+  for (int k = 0; k < count; ++k)
+    if (kind[k] == 0)
+      fragments += add(thread, lines[k], lines.first[k], lines.end[k], colour[k], alpha[k]);
+  return fragments;
+}
+
+void StreakSums::flush(int thread) {
+  Pending& p = pending_[static_cast<std::size_t>(thread)];
+  std::int32_t* const sums = sums_[static_cast<std::size_t>(thread)].data();
+  for (int j = 0; j < p.count; ++j) {
+    for (int c = 0; c < 4; ++c) sums[p.start[j] + c] += p.v[j][c];
+    if (p.stop[j] >= 0)
+      for (int c = 0; c < 4; ++c) sums[static_cast<std::size_t>(p.stop[j]) + c] -= p.v[j][c];
+  }
+  p.count = 0;
+}
+
+std::uint64_t StreakSums::add(int thread, const Line& line, int first, int end, const Vec3& c,
+                              float alpha) {
+  std::int32_t v[4];
+  if (!valueOf(c, alpha, v)) return 0;
+  std::int32_t* const sums = sums_[static_cast<std::size_t>(thread)].data();
+  // The line's pixel in a row, as the lines' rows take it (StreakLine.cpp, rowsOneByOne): -1 left
+  // of the frame, width_ right of it. Monotonic in the row, so equal at both ends means one column.
+  const auto sAt = [&](int row) {
+    return std::min(std::max(0.0f, (static_cast<float>(row) + 0.5f - line.yt) * line.invDy), 1.0f);
+  };
+  const auto columnAt = [&](int row) {
+    const float x = line.xt + sAt(row) * line.dx;
+    return x < 0 ? -1 : x >= static_cast<float>(width_) ? width_ : static_cast<int>(x);
+  };
+  std::uint64_t fragments = 0;
+  // One run of rows [r0, r1) in `column`, depth tested.
+  const auto run = [&](int column, int r0, int r1) {
+    if (column < 0 || column >= width_) return;
+    const float z0 = line.zt + sAt(r0) * line.dz, z1 = line.zt + sAt(r1 - 1) * line.dz;
+    float nearest = 2;
+    for (int tile = r0 / kTileRows; tile <= (r1 - 1) / kTileRows; ++tile)
+      nearest = std::min(nearest, nearest_[static_cast<std::size_t>(tile) * width_ + column]);
+    if (std::max(z0, z1) < nearest) {
+      addRun(sums, column, r0, r1, v);
+      fragments += static_cast<std::uint64_t>(r1 - r0);
+      return;
+    }
+    int open = -1;  // first row of the visible part being collected
+    for (int row = r0; row < r1; ++row) {
+      const bool keep =
+          line.zt + sAt(row) * line.dz < depth_[static_cast<std::size_t>(row) * width_ + column];
+      if (keep && open < 0) open = row;
+      if (!keep && open >= 0)
+        addRun(sums, column, open, row, v), fragments += row - open, open = -1;
+    }
+    if (open >= 0) addRun(sums, column, open, r1, v), fragments += r1 - open;
+  };
+  const int firstColumn = columnAt(first), lastColumn = columnAt(end - 1);
+  if (firstColumn == lastColumn) {
+    run(firstColumn, first, end);
+    return fragments;
+  }
+  int runStart = first, column = firstColumn;
+  for (int row = first + 1; row < end; ++row) {
+    const int next = columnAt(row);
+    if (next == column) continue;
+    run(column, runStart, row);
+    runStart = row, column = next;
+  }
+  run(column, runStart, end);
+  return fragments;
+}
+
+void StreakSums::resolve(float* layer) {
+  // Strips of columns, each walked down its rows with its running sums: a strip's row is 512
+  // bytes of each thread's buffer and of the layer.
+  constexpr int kStrip = 32;
+  const int strips = (width_ + kStrip - 1) / kStrip;
+#pragma omp parallel for schedule(static)
+  for (int strip = 0; strip < strips; ++strip) {
+    const int x0 = strip * kStrip, columns = std::min(kStrip, width_ - x0);
+    alignas(64) std::int32_t running[4 * kStrip] = {};
+    for (int r = 0; r < height_; ++r) {
+      const std::size_t offset = 4 * (static_cast<std::size_t>(r) * width_ + x0);
+      for (int t = 0; t < threads_; ++t) {
+        std::int32_t* s = sums_[static_cast<std::size_t>(t)].data() + offset;
+#pragma omp simd
+        for (int i = 0; i < 4 * columns; ++i) running[i] += s[i], s[i] = 0;
+      }
+      float* out = layer + offset;
+      for (int x = 0; x < columns; ++x) {
+        const std::int32_t* s = running + 4 * x;
+        float* p = out + 4 * x;
+        if (s[3] <= 0) {  // no line here
+          p[0] = p[1] = p[2] = 0, p[3] = 1;
+          continue;
+        }
+        const float weights = static_cast<float>(s[3]);
+        const float t = std::exp(-weights / kScale);
+        const float k = (1 - t) / weights;
+        p[0] = static_cast<float>(s[0]) * k, p[1] = static_cast<float>(s[1]) * k;
+        p[2] = static_cast<float>(s[2]) * k, p[3] = t;
+      }
+    }
+  }
+}
+
+}  // namespace sph::render::rain
