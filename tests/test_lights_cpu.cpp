@@ -135,6 +135,48 @@ TEST_F(LightsCpuGl, CulledToAViewItFillsTheSameBox) {
   expectSame(atomic.readDirection(), onCpu.readDirection(), "direction");
 }
 
+// Lights shorter than a voxel (range 0.4 voxel; Fig. 11's is 0.5), binned with 16-bit voxel
+// ranges: one light near each of 600 voxel centres, in a random direction, a ten-thousandth of
+// the range inside it or outside it, or half a range outside. Each inside one lights its voxel,
+// as the atomic shader's, and nothing else is lit.
+TEST_F(LightsCpuGl, LightsShorterThanAVoxelLightOnlyTheCentresInRange) {
+  LightsDesc d = volume(LightAccumulate::Atomic);
+  d.range = 0.02f;
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> voxel(0, 1 << 20);
+  std::normal_distribution<float> g(0.0f, 1.0f);
+  const float distances[] = {0.9999f, 1.0001f, 1.5f};
+  std::vector<LightParticle> lights;
+  std::vector<bool> used(d.voxelCount(), false);
+  std::size_t inside = 0;
+  while (lights.size() < 600) {
+    const std::array<int, 3> v{voxel(rng) % d.voxels[0], voxel(rng) % d.voxels[1],
+                               voxel(rng) % d.voxels[2]};
+    const std::size_t at =
+        static_cast<std::size_t>((v[2] * d.voxels[1] + v[1]) * d.voxels[0] + v[0]);
+    if (used[at]) continue;
+    used[at] = true;
+    const Vec3 centre =
+        d.origin + d.voxelSize * (Vec3(static_cast<float>(v[0]), static_cast<float>(v[1]),
+                                       static_cast<float>(v[2])) +
+                                  Vec3::Constant(0.5f));
+    const float k = distances[lights.size() % 3];
+    inside += k < 1;
+    lights.push_back(light(centre + k * d.range * Vec3(g(rng), g(rng), g(rng)).normalized(),
+                           Vec3::Ones(), 1.0f));
+  }
+  LightVolume atomic(d);
+  d.accumulate = LightAccumulate::Cpu;
+  LightVolume onCpu(d);
+  atomic.update(lights), onCpu.update(lights);
+  const Texels colour = onCpu.readColour();
+  std::size_t lit = 0;
+  for (const auto& t : colour) lit += t[0] > 0;
+  EXPECT_EQ(lit, inside);
+  expectSame(atomic.readColour(), colour, "colour");
+  expectSame(atomic.readDirection(), onCpu.readDirection(), "direction");
+}
+
 // Only the voxels a frame's lights reach are uploaded: lights that move between frames (spread,
 // then a cluster in one corner, then none) leave nothing of the last frame behind.
 TEST_F(LightsCpuGl, MovingLightsLeaveNoStaleVoxels) {

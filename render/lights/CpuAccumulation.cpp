@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <stdexcept>
 #if defined(__F16C__) || defined(__x86_64__)
 #include <immintrin.h>
 #endif
@@ -89,27 +90,39 @@ void accumulateOnCpu(const LightsDesc& d, const std::vector<LightParticle>& ligh
   const std::size_t slices = static_cast<std::size_t>(box.hi[2] - box.lo[2]);
   std::vector<std::size_t> count(parts * slices, 0), kept(parts, 0);
   std::vector<VoxelBox> reach(parts);  // per run: the voxels its lights reach (lo, hi inclusive)
+  for (std::size_t a = 0; a < 3; ++a)
+    if (box.hi[a] - box.lo[a] > 65536)  // the 16-bit voxels of Reach and BinnedLight
+      throw std::length_error("accumulateOnCpu: a box of more than 65536 voxels a side");
   out.reachOf.resize(n);
   parallelFor(parts, [&](std::size_t part) {
-    VoxelBox& rp = reach[part];
+    // Locals, not the captured references: the counts' stores (size_t) may alias those, so the
+    // compiler loaded them and recomputed the run's bounds for every light (perf annotate).
+    VoxelBox rp;
     rp.lo = box.hi;
     for (std::size_t a = 0; a < 3; ++a) rp.hi[a] = box.lo[a] - 1;
-    for (std::size_t i = n * part / parts; i < n * (part + 1) / parts; ++i) {
+    std::size_t keptHere = 0;
+    std::size_t* const counts = count.data() + part * slices;
+    VoxelSums::Reach* const reachOf = out.reachOf.data();
+    const std::size_t first = n * part / parts, last = n * (part + 1) / parts;
+    const int zFirst = box.lo[2];
+    for (std::size_t i = first; i < last; ++i) {
       const LightParticle& l = lights[i];
-      VoxelBox& v = out.reachOf[i];  // lo, hi inclusive; left empty for a light that adds nothing
-      v.lo = {0, 0, 0}, v.hi = {-1, -1, -1};
+      VoxelSums::Reach& v = reachOf[i];  // left empty for a light that adds nothing
+      v.lo[2] = 1, v.hi[2] = 0;
       if (cull && !cull->keeps(l)) continue;
-      ++kept[part];
+      ++keptHere;
       std::array<int, 3> lo{}, hi{};
       if (!within(l.position[0], 0, lo[0], hi[0]) || !within(l.position[1], 1, lo[1], hi[1]) ||
           !within(l.position[2], 2, lo[2], hi[2]))
         continue;  // no voxel of the box within its range
-      v.lo = lo, v.hi = hi;
-      for (std::size_t a = 0; a < 3; ++a)
+      for (std::size_t a = 0; a < 3; ++a) {
+        v.lo[a] = static_cast<std::uint16_t>(lo[a] - box.lo[a]);
+        v.hi[a] = static_cast<std::uint16_t>(hi[a] - box.lo[a]);
         rp.lo[a] = std::min(rp.lo[a], lo[a]), rp.hi[a] = std::max(rp.hi[a], hi[a]);
-      for (int z = lo[2]; z <= hi[2]; ++z)
-        ++count[part * slices + static_cast<std::size_t>(z - box.lo[2])];
+      }
+      for (int z = lo[2]; z <= hi[2]; ++z) ++counts[static_cast<std::size_t>(z - zFirst)];
     }
+    reach[part] = rp, kept[part] = keptHere;
   });
   // Where each run's lights of each slice start in `binned`: slices in order, runs in order.
   std::vector<std::size_t> next(parts * slices), start(slices + 1, 0);
@@ -122,12 +135,18 @@ void accumulateOnCpu(const LightsDesc& d, const std::vector<LightParticle>& ligh
   start[slices] = total;
   out.binned.resize(total);
   parallelFor(parts, [&](std::size_t part) {
-    std::size_t* at = next.data() + part * slices;
-    for (std::size_t i = n * part / parts; i < n * (part + 1) / parts; ++i) {
-      const VoxelBox& v = out.reachOf[i];
-      for (int z = v.lo[2]; z <= v.hi[2]; ++z)
-        out.binned[at[static_cast<std::size_t>(z - box.lo[2])]++] = {
-            lights[i], {v.lo[0], v.hi[0], v.lo[1], v.hi[1]}};
+    std::size_t* const at = next.data() + part * slices;  // locals, as above
+    const VoxelSums::Reach* const reachOf = out.reachOf.data();
+    VoxelSums::BinnedLight* const binned = out.binned.data();
+    const std::size_t first = n * part / parts, last = n * (part + 1) / parts;
+    for (std::size_t i = first; i < last; ++i) {
+      const VoxelSums::Reach& v = reachOf[i];
+      if (v.lo[2] > v.hi[2]) continue;  // culled or out of the box: its light is not read
+      const LightParticle& l = lights[i];
+      const VoxelSums::BinnedLight b{{l.position[0], l.position[1], l.position[2]},
+                                     l.colour,
+                                     {v.lo[0], v.hi[0], v.lo[1], v.hi[1]}};
+      for (std::size_t z = v.lo[2]; z <= v.hi[2]; ++z) binned[at[z]++] = b;
     }
   });
   VoxelBox& t = out.touched;
@@ -160,11 +179,10 @@ void accumulateOnCpu(const LightsDesc& d, const std::vector<LightParticle>& ligh
     const float vz = d.origin.z() + (static_cast<float>(z) + 0.5f) * d.voxelSize;
     const std::size_t list = static_cast<std::size_t>(z - box.lo[2]);
     for (std::size_t s = start[list]; s < start[list + 1]; ++s) {
-      const LightParticle& l = out.binned[s].light;
-      const std::array<int, 4>& xy = out.binned[s].xy;
-      for (int y = xy[2]; y <= xy[3]; ++y) {
+      const VoxelSums::BinnedLight& l = out.binned[s];
+      for (int y = box.lo[1] + l.xy[2]; y <= box.lo[1] + l.xy[3]; ++y) {
         const float vy = d.origin.y() + (static_cast<float>(y) + 0.5f) * d.voxelSize;
-        for (int x = xy[0]; x <= xy[1]; ++x) {
+        for (int x = box.lo[0] + l.xy[0]; x <= box.lo[0] + l.xy[1]; ++x) {
           const float vx = d.origin.x() + (static_cast<float>(x) + 0.5f) * d.voxelSize;
           const float dx = l.position[0] - vx, dy = l.position[1] - vy, dz = l.position[2] - vz;
           const float dr = std::sqrt(dx * dx + dy * dy + dz * dz);

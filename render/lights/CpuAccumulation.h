@@ -28,11 +28,18 @@ struct VoxelSums {
   std::size_t lights = 0;  // the lights the cull kept (all of them without one)
   // Scratch of the binning, kept with the sums so that a frame allocates nothing: per light the
   // voxels it reaches, and per z slice the lights that reach it with their x and y voxel ranges.
-  struct BinnedLight {
-    LightParticle light;
-    std::array<int, 4> xy;  // x first, last, y first, last
+  // Both as few bytes as the sums need (12 and 36, not 24 and 48): at 1M lights the binning is
+  // mostly moving them (docs/benchmarks.md, "the binning passes"). Voxels are counted from the
+  // box's lowest corner, in 16 bits (a box is at most 2048 voxels a side, LightsDesc).
+  struct Reach {
+    std::array<std::uint16_t, 3> lo, hi;  // inclusive; lo[2] > hi[2] for a light that adds nothing
   };
-  std::vector<VoxelBox> reachOf;
+  struct BinnedLight {
+    std::array<float, 3> position;  // the light's, less its unused w
+    std::array<float, 4> colour;
+    std::array<std::uint16_t, 4> xy;  // x first, last, y first, last
+  };
+  std::vector<Reach> reachOf;
   std::vector<BinnedLight> binned;
 };
 // IEEE binary16 of `f`, rounded toward zero (F16C where the build has it): llvmpipe's own
