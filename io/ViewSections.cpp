@@ -171,10 +171,11 @@ RainDesc readRain(JsonReader r) {
   // The lines take one pixel a row, so streaks up to 1 pixel wide; the sums draw wider ones as
   // several lines side by side (render/rain/StreakSums.h), up to 8.
   if (d.farTier == RainFarTier::Lines) {
-    d.lodWidth = static_cast<float>(
-        r.number("lod_width", d.lodWidth,
-                 "a number in [0, 1] (pixels: narrower streaks are drawn as lines; 0 = none)",
-                 [](double v) { return v >= 0 && v <= 1; }));
+    d.lodWidth = static_cast<float>(r.number(
+        "lod_width", d.lodWidth,
+        "a number in [0, 1] (pixels: narrower streaks are drawn as lines; 0 = none; up to 8 with "
+        "\"far_tier\": \"sums\")",
+        [](double v) { return v >= 0 && v <= 1; }));
   } else {
     d.lodWidth = static_cast<float>(r.number(
         "lod_width", d.lodWidth,

@@ -13,6 +13,7 @@
 #include "render/gl/GlHandle.h"
 #include "render/rain/RainRenderer.h"
 #include "render/rain/StreakRaster.h"
+#include "render/rain/StreakSums.h"
 #include "render/solids/SolidRenderer.h"
 #include "render/splat/SplatRenderer.h"
 #include "sim/Camera.h"
@@ -379,6 +380,36 @@ TEST_P(RainBehindASolid, IsHiddenWhereTheSolidIsAndShowsBesideIt) {
   EXPECT_EQ(changedOnWall, 0);
   EXPECT_GT(changedBeside, 1000);
   EXPECT_GT(inFrontOnWall, 1000);
+}
+
+// addLines() is add() for each line, set up in groups: also for a slanted line that starts in
+// column 0 and leaves the frame on the left within the same column's width (x in (-1, 0) once
+// truncated is column 0, yet those rows are off the frame: review of 2026-11-27).
+TEST(StreakSums, ALineLeavingTheFrameOnTheLeftAddsOnlyItsRowsInside) {
+  constexpr int kW = 8, kH = 40;
+  const std::vector<float> depth(kW * kH, 1.0f);
+  Lines lines{};
+  lines.xt[0] = 0.6f, lines.yt[0] = 10, lines.zt[0] = 0.5f, lines.dx[0] = -1, lines.dz[0] = 0;
+  lines.invDy[0] = 1.0f / 20, lines.coverage[0] = 0.5f;
+  lines.first[0] = 10, lines.end[0] = 30, lines.ok[0] = 1;
+  const Vec3 colour(0.8f, 0.6f, 0.4f);
+  const float alpha = 0.25f;
+  auto layerOf = [&](bool grouped, std::uint64_t& fragments) {
+    StreakSums sums;
+    sums.begin(kW, kH, depth.data(), 1);
+    fragments = grouped ? sums.addLines(0, lines, 1, &colour, &alpha)
+                        : sums.add(0, lines[0], 10, 30, colour, alpha);
+    sums.flush(0);
+    std::vector<float> layer(4 * kW * kH);
+    sums.resolve(layer.data());
+    return layer;
+  };
+  std::uint64_t groupedFragments = 0, oneFragments = 0;
+  const std::vector<float> grouped = layerOf(true, groupedFragments);
+  const std::vector<float> one = layerOf(false, oneFragments);
+  EXPECT_EQ(groupedFragments, oneFragments);
+  EXPECT_LT(oneFragments, 20u);  // the rows from x < 0 on are off the frame
+  EXPECT_EQ(grouped, one);
 }
 
 }  // namespace

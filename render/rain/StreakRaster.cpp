@@ -297,6 +297,9 @@ void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const 
   // other drops are binned, to be drawn over it.
   const bool lod = desc_.lodWidth > 0;
   const bool sumsTier = lod && desc_.farTier == RainFarTier::Sums;
+  // The bands draw lines only in the lines tier: with the sums every line was added to them
+  // already, and the bands hold only the exact streaks (no set-up to do for them).
+  const bool lineTier = lod && !sumsTier;
   const int maxThreads = omp_get_max_threads();
   bins_.resize(static_cast<std::size_t>(maxThreads) * bandCount);
   for (auto& bin : bins_) bin.clear();
@@ -377,10 +380,10 @@ void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const 
         const int count =
             static_cast<int>(std::min<std::size_t>(Lines::kLanes, bin.size() - group));
         Lines lines;
-        if (lod) setUpLines(f, heads, bin.data() + group, count, desc_.lodWidth, lines);
+        if (lineTier) setUpLines(f, heads, bin.data() + group, count, desc_.lodWidth, lines);
         for (int lane = 0; lane < count; ++lane) {
           const std::uint32_t i = bin[group + lane];
-          if (lod && lines.ok[lane]) {
+          if (lineTier && lines.ok[lane]) {
             const int first = std::max(bandFirst, lines.first[lane]),
                       end = std::min(bandEnd, lines.end[lane]);
             if (end <= first) continue;

@@ -160,8 +160,10 @@ std::uint64_t StreakSums::addLines(int thread, const Lines& lines, int count, co
     };
     const float s0 = sAt(first), s1 = sAt(end - 1);
     const float x0 = lines.xt[k] + s0 * lines.dx[k], x1 = lines.xt[k] + s1 * lines.dx[k];
-    if (!(x0 >= 0 && x0 < static_cast<float>(width_)) ||
-        static_cast<int>(x0) != static_cast<int>(x1))
+    const float w = static_cast<float>(width_);
+    // Both ends inside: the cast truncates towards zero, so an x1 in (-1, 0) would pass as
+    // column 0 and add the rows left of the frame.
+    if (!(x0 >= 0 && x0 < w && x1 >= 0 && x1 < w) || static_cast<int>(x0) != static_cast<int>(x1))
       continue;  // partly outside the frame, or over several columns: add()
     const int column = static_cast<int>(x0);
     const float zFar = std::max(lines.zt[k] + s0 * lines.dz[k], lines.zt[k] + s1 * lines.dz[k]);
