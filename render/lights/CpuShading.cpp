@@ -47,6 +47,8 @@ struct CpuShading::Run {
   };
   alignas(64) float f[kFields][kRun];
   std::array<std::uint16_t, kRun> column;  // a packed pixel's column in the block
+  std::array<int, kRun> lower[3];          // trilinear: a column's lower voxel centre (Gx..: the
+                                           // fraction past it)
 };
 
 namespace {
@@ -54,12 +56,28 @@ namespace {
 using Texel = std::array<std::uint16_t, 4>;
 using Run = CpuShading::Run;
 
+// fromHalf, inlined where the CPU converts halves.
+inline float halfToFloat(std::uint16_t h) {
+#if defined(__F16C__)
+  return _cvtsh_ss(h);
+#else
+  return fromHalf(h);
+#endif
+}
+
 // The unit vector from p to the eye: the same operations in pixels()'s lanes and in toEye().
 inline void unitTo(float ex, float ey, float ez, float px, float py, float pz, float& ux, float& uy,
                    float& uz) {
   const float dx = ex - px, dy = ey - py, dz = ez - pz;
   const float len = std::sqrt(dx * dx + dy * dy + dz * dz);
   ux = dx / len, uy = dy / len, uz = dz / len;
+}
+
+// The lower of the two voxel centres around voxel coordinate g along one axis, and g's fraction
+// past it (the filter's weight of the upper one).
+inline void lowerCentre(float g, int& i, float& f) {
+  const float c = g - 0.5f, fl = std::floor(c);
+  i = static_cast<int>(fl), f = c - fl;
 }
 
 // GL's linear filter over the 2 x 2 x 2 texels around a point: `colour[q]` and `direction[q]`
@@ -146,37 +164,53 @@ void CpuShading::filtered(const float g[3], float colour[4], float direction[4])
               z = static_cast<int>(std::floor(g[2]));
     if (!inside(x, y, z)) return;
     for (std::size_t c = 0; c < 4; ++c)
-      colour[c] = fromHalf(sums_.colour[at(x, y, z)][c]),
-      direction[c] = fromHalf(sums_.direction[at(x, y, z)][c]);
+      colour[c] = halfToFloat(sums_.colour[at(x, y, z)][c]),
+      direction[c] = halfToFloat(sums_.direction[at(x, y, z)][c]);
     return;
   }
   // GL's linear filter with a zero border: the 2 x 2 x 2 voxel centres around g, weights from
   // the fraction past the lower centre, in float as llvmpipe has them for float textures (its
-  // results agree to 1e-3, tests/test_lights_shade.cpp; 8-bit weights would not). Voxels outside
-  // `touched` (and the volume) read zero.
+  // results agree to 1e-3, tests/test_lights_shade.cpp; 8-bit weights would not).
   int i[3];
   float f[3];
-  for (int a = 0; a < 3; ++a) {
-    const float c = g[a] - 0.5f, fl = std::floor(c);
-    i[a] = static_cast<int>(fl), f[a] = c - fl;
-  }
+  for (int a = 0; a < 3; ++a) lowerCentre(g[a], i[a], f[a]);
+  trilinear(i, f, colour, direction);
+}
+
+void CpuShading::trilinear(const int i[3], const float f[3], float colour[4],
+                           float direction[4]) const {
+  std::fill(colour, colour + 4, 0.0f), std::fill(direction, direction + 4, 0.0f);
+  const VoxelBox& t = sums_.touched;
   if (i[0] + 1 < t.lo[0] || i[0] >= t.hi[0] || i[1] + 1 < t.lo[1] || i[1] >= t.hi[1] ||
       i[2] + 1 < t.lo[2] || i[2] >= t.hi[2])
-    return;  // all eight outside: most of a frame's pixels where the lights fill a corner
+    return;  // all eight outside (or nothing touched): most pixels where the lights fill a corner
   const float wx[2] = {1.0f - f[0], f[0]};
   float wyz[4];
   for (int q = 0; q < 4; ++q)
     wyz[q] = ((q & 2) ? f[2] : 1.0f - f[2]) * ((q & 1) ? f[1] : 1.0f - f[1]);
   const Texel* c[4];
   const Texel* d[4];
+  const std::size_t nx = static_cast<std::size_t>(t.hi[0] - t.lo[0]);
+  const std::size_t ny = static_cast<std::size_t>(t.hi[1] - t.lo[1]);
+  auto inside = [&](int x, int y, int z) {
+    return x >= t.lo[0] && x < t.hi[0] && y >= t.lo[1] && y < t.hi[1] && z >= t.lo[2] &&
+           z < t.hi[2];
+  };
+  auto at = [&](int x, int y, int z) {
+    return (static_cast<std::size_t>(z - t.lo[2]) * ny + static_cast<std::size_t>(y - t.lo[1])) *
+               nx +
+           static_cast<std::size_t>(x - t.lo[0]);
+  };
   if (inside(i[0], i[1], i[2]) && inside(i[0] + 1, i[1] + 1, i[2] + 1)) {
-    for (int q = 0; q < 4; ++q) {  // each pair of texels along x lies side by side
-      const std::size_t k = at(i[0], i[1] + (q & 1), i[2] + (q >> 1));
-      c[q] = &sums_.colour[k], d[q] = &sums_.direction[k];
+    const std::size_t k = at(i[0], i[1], i[2]);
+    for (std::size_t q = 0; q < 4; ++q) {  // each pair of texels along x lies side by side
+      const std::size_t kq = k + (q & 1) * nx + (q >> 1) * nx * ny;
+      c[q] = &sums_.colour[kq], d[q] = &sums_.direction[kq];
     }
     return blend(c, d, wyz, wx, colour, direction);
   }
-  // On the box's faces: the eight texels copied, zero outside, and the same arithmetic.
+  // Voxels outside `touched` (and the volume) read zero: on the box's faces the eight texels are
+  // copied, zero outside, and go through the same arithmetic.
   Texel pairs[2][4][2]{};
   for (int q = 0; q < 4; ++q) {
     for (int dx = 0; dx < 2; ++dx) {
@@ -282,6 +316,7 @@ void CpuShading::pixels(const splat::GBufferPixels& g, const Vec3& eye, std::uin
   const float h = desc_.voxelSize, ex = eye.x(), ey = eye.y(), ez = eye.z();
   const std::size_t width = static_cast<std::size_t>(g.width);
   const float sx = 2.0f / static_cast<float>(g.width);
+  const bool trilinearOnce = desc_.filter == LightFilter::Trilinear && desc_.oversampling <= 1;
   parallelForDynamic(static_cast<std::size_t>(g.height), 1, [&](std::size_t row) {
     Run run;
     float(&f)[Run::kFields][Run::kRun] = run.f;
@@ -315,6 +350,12 @@ void CpuShading::pixels(const splat::GBufferPixels& g, const Vec3& eye, std::uin
           unitTo(ex, ey, ez, px, py, pz, f[Run::Ex][k], f[Run::Ey][k], f[Run::Ez][k]);
         }
       }
+      if (trilinearOnce) {
+#pragma omp simd
+        for (std::size_t k = 0; k < n; ++k)
+          for (std::size_t a = 0; a < 3; ++a)
+            lowerCentre(f[Run::Gx + a][k], run.lower[a][k], f[Run::Gx + a][k]);
+      }
       // The drawn pixels packed (in place: a pixel's slot is at most its column), sampled.
       std::size_t lit = 0;
       for (std::size_t k = 0; k < n; ++k) {
@@ -325,12 +366,17 @@ void CpuShading::pixels(const splat::GBufferPixels& g, const Vec3& eye, std::uin
         }
         const float gk[3] = {f[Run::Gx][k], f[Run::Gy][k], f[Run::Gz][k]};
         float colour[4], direction[4];
-        sample(gk, colour, direction);
+        if (trilinearOnce) {
+          const int lower[3] = {run.lower[0][k], run.lower[1][k], run.lower[2][k]};
+          trilinear(lower, gk, colour, direction);
+        } else {
+          sample(gk, colour, direction);
+        }
         const float* nn = g.normal + 4 * (i0 + k);
         const std::uint16_t* b = g.albedo + 4 * (i0 + k);
         for (int a = 0; a < 3; ++a) {
           f[Run::Ex + a][lit] = f[Run::Ex + a][k], f[Run::Nx + a][lit] = nn[a];
-          f[Run::Br + a][lit] = fromHalf(b[a]);
+          f[Run::Br + a][lit] = halfToFloat(b[a]);
           f[Run::Cr + a][lit] = colour[a], f[Run::Dx + a][lit] = direction[a];
         }
         run.column[lit++] = static_cast<std::uint16_t>(k);

@@ -52,6 +52,8 @@ class CpuShading {
   // The colour and direction textures through desc_'s filter at voxel coordinate g.
   void sample(const float g[3], float colour[4], float direction[4]) const;
   void filtered(const float g[3], float colour[4], float direction[4]) const;
+  // The linear filter's eight texels from the lower voxel centre i and the fraction f past it.
+  void trilinear(const int i[3], const float f[3], float colour[4], float direction[4]) const;
   // The Phong terms of the first `count` pixels of `run`, from their sampled colour and direction.
   void phong(Run& run, std::size_t count) const;
 };
