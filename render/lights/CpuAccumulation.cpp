@@ -206,6 +206,11 @@ void accumulateOnCpu(const LightsDesc& d, const std::vector<LightParticle>& ligh
     // shortened whole (only its direction is used).
     constexpr float halfMax = 65504.0f;
     for (std::size_t i = 0; i < slice; ++i) {
+      const std::array<std::int64_t, 6>& s = sums[i];
+      if ((s[0] | s[1] | s[2] | s[3] | s[4] | s[5]) == 0) {  // no light here: zero, as below
+        out.colour[k * slice + i] = out.direction[k * slice + i] = {0, 0, 0, 0};
+        continue;
+      }
       float c[3], v[3], longest = 0;
       for (std::size_t a = 0; a < 3; ++a) {
         c[a] = std::min(static_cast<float>(sums[i][a]) / scale, halfMax);
