@@ -69,8 +69,8 @@ inline float halfToFloat(std::uint16_t h) {
 inline void unitTo(float ex, float ey, float ez, float px, float py, float pz, float& ux, float& uy,
                    float& uz) {
   const float dx = ex - px, dy = ey - py, dz = ez - pz;
-  const float len = std::sqrt(dx * dx + dy * dy + dz * dz);
-  ux = dx / len, uy = dy / len, uz = dz / len;
+  const float inv = 1.0f / std::sqrt(dx * dx + dy * dy + dz * dz);  // one division, not three
+  ux = dx * inv, uy = dy * inv, uz = dz * inv;
 }
 
 // The lower of the two voxel centres around voxel coordinate g along one axis, and g's fraction
@@ -313,7 +313,7 @@ void CpuShading::pixels(const splat::GBufferPixels& g, const Vec3& eye, std::uin
   std::array<float, 16> m{};
   for (std::size_t k = 0; k < 16; ++k) m[k] = static_cast<float>(g.fromNdc[k]);
   const float ox = desc_.origin.x(), oy = desc_.origin.y(), oz = desc_.origin.z();
-  const float h = desc_.voxelSize, ex = eye.x(), ey = eye.y(), ez = eye.z();
+  const float h = desc_.voxelSize, perVoxel = 1.0f / h, ex = eye.x(), ey = eye.y(), ez = eye.z();
   const std::size_t width = static_cast<std::size_t>(g.width);
   const float sx = 2.0f / static_cast<float>(g.width);
   const bool trilinearOnce = desc_.filter == LightFilter::Trilinear && desc_.oversampling <= 1;
@@ -344,17 +344,20 @@ void CpuShading::pixels(const splat::GBufferPixels& g, const Vec3& eye, std::uin
           float p[4];
           for (std::size_t r = 0; r < 4; ++r)
             p[r] = m[r] * x + m[4 + r] * ndcY + m[8 + r] * z + m[12 + r];
-          const float px = p[0] / p[3], py = p[1] / p[3], pz = p[2] / p[3];
-          f[Run::Gx][k] = (px - ox) / h, f[Run::Gy][k] = (py - oy) / h,
-          f[Run::Gz][k] = (pz - oz) / h;
+          const float w = 1.0f / p[3];  // products, not divisions: ~1 ulp, far below the depth's
+          const float px = p[0] * w, py = p[1] * w, pz = p[2] * w;
+          f[Run::Gx][k] = (px - ox) * perVoxel, f[Run::Gy][k] = (py - oy) * perVoxel,
+          f[Run::Gz][k] = (pz - oz) * perVoxel;
           unitTo(ex, ey, ez, px, py, pz, f[Run::Ex][k], f[Run::Ey][k], f[Run::Ez][k]);
         }
       }
       if (trilinearOnce) {
+        for (std::size_t a = 0; a < 3; ++a) {
+          float* __restrict fraction = f[Run::Gx + a];
+          int* __restrict lower = run.lower[a].data();
 #pragma omp simd
-        for (std::size_t k = 0; k < n; ++k)
-          for (std::size_t a = 0; a < 3; ++a)
-            lowerCentre(f[Run::Gx + a][k], run.lower[a][k], f[Run::Gx + a][k]);
+          for (std::size_t k = 0; k < n; ++k) lowerCentre(fraction[k], lower[k], fraction[k]);
+        }
       }
       // The drawn pixels packed (in place: a pixel's slot is at most its column), sampled.
       std::size_t lit = 0;
