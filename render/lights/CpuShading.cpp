@@ -18,37 +18,21 @@
 
 namespace sph::render::lights {
 
-// Up to kRun pixels of one row: the columns of a block of the row (position, voxel coordinate,
-// vector to the eye), then its lit pixels packed (what phong() reads and writes). On the stack
-// (~20 KB): at() uses one of one pixel, pixels() one a row.
+// Up to kRun pixels of one row: the columns of a block of the row, then its lit pixels packed
+// (what phong() reads and writes). On the stack (~26 KB): at() uses one of one pixel, pixels()
+// one a row.
 struct CpuShading::Run {
   static constexpr std::size_t kRun = 256;
-  enum Field {
-    Gx,
-    Gy,
-    Gz,
-    Ex,
-    Ey,
-    Ez,
-    Nx,
-    Ny,
-    Nz,
-    Br,
-    Bg,
-    Bb,
-    Cr,
-    Cg,
-    Cb,
-    Dx,
-    Dy,
-    Dz,
-    Re,
-    kFields
-  };
+  // The block's voxel coordinates, fractions past the lower voxel centre and vectors to the eye
+  // (by column); the lit pixels' normal, base colour, sampled colour and direction, and
+  // reflection cosine (packed).
+  // clang-format off
+  enum Field { Gx, Gy, Gz, Fx, Fy, Fz, Ex, Ey, Ez, Nx, Ny, Nz, Br, Bg, Bb, Cr, Cg, Cb, Dx, Dy, Dz,
+               Re, kFields };
+  // clang-format on
   alignas(64) float f[kFields][kRun];
   std::array<std::uint16_t, kRun> column;  // a packed pixel's column in the block
-  std::array<int, kRun> lower[3];          // trilinear: a column's lower voxel centre (Gx..: the
-                                           // fraction past it)
+  alignas(64) int lower[3][kRun];  // a column's lower voxel centre (Fx..: the fraction past it)
 };
 
 namespace {
@@ -78,6 +62,16 @@ inline void unitTo(float ex, float ey, float ez, float px, float py, float pz, f
 inline void lowerCentre(float g, int& i, float& f) {
   const float c = g - 0.5f, fl = std::floor(c);
   i = static_cast<int>(fl), f = c - fl;
+}
+
+// lowerCentre over n voxel coordinates along one axis, in SIMD lanes.
+void lowerCentres(const float* __restrict g, int* __restrict lower, float* __restrict fraction,
+                  int n) {
+#pragma omp simd
+  for (int k = 0; k < n; ++k) {
+    const float c = g[k] - 0.5f, fl = std::floor(c);
+    lower[k] = static_cast<int>(fl), fraction[k] = c - fl;
+  }
 }
 
 // GL's linear filter over the 2 x 2 x 2 texels around a point: `colour[q]` and `direction[q]`
@@ -351,14 +345,8 @@ void CpuShading::pixels(const splat::GBufferPixels& g, const Vec3& eye, std::uin
           unitTo(ex, ey, ez, px, py, pz, f[Run::Ex][k], f[Run::Ey][k], f[Run::Ez][k]);
         }
       }
-      if (trilinearOnce) {
-        for (std::size_t a = 0; a < 3; ++a) {
-          float* __restrict fraction = f[Run::Gx + a];
-          int* __restrict lower = run.lower[a].data();
-#pragma omp simd
-          for (std::size_t k = 0; k < n; ++k) lowerCentre(fraction[k], lower[k], fraction[k]);
-        }
-      }
+      for (std::size_t a = 0; a < 3; ++a)
+        lowerCentres(f[Run::Gx + a], run.lower[a], f[Run::Fx + a], static_cast<int>(n));
       // The drawn pixels packed (in place: a pixel's slot is at most its column), sampled.
       std::size_t lit = 0;
       for (std::size_t k = 0; k < n; ++k) {
@@ -370,8 +358,9 @@ void CpuShading::pixels(const splat::GBufferPixels& g, const Vec3& eye, std::uin
         const float gk[3] = {f[Run::Gx][k], f[Run::Gy][k], f[Run::Gz][k]};
         float colour[4], direction[4];
         if (trilinearOnce) {
-          const int lower[3] = {run.lower[0][k], run.lower[1][k], run.lower[2][k]};
-          trilinear(lower, gk, colour, direction);
+          const int lower[3] = {run.lower[0][k], run.lower[1][k], run.lower[2][k]};  // NOLINT
+          const float fraction[3] = {f[Run::Fx][k], f[Run::Fy][k], f[Run::Fz][k]};
+          trilinear(lower, fraction, colour, direction);
         } else {
           sample(gk, colour, direction);
         }
