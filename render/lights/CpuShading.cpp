@@ -171,8 +171,8 @@ void CpuShading::filtered(const float g[3], float colour[4], float direction[4])
   trilinear(i, f, colour, direction);
 }
 
-void CpuShading::trilinear(const int i[3], const float f[3], float colour[4],
-                           float direction[4]) const {
+inline void CpuShading::trilinear(const int i[3], const float f[3], float colour[4],
+                                  float direction[4]) const {
   std::fill(colour, colour + 4, 0.0f), std::fill(direction, direction + 4, 0.0f);
   const VoxelBox& t = sums_.touched;
   if (i[0] + 1 < t.lo[0] || i[0] >= t.hi[0] || i[1] + 1 < t.lo[1] || i[1] >= t.hi[1] ||
@@ -182,8 +182,29 @@ void CpuShading::trilinear(const int i[3], const float f[3], float colour[4],
   float wyz[4];
   for (int q = 0; q < 4; ++q)
     wyz[q] = ((q & 2) ? f[2] : 1.0f - f[2]) * ((q & 1) ? f[1] : 1.0f - f[1]);
-  const Texel* c[4];
-  const Texel* d[4];
+  if (i[0] >= t.lo[0] && i[0] + 1 < t.hi[0] && i[1] >= t.lo[1] && i[1] + 1 < t.hi[1] &&
+      i[2] >= t.lo[2] && i[2] + 1 < t.hi[2]) {  // all eight inside
+    const std::size_t nx = static_cast<std::size_t>(t.hi[0] - t.lo[0]);
+    const std::size_t nxy = nx * static_cast<std::size_t>(t.hi[1] - t.lo[1]);
+    const std::size_t k = static_cast<std::size_t>(i[2] - t.lo[2]) * nxy +
+                          static_cast<std::size_t>(i[1] - t.lo[1]) * nx +
+                          static_cast<std::size_t>(i[0] - t.lo[0]);
+    const Texel* c[4];
+    const Texel* d[4];
+    for (std::size_t q = 0; q < 4; ++q) {  // each pair of texels along x lies side by side
+      const std::size_t kq = k + (q & 1) * nx + (q >> 1) * nxy;
+      c[q] = &sums_.colour[kq], d[q] = &sums_.direction[kq];
+    }
+    return blend(c, d, wyz, wx, colour, direction);
+  }
+  onFaces(i, wyz, wx, colour, direction);
+}
+
+void CpuShading::onFaces(const int i[3], const float wyz[4], const float wx[2], float colour[4],
+                         float direction[4]) const {
+  // Voxels outside `touched` (and the volume) read zero: on the box's faces the eight texels are
+  // copied, zero outside, and go through the same arithmetic.
+  const VoxelBox& t = sums_.touched;
   const std::size_t nx = static_cast<std::size_t>(t.hi[0] - t.lo[0]);
   const std::size_t ny = static_cast<std::size_t>(t.hi[1] - t.lo[1]);
   auto inside = [&](int x, int y, int z) {
@@ -195,16 +216,8 @@ void CpuShading::trilinear(const int i[3], const float f[3], float colour[4],
                nx +
            static_cast<std::size_t>(x - t.lo[0]);
   };
-  if (inside(i[0], i[1], i[2]) && inside(i[0] + 1, i[1] + 1, i[2] + 1)) {
-    const std::size_t k = at(i[0], i[1], i[2]);
-    for (std::size_t q = 0; q < 4; ++q) {  // each pair of texels along x lies side by side
-      const std::size_t kq = k + (q & 1) * nx + (q >> 1) * nx * ny;
-      c[q] = &sums_.colour[kq], d[q] = &sums_.direction[kq];
-    }
-    return blend(c, d, wyz, wx, colour, direction);
-  }
-  // Voxels outside `touched` (and the volume) read zero: on the box's faces the eight texels are
-  // copied, zero outside, and go through the same arithmetic.
+  const Texel* c[4];
+  const Texel* d[4];
   Texel pairs[2][4][2]{};
   for (int q = 0; q < 4; ++q) {
     for (int dx = 0; dx < 2; ++dx) {

@@ -54,6 +54,9 @@ class CpuShading {
   void filtered(const float g[3], float colour[4], float direction[4]) const;
   // The linear filter's eight texels from the lower voxel centre i and the fraction f past it.
   void trilinear(const int i[3], const float f[3], float colour[4], float direction[4]) const;
+  // trilinear() where some of the eight lie outside the box (read zero).
+  void onFaces(const int i[3], const float wyz[4], const float wx[2], float colour[4],
+               float direction[4]) const;
   // The Phong terms of the first `count` pixels of `run`, from their sampled colour and direction.
   void phong(Run& run, std::size_t count) const;
 };
