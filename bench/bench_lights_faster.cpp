@@ -213,17 +213,25 @@ double cpuSeconds() {
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
+// Fig. 11's world through its camera at 960 x 540, the solids its one layer (frame, cpuside).
+struct Fig11View {
+  static constexpr int kWidth = 960, kHeight = 540;
+  render::solids::SolidRenderer solids{bench::fig11Solids(),
+                                       Aabb{Vec3(0, -1, 0), Vec3(128, 128, 128)}, 0.5f};
+  render::splat::SplatRenderer renderer{kWidth, kHeight};
+  const CameraDesc camera = bench::fig11Camera();
+  Fig11View() { renderer.setLayers({&solids}); }
+};
+
 // Fig. 11's frame: the accumulation (whole volume and culled, taken in turn), then the deferred
 // draw, per frame; each figure its minimum over `repeat` frames, in wall-clock ms and in CPU ms
 // (all threads: up to twice the wall clock on two cores). The frame is the culled accumulation
 // and the draw: what the defaults (lights.cull on, "auto" = "cpu" on llvmpipe) give.
 void frame() {
-  render::solids::SolidRenderer solids(bench::fig11Solids(),
-                                       Aabb{Vec3(0, -1, 0), Vec3(128, 128, 128)}, 0.5f);
-  const int width = 960, height = 540;
-  render::splat::SplatRenderer renderer(width, height);
-  renderer.setLayers({&solids});
-  const CameraDesc camera = bench::fig11Camera();
+  Fig11View world;
+  render::splat::SplatRenderer& renderer = world.renderer;
+  const int width = Fig11View::kWidth, height = Fig11View::kHeight;
+  const CameraDesc& camera = world.camera;
   std::printf(
       "Fig. 11 frame (128^3 voxels of 1 m, range 0.5 m, trilinear, deferred, accumulate cpu, "
       "shade %s; %d x %d; solids tessellated for their size on screen): ms, min of %d frames; "
@@ -260,7 +268,7 @@ void frame() {
     }
     std::printf("%-8zu %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9zu\n", n, 1e3 * tAll,
                 1e3 * tCulled, 1e3 * gbuffer, 1e3 * particles, 1e3 * lighting, 1e3 * drawn,
-                1e3 * (tCulled + drawn), 1e3 * cpuCulled, 1e3 * cpuDraw, solids.triangles());
+                1e3 * (tCulled + drawn), 1e3 * cpuCulled, 1e3 * cpuDraw, world.solids.triangles());
     std::fflush(stdout);
   }
 }
@@ -319,16 +327,11 @@ std::uint64_t hashOf(const void* data, std::size_t n, std::uint64_t h = 14695981
 }
 
 void cpuSide() {
-  render::solids::SolidRenderer solids(bench::fig11Solids(),
-                                       Aabb{Vec3(0, -1, 0), Vec3(128, 128, 128)}, 0.5f);
-  const int width = 960, height = 540;
-  render::splat::SplatRenderer renderer(width, height);
-  renderer.setLayers({&solids});
-  const CameraDesc camera = bench::fig11Camera();
+  Fig11View world;
   std::printf(
-      "Fig. 11's CPU side (128^3 voxels, culled, trilinear, %d x %d): ms, min / median of %d; "
-      "[CPU ms]; FNV-1a of the sums' halves and of the pixels\n",
-      width, height, repeat);
+      "Fig. 11's CPU side (128^3 voxels, culled, trilinear, %d x %d): ms, min / median "
+      "of %d; [CPU ms]; FNV-1a of the sums' halves and of the pixels\n",
+      Fig11View::kWidth, Fig11View::kHeight, repeat);
   std::printf("%-8s %9s %17s %17s %17s %17s %17s %17s\n", "lights", "kept", "accumulate",
               "[accumulate]", "shade", "[shade]", "sums hash", "pixels hash");
   for (std::size_t n : {262144u, 1048576u}) {
@@ -337,14 +340,16 @@ void cpuSide() {
     d.pipeline = LightPipeline::Deferred, d.accumulate = LightAccumulate::Cpu;
     d.shade = LightShade::Cpu;
     const std::vector<LightParticle> lights = lightParticles(d, Particles{}, 0.0);
-    const LightView view = lightView(camera, static_cast<float>(width) / static_cast<float>(height),
-                                     1.5f, 2.5f, d.voxelSize);
+    const LightView view =
+        lightView(world.camera, static_cast<float>(Fig11View::kWidth) / Fig11View::kHeight, 1.5f,
+                  2.5f, d.voxelSize);
     LightVolume volume(d);
     volume.update(lights, &view);
     GBufferCopy frame(volume);
     render::splat::Lighting lighting;
     lighting.extra = &frame;
-    renderer.render(render::splat::SplatFrame{}, render::splat::SplatKind::Point, camera, lighting);
+    world.renderer.render(render::splat::SplatFrame{}, render::splat::SplatKind::Point,
+                          world.camera, lighting);
     const VoxelBox box = viewVoxels(d, view);
     const ViewCull cull(d, view, box);
     VoxelSums sums;
