@@ -19,11 +19,18 @@
 //                                  shading, encoding, upload; lights.shade "cpu"), lighting pass,
 //                                  draw and frame (culled + draw), each the minimum of --repeat
 //                                  frames, with CPU ms beside, and the solids' triangles drawn
+//   bench_lights_faster cpuside    Fig. 11's frame's CPU work alone at 262,144 and 1M lights: the
+//                                  culled CPU accumulation and the CPU shading of the frame's
+//                                  G-buffer (read back once), each --repeat times in turn: min and
+//                                  median ms, wall and CPU, and hashes of the sums' half floats
+//                                  and of the shaded pixels (equal hashes, two builds: same bits)
 // Options: --repeat N (min of N, default 3), --max-lights N (default 1048576), --accumulate cpu
 // (fig11, fireflies: the CPU accumulation instead of the atomic one), --shade gl|cpu|auto (frame:
 // lights.shade, default auto = cpu there).
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -37,6 +44,7 @@
 #include "bench/Fig11Scene.h"
 #include "io/SceneLoader.h"
 #include "render/gl/GlContext.h"
+#include "render/lights/CpuShading.h"
 #include "render/lights/LightCulling.h"
 #include "render/lights/LightVolume.h"
 #include "render/solids/SolidRenderer.h"
@@ -205,17 +213,25 @@ double cpuSeconds() {
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
+// Fig. 11's world through its camera at 960 x 540, the solids its one layer (frame, cpuside).
+struct Fig11View {
+  static constexpr int kWidth = 960, kHeight = 540;
+  render::solids::SolidRenderer solids{bench::fig11Solids(),
+                                       Aabb{Vec3(0, -1, 0), Vec3(128, 128, 128)}, 0.5f};
+  render::splat::SplatRenderer renderer{kWidth, kHeight};
+  const CameraDesc camera = bench::fig11Camera();
+  Fig11View() { renderer.setLayers({&solids}); }
+};
+
 // Fig. 11's frame: the accumulation (whole volume and culled, taken in turn), then the deferred
 // draw, per frame; each figure its minimum over `repeat` frames, in wall-clock ms and in CPU ms
 // (all threads: up to twice the wall clock on two cores). The frame is the culled accumulation
 // and the draw: what the defaults (lights.cull on, "auto" = "cpu" on llvmpipe) give.
 void frame() {
-  render::solids::SolidRenderer solids(bench::fig11Solids(),
-                                       Aabb{Vec3(0, -1, 0), Vec3(128, 128, 128)}, 0.5f);
-  const int width = 960, height = 540;
-  render::splat::SplatRenderer renderer(width, height);
-  renderer.setLayers({&solids});
-  const CameraDesc camera = bench::fig11Camera();
+  Fig11View world;
+  render::splat::SplatRenderer& renderer = world.renderer;
+  const int width = Fig11View::kWidth, height = Fig11View::kHeight;
+  const CameraDesc& camera = world.camera;
   std::printf(
       "Fig. 11 frame (128^3 voxels of 1 m, range 0.5 m, trilinear, deferred, accumulate cpu, "
       "shade %s; %d x %d; solids tessellated for their size on screen): ms, min of %d frames; "
@@ -252,7 +268,7 @@ void frame() {
     }
     std::printf("%-8zu %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9zu\n", n, 1e3 * tAll,
                 1e3 * tCulled, 1e3 * gbuffer, 1e3 * particles, 1e3 * lighting, 1e3 * drawn,
-                1e3 * (tCulled + drawn), 1e3 * cpuCulled, 1e3 * cpuDraw, solids.triangles());
+                1e3 * (tCulled + drawn), 1e3 * cpuCulled, 1e3 * cpuDraw, world.solids.triangles());
     std::fflush(stdout);
   }
 }
@@ -276,6 +292,97 @@ void fireflies() {
           scene.render ? scene.render->height : 480, {{"scene", *scene.camera}, {"cup", cup}});
 }
 
+// The frame's volume, with a copy of the G-buffer the CPU shading reads (cpuside).
+class GBufferCopy final : public render::splat::ExtraLights {
+ public:
+  explicit GBufferCopy(const LightVolume& v) : volume_(v) {}
+  void apply(GLuint program) const override { volume_.apply(program); }
+  bool deferred() const override { return volume_.deferred(); }
+  bool shadesOnCpu() const override { return volume_.shadesOnCpu(); }
+  void shadeOnCpu(const render::splat::GBufferPixels& g, const Vec3& from,
+                  std::uint8_t* rgba) const override {
+    const std::size_t n = g.count();
+    depth.assign(g.depth, g.depth + n), normal.assign(g.normal, g.normal + 4 * n);
+    lit.assign(g.lit, g.lit + 4 * n), albedo.assign(g.albedo, g.albedo + 4 * n);
+    if (g.position) position.assign(g.position, g.position + 4 * n);
+    pixels = g, eye = from;
+    pixels.depth = depth.data(), pixels.normal = normal.data(), pixels.lit = lit.data();
+    pixels.albedo = albedo.data(), pixels.position = g.position ? position.data() : nullptr;
+    volume_.shadeOnCpu(g, from, rgba);
+  }
+  mutable render::splat::GBufferPixels pixels;
+  mutable Vec3 eye = Vec3::Zero();
+
+ private:
+  const LightVolume& volume_;
+  mutable std::vector<float> depth, normal, lit, position;
+  mutable std::vector<std::uint16_t> albedo;
+};
+
+// FNV-1a of n bytes.
+std::uint64_t hashOf(const void* data, std::size_t n, std::uint64_t h = 14695981039346656037ull) {
+  const auto* c = static_cast<const unsigned char*>(data);
+  for (std::size_t i = 0; i < n; ++i) h = (h ^ c[i]) * 1099511628211ull;
+  return h;
+}
+
+void cpuSide() {
+  Fig11View world;
+  std::printf(
+      "Fig. 11's CPU side (128^3 voxels, culled, trilinear, %d x %d): ms, min / median "
+      "of %d; [CPU ms]; FNV-1a of the sums' halves and of the pixels\n",
+      Fig11View::kWidth, Fig11View::kHeight, repeat);
+  std::printf("%-8s %9s %17s %17s %17s %17s %17s %17s\n", "lights", "kept", "accumulate",
+              "[accumulate]", "shade", "[shade]", "sums hash", "pixels hash");
+  for (std::size_t n : {262144u, 1048576u}) {
+    if (n > maxLights) continue;
+    LightsDesc d = bench::fig11Lights(n);
+    d.pipeline = LightPipeline::Deferred, d.accumulate = LightAccumulate::Cpu;
+    d.shade = LightShade::Cpu;
+    const std::vector<LightParticle> lights = lightParticles(d, Particles{}, 0.0);
+    const LightView view =
+        lightView(world.camera, static_cast<float>(Fig11View::kWidth) / Fig11View::kHeight, 1.5f,
+                  2.5f, d.voxelSize);
+    LightVolume volume(d);
+    volume.update(lights, &view);
+    GBufferCopy frame(volume);
+    render::splat::Lighting lighting;
+    lighting.extra = &frame;
+    world.renderer.render(render::splat::SplatFrame{}, render::splat::SplatKind::Point,
+                          world.camera, lighting);
+    const VoxelBox box = viewVoxels(d, view);
+    const ViewCull cull(d, view, box);
+    VoxelSums sums;
+    std::vector<std::uint8_t> rgba(4 * frame.pixels.count());
+    std::vector<double> times[4];  // accumulate wall, CPU; shade wall, CPU
+    for (int k = 0; k < repeat; ++k) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const double c0 = cpuSeconds();
+      accumulateOnCpu(d, lights, box, fixedScale(d), &cull, sums);
+      const auto t1 = std::chrono::steady_clock::now();
+      const double c1 = cpuSeconds();
+      CpuShading(d, sums, volume.terms).pixels(frame.pixels, frame.eye, rgba.data());
+      const auto t2 = std::chrono::steady_clock::now();
+      times[0].push_back(std::chrono::duration<double>(t1 - t0).count());
+      times[1].push_back(c1 - c0);
+      times[2].push_back(std::chrono::duration<double>(t2 - t1).count());
+      times[3].push_back(cpuSeconds() - c1);
+    }
+    char cell[4][32];
+    for (int c = 0; c < 4; ++c) {
+      std::vector<double>& t = times[c];
+      std::sort(t.begin(), t.end());
+      std::snprintf(cell[c], sizeof cell[c], "%.1f / %.1f", 1e3 * t.front(), 1e3 * t[t.size() / 2]);
+    }
+    std::uint64_t h = hashOf(sums.colour.data(), sums.colour.size() * sizeof sums.colour[0]);
+    h = hashOf(sums.direction.data(), sums.direction.size() * sizeof sums.direction[0], h);
+    std::printf("%-8zu %9zu %17s %17s %17s %17s  %016llx  %016llx\n", n, sums.lights, cell[0],
+                cell[1], cell[2], cell[3], static_cast<unsigned long long>(h),
+                static_cast<unsigned long long>(hashOf(rgba.data(), rgba.size())));
+    std::fflush(stdout);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -295,11 +402,12 @@ int main(int argc, char** argv) {
       shade = *s;
     }
   }
-  if (what != "fig11" && what != "fireflies" && what != "cpu" && what != "frame") {
-    std::fprintf(
-        stderr,
-        "usage: bench_lights_faster fig11|fireflies|cpu|frame [--repeat N] [--max-lights N] "
-        "[--accumulate cpu] [--shade gl|cpu|auto]\n");
+  if (what != "fig11" && what != "fireflies" && what != "cpu" && what != "frame" &&
+      what != "cpuside") {
+    std::fprintf(stderr,
+                 "usage: bench_lights_faster fig11|fireflies|cpu|frame|cpuside [--repeat N] "
+                 "[--max-lights N] "
+                 "[--accumulate cpu] [--shade gl|cpu|auto]\n");
     return 2;
   }
   render::gl::GlContext context = render::gl::GlContext::headless();
@@ -308,5 +416,6 @@ int main(int argc, char** argv) {
   if (what == "fireflies") fireflies();
   if (what == "cpu") cpu();
   if (what == "frame") frame();
+  if (what == "cpuside") cpuSide();
   return 0;
 }

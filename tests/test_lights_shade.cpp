@@ -13,10 +13,12 @@
 #include <string>
 
 #include "render/gl/GlContext.h"
+#include "render/lights/CpuShading.h"
 #include "render/lights/LightCulling.h"
 #include "render/lights/LightVolume.h"
 #include "render/solids/SolidRenderer.h"
 #include "render/splat/SplatRenderer.h"
+#include "render/splat/Srgb8Table.h"
 #include "sim/Camera.h"
 #include "sim/InputError.h"
 #include "tests/LightTestScenes.h"
@@ -73,6 +75,68 @@ TEST_F(LightsShade, TheCpuTermIsTheGlTermAtPointsThroughEachFilter) {
         // The same texels and float weights: rounding alone (8-bit weights: 3-66% off).
         EXPECT_LT(worst, 1e-3f) << nameOf(f) << " x" << n << " terms " << terms;
         EXPECT_GT(lit, 100) << nameOf(f) << " x" << n << " terms " << terms;
+      }
+    }
+  }
+  volume.terms = 3;
+}
+
+// The pixel loop (the filter's texels in SIMD registers, the Phong terms in SIMD lanes over a
+// row's lit pixels, in blocks of 256 columns) computes each pixel's term as at() does at its
+// position, bit for bit: every path rounds alike (CpuShading.h). Rows wider than a block, points
+// inside the lights' box, on its faces and beyond the volume, pixels with nothing drawn.
+TEST_F(LightsShade, ThePixelLoopShadesEachPixelAsTheTermAtItsPoint) {
+  LightVolume volume(scene(LightShade::Cpu));
+  volume.update(test::sheetLights(3));
+  const int width = 301, height = 3;
+  const std::size_t n = static_cast<std::size_t>(width) * height;
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<float> depth(n), position(4 * n), normal(4 * n), lit(4 * n);
+  std::vector<std::uint16_t> albedo(4 * n);
+  const Vec3 base(0.75f, 0.5f, 0.25f), eye(0.3f, 1.2f, 0.9f);  // a base exact in half floats
+  for (std::size_t i = 0; i < n; ++i) {
+    depth[i] = u(rng) < -0.8f ? 1.0f : 0.5f;  // a tenth undrawn
+    const Vec3 p(0.7f * u(rng), 0.5f + 0.7f * u(rng), 0.7f * u(rng));
+    const Vec3 nn = Vec3(u(rng), u(rng) + 1.2f, u(rng)).normalized();
+    for (int a = 0; a < 3; ++a) {
+      position[4 * i + a] = p[a], normal[4 * i + a] = nn[a];
+      albedo[4 * i + a] = toHalf(base[a]), lit[4 * i + a] = 0.2f * (u(rng) + 1.0f);
+    }
+  }
+  splat::GBufferPixels g;
+  g.width = width, g.height = height;
+  g.depth = depth.data(), g.position = position.data(), g.normal = normal.data();
+  g.albedo = albedo.data(), g.lit = lit.data();
+  const splat::Srgb8Table& encode = splat::srgb8Table();
+  std::vector<std::uint8_t> rgba(4 * n);
+  for (LightFilter f : {LightFilter::Nearest, LightFilter::Trilinear}) {
+    for (int over : {1, 2}) {
+      volume.setFilter(f, 0.0f, over);
+      for (int terms : {1, 2, 3}) {
+        volume.terms = terms;
+        volume.shadeOnCpu(g, eye, rgba.data());
+        std::vector<ProbePoint> points(n);
+        for (std::size_t i = 0; i < n; ++i) {
+          const Vec3 p(position[4 * i], position[4 * i + 1], position[4 * i + 2]);
+          points[i] = {p, Vec3(normal[4 * i], normal[4 * i + 1], normal[4 * i + 2]),
+                       CpuShading::toEye(eye, p)};
+        }
+        const std::vector<Vec3> term = volume.probeOnCpu(points, base);
+        int differ = 0, changed = 0;  // bytes unlike at()'s; bytes the lights change
+        for (std::size_t i = 0; i < n; ++i) {
+          std::array<std::uint8_t, 4> want{0, 0, 0, 0};
+          if (depth[i] < 1.0f) {
+            for (int a = 0; a < 3; ++a) {
+              want[static_cast<std::size_t>(a)] = encode(lit[4 * i + a] + term[i][a]);
+              changed += want[static_cast<std::size_t>(a)] != encode(lit[4 * i + a]);
+            }
+            want[3] = 255;
+          }
+          for (std::size_t a = 0; a < 4; ++a) differ += rgba[4 * i + a] != want[a];
+        }
+        EXPECT_EQ(differ, 0) << nameOf(f) << " x" << over << " terms " << terms;
+        EXPECT_GT(changed, 50) << nameOf(f) << " x" << over << " terms " << terms;
       }
     }
   }

@@ -4,8 +4,15 @@
 // 3D textures - for each pixel of the deferred G-buffer read back, added to the pixel's other
 // lighting and sRGB-encoded there, so the lighting pass only copies. On llvmpipe the lighting
 // pass's two trilinear 3D-texture fetches a pixel were ~60 CPU ms of Fig. 11's frame
-// (docs/benchmarks.md, issue 14); here they are eight 8-byte loads each, with shared weights.
+// (docs/benchmarks.md, issue 14); here the trilinear filter is four loads of a pair of texels
+// along x from each texture, converted and weighted 16 floats at a time (AVX-512; 8 with AVX2),
+// and the Phong terms run over a row's lit pixels in SIMD lanes (docs/lights.md says how).
 // Filters nearest and trilinear, with oversampling; tricubic stays on the GL path.
+//
+// Every path (AVX-512, AVX2, plain C++) does the same float operations in the same order, and
+// this file is built without contracting a * b + c into FMAs (render/lights/CMakeLists.txt): a
+// pixel's term is at()'s at its position, bit for bit, on every build
+// (tests/test_lights_shade.cpp).
 #pragma once
 
 #include <cstddef>
@@ -26,23 +33,32 @@ class CpuShading {
 
   // particleLight(base, position, n, toEye) at one point.
   Vec3 at(const Vec3& position, const Vec3& n, const Vec3& toEye, const Vec3& base) const;
-  // Per pixel of a G-buffer read back (ExtraLights.h; the world position from its depth), the lit
-  // colour plus the term seen from `eye`, clamped and sRGB-encoded (Srgb8Table.h) into `rgba`
-  // (RGBA8, alpha 255; all zero where no surface was drawn). OpenMP over rows.
+  // Per pixel of a G-buffer read back (ExtraLights.h; the world position from its depth, in
+  // float, unless g.position is given), the lit colour plus the term seen from `eye` (the vector
+  // to it as toEye() gives it), clamped and sRGB-encoded (Srgb8Table.h) into `rgba` (RGBA8, alpha
+  // 255; all zero where no surface was drawn). OpenMP over rows.
   void pixels(const splat::GBufferPixels& g, const Vec3& eye, std::uint8_t* rgba) const;
+  // The unit vector from `position` to `eye` as pixels() finds it (tests compare with at()).
+  static Vec3 toEye(const Vec3& eye, const Vec3& position);
+
+  // One row's lit pixels, structure of arrays (pixels() keeps one a thread; at() one of one).
+  struct Run;
 
  private:
   const LightsDesc& desc_;
   const VoxelSums& sums_;
   int terms_;
-  int wholeShininess_;  // desc.shininess where it is a whole number (power() squares), else 0
-  // at(), with the vector to the eye found from `eye` only where it is needed (toEye null).
-  Vec3 term(const Vec3& position, const Vec3& n, const Vec3* toEye, const Vec3& eye,
-            const Vec3& base) const;
-  float power(float x) const;  // x^shininess
+  int wholeShininess_;  // desc.shininess where it is a whole number (power by squaring), else 0
   // The colour and direction textures through desc_'s filter at voxel coordinate g.
   void sample(const float g[3], float colour[4], float direction[4]) const;
   void filtered(const float g[3], float colour[4], float direction[4]) const;
+  // The linear filter's eight texels from the lower voxel centre i and the fraction f past it.
+  void trilinear(const int i[3], const float f[3], float colour[4], float direction[4]) const;
+  // trilinear() where some of the eight lie outside the box (read zero).
+  void onFaces(const int i[3], const float wyz[4], const float wx[2], float colour[4],
+               float direction[4]) const;
+  // The Phong terms of the first `count` pixels of `run`, from their sampled colour and direction.
+  void phong(Run& run, std::size_t count) const;
 };
 
 }  // namespace sph::render::lights
