@@ -399,7 +399,6 @@ TEST(StreakSums, ALineLeavingTheFrameOnTheLeftAddsOnlyItsRowsInside) {
     sums.begin(kW, kH, depth.data(), 1);
     fragments = grouped ? sums.addLines(0, lines, 1, &colour, &alpha)
                         : sums.add(0, lines[0], 10, 30, colour, alpha);
-    sums.flush(0);
     std::vector<float> layer(4 * kW * kH);
     sums.resolve(layer.data());
     return layer;
