@@ -6,6 +6,8 @@
 
 #include <omp.h>
 
+#include "sim/Assert.h"
+
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -98,6 +100,7 @@ std::uint64_t StreakSums::addWide(int thread, const Line& line, int first, int e
 }
 
 void StreakSums::begin(int width, int height, const float* depth, int threads) {
+  SPH_ASSERT(height < 65536);  // a run's rows are 16 bits (Run)
   width_ = width, height_ = height, depth_ = depth;
   threads_ = threads;
   stripCount_ = (width + kStrip - 1) / kStrip;
@@ -122,11 +125,16 @@ void StreakSums::begin(int width, int height, const float* depth, int threads) {
 
 void StreakSums::addRun(int thread, int column, int first, int end, const std::int32_t* v) {
   const int strip = column / kStrip, x = column - strip * kStrip;
-  Run run;
-  std::copy(v, v + 4, run.v);
-  run.start = static_cast<std::uint32_t>(first * kStrip + x);
-  run.stop = end < height_ ? static_cast<std::uint32_t>(end * kStrip + x) : kToTheEnd;
-  lists_[static_cast<std::size_t>(thread) * stripCount_ + strip].push_back(run);
+  SPH_ASSERT(v[0] >= 0 && v[1] >= 0 && v[2] >= 0 && v[3] < (1 << kValueBits));
+  const auto value = [&](int k) { return static_cast<std::uint64_t>(v[k]); };
+  const Run run{value(0) | value(1) << kValueBits | value(2) << (2 * kValueBits),
+                value(3) | static_cast<std::uint64_t>(x) << kValueBits |
+                    static_cast<std::uint64_t>(first) << (kValueBits + 5) |
+                    static_cast<std::uint64_t>(end) << (kValueBits + 21)};
+  std::vector<Run>& list = lists_[static_cast<std::size_t>(thread) * stripCount_ + strip];
+  list.push_back(run);
+  // The list's next lines asked for now: the stores of a run wait less for them.
+  __builtin_prefetch(list.data() + list.size() + 8, 1);
 }
 
 inline bool StreakSums::valueOf(const Vec3& c, float alpha, std::int32_t* v) const {
@@ -247,22 +255,31 @@ void StreakSums::resolve(float* layer) {
       for (int t = 0; t < threads_; ++t) {
         const std::vector<Run>& list = lists_[static_cast<std::size_t>(t) * stripCount_ + strip];
         for (const Run& run : list) {
-          std::int32_t* start = sums.data() + 4 * static_cast<std::size_t>(run.start);
-          std::int32_t* stop = run.stop == kToTheEnd
-                                   ? nullptr
-                                   : sums.data() + 4 * static_cast<std::size_t>(run.stop);
+          constexpr std::uint64_t kMask = (std::uint64_t{1} << kValueBits) - 1;
+          const auto field = [](std::uint64_t w, int shift, std::uint64_t mask) {
+            return static_cast<std::int32_t>((w >> shift) & mask);
+          };
+          const std::int32_t v[4] = {field(run.lo, 0, kMask), field(run.lo, kValueBits, kMask),
+                                     field(run.lo, 2 * kValueBits, kMask), field(run.hi, 0, kMask)};
+          const int x = field(run.hi, kValueBits, 31);
+          const int first = field(run.hi, kValueBits + 5, 0xffff);
+          const int end = field(run.hi, kValueBits + 21, 0xffff);
+          std::int32_t* start = sums.data() + 4 * static_cast<std::size_t>(first * kStrip + x);
+          std::int32_t* stop = end < height_
+                                   ? sums.data() + 4 * static_cast<std::size_t>(end * kStrip + x)
+                                   : nullptr;
 #if defined(__SSE2__)
-          // The 4 sums of a pixel as one vector (GCC does not: the run might alias them).
-          const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(run.v));
+          // The 4 sums of a pixel as one vector.
+          const __m128i add = _mm_loadu_si128(reinterpret_cast<const __m128i*>(v));
           auto* p = reinterpret_cast<__m128i*>(start);
-          _mm_storeu_si128(p, _mm_add_epi32(_mm_loadu_si128(p), v));
+          _mm_storeu_si128(p, _mm_add_epi32(_mm_loadu_si128(p), add));
           if (stop == nullptr) continue;
           auto* q = reinterpret_cast<__m128i*>(stop);
-          _mm_storeu_si128(q, _mm_sub_epi32(_mm_loadu_si128(q), v));
+          _mm_storeu_si128(q, _mm_sub_epi32(_mm_loadu_si128(q), add));
 #else
-          for (int c = 0; c < 4; ++c) start[c] += run.v[c];
+          for (int c = 0; c < 4; ++c) start[c] += v[c];
           if (stop == nullptr) continue;
-          for (int c = 0; c < 4; ++c) stop[c] -= run.v[c];
+          for (int c = 0; c < 4; ++c) stop[c] -= v[c];
 #endif
         }
       }
