@@ -62,8 +62,16 @@ void RainRenderer::setDrops(const sph::rain::RainSystem& rain) {
   const std::size_t n = p.size();
   count_ = n;
   velocity_ = rain.velocity();
-  if (raster_) {  // copied: the system may move on before the frame is drawn
-    positions_ = p, layers_ = layers;
+  if (raster_) {  // copied (12 MB at 1,000,000 drops: in parallel): the system may move on
+    positions_.resize(n), layers_.resize(n);
+    const auto count = static_cast<std::ptrdiff_t>(n);
+    constexpr std::ptrdiff_t kBlock = 1 << 14;
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t b = 0; b < count; b += kBlock) {
+      const std::ptrdiff_t e = std::min(count, b + kBlock);
+      std::copy(p.begin() + b, p.begin() + e, positions_.begin() + b);
+      std::copy(layers.begin() + b, layers.begin() + e, layers_.begin() + b);
+    }
     return;
   }
   packed_.resize(4 * n);
