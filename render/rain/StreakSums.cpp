@@ -125,7 +125,7 @@ void StreakSums::begin(int width, int height, const float* depth, int threads) {
 
 void StreakSums::addRun(int thread, int column, int first, int end, const std::int32_t* v) {
   const int strip = column / kStrip, x = column - strip * kStrip;
-  SPH_ASSERT(v[0] >= 0 && v[1] >= 0 && v[2] >= 0 && v[3] < (1 << kValueBits));
+  for (int k = 0; k < 4; ++k) SPH_ASSERT(v[k] >= 0 && v[k] < (1 << kValueBits));
   const auto value = [&](int k) { return static_cast<std::uint64_t>(v[k]); };
   const Run run{value(0) | value(1) << kValueBits | value(2) << (2 * kValueBits),
                 value(3) | static_cast<std::uint64_t>(x) << kValueBits |
@@ -166,10 +166,11 @@ std::uint64_t StreakSums::addLines(int thread, const Lines& lines, int count, co
     const float s0 = sAt(first), s1 = sAt(end - 1);
     const float x0 = lines.xt[k] + s0 * lines.dx[k], x1 = lines.xt[k] + s1 * lines.dx[k];
     const float w = static_cast<float>(width_);
-    const int column = static_cast<int>(x0);
     // Both ends inside: the cast truncates towards zero, so an x1 in (-1, 0) would pass as
     // column 0 and add the rows left of the frame.
-    bool whole = x0 >= 0 && x0 < w && x1 >= 0 && x1 < w && column == static_cast<int>(x1);
+    const bool inside = x0 >= 0 && x0 < w && x1 >= 0 && x1 < w;
+    const int column = inside ? static_cast<int>(x0) : -1;
+    bool whole = inside && column == static_cast<int>(x1);
     if (whole) {  // one column: in front of the frame there?
       const float zFar = std::max(lines.zt[k] + s0 * lines.dz[k], lines.zt[k] + s1 * lines.dz[k]);
       float nearest = 2;

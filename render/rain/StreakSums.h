@@ -84,6 +84,7 @@ class StreakSums {
     std::uint64_t lo, hi;
   };
   static constexpr int kValueBits = 21;
+  static_assert(kStrip == 32, "a run keeps its column in the strip in 5 bits");
   void addRun(int thread, int column, int first, int end, const std::int32_t* v);
   // v = (c.r b, c.g b, c.b b, b) in fixed point, b = -ln(1 - alpha); false if b rounds to 0.
   bool valueOf(const Vec3& c, float alpha, std::int32_t* v) const;
