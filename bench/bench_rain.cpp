@@ -231,6 +231,8 @@ void RainFrameSums(benchmark::State& state) {
   rainFrame(state, RainFarTier::Sums);
 }
 BENCHMARK(RainFrameSums)
+    ->Args({10000, 0, 0, 800})
+    ->Args({100000, 0, 0, 800})
     ->Args({1000000, 0, 0, 50})
     ->Args({1000000, 0, 0, 100})
     ->Args({1000000, 0, 0, 200})

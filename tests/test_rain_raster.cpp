@@ -399,7 +399,6 @@ TEST(StreakSums, ALineLeavingTheFrameOnTheLeftAddsOnlyItsRowsInside) {
     sums.begin(kW, kH, depth.data(), 1);
     fragments = grouped ? sums.addLines(0, lines, 1, &colour, &alpha)
                         : sums.add(0, lines[0], 10, 30, colour, alpha);
-    sums.flush(0);
     std::vector<float> layer(4 * kW * kH);
     sums.resolve(layer.data());
     return layer;
@@ -410,6 +409,52 @@ TEST(StreakSums, ALineLeavingTheFrameOnTheLeftAddsOnlyItsRowsInside) {
   EXPECT_EQ(groupedFragments, oneFragments);
   EXPECT_LT(oneFragments, 20u);  // the rows from x < 0 on are off the frame
   EXPECT_EQ(grouped, one);
+}
+
+// The runs are listed per strip of columns and added strip by strip (StreakSums.h): straight
+// lines in the columns either side of strip edges, one running on to the last row, and a line
+// slanted across an edge, against each pixel's value worked out by hand - T = exp(-sum b) of the
+// lines over it, L = their colour times 1 - T - and (0, 0, 0, 1) everywhere else.
+TEST(StreakSums, RunsEitherSideOfAStripEdgeLandInTheirOwnPixels) {
+  constexpr int kW = 100, kH = 30;
+  const std::vector<float> depth(kW * kH, 1.0f);
+  const Vec3 colour(0.8f, 0.6f, 0.4f);
+  const float alpha = 0.25f;
+  StreakSums sums;
+  sums.begin(kW, kH, depth.data(), 2);
+  auto line = [](float x, float dx, int first, int end) {
+    Line l{};
+    l.xt = x, l.yt = static_cast<float>(first), l.zt = 0.5f, l.dx = dx, l.dz = 0;
+    l.invDy = 1.0f / static_cast<float>(end - first), l.coverage = 0.5f;
+    l.first = first, l.end = end;
+    return l;
+  };
+  // Columns 31 | 32 and 63 | 64; the last one from row 20 to the top.
+  std::uint64_t fragments = sums.add(0, line(31.5f, 0, 2, 12), 2, 12, colour, alpha);
+  fragments += sums.add(1, line(32.5f, 0, 5, 15), 5, 15, colour, alpha);
+  fragments += sums.add(0, line(63.5f, 0, 0, 10), 0, 10, colour, alpha);
+  fragments += sums.add(1, line(64.5f, 0, 20, kH), 20, kH, colour, alpha);
+  // From column 62 to column 65 over rows 10..22: across the edge at 64.
+  fragments += sums.add(0, line(62.2f, 3, 10, 22), 10, 22, colour, alpha);
+  std::vector<float> layer(4 * kW * kH);
+  sums.resolve(layer.data());
+  EXPECT_EQ(fragments, 10u + 10u + 10u + 10u + 12u);
+  EXPECT_EQ(sums.runs(), 4u + 4u);    // the slanted line: one run in each of its 4 columns
+  std::vector<int> over(kW * kH, 0);  // lines over each pixel
+  auto cover = [&](int x, int first, int end) {
+    for (int y = first; y < end; ++y) ++over[static_cast<std::size_t>(y) * kW + x];
+  };
+  cover(31, 2, 12), cover(32, 5, 15), cover(63, 0, 10), cover(64, 20, kH);
+  for (int y = 10; y < 22; ++y) {  // the slanted line's column in row y, as add() takes it
+    const float s = (static_cast<float>(y) + 0.5f - 10) / 12;
+    cover(static_cast<int>(62.2f + 3 * s), y, y + 1);
+  }
+  const float b = -std::log(1 - alpha);
+  for (std::size_t p = 0; p < over.size(); ++p) {
+    const float t = std::exp(-b * static_cast<float>(over[p]));
+    EXPECT_NEAR(layer[4 * p + 3], t, 2e-4f) << p;
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(layer[4 * p + k], colour[k] * (1 - t), 2e-4f) << p;
+  }
 }
 
 }  // namespace

@@ -13,6 +13,22 @@ namespace {
 
 constexpr int kStreakWidth = 16, kStreakHeight = 64;  // pixels of one streak image
 
+// frame = L + T frame (StreakRaster::layer()) for the frame's 8-bit colour `rgba` (row-major,
+// 4 bytes a pixel, sRGB-encoded as the layer's L), in place, rounded to the nearest; the alpha is
+// kept. A pixel no streak covers, (0, 0, 0, 1), keeps its bytes exactly.
+void composeOver(const std::vector<float>& layer, std::vector<std::uint8_t>& rgba) {
+  const auto pixels = static_cast<std::ptrdiff_t>(rgba.size() / 4);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t p = 0; p < pixels; ++p) {
+    const float* l = layer.data() + 4 * p;
+    std::uint8_t* c = rgba.data() + 4 * p;
+    for (int k = 0; k < 3; ++k) {
+      const float v = 255 * l[k] + l[3] * static_cast<float>(c[k]);
+      c[k] = static_cast<std::uint8_t>(std::min(255.0f, std::max(0.0f, v)) + 0.5f);
+    }
+  }
+}
+
 }  // namespace
 
 RainRenderer::RainRenderer(const RainDesc& desc, const gl::ShaderLibrary& shaders) : desc_(desc) {
@@ -20,10 +36,6 @@ RainRenderer::RainRenderer(const RainDesc& desc, const gl::ShaderLibrary& shader
       generateStreakImages(desc.streakLayers, kStreakWidth, kStreakHeight, desc.seed);
   vao_ = gl::VertexArray::create();
   if (desc.draw == RainDraw::Cpu) {
-    composite_ = gl::buildProgram(shaders,
-                                  {{gl::ShaderStage::Vertex, "rain_composite.vert"},
-                                   {gl::ShaderStage::Fragment, "rain_composite.frag"}},
-                                  "rain composite");
     raster_ = std::make_unique<StreakRaster>(desc, std::move(images));
     return;
   }
@@ -50,8 +62,16 @@ void RainRenderer::setDrops(const sph::rain::RainSystem& rain) {
   const std::size_t n = p.size();
   count_ = n;
   velocity_ = rain.velocity();
-  if (raster_) {  // copied: the system may move on before the frame is drawn
-    positions_ = p, layers_ = layers;
+  if (raster_) {  // copied (12 MB at 1,000,000 drops: in parallel): the system may move on
+    positions_.resize(n), layers_.resize(n);
+    const auto count = static_cast<std::ptrdiff_t>(n);
+    constexpr std::ptrdiff_t kBlock = 1 << 14;
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t b = 0; b < count; b += kBlock) {
+      const std::ptrdiff_t e = std::min(count, b + kBlock);
+      std::copy(p.begin() + b, p.begin() + e, positions_.begin() + b);
+      std::copy(layers.begin() + b, layers.begin() + e, layers_.begin() + b);
+    }
     return;
   }
   packed_.resize(4 * n);
@@ -96,49 +116,53 @@ void RainRenderer::drawCpu(const CameraFrame& camera, const splat::Lighting& lig
   glGetIntegerv(GL_VIEWPORT, viewport);
   const int w = viewport[2], h = viewport[3];
   if (w <= 0 || h <= 0) return;
-  // The frame's depth, once: the water and solids the streaks pass behind.
+  // The frame's depth (the water and solids the streaks pass behind) and colour, once: the
+  // streaks are composed over the colour here and the result copied back (a blit of the same
+  // format, which llvmpipe does as a copy). Blending a float layer over the frame in a
+  // full-screen pass cost 3-10 ms on llvmpipe, nearly all in fetching its texels
+  // (docs/benchmarks.md, "Cost per frame").
   GLint drawFramebuffer = 0, readFramebuffer = 0;
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &drawFramebuffer);
   glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readFramebuffer);
   glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(drawFramebuffer));
-  depth_.resize(static_cast<std::size_t>(w) * h);
+  const std::size_t pixels = static_cast<std::size_t>(w) * h;
+  depth_.resize(pixels);
+  colour_.resize(4 * pixels);
   GLint packAlignment = 4, unpackAlignment = 4;  // restored: others read and write with theirs
   glGetIntegerv(GL_PACK_ALIGNMENT, &packAlignment);
   glGetIntegerv(GL_UNPACK_ALIGNMENT, &unpackAlignment);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
   glReadPixels(viewport[0], viewport[1], w, h, GL_DEPTH_COMPONENT, GL_FLOAT, depth_.data());
+  // The colour the streaks are drawn into: the frame's first draw buffer.
+  GLint readBuffer = GL_NONE, drawBuffer = GL_NONE;
+  glGetIntegerv(GL_READ_BUFFER, &readBuffer);
+  glGetIntegerv(GL_DRAW_BUFFER0, &drawBuffer);
+  glReadBuffer(static_cast<GLenum>(drawBuffer));
+  glReadPixels(viewport[0], viewport[1], w, h, GL_RGBA, GL_UNSIGNED_BYTE, colour_.data());
+  glReadBuffer(static_cast<GLenum>(readBuffer));
   glPixelStorei(GL_PACK_ALIGNMENT, packAlignment);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(readFramebuffer));
 
   raster_->draw(StreakView{camera, w, h}, StreakDrops{&positions_, &layers_, velocity_},
                 kUnlitTint * lighting.background, depth_.data());
+  composeOver(raster_->layer(), colour_);
 
   if (w != layerWidth_ || h != layerHeight_) {
     layerTexture_ = gl::Texture::create(GL_TEXTURE_2D);
-    glTextureStorage2D(layerTexture_.id(), 1, GL_RGBA32F, w, h);
+    glTextureStorage2D(layerTexture_.id(), 1, GL_RGBA8, w, h);
+    layerFramebuffer_ = gl::Framebuffer::create();
+    glNamedFramebufferTexture(layerFramebuffer_.id(), GL_COLOR_ATTACHMENT0, layerTexture_.id(), 0);
     layerWidth_ = w, layerHeight_ = h;
   }
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glTextureSubImage2D(layerTexture_.id(), 0, 0, 0, w, h, GL_RGBA, GL_FLOAT,
-                      raster_->layer().data());
+  glTextureSubImage2D(layerTexture_.id(), 0, 0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, colour_.data());
   glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment);
-  // frame = L + T frame (StreakRaster::layer()); the frame's alpha is kept.
-  const GLuint p = composite_.id();
-  glProgramUniform2i(p, glGetUniformLocation(p, "u_origin"), viewport[0], viewport[1]);
-  glProgramUniform1i(p, glGetUniformLocation(p, "u_layer"), 0);
-  glBindTextureUnit(0, layerTexture_.id());
-  glDisable(GL_DEPTH_TEST);
-  glDepthMask(GL_FALSE);
-  glEnable(GL_BLEND);
-  glBlendFuncSeparate(GL_ONE, GL_SRC_ALPHA, GL_ZERO, GL_ONE);
-  glDisable(GL_CULL_FACE);
-  glUseProgram(p);
-  glBindVertexArray(vao_.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
-  glDepthMask(GL_TRUE);
-  glEnable(GL_DEPTH_TEST);
-  glDisable(GL_BLEND);
+  // Into every draw buffer of the frame: the frame draws into its colour only while its layers
+  // draw (render/splat/SplatRenderer.cpp, drawLayers). A blit ignores blending and depth; the
+  // scissor test would clip it, and nothing draws the rain with one.
+  glBlitNamedFramebuffer(layerFramebuffer_.id(), static_cast<GLuint>(drawFramebuffer), 0, 0, w, h,
+                         viewport[0], viewport[1], viewport[0] + w, viewport[1] + h,
+                         GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(readFramebuffer));
 }
 
 void RainRenderer::drawTriangles(const CameraFrame& camera, const splat::Lighting& lighting) {

@@ -4,8 +4,9 @@
 // streak images (render/rain/StreakImages.h), coloured by the spotlight of eq. (10)-(13) and
 // alpha-blended into the splat frame after the water (render/splat/FrameLayer.h): depth tested
 // against the water and solids, not written. rain.draw picks how: "cpu" (default) rasterises the
-// quads on the CPU (render/rain/StreakRaster.h) against the frame's depth, read back once, and
-// blends the result in one full-screen pass; "triangles" draws two GL triangles per drop.
+// quads on the CPU (render/rain/StreakRaster.h) against the frame's depth, read back once with its
+// colour, composes the result over that colour and copies it back; "triangles" draws two GL
+// triangles per drop.
 #pragma once
 
 #include <memory>
@@ -38,15 +39,16 @@ class RainRenderer final : public splat::FrameLayer {
   void drawTriangles(const CameraFrame& camera, const splat::Lighting& lighting);
   void drawCpu(const CameraFrame& camera, const splat::Lighting& lighting);
   RainDesc desc_;
-  // "cpu": the rasteriser, the drops it draws, the frame's depth, the layer texture and the
-  // program that blends it.
+  // "cpu": the rasteriser, the drops it draws, the frame's depth and colour, and the texture
+  // (with its framebuffer) the composed colour is copied back from.
   std::unique_ptr<StreakRaster> raster_;
   std::vector<Vec3> positions_;
   std::vector<std::uint8_t> layers_;
   std::vector<float> depth_;
+  std::vector<std::uint8_t> colour_;  // RGBA8, row 0 at the bottom
   gl::Texture layerTexture_;
+  gl::Framebuffer layerFramebuffer_;
   int layerWidth_ = 0, layerHeight_ = 0;
-  gl::Program composite_;
   // "triangles":
   gl::Program program_;
   gl::Texture streaks_;

@@ -346,7 +346,6 @@ void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const 
           bins[band].push_back(static_cast<std::uint32_t>(group + k));
       }
     }
-    if (sumsTier) sums_.flush(thread);
   }
   if (sumsTier) sums_.resolve(layer_.data());
 

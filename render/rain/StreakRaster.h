@@ -3,8 +3,8 @@
 // frame as triangles (docs/benchmarks.md, "Drawing: where the time goes"). This draws the same
 // streaks - a camera-facing quad from where the drop was one exposure ago to where it is, sampled
 // at the pixel centres inside it, its streak image filtered bilinearly at the perspective-correct
-// coordinates, depth tested against the frame - into a float layer that one full-screen pass
-// blends over the frame (render/rain/RainRenderer.h). No GL here, so it is tested without it.
+// coordinates, depth tested against the frame - into a float layer that RainRenderer composes
+// over the frame's colour (render/rain/RainRenderer.h). No GL here, so it is tested without it.
 //
 // Order: every pixel composes its fragments in drop order, as the triangles blended them, so
 // the picture differs from theirs only by rounding (GL rounds the RGBA8 frame after every blend,
@@ -58,8 +58,8 @@ class StreakRaster {
             const float* depth);
 
   // Per pixel, row 0 at the bottom: (L.r, L.g, L.b, T), what the streaks make of a pixel of
-  // colour d is L + T d (colours sRGB-encoded in [0, 1] like the frame's): blend with
-  // GL_ONE, GL_SRC_ALPHA.
+  // colour d is L + T d (colours sRGB-encoded in [0, 1] like the frame's; GL's blend
+  // GL_ONE, GL_SRC_ALPHA).
   const std::vector<float>& layer() const { return layer_; }
   int width() const { return width_; }
   int height() const { return height_; }

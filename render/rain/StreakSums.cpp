@@ -4,6 +4,14 @@
 #include <cmath>
 #include <cstddef>
 
+#include <omp.h>
+
+#include "sim/Assert.h"
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace sph::render::rain {
 namespace {
 
@@ -92,14 +100,13 @@ std::uint64_t StreakSums::addWide(int thread, const Line& line, int first, int e
 }
 
 void StreakSums::begin(int width, int height, const float* depth, int threads) {
-  const std::size_t size = 4 * static_cast<std::size_t>(width) * height;
-  if (width != width_ || height != height_) sums_.clear();  // zeroed anew below
+  SPH_ASSERT(height < 65536);  // a run's rows are 16 bits (Run)
   width_ = width, height_ = height, depth_ = depth;
   threads_ = threads;
-  if (static_cast<int>(sums_.size()) < threads) sums_.resize(static_cast<std::size_t>(threads));
-  pending_.assign(sums_.size(), Pending{});
-  for (auto& s : sums_)
-    if (s.size() != size) s.assign(size, 0);
+  stripCount_ = (width + kStrip - 1) / kStrip;
+  // Cleared, not freed: the lists keep their capacity from frame to frame.
+  lists_.resize(static_cast<std::size_t>(threads) * stripCount_);
+  for (auto& list : lists_) list.clear();
   const int tiles = (height + kTileRows - 1) / kTileRows;
   nearest_.resize(static_cast<std::size_t>(tiles) * width);
 #pragma omp parallel for schedule(static)
@@ -116,13 +123,18 @@ void StreakSums::begin(int width, int height, const float* depth, int threads) {
   }
 }
 
-void StreakSums::addRun(std::int32_t* sums, int column, int first, int end,
-                        const std::int32_t* v) const {
-  std::int32_t* start = sums + 4 * (static_cast<std::size_t>(first) * width_ + column);
-  for (int k = 0; k < 4; ++k) start[k] += v[k];
-  if (end >= height_) return;  // runs on to the last row
-  std::int32_t* stop = sums + 4 * (static_cast<std::size_t>(end) * width_ + column);
-  for (int k = 0; k < 4; ++k) stop[k] -= v[k];
+void StreakSums::addRun(int thread, int column, int first, int end, const std::int32_t* v) {
+  const int strip = column / kStrip, x = column - strip * kStrip;
+  for (int k = 0; k < 4; ++k) SPH_ASSERT(v[k] >= 0 && v[k] < (1 << kValueBits));
+  const auto value = [&](int k) { return static_cast<std::uint64_t>(v[k]); };
+  const Run run{value(0) | value(1) << kValueBits | value(2) << (2 * kValueBits),
+                value(3) | static_cast<std::uint64_t>(x) << kValueBits |
+                    static_cast<std::uint64_t>(first) << (kValueBits + 5) |
+                    static_cast<std::uint64_t>(end) << (kValueBits + 21)};
+  std::vector<Run>& list = lists_[static_cast<std::size_t>(thread) * stripCount_ + strip];
+  list.push_back(run);
+  // The list's next lines asked for now: the stores of a run wait less for them.
+  __builtin_prefetch(list.data() + list.size() + 8, 1);
 }
 
 inline bool StreakSums::valueOf(const Vec3& c, float alpha, std::int32_t* v) const {
@@ -141,19 +153,12 @@ inline bool StreakSums::valueOf(const Vec3& c, float alpha, std::int32_t* v) con
 
 std::uint64_t StreakSums::addLines(int thread, const Lines& lines, int count, const Vec3* colour,
                                    const float* alpha) {
-  constexpr int kLanes = Lines::kLanes;
-  std::int32_t* const sums = sums_[static_cast<std::size_t>(thread)].data();
-  Pending next;
-  alignas(64) std::int32_t v[kLanes][4];
-  // Per lane: 1 one visible run (into `next`), 0 for add(), -1 nothing.
-  int kind[kLanes];
   std::uint64_t fragments = 0;
   for (int k = 0; k < count; ++k) {
-    kind[k] = -1;
     const int first = lines.first[k], end = lines.end[k];
     if (!lines.ok[k] || end <= first || lines.coverage[k] > 1) continue;
-    if (!valueOf(colour[k], alpha[k], v[k])) continue;
-    kind[k] = 0;
+    std::int32_t v[4];
+    if (!valueOf(colour[k], alpha[k], v)) continue;
     const auto sAt = [&](int row) {
       return std::min(
           std::max(0.0f, (static_cast<float>(row) + 0.5f - lines.yt[k]) * lines.invDy[k]), 1.0f);
@@ -163,50 +168,30 @@ std::uint64_t StreakSums::addLines(int thread, const Lines& lines, int count, co
     const float w = static_cast<float>(width_);
     // Both ends inside: the cast truncates towards zero, so an x1 in (-1, 0) would pass as
     // column 0 and add the rows left of the frame.
-    if (!(x0 >= 0 && x0 < w && x1 >= 0 && x1 < w) || static_cast<int>(x0) != static_cast<int>(x1))
-      continue;  // partly outside the frame, or over several columns: add()
-    const int column = static_cast<int>(x0);
-    const float zFar = std::max(lines.zt[k] + s0 * lines.dz[k], lines.zt[k] + s1 * lines.dz[k]);
-    float nearest = 2;
-    for (int tile = first / kTileRows; tile <= (end - 1) / kTileRows; ++tile)
-      nearest = std::min(nearest, nearest_[static_cast<std::size_t>(tile) * width_ + column]);
-    if (!(zFar < nearest)) continue;  // the frame may be nearer somewhere: add(), row by row
-    kind[k] = 1;
-    const int j = next.count++;
-    next.start[j] = 4 * (static_cast<std::size_t>(first) * width_ + column);
-    next.stop[j] = end < height_
-                       ? static_cast<std::ptrdiff_t>(
-                             next.start[j] + 4 * static_cast<std::size_t>(end - first) * width_)
-                       : -1;
-    std::copy(v[k], v[k] + 4, next.v[j]);
-    __builtin_prefetch(sums + next.start[j], 1);
-    if (next.stop[j] >= 0) __builtin_prefetch(sums + next.stop[j], 1);
+    const bool inside = x0 >= 0 && x0 < w && x1 >= 0 && x1 < w;
+    const int column = inside ? static_cast<int>(x0) : -1;
+    bool whole = inside && column == static_cast<int>(x1);
+    if (whole) {  // one column: in front of the frame there?
+      const float zFar = std::max(lines.zt[k] + s0 * lines.dz[k], lines.zt[k] + s1 * lines.dz[k]);
+      float nearest = 2;
+      for (int tile = first / kTileRows; tile <= (end - 1) / kTileRows; ++tile)
+        nearest = std::min(nearest, nearest_[static_cast<std::size_t>(tile) * width_ + column]);
+      whole = zFar < nearest;
+    }
+    if (!whole) {  // partly outside the frame, over several columns, or partly hidden
+      fragments += add(thread, lines[k], first, end, colour[k], alpha[k]);
+      continue;
+    }
+    addRun(thread, column, first, end, v);
     fragments += static_cast<std::uint64_t>(end - first);
   }
-  flush(thread);
-  pending_[static_cast<std::size_t>(thread)] = next;
-  for (int k = 0; k < count; ++k)
-    if (kind[k] == 0)
-      fragments += add(thread, lines[k], lines.first[k], lines.end[k], colour[k], alpha[k]);
   return fragments;
-}
-
-void StreakSums::flush(int thread) {
-  Pending& p = pending_[static_cast<std::size_t>(thread)];
-  std::int32_t* const sums = sums_[static_cast<std::size_t>(thread)].data();
-  for (int j = 0; j < p.count; ++j) {
-    for (int c = 0; c < 4; ++c) sums[p.start[j] + c] += p.v[j][c];
-    if (p.stop[j] >= 0)
-      for (int c = 0; c < 4; ++c) sums[static_cast<std::size_t>(p.stop[j]) + c] -= p.v[j][c];
-  }
-  p.count = 0;
 }
 
 std::uint64_t StreakSums::add(int thread, const Line& line, int first, int end, const Vec3& c,
                               float alpha) {
   std::int32_t v[4];
   if (!valueOf(c, alpha, v)) return 0;
-  std::int32_t* const sums = sums_[static_cast<std::size_t>(thread)].data();
   // The line's pixel in a row, as the lines' rows take it (StreakLine.cpp, rowsOneByOne): -1 left
   // of the frame, width_ right of it. Monotonic in the row, so equal at both ends means one column.
   const auto sAt = [&](int row) {
@@ -225,7 +210,7 @@ std::uint64_t StreakSums::add(int thread, const Line& line, int first, int end, 
     for (int tile = r0 / kTileRows; tile <= (r1 - 1) / kTileRows; ++tile)
       nearest = std::min(nearest, nearest_[static_cast<std::size_t>(tile) * width_ + column]);
     if (std::max(z0, z1) < nearest) {
-      addRun(sums, column, r0, r1, v);
+      addRun(thread, column, r0, r1, v);
       fragments += static_cast<std::uint64_t>(r1 - r0);
       return;
     }
@@ -235,9 +220,9 @@ std::uint64_t StreakSums::add(int thread, const Line& line, int first, int end, 
           line.zt + sAt(row) * line.dz < depth_[static_cast<std::size_t>(row) * width_ + column];
       if (keep && open < 0) open = row;
       if (!keep && open >= 0)
-        addRun(sums, column, open, row, v), fragments += row - open, open = -1;
+        addRun(thread, column, open, row, v), fragments += row - open, open = -1;
     }
-    if (open >= 0) addRun(sums, column, open, r1, v), fragments += r1 - open;
+    if (open >= 0) addRun(thread, column, open, r1, v), fragments += r1 - open;
   };
   const int firstColumn = columnAt(first), lastColumn = columnAt(end - 1);
   if (firstColumn == lastColumn) {
@@ -256,34 +241,70 @@ std::uint64_t StreakSums::add(int thread, const Line& line, int first, int end, 
 }
 
 void StreakSums::resolve(float* layer) {
-  // Strips of columns, each walked down its rows with its running sums: a strip's row is 512
-  // bytes of each thread's buffer and of the layer.
-  constexpr int kStrip = 32;
-  const int strips = (width_ + kStrip - 1) / kStrip;
-#pragma omp parallel for schedule(static)
-  for (int strip = 0; strip < strips; ++strip) {
-    const int x0 = strip * kStrip, columns = std::min(kStrip, width_ - x0);
-    alignas(64) std::int32_t running[4 * kStrip] = {};
-    for (int r = 0; r < height_; ++r) {
-      const std::size_t offset = 4 * (static_cast<std::size_t>(r) * width_ + x0);
+  runs_ = 0;
+  for (const auto& list : lists_) runs_ += list.size();
+  const std::size_t stripSize = 4 * static_cast<std::size_t>(kStrip) * height_;
+#pragma omp parallel
+  {
+#pragma omp single
+    strips_.resize(std::max(strips_.size(), static_cast<std::size_t>(omp_get_num_threads())));
+    std::vector<std::int32_t>& sums = strips_[static_cast<std::size_t>(omp_get_thread_num())];
+    if (sums.size() != stripSize) sums.assign(stripSize, 0);
+#pragma omp for schedule(dynamic, 1)
+    for (int strip = 0; strip < stripCount_; ++strip) {
+      // Every thread's runs of the strip into its buffer: integer sums, the same in any order.
       for (int t = 0; t < threads_; ++t) {
-        std::int32_t* s = sums_[static_cast<std::size_t>(t)].data() + offset;
+        const std::vector<Run>& list = lists_[static_cast<std::size_t>(t) * stripCount_ + strip];
+        for (const Run& run : list) {
+          constexpr std::uint64_t kMask = (std::uint64_t{1} << kValueBits) - 1;
+          const auto field = [](std::uint64_t w, int shift, std::uint64_t mask) {
+            return static_cast<std::int32_t>((w >> shift) & mask);
+          };
+          const std::int32_t v[4] = {field(run.lo, 0, kMask), field(run.lo, kValueBits, kMask),
+                                     field(run.lo, 2 * kValueBits, kMask), field(run.hi, 0, kMask)};
+          const int x = field(run.hi, kValueBits, 31);
+          const int first = field(run.hi, kValueBits + 5, 0xffff);
+          const int end = field(run.hi, kValueBits + 21, 0xffff);
+          std::int32_t* start = sums.data() + 4 * static_cast<std::size_t>(first * kStrip + x);
+          std::int32_t* stop = end < height_
+                                   ? sums.data() + 4 * static_cast<std::size_t>(end * kStrip + x)
+                                   : nullptr;
+#if defined(__SSE2__)
+          // The 4 sums of a pixel as one vector.
+          const __m128i add = _mm_loadu_si128(reinterpret_cast<const __m128i*>(v));
+          auto* p = reinterpret_cast<__m128i*>(start);
+          _mm_storeu_si128(p, _mm_add_epi32(_mm_loadu_si128(p), add));
+          if (stop == nullptr) continue;
+          auto* q = reinterpret_cast<__m128i*>(stop);
+          _mm_storeu_si128(q, _mm_sub_epi32(_mm_loadu_si128(q), add));
+#else
+          for (int c = 0; c < 4; ++c) start[c] += v[c];
+          if (stop == nullptr) continue;
+          for (int c = 0; c < 4; ++c) stop[c] -= v[c];
+#endif
+        }
+      }
+      // Down the columns with their running sums, leaving the buffer zeroed.
+      const int x0 = strip * kStrip, columns = std::min(kStrip, width_ - x0);
+      alignas(64) std::int32_t running[4 * kStrip] = {};
+      for (int r = 0; r < height_; ++r) {
+        std::int32_t* s = sums.data() + 4 * static_cast<std::size_t>(r) * kStrip;
 #pragma omp simd
         for (int i = 0; i < 4 * columns; ++i) running[i] += s[i], s[i] = 0;
-      }
-      float* out = layer + offset;
-      for (int x = 0; x < columns; ++x) {
-        const std::int32_t* s = running + 4 * x;
-        float* p = out + 4 * x;
-        if (s[3] <= 0) {  // no line here
-          p[0] = p[1] = p[2] = 0, p[3] = 1;
-          continue;
+        float* out = layer + 4 * (static_cast<std::size_t>(r) * width_ + x0);
+        for (int x = 0; x < columns; ++x) {
+          const std::int32_t* p = running + 4 * x;
+          float* q = out + 4 * x;
+          if (p[3] <= 0) {  // no line here
+            q[0] = q[1] = q[2] = 0, q[3] = 1;
+            continue;
+          }
+          const float weights = static_cast<float>(p[3]);
+          const float t = std::exp(-weights / kScale);
+          const float k = (1 - t) / weights;
+          q[0] = static_cast<float>(p[0]) * k, q[1] = static_cast<float>(p[1]) * k;
+          q[2] = static_cast<float>(p[2]) * k, q[3] = t;
         }
-        const float weights = static_cast<float>(s[3]);
-        const float t = std::exp(-weights / kScale);
-        const float k = (1 - t) / weights;
-        p[0] = static_cast<float>(s[0]) * k, p[1] = static_cast<float>(s[1]) * k;
-        p[2] = static_cast<float>(s[2]) * k, p[3] = t;
       }
     }
   }

@@ -16,11 +16,16 @@
 // blended most - the drop order within the tier is lost. The tier is composed behind the exact
 // streaks (their bands start from it), which are the wider, nearer ones.
 //
-// The sums are integers (fixed point, 2^-18): each thread adds its drops into its own buffer and
-// the buffers are summed, in any order the same bits, so the layer does not depend on the thread
-// count. The depth test is per pixel, as the lines': a run whose far end is nearer than every
-// pixel of its column in the tiles of rows it spans is added whole, any other row by row against
-// the frame's depth.
+// The sums are integers (fixed point, 2^-18), so they do not depend on the order they are added in:
+// the layer is the same bit for bit for any thread count. A run is not added into a frame-sized
+// buffer where it falls - two scattered read-modify-writes of 16 bytes a drop into megabytes,
+// each a cache miss (docs/benchmarks.md, "The far tier as sums") - but written, in the order the
+// thread sets it up, to a list per strip of 32 columns; resolve() then takes one strip at a time,
+// adds its runs into a strip-sized buffer that stays in the core's cache (16 bytes x 32 columns x
+// the rows), and takes the running sums down its columns. No frame per thread: the memory is the
+// runs (24 bytes each) and a strip per thread. The depth test is per pixel, as the lines': a run
+// whose far end is nearer than every pixel of its column in the tiles of rows it spans is added
+// whole, any other row by row against the frame's depth.
 #pragma once
 
 #include <cstdint>
@@ -49,51 +54,54 @@ class StreakSums {
   // row; returns the rows that passed the depth test (the fragments).
   std::uint64_t add(int thread, const Line& line, int first, int end, const Vec3& c, float alpha);
   // Thread `thread` adds the lines of the `count` lanes of `lines` that are `ok` and at most a
-  // pixel wide, lane k in colour `colour[k]` at `alpha[k]` a row: add() for each, but the lines in
-  // one column and nearer than the frame there - most of them - first all set up, and the places
-  // they change asked of the memory, then added: so that the lines of a group wait for their
-  // cache misses together (the buffers are a frame of 16 bytes a pixel, far beyond the caches,
-  // and the drops are in no order on the screen). Returns the fragments.
+  // pixel wide, lane k in colour `colour[k]` at `alpha[k]` a row: add() for each, with the lines
+  // in one column and nearer than the frame there - most of them - taken as one run without
+  // add()'s search for the columns. Returns the fragments.
   std::uint64_t addLines(int thread, const Lines& lines, int count, const Vec3* colour,
                          const float* alpha);
   // Thread `thread` adds rows [first, end) of `line`, `line.coverage` (1 to 8) pixels wide, in
   // image `layer`: ceil(coverage) lines side by side across the row's extent, each with its
   // strip of the image across; returns the fragments.
   std::uint64_t addWide(int thread, const Line& line, int first, int end, const Vec3& c, int layer);
-  // Adds what addLines() of `thread` left to add: its last group's runs are added only at its
-  // next call, after the memory was asked for that group's places, so a group's cache misses are
-  // waited for while the previous group is added. Call when the thread has added all its lines.
-  void flush(int thread);
-  // Takes the running sums down the columns of all threads' lines and writes every pixel's
-  // (L, T) into `layer` (row-major, 4 floats a pixel; (0, 0, 0, 1) where no line is), leaving the
-  // buffers zeroed for the next frame. Not in a parallel region (it runs its own).
+  // Adds all threads' runs strip by strip, takes the running sums down the columns and writes
+  // every pixel's (L, T) into `layer` (row-major, 4 floats a pixel; (0, 0, 0, 1) where no line
+  // is); the runs are dropped for the next frame. Not in a parallel region (it runs its own).
   void resolve(float* layer);
+  // Runs the last frame added (before resolve()): what its lists held.
+  std::size_t runs() const { return runs_; }
 
  private:
   static constexpr int kTileRows = 64;  // rows of a tile of the nearest depth per column
-  void addRun(std::int32_t* sums, int column, int first, int end, const std::int32_t* v) const;
+  // Columns of a strip: its buffer (16 bytes x 32 x 540 rows: 270 KiB at 960 x 540) stays in a
+  // core's L2 while its runs are added and summed; a strip's row is 512 bytes of the layer.
+  static constexpr int kStrip = 32;
+  // A run of rows [first, end) of column x of its strip, adding v: 16 bytes, packed, since
+  // writing and reading the runs is most of the tier's memory traffic. lo: v[0], v[1], v[2] 21
+  // bits each; hi: v[3] 21 bits, x 5, first 16, end 16 (end = height: down to the last row). Each
+  // v[k] fits: b is at most -ln(0.01) = 4.61, 1,207,200 in units of 2^-18 (< 2^21), and the
+  // colours are sRGB-encoded, in [0, 1]; frames are under 65,536 rows (begin() checks).
+  struct Run {
+    std::uint64_t lo, hi;
+  };
+  static constexpr int kValueBits = 21;
+  static_assert(kStrip == 32, "a run keeps its column in the strip in 5 bits");
+  void addRun(int thread, int column, int first, int end, const std::int32_t* v);
   // v = (c.r b, c.g b, c.b b, b) in fixed point, b = -ln(1 - alpha); false if b rounds to 0.
   bool valueOf(const Vec3& c, float alpha, std::int32_t* v) const;
-  // Runs set up by addLines() and not yet added: [start, stop) of pixel offsets (times 4) of
-  // the thread's buffer, stop < 0 to the last row.
-  struct Pending {
-    int count = 0;
-    std::size_t start[Lines::kLanes];
-    std::ptrdiff_t stop[Lines::kLanes];
-    std::int32_t v[Lines::kLanes][4];
-  };
-  std::vector<Pending> pending_;  // per thread
+  // The runs, [thread * strips + strip], in the order the thread added them.
+  std::vector<std::vector<Run>> lists_;
+  // Per thread of resolve(): a strip's sums, kStrip x height x 4, kept all zero between strips.
+  std::vector<std::vector<std::int32_t>> strips_;
   std::vector<float> meanAlong_;  // per image
   // The streaks k = 1..kMaxStrips pixels wide: per image, the mean of strip j of k across it at
   // [k (k - 1) / 2 + j], scaled so that the k strips' mean is meanAlong_ (the same light).
   static constexpr int kMaxStrips = 8, kStripTable = kMaxStrips * (kMaxStrips + 1) / 2;
   std::vector<float> stripMean_;
   std::vector<float> weights_;  // -ln(1 - a) at a = i / kWeights, for valueOf()
-  // Per thread, row-major: height x width x (c.r b, c.g b, c.b b, b), kept all zero between frames.
-  std::vector<std::vector<std::int32_t>> sums_;
   std::vector<float> nearest_;  // [tile][column]: the nearest frame depth in the tile's rows
   const float* depth_ = nullptr;
-  int width_ = 0, height_ = 0, threads_ = 0;
+  int width_ = 0, height_ = 0, threads_ = 0, stripCount_ = 0;
+  std::size_t runs_ = 0;
 };
 
 }  // namespace sph::render::rain
