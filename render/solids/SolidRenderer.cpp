@@ -4,6 +4,7 @@
 #include <cstddef>
 
 #include "render/gl/Shader.h"
+#include "render/solids/DrawOrder.h"
 #include "render/splat/ExtraLights.h"
 #include "render/splat/ProgramUniforms.h"
 #include "render/splat/SpotlightUniforms.h"
@@ -47,8 +48,12 @@ void SolidRenderer::fit(const Mat4& projView) {
   }
   if (!changed) return;
   SolidMesh mesh;
-  for (std::size_t i = 0; i < shapes_.size(); ++i)
+  first_.resize(shapes_.size()), count_.resize(shapes_.size());
+  for (std::size_t i = 0; i < shapes_.size(); ++i) {
+    first_[i] = mesh.indices.size();
     mesh.append(tessellate(shapes_[i], domain_, thickness_, std::max(segments_[i], 4)));
+    count_[i] = mesh.indices.size() - first_[i];
+  }
   indexCount_ = mesh.indices.size();
   ++meshBuilds_;
   if (indexCount_ == 0) return;
@@ -118,7 +123,19 @@ void SolidRenderer::drawWith(GLuint p, const CameraFrame& camera) {
   glFrontFace(GL_CCW);
   glUseProgram(p);
   glBindVertexArray(vao_.id());
-  glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(indexCount_), GL_UNSIGNED_INT, nullptr);
+  if (!frontToBack) {
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(indexCount_), GL_UNSIGNED_INT, nullptr);
+  } else {
+    // Each shape's triangles, nearest shape first (DrawOrder.h), in one call.
+    drawCounts_.clear(), drawOffsets_.clear();
+    for (std::size_t i : solids::frontToBack(shapes_, thickness_, camera.eye)) {
+      if (count_[i] == 0) continue;
+      drawCounts_.push_back(static_cast<GLsizei>(count_[i]));
+      drawOffsets_.push_back(reinterpret_cast<const void*>(first_[i] * sizeof(std::uint32_t)));
+    }
+    glMultiDrawElements(GL_TRIANGLES, drawCounts_.data(), GL_UNSIGNED_INT, drawOffsets_.data(),
+                        static_cast<GLsizei>(drawCounts_.size()));
+  }
   glBindVertexArray(0);
   glDisable(GL_CULL_FACE);
   glUseProgram(0);

@@ -48,6 +48,9 @@ class SolidRenderer final : public splat::FrameLayer {
   // How finely the spheres and cups are tessellated for their size on screen
   // (ScreenTessellation.h); floor = cap = 64 is the fixed tessellation of before.
   TessellationBound tessellation;
+  // Nearest shape first (DrawOrder.h): the same picture, less shading hidden behind; false draws
+  // them in the order given.
+  bool frontToBack = true;
 
  private:
   void setLighting(GLuint program, const CameraFrame& camera,
@@ -67,6 +70,9 @@ class SolidRenderer final : public splat::FrameLayer {
   gl::Buffer vertices_, indices_;
   gl::VertexArray vao_;
   std::size_t indexCount_ = 0, meshBuilds_ = 0;
+  std::vector<std::size_t> first_, count_;  // per shape, its triangles' indices in indices_
+  std::vector<GLsizei> drawCounts_;         // the draw's, kept between draws
+  std::vector<const void*> drawOffsets_;
 };
 
 }  // namespace sph::render::solids
