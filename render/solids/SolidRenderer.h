@@ -63,10 +63,14 @@ class SolidRenderer final : public splat::FrameLayer {
   Aabb domain_;
   float thickness_;
   std::vector<int> segments_;  // per shape, what the buffers hold; -1 before the first draw
-  // Without the particle lights' code (SPH_NO_PARTICLE_LIGHTS), as the splats' programs: llvmpipe
-  // pays for the volume sampling behind a switch that is off (docs/benchmarks.md, "Particle
-  // lights"). The lit program (forward) and the G-buffer's (deferred) are built on first use.
-  gl::Program program_, litProgram_, gbufferProgram_;
+  // Forward without the particle lights, forward with them, the deferred G-buffer's.
+  enum class Pass { Plain, Lit, GBuffer };
+  // The pass's program for a frame with or without the rain's spotlight, built on first use.
+  // Code behind a switch that is off is left out (SPH_NO_PARTICLE_LIGHTS but for Lit, as the
+  // splats' programs; SPH_NO_ENVIRONMENT; SPH_NO_SPOTLIGHT): llvmpipe pays for it otherwise
+  // (docs/benchmarks.md, "Particle lights").
+  GLuint program(Pass pass, const splat::Lighting& lighting);
+  gl::Program programs_[3][2];  // [pass][spotlight]
   gl::Buffer vertices_, indices_;
   gl::VertexArray vao_;
   std::size_t indexCount_ = 0, meshBuilds_ = 0;
