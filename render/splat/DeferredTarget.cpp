@@ -45,14 +45,18 @@ void DeferredTarget::begin(int width, int height, bool cpu, bool points) {
       glTextureStorage2D(t.id(), 1, format, width, height);
       return t;
     };
-    // 32-bit float position and normal: the lighting pass must see what the forward shader saw
-    // (the two pipelines agree to one 8-bit step, tests/test_lights.cpp; a half-float normal moved
-    // sharp highlights by 2 steps). The lit colour in float too: RGBA16F's 2^-11 would cost a
-    // third of a step. The albedo only scales the diffuse term: half floats are enough.
-    lit_ = texture(GL_RGBA32F);
+    // The lighting pass must see what the forward shader saw (the two pipelines agree to one
+    // 8-bit step, tests/test_lights.cpp; a half-float normal, 2^-11 near 1, moved sharp
+    // highlights by 2 steps): the normal in 16-bit signed normalised (steps of 2^-15, 16 times
+    // finer), the lit colour - clamped to [0, 1] by every G-buffer program - in 16-bit
+    // normalised (2^-16; RGBA16F's 2^-11 would cost a third of a step), half the bytes of the
+    // 32-bit floats they were for llvmpipe to write and read back (read back as float: the CPU
+    // shading sees the same values). The position in 32-bit float. The albedo only scales the
+    // diffuse term: half floats are enough.
+    lit_ = texture(GL_RGBA16);
     albedo_ = texture(GL_RGBA16F);
     position_ = texture(GL_RGBA32F);
-    normal_ = texture(GL_RGBA32F);
+    normal_ = texture(GL_RGBA16_SNORM);
     depth_ = texture(GL_DEPTH_COMPONENT32F);
     final_ = gl::Texture{};  // made for lights.shade "cpu" only
     framebuffer_ = gl::Framebuffer::create();
@@ -64,7 +68,8 @@ void DeferredTarget::begin(int width, int height, bool cpu, bool points) {
     glNamedFramebufferTexture(f, GL_DEPTH_ATTACHMENT, depth_.id(), 0);
     if (glCheckNamedFramebufferStatus(f, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
       throw gl::GlError(
-          "the deferred G-buffer (4 float targets + depth) is incomplete on this driver");
+          "the deferred G-buffer (RGBA16, RGBA16F, RGBA32F, RGBA16_SNORM + 32-bit float depth) is "
+          "incomplete on this driver");
     drawsPosition_ = -1;
   }
   // Without point splats the CPU shading reads the depth instead of the position: llvmpipe then
