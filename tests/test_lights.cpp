@@ -477,15 +477,21 @@ TEST_F(LightsGl, MoreLightsThanOneDispatchAreAllAccumulated) {
   EXPECT_EQ(colour[511][0], float(tail));
 }
 
+// 24^3 voxels of 0.05 m over test::sheetSolids(), trilinear, forward.
+LightsDesc sheetVolume() {
+  LightsDesc d;
+  d.origin = Vec3(-0.6f, -0.1f, -0.6f), d.voxelSize = 0.05f, d.voxels = {24, 24, 24};
+  d.attenuation = {1.0f, 0.0f, 20.0f}, d.range = 0.3f, d.filter = LightFilter::Trilinear;
+  d.specular = 0.5f, d.shininess = 16, d.roomLight = 0.3f;
+  return d;
+}
+
 // lights.pipeline "deferred" (seed 004 Fig. 11): a G-buffer of the solids and the opaque water,
 // then one full-screen lighting pass, gives the forward image to one 8-bit step per channel -
 // solids per pixel, point splats lit at their centre either way, translucent water composited
 // forward on the deferred-lit frame, depth tested against it (splats half hidden by the sphere).
 TEST_F(LightsGl, DeferredGivesTheForwardImageToOneStep) {
-  LightsDesc d;
-  d.origin = Vec3(-0.6f, -0.1f, -0.6f), d.voxelSize = 0.05f, d.voxels = {24, 24, 24};
-  d.attenuation = {1.0f, 0.0f, 20.0f}, d.range = 0.3f, d.filter = LightFilter::Trilinear;
-  d.specular = 0.5f, d.shininess = 16, d.roomLight = 0.3f;
+  LightsDesc d = sheetVolume();
   const std::vector<LightParticle> lights = test::sheetLights(14);
   LightVolume forward(d);
   d.pipeline = LightPipeline::Deferred;
@@ -535,10 +541,7 @@ TEST_F(LightsGl, DeferredGivesTheForwardImageToOneStep) {
 // (depth tested, as forward draws them), the lighting pass restores the depth instead: a point
 // behind the sphere stays hidden, one in front of it shows.
 TEST_F(LightsGl, ShadedOnTheCpuTheCopyKeepsTheBackgroundAndTheDepthThatIsDrawnAgainst) {
-  LightsDesc d;
-  d.origin = Vec3(-0.6f, -0.1f, -0.6f), d.voxelSize = 0.05f, d.voxels = {24, 24, 24};
-  d.attenuation = {1.0f, 0.0f, 20.0f}, d.range = 0.3f, d.filter = LightFilter::Trilinear;
-  d.specular = 0.5f, d.shininess = 16, d.roomLight = 0.3f;
+  LightsDesc d = sheetVolume();
   const std::vector<LightParticle> lights = test::sheetLights(14);
   LightVolume forward(d);
   d.pipeline = LightPipeline::Deferred, d.accumulate = LightAccumulate::Cpu;
