@@ -33,15 +33,21 @@ float nearestDistance(const BoundaryShape& s, float thickness, const Vec3& eye) 
   return std::numeric_limits<float>::infinity();
 }
 
-std::vector<std::size_t> frontToBack(const std::vector<BoundaryShape>& shapes, float thickness,
-                                     const Vec3& eye) {
-  std::vector<float> distance(shapes.size());
+void frontToBack(const std::vector<BoundaryShape>& shapes, float thickness, const Vec3& eye,
+                 std::vector<std::size_t>& order, std::vector<float>& distance) {
+  distance.resize(shapes.size()), order.resize(shapes.size());
   for (std::size_t i = 0; i < shapes.size(); ++i)
     distance[i] = nearestDistance(shapes[i], thickness, eye);
-  std::vector<std::size_t> order(shapes.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return distance[a] < distance[b]; });
+}
+
+std::vector<std::size_t> frontToBack(const std::vector<BoundaryShape>& shapes, float thickness,
+                                     const Vec3& eye) {
+  std::vector<std::size_t> order;
+  std::vector<float> distance;
+  frontToBack(shapes, thickness, eye, order, distance);
   return order;
 }
 

@@ -19,7 +19,11 @@ namespace sph::render::solids {
 // and go last.
 float nearestDistance(const BoundaryShape& shape, float thickness, const Vec3& eye);
 
-// The shapes' indices, nearest first (ties in the order given).
+// The shapes' indices into `order`, nearest first (ties in the order given); `distance` is
+// scratch. Both keep their storage between calls: a still scene allocates nothing.
+void frontToBack(const std::vector<BoundaryShape>& shapes, float thickness, const Vec3& eye,
+                 std::vector<std::size_t>& order, std::vector<float>& distance);
+// The same, returned.
 std::vector<std::size_t> frontToBack(const std::vector<BoundaryShape>& shapes, float thickness,
                                      const Vec3& eye);
 

@@ -136,7 +136,8 @@ void SolidRenderer::drawWith(GLuint p, const CameraFrame& camera) {
   } else {
     // Each shape's triangles, nearest shape first (DrawOrder.h), in one call.
     drawCounts_.clear(), drawOffsets_.clear();
-    for (std::size_t i : solids::frontToBack(shapes_, thickness_, camera.eye)) {
+    solids::frontToBack(shapes_, thickness_, camera.eye, drawOrder_, drawDistance_);
+    for (std::size_t i : drawOrder_) {
       if (count_[i] == 0) continue;
       drawCounts_.push_back(static_cast<GLsizei>(count_[i]));
       drawOffsets_.push_back(reinterpret_cast<const void*>(first_[i] * sizeof(std::uint32_t)));

@@ -75,7 +75,9 @@ class SolidRenderer final : public splat::FrameLayer {
   gl::VertexArray vao_;
   std::size_t indexCount_ = 0, meshBuilds_ = 0;
   std::vector<std::size_t> first_, count_;  // per shape, its triangles' indices in indices_
-  std::vector<GLsizei> drawCounts_;         // the draw's, kept between draws
+  std::vector<std::size_t> drawOrder_;      // the draw's, kept between draws
+  std::vector<float> drawDistance_;
+  std::vector<GLsizei> drawCounts_;
   std::vector<const void*> drawOffsets_;
 };
 

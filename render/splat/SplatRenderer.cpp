@@ -280,8 +280,9 @@ void SplatRenderer::drawDeferred(const SplatFrame& frame, SplatKind kind, const 
   if (opaque) drawSplats(frame, kind, cam, lighting, gbufferProgramFor(kind));
   glFinish();  // the passes' times apart (Fig. 11's breakdown; llvmpipe drains between them anyway)
   const auto gbuffer = Clock::now();
-  // 2. One full-screen pass adds the particle lights where the G-buffer holds a surface.
-  // With lights.shade "cpu" the term is computed on the CPU first (passes_.particles).
+  // 2. One full-screen pass adds the particle lights where the G-buffer holds a surface. With
+  // lights.shade "cpu" each pixel's colour is computed on the CPU first (passes_.particles) and
+  // copied: by that pass, or by a blit where nothing drawn after needs the depth.
   DeferredTarget::Output out;
   out.framebuffer = static_cast<GLuint>(target);
   out.normals = offscreen && contents_ == ImageContents::ColourAndNormals;
