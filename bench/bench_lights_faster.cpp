@@ -16,9 +16,13 @@
 //                                  (accumulate "cpu", culled to the table's camera, 960 x 540) at
 //                                  262,144 and 1M lights: accumulation (whole volume and culled),
 //                                  G-buffer pass, each pixel's colour on the CPU (read-back,
-//                                  shading, encoding, upload; lights.shade "cpu"), lighting pass,
-//                                  draw and frame (culled + draw), each the minimum of --repeat
-//                                  frames, with CPU ms beside, and the solids' triangles drawn
+//                                  shading, encoding, upload; lights.shade "cpu"), the copy into
+//                                  the frame's target (a blit with "cpu", as nothing is drawn after
+//                                  it; the lighting pass with "gl"), draw and frame (culled +
+//                                  draw), each the minimum of --repeat frames, with CPU ms beside,
+//                                  and the solids' triangles drawn. The frame ends with the picture
+//                                  in the renderer's offscreen target, where `render` reads it
+//                                  back from (the read-back is not in it)
 //   bench_lights_faster cpuside    Fig. 11's frame's CPU work alone at 262,144 and 1M lights: the
 //                                  culled CPU accumulation and the CPU shading of the frame's
 //                                  G-buffer (read back once), each --repeat times in turn: min and
@@ -26,7 +30,8 @@
 //                                  and of the shaded pixels (equal hashes, two builds: same bits)
 // Options: --repeat N (min of N, default 3), --max-lights N (default 1048576), --accumulate cpu
 // (fig11, fireflies: the CPU accumulation instead of the atomic one), --shade gl|cpu|auto (frame:
-// lights.shade, default auto = cpu there).
+// lights.shade, default auto = cpu there), --pixels P (frame: the solids' tessellation bound,
+// default 0.5 px), --png PREFIX (frame: the last picture of each count to PREFIX-<lights>.png).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -42,6 +47,7 @@
 
 #include "app/OpenMpSpinLimit.h"
 #include "bench/Fig11Scene.h"
+#include "io/Png.h"
 #include "io/SceneLoader.h"
 #include "render/gl/GlContext.h"
 #include "render/lights/CpuShading.h"
@@ -61,8 +67,10 @@ namespace {
 
 int repeat = 3;
 std::size_t maxLights = 1048576;
-LightAccumulate accumulate = LightAccumulate::Atomic;  // fig11, fireflies: --accumulate
-LightShade shade = LightShade::Auto;                   // frame: --shade
+LightAccumulate accumulate = LightAccumulate::Atomic;       // fig11, fireflies: --accumulate
+LightShade shade = LightShade::Auto;                        // frame: --shade
+float pixels = render::solids::TessellationBound{}.pixels;  // frame: --pixels
+std::string png;                                            // frame: --png
 
 struct View {
   const char* name;
@@ -229,17 +237,17 @@ struct Fig11View {
 // and the draw: what the defaults (lights.cull on, "auto" = "cpu" on llvmpipe) give.
 void frame() {
   Fig11View world;
+  world.solids.tessellation.pixels = pixels;
   render::splat::SplatRenderer& renderer = world.renderer;
   const int width = Fig11View::kWidth, height = Fig11View::kHeight;
   const CameraDesc& camera = world.camera;
   std::printf(
       "Fig. 11 frame (128^3 voxels of 1 m, range 0.5 m, trilinear, deferred, accumulate cpu, "
-      "shade %s; %d x %d; solids tessellated for their size on screen): ms, min of %d frames; "
-      "[CPU ms, all threads]; triangles drawn\n",
-      nameOf(shade), width, height, repeat);
+      "shade %s; %d x %d; solids tessellated for their size on screen, %g px): ms, min of %d "
+      "frames; [CPU ms, all threads]; triangles drawn\n",
+      nameOf(shade), width, height, static_cast<double>(pixels), repeat);
   std::printf("%-8s %9s %9s %9s %9s %9s %9s %9s %9s %9s %9s\n", "lights", "acc all", "acc cull",
-              "G-buffer", "cpu shade", "lighting", "draw", "frame", "[acc cul]", "[draw]",
-              "triangles");
+              "G-buffer", "cpu shade", "copy", "draw", "frame", "[acc cul]", "[draw]", "triangles");
   for (std::size_t n : {262144u, 1048576u}) {
     if (n > maxLights) continue;
     LightsDesc d = bench::fig11Lights(n);
@@ -253,19 +261,24 @@ void frame() {
     double tAll = 1e30, tCulled = 1e30, gbuffer = 1e30, particles = 1e30, lighting = 1e30,
            drawn = 1e30;
     double cpuCulled = 1e30, cpuDraw = 1e30;
+    render::splat::RenderImage last;
     for (int k = 0; k < repeat; ++k) {
       tAll = std::min(tAll, all.update(lights));
       const double c0 = cpuSeconds();
       tCulled = std::min(tCulled, culled.update(lights, &view));
       const double c1 = cpuSeconds();
-      const render::splat::RenderImage image = draw(renderer, camera, culled);
+      render::splat::RenderImage image = draw(renderer, camera, culled);
       const double c2 = cpuSeconds();
       cpuCulled = std::min(cpuCulled, c1 - c0), cpuDraw = std::min(cpuDraw, c2 - c1);
       drawn = std::min(drawn, image.seconds);
       gbuffer = std::min(gbuffer, renderer.lastPasses().gbuffer);
       particles = std::min(particles, renderer.lastPasses().particles);
       lighting = std::min(lighting, renderer.lastPasses().lighting);
+      last = std::move(image);
     }
+    if (!png.empty())
+      io::writePng(png + "-" + std::to_string(n) + ".png", last.width, last.height,
+                   last.rgb.data());
     std::printf("%-8zu %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9zu\n", n, 1e3 * tAll,
                 1e3 * tCulled, 1e3 * gbuffer, 1e3 * particles, 1e3 * lighting, 1e3 * drawn,
                 1e3 * (tCulled + drawn), 1e3 * cpuCulled, 1e3 * cpuDraw, world.solids.triangles());
@@ -393,6 +406,8 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--repeat")) repeat = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "--accumulate") && !std::strcmp(argv[i + 1], "cpu"))
       accumulate = LightAccumulate::Cpu;
+    if (!std::strcmp(argv[i], "--pixels")) pixels = std::strtof(argv[i + 1], nullptr);
+    if (!std::strcmp(argv[i], "--png")) png = argv[i + 1];
     if (!std::strcmp(argv[i], "--shade")) {
       const std::optional<LightShade> s = parseEnum<LightShade>(argv[i + 1]);
       if (!s) {
@@ -406,8 +421,8 @@ int main(int argc, char** argv) {
       what != "cpuside") {
     std::fprintf(stderr,
                  "usage: bench_lights_faster fig11|fireflies|cpu|frame|cpuside [--repeat N] "
-                 "[--max-lights N] "
-                 "[--accumulate cpu] [--shade gl|cpu|auto]\n");
+                 "[--max-lights N] [--accumulate cpu] [--shade gl|cpu|auto] [--pixels P] "
+                 "[--png PREFIX]\n");
     return 2;
   }
   render::gl::GlContext context = render::gl::GlContext::headless();

@@ -99,11 +99,14 @@ vec3 extraLight(vec3 base, vec3 position, vec3 n, vec3 toEye) {
   if (u_particleLights != 0) c += particleLight(base, position, n, toEye);
 #endif
   // The rain's cone spotlight (render/splat/SpotlightUniforms.h): Lambert diffuse inside the cone
-  // of eq. (10)-(12), the same membership test the drops take their colour from.
+  // of eq. (10)-(12), the same membership test the drops take their colour from. SPH_NO_SPOTLIGHT:
+  // a program for frames without one (llvmpipe runs a branch a uniform switches off, every pixel).
+#ifndef SPH_NO_SPOTLIGHT
   float w = spotlightWeight(position);
   if (w > 0.0) {
     vec3 toLight = normalize(u_spotPosition - position);
     c += w * u_spotIntensity * u_spotColour * base * max(dot(n, toLight), 0.0);
   }
+#endif
   return c;
 }

@@ -18,6 +18,7 @@ vec3 shadeSurface(vec3 n, vec3 toEye) {
   vec3 halfway = normalize(u_toLight + toEye);
   float nh = max(dot(n, halfway), 0.0);
   vec3 c = u_ambient * u_base + u_diffuse * nl * u_base + vec3(u_specular * pow(nh, u_shininess));
+#ifndef SPH_NO_ENVIRONMENT  // the solids never reflect the sky: llvmpipe runs a switched-off branch
   if (u_environment != 0) {
     vec3 r = 2.0 * dot(n, toEye) * n - toEye;
     float up = clamp(r.y, 0.0, 1.0);
@@ -26,6 +27,7 @@ vec3 shadeSurface(vec3 n, vec3 toEye) {
     float fresnel = u_fresnelMin + (1.0 - u_fresnelMin) * pow(1.0 - cosine, 5.0);
     c = (1.0 - fresnel) * c + fresnel * sky;
   }
+#endif
   return clamp(c, 0.0, 1.0);
 }
 

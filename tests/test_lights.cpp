@@ -477,15 +477,21 @@ TEST_F(LightsGl, MoreLightsThanOneDispatchAreAllAccumulated) {
   EXPECT_EQ(colour[511][0], float(tail));
 }
 
+// 24^3 voxels of 0.05 m over test::sheetSolids(), trilinear, forward.
+LightsDesc sheetVolume() {
+  LightsDesc d;
+  d.origin = Vec3(-0.6f, -0.1f, -0.6f), d.voxelSize = 0.05f, d.voxels = {24, 24, 24};
+  d.attenuation = {1.0f, 0.0f, 20.0f}, d.range = 0.3f, d.filter = LightFilter::Trilinear;
+  d.specular = 0.5f, d.shininess = 16, d.roomLight = 0.3f;
+  return d;
+}
+
 // lights.pipeline "deferred" (seed 004 Fig. 11): a G-buffer of the solids and the opaque water,
 // then one full-screen lighting pass, gives the forward image to one 8-bit step per channel -
 // solids per pixel, point splats lit at their centre either way, translucent water composited
 // forward on the deferred-lit frame, depth tested against it (splats half hidden by the sphere).
 TEST_F(LightsGl, DeferredGivesTheForwardImageToOneStep) {
-  LightsDesc d;
-  d.origin = Vec3(-0.6f, -0.1f, -0.6f), d.voxelSize = 0.05f, d.voxels = {24, 24, 24};
-  d.attenuation = {1.0f, 0.0f, 20.0f}, d.range = 0.3f, d.filter = LightFilter::Trilinear;
-  d.specular = 0.5f, d.shininess = 16, d.roomLight = 0.3f;
+  LightsDesc d = sheetVolume();
   const std::vector<LightParticle> lights = test::sheetLights(14);
   LightVolume forward(d);
   d.pipeline = LightPipeline::Deferred;
@@ -527,6 +533,62 @@ TEST_F(LightsGl, DeferredGivesTheForwardImageToOneStep) {
     // Not two dark pictures: the particle lights (and the room light) change much of the frame.
     EXPECT_GT(diff.lit, width * height / 4) << "alpha " << alpha;
   }
+}
+
+// Shaded on the CPU (lights.shade "cpu"), the deferred frame reaches the target by a blit where
+// nothing drawn after it is depth tested against it: the pixels without a surface keep the
+// background, and the picture is the forward one to one step. Where the walls' points follow
+// (depth tested, as forward draws them), the lighting pass restores the depth instead: a point
+// behind the sphere stays hidden, one in front of it shows.
+TEST_F(LightsGl, ShadedOnTheCpuTheCopyKeepsTheBackgroundAndTheDepthThatIsDrawnAgainst) {
+  LightsDesc d = sheetVolume();
+  const std::vector<LightParticle> lights = test::sheetLights(14);
+  LightVolume forward(d);
+  d.pipeline = LightPipeline::Deferred, d.accumulate = LightAccumulate::Cpu;
+  d.shade = LightShade::Cpu;
+  LightVolume cpu(d);
+  ASSERT_TRUE(cpu.shadesOnCpu());
+  forward.update(lights), cpu.update(lights);
+  solids::SolidRenderer solids(test::sheetSolids(), Aabb{Vec3(-1, -1, -1), Vec3(1, 1, 1)}, 0.02f);
+  const int width = 160, height = 120;
+  splat::SplatRenderer r(width, height);
+  r.setLayers({&solids});
+  const CameraDesc camera = test::sheetCamera();
+  splat::Lighting lighting;
+  lighting.background = Vec3(0.3f, 0.5f, 0.7f);
+  auto picture = [&](const LightVolume& v) {
+    lighting.extra = &v;
+    return r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera, lighting);
+  };
+  const splat::RenderImage f = picture(forward), g = picture(cpu);
+  lighting.extra = nullptr;
+  const splat::RenderImage unlit =
+      r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera, lighting);
+  const test::Steps diff = test::steps(f, g, unlit);
+  EXPECT_LE(diff.worst, 1);
+  EXPECT_GT(diff.lit, width * height / 4);
+  std::size_t background = 0;
+  for (std::size_t i = 0; i < g.rgb.size(); i += 3) {
+    bool same = true;
+    for (int k = 0; k < 3; ++k) same &= g.rgb[i + k] == splat::toSrgb8(lighting.background[k]);
+    background += same;
+  }
+  EXPECT_GT(background, 500u) << "the sky beyond the floor";
+  // A wall point 0.3 m behind the sphere's centre seen from the camera, and one 0.3 m before it.
+  const Vec3 centre(0, 0.15f, 0), ray = (centre - camera.position).normalized();
+  const Vec3 toCamera = -ray;
+  auto withWall = [&](const Vec3& at) {
+    r.setBoundary(
+        {splat::SplatVertex{{at.x(), at.y(), at.z()}, {toCamera.x(), toCamera.y(), toCamera.z()}}},
+        0.05f);
+    const splat::RenderImage a = picture(forward), b = picture(cpu);
+    EXPECT_LE(test::steps(a, b, a).worst, 1);
+    return b;
+  };
+  const splat::RenderImage behind = withWall(centre + 0.3f * ray);
+  const splat::RenderImage before = withWall(centre - 0.3f * ray);
+  EXPECT_LE(test::steps(behind, g, g).worst, 1) << "hidden by the sphere";
+  EXPECT_GE(test::steps(before, g, g).worst, 3) << "in front of it: the walls' grey shows";
 }
 
 // 4096 voxels along x is more than llvmpipe's GL_MAX_3D_TEXTURE_SIZE (2048): one line naming the

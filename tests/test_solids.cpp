@@ -1,7 +1,8 @@
 // render/solids: the scene's solids as triangle meshes (CPU) and drawn lit and opaque in the
 // splat frame (GL on llvmpipe): every triangle lies on the solid's surface with its winding and
 // normals pointing out of it, closed solids are closed, the picture shows a solid in front of
-// the water and not behind it, and the error figures' frame never sees a solid.
+// the water and not behind it, and the error figures' frame never sees a solid. Drawn nearest
+// shape first: the order is the distance's, and the picture the same as in the order given.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <tuple>
 
 #include "render/gl/GlContext.h"
+#include "render/solids/DrawOrder.h"
 #include "render/solids/SolidMesh.h"
 #include "render/solids/SolidRenderer.h"
 #include "render/splat/ReferenceRaymarcher.h"
@@ -120,6 +122,26 @@ TEST(SolidMesh, AreasMatchTheShapes) {
               0.01 * 4 * M_PI * 0.04 * 0.04);
 }
 
+// Distances by hand: a sphere's is to its surface, a block's and a cup's to their boxes (0 from
+// inside), a plane and a tank go last; ties keep their given order.
+TEST(DrawOrder, NearestFirstPlanesAndTanksLast) {
+  const std::vector<BoundaryShape> shapes = everyShape();
+  // tank, closed tank, block [0.1, 0.2] x [0, 0.05] x [0.1, 0.15], cup at (0.2, 0.01, 0.1)
+  // r 0.05 h 0.08, sphere at (0.1, 0.2, 0.1) r 0.04, plane.
+  const Vec3 eye(0.15f, 1.0f, 0.1f);
+  const float inf = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(nearestDistance(shapes[0], 0.01f, eye), inf);
+  EXPECT_EQ(nearestDistance(shapes[1], 0.01f, eye), inf);
+  EXPECT_NEAR(nearestDistance(shapes[2], 0.01f, eye), 1.0f - 0.05f, 1e-6f);
+  EXPECT_NEAR(nearestDistance(shapes[3], 0.01f, eye), 1.0f - 0.09f, 1e-6f);  // the rim
+  EXPECT_NEAR(nearestDistance(shapes[4], 0.01f, eye), std::hypot(0.05f, 0.8f) - 0.04f, 1e-6f);
+  EXPECT_EQ(nearestDistance(shapes[5], 0.01f, eye), inf);
+  EXPECT_EQ(nearestDistance(shapes[2], 0.01f, Vec3(0.15f, 0.01f, 0.12f)), 0.0f) << "inside";
+  EXPECT_EQ(frontToBack(shapes, 0.01f, eye), (std::vector<std::size_t>{4, 3, 2, 0, 1, 5}));
+  // Below the cup's underside (at y = 0): the cup 0.05 m away, the block's corner 0.07 m.
+  EXPECT_EQ(frontToBack(shapes, 0.01f, Vec3(0.2f, -0.05f, 0.05f))[0], 3u);
+}
+
 class SolidsGl : public ::testing::Test {
  protected:
   void SetUp() override { context_ = std::make_unique<gl::GlContext>(gl::GlContext::headless()); }
@@ -202,6 +224,45 @@ TEST_F(SolidsGl, TheReferenceEndsItsRaysOnTheSolids) {
   const splat::ImageError e = splat::compareImages(scored, ref);
   EXPECT_LT(e.holeFraction, 0.05);
   EXPECT_GT(e.psnr, 25.0);
+}
+
+// Fig. 11's kind of frame in small: a floor drawn first in the order given, spheres and blocks
+// over it and over each other. Nearest first, the picture is the same to the bit (the depth test
+// keeps the nearest surface either way), forward and into the deferred G-buffer.
+TEST_F(SolidsGl, DrawnNearestFirstThePictureIsTheSame) {
+  std::vector<BoundaryShape> shapes;
+  BoundaryShape floor;
+  floor.kind = BoundaryShape::Kind::Plane, floor.point = Vec3(0, -0.5f, 0);
+  shapes.push_back(floor);
+  for (int i = 0; i < 4; ++i) {
+    BoundaryShape s;
+    s.kind = BoundaryShape::Kind::Sphere;
+    s.centre = Vec3(-0.45f + 0.3f * i, -0.3f, -0.5f + 0.35f * i), s.radius = 0.2f;
+    shapes.push_back(s);
+    BoundaryShape b;
+    b.kind = BoundaryShape::Kind::Block;
+    b.lo = Vec3(-0.5f + 0.3f * i, -0.5f, -0.3f + 0.35f * i), b.hi = b.lo + Vec3(0.15f, 0.4f, 0.1f);
+    shapes.push_back(b);
+  }
+  CameraDesc camera;
+  camera.position = Vec3(0.1f, 0.6f, 1.6f), camera.target = Vec3(0, -0.4f, 0);
+  camera.fovYDegrees = 50;
+  const std::vector<std::size_t> order = frontToBack(shapes, 0.01f, camera.position);
+  ASSERT_EQ(order.back(), 0u) << "the floor last";
+  splat::SplatRenderer r(160, 120);
+  SolidRenderer solids(shapes, kDomain, 0.01f);
+  r.setLayers({&solids});
+  for (bool deferred : {false, true}) {
+    SCOPED_TRACE(deferred ? "deferred" : "forward");
+    solids.frontToBack = true;
+    const splat::RenderImage a = r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera, {});
+    solids.frontToBack = false;
+    const splat::RenderImage b = r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera, {});
+    std::size_t spheres = 0;
+    for (std::size_t i = 0; i < a.rgb.size(); i += 3) spheres += a.rgb[i] != a.rgb[0];
+    EXPECT_GT(spheres, a.rgb.size() / 3 / 4) << "something drawn";
+    EXPECT_EQ(a.rgb, b.rgb);
+  }
 }
 
 // A tank seen from outside: its near wall is culled, so the water inside shows.

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <string>
+#include <vector>
 
 #include "render/gl/Shader.h"
+#include "render/solids/DrawOrder.h"
 #include "render/splat/ExtraLights.h"
 #include "render/splat/ProgramUniforms.h"
 #include "render/splat/SpotlightUniforms.h"
@@ -17,9 +20,6 @@ SolidRenderer::SolidRenderer(const std::vector<BoundaryShape>& shapes, const Aab
       domain_(domain),
       thickness_(thickness),
       segments_(shapes.size(), -1) {
-  program_ = gl::buildProgram(
-      shaders, {{gl::ShaderStage::Vertex, "solid.vert"}, {gl::ShaderStage::Fragment, "solid.frag"}},
-      "solids", {"SPH_NO_PARTICLE_LIGHTS"});
   vertices_ = gl::Buffer::create();
   indices_ = gl::Buffer::create();
   vao_ = gl::VertexArray::create();
@@ -47,8 +47,12 @@ void SolidRenderer::fit(const Mat4& projView) {
   }
   if (!changed) return;
   SolidMesh mesh;
-  for (std::size_t i = 0; i < shapes_.size(); ++i)
+  first_.resize(shapes_.size()), count_.resize(shapes_.size());
+  for (std::size_t i = 0; i < shapes_.size(); ++i) {
+    first_[i] = mesh.indices.size();
     mesh.append(tessellate(shapes_[i], domain_, thickness_, std::max(segments_[i], 4)));
+    count_[i] = mesh.indices.size() - first_[i];
+  }
   indexCount_ = mesh.indices.size();
   ++meshBuilds_;
   if (indexCount_ == 0) return;
@@ -78,29 +82,38 @@ void SolidRenderer::setLighting(GLuint p, const CameraFrame& camera,
   splat::setSpotlightUniforms(p, lighting.spotlight);
 }
 
+GLuint SolidRenderer::program(Pass pass, const splat::Lighting& lighting) {
+  const bool spotlight = lighting.spotlight.has_value();
+  gl::Program& p = programs_[static_cast<int>(pass)][spotlight ? 1 : 0];
+  if (p.id() != 0) return p.id();
+  // The solids never reflect the sky (u_environment 0), and most frames have no rain spotlight:
+  // llvmpipe runs a branch a uniform switches off for every pixel, so they are left out of the
+  // program rather than switched off - about half of Fig. 11's G-buffer pass (docs/lights.md).
+  std::vector<std::string> defines = {"SPH_NO_ENVIRONMENT"};
+  if (!spotlight) defines.push_back("SPH_NO_SPOTLIGHT");
+  if (pass != Pass::Lit) defines.push_back("SPH_NO_PARTICLE_LIGHTS");
+  if (pass == Pass::GBuffer) defines.push_back("SPH_GBUFFER");
+  static const char* const names[] = {"solids", "solids with particle lights",
+                                      "solids into the G-buffer"};
+  p = gl::buildProgram(
+      shaders_,
+      {{gl::ShaderStage::Vertex, "solid.vert"}, {gl::ShaderStage::Fragment, "solid.frag"}},
+      names[static_cast<int>(pass)], defines);
+  return p.id();
+}
+
 void SolidRenderer::draw(const CameraFrame& camera, const splat::Lighting& lighting) {
   if (shapes_.empty()) return;
-  if (lighting.extra != nullptr && litProgram_.id() == 0) {
-    litProgram_ = gl::buildProgram(
-        shaders_,
-        {{gl::ShaderStage::Vertex, "solid.vert"}, {gl::ShaderStage::Fragment, "solid.frag"}},
-        "solids with particle lights");
-  }
-  const GLuint p = lighting.extra != nullptr ? litProgram_.id() : program_.id();
+  const GLuint p = program(lighting.extra != nullptr ? Pass::Lit : Pass::Plain, lighting);
   setLighting(p, camera, lighting);
   drawWith(p, camera);
 }
 
 bool SolidRenderer::drawGBuffer(const CameraFrame& camera, const splat::Lighting& lighting) {
   if (shapes_.empty()) return true;
-  if (gbufferProgram_.id() == 0) {
-    gbufferProgram_ = gl::buildProgram(
-        shaders_,
-        {{gl::ShaderStage::Vertex, "solid.vert"}, {gl::ShaderStage::Fragment, "solid.frag"}},
-        "solids into the G-buffer", {"SPH_NO_PARTICLE_LIGHTS", "SPH_GBUFFER"});
-  }
-  setLighting(gbufferProgram_.id(), camera, lighting);
-  drawWith(gbufferProgram_.id(), camera);
+  const GLuint p = program(Pass::GBuffer, lighting);
+  setLighting(p, camera, lighting);
+  drawWith(p, camera);
   return true;
 }
 
@@ -118,7 +131,20 @@ void SolidRenderer::drawWith(GLuint p, const CameraFrame& camera) {
   glFrontFace(GL_CCW);
   glUseProgram(p);
   glBindVertexArray(vao_.id());
-  glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(indexCount_), GL_UNSIGNED_INT, nullptr);
+  if (!frontToBack) {
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(indexCount_), GL_UNSIGNED_INT, nullptr);
+  } else {
+    // Each shape's triangles, nearest shape first (DrawOrder.h), in one call.
+    drawCounts_.clear(), drawOffsets_.clear();
+    solids::frontToBack(shapes_, thickness_, camera.eye, drawOrder_, drawDistance_);
+    for (std::size_t i : drawOrder_) {
+      if (count_[i] == 0) continue;
+      drawCounts_.push_back(static_cast<GLsizei>(count_[i]));
+      drawOffsets_.push_back(reinterpret_cast<const void*>(first_[i] * sizeof(std::uint32_t)));
+    }
+    glMultiDrawElements(GL_TRIANGLES, drawCounts_.data(), GL_UNSIGNED_INT, drawOffsets_.data(),
+                        static_cast<GLsizei>(drawCounts_.size()));
+  }
   glBindVertexArray(0);
   glDisable(GL_CULL_FACE);
   glUseProgram(0);

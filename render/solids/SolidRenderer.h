@@ -48,6 +48,9 @@ class SolidRenderer final : public splat::FrameLayer {
   // How finely the spheres and cups are tessellated for their size on screen
   // (ScreenTessellation.h); floor = cap = 64 is the fixed tessellation of before.
   TessellationBound tessellation;
+  // Nearest shape first (DrawOrder.h): the same picture, less shading hidden behind; false draws
+  // them in the order given.
+  bool frontToBack = true;
 
  private:
   void setLighting(GLuint program, const CameraFrame& camera,
@@ -60,13 +63,22 @@ class SolidRenderer final : public splat::FrameLayer {
   Aabb domain_;
   float thickness_;
   std::vector<int> segments_;  // per shape, what the buffers hold; -1 before the first draw
-  // Without the particle lights' code (SPH_NO_PARTICLE_LIGHTS), as the splats' programs: llvmpipe
-  // pays for the volume sampling behind a switch that is off (docs/benchmarks.md, "Particle
-  // lights"). The lit program (forward) and the G-buffer's (deferred) are built on first use.
-  gl::Program program_, litProgram_, gbufferProgram_;
+  // Forward without the particle lights, forward with them, the deferred G-buffer's.
+  enum class Pass { Plain, Lit, GBuffer };
+  // The pass's program for a frame with or without the rain's spotlight, built on first use.
+  // Code behind a switch that is off is left out (SPH_NO_PARTICLE_LIGHTS but for Lit, as the
+  // splats' programs; SPH_NO_ENVIRONMENT; SPH_NO_SPOTLIGHT): llvmpipe pays for it otherwise
+  // (docs/benchmarks.md, "Particle lights").
+  GLuint program(Pass pass, const splat::Lighting& lighting);
+  gl::Program programs_[3][2];  // [pass][spotlight]
   gl::Buffer vertices_, indices_;
   gl::VertexArray vao_;
   std::size_t indexCount_ = 0, meshBuilds_ = 0;
+  std::vector<std::size_t> first_, count_;  // per shape, its triangles' indices in indices_
+  std::vector<std::size_t> drawOrder_;      // the draw's, kept between draws
+  std::vector<float> drawDistance_;
+  std::vector<GLsizei> drawCounts_;
+  std::vector<const void*> drawOffsets_;
 };
 
 }  // namespace sph::render::solids

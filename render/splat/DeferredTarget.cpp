@@ -3,6 +3,7 @@
 #include <Eigen/LU>
 #include <array>
 #include <chrono>
+#include <cstring>
 
 #include "render/gl/GlError.h"
 #include "render/gl/Shader.h"
@@ -35,7 +36,8 @@ DeferredTarget::DeferredTarget(const gl::ShaderLibrary& shaders) : shaders_(shad
   vao_ = gl::VertexArray::create();
 }
 
-void DeferredTarget::begin(int width, int height, bool positions) {
+void DeferredTarget::begin(int width, int height, bool cpu, bool points) {
+  const bool positions = !cpu || points;
   if (width != width_ || height != height_) {
     width_ = width, height_ = height;
     auto texture = [&](GLenum format) {
@@ -43,14 +45,18 @@ void DeferredTarget::begin(int width, int height, bool positions) {
       glTextureStorage2D(t.id(), 1, format, width, height);
       return t;
     };
-    // 32-bit float position and normal: the lighting pass must see what the forward shader saw
-    // (the two pipelines agree to one 8-bit step, tests/test_lights.cpp; a half-float normal moved
-    // sharp highlights by 2 steps). The lit colour in float too: RGBA16F's 2^-11 would cost a
-    // third of a step. The albedo only scales the diffuse term: half floats are enough.
-    lit_ = texture(GL_RGBA32F);
+    // The lighting pass must see what the forward shader saw (the two pipelines agree to one
+    // 8-bit step, tests/test_lights.cpp; a half-float normal, 2^-11 near 1, moved sharp
+    // highlights by 2 steps): the normal in 16-bit signed normalised (steps of 2^-15, 16 times
+    // finer), the lit colour - clamped to [0, 1] by every G-buffer program - in 16-bit
+    // normalised (2^-16; RGBA16F's 2^-11 would cost a third of a step), half the bytes of the
+    // 32-bit floats they were for llvmpipe to write and read back (read back as float: the CPU
+    // shading sees the same values). The position in 32-bit float. The albedo only scales the
+    // diffuse term: half floats are enough.
+    lit_ = texture(GL_RGBA16);
     albedo_ = texture(GL_RGBA16F);
     position_ = texture(GL_RGBA32F);
-    normal_ = texture(GL_RGBA32F);
+    normal_ = texture(GL_RGBA16_SNORM);
     depth_ = texture(GL_DEPTH_COMPONENT32F);
     final_ = gl::Texture{};  // made for lights.shade "cpu" only
     framebuffer_ = gl::Framebuffer::create();
@@ -62,7 +68,8 @@ void DeferredTarget::begin(int width, int height, bool positions) {
     glNamedFramebufferTexture(f, GL_DEPTH_ATTACHMENT, depth_.id(), 0);
     if (glCheckNamedFramebufferStatus(f, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
       throw gl::GlError(
-          "the deferred G-buffer (4 float targets + depth) is incomplete on this driver");
+          "the deferred G-buffer (RGBA16, RGBA16F, RGBA32F, RGBA16_SNORM + 32-bit float depth) is "
+          "incomplete on this driver");
     drawsPosition_ = -1;
   }
   // Without point splats the CPU shading reads the depth instead of the position: llvmpipe then
@@ -76,15 +83,16 @@ void DeferredTarget::begin(int width, int height, bool positions) {
     glNamedFramebufferDrawBuffers(f, 4, buffers);
   }
   glBindFramebuffer(GL_FRAMEBUFFER, f);
+  // A surface is where lit's alpha is 1 (the GL lighting pass) or the depth is below 1 (the CPU
+  // pass, which reads lit only there): cleared each frame, so no earlier frame's surface is
+  // shaded as the camera moves; the position target needs no clear, nor lit on the CPU path.
   const float zero[4] = {0, 0, 0, 0};
-  glClearNamedFramebufferfv(f, GL_COLOR, 0, zero);
-  // A surface is where the depth is below 1 (the CPU shading) or lit's alpha is 1 (the lighting
-  // pass): both cleared each frame, so no earlier frame's surface is shaded as the camera moves,
-  // and the position target needs no clear.
+  if (!cpu) glClearNamedFramebufferfv(f, GL_COLOR, 0, zero);
   glClearNamedFramebufferfi(f, GL_DEPTH_STENCIL, 0, 1.0f, 0);
 }
 
-void DeferredTarget::shadeOnCpu(const ExtraLights& lights, const Vec3& eye, const Mat4& projView) {
+void DeferredTarget::shadeOnCpu(const ExtraLights& lights, const Vec3& eye, const Mat4& projView,
+                                const std::uint8_t* background) {
   if (cpuLighting_.id() == 0) {
     cpuLighting_ = gl::buildProgram(shaders_,
                                     {{gl::ShaderStage::Vertex, "deferred_lighting.vert"},
@@ -95,6 +103,9 @@ void DeferredTarget::shadeOnCpu(const ExtraLights& lights, const Vec3& eye, cons
   if (final_.id() == 0) {
     final_ = gl::Texture::create(GL_TEXTURE_2D);
     glTextureStorage2D(final_.id(), 1, GL_RGBA8, width_, height_);
+    finalRead_ = gl::Framebuffer::create();
+    glNamedFramebufferTexture(finalRead_.id(), GL_COLOR_ATTACHMENT0, final_.id(), 0);
+    glNamedFramebufferReadBuffer(finalRead_.id(), GL_COLOR_ATTACHMENT0);
   }
   const std::size_t n = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
   readDepth_.resize(n), readNormal_.resize(4 * n), readAlbedo_.resize(4 * n),
@@ -119,22 +130,39 @@ void DeferredTarget::shadeOnCpu(const ExtraLights& lights, const Vec3& eye, cons
   g.position = drawsPosition_ == 1 ? readPosition_.data() : nullptr;
   g.fromNdc = inverse(projView);
   lights.shadeOnCpu(g, eye, colours_.data());
+  if (background) {
+    // The blit copies every pixel: those without a surface (all 0) take the target's clear colour.
+    std::uint32_t fill = 0xff000000u, *pixel = reinterpret_cast<std::uint32_t*>(colours_.data());
+    std::memcpy(&fill, background, 3);
+    for (std::size_t i = 0; i < n; ++i)
+      if (pixel[i] == 0) pixel[i] = fill;
+  }
   glTextureSubImage2D(final_.id(), 0, 0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE,
                       colours_.data());
 }
 
-double DeferredTarget::light(GLuint framebuffer, const ExtraLights& lights, const Vec3& eye,
-                             const Mat4& projView, bool normals) {
+double DeferredTarget::light(const Output& out, const ExtraLights& lights, const Vec3& eye,
+                             const Mat4& projView) {
   const auto start = std::chrono::steady_clock::now();
   const bool cpu = lights.shadesOnCpu();
-  if (cpu) shadeOnCpu(lights, eye, projView);
+  const bool blit = cpu && !out.normals && !out.depth;
+  if (cpu) shadeOnCpu(lights, eye, projView, blit ? out.background.data() : nullptr);
   const double seconds =
       cpu ? std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() : 0.0;
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+  if (blit) {
+    // Same size and format: llvmpipe copies the rows, where the pass below runs a fragment
+    // program over every pixel to fetch the colour and the depth (5-6 ms of Fig. 11's 960 x 540,
+    // docs/benchmarks.md).
+    glBlitNamedFramebuffer(finalRead_.id(), out.framebuffer, 0, 0, width_, height_, 0, 0, width_,
+                           height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_FRAMEBUFFER, out.framebuffer);
+    return seconds;
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, out.framebuffer);
   const GLuint p = cpu ? cpuLighting_.id() : lighting_.id();
   if (!cpu) lights.apply(p);
   setVec3(p, "u_eye", eye);
-  setInt(p, "u_normals", normals ? 1 : 0);
+  setInt(p, "u_normals", out.normals ? 1 : 0);
   GLuint unit = 0;
   for (const gl::Texture* t : {&lit_, &albedo_, &position_, &normal_, &depth_})
     glBindTextureUnit(unit++, t->id());

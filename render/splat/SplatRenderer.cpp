@@ -268,7 +268,7 @@ void SplatRenderer::drawDeferred(const SplatFrame& frame, SplatKind kind, const 
   // 1. The G-buffer: the opaque layers (solids) and the water when it is opaque.
   const bool opaque = lighting.alpha >= 1.0f;
   const bool points = opaque && kind == SplatKind::Point && !frame.points.empty();
-  deferred_->begin(w, h, !lighting.extra->shadesOnCpu() || points);
+  deferred_->begin(w, h, lighting.extra->shadesOnCpu(), points);
   glViewport(0, 0, w, h);
   // The error figures' frame has the solids too (drawLayers); the lighting pass keeps them out of
   // its normal target.
@@ -280,20 +280,29 @@ void SplatRenderer::drawDeferred(const SplatFrame& frame, SplatKind kind, const 
   if (opaque) drawSplats(frame, kind, cam, lighting, gbufferProgramFor(kind));
   glFinish();  // the passes' times apart (Fig. 11's breakdown; llvmpipe drains between them anyway)
   const auto gbuffer = Clock::now();
-  // 2. One full-screen pass adds the particle lights where the G-buffer holds a surface.
-  // With lights.shade "cpu" the term is computed on the CPU first (passes_.particles).
-  const bool scored = offscreen && contents_ == ImageContents::ColourAndNormals;
-  passes_.particles =
-      deferred_->light(static_cast<GLuint>(target), *lighting.extra, cam.eye, cam.projView, scored);
+  // 2. One full-screen pass adds the particle lights where the G-buffer holds a surface. With
+  // lights.shade "cpu" each pixel's colour is computed on the CPU first (passes_.particles) and
+  // copied: by that pass, or by a blit where nothing drawn after needs the depth.
+  DeferredTarget::Output out;
+  out.framebuffer = static_cast<GLuint>(target);
+  out.normals = offscreen && contents_ == ImageContents::ColourAndNormals;
+  // The frame's depth is wanted only by what is drawn after this pass (each depth tested):
+  // forward layers, translucent water, the walls' points, the layers after the water.
+  const bool water = kind == SplatKind::Point ? !frame.points.empty() : !frame.indices.empty();
+  out.depth = !forward.empty() || (!opaque && water) || boundaryCount_ > 0 ||
+              hasLayers(FrameLayer::Order::AfterSplats);
+  for (int k = 0; k < 3; ++k)
+    out.background[static_cast<std::size_t>(k)] = toSrgb8(lighting.background[k]);
+  passes_.particles = deferred_->light(out, *lighting.extra, cam.eye, cam.projView);
   glFinish();
   passes_.gbuffer = std::chrono::duration<double>(gbuffer - start).count();
   passes_.lighting =
       std::chrono::duration<double>(Clock::now() - gbuffer).count() - passes_.particles;
   // 3. Forward on top, depth tested against the lit frame: layers without a G-buffer program and
   // translucent water, which a G-buffer of one surface per pixel cannot blend (docs/lights.md).
-  if (scored) selectDrawBuffers(ImageContents::Colour);
+  if (out.normals) selectDrawBuffers(ImageContents::Colour);
   for (FrameLayer* layer : forward) layer->draw(cam, lighting);
-  if (scored) selectDrawBuffers(contents_);
+  if (out.normals) selectDrawBuffers(contents_);
   if (!opaque) drawSplats(frame, kind, cam, lighting, programFor(kind, true));
 }
 
