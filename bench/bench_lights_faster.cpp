@@ -403,7 +403,7 @@ int main(int argc, char** argv) {
   const std::string what = argc > 1 ? argv[1] : "";
   for (int i = 2; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--max-lights")) maxLights = std::strtoull(argv[i + 1], nullptr, 10);
-    if (!std::strcmp(argv[i], "--repeat")) repeat = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--repeat")) repeat = std::max(1, std::atoi(argv[i + 1]));
     if (!std::strcmp(argv[i], "--accumulate") && !std::strcmp(argv[i + 1], "cpu"))
       accumulate = LightAccumulate::Cpu;
     if (!std::strcmp(argv[i], "--pixels")) pixels = std::strtof(argv[i + 1], nullptr);

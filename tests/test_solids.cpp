@@ -13,6 +13,7 @@
 #include "render/solids/DrawOrder.h"
 #include "render/solids/SolidMesh.h"
 #include "render/solids/SolidRenderer.h"
+#include "render/splat/ExtraLights.h"
 #include "render/splat/ReferenceRaymarcher.h"
 #include "render/splat/SplatBuilder.h"
 #include "render/splat/SplatRenderer.h"
@@ -226,6 +227,14 @@ TEST_F(SolidsGl, TheReferenceEndsItsRaysOnTheSolids) {
   EXPECT_GT(e.psnr, 25.0);
 }
 
+// A deferred pipeline with no lights of its own: the frame goes through the G-buffer and the
+// lighting pass, which add nothing (the hook's switches off).
+class DeferredWithoutLights : public splat::ExtraLights {
+ public:
+  void apply(GLuint program) const override { splat::applyExtraLights(program, splat::Lighting{}); }
+  bool deferred() const override { return true; }
+};
+
 // Fig. 11's kind of frame in small: a floor drawn first in the order given, spheres and blocks
 // over it and over each other. Nearest first, the picture is the same to the bit (the depth test
 // keeps the nearest surface either way), forward and into the deferred G-buffer.
@@ -252,12 +261,18 @@ TEST_F(SolidsGl, DrawnNearestFirstThePictureIsTheSame) {
   splat::SplatRenderer r(160, 120);
   SolidRenderer solids(shapes, kDomain, 0.01f);
   r.setLayers({&solids});
+  const DeferredWithoutLights deferredPipeline;
   for (bool deferred : {false, true}) {
     SCOPED_TRACE(deferred ? "deferred" : "forward");
+    splat::Lighting lighting;
+    if (deferred) lighting.extra = &deferredPipeline;
     solids.frontToBack = true;
-    const splat::RenderImage a = r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera, {});
+    const splat::RenderImage a =
+        r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera, lighting);
+    EXPECT_EQ(r.lastPasses().gbuffer > 0, deferred) << "the G-buffer pass ran";
     solids.frontToBack = false;
-    const splat::RenderImage b = r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera, {});
+    const splat::RenderImage b =
+        r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera, lighting);
     std::size_t spheres = 0;
     for (std::size_t i = 0; i < a.rgb.size(); i += 3) spheres += a.rgb[i] != a.rgb[0];
     EXPECT_GT(spheres, a.rgb.size() / 3 / 4) << "something drawn";

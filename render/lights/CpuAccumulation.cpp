@@ -11,10 +11,6 @@
 // AVX-512 (F, DQ): the count pass tests 16 lights at a time (testSixteen).
 #if defined(__AVX512F__) && defined(__AVX512DQ__)
 #define SPHSPLAT_SUMS_AVX512 1
-// GCC 12 warns of the `_mm512_undefined_*()` that its own AVX-512 intrinsics pass as the unused
-// source of unmasked operations (a false positive, GCC bug 105593).
-#pragma GCC diagnostic ignored "-Wuninitialized"
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #endif
 
 #include "sim/Parallel.h"
@@ -71,6 +67,11 @@ inline std::int64_t roundToInteger(float x) {
 }
 
 #ifdef SPHSPLAT_SUMS_AVX512
+// GCC 12 warns of the `_mm512_undefined_*()` that its own AVX-512 intrinsics pass as the unused
+// source of unmasked operations (a false positive, GCC bug 105593): off for this function only.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 // The count pass's test of 16 lights at once (lights[0..16)): which the cull keeps, and the
 // voxels each reaches along each axis (`lo`, `hi`, inclusive) - accumulateOnCpu's keeps() and
 // within() with the same steps in the same order, lane by lane: ViewCull::keeps as GCC builds
@@ -134,6 +135,7 @@ inline void testSixteen(const LightParticle* lights, const ViewCull* cull, const
   }
   out.kept = keep, out.inside = inside;
 }
+#pragma GCC diagnostic pop
 #endif
 
 }  // namespace

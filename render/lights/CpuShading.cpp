@@ -6,12 +6,6 @@
 #if defined(__F16C__) || defined(__AVX512F__)
 #include <immintrin.h>
 #endif
-#if defined(__AVX512F__) && defined(__AVX512DQ__)
-// GCC 12 warns of the `_mm512_undefined_*()` that its own AVX-512 intrinsics pass as the unused
-// source of unmasked operations (a false positive, GCC bug 105593).
-#pragma GCC diagnostic ignored "-Wuninitialized"
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#endif
 
 #include "render/splat/Srgb8Table.h"
 #include "sim/Parallel.h"
@@ -79,6 +73,11 @@ void lowerCentres(const float* __restrict g, int* __restrict lower, float* __res
 // (0, 1), (1, 1); `wyz[q]` its weight, `wx` the two along x. Per channel and x, the four corners'
 // weighted texels summed in that order, then the two x sums added: the same float steps on each
 // path (this file is built without FMA contraction).
+// GCC 12 warns of the `_mm512_undefined_*()` that its own AVX-512 intrinsics pass as the unused
+// source of unmasked operations (a false positive, GCC bug 105593): off for this function only.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 inline void blend(const Texel* const colour[4], const Texel* const direction[4], const float wyz[4],
                   const float wx[2], float outColour[4], float outDirection[4]) {
 #if defined(__AVX512F__) && defined(__AVX512DQ__)
@@ -122,6 +121,7 @@ inline void blend(const Texel* const colour[4], const Texel* const direction[4],
   }
 #endif
 }
+#pragma GCC diagnostic pop
 
 }  // namespace
 

@@ -11,8 +11,9 @@
 //
 // Every path (AVX-512, AVX2, plain C++) does the same float operations in the same order, and
 // this file is built without contracting a * b + c into FMAs (render/lights/CMakeLists.txt): a
-// pixel's term is at()'s at its position, bit for bit, on every build
-// (tests/test_lights_shade.cpp).
+// pixel whose position the G-buffer holds gets at()'s term at that position, the same 8-bit
+// colour on every build (tests/test_lights_shade.cpp). A position rebuilt from the depth takes
+// its voxel coordinate as (p - origin) * (1 / voxel) rather than at()'s / voxel: within an ulp.
 #pragma once
 
 #include <cstddef>

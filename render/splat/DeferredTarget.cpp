@@ -145,7 +145,13 @@ double DeferredTarget::light(const Output& out, const ExtraLights& lights, const
                              const Mat4& projView) {
   const auto start = std::chrono::steady_clock::now();
   const bool cpu = lights.shadesOnCpu();
-  const bool blit = cpu && !out.normals && !out.depth;
+  // The blit covers (0, 0, width, height) of the target: only where that is the viewport the pass
+  // below would draw into (a caller drawing a panel of a larger frame gets the pass).
+  GLint viewport[4] = {0, 0, 0, 0};
+  glGetIntegerv(GL_VIEWPORT, viewport);
+  const bool whole =
+      viewport[0] == 0 && viewport[1] == 0 && viewport[2] == width_ && viewport[3] == height_;
+  const bool blit = cpu && !out.normals && !out.depth && whole;
   if (cpu) shadeOnCpu(lights, eye, projView, blit ? out.background.data() : nullptr);
   const double seconds =
       cpu ? std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() : 0.0;

@@ -45,7 +45,8 @@ class DeferredTarget {
   // the CPU and uploads it (lights.shade "cpu"; the pass then copies it); returns the seconds that
   // took (0 otherwise). Then, where neither out.normals nor out.depth is wanted, the copy is a
   // blit of the whole image, the pixels without a surface set to out.background on the CPU: no
-  // full-screen pass, no depth written (docs/lights.md, "Shading on the CPU"). `projView`: the
+  // full-screen pass, no depth written (docs/lights.md, "Shading on the CPU"); only where the
+  // viewport is the whole target (0, 0, width, height), else the pass runs. `projView`: the
   // frame's.
   double light(const Output& out, const ExtraLights& lights, const Vec3& eye, const Mat4& projView);
 
