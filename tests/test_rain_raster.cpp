@@ -5,12 +5,20 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
 
+#if defined(__AVX512F__)
+// GCC 12 warns of the `_mm512_undefined_*()` that its own AVX-512 intrinsics pass as the unused
+// source of unmasked operations (a false positive, GCC bug 105593).
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include "render/gl/GlContext.h"
 #include "render/gl/GlHandle.h"
+#include "render/rain/ExpNear.h"
 #include "render/rain/RainRenderer.h"
 #include "render/rain/StreakRaster.h"
 #include "render/rain/StreakSums.h"
@@ -455,6 +463,70 @@ TEST(StreakSums, RunsEitherSideOfAStripEdgeLandInTheirOwnPixels) {
     EXPECT_NEAR(layer[4 * p + 3], t, 2e-4f) << p;
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(layer[4 * p + k], colour[k] * (1 - t), 2e-4f) << p;
   }
+}
+
+// The resolve's exp (render/rain/ExpNear.h) at every x = -w 2^-18 the sums give for w up to
+// 2^23 (T down to exp(-32)) in steps of 7, and past the clamp: within 2 ulp of std::exp, exp(0) = 1
+// exactly, and the lanes the same bits as one at a time.
+TEST(StreakSums, TheResolvesExpIsWithinTwoUlpAndTheLanesGiveTheSameBits) {
+  std::vector<float> xs;
+  for (std::int32_t w = 0; w < (1 << 23); w += 7) xs.push_back(static_cast<float>(w) * -0x1p-18f);
+  for (float x : {-80.0f, -86.9f, -87.0f, -90.0f, -500.0f}) xs.push_back(x);
+  while (xs.size() % 16 != 0) xs.push_back(0);
+  EXPECT_EQ(expNear(0.0f), 1.0f);
+  float worst = 0;
+  for (float x : xs) {
+    const float e = expNear(x), exact = std::exp(std::max(x, -87.0f));
+    worst = std::max(worst, std::abs(e - exact) / (std::nextafter(exact, 2.0f) - exact));
+  }
+  EXPECT_LE(worst, 2.0f);
+  EXPECT_LT(expNear(-500.0f), 2e-38f);
+#if defined(__AVX512F__)
+  for (std::size_t i = 0; i < xs.size(); i += 16) {
+    alignas(64) float lanes[16];
+    _mm512_store_ps(lanes, expNear(_mm512_loadu_ps(xs.data() + i)));
+    for (int k = 0; k < 16; ++k) ASSERT_EQ(lanes[k], expNear(xs[i + k])) << xs[i + k];
+  }
+#endif
+}
+
+// A frame 40 columns wide: a strip of 32 and one of 8 (the lanes' masked tail). Each column k
+// gets k + 1 lines over rows [k, 30): every pixel against its T = (1 - a)^lines and L = c (1 - T),
+// and columns 3 and 35 - the same lines, in the full strip and in the tail - the same bits.
+TEST(StreakSums, TheResolveWritesEachPixelsSumsInFullAndPartStrips) {
+  constexpr int kW = 40, kH = 30;
+  const std::vector<float> depth(kW * kH, 1.0f);
+  const Vec3 colour(0.8f, 0.6f, 0.4f);
+  const float alpha = 0.125f;
+  StreakSums sums;
+  sums.begin(kW, kH, depth.data(), 1);
+  const auto linesOf = [](int x) { return x < 32 ? x + 1 : x - 31; };  // column 35 as column 3
+  for (int x = 0; x < kW; ++x) {
+    Line l{};
+    l.xt = static_cast<float>(x) + 0.5f, l.yt = static_cast<float>(x % 32), l.zt = 0.5f;
+    l.invDy = 1.0f / static_cast<float>(kH - x % 32), l.coverage = 0.5f;
+    l.first = x % 32, l.end = kH;
+    for (int k = 0; k < linesOf(x); ++k) sums.add(0, l, l.first, l.end, colour, alpha);
+  }
+  std::vector<float> layer(4 * kW * kH, -1.0f);
+  sums.resolve(layer.data());
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      const float* q = layer.data() + 4 * (static_cast<std::size_t>(y) * kW + x);
+      const int over = y >= x % 32 ? linesOf(x) : 0;
+      const float t = std::pow(1 - alpha, static_cast<float>(over));
+      EXPECT_NEAR(q[3], t, 2e-4f * static_cast<float>(over)) << x << " " << y;
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(q[k], colour[k] * (1 - t), 2e-4f * static_cast<float>(over)) << x << " " << y;
+      if (over == 0) {
+        EXPECT_EQ(std::vector<float>(q, q + 4), (std::vector<float>{0, 0, 0, 1}));
+      }
+    }
+  for (int y = 0; y < kH; ++y)
+    for (int k = 0; k < 4; ++k)
+      EXPECT_EQ(layer[4 * (static_cast<std::size_t>(y) * kW + 3) + k],
+                layer[4 * (static_cast<std::size_t>(y) * kW + 35) + k])
+          << y;
 }
 
 }  // namespace
