@@ -18,6 +18,7 @@
 #endif
 #include "render/gl/GlContext.h"
 #include "render/gl/GlHandle.h"
+#include "render/rain/ComposeOver.h"
 #include "render/rain/ExpNear.h"
 #include "render/rain/RainRenderer.h"
 #include "render/rain/StreakRaster.h"
@@ -527,6 +528,47 @@ TEST(StreakSums, TheResolveWritesEachPixelsSumsInFullAndPartStrips) {
       EXPECT_EQ(layer[4 * (static_cast<std::size_t>(y) * kW + 3) + k],
                 layer[4 * (static_cast<std::size_t>(y) * kW + 35) + k])
           << y;
+}
+
+// The CPU composite (render/rain/ComposeOver.h) over 1,027 pixels (the lanes take 4 at a time, the
+// last 3 one at a time): each channel within rounding of 255 L + T c (exactly at most a few in a
+// thousand off by one, at a half), clamped, the alpha kept, pixels no streak covers unchanged, and
+// the tail's pixels - copies of the first three - the same bytes as the lanes gave them.
+TEST(ComposeOver, EachChannelIsTheLayerOverTheFrameRoundedAndTheAlphaKept) {
+  constexpr int kPixels = 1027;
+  std::vector<float> layer(4 * kPixels);
+  std::vector<std::uint8_t> rgba(4 * kPixels);
+  std::uint32_t state = 12345;
+  const auto next = [&state]() { return state = state * 1664525u + 1013904223u, state >> 8; };
+  for (int p = 0; p < kPixels; ++p) {
+    const float t = static_cast<float>(next() % 1001) / 1000.0f;
+    for (int k = 0; k < 3; ++k)
+      layer[4 * p + k] = (1 - t) * static_cast<float>(next() % 1001) / 1000.0f;
+    layer[4 * p + 3] = t;
+    for (int k = 0; k < 4; ++k) rgba[4 * p + k] = static_cast<std::uint8_t>(next());
+  }
+  for (int p : {5, 6, 7})
+    layer[4 * p] = layer[4 * p + 1] = layer[4 * p + 2] = 0, layer[4 * p + 3] = 1;
+  layer[4 * 8] = 1.0f, layer[4 * 8 + 3] = 1.0f, rgba[4 * 8] = 255;  // over 255: clamped
+  for (int k = 0; k < 12; ++k)  // the tail: copies of pixels 0, 1, 2
+    layer[4 * (kPixels - 3) + k] = layer[k], rgba[4 * (kPixels - 3) + k] = rgba[k];
+  const std::vector<std::uint8_t> before = rgba;
+  composeOver(layer, rgba);
+  int offByOne = 0;
+  for (int p = 0; p < kPixels; ++p) {
+    EXPECT_EQ(rgba[4 * p + 3], before[4 * p + 3]) << p;
+    for (int k = 0; k < 3; ++k) {
+      const double v = 255.0 * layer[4 * p + k] + double{layer[4 * p + 3]} * before[4 * p + k];
+      const double expected = std::floor(std::clamp(v, 0.0, 255.0) + 0.5);
+      EXPECT_NEAR(rgba[4 * p + k], expected, 1.0) << p << " " << k;
+      offByOne += rgba[4 * p + k] != expected;
+    }
+  }
+  EXPECT_LE(offByOne, 3 * kPixels / 100);
+  for (int p : {5, 6, 7})
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(rgba[4 * p + k], before[4 * p + k]);
+  EXPECT_EQ(rgba[4 * 8], 255);
+  for (int k = 0; k < 12; ++k) EXPECT_EQ(rgba[4 * (kPixels - 3) + k], rgba[k]) << k;
 }
 
 }  // namespace
