@@ -420,6 +420,16 @@ TEST(StreakSums, ALineLeavingTheFrameOnTheLeftAddsOnlyItsRowsInside) {
   EXPECT_EQ(grouped, one);
 }
 
+// A line half a pixel wide from (x, first) over rows [first, end), moving dx columns over them,
+// at depth 0.5.
+Line lineOver(float x, float dx, int first, int end) {
+  Line l{};
+  l.xt = x, l.yt = static_cast<float>(first), l.zt = 0.5f, l.dx = dx, l.dz = 0;
+  l.invDy = 1.0f / static_cast<float>(end - first), l.coverage = 0.5f;
+  l.first = first, l.end = end;
+  return l;
+}
+
 // The runs are listed per strip of columns and added strip by strip (StreakSums.h): straight
 // lines in the columns either side of strip edges, one running on to the last row, and a line
 // slanted across an edge, against each pixel's value worked out by hand - T = exp(-sum b) of the
@@ -431,20 +441,13 @@ TEST(StreakSums, RunsEitherSideOfAStripEdgeLandInTheirOwnPixels) {
   const float alpha = 0.25f;
   StreakSums sums;
   sums.begin(kW, kH, depth.data(), 2);
-  auto line = [](float x, float dx, int first, int end) {
-    Line l{};
-    l.xt = x, l.yt = static_cast<float>(first), l.zt = 0.5f, l.dx = dx, l.dz = 0;
-    l.invDy = 1.0f / static_cast<float>(end - first), l.coverage = 0.5f;
-    l.first = first, l.end = end;
-    return l;
-  };
   // Columns 31 | 32 and 63 | 64; the last one from row 20 to the top.
-  std::uint64_t fragments = sums.add(0, line(31.5f, 0, 2, 12), 2, 12, colour, alpha);
-  fragments += sums.add(1, line(32.5f, 0, 5, 15), 5, 15, colour, alpha);
-  fragments += sums.add(0, line(63.5f, 0, 0, 10), 0, 10, colour, alpha);
-  fragments += sums.add(1, line(64.5f, 0, 20, kH), 20, kH, colour, alpha);
+  std::uint64_t fragments = sums.add(0, lineOver(31.5f, 0, 2, 12), 2, 12, colour, alpha);
+  fragments += sums.add(1, lineOver(32.5f, 0, 5, 15), 5, 15, colour, alpha);
+  fragments += sums.add(0, lineOver(63.5f, 0, 0, 10), 0, 10, colour, alpha);
+  fragments += sums.add(1, lineOver(64.5f, 0, 20, kH), 20, kH, colour, alpha);
   // From column 62 to column 65 over rows 10..22: across the edge at 64.
-  fragments += sums.add(0, line(62.2f, 3, 10, 22), 10, 22, colour, alpha);
+  fragments += sums.add(0, lineOver(62.2f, 3, 10, 22), 10, 22, colour, alpha);
   std::vector<float> layer(4 * kW * kH);
   sums.resolve(layer.data());
   EXPECT_EQ(fragments, 10u + 10u + 10u + 10u + 12u);
@@ -491,34 +494,33 @@ TEST(StreakSums, TheResolvesExpIsWithinTwoUlpAndTheLanesGiveTheSameBits) {
 #endif
 }
 
-// A frame 40 columns wide: a strip of 32 and one of 8 (the lanes' masked tail). Each column k
-// gets k + 1 lines over rows [k, 30): every pixel against its T = (1 - a)^lines and L = c (1 - T),
-// and columns 3 and 35 - the same lines, in the full strip and in the tail - the same bits.
+// A frame 40 columns wide: a strip of 32 and one of 8 (the lanes' masked tail). Column x gets
+// lines(x) lines over rows [x % 32, 40): every pixel against its T = (1 - a)^lines and L = c (1 -
+// T), and columns 3 and 35 - the same lines, in the full strip and in the tail - the same bits.
 TEST(StreakSums, TheResolveWritesEachPixelsSumsInFullAndPartStrips) {
-  constexpr int kW = 40, kH = 30;
+  constexpr int kW = 40, kH = 40;
+  const auto lines = [](int x) { return x < 32 ? x + 1 : x - 31; };  // column 35 as column 3
   const std::vector<float> depth(kW * kH, 1.0f);
-  const Vec3 colour(0.8f, 0.6f, 0.4f);
-  const float alpha = 0.125f;
-  StreakSums sums;
-  sums.begin(kW, kH, depth.data(), 1);
-  const auto linesOf = [](int x) { return x < 32 ? x + 1 : x - 31; };  // column 35 as column 3
-  for (int x = 0; x < kW; ++x) {
-    Line l{};
-    l.xt = static_cast<float>(x) + 0.5f, l.yt = static_cast<float>(x % 32), l.zt = 0.5f;
-    l.invDy = 1.0f / static_cast<float>(kH - x % 32), l.coverage = 0.5f;
-    l.first = x % 32, l.end = kH;
-    for (int k = 0; k < linesOf(x); ++k) sums.add(0, l, l.first, l.end, colour, alpha);
-  }
   std::vector<float> layer(4 * kW * kH, -1.0f);
-  sums.resolve(layer.data());
+  {
+    StreakSums sums;
+    sums.begin(kW, kH, depth.data(), 1);
+    for (int x = 0; x < kW; ++x)
+      for (int k = 0; k < lines(x); ++k)
+        sums.add(0, lineOver(static_cast<float>(x) + 0.5f, 0, x % 32, kH), x % 32, kH,
+                 Vec3(0.8f, 0.6f, 0.4f), 0.125f);
+    sums.resolve(layer.data());
+  }
   for (int y = 0; y < kH; ++y)
     for (int x = 0; x < kW; ++x) {
       const float* q = layer.data() + 4 * (static_cast<std::size_t>(y) * kW + x);
-      const int over = y >= x % 32 ? linesOf(x) : 0;
-      const float t = std::pow(1 - alpha, static_cast<float>(over));
-      EXPECT_NEAR(q[3], t, 2e-4f * static_cast<float>(over)) << x << " " << y;
-      for (int k = 0; k < 3; ++k)
-        EXPECT_NEAR(q[k], colour[k] * (1 - t), 2e-4f * static_cast<float>(over)) << x << " " << y;
+      const int over = y >= x % 32 ? lines(x) : 0;
+      const float t = std::pow(1 - 0.125f, static_cast<float>(over));
+      const float bound = 2e-4f * static_cast<float>(over);
+      EXPECT_NEAR(q[3], t, bound) << x << " " << y;
+      EXPECT_NEAR(q[0], 0.8f * (1 - t), bound) << x << " " << y;
+      EXPECT_NEAR(q[1], 0.6f * (1 - t), bound) << x << " " << y;
+      EXPECT_NEAR(q[2], 0.4f * (1 - t), bound) << x << " " << y;
       if (over == 0) {
         EXPECT_EQ(std::vector<float>(q, q + 4), (std::vector<float>{0, 0, 0, 1}));
       }

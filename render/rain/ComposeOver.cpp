@@ -25,7 +25,11 @@ void composePixels(const float* layer, std::uint8_t* rgba, std::ptrdiff_t first,
     const float* l = layer + 4 * p;
     std::uint8_t* c = rgba + 4 * p;
     for (int k = 0; k < 3; ++k) {
-      const float v = std::fma(l[3], static_cast<float>(c[k]), 255 * l[k]);
+#if defined(SPH_COMPOSE_LANES)
+      const float v = std::fma(l[3], static_cast<float>(c[k]), 255 * l[k]);  // as the lanes
+#else
+      const float v = l[3] * static_cast<float>(c[k]) + 255 * l[k];
+#endif
       c[k] = static_cast<std::uint8_t>(std::min(255.0f, std::max(0.0f, v)) + 0.5f);
     }
   }

@@ -14,8 +14,6 @@
 // source of unmasked operations (a false positive, GCC bug 105593).
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#endif
-#if defined(__AVX512F__)
 #include <immintrin.h>
 #elif defined(__SSE2__)
 #include <emmintrin.h>
@@ -31,8 +29,9 @@ constexpr float kScale = 262144.0f;
 // at a = 0.99 and 1e-7 at a = 0.5. logf took a tenth of the tier's time.
 constexpr int kWeights = 4096;
 
-// One pixel of the layer from its sums (the lanes' resolvePixels() below in the other builds) p (L
-// = (p0, p1, p2) (1 - T) / p3, T = exp(-p3 / kScale)); (0, 0, 0, 1) where no line is.
+// One pixel of the layer from its sums p: L = (p0, p1, p2) (1 - T) / p3, T = exp(-p3 / kScale),
+// and (0, 0, 0, 1) where no line is. For the builds without AVX-512 (resolvePixels() below: the
+// same operations, the same bits).
 [[maybe_unused]] void resolvePixel(const std::int32_t* p, float* q) {
   if (p[3] <= 0) {
     q[0] = q[1] = q[2] = 0, q[3] = 1;
