@@ -6,6 +6,7 @@
 // real path.
 //   bench_rain --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,9 +18,11 @@
 
 #include "render/gl/GlContext.h"
 #include "render/gl/GlHandle.h"
+#include "render/rain/ComposeOver.h"
 #include "render/rain/RainRenderer.h"
 #include "render/rain/StreakImages.h"
 #include "render/rain/StreakRaster.h"
+#include "render/rain/StreakSums.h"
 #include "render/splat/SplatRenderer.h"
 #include "sim/Camera.h"
 #include "sim/rain/RainRandom.h"
@@ -197,6 +200,60 @@ BENCHMARK(RainRasterSums)
     ->Args({1000000, 400})
     ->Args({1000000, 800})
     ->Unit(benchmark::kMillisecond);
+
+// The sums' resolve alone (render/rain/StreakSums.h): `range(0)` upright lines of 1-25 rows at
+// random over the 960x540 frame (1,000,000: ~13 lines a pixel, each pixel touched, near the bench
+// camera's 1.0 M runs), added once, then resolved each iteration (it leaves its strips zeroed and
+// keeps the runs). args: lines.
+void RainSumsResolve(benchmark::State& state) {
+  const int threads = omp_get_max_threads();
+  const std::vector<float> depth(static_cast<std::size_t>(kWidth) * kHeight, 1.0f);
+  std::vector<float> layer(4 * depth.size());
+  render::rain::StreakSums sums;
+  sums.begin(kWidth, kHeight, depth.data(), threads);
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> u(0, 1);
+  for (std::int64_t i = 0; i < state.range(0); ++i) {
+    const int first = static_cast<int>(u(rng) * (kHeight - 1));
+    const int end = std::min(kHeight, first + 1 + static_cast<int>(u(rng) * 25));
+    render::rain::Line l{};
+    l.xt = u(rng) * (kWidth - 1) + 0.5f, l.yt = static_cast<float>(first), l.zt = 0.5f;
+    l.invDy = 1.0f / static_cast<float>(end - first), l.coverage = 0.5f;
+    l.first = first, l.end = end;
+    const Vec3 c(u(rng), u(rng), u(rng));
+    sums.add(static_cast<int>(i % threads), l, first, end, c, 0.02f + 0.2f * u(rng));
+  }
+  for (auto _ : state) {
+    sums.resolve(layer.data());
+    benchmark::DoNotOptimize(layer.data());
+  }
+  state.counters["runs"] = static_cast<double>(sums.runs());
+}
+BENCHMARK(RainSumsResolve)->Arg(1000000)->Unit(benchmark::kMillisecond);
+
+// The CPU path's composite alone (render/rain/ComposeOver.h): a 960x540 layer, every pixel
+// touched, over a frame of random bytes (copied back in each iteration, outside the timing).
+void RainCompose(benchmark::State& state) {
+  const std::size_t pixels = static_cast<std::size_t>(kWidth) * kHeight;
+  std::vector<float> layer(4 * pixels);
+  std::vector<std::uint8_t> frame(4 * pixels), rgba;
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> u(0, 1);
+  for (std::size_t p = 0; p < pixels; ++p) {
+    const float t = u(rng);
+    for (int k = 0; k < 3; ++k) layer[4 * p + k] = u(rng) * (1 - t);
+    layer[4 * p + 3] = t;
+  }
+  for (auto& b : frame) b = static_cast<std::uint8_t>(rng());
+  for (auto _ : state) {
+    state.PauseTiming();
+    rgba = frame;
+    state.ResumeTiming();
+    render::rain::composeOver(layer, rgba);
+    benchmark::DoNotOptimize(rgba.data());
+  }
+}
+BENCHMARK(RainCompose)->Unit(benchmark::kMillisecond);
 
 // The paper's Fig. 8 layout: a whole frame of rain against the budget - update (move + respawn)
 // + upload + draw + read back, 960x540, no water - while the camera pans 90 degrees a second.

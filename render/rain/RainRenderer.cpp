@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "render/gl/Shader.h"
+#include "render/rain/ComposeOver.h"
 #include "render/rain/StreakImages.h"
 #include "render/splat/ProgramUniforms.h"
 #include "render/splat/SpotlightUniforms.h"
@@ -12,22 +13,6 @@ namespace sph::render::rain {
 namespace {
 
 constexpr int kStreakWidth = 16, kStreakHeight = 64;  // pixels of one streak image
-
-// frame = L + T frame (StreakRaster::layer()) for the frame's 8-bit colour `rgba` (row-major,
-// 4 bytes a pixel, sRGB-encoded as the layer's L), in place, rounded to the nearest; the alpha is
-// kept. A pixel no streak covers, (0, 0, 0, 1), keeps its bytes exactly.
-void composeOver(const std::vector<float>& layer, std::vector<std::uint8_t>& rgba) {
-  const auto pixels = static_cast<std::ptrdiff_t>(rgba.size() / 4);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t p = 0; p < pixels; ++p) {
-    const float* l = layer.data() + 4 * p;
-    std::uint8_t* c = rgba.data() + 4 * p;
-    for (int k = 0; k < 3; ++k) {
-      const float v = 255 * l[k] + l[3] * static_cast<float>(c[k]);
-      c[k] = static_cast<std::uint8_t>(std::min(255.0f, std::max(0.0f, v)) + 0.5f);
-    }
-  }
-}
 
 }  // namespace
 
