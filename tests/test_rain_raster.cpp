@@ -573,5 +573,29 @@ TEST(ComposeOver, EachChannelIsTheLayerOverTheFrameRoundedAndTheAlphaKept) {
   for (int k = 0; k < 12; ++k) EXPECT_EQ(rgba[4 * (kPixels - 3) + k], rgba[k]) << k;
 }
 
+// A list more than four times larger than its last frame's runs gives its memory back at the next
+// frame: after a frame of 20,000 runs in one strip, then frames of one run, the lists hold room
+// for a few runs, not 20,000 (review of 2026-11-27: memory was every list's peak).
+TEST(StreakSums, AListFarLargerThanItsLastFramesRunsGivesItsMemoryBack) {
+  constexpr int kW = 64, kH = 8;
+  const std::vector<float> depth(kW * kH, 1.0f);
+  const Vec3 colour(0.8f, 0.6f, 0.4f);
+  std::vector<float> layer(4 * kW * kH);
+  StreakSums sums;
+  auto frame = [&](int lines) {
+    sums.begin(kW, kH, depth.data(), 1);
+    for (int i = 0; i < lines; ++i) sums.add(0, lineOver(5.5f, 0, 0, 1), 0, 1, colour, 0.01f);
+    sums.resolve(layer.data());
+    EXPECT_EQ(sums.runs(), static_cast<std::size_t>(lines));
+  };
+  frame(20000);
+  EXPECT_GE(sums.runCapacity(), 20000u);
+  frame(20000);  // a steady frame keeps its room: no allocation
+  EXPECT_GE(sums.runCapacity(), 20000u);
+  frame(1), frame(1);
+  EXPECT_LT(sums.runCapacity(), 4096u);
+  EXPECT_NEAR(layer[4 * (0 * kW + 5) + 3], 0.99f, 1e-3f);  // the one line still drawn
+}
+
 }  // namespace
 }  // namespace sph::render::rain

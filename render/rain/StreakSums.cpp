@@ -140,9 +140,20 @@ void StreakSums::begin(int width, int height, const float* depth, int threads) {
   width_ = width, height_ = height, depth_ = depth;
   threads_ = threads;
   stripCount_ = (width + kStrip - 1) / kStrip;
-  // Cleared, not freed: the lists keep their capacity from frame to frame.
+  // Cleared, not freed: the lists keep their capacity from frame to frame, but for a list more than
+  // four times larger than its last frame's runs (the rain moved across the screen, or fewer
+  // drops): without this, memory would be every list's peak, up to a strip holding all the runs.
   lists_.resize(static_cast<std::size_t>(threads) * stripCount_);
-  for (auto& list : lists_) list.clear();
+  constexpr std::size_t kAlwaysKept = 4096;  // runs (64 KiB)
+  for (auto& list : lists_) {
+    const std::size_t used = list.size();
+    list.clear();
+    if (list.capacity() > kAlwaysKept && list.capacity() > 4 * used) {
+      std::vector<Run> smaller;
+      smaller.reserve(2 * used);
+      list.swap(smaller);
+    }
+  }
   const int tiles = (height + kTileRows - 1) / kTileRows;
   nearest_.resize(static_cast<std::size_t>(tiles) * width);
 #pragma omp parallel for schedule(static)
@@ -226,6 +237,7 @@ std::uint64_t StreakSums::addLines(int thread, const Lines& lines, int count, co
 
 std::uint64_t StreakSums::add(int thread, const Line& line, int first, int end, const Vec3& c,
                               float alpha) {
+  if (first >= end) return 0;  // no rows (a run's rows must lie in the strip's buffer)
   std::int32_t v[4];
   if (!valueOf(c, alpha, v)) return 0;
   // The line's pixel in a row, as the lines' rows take it (StreakLine.cpp, rowsOneByOne): -1 left
@@ -274,6 +286,12 @@ std::uint64_t StreakSums::add(int thread, const Line& line, int first, int end, 
   }
   run(column, runStart, end);
   return fragments;
+}
+
+std::size_t StreakSums::runCapacity() const {
+  std::size_t room = 0;
+  for (const auto& list : lists_) room += list.capacity();
+  return room;
 }
 
 void StreakSums::resolve(float* layer) {

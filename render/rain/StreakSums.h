@@ -23,7 +23,7 @@
 // thread sets it up, to a list per strip of 32 columns; resolve() then takes one strip at a time,
 // adds its runs into a strip-sized buffer that stays in the core's cache (16 bytes x 32 columns x
 // the rows), and takes the running sums down its columns. No frame per thread: the memory is the
-// runs (24 bytes each) and a strip per thread. The depth test is per pixel, as the lines': a run
+// runs (16 bytes each) and a strip per thread. The depth test is per pixel, as the lines': a run
 // whose far end is nearer than every pixel of its column in the tiles of rows it spans is added
 // whole, any other row by row against the frame's depth.
 #pragma once
@@ -69,6 +69,8 @@ class StreakSums {
   void resolve(float* layer);
   // Runs the last frame added (before resolve()): what its lists held.
   std::size_t runs() const { return runs_; }
+  // Runs the lists have room for now, all threads and strips (their memory: 16 bytes a run).
+  std::size_t runCapacity() const;
 
  private:
   static constexpr int kTileRows = 64;  // rows of a tile of the nearest depth per column
