@@ -35,8 +35,8 @@ std::string refusalWithoutMpi(const MpiStarter& starter) {
   if (starter.processes <= 1) return {};
   return "started by an MPI launcher as one of " + std::to_string(starter.processes) +
          " processes, but this sphsplat is built without MPI, so each would run the whole job "
-         "alone; install Open MPI (scripts/setup --mpi) and rebuild (scripts/build), or run "
-         "without mpirun (docs/scaling.md)";
+         "alone; build the release preset, which has MPI (scripts/build), or run without "
+         "mpirun (docs/scaling.md)";
 }
 
 }  // namespace sph::app

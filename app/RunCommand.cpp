@@ -36,7 +36,7 @@ std::function<int()> addRunCommand(CLI::App& app) {
       "Exit codes: 0 done, 2 bad scene, cache or flags, 3 numerical blow-up (the message\n"
       "names the step, time and particle, and the cache's last good frame), 1 internal\n"
       "error, 130/143 stopped by SIGINT/SIGTERM (the cache keeps every finished frame).\n"
-      "On K processes (built with Open MPI: scripts/setup --mpi): mpirun -np K\n"
+      "On K processes (the release build has Open MPI): mpirun -np K\n"
       "sphsplat run SCENE ...; the cache is the same, bit for bit, with WCSPH or DFSPH\n"
       "(docs/scaling.md).");
   return [o, cmd]() { return cmd->parsed() ? runJob(*o) : -1; };

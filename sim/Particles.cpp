@@ -29,6 +29,7 @@ void Particles::permute(const std::vector<std::uint32_t>& order,
                         std::vector<std::uint32_t>& scratch) {
   const std::size_t n = size();
   SPH_ASSERT(order.size() == n);
+  if (n == 0) return;  // empty fields' data() may be null, which memcpy must not be given
   scratch.resize(n);
   // Every field is 4 bytes wide, so one uint32 scratch array serves them all.
   forEachField([&](auto& field) {

@@ -57,9 +57,8 @@ TEST(Cli, WithoutMpiALaunchAsSeveralProcessesIsRefused) {
   EXPECT_EQ(rank0.exitCode, 2);
   EXPECT_EQ(rank0.output,
             "sphsplat: started by an MPI launcher as one of 3 processes, but this sphsplat is "
-            "built without MPI, so each would run the whole job alone; install Open MPI "
-            "(scripts/setup --mpi) and rebuild (scripts/build), or run without mpirun "
-            "(docs/scaling.md)\n");
+            "built without MPI, so each would run the whole job alone; build the release "
+            "preset, which has MPI (scripts/build), or run without mpirun (docs/scaling.md)\n");
   // The other ranks refuse silently: the line is said once.
   const auto rank2 =
       test::runShell("PMI_SIZE=3 PMI_RANK=2 " + test::sphsplatCommand() + " " + job + " 2>&1");

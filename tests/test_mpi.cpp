@@ -1,8 +1,7 @@
 // A run on K processes (mpirun -np K; docs/scaling.md) writes the same cache as one process, bit
 // for bit, for K = 1..4: every frame and every resume record. A resume may change K. Bad use is
-// refused with one line and exit 2. Built and run in every build with MPI (the release preset
-// when Open MPI is installed, SPHSPLAT_MPI=AUTO); the ranks are real processes started by Open
-// MPI's mpirun (oversubscribed: this machine has 2 cores). The cache under kills, failed writes
+// refused with one line and exit 2. Built and run in every build with MPI (the release and
+// portable presets, SPHSPLAT_MPI=ON); the ranks are real processes started by Open MPI's mpirun (oversubscribed: this machine has 2 cores). The cache under kills, failed writes
 // and readers: tests/test_mpi_cache.cpp.
 #include <gtest/gtest.h>
 
