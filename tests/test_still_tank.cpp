@@ -26,12 +26,17 @@ TEST(StillTank, HydrostaticPressureAndDensityAfterSettling) {
   // `count` cells of spacing^3.
   const double surface = count * dx * dx * dx / (0.12 * 0.12);
 
-  sim.advanceTo(0.75);  // settle: the initial lattice is unloaded and falls into place
+  // Settle: the initial lattice is unloaded and falls into place, and the water along the walls
+  // takes seconds to find its rest. The floor sensor's centre read over 0.75 s windows (release
+  // build, AVX-512): -1.16% from 0.75 s, -0.9% from 1.5 s, -0.71% from 2.25 s, -0.70% from 3 s,
+  // -0.74% from 3.75 s. Before 2.25 s the reading is a transient whose phase the last bits of the
+  // arithmetic move (-0.66% to -1.16% between builds there); from 2.25 s on it is the rest state.
+  sim.advanceTo(2.25);
   // WCSPH pressure is noisy step to step; average the bottom layer over 15 frames of 0.05 s.
   double pressure = 0, expected = 0, densityDeviation = 0;
   int frames = 0;
   test::StillTankFloor floor(0.12, dx);
-  for (double t = 0.8; t <= 1.5 + 1e-9; t += 0.05, ++frames) {
+  for (double t = 2.3; t <= 3.0 + 1e-9; t += 0.05, ++frames) {
     floor.advanceTo(sim, t);
     const Particles& p = sim.fluid();
     const LayerMean bottom = bottomLayer(p, dx);
@@ -46,7 +51,7 @@ TEST(StillTank, HydrostaticPressureAndDensityAfterSettling) {
       pressure, expected, 100 * (pressure - expected) / expected, 100 * densityDeviation);
   EXPECT_NEAR(pressure, expected, 0.01 * expected) << "bottom pressure " << pressure << " Pa";
   EXPECT_LT(densityDeviation, 0.01);
-  // The floor's sensor (the middle 6 x 6 cm; every step from 0.75 s): the depth of the floor is
+  // The floor's sensor (the middle 6 x 6 cm; every step from 2.25 s): the depth of the floor is
   // the surface's height.
   const double floorExpected = rho0 * g * surface;
   floor.print("wcsph", floorExpected);
