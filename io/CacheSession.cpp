@@ -87,6 +87,18 @@ std::unique_ptr<CacheSession> CacheSession::prepare(const CacheSessionOptions& f
     // Frames stay evenly spaced: the cache's rate wins over the scene's.
     scene.output.fps = s.fps;
     out->xdmfPath_ = XdmfWriter::sidecarPath(out->path_);
+    // The resume rewrites the sidecar: as a new run would, never over the scene being run or
+    // anything but a regular file.
+    if (sameFile(out->xdmfPath_, scene.sourcePath)) {
+      throw InputError(out->xdmfPath_ + ": is the scene file being run (" + scene.sourcePath +
+                       "), and the resume would write the cache's sidecar over it; rename "
+                       "the scene");
+    }
+    const std::string kind = nonRegularKind(out->xdmfPath_);
+    if (!kind.empty() || isDirectory(out->xdmfPath_)) {
+      throw InputError(out->xdmfPath_ + ": is " + (kind.empty() ? "a directory" : kind) +
+                       ", not the cache's sidecar; refusing to replace it");
+    }
     return out;
   }
   out->path_ = flags.output.empty() ? scene.output.path : flags.output;
@@ -242,6 +254,7 @@ void CacheSession::create(const Simulation& sim, const CacheProvenance& provenan
   try {
     writer_ = CacheWriter::create(partial, scene, sim.params(), sim.boundary().particles(),
                                   provenance, expectedFrames);
+    writingPartial_ = true;
   } catch (...) {
     ::unlink(partial.c_str());  // no first frame, no cache: nothing left behind
     throw;
@@ -290,7 +303,10 @@ void CacheSession::recordFrame(const Simulation& sim, std::size_t particles,
   if (!xdmf_) {
     // Frame 0 is in: the new cache replaces PATH (and only now, so a run that fails before this
     // leaves an existing cache untouched), then the sidecar follows.
-    writer_->publishAs(path_);
+    if (writingPartial_) {
+      writer_->publishAs(path_);
+      writingPartial_ = false;
+    }
     xdmf_ = std::make_unique<XdmfWriter>(xdmfPath_, baseName(path_), fields_, doublePositions_,
                                          boundaryParticles_, frames_);
   } else {
@@ -349,12 +365,15 @@ CacheSession::~CacheSession() {
 
 void CacheSession::close() {
   if (!writer_) return;
-  const bool published = xdmf_ != nullptr;
-  const std::string partial = writer_->path();
+  const std::string file = writer_->path();
+  const bool partial = writingPartial_;
+  writingPartial_ = false;
   writer_->close();
   writer_.reset();
   // A new cache that never got its first frame is no cache: do not leave PATH.partial behind.
-  if (!published) ::unlink(partial.c_str());
+  // Any other file the writer had is a cache with frames (a resumed one, or a new one moved into
+  // place) and stays, whatever failed after it (the sidecar, a full disk).
+  if (partial) ::unlink(file.c_str());
 }
 
 std::size_t CacheSession::frameCount() const {

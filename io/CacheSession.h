@@ -103,6 +103,9 @@ class CacheSession final : public FrameSink {
   bool resume_ = false;
   std::unique_ptr<CacheReader> reader_;  // resume only
   std::unique_ptr<CacheWriter> writer_;
+  // The writer's file is this run's PATH.partial, not yet moved into place: the one file that
+  // close() may remove. A resumed cache, or a new one once published, is never removed.
+  bool writingPartial_ = false;
   std::unique_ptr<XdmfWriter> xdmf_;
   cache::FieldSet fields_;
   bool doublePositions_ = false;

@@ -3,6 +3,7 @@
 // frame, every resume record. Also with a cache that holds positions only (the resume record then
 // carries the rest), and with the showcase scene's nozzle.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <fstream>
 #include <string>
@@ -104,6 +105,45 @@ TEST(CacheResume, RefusesAnotherScene) {
   EXPECT_NE(moved.output.find("fluids, boundaries, emitters or domain differ"), std::string::npos)
       << moved.output;
   EXPECT_EQ(io::CacheReader(cache).frameCount(), 11u) << "a refused resume leaves the cache alone";
+}
+
+// The sidecar cannot be written (here its temporary name is taken by a directory; on a user's
+// machine, a disk that filled): the resume fails with one line, and the cache it resumed keeps
+// every frame it had. So does a cache that an --overwrite run replaced at its frame 0.
+TEST(CacheResume, ASidecarThatCannotBeWrittenLeavesTheCache) {
+  const std::string dir = test::makeTempDir();
+  const std::string scene = dir + "/tiny.json";
+  std::ofstream(scene) << test::tinyCacheScene(0.2, 30);
+  const std::string cache = dir + "/r.h5";
+  ASSERT_EQ(runShell(run(scene, "--end 0.1 -o '" + cache + "'")).exitCode, 0);
+  const std::size_t frames = io::CacheReader(cache).frameCount();
+  ASSERT_EQ(frames, 4u);
+  ASSERT_EQ(::mkdir((dir + "/r.xdmf.tmp").c_str(), 0755), 0);
+  const auto resumed = runShell(run(scene, "--resume '" + cache + "'"));
+  EXPECT_EQ(resumed.exitCode, 2) << resumed.output;
+  EXPECT_NE(resumed.output.find("r.xdmf"), std::string::npos) << resumed.output;
+  ASSERT_TRUE(test::fileExists(cache)) << "the resume deleted the cache: " << resumed.output;
+  EXPECT_GE(io::CacheReader(cache).frameCount(), frames);
+
+  const auto replaced = runShell(run(scene, "--end 0.1 --overwrite -o '" + cache + "'"));
+  EXPECT_EQ(replaced.exitCode, 2) << replaced.output;
+  ASSERT_TRUE(test::fileExists(cache)) << "no cache left: " << replaced.output;
+  EXPECT_GE(io::CacheReader(cache).frameCount(), 1u);
+  EXPECT_FALSE(test::fileExists(cache + ".partial"));
+}
+
+// A scene named like the cache's sidecar: the resume would write the sidecar over it, which a new
+// run refuses too.
+TEST(CacheResume, RefusesToWriteTheSidecarOverTheScene) {
+  const std::string dir = test::makeTempDir();
+  const std::string scene = dir + "/y.json", cache = dir + "/y.h5", named = dir + "/y.xdmf";
+  std::ofstream(scene) << test::tinyCacheScene(0.2, 30);
+  ASSERT_EQ(runShell(run(scene, "--end 0.1 -o '" + cache + "'")).exitCode, 0);
+  std::ofstream(named, std::ios::trunc) << test::tinyCacheScene(0.2, 30);
+  const auto r = runShell(run(named, "--resume '" + cache + "'"));
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find("is the scene file being run"), std::string::npos) << r.output;
+  EXPECT_EQ(test::readFile(named), test::tinyCacheScene(0.2, 30)) << "the scene was overwritten";
 }
 
 }  // namespace
