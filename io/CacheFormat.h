@@ -96,6 +96,20 @@ inline bool hasAll(const FieldSet& fields, const VectorView& view) {
   return true;
 }
 
+// The point numbers 0, 1, ..., L-1 (uint32) as the root dataset Index#L, L a power of two of at
+// least 1024. ParaView draws cells, not bare points, and its Xdmf3 readers (its default for
+// .xdmf) make cells only from a topology's connectivity, which XDMF cannot count out by itself:
+// the sidecar gives a point set of n points n vertex cells, the first n numbers of the index of
+// pointIndexLength(n). Written once per length a cache needs (a few, of a few kB each).
+inline std::size_t pointIndexLength(std::size_t points) {
+  std::size_t length = 1024;
+  while (length < points) length *= 2;
+  return length;
+}
+inline std::string pointIndexName(std::size_t points) {
+  return "Index#" + std::to_string(pointIndexLength(points));
+}
+
 // Datasets of a resume record beside the restart fields: DFSPH's warm start (RunState), written
 // only by DFSPH runs.
 inline constexpr const char* kWarmDensityName = "dfsph_warm_density";

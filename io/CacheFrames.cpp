@@ -106,9 +106,11 @@ void CacheWriter::writeFrame(const Particles& fluid, const RunState& state,
                       "reopen the cache");
       growFile();
       linkVectorViews(frame, static_cast<std::size_t>(slice->part.total));
+      writePointIndex(static_cast<std::size_t>(slice->part.total));
     } else {
       reopen();
       writeFrameObjects(fluid, state);
+      writePointIndex(fluid.size());
     }
   } catch (const h5::Error& e) {
     // Failed on this rank alone, mid-frame: closing would be collective and wait forever for the

@@ -221,6 +221,10 @@ void CacheSession::finishRestore(Simulation& sim) {
   for (const CacheFrame& f : frames_) particleFrames_ += static_cast<double>(f.particles);
   reader_.reset();  // HDF5 opens a file once per process: read-only first, now for writing
   writer_ = CacheWriter::append(path_, frames_.size());
+  // A cache written before the point indexes gets those its sidecar needs.
+  writer_->writePointIndex(boundaryParticles_);
+  for (const CacheFrame& f : frames_)
+    writer_->writePointIndex(f.particles), writer_->writePointIndex(f.rainDrops);
   writer_->setStatus("running (resumed from frame " + std::to_string(last) + ")");
   xdmf_ = std::make_unique<XdmfWriter>(xdmfPath_, baseName(path_), fields_, doublePositions_,
                                        boundaryParticles_, frames_);

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <ctime>
+#include <numeric>
 
 #include "io/CacheJournal.h"
 #include "sim/InputError.h"
@@ -171,6 +172,7 @@ std::unique_ptr<CacheWriter> CacheWriter::create(const std::string& path, const 
   } catch (const h5::Error& e) {
     throw InputError(path + ": cannot write the cache header (" + e.what() + ")");
   }
+  w->writePointIndex(boundary.size());
   return w;
 }
 
@@ -288,6 +290,35 @@ void CacheWriter::writeFrameGroup(
   } catch (const h5::Error& e) {
     throw InputError(path_ + ": cannot write /" + name + " (" + e.what() + ")");
   }
+  secondsWriting_ += since(start);
+}
+
+void CacheWriter::writePointIndex(std::size_t points) {
+  const std::size_t length = cache::pointIndexLength(points);
+  if (points == 0 || pointIndexes_.count(length)) return;
+  const auto start = Clock::now();
+  const std::string name = cache::pointIndexName(points);
+  try {
+    const hid_t root = file_.get();
+    if (!h5::hasLink(root, name)) {
+      // Same two-phase commit as a frame: the index is written and placed, then linked.
+      std::vector<std::uint32_t> numbers(length);
+      std::iota(numbers.begin(), numbers.end(), 0u);
+      h5::Handle index =
+          h5::createDataset(root, "", H5T_STD_U32LE, {static_cast<hsize_t>(length)}, storage_);
+      check(H5Dwrite(index.get(), H5T_NATIVE_UINT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, numbers.data()),
+            "write " + name);
+      // Its chunks placed now, before commitObjects() grows the file (point 4 there).
+      check(H5Dflush(index.get()), "write " + name);
+      commitObjects();
+      check(H5Olink(index.get(), root, name.c_str(), H5P_DEFAULT, H5P_DEFAULT), "link /" + name);
+      index.reset();
+      commitObjects(root);
+    }
+  } catch (const h5::Error& e) {
+    throw InputError(path_ + ": cannot write /" + name + " (" + e.what() + ")");
+  }
+  pointIndexes_.insert(length);
   secondsWriting_ += since(start);
 }
 

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -83,6 +84,13 @@ class CacheWriter {
   void writeFrameGroup(const std::string& name, std::size_t frame,
                        const std::function<void(hid_t group, const h5::Storage& storage)>& fill);
 
+  // Makes sure the root holds the point index of a point set of `points` points
+  // (cache::pointIndexName), which the sidecar's cells refer to: written and committed like a
+  // frame's group the first time its length is needed. create() and writeFrame() see to the
+  // boundary and the frames; the other point sets (the rain's drops) and a resumed cache written
+  // before the indexes call it.
+  void writePointIndex(std::size_t points);
+
   // Rewrites the root attribute run_status ("running", "finished", "stopped: ...") and commits.
   void setStatus(const std::string& status);
 
@@ -132,8 +140,9 @@ class CacheWriter {
   h5::Storage storage_;
   double secondsWriting_ = 0;
   std::uint64_t frameDataBytes_ = 0;
-  const FrameSlice* slice_ = nullptr;  // during a frame written by all ranks together
-  std::uint64_t frameEnd_ = 0;         // ... the file size that holds whatever it allocates
+  const FrameSlice* slice_ = nullptr;   // during a frame written by all ranks together
+  std::uint64_t frameEnd_ = 0;          // ... the file size that holds whatever it allocates
+  std::set<std::size_t> pointIndexes_;  // lengths of the point indexes the file holds
 };
 
 }  // namespace sph::io

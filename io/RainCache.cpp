@@ -33,6 +33,7 @@ void writeRainFrame(CacheWriter& writer, std::size_t frame, double time,
                      rain.generations().data(), n, s);
     h5::writeDataset(group, "layer", H5T_NATIVE_UINT8, H5T_STD_U8LE, rain.layers().data(), n, s);
   });
+  writer.writePointIndex(n);  // the sidecar's cells of the drops
 }
 
 RainFrame readRainFrame(const CacheReader& reader, std::size_t frame) {

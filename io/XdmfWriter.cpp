@@ -124,8 +124,11 @@ std::string XdmfWriter::dataItem(const std::string& dataset, const std::string& 
          "</DataItem>\n";
 }
 
-// One point set: a Polyvertex topology and XYZ geometry read from an [n][3] dataset (ParaView's
-// Xdmf3 readers accept no other way for points given as separate x, y, z).
+// One point set: a vertex cell per point and XYZ geometry read from an [n][3] dataset (ParaView's
+// Xdmf3 readers accept no other way for points given as separate x, y, z). The cells' connectivity
+// is spelled out, the first n numbers of a point index (cache::pointIndexName): without it the
+// Xdmf3 readers make no cells, and ParaView draws nothing. The hyperslab's source is the whole
+// index, as stored: the older XDMF reader crashes on a dataset shorter than the file's.
 std::string XdmfWriter::pointGrid(const std::string& name, std::size_t count,
                                   const std::string& positions, bool isFluid) const {
   const std::string n = std::to_string(count);
@@ -133,7 +136,16 @@ std::string XdmfWriter::pointGrid(const std::string& name, std::size_t count,
          "\" GridType=\"Uniform\">\n"
          "          <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" +
          n +
-         "\" NodesPerElement=\"1\"/>\n"
+         "\" NodesPerElement=\"1\">\n"
+         "            <DataItem ItemType=\"HyperSlab\" Dimensions=\"" +
+         n +
+         "\">\n"
+         "              <DataItem Dimensions=\"3 1\" Format=\"XML\">0 1 " +
+         n + "</DataItem>\n" +
+         dataItem("/" + cache::pointIndexName(count),
+                  std::to_string(cache::pointIndexLength(count)), true, false, "              ") +
+         "            </DataItem>\n"
+         "          </Topology>\n"
          "          <Geometry GeometryType=\"XYZ\">\n" +
          dataItem(positions, n + " 3", false, isFluid, "            ") + "          </Geometry>\n";
 }

@@ -3,7 +3,9 @@
 // at the datasets in the HDF5 file, so ParaView (its default Xdmf3 readers and the older XDMF
 // reader) and VisIt open `run.xdmf` as an animated point cloud with the container's boundary
 // particles as a second block. Points and vectors come from the cache's [n][3] views
-// (Vectors#N, CacheFormat.h), the only form ParaView's Xdmf3 readers take.
+// (Vectors#N, CacheFormat.h), the only form ParaView's Xdmf3 readers take; each point is a
+// vertex cell numbered from the cache's point index (Index#L), without which those readers make
+// no cells and ParaView draws nothing.
 //
 // Kept up to date frame by frame: append() writes the whole document to a temporary file and
 // renames it over the sidecar, so a reader (or a kill) only ever meets a complete document that

@@ -2,10 +2,12 @@
 // bit; the H5Part names, types and attributes are as documented, checked with the HDF5 C API
 // rather than with our own reader; only the fields asked for are written; compression as set;
 // the XDMF sidecar is well-formed XML (parsed by Python's parser) whose every dataset path exists
-// in the file with the stated length; rendered frames round-trip.
+// in the file with the stated length (its cells' point indexes hold 0, 1, ...); rendered frames
+// round-trip.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <regex>
@@ -316,11 +318,18 @@ for item in root.iter('DataItem'):
     const int rank = H5Sget_simple_extent_dims(space, dims, nullptr);
     EXPECT_EQ(std::to_string(dims[0]) + (rank == 2 ? "x" + std::to_string(dims[1]) : ""), b)
         << dataset;
+    if (dataset.rfind("/Index#", 0) == 0) {
+      // A point index: the numbers 0, 1, ... that the cells take.
+      std::vector<std::uint32_t> numbers(dims[0]);
+      ASSERT_GE(H5Dread(set, H5T_NATIVE_UINT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, numbers.data()), 0);
+      for (std::size_t i = 0; i < numbers.size(); ++i) ASSERT_EQ(numbers[i], i) << dataset;
+    }
     ++items;
   }
   EXPECT_EQ(times, 5);
-  // Per frame: the positions and velocities ([n][3] views), rho, p, id, the boundary's positions.
-  EXPECT_EQ(items, 5 * 6);
+  // Per frame: the positions and velocities ([n][3] views), rho, p, id, the boundary's positions,
+  // and the point index of the fluid's cells and of the boundary's.
+  EXPECT_EQ(items, 5 * 8);
 }
 
 TEST_F(CacheFormat, RenderedFramesRoundTripUnderTheirRenderer) {

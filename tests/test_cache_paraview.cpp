@@ -1,16 +1,27 @@
-// The cache as ParaView reads it (docs/cache-format.md, "Opening it"), with ParaView itself: the
-// sidecar `run.xdmf` through the three readers ParaView offers for it (Xdmf3ReaderS, its
-// default, Xdmf3ReaderT and the older XDMFReader), and `run.h5` through the H5Part reader. Every
-// time step, every point and every array value must equal what the cache holds, and the boundary
-// particles must show at every time beside the fluid.
+// The cache as ParaView reads it and shows it (docs/cache-format.md, "Opening it"), with ParaView
+// itself: the sidecar `run.xdmf` through the three readers ParaView offers for it (Xdmf3ReaderS,
+// its default, Xdmf3ReaderT and the older XDMFReader), `run.h5` through the H5Part reader and the
+// `.pvd` of `sphsplat export --frames all --format vtu`. Every time step, every point and every
+// array value must equal what the cache holds, and the boundary particles must show at every time
+// beside the fluid. ParaView draws cells, not bare points: every block must give a cell per point,
+// and each reader's output, shown as ParaView shows it, must draw pixels in a picture.
 //
 // Needs pvpython: scripts/setup installs Debian's paraview and unpacks python3-paraview under
 // build/paraview (scripts/pvpython); an installed pvpython also does. Skipped without one.
-// SPHSPLAT_PVPYTHON names another command to run the probe with.
+// SPHSPLAT_PVPYTHON names another command to run the probe with. Debian's ParaView draws through
+// X alone (no EGL or OSMesa build; without a display pvpython crashes when it renders), so the
+// suite starts an Xvfb of its own (scripts/setup installs it) and skips without one.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <poll.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <csignal>
 #include <cstdlib>
 #include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -35,14 +46,78 @@ std::string pvpython() {
   return runShell("command -v pvpython >/dev/null 2>&1").exitCode == 0 ? "pvpython" : "";
 }
 
-// Loads the sidecar with each XDMF reader and the cache with the H5Part reader, and writes what
-// each one gives per time step: its leaf datasets, with their points and point arrays in full.
+// An X server of the suite's own for pvpython to draw into. Xvfb picks a free display itself
+// and writes its number once it accepts connections (-displayfd), so suites started side by side
+// never race for one; it is stopped by its pid, and dies with the test program if that dies first.
+class VirtualDisplay {
+ public:
+  // The display, or null with the reason in `why` (no Xvfb, or it did not come up in 30 s).
+  static std::unique_ptr<VirtualDisplay> start(std::string& why) {
+    int ready[2];
+    if (pipe2(ready, O_CLOEXEC) != 0) {
+      why = "cannot make a pipe";
+      return nullptr;
+    }
+    const std::string fd = std::to_string(ready[1]);  // the child makes no allocation
+    const pid_t parent = getpid();
+    const pid_t pid = fork();
+    if (pid == 0) {
+      prctl(PR_SET_PDEATHSIG, SIGTERM);
+      if (getppid() != parent) _exit(1);
+      fcntl(ready[1], F_SETFD, 0);  // for Xvfb
+      const int quiet = ::open("/dev/null", O_WRONLY);
+      dup2(quiet, STDOUT_FILENO), dup2(quiet, STDERR_FILENO);
+      // Xvfb resets when its last client leaves and writes its number again, into a pipe no one
+      // reads any more: no reset, and no SIGPIPE should it write.
+      signal(SIGPIPE, SIG_IGN);
+      execlp("Xvfb", "Xvfb", "-displayfd", fd.c_str(), "-noreset", "-screen", "0", "640x480x24",
+             "-nolisten", "tcp", static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    ::close(ready[1]);
+    // "N\n" once it accepts connections; end of file if it exits first.
+    std::string number;
+    char c = 0;
+    pollfd in{ready[0], POLLIN, 0};
+    while (pid > 0 && poll(&in, 1, 30000) == 1 && ::read(ready[0], &c, 1) == 1 && c != '\n')
+      number += c;
+    ::close(ready[0]);
+    if (pid < 0) {
+      why = "cannot fork";
+      return nullptr;
+    }
+    auto display = std::unique_ptr<VirtualDisplay>(new VirtualDisplay(pid, ":" + number));
+    if (c != '\n' || number.empty()) {
+      why = "Xvfb did not start (Debian: apt-get install xvfb)";
+      return nullptr;  // display's destructor stops it if it runs
+    }
+    return display;
+  }
+  ~VirtualDisplay() {
+    kill(pid_, SIGTERM);
+    waitpid(pid_, nullptr, 0);
+  }
+  const std::string& name() const { return name_; }
+
+ private:
+  VirtualDisplay(pid_t pid, std::string name) : pid_(pid), name_(std::move(name)) {}
+  pid_t pid_;
+  std::string name_;
+};
+
+// Loads the sidecar with each XDMF reader, the cache with the H5Part reader and the export's
+// .pvd, and writes what each one gives per time step: its leaf datasets, with their points, cells
+// and point arrays in full. Then it shows each reader's output as ParaView's Show does (the
+// defaults, what a user gets after Apply) at the last time, draws it into a 400x300 picture and
+// counts the pixels that are not the background.
 constexpr const char* kProbe = R"(import json, sys
+import numpy
 from paraview.simple import *
 from paraview import servermanager as sm
 from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkIOImage import vtkPNGReader
 
-xdmf, h5, out = sys.argv[1:4]
+xdmf, h5, pvd, out, pictures = sys.argv[1:6]
 
 def leaves(obj):
     if obj is None:
@@ -59,12 +134,32 @@ def describe(ds):
     pd = ds.GetPointData()
     arrays = {pd.GetArrayName(i): vtk_to_numpy(pd.GetArray(i)).tolist()
               for i in range(pd.GetNumberOfArrays())}
-    return {'points': points, 'arrays': arrays}
+    return {'points': points, 'cells': ds.GetNumberOfCells(), 'arrays': arrays}
+
+view = CreateView('RenderView')
+view.ViewSize = [400, 300]
+view.OrientationAxesVisibility = 0  # its pixels are not the data's
+
+def drawn(reader, time, png):
+    view.ViewTime = time
+    Show(reader, view)
+    view.ResetCamera()
+    Render(view)
+    SaveScreenshot(png, view, ImageResolution=[400, 300])
+    Hide(reader, view)
+    image = vtkPNGReader()
+    image.SetFileName(png)
+    image.Update()
+    rgb = vtk_to_numpy(image.GetOutput().GetPointData().GetScalars())[:, :3]
+    # The background is the most frequent colour (whatever the palette).
+    colours, counts = numpy.unique(rgb, axis=0, return_counts=True)
+    return int((rgb != colours[counts.argmax()]).any(axis=1).sum())
 
 readers = [('Xdmf3ReaderS', lambda: Xdmf3ReaderS(FileName=xdmf)),
            ('Xdmf3ReaderT', lambda: Xdmf3ReaderT(FileName=xdmf)),
            ('XDMFReader', lambda: XDMFReader(FileNames=[xdmf])),
-           ('H5PartReader', lambda: H5PartReader(FileName=h5))]
+           ('H5PartReader', lambda: H5PartReader(FileName=h5)),
+           ('PVDReader', lambda: PVDReader(FileName=pvd))]
 result = {}
 for name, make in readers:
     reader = make()
@@ -73,44 +168,97 @@ for name, make in readers:
     for t in times:
         reader.UpdatePipeline(t)
         frames.append([describe(leaf) for leaf in leaves(sm.Fetch(reader))])
-    result[name] = {'times': times, 'frames': frames}
+    png = pictures + '_' + name + '.png'
+    result[name] = {'times': times, 'frames': frames, 'picture': png,
+                    'pixels': drawn(reader, times[-1], png)}
     Delete(reader)
 json.dump(result, open(out, 'w'))
 )";
 
 class CacheParaView : public ::testing::Test {
  protected:
+  static void SetUpTestSuite() {
+    if (!pvpython().empty()) display_ = VirtualDisplay::start(noDisplay_);
+  }
+  static void TearDownTestSuite() { display_.reset(); }
+
   void SetUp() override {
     command_ = pvpython();
     if (command_.empty()) {
       GTEST_SKIP() << "pvpython not found: install Debian's paraview and python3-paraview to "
                       "check the cache with ParaView's readers (or set SPHSPLAT_PVPYTHON)";
     }
+    if (!display_) GTEST_SKIP() << "no X display for ParaView to draw into: " << noDisplay_;
     dir_ = test::makeTempDir();
   }
 
-  // Runs `scene`, then every reader on the result; returns their description (json above).
+  // Runs `scene`, exports its frames as VTK files, then every reader on the result; returns their
+  // description (json above).
   json readWithParaView(const std::string& scene, const std::string& name) {
-    std::ofstream(dir_ + "/" + name + ".json") << scene;
-    const auto run =
-        runShell("OMP_WAIT_POLICY=PASSIVE " + test::sphsplatBinary() + " run '" + dir_ + "/" +
-                 name + ".json' --threads 1 --quiet -o '" + dir_ + "/" + name + ".h5'");
+    const std::string base = dir_ + "/" + name;
+    std::ofstream(base + ".json") << scene;
+    const auto run = runShell(
+        test::sphsplatShell("run '" + base + ".json' --threads 1 --quiet -o '" + base + ".h5'"));
     EXPECT_EQ(run.exitCode, 0) << run.output;
+    const auto vtk =
+        runShell(test::sphsplatShell("export '" + base + ".h5' --frames all --format vtu -o '" +
+                                     dir_ + "/vtk/" + name + "_%05d.vtu'"));
+    EXPECT_EQ(vtk.exitCode, 0) << vtk.output;
     std::ofstream(dir_ + "/probe.py") << kProbe;
     // An absolute path: ParaView 5.11's Xdmf3 readers look for the HDF5 file beside a sidecar
     // named with no directory in the wrong place.
     const auto probe =
-        runShell(command_ + " '" + dir_ + "/probe.py' '" + dir_ + "/" + name + ".xdmf' '" + dir_ +
-                 "/" + name + ".h5' '" + dir_ + "/" + name + ".out.json' 2>&1");
+        runShell("DISPLAY=" + display_->name() + " " + command_ + " '" + dir_ + "/probe.py' '" +
+                 base + ".xdmf' '" + base + ".h5' '" + dir_ + "/vtk/" + name + ".pvd' '" + base +
+                 ".out.json' '" + base + "' 2>&1");
     EXPECT_EQ(probe.exitCode, 0) << probe.output;
     // What ParaView 5.11 printed for each frame of the sidecar before the [n][3] views.
     EXPECT_EQ(probe.output.find("Skipping unrecognized array type"), std::string::npos)
         << probe.output;
-    return json::parse(readFile(dir_ + "/" + name + ".out.json"));
+    return json::parse(readFile(base + ".out.json"));
   }
 
+  static std::unique_ptr<VirtualDisplay> display_;
+  static std::string noDisplay_;
   std::string command_, dir_;
 };
+std::unique_ptr<VirtualDisplay> CacheParaView::display_;
+std::string CacheParaView::noDisplay_;
+
+// What a user sees of each reader's output. ParaView draws cells, not bare points: every block
+// of every time step must hold a cell per point. And the last time step, shown with ParaView's
+// defaults, must put at least as many pixels on the picture as it has points: each point is a
+// dot of 2x2 pixels (ParaView's default point size), and in these small scenes seen from its
+// default camera few hide behind others (2 to 4.5 pixels a point measured), so this fails when
+// half of them are missing, and an empty view has none.
+void expectWhatAUserSees(const json& readers) {
+  for (const auto& [name, r] : readers.items()) {
+    SCOPED_TRACE(name);
+    const json& frames = r.at("frames");
+    std::size_t blocks = 0, drawable = 0;
+    std::string firstNot;
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      for (const json& leaf : frames[k]) {
+        const std::size_t points = leaf.at("points").size();
+        const auto cells = leaf.at("cells").get<std::size_t>();
+        ++blocks;
+        if (cells == points) {
+          ++drawable;
+        } else if (firstNot.empty()) {
+          firstNot = "frame " + std::to_string(k) + ": " + std::to_string(points) + " points, " +
+                     std::to_string(cells) + " cells";
+        }
+      }
+    }
+    EXPECT_EQ(drawable, blocks) << "blocks with a cell per point, of all time steps; the first "
+                                   "without: "
+                                << firstNot;
+    std::size_t shown = 0;
+    for (const json& leaf : frames.back()) shown += leaf.at("points").size();
+    EXPECT_GE(r.at("pixels").get<std::size_t>(), shown)
+        << "pixels drawn for " << shown << " points: " << r.at("picture").get<std::string>();
+  }
+}
 
 // A float32 array of the cache as the doubles json holds.
 std::vector<double> widened(const std::vector<float>& v) {
@@ -135,13 +283,15 @@ std::vector<double> widened(const std::vector<float>& v) {
 // arrays of `arrays`, named as that reader names them) and, for the XDMF readers, the boundary.
 void expectWhatTheCacheHolds(const json& readers, const std::string& cachePath,
                              const std::vector<std::string>& names = {
-                                 "Xdmf3ReaderS", "Xdmf3ReaderT", "XDMFReader", "H5PartReader"}) {
+                                 "Xdmf3ReaderS", "Xdmf3ReaderT", "XDMFReader", "H5PartReader",
+                                 "PVDReader"}) {
   const io::CacheReader cache(cachePath);
   const std::vector<std::vector<float>> boundary = cache.readBoundary();
   for (const std::string& name : names) {
     SCOPED_TRACE(name);
     const json& r = readers.at(name);
     const bool h5part = name == "H5PartReader";
+    const bool xdmf = !h5part && name != "PVDReader";
     ASSERT_EQ(r.at("times").size(), cache.frameCount());
     for (std::size_t k = 0; k < cache.frameCount(); ++k) {
       SCOPED_TRACE("frame " + std::to_string(k));
@@ -152,7 +302,7 @@ void expectWhatTheCacheHolds(const json& readers, const std::string& cachePath,
       const json* fluid = nullptr;
       const json* walls = nullptr;
       for (const json& leaf : leaves) (leaf.at("arrays").empty() ? walls : fluid) = &leaf;
-      if (!h5part) {
+      if (xdmf) {
         ASSERT_NE(walls, nullptr) << "no boundary block";
         EXPECT_TRUE(samePoints(*walls, boundary[0], boundary[1], boundary[2]));
       }
@@ -191,6 +341,7 @@ void expectWhatTheCacheHolds(const json& readers, const std::string& cachePath,
 
 TEST_F(CacheParaView, EveryReaderShowsEveryFrameWithItsPointsArraysAndTime) {
   const json readers = readWithParaView(test::tinyCacheScene(0.05, 100), "tiny");
+  expectWhatAUserSees(readers);
   expectWhatTheCacheHolds(readers, dir_ + "/tiny.h5");
 }
 
@@ -200,13 +351,14 @@ TEST_F(CacheParaView, AnEmptyFirstFrameShowsTheBoundaryAlone) {
   const std::size_t fluids = scene.find("  \"fluids\"");
   scene.erase(fluids, scene.find('\n', fluids) + 1 - fluids);
   const json readers = readWithParaView(scene, "pour");
+  expectWhatAUserSees(readers);
   ASSERT_EQ(io::CacheReader(dir_ + "/pour.h5").readFrame(0).size(), 0u);
   expectWhatTheCacheHolds(readers, dir_ + "/pour.h5");
 }
 
 TEST_F(CacheParaView, RainDropsShowAsAThirdPointSetBesideFluidAndBoundary) {
   // A scene with rain (docs/rain.md): every frame's drops are a point set of their own in the
-  // sidecar; the H5Part reader shows the fluid alone (its format has one particle set).
+  // sidecar; the H5Part reader and the exported files show the fluid alone (one particle set).
   std::string scene = test::tinyCacheScene(0.05, 100);
   scene.insert(
       scene.find("  \"output\""),
@@ -214,6 +366,7 @@ TEST_F(CacheParaView, RainDropsShowAsAThirdPointSetBesideFluidAndBoundary) {
   "rain": {"count": 50, "near": 0.05, "far": 1, "seed": 3},
 )");
   const json readers = readWithParaView(scene, "rain");
+  expectWhatAUserSees(readers);
   const io::CacheReader cache(dir_ + "/rain.h5");
   const std::vector<std::vector<float>> boundary = cache.readBoundary();
   for (const char* name : {"Xdmf3ReaderS", "Xdmf3ReaderT", "XDMFReader"}) {
@@ -240,7 +393,7 @@ TEST_F(CacheParaView, RainDropsShowAsAThirdPointSetBesideFluidAndBoundary) {
       if (::testing::Test::HasFailure()) return;
     }
   }
-  expectWhatTheCacheHolds(readers, dir_ + "/rain.h5", {"H5PartReader"});
+  expectWhatTheCacheHolds(readers, dir_ + "/rain.h5", {"H5PartReader", "PVDReader"});
 }
 
 }  // namespace

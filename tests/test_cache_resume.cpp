@@ -1,14 +1,18 @@
 // Resume (issue 3): `sphsplat run SCENE --resume CACHE` continues from the cache's last frame, and
 // a run of 2 s equals, bit for bit, a run of 1 s resumed to 2 s with the same thread count: every
 // frame, every resume record. Also with a cache that holds positions only (the resume record then
-// carries the rest), and with the showcase scene's nozzle.
+// carries the rest), and with the showcase scene's nozzle. A cache written before the point
+// indexes gets them.
 #include <gtest/gtest.h>
+#include <hdf5.h>
 #include <sys/stat.h>
 
 #include <fstream>
+#include <regex>
 #include <string>
 
 #include "io/CacheReader.h"
+#include "tests/CacheFormatSupport.h"
 #include "tests/CacheTestSupport.h"
 
 namespace sph {
@@ -83,6 +87,46 @@ TEST(CacheResume, DfsphPourSceneResumesExactly) {
   const auto [state, fluid] = io::CacheReader(dir + "/resumed.h5").readRestart(5);
   ASSERT_EQ(state.warmStart.density.size(), fluid.size());
   ASSERT_EQ(state.warmStart.divergence.size(), fluid.size());
+}
+
+TEST(CacheResume, ACacheWrittenBeforeThePointIndexesGetsThoseItsSidecarNames) {
+  // Caches written before the sidecar gave its points cells have no /Index#L; the sidecar a
+  // resume rewrites names them for every frame, the old ones too. The tank is widened to 1232
+  // boundary particles: their index (Index#2048) is then not one the frames written after the
+  // resume (about 100 particles, Index#1024) write anyway.
+  const std::string dir = test::makeTempDir();
+  const std::string scene = dir + "/tiny.json";
+  std::string text = test::tinyCacheScene(0.2, 30);
+  text.replace(text.find("[0.2, 0.2, 0.15]"), 16, "[0.4, 0.2, 0.15]");
+  std::ofstream(scene) << text;
+  const std::string cache = dir + "/old.h5";
+  ASSERT_EQ(runShell(run(scene, "--end 0.1 -o '" + cache + "'")).exitCode, 0);
+  {
+    const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+    H5Pset_file_locking(fapl, false, true);
+    test::Id file(H5Fopen(cache.c_str(), H5F_ACC_RDWR, fapl));
+    H5Pclose(fapl);
+    int removed = 0;
+    for (const std::string& name : test::rootLinks(file)) {
+      if (name.rfind("Index#", 0) == 0) removed += H5Ldelete(file, name.c_str(), H5P_DEFAULT) >= 0;
+    }
+    ASSERT_GT(removed, 0);
+  }
+  const auto r = runShell(run(scene, "--resume '" + cache + "'"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const std::string xdmf = test::readFile(dir + "/old.xdmf");
+  test::Id file(test::openRaw(cache));
+  const std::regex item("old\\.h5:(/[^<]+)</DataItem>");
+  int indexes = 0;
+  for (auto m = std::sregex_iterator(xdmf.begin(), xdmf.end(), item); m != std::sregex_iterator();
+       ++m) {
+    const std::string dataset = (*m)[1];
+    EXPECT_GT(H5Oexists_by_name(file, dataset.c_str(), H5P_DEFAULT), 0) << dataset;
+    indexes += dataset.rfind("/Index#", 0) == 0;
+  }
+  // The fluid's and the boundary's cells in each of the 7 frames.
+  EXPECT_EQ(indexes, 2 * 7);
+  EXPECT_NE(xdmf.find("old.h5:/Index#2048</DataItem>"), std::string::npos);
 }
 
 TEST(CacheResume, RefusesAnotherScene) {
