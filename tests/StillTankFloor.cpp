@@ -32,6 +32,9 @@ void StillTankFloor::advanceTo(Simulation& sim, double t) {
     floor_ += -load(floor).y() / (width_ * width_);
     total_ += load(all).dot(sim.scene().solver.gravity.cast<double>()) /
               (weight * sim.scene().solver.gravity.norm());
+    const LayerMean bottom = bottomLayer(p, spacing_);
+    bottomPressure_ += bottom.pressure;
+    bottomHeight_ += bottom.height;
     ++steps_;
   }
 }

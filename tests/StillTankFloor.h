@@ -25,13 +25,17 @@ class StillTankFloor {
   // Mean upward force of every boundary particle on the fluid over the fluid's weight: 1 for a
   // fluid at rest whose p is the pressure its solver applied.
   double loadOverWeight() const { return total_ / steps_; }
+  // The fluid's bottom layer (the particles below one spacing above the floor), every step: its
+  // mean pressure p (Pa) and its particles' mean height (m).
+  double bottomLayerPressure() const { return bottomPressure_ / steps_; }
+  double bottomLayerHeight() const { return bottomHeight_ / steps_; }
   int steps() const { return steps_; }
   // One line: the readings against the floor's `expected` pressure (Pa), named `solver`.
   void print(const char* solver, double expected) const;
 
  private:
   double width_, spacing_;
-  double centre_ = 0, floor_ = 0, total_ = 0;
+  double centre_ = 0, floor_ = 0, total_ = 0, bottomPressure_ = 0, bottomHeight_ = 0;
   int steps_ = 0;
 };
 
