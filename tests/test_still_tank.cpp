@@ -16,6 +16,11 @@ namespace sph {
 namespace {
 
 TEST(StillTank, HydrostaticPressureAndDensityAfterSettling) {
+#if defined(__SANITIZE_ADDRESS__)
+  // Its 3 s of settling take more than the suite's 15-minute limit under the sanitizers; the
+  // steps it runs are the dam break's and the stress tests', which run here.
+  GTEST_SKIP() << "3 s of settling take over 15 minutes under AddressSanitizer";
+#endif
   const Scene scene = test::shippedScene(
       "still_tank", {"fluids[0].max=[0.12,0.3,0.12]", "boundaries[0].max=[0.12,0.4,0.12]"});
   Simulation sim(scene);
@@ -32,9 +37,13 @@ TEST(StillTank, HydrostaticPressureAndDensityAfterSettling) {
   // -0.74% from 3.75 s. Before 2.25 s the reading is a transient whose phase the last bits of the
   // arithmetic move (-0.66% to -1.16% between builds there); from 2.25 s on it is the rest state.
   sim.advanceTo(2.25);
-  // WCSPH pressure is noisy step to step: the bottom layer is averaged over every step (frames
-  // 0.05 s apart sample a few phases of it: -0.86% here, -1.44% in the x86-64-v2 build), the
-  // density over 15 frames.
+  // WCSPH pressure is noisy step to step: the bottom layer is averaged over every step, the
+  // density over 15 frames. The bottom layer's reading depends on how the particles packed along
+  // the floor, which the arithmetic's last bits decide: -0.82% in the native build (AVX-512),
+  // -0.55% for x86-64-v3, -1.44% for x86-64-v2, where this test fails; the floor sensor reads
+  // -0.71%, -0.75% and -0.89%. The walls push with the fluid's pressure alone and carry none of
+  // their own (docs/benchmarks.md, "Bottom pressure of DFSPH"): a wall that holds pressure is the
+  // cure, not a wider bound.
   double densityDeviation = 0;
   int frames = 0;
   test::StillTankFloor floor(0.12, dx);
