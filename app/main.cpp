@@ -1,5 +1,9 @@
 // sphsplat: the command-line program. Thin: parses arguments and hands over to one subcommand.
 #include <CLI/CLI.hpp>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -25,7 +29,22 @@
 #include "mpi/MpiIoChoice.h"
 #endif
 
+namespace {
+
+// Started with standard input, output or error closed (`>&-`), the program would give their
+// numbers to the first files it opens, the cache's lock and the cache, and a progress line would
+// land in the cache: those numbers get /dev/null instead.
+void openClosedStandardStreams() {
+  for (int fd = 0; fd <= 2; ++fd) {
+    if (fcntl(fd, F_GETFD) == -1 && errno == EBADF)
+      static_cast<void>(open("/dev/null", fd == 0 ? O_RDONLY : O_WRONLY));  // the lowest free: fd
+  }
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  openClosedStandardStreams();
   // A recorder that rank 0 of an MPI run started (app/StatusRecorder.h): nothing else of main.
   if (argc == sph::app::kRecorderArgc && std::strcmp(argv[1], sph::app::kRecorderArgument) == 0)
     return sph::app::runStatusRecorder(argv);

@@ -12,6 +12,7 @@
 
 #include "io/CacheJournal.h"
 #include "io/CacheWriter.h"
+#include "io/UserFiles.h"
 #include "sim/InputError.h"
 
 namespace sph::io {
@@ -105,6 +106,8 @@ CacheReader::CacheReader(const std::string& path) : path_(path) {
   if (stat(path.c_str(), &st) != 0)
     fail(std::string("cannot open the cache (") + std::strerror(errno) + ")");
   if (S_ISDIR(st.st_mode)) fail("is a directory, expected an HDF5 cache file");
+  // Opening a FIFO would wait for a writer for ever; a device is no cache either.
+  if (!S_ISREG(st.st_mode)) fail("is " + nonRegularKind(path) + ", expected an HDF5 cache file");
   const htri_t isHdf5 = H5Fis_hdf5(path.c_str());
   if (isHdf5 < 0) fail("cannot read the file (" + h5::errorText() + ")");
   if (isHdf5 == 0) fail("not an HDF5 file (no HDF5 signature); expected a sphsplat cache");

@@ -217,6 +217,12 @@ std::string syntaxMessage(const std::string& what) {
 
 std::optional<json> parse(const std::string& text, const std::string& where, bool mustBeJson) {
   requireUtf8(text, where);
+  // nlohmann's reader takes a NUL byte for the end of the text and would drop what follows.
+  const std::size_t nul = text.find('\0');
+  if (nul != std::string::npos) {
+    failAt(where, text, nul,
+           "a NUL byte (at byte " + std::to_string(nul) + "); expected JSON text, which has none");
+  }
   checkLimits(text, where);
   DuplicateFinder finder;
   try {

@@ -163,6 +163,43 @@ TEST_F(CacheCli, EveryBadCacheGivesOneLineAndExitTwo) {
       << "a failed resume must not touch the file";
 }
 
+// Started with its output and error streams closed, a run gives descriptors 1 and 2 to
+// /dev/null, not to the first files it opens (its lock and its cache, where progress lines would
+// then be written), and its cache is the cache of a run with them open.
+TEST_F(CacheCli, ClosedStandardStreamsAreNotTheCache) {
+  const std::string cache = dir_ + "/closed.h5";
+  const std::string run = sphsplat("run '" + scene_ + "' --threads 1 --end 5 -o '" + cache + "'");
+  const auto r = runShell("(" + run + " >&- 2>&- & p=$!; for i in $(seq 1000); do [ -e '" +
+                          cache + ".partial' ] || [ -e '" + cache +
+                          "' ] && break; sleep 0.01; done; readlink /proc/$p/fd/1 /proc/$p/fd/2; "
+                          "kill $p; wait $p)");
+  EXPECT_EQ(r.output, "/dev/null\n/dev/null\n");
+  const std::string whole = dir_ + "/closed_whole.h5";
+  const auto w = runShell("(" + sphsplat("run '" + scene_ + "' --threads 1 -o '" + whole + "'") +
+                          " >&- 2>&-)");
+  EXPECT_EQ(w.exitCode, 0) << w.output;
+  test::expectSameCache(cache_, whole);
+}
+
+// A FIFO named as a cache: opening it would wait for a writer for ever. Every command that reads a
+// cache refuses it at once (each under `timeout`, so that a regression fails rather than hangs).
+TEST_F(CacheCli, AFifoGivenAsACacheIsRefusedNotWaitedOn) {
+  const std::string fifo = dir_ + "/f.h5";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
+  for (const std::string& args :
+       {"info '" + fifo + "'", "export '" + fifo + "' --frame 0 --format csv -o -",
+        "mesh '" + fifo + "' --frame 0 --out '" + dir_ + "/f.ply'",
+        "render '" + fifo + "' --out '" + dir_ + "/f_frames'",
+        "run '" + scene_ + "' --resume '" + fifo + "'"}) {
+    const auto r =
+        runShell("timeout 60 env OMP_WAIT_POLICY=PASSIVE " + test::sphsplatBinary() + " " + args);
+    EXPECT_EQ(r.exitCode, 2) << args << "\n" << r.output;
+    EXPECT_EQ(r.output,
+              "sphsplat: " + fifo + ": is a FIFO (named pipe), expected an HDF5 cache file\n")
+        << args;
+  }
+}
+
 TEST_F(CacheCli, BlowUpKeepsTheFinishedFramesAndNamesTheLastGoodOne) {
   // A block flung sideways leaves the domain after about 0.3 s: the guard stops the run.
   const std::string scene = dir_ + "/fling.json";

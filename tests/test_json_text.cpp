@@ -97,6 +97,15 @@ TEST(JsonText, OtherEncodingsAndRawBytesAreNamedNeverPrinted) {
   EXPECT_TRUE(oneShortLine(open)) << open.substr(0, 400);
 }
 
+// A NUL byte would end the text for nlohmann, silently dropping the rest of the scene.
+TEST(JsonText, ANulByteIsRefusedWithItsPlace) {
+  const std::string text("{\"a\": 1}\n\0{\"b\": 2}", 18);
+  EXPECT_EQ(errorOf(text),
+            "x.json:2:1: a NUL byte (at byte 9); expected JSON text, which has none");
+  EXPECT_NE(errorOf(std::string("{\"a\": \"x\0y\"}", 12)).find("a NUL byte (at byte 8)"),
+            std::string::npos);
+}
+
 TEST(JsonText, SetValuesThatAreNotJsonAreStringsButLimitsStillHold) {
   EXPECT_FALSE(io::parseJsonIfJson("pour", "--set name").has_value());
   EXPECT_FALSE(io::parseJsonIfJson("[1, 2", "--set x").has_value());
