@@ -70,9 +70,28 @@ std::string xmlAttribute(const std::string& text) {
   return out;
 }
 
-// The appended block of one DataArray: its size as UInt64, then its bytes.
+// The bytes as base64 (RFC 4648, padded).
+std::string base64(const std::vector<char>& bytes) {
+  static const char* const digits =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  for (std::size_t i = 0; i < bytes.size(); i += 3) {
+    const std::size_t left = bytes.size() - i;
+    std::uint32_t v = static_cast<std::uint8_t>(bytes[i]) << 16;
+    if (left > 1) v |= static_cast<std::uint8_t>(bytes[i + 1]) << 8;
+    if (left > 2) v |= static_cast<std::uint8_t>(bytes[i + 2]);
+    out += digits[(v >> 18) & 63];
+    out += digits[(v >> 12) & 63];
+    out += left > 1 ? digits[(v >> 6) & 63] : '=';
+    out += left > 2 ? digits[v & 63] : '=';
+  }
+  return out;
+}
+
+// One DataArray: its element, and the bytes it holds.
 struct Block {
-  std::string header;  // the <DataArray .../> element, with {OFFSET} for the offset
+  std::string header;  // the <DataArray ...>{DATA}</DataArray> element
   std::vector<char> bytes;
 };
 
@@ -154,7 +173,7 @@ void writeVtu(std::FILE* out, const ExportFrame& f) {
     if (!has(f, a) || !has(f, b) || !has(f, c)) return false;
     point.push_back(block(
         std::string("<DataArray type=\"Float32\" Name=\"") + name +
-            "\" NumberOfComponents=\"3\" format=\"appended\" offset=\"{OFFSET}\"/>",
+            "\" NumberOfComponents=\"3\" format=\"binary\">{DATA}</DataArray>",
         interleave(p.*cache::floatMember(a), p.*cache::floatMember(b), p.*cache::floatMember(c))));
     return true;
   };
@@ -166,7 +185,7 @@ void writeVtu(std::FILE* out, const ExportFrame& f) {
     if (c == Field::X || c == Field::Y || c == Field::Z || inVector) continue;
     const std::string head = std::string("<DataArray type=\"") +
                              (c == Field::Id ? "UInt32" : "Float32") + "\" Name=\"" +
-                             cache::fieldName(c) + "\" format=\"appended\" offset=\"{OFFSET}\"/>";
+                             cache::fieldName(c) + "\" format=\"binary\">{DATA}</DataArray>";
     point.push_back(c == Field::Id ? block(head, p.id) : block(head, p.*cache::floatMember(c)));
   }
   std::vector<std::int64_t> connectivity(n), offsets(n);
@@ -174,31 +193,29 @@ void writeVtu(std::FILE* out, const ExportFrame& f) {
     connectivity[i] = static_cast<std::int64_t>(i), offsets[i] = static_cast<std::int64_t>(i + 1);
   const std::vector<std::uint8_t> types(n, 1);  // VTK_VERTEX
   const Block points = block(
-      "<DataArray type=\"Float32\" Name=\"Points\" NumberOfComponents=\"3\" format=\"appended\" "
-      "offset=\"{OFFSET}\"/>",
+      "<DataArray type=\"Float32\" Name=\"Points\" NumberOfComponents=\"3\" format=\"binary\">"
+      "{DATA}</DataArray>",
       interleave(p.x, p.y, p.z));
   const Block cells[3] = {
-      block("<DataArray type=\"Int64\" Name=\"connectivity\" format=\"appended\" "
-            "offset=\"{OFFSET}\"/>",
+      block("<DataArray type=\"Int64\" Name=\"connectivity\" format=\"binary\">"
+            "{DATA}</DataArray>",
             connectivity),
-      block("<DataArray type=\"Int64\" Name=\"offsets\" format=\"appended\" offset=\"{OFFSET}\"/>",
+      block("<DataArray type=\"Int64\" Name=\"offsets\" format=\"binary\">{DATA}</DataArray>",
             offsets),
-      block("<DataArray type=\"UInt8\" Name=\"types\" format=\"appended\" offset=\"{OFFSET}\"/>",
+      block("<DataArray type=\"UInt8\" Name=\"types\" format=\"binary\">{DATA}</DataArray>",
             types)};
 
-  // Offsets in the order the blocks are appended: point data, points, cells.
-  std::vector<const Block*> order;
-  for (const Block& b : point) order.push_back(&b);
-  order.push_back(&points);
-  for (const Block& b : cells) order.push_back(&b);
+  // Each array inline as base64 ("binary"): its UInt64 size and its bytes, encoded as one
+  // stream, as VTK writes it. Not appended raw data: the expat of an up-to-date Debian 12
+  // (2.5.0-1+deb12u5, with its reparse deferral) stops ParaView 5.11's XML reader at the appended
+  // section, raw or base64 ("not well-formed (invalid token)"), and the file reads as empty.
   auto element = [&](const Block& b) {
-    std::uint64_t at = 0;
-    for (const Block* o : order) {
-      if (o == &b) break;
-      at += sizeof(std::uint64_t) + o->bytes.size();
-    }
+    const std::uint64_t size = b.bytes.size();
+    std::vector<char> sized(sizeof size + b.bytes.size());
+    std::memcpy(sized.data(), &size, sizeof size);
+    if (size) std::memcpy(sized.data() + sizeof size, b.bytes.data(), b.bytes.size());
     std::string e = b.header;
-    e.replace(e.find("{OFFSET}"), 8, std::to_string(at));
+    e.replace(e.find("{DATA}"), 6, base64(sized));
     return e;
   };
   std::fprintf(out,
@@ -222,13 +239,7 @@ void writeVtu(std::FILE* out, const ExportFrame& f) {
   std::fprintf(out, "      <Cells>\n");
   for (const Block& b : cells) std::fprintf(out, "        %s\n", element(b).c_str());
   std::fprintf(out, "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n");
-  std::fprintf(out, "  <AppendedData encoding=\"raw\">\n   _");
-  for (const Block* b : order) {
-    const std::uint64_t size = b->bytes.size();
-    std::fwrite(&size, sizeof size, 1, out);
-    if (size) std::fwrite(b->bytes.data(), 1, b->bytes.size(), out);
-  }
-  std::fprintf(out, "\n  </AppendedData>\n</VTKFile>\n");
+  std::fprintf(out, "</VTKFile>\n");
 }
 
 void writePvd(std::FILE* out, const std::vector<PvdEntry>& entries) {
