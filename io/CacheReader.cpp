@@ -105,8 +105,7 @@ CacheReader::CacheReader(const std::string& path) : path_(path) {
   struct stat st {};
   if (stat(path.c_str(), &st) != 0)
     fail(std::string("cannot open the cache (") + std::strerror(errno) + ")");
-  if (S_ISDIR(st.st_mode)) fail("is a directory, expected an HDF5 cache file");
-  // Opening a FIFO would wait for a writer for ever; a device is no cache either.
+  // A directory, a device or a FIFO (opening which would wait for a writer for ever) is no cache.
   if (!S_ISREG(st.st_mode)) fail("is " + nonRegularKind(path) + ", expected an HDF5 cache file");
   const htri_t isHdf5 = H5Fis_hdf5(path.c_str());
   if (isHdf5 < 0) fail("cannot read the file (" + h5::errorText() + ")");
