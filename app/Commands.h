@@ -1,14 +1,18 @@
 // The subcommands of `sphsplat`. Each registers its options on the CLI11 app and returns the exit
-// code of its run: 0 success, 1 internal error, 2 bad input (scene, cache, flags), 3 numerical
-// blow-up stopped by the guard, 4 no usable OpenGL (no EGL/display, old driver, shader error).
+// code of its run (app/ExitCode.h).
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <functional>
 
-namespace sph::app {
+#include "app/ExitCode.h"
 
-enum ExitCode { kOk = 0, kInternalError = 1, kBadInput = 2, kBlowUp = 3, kNoGraphics = 4 };
+// Declared, not included: CLI11's header costs seconds in every file that includes it (it
+// constructs its validators in each), and the jobs that return an exit code need none of it.
+namespace CLI {
+class App;
+}
+
+namespace sph::app {
 
 // Registers `run` and returns the function that executes it once parsed.
 std::function<int()> addRunCommand(CLI::App& app);

@@ -17,7 +17,7 @@ struct CompareRequest {
   std::vector<std::string> overrides;
 };
 
-// Returns the process's exit code (app/Commands.h).
+// Returns the process's exit code (app/ExitCode.h).
 int compareJob(const CompareRequest& request);
 
 }  // namespace sph::app

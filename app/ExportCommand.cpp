@@ -3,6 +3,7 @@
 // goes to numbered files, OUT being a name with %05d (or %d) where the frame number goes, or a
 // directory. Nothing existing is replaced without --overwrite, the cache itself never, and each
 // file is written under a temporary name and renamed once complete (io/UserFiles.h).
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
 #include <memory>

@@ -1,5 +1,6 @@
 // `sphsplat info CACHE`: what an HDF5 cache holds (frames, time range, particle counts, fields,
 // scene, size, whether its run finished), read from the file alone.
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
 #include <memory>

@@ -1,5 +1,6 @@
 // `sphsplat render CACHE` and `sphsplat compare CACHE --frame N`: their flags; the work is
 // app/RenderJob.h and app/CompareJob.h.
+#include <CLI/CLI.hpp>
 #include <memory>
 
 #include "app/Commands.h"

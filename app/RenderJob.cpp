@@ -7,7 +7,7 @@
 #include "app/CacheRain.h"
 #include "app/CacheRendering.h"
 #include "app/CacheScene.h"
-#include "app/Commands.h"
+#include "app/ExitCode.h"
 #include "app/RenderOutput.h"
 #include "io/Png.h"
 #include "render/gl/GlContext.h"

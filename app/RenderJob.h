@@ -19,7 +19,7 @@ struct RenderRequest {
   std::vector<std::string> overrides;
 };
 
-// Returns the process's exit code (app/Commands.h).
+// Returns the process's exit code (app/ExitCode.h).
 int renderJob(const RenderRequest& request);
 
 }  // namespace sph::app

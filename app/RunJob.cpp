@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "app/CollectiveCacheSink.h"
-#include "app/Commands.h"
+#include "app/ExitCode.h"
 #include "app/DistributedResume.h"
 #include "app/DistributedRun.h"
 #include "app/Interrupt.h"

@@ -21,7 +21,7 @@ struct RunRequest {
   io::CacheSessionOptions cache;
 };
 
-// Returns the process's exit code (app/Commands.h).
+// Returns the process's exit code (app/ExitCode.h).
 int runJob(const RunRequest& request);
 
 }  // namespace sph::app

@@ -1,0 +1,10 @@
+// The exit codes of every `sphsplat` command: 0 success, 1 internal error, 2 bad input (scene,
+// cache, flags), 3 numerical blow-up stopped by the guard, 4 no usable OpenGL (no EGL/display, old
+// driver, shader error).
+#pragma once
+
+namespace sph::app {
+
+enum ExitCode { kOk = 0, kInternalError = 1, kBadInput = 2, kBlowUp = 3, kNoGraphics = 4 };
+
+}  // namespace sph::app
