@@ -42,6 +42,6 @@ int main(int argc, char** argv) {
   floor.advanceTo(sim, end);
   std::printf("%s, tank %.3g m square, %zu particles, depth %.4f m, read %g-%g s:\n  ",
               solver.c_str(), width, sim.fluid().size(), depth, settle, end);
-  floor.print(solver.c_str(), expected);
+  floor.print(solver.c_str(), expected, true);
   return 0;
 }

@@ -1,5 +1,6 @@
 #include "tests/StillTankFloor.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -32,6 +33,7 @@ void StillTankFloor::advanceTo(Simulation& sim, double t) {
     floor_ += -load(floor).y() / (width_ * width_);
     total_ += load(all).dot(sim.scene().solver.gravity.cast<double>()) /
               (weight * sim.scene().solver.gravity.norm());
+    readProfile(p, d.mass, sim.scene().solver.gravity.norm());
     const LayerMean bottom = bottomLayer(p, spacing_);
     bottomPressure_ += bottom.pressure;
     bottomHeight_ += bottom.height;
@@ -39,12 +41,54 @@ void StillTankFloor::advanceTo(Simulation& sim, double t) {
   }
 }
 
-void StillTankFloor::print(const char* solver, double expected) const {
+void StillTankFloor::readProfile(const Particles& p, double mass, double g) {
+  const double lo = 0.25 * width_, hi = 0.75 * width_, rim = 1.5 * spacing_;
+  // The weight above a particle's centre over the tank's area: the particles above it, and half
+  // a particle for its own (the ranks across a layer of equal heights average half the layer).
+  order_.resize(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) order_[i] = static_cast<std::uint32_t>(i);
+  std::sort(order_.begin(), order_.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return p.y[a] != p.y[b] ? p.y[a] > p.y[b] : a < b;
+  });
+  const double top = p.size() ? p.y[order_[0]] : 0, weightScale = mass * g / (width_ * width_);
+  const double depth =
+      static_cast<double>(p.size()) * spacing_ * spacing_ * spacing_ / (width_ * width_);
+  double topSum = 0;
+  int topCount = 0;
+  for (std::size_t rank = 0; rank < order_.size(); ++rank) {
+    const std::uint32_t i = order_[rank];
+    const double x = p.x[i], y = p.y[i], z = p.z[i];
+    maxSpeed_ = std::max(maxSpeed_, static_cast<double>(p.velocity(i).norm()));
+    if (y > top - spacing_) topSum += y, ++topCount;
+    const bool centre = x > lo && x < hi && z > lo && z < hi;
+    const bool besideWall = std::min({x, z, width_ - x, width_ - z}) < rim;
+    const bool midDepth = y > 0.2 * depth && y < 0.8 * depth;
+    auto add = [&](Region r) {
+      pressure_[r] += p.p[i];
+      expected_[r] += weightScale * (static_cast<double>(rank) + 0.5);
+    };
+    if (y < spacing_) add(centre ? kFloorLayerCentre : kFloorLayerRim);
+    if (midDepth && besideWall) add(kBesideSideWalls);
+    if (midDepth && centre) add(kCentreColumns);
+  }
+  lastTop_ = topCount ? topSum / topCount : 0;
+  if (steps_ == 0) firstTop_ = lastTop_;
+}
+
+void StillTankFloor::print(const char* solver, double expected, bool profile) const {
   std::printf(
       "%s floor sensor: centre %.1f Pa, whole floor %.1f Pa, rho0 g d %.1f Pa (%+.2f%%, %+.2f%%); "
       "walls' load / weight %.4f (%d steps)\n",
       solver, centrePressure(), floorPressure(), expected, 100 * (centrePressure() / expected - 1),
       100 * (floorPressure() / expected - 1), loadOverWeight(), steps());
+  if (!profile) return;
+  std::printf(
+      "%s p against the weight above: floor layer centre %+.2f%%, rim %+.2f%%; beside the side "
+      "walls %+.2f%%, centre columns %+.2f%% (20-80%% of the depth); top speed %.4f m/s; top "
+      "layer %.4f -> %.4f m\n",
+      solver, 100 * pressureError(kFloorLayerCentre), 100 * pressureError(kFloorLayerRim),
+      100 * pressureError(kBesideSideWalls), 100 * pressureError(kCentreColumns), maxSpeed(),
+      firstTopHeight(), lastTopHeight());
 }
 
 }  // namespace sph::test

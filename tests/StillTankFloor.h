@@ -5,6 +5,9 @@
 // one step to the next, and frames a fixed number of steps apart would see one phase only).
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "sim/Simulation.h"
 
 namespace sph::test {
@@ -30,13 +33,33 @@ class StillTankFloor {
   double bottomLayerPressure() const { return bottomPressure_ / steps_; }
   double bottomLayerHeight() const { return bottomHeight_ / steps_; }
   int steps() const { return steps_; }
-  // One line: the readings against the floor's `expected` pressure (Pa), named `solver`.
-  void print(const char* solver, double expected) const;
+  // The fluid's p against the hydrostatic pressure, the weight of the water above each particle
+  // over the tank's area, by region, every step: sum p / sum hydrostatic - 1 over the particles of
+  // the region. The floor's layer (below one spacing above the floor) in the middle half of
+  // each side and along the walls; the water beside the side walls (within 1.5 spacings of one)
+  // and the centre columns (the middle half of each side), both at 20-80% of the depth.
+  enum Region { kFloorLayerCentre, kFloorLayerRim, kBesideSideWalls, kCentreColumns, kRegions };
+  double pressureError(Region r) const {
+    return expected_[r] > 0 ? pressure_[r] / expected_[r] - 1 : 0;
+  }
+  // The largest speed of any particle over the reading (m/s), and the mean height of the top
+  // layer (the particles within one spacing of the highest) at the first and the last step (m).
+  double maxSpeed() const { return maxSpeed_; }
+  double firstTopHeight() const { return firstTop_; }
+  double lastTopHeight() const { return lastTop_; }
+  // One line: the readings against the floor's `expected` pressure (Pa), named `solver`; and
+  // with `profile`, a second with the pressure by region, the top speed and the height.
+  void print(const char* solver, double expected, bool profile = false) const;
 
  private:
+  void readProfile(const Particles& p, double mass, double g);
+
   double width_, spacing_;
   double centre_ = 0, floor_ = 0, total_ = 0, bottomPressure_ = 0, bottomHeight_ = 0;
+  double pressure_[kRegions] = {}, expected_[kRegions] = {};
+  double maxSpeed_ = 0, firstTop_ = 0, lastTop_ = 0;
   int steps_ = 0;
+  std::vector<std::uint32_t> order_;  // the fluid by height, highest first (readProfile())
 };
 
 }  // namespace sph::test
