@@ -45,8 +45,11 @@ struct MeshOptions {
 std::string formatOf(const MeshOptions& o) {
   if (o.output.empty()) throw InputError("--out: expected a file, a name with %05d or a directory");
   if (!o.format.empty()) return o.format;
+  // A name the system cannot look up (a symlink loop, a component over 255 bytes, a directory
+  // that cannot be searched) is no directory here; checking the output says what is wrong.
+  std::error_code unreadable;
   if (o.output.find('%') == std::string::npos && o.output.back() != '/' &&
-      !std::filesystem::is_directory(o.output)) {
+      !std::filesystem::is_directory(o.output, unreadable)) {
     const std::string ext = extensionOf(o.output);
     if (ext == "ply" || ext == "obj") return ext;
     throw InputError("--format: expected ply or obj (the name " + io::printablePath(o.output) +

@@ -144,7 +144,14 @@ TEST_F(MeshCli, RefusalsAreOneLineWithExitCode2AndWriteNothing) {
   struct Case {
     std::string args, says;
   };
+  // Names the system cannot look up: a symlink loop, a component over 255 bytes.
+  const std::string loop = dir_ + "/loop", longName = dir_ + "/" + std::string(300, 'a');
+  std::filesystem::create_symlink("loop", loop);
   const Case cases[] = {
+      {"--frames 1 --out '" + loop + "'", "does not say which"},
+      {"--frames 1 --out '" + loop + "/x.ply'", "Too many levels of symbolic links"},
+      {"--frames 1 --out '" + longName + ".ply'", "File name too long"},
+      {"--frames 1:2 --out '" + longName + "/'", "File name too long"},
       {"--frames 99 --out '" + out + "'", "--frames"},
       {"--frames x --out '" + out + "'", "--frames"},
       {"--frames 3:1 --out '" + out + "'", "--frames"},
