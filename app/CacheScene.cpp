@@ -1,7 +1,9 @@
 #include "app/CacheScene.h"
 
+#include <cstdio>
 #include <sstream>
 
+#include "app/ExitCode.h"
 #include "io/MessageText.h"
 #include "io/SceneLoader.h"
 #include "sim/InputError.h"
@@ -77,6 +79,22 @@ std::size_t parseOneFrame(const std::string& text, std::size_t frames, const std
                      io::printable(text) + "'");
   }
   return range.front();
+}
+
+std::string damageLine(const io::CacheSummary& summary) {
+  if (summary.damagedFrame.empty()) return "";
+  const std::size_t n = summary.frames.size();
+  return "sphsplat: " + io::printablePath(summary.path) + ": damaged cache: frame " +
+         std::to_string(n) + " does not read back (" + io::printable(summary.damagedFrame, 160) +
+         ")" + (n ? "; frames 0-" + std::to_string(n - 1) + " are complete" : "");
+}
+
+int exitAfterReading(const io::CacheSummary& summary) {
+  const std::string line = damageLine(summary);
+  if (line.empty()) return kOk;
+  std::fflush(stdout);
+  std::fprintf(stderr, "%s\n", line.c_str());
+  return kBadInput;
 }
 
 }  // namespace sph::app

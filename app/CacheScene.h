@@ -20,4 +20,12 @@ std::vector<std::size_t> parseFrameRange(const std::string& text, std::size_t fr
 // The same syntax where one frame is meant (compare, view): a range of several is refused.
 std::size_t parseOneFrame(const std::string& text, std::size_t frames, const std::string& flag);
 
+// A cache whose frames stop at one that does not read back: "PATH: damaged cache: frame N does
+// not read back (WHAT); frames 0-M are complete" ("" when none does). Its frames are the complete
+// ones, so "all" and "last" mean those: a command that read it says so after its work.
+std::string damageLine(const io::CacheSummary& summary);
+// Prints damageLine() to stderr and returns the exit code of a command that has done what the
+// complete frames let it: 2 (bad input) for a damaged cache, else 0.
+int exitAfterReading(const io::CacheSummary& summary);
+
 }  // namespace sph::app

@@ -162,7 +162,7 @@ int compareJob(const CompareRequest& o) {
   io::writePng(path, sheet.width, sheet.height, sheet.rgb.data());
   std::printf("wrote %s\n", path.c_str());
   if (c.scene.lights) compareParticleLights(c, f, p, o.out);
-  return kOk;
+  return exitAfterReading(c.reader().summary());
 }
 
 }  // namespace sph::app

@@ -124,7 +124,7 @@ int exportFrames(const ExportOptions& o) {
     io::writePvd(out.file(), collection);
     out.commit();
   }
-  if (o.output == "-") return kOk;
+  if (o.output == "-") return exitAfterReading(s);
   const std::string forParaView = pvd ? "; open " + names.pvd() + " in ParaView" : "";
   if (files == 1) {
     std::fprintf(stderr, "wrote %s: %zu %s, %s%s\n", names.file(o.boundary ? 0 : frames[0]).c_str(),
@@ -141,7 +141,7 @@ int exportFrames(const ExportOptions& o) {
                  io::readableNumber(s.frames[frames.back()].time).c_str(), counts.c_str(),
                  pvd ? (forParaView + " for the times").c_str() : "");
   }
-  return kOk;
+  return exitAfterReading(s);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "app/CacheScene.h"
 #include "app/Commands.h"
 #include "app/Progress.h"
 #include "io/CacheReader.h"
@@ -121,15 +122,13 @@ int info(const InfoOptions& o) {
   }
   // What could not be read is an error, after everything that could (a new cache is published
   // only once frame 0 is in, so a cache without a frame is damaged too).
-  if (!s.damagedFrame.empty() || n == 0) {
+  if (!s.damagedFrame.empty()) return exitAfterReading(s);
+  if (n == 0) {
     std::fflush(stdout);
-    std::fprintf(stderr, "sphsplat: %s: damaged cache: %s\n", s.path.c_str(),
-                 !s.damagedFrame.empty()
-                     ? ("frame " + std::to_string(n) + " does not read back (" +
-                        io::printable(s.damagedFrame, 160) + ")" +
-                        (n ? "; frames 0-" + std::to_string(n - 1) + " are complete" : ""))
-                           .c_str()
-                     : "it has no complete frame (not even the initial state, frame 0)");
+    std::fprintf(stderr,
+                 "sphsplat: %s: damaged cache: it has no complete frame (not even the initial "
+                 "state, frame 0)\n",
+                 io::printablePath(s.path).c_str());
     return kBadInput;
   }
   return kOk;

@@ -151,7 +151,7 @@ int meshFrames(const MeshOptions& o) {
                  humanCount(static_cast<double>(fewest)).c_str(),
                  humanCount(static_cast<double>(most)).c_str());
   }
-  return kOk;
+  return exitAfterReading(s);
 }
 
 }  // namespace

@@ -84,7 +84,7 @@ int renderJob(const RenderRequest& o) {
                 images ? 1e3 * seconds / images : 0.0);
     if (o.toCache) std::printf("  also stored in %s as Render#<point|quad>#N\n", o.cache.c_str());
   }
-  return kOk;
+  return exitAfterReading(c.reader().summary());
 }
 
 }  // namespace sph::app

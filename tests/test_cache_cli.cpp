@@ -307,7 +307,9 @@ TEST_F(CacheCli, NonRegularFilesAreNeverReplaced) {
   EXPECT_FALSE(test::fileExists(dir_ + "/side.h5")) << "nothing is written when a check fails";
 }
 
-TEST_F(CacheCli, InfoOnADamagedCacheSaysWhatItCanAndExitsTwo) {
+// info, export, mesh: what the complete frames allow, then the damage in one line and exit 2
+// ("all" and "last" quietly meaning the frames before the damaged one was the old behaviour).
+TEST_F(CacheCli, ADamagedCacheIsSaidAndExitsTwoAfterWhatCouldBeRead) {
   const std::string damaged = dir_ + "/damaged.h5";
   std::filesystem::copy_file(cache_, damaged);
   {
@@ -325,6 +327,26 @@ TEST_F(CacheCli, InfoOnADamagedCacheSaysWhatItCanAndExitsTwo) {
             std::string::npos)
       << r.output;
   EXPECT_NE(r.output.find("; frames 0-2 are complete\n"), std::string::npos) << r.output;
+  const std::string damageLine = damaged + ": damaged cache: frame 3 does not read back";
+  struct Case {
+    std::string command, firstFile, lastFile;
+  };
+  const Case cases[] = {
+      {"export '" + damaged + "' --frames all --format csv -o '" + dir_ + "/all/'",
+       dir_ + "/all/tiny_00000.csv", dir_ + "/all/tiny_00002.csv"},
+      {"export '" + damaged + "' --frames last -o '" + dir_ + "/last.csv'", dir_ + "/last.csv",
+       dir_ + "/last.csv"},
+      {"mesh '" + damaged + "' --frames all -q -o '" + dir_ + "/mesh/'",
+       dir_ + "/mesh/tiny_00000.ply", dir_ + "/mesh/tiny_00002.ply"},
+  };
+  for (const Case& c : cases) {
+    const auto e = runShell(sphsplat(c.command));
+    EXPECT_EQ(e.exitCode, 2) << c.command << "\n" << e.output;  // was 0, silently
+    EXPECT_NE(e.output.find(damageLine), std::string::npos) << c.command << "\n" << e.output;
+    EXPECT_TRUE(test::fileExists(c.firstFile)) << c.command;
+    EXPECT_TRUE(test::fileExists(c.lastFile)) << c.command;
+  }
+  EXPECT_FALSE(test::fileExists(dir_ + "/all/tiny_00003.csv"));
 }
 
 // Issue 12, item 10: a full disk (here a file size limit, which fails writes the same way) stops
