@@ -74,7 +74,19 @@ std::string oneLineFailure(const CLI::App* app, const CLI::Error& e) {
   // The subcommand the user was in, so the hint points at its options.
   std::string command = "sphsplat";
   for (const CLI::App* sub : app->get_subcommands()) command += " " + sub->get_name();
-  return "sphsplat: " + io::printable(e.what(), 200) + " (see " + command + " --help)\n";
+  // A file name that begins with '-' reads as options ("run -x.json" then misses its scene):
+  // say how to name it.
+  std::string hint;
+  for (const CLI::App* sub : app->get_subcommands()) {
+    for (const std::string& extra : sub->remaining()) {
+      if (extra.size() > 1 && extra[0] == '-' && extra.find('.') != std::string::npos) {
+        hint = "; " + io::printable(extra, 80) + " is read as options: name the file ./" +
+               io::printable(extra, 80);
+        break;
+      }
+    }
+  }
+  return "sphsplat: " + io::printable(e.what(), 200) + hint + " (see " + command + " --help)\n";
 }
 
 }  // namespace sph::app

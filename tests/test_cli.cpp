@@ -44,6 +44,16 @@ TEST(Cli, BadFlagsExitWithTwo) {
   EXPECT_EQ(runSphsplat("run x.json --end 0").exitCode, 2);
 }
 
+// A scene named like an option ("-x.json") is read as options, so the scene is missing: the line
+// says how to name it.
+TEST(Cli, ASceneNamedLikeAnOptionIsExplained) {
+  const auto r = test::runShell(test::sphsplatCommand() + " run -x.json 2>&1");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_EQ(r.output,
+            "sphsplat: scene is required; -x.json is read as options: name the file ./-x.json "
+            "(see sphsplat run --help)\n");
+}
+
 // `mpirun -np 3 sphsplat ...` with a build without MPI would start three plain processes that each
 // run the whole job and race for one output. The starter's variables are set here by hand: this
 // build has no MPI to start (the MPI suite, tests/test_mpi.cpp, covers builds with it).
