@@ -199,6 +199,14 @@ std::vector<Parameter> solverParameters(const Scene& scene, const DerivedParams&
   };
 }
 
+bool isAutomaticParameter(const Scene& scene, const std::string& name) {
+  const SolverParams& s = scene.solver;
+  if (name == "solver.stiffness") return s.stiffness <= 0;
+  if (name == "solver.speed_of_sound") return s.stiffness <= 0 && s.speedOfSound <= 0;
+  if (name == "solver.viscosity") return s.viscosity < 0;
+  return false;
+}
+
 std::string dynamicsFingerprint(const Scene& scene) {
   Fingerprint f;
   const SolverParams& s = scene.solver;

@@ -161,23 +161,29 @@ std::size_t CacheSession::checkResume(const Simulation& sim, const CacheProvenan
   const CacheSummary& s = reader_->summary();
   const Scene& scene = sim.scene();
   if (cache::dynamicsFingerprint(scene) != s.sceneFingerprint) {
-    // Name the first resolved parameter that differs, if one does.
-    std::string what;
+    // Name the first parameter set by the scene that differs, if one does; the automatic ones
+    // (the speed of sound follows the fluid's height) only when no set one does, so that a
+    // changed fluid box is not reported as another speed of sound.
+    std::string what, derived;
     for (const cache::Parameter& mine : cache::solverParameters(scene, sim.params())) {
       for (const cache::Parameter& theirs : s.parameters) {
-        if (!what.empty() || mine.name != theirs.name) continue;
+        if (mine.name != theirs.name) continue;
+        std::string differs;
         if (mine.isText && mine.text != theirs.text) {
-          what =
+          differs =
               mine.name + " is \"" + mine.text + "\" here but \"" + theirs.text + "\" in the cache";
         } else if (!mine.isText && mine.number != theirs.number) {
-          what = mine.name + " is " + number(mine.number) + " here but " + number(theirs.number) +
-                 " in the cache";
+          differs = mine.name + " is " + number(mine.number) + " here but " +
+                    number(theirs.number) + " in the cache";
         }
+        std::string& into = cache::isAutomaticParameter(scene, mine.name) ? derived : what;
+        if (into.empty()) into = differs;
       }
     }
     if (what.empty()) {
       what = "its fluids, boundaries, emitters or domain differ";
       if (sim.rainFeed()) what += ", or its rain that feeds the fluid (rain, camera, render size)";
+      if (!derived.empty()) what += "; derived from them, " + derived;
     }
     throw InputError(
         scene.sourcePath + ": not the scene the cache " + path_ + " was written with (" + what +

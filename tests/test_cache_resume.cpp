@@ -148,6 +148,15 @@ TEST(CacheResume, RefusesAnotherScene) {
   EXPECT_EQ(moved.exitCode, 2) << moved.output;
   EXPECT_NE(moved.output.find("fluids, boundaries, emitters or domain differ"), std::string::npos)
       << moved.output;
+  // A block taller than the nozzle: the automatic speed of sound follows its height, but the
+  // block is what changed (this said "solver.speed_of_sound is ... here but ... in the cache").
+  const auto taller = runShell(
+      run(scene, "--set fluids[0].max=[0.1,0.19,0.15] --end 0.2 --resume '" + cache + "'"));
+  EXPECT_EQ(taller.exitCode, 2) << taller.output;
+  EXPECT_NE(taller.output.find("(its fluids, boundaries, emitters or domain differ; derived from "
+                               "them, solver.speed_of_sound is "),
+            std::string::npos)
+      << taller.output;
   EXPECT_EQ(io::CacheReader(cache).frameCount(), 11u) << "a refused resume leaves the cache alone";
 }
 
