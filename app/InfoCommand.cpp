@@ -2,7 +2,9 @@
 // scene, size, whether its run finished), read from the file alone.
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <string>
 
@@ -122,6 +124,12 @@ int info(const InfoOptions& o) {
   }
   // What could not be read is an error, after everything that could (a new cache is published
   // only once frame 0 is in, so a cache without a frame is damaged too).
+  // The report is the command's product: one that could not be written (a full disk) is a
+  // failed command, not a quiet success.
+  if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+    std::fprintf(stderr, "sphsplat: cannot write to standard output (%s)\n", std::strerror(errno));
+    return kInternalError;
+  }
   if (!s.damagedFrame.empty()) return exitAfterReading(s);
   if (n == 0) {
     std::fflush(stdout);

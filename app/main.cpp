@@ -3,10 +3,8 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <exception>
 #include <functional>
 #include <new>
@@ -119,14 +117,7 @@ int main(int argc, char** argv) {
   try {
     for (auto& command : commands) {
       const int code = command();
-      if (code < 0) continue;
-      // What a command printed is its output (info's report, export -o -): a write that failed
-      // (a full disk, a closed pipe's reader) is a failed command, not a quiet success.
-      if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
-        tell("sphsplat: cannot write to standard output (%s)\n", std::strerror(errno));
-        return code == sph::app::kOk ? sph::app::kInternalError : code;
-      }
-      return code;
+      if (code >= 0) return code;
     }
   } catch (const sph::InputError& e) {
     tell("sphsplat: %s\n", e.what());
