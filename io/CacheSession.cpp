@@ -129,7 +129,7 @@ std::unique_ptr<CacheSession> CacheSession::prepare(const CacheSessionOptions& f
     }
     if (exists(p) && !flags.overwrite) {
       throw InputError(
-          p + ": already exists; pass --overwrite to replace it" +
+          p + ": " + whatExists(p) + "; pass --overwrite to replace it" +
           (p == out->path_ ? ", or --resume " + p + " to continue that run" : std::string("")));
     }
   }

@@ -95,6 +95,17 @@ std::string readInputFile(const std::string& path, const std::string& what) {
   return text;
 }
 
+std::string whatExists(const std::string& path) {
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) != 0) return "";
+  if (!S_ISLNK(st.st_mode) || ::stat(path.c_str(), &st) == 0) return "already exists";
+  if (errno == ELOOP) return "is a symbolic link that loops";
+  char target[4096];
+  const ssize_t n = ::readlink(path.c_str(), target, sizeof target - 1);
+  const std::string to = n > 0 ? std::string(target, static_cast<std::size_t>(n)) : "?";
+  return "is a symbolic link to " + printablePath(to) + ", which does not exist";
+}
+
 void checkOutputPath(const std::string& path, bool overwrite, const std::vector<ReadFile>& reads) {
   for (const ReadFile& r : reads) {
     if (sameFile(path, r.path)) {
@@ -109,7 +120,8 @@ void checkOutputPath(const std::string& path, bool overwrite, const std::vector<
     throw InputError(path + ": is " + kind +
                      ", not a regular file; refusing to replace it (choose a file name)");
   }
-  if (!overwrite) throw InputError(path + ": already exists; pass --overwrite to replace it");
+  if (!overwrite)
+    throw InputError(path + ": " + whatExists(path) + "; pass --overwrite to replace it");
 }
 
 AtomicOutput::AtomicOutput(const std::string& path) : path_(path), target_(path) {

@@ -25,6 +25,11 @@ std::string readInputFile(const std::string& path, const std::string& what);
 // "a directory", "a character device", "a FIFO", ... of an existing path (following symlinks);
 // "" for a regular file or a path that does not exist.
 std::string nonRegularKind(const std::string& path);
+// What is at `path`, said for a refusal to replace it: "" for nothing, "already exists", or for a
+// symbolic link that leads nowhere "is a symbolic link to TARGET, which does not exist" or "is a
+// symbolic link that loops" (such a link is no file a user would mean to keep, but is not one
+// to replace silently either).
+std::string whatExists(const std::string& path);
 
 // True when both paths name one existing file (same device and inode).
 bool sameFile(const std::string& a, const std::string& b);

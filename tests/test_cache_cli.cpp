@@ -81,6 +81,36 @@ TEST_F(CacheCli, AFullStandardOutputFailsTheCommandWithOneLine) {
   EXPECT_EQ(r.output, "sphsplat: standard output: cannot write the export\n");
 }
 
+// A symbolic link that leads nowhere is said to be one, not "already exists" (a run's cache and
+// an export's file alike), and --overwrite replaces the link.
+TEST_F(CacheCli, ALinkThatLeadsNowhereIsSaidToBeOne) {
+  const std::string dangling = dir_ + "/dangling.h5", loop = dir_ + "/loop.h5";
+  std::filesystem::create_symlink("nowhere/x.h5", dangling);
+  std::filesystem::create_symlink("loop.h5", loop);
+  auto r = runShell(sphsplat("run '" + scene_ + "' --quiet -o '" + dangling + "'"));
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find(dangling + ": is a symbolic link to nowhere/x.h5, which does not exist; "
+                                     "pass --overwrite to replace it"),
+            std::string::npos)
+      << r.output;
+  r = runShell(sphsplat("run '" + scene_ + "' --quiet -o '" + loop + "'"));
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find(loop + ": is a symbolic link that loops; pass --overwrite"),
+            std::string::npos)
+      << r.output;
+  r = runShell(sphsplat("export '" + cache_ + "' --frames 1 -o '" + loop + ".csv'"));
+  EXPECT_EQ(r.exitCode, 0) << "a new name: " << r.output;
+  std::filesystem::create_symlink("loop.csv", dir_ + "/loop.csv");
+  r = runShell(sphsplat("export '" + cache_ + "' --frames 1 -o '" + dir_ + "/loop.csv'"));
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find("/loop.csv: is a symbolic link that loops; pass --overwrite"),
+            std::string::npos)
+      << r.output;
+  r = runShell(sphsplat("run '" + scene_ + "' --quiet --overwrite -o '" + dangling + "'"));
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_FALSE(std::filesystem::is_symlink(dangling)) << "the link is replaced by the cache";
+}
+
 TEST_F(CacheCli, RefusesToOverwriteUnlessAsked) {
   const std::string before = readFile(cache_);
   auto r = runShell(sphsplat("run '" + scene_ + "' --threads 1 -o '" + cache_ + "'"));
