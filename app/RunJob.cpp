@@ -103,7 +103,7 @@ int runJob(const RunRequest& request) {
   sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
   std::size_t startParticles = halo ? halo->globalCount(sim.fluid().size()) : sim.fluid().size();
   // A distributed resume holds no fluid yet: the header tells the frame it continues from.
-  if (halo && resumed && root) startParticles = cache->reader().summary().frames.back().particles;
+  if (halo && resumed && root) startParticles = cache->reader().summary().frames.at(cache->resumeFrame()).particles;
   if (!o.quiet) printHeader(o, scene, sim, startParticles, cache.get(), setupSeconds, memory);
 
   std::uint64_t frames = 1;  // the next output frame; the initial state is frame 0
@@ -140,10 +140,10 @@ int runJob(const RunRequest& request) {
         for (std::int64_t n : read) all += n;
         std::printf(
             "  resuming %s from frame %llu at t = %g s (each of the %d ranks read its slab of it: "
-            "at most %lld of its %lld particles)\n",
+            "at most %lld of its %lld particles)%s\n",
             cache->path().c_str(), static_cast<unsigned long long>(frames - 1), sim.time(),
             ranks->size(), static_cast<long long>(*std::max_element(read.begin(), read.end())),
-            all);
+            all, cache->resumeNote().c_str());
       }
     }
   } else if (cache && cache->resuming()) {
@@ -154,22 +154,15 @@ int runJob(const RunRequest& request) {
     }
     frames = cache->restore(sim, provenance) + 1;
     if (!o.quiet)
-      std::printf("  resuming %s from frame %llu at t = %g s\n", cache->path().c_str(),
-                  static_cast<unsigned long long>(frames - 1), sim.time());
+      std::printf("  resuming %s from frame %llu at t = %g s%s\n", cache->path().c_str(),
+                  static_cast<unsigned long long>(frames - 1), sim.time(),
+                  cache->resumeNote().c_str());
   }
   if (halo) sim.setHalo(halo.get());
   installInterruptHandlers();
 
   Progress progress(Progress::detect(o.quiet), scene.name);
   const auto start = std::chrono::steady_clock::now();
-  if (cache && !halo && !resumed) {
-    cache->create(sim, provenance, plannedFrameCount(end, frameInterval));
-    cache->writeFrame(sim);
-  }
-  // Pictures while simulating (scene `render` section): the GL context exists only then.
-  std::unique_ptr<RenderOutput> pictures =
-      RenderOutput::prepare(scene, sim.boundary().particles(), cache.get());
-  if (pictures && !resumed) pictures->frame(sim, 0);
   auto sample = [&]() {
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -181,6 +174,45 @@ int runJob(const RunRequest& request) {
     s.particleStepsPerSecond = wall > 0 ? sim.profile().particleSteps / wall : 0;
     return s;
   };
+  // Writing failed (a full disk, a file size limit, a vanished directory): the cache keeps its
+  // committed frames and says why it stopped, instead of "running"; a new cache without its
+  // frame 0 leaves nothing.
+  auto writingFailed = [&](const std::exception& e) {
+    progress.finish(sample());
+    if (!cache) return;
+    const std::string reason = std::string("writing failed: ") + e.what();
+    // Failed in a frame the ranks write together: the cache's file is released mid-frame and
+    // the other ranks may still write; the recorder writes the status once they have ended.
+    if (statusRecorderArmed()) startStatusRecorder(reason.c_str());
+    std::string kept;
+    try {
+      kept = cache->stop(reason);
+      cancelStatusRecorder();
+    } catch (const std::exception&) {
+      kept = "the cache " + cache->path() + " keeps " + cache->framesText();
+    }
+    throw InputError(std::string(e.what()) + "; " + kept);
+  };
+  if (cache && !halo && !resumed) {
+    try {
+      cache->create(sim, provenance, plannedFrameCount(end, frameInterval));
+      cache->writeFrame(sim);
+    } catch (const std::exception& e) {
+      writingFailed(e);
+      throw;
+    }
+  }
+  // Pictures while simulating (scene `render` section): the GL context exists only then.
+  std::unique_ptr<RenderOutput> pictures =
+      RenderOutput::prepare(scene, sim.boundary().particles(), cache.get());
+  if (pictures && !resumed) {
+    try {
+      pictures->frame(sim, 0);
+    } catch (const std::exception& e) {
+      writingFailed(e);
+      throw;
+    }
+  }
   RunPlan plan;
   plan.endTime = end;
   plan.frameInterval = frameInterval;
@@ -230,23 +262,7 @@ int runJob(const RunRequest& request) {
   try {
     outcome = runFrames(sim, plan, sinks);
   } catch (const std::exception& e) {
-    // Writing failed (a full disk, a file size limit, a vanished directory): the cache keeps its
-    // committed frames and says why it stopped, instead of "running".
-    progress.finish(sample());
-    if (cache) {
-      const std::string reason = std::string("writing failed: ") + e.what();
-      // Failed in a frame the ranks write together: the cache's file is released mid-frame and
-      // the other ranks may still write; the recorder writes the status once they have ended.
-      if (statusRecorderArmed()) startStatusRecorder(reason.c_str());
-      std::string kept;
-      try {
-        kept = cache->stop(reason);
-        cancelStatusRecorder();
-      } catch (const std::exception&) {
-        kept = "the cache " + cache->path() + " keeps " + cache->framesText();
-      }
-      throw InputError(std::string(e.what()) + "; " + kept);
-    }
+    writingFailed(e);
     throw;
   }
   if (outcome.blowUp) {
@@ -284,7 +300,15 @@ int runJob(const RunRequest& request) {
     }
     return 128 + signal;
   }
-  if (cache) cache->finish(sim.time()), cancelStatusRecorder();
+  if (cache) {
+    try {
+      cache->finish(sim.time());
+    } catch (const std::exception& e) {
+      writingFailed(e);
+      throw;
+    }
+    cancelStatusRecorder();
+  }
   const std::size_t endParticles =
       halo ? halo->globalCount(sim.fluid().size()) : sim.fluid().size();
   // A distributed run's throughput counts every rank's particles.
@@ -337,7 +361,15 @@ int runJob(const RunRequest& request) {
             static_cast<double>(collective->cellBytesReceived()) / collective->frames());
     }
   }
-  if (cache) cache->close();
+  if (cache) {
+    try {
+      cache->close();
+    } catch (const std::exception& e) {
+      // Every frame and the status are committed: the close's own writes failed (a full disk).
+      throw InputError(std::string(e.what()) + "; the cache " + cache->path() + " keeps " +
+                       cache->framesText() + ", its run finished");
+    }
+  }
   setLockstep(false);
   return kOk;
 }

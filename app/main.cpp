@@ -19,6 +19,7 @@
 #include "app/OpenMpSpinLimit.h"
 #include "app/StatusRecorder.h"
 #include "app/Version.h"
+#include "io/Hdf5.h"
 #include "render/gl/GlError.h"
 #include "sim/InputError.h"
 #ifdef SPHSPLAT_MPI
@@ -43,6 +44,7 @@ void openClosedStandardStreams() {
 
 int main(int argc, char** argv) {
   openClosedStandardStreams();
+  sph::io::h5::startWithoutExitCleanup();
   // A recorder that rank 0 of an MPI run started (app/StatusRecorder.h): nothing else of main.
   if (argc == sph::app::kRecorderArgc && std::strcmp(argv[1], sph::app::kRecorderArgument) == 0)
     return sph::app::runStatusRecorder(argv);

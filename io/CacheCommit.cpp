@@ -9,6 +9,7 @@
 
 #include "io/CacheJournal.h"
 #include "io/CacheWriter.h"
+#include "sim/InputError.h"
 
 namespace sph::io {
 namespace {
@@ -108,7 +109,11 @@ void CacheWriter::journalHeader(hid_t object) {
   if (fd_ < 0) return;
   // A header of one block, as the root is sized to stay (more blocks would be more writes).
   if (info.hdr.nchunks != 1 || userBlock_ == 0) return;
-  journalRegion(fd_, userBlock_ + info.addr, info.hdr.space.total, userBlock_);
+  try {
+    journalRegion(fd_, userBlock_ + info.addr, info.hdr.space.total, userBlock_);
+  } catch (const InputError& e) {
+    throw h5::Error(e.what(), "");  // said as the commit's other failures are
+  }
 }
 
 }  // namespace sph::io

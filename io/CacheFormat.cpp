@@ -122,6 +122,23 @@ std::optional<Field> fieldByName(const std::string& name) {
   return std::nullopt;
 }
 
+std::optional<std::size_t> frameOfRootLink(const std::string& name) {
+  const std::size_t hash = name.rfind('#');
+  if (hash == std::string::npos || hash + 1 == name.size()) return std::nullopt;
+  // The records' names less their frame number ("Step#"), and the renderers' common prefix.
+  const std::string kind = name.substr(0, name.find('#') + 1);
+  bool record = kind == kRenderPrefix;
+  for (const std::string& frameZero : {stepName(0), vectorsName(0), restartName(0), rainName(0)})
+    record = record || kind == frameZero.substr(0, frameZero.size() - 1);
+  if (!record) return std::nullopt;
+  std::size_t frame = 0;
+  for (std::size_t i = hash + 1; i < name.size(); ++i) {
+    if (name[i] < '0' || name[i] > '9') return std::nullopt;
+    frame = frame * 10 + static_cast<std::size_t>(name[i] - '0');
+  }
+  return frame;
+}
+
 FloatArray floatMember(Field f) {
   return kFields[static_cast<std::size_t>(f)].member;
 }

@@ -61,6 +61,10 @@ inline std::string legacyRenderedFrameName(std::size_t frame) {
   return "Frame#" + std::to_string(frame);
 }
 
+// The frame a root link records (Step#N, Vectors#N, Restart#N, Rain#N, Render#<renderer>#N),
+// nothing for the root's other links (Boundary, the point indexes Index#L, ...).
+std::optional<std::size_t> frameOfRootLink(const std::string& name);
+
 // The per-particle arrays a frame can hold, in the order they are written and listed.
 enum class Field : unsigned { X, Y, Z, VX, VY, VZ, AX, AY, AZ, Rho, P, CollideTime, Id, Count };
 inline constexpr std::size_t kFieldCount = static_cast<std::size_t>(Field::Count);

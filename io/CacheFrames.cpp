@@ -181,17 +181,31 @@ void CacheWriter::writeFrameObjects(const Particles& fluid, const RunState& stat
   // heap read's broadcast that another never makes): rank 0 adds the views after the frame.
   h5::Handle vectors = slice_ ? h5::Handle() : writeVectorViews(frame, frameParticles(fluid));
   commitObjects();
-  if (restart) {
-    check(H5Olink(restart.get(), root, cache::restartName(frame).c_str(), H5P_DEFAULT, H5P_DEFAULT),
-          "link " + cache::restartName(frame));
+  std::vector<std::string> linked;
+  auto link = [&](const h5::Handle& object, const std::string& name) {
+    check(H5Olink(object.get(), root, name.c_str(), H5P_DEFAULT, H5P_DEFAULT), "link " + name);
+    linked.push_back(name);
+  };
+  try {
+    if (restart) link(restart, cache::restartName(frame));
+    if (vectors) link(vectors, cache::vectorsName(frame));
+    link(group, step);
+    group.reset(), restart.reset(), vectors.reset();
+    commitObjects(root);
+  } catch (const h5::Error&) {
+    // Not committed, the links stay in HDF5's memory, and the next commit (the status that says
+    // why the run stopped) would write them: the frame is taken back, so that the file holds the
+    // frames the run reports. Together, a failure may be this rank's alone, and a removal
+    // would wait for the others: the run stops with the file released (writeFrame).
+    if (!slice_) {
+      try {
+        removeRootLinks(linked);
+      } catch (const h5::Error&) {
+        // Reported by the failure being handled.
+      }
+    }
+    throw;
   }
-  if (vectors) {
-    check(H5Olink(vectors.get(), root, cache::vectorsName(frame).c_str(), H5P_DEFAULT, H5P_DEFAULT),
-          "link " + cache::vectorsName(frame));
-  }
-  check(H5Olink(group.get(), root, step.c_str(), H5P_DEFAULT, H5P_DEFAULT), "link " + step);
-  group.reset(), restart.reset(), vectors.reset();
-  commitObjects(root);
 }
 
 void CacheWriter::writeRestart(hid_t r, const Particles& fluid, const RunState& state) {

@@ -76,7 +76,13 @@ bool journalRegion(int fd, std::uint64_t offset, std::uint64_t length,
                    std::uint64_t userBlockBytes) {
   if (length == 0 || length > journalCapacity(userBlockBytes)) return false;
   std::vector<unsigned char> record(kHeaderBytes + length);
-  if (!readAll(fd, record.data() + kHeaderBytes, length, offset)) return false;
+  auto failed = [](const char* what) {
+    return InputError(std::string(what) + " (" +
+                      (errno != 0 ? std::strerror(errno) : "the file ends before it") + ")");
+  };
+  errno = 0;
+  if (!readAll(fd, record.data() + kHeaderBytes, length, offset))
+    throw failed("read the root group's header for the journal");
   const std::uint32_t imageCrc = crc(record.data() + kHeaderBytes, length);
   std::memcpy(record.data(), kMagic, 8);
   std::memcpy(record.data() + 8, &offset, 8);
@@ -85,7 +91,9 @@ bool journalRegion(int fd, std::uint64_t offset, std::uint64_t length,
   const std::uint32_t headerCrc = crc(record.data(), 28);
   std::memcpy(record.data() + 28, &headerCrc, 4);
   // One write: torn, it fails its CRCs; whole, it describes the state on disk right now.
-  return writeAll(fd, record.data(), record.size(), 0);
+  errno = 0;
+  if (!writeAll(fd, record.data(), record.size(), 0)) throw failed("write the journal");
+  return true;
 }
 
 bool repairFromJournal(const std::string& path, JournalRepair& repair) {

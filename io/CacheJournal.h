@@ -25,7 +25,9 @@ namespace sph::io {
 std::uint64_t journalCapacity(std::uint64_t userBlockBytes);
 
 // Copies `length` bytes at `offset` of the open file `fd` into the journal at the file's start.
-// Returns false (writing nothing) if they do not fit in `userBlockBytes`.
+// Returns false (writing nothing) if they do not fit in `userBlockBytes`; throws InputError if
+// they cannot be read or the journal cannot be written (a full disk: the user block is a hole
+// until first written), for a commit without its journal must not go ahead.
 bool journalRegion(int fd, std::uint64_t offset, std::uint64_t length,
                    std::uint64_t userBlockBytes);
 

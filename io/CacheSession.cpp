@@ -197,12 +197,21 @@ std::size_t CacheSession::checkResume(const Simulation& sim, const CacheProvenan
                  "uninterrupted one bit for bit only with the same thread count\n",
                  path_.c_str(), static_cast<long long>(s.threads), provenance.threads);
   }
-  return s.frames.size() - 1;
+  return resumeFrame();
+}
+
+std::size_t CacheSession::resumeFrame() const {
+  const std::vector<CacheFrame>& frames = reader_->summary().frames;
+  const std::size_t last = frames.size() - 1;
+  // The run loop's frame times (sim/RunLoop.cpp); a run lands on them up to rounding.
+  const double interval = 1.0 / reader_->summary().fps;
+  const bool offGrid = frames[last].time < static_cast<double>(last) * interval - 1e-9 * interval;
+  return offGrid && last > 0 ? last - 1 : last;
 }
 
 void CacheSession::finishRestore(Simulation& sim) {
   const CacheSummary& s = reader_->summary();
-  const std::size_t last = s.frames.size() - 1;
+  const std::size_t last = resumeFrame();
   followRain(sim);
   // The drops as the run left them: the resumed run continues them exactly. A feeding rain's are
   // part of the run's state (sim/rain/RainFeed.h): a cache without them cannot be resumed.
@@ -223,17 +232,26 @@ void CacheSession::finishRestore(Simulation& sim) {
   doublePositions_ = s.doublePositions;
   // The sidecar shows the boundary from its [n][3] view, which caches written before it lack.
   boundaryParticles_ = s.boundaryView ? s.boundaryParticles : 0;
-  frames_ = s.frames;
+  frames_.assign(s.frames.begin(), s.frames.begin() + static_cast<std::ptrdiff_t>(last + 1));
+  const std::size_t held = s.frames.size();
+  if (held > frames_.size()) {
+    resumeNote_ = "; its frame " + std::to_string(last + 1) + " (t = " +
+                  number(s.frames[last + 1].time) +
+                  " s, where the run ended between two frame times) is written again at t = " +
+                  number(static_cast<double>(last + 1) / s.fps) + " s";
+  }
   for (const CacheFrame& f : frames_) particleFrames_ += static_cast<double>(f.particles);
   reader_.reset();  // HDF5 opens a file once per process: read-only first, now for writing
-  writer_ = CacheWriter::append(path_, frames_.size());
+  writer_ = CacheWriter::append(path_, held);
   // A cache written before the point indexes gets those its sidecar needs.
   writer_->writePointIndex(boundaryParticles_);
   for (const CacheFrame& f : frames_)
     writer_->writePointIndex(f.particles), writer_->writePointIndex(f.rainDrops);
-  writer_->setStatus("running (resumed from frame " + std::to_string(last) + ")");
+  // The sidecar first: it never lists a frame the cache has ceased to hold.
   xdmf_ = std::make_unique<XdmfWriter>(xdmfPath_, baseName(path_), fields_, doublePositions_,
                                        boundaryParticles_, frames_);
+  writer_->dropFramesFrom(frames_.size());
+  writer_->setStatus("running (resumed from frame " + std::to_string(last) + ")");
 }
 
 void CacheSession::followRain(const Simulation& sim) {
@@ -332,15 +350,28 @@ void CacheSession::finish(double time) {
 std::string CacheSession::stop(const std::string& reason) {
   if (frames_.empty()) {
     close();
-    return "no frame was written, so there is no cache at " + path_;
+    // --overwrite replaces an existing file only once frame 0 is in.
+    return exists(path_) ? "no frame was written; " + path_ + " is as it was before the run"
+                         : "no frame was written, so there is no cache at " + path_;
   }
   const std::string last = std::to_string(frames_.size() - 1);
   const std::string lastTime = number(frames_.back().time);
-  if (xdmf_) xdmf_->flush();
+  // The status first: the sidecar may fail for the reason the run stopped (a full disk).
   writer_->setStatus(stoppedStatus(reason, frames_.size() - 1, frames_.back().time));
-  const std::string text = "the cache " + path_ + " keeps " + framesText() +
+  std::string sidecar;
+  try {
+    if (xdmf_) xdmf_->flush();
+  } catch (const InputError&) {
+    sidecar = " (its sidecar " + xdmfPath_ + " lists fewer; a resume writes it whole)";
+  }
+  if (!xdmf_) sidecar = " (without its sidecar " + xdmfPath_ + "; a resume writes it)";
+  const std::string text = "the cache " + path_ + " keeps " + framesText() + sidecar +
                            "; the last good frame is " + last + " (t = " + lastTime + " s)";
-  close();
+  try {
+    close();
+  } catch (const InputError&) {
+    // The status is committed; only the close's own writes failed (the same full disk).
+  }
   return text;
 }
 
@@ -376,14 +407,18 @@ CacheSession::~CacheSession() {
 void CacheSession::close() {
   if (!writer_) return;
   const std::string file = writer_->path();
-  const bool partial = writingPartial_;
-  writingPartial_ = false;
+  // A new cache that never got its first frame is no cache: PATH.partial goes, whatever its
+  // close says (a full disk fails it). Any other file the writer had is a cache with frames (a
+  // resumed one, or a new one moved into place) and stays, whatever failed after it (the
+  // sidecar, a full disk).
+  if (writingPartial_) {
+    writingPartial_ = false;
+    writer_.reset();
+    ::unlink(file.c_str());
+    return;
+  }
   writer_->close();
   writer_.reset();
-  // A new cache that never got its first frame is no cache: do not leave PATH.partial behind.
-  // Any other file the writer had is a cache with frames (a resumed one, or a new one moved into
-  // place) and stays, whatever failed after it (the sidecar, a full disk).
-  if (partial) ::unlink(file.c_str());
 }
 
 std::size_t CacheSession::frameCount() const {

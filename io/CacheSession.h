@@ -43,6 +43,14 @@ class CacheSession final : public FrameSink {
   // its part of that frame (rank 0 through reader()) and checks it (checkRecord); once every
   // rank has closed its reader, rank 0 opens the cache for appending (finishRestore).
   std::size_t checkResume(const Simulation& sim, const CacheProvenance& provenance);
+  // The frame a resume continues from: the cache's last, unless that one lies between two frame
+  // times (a run that ended at an --end off the frame grid, where an uninterrupted run never
+  // stops): then the frame before it, and the resume writes the dropped frame's number again at
+  // its time on the grid, so that the frames match an uninterrupted run's bit for bit.
+  std::size_t resumeFrame() const;
+  // After a resume from the frame before the last (resumeFrame()): what the resume line adds,
+  // "; frame 4 (t = 0.11 s) ... is written again at t = 0.1333 s"; else empty.
+  const std::string& resumeNote() const { return resumeNote_; }
   const CacheReader& reader() const { return *reader_; }
   static void checkRecord(const std::string& path, const RunState& state, const Simulation& sim);
   void finishRestore(Simulation& sim);
@@ -101,6 +109,7 @@ class CacheSession final : public FrameSink {
   std::string path_, xdmfPath_;
   bool overwrite_ = false;
   bool resume_ = false;
+  std::string resumeNote_;
   std::unique_ptr<CacheReader> reader_;  // resume only
   std::unique_ptr<CacheWriter> writer_;
   // The writer's file is this run's PATH.partial, not yet moved into place: the one file that

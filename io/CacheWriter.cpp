@@ -322,9 +322,65 @@ void CacheWriter::writePointIndex(std::size_t points) {
   secondsWriting_ += since(start);
 }
 
+void CacheWriter::dropFramesFrom(std::size_t first) {
+  const auto start = Clock::now();
+  try {
+    std::vector<std::string> names, dropped;
+    hsize_t index = 0;
+    check(H5Literate(
+              file_.get(), H5_INDEX_NAME, H5_ITER_NATIVE, &index,
+              [](hid_t, const char* name, const H5L_info_t*, void* data) -> herr_t {
+                static_cast<std::vector<std::string>*>(data)->emplace_back(name);
+                return 0;
+              },
+              &names),
+          "list the root's links");
+    for (const std::string& name : names) {
+      const std::optional<std::size_t> frame = cache::frameOfRootLink(name);
+      if (frame && *frame >= first) dropped.push_back(name);
+    }
+    // Only the root's header changes, in the one commit that every frame's link takes (the
+    // journal guards it): a kill leaves the frames before or after, never part of them.
+    if (!dropped.empty()) {
+      removeRootLinks(dropped);
+      commitObjects(file_.get());
+    }
+  } catch (const h5::Error& e) {
+    throw InputError(path_ + ": cannot remove frames from " + std::to_string(first) + " on (" +
+                     e.what() + ")");
+  }
+  frames_ = std::min(frames_, first);
+  secondsWriting_ += since(start);
+}
+
+void CacheWriter::removeRootLinks(const std::vector<std::string>& names) {
+  haddr_t end = 0, lowered = 0;
+  check(H5Fget_eoa(file_.get(), &end), "read the end of allocation");
+  for (const std::string& name : names)
+    check(H5Ldelete(file_.get(), name.c_str(), H5P_DEFAULT), "remove /" + name);
+  // Objects written last lie at the end of the file: freeing them makes HDF5 lower its end of
+  // allocation, and its next flush would cut the file below the end the committed superblock
+  // records before writing the new one (a kill in between leaves a file every reader refuses as
+  // truncated). The end is raised back first; the freed space stays unused.
+  check(H5Fget_eoa(file_.get(), &lowered), "read the end of allocation");
+  if (lowered < end) {
+    check(H5Fincrement_filesize(file_.get(), 0), "keep the end of allocation");
+    check(H5Fget_eoa(file_.get(), &lowered), "read the end of allocation");
+    if (lowered < end)
+      check(H5Fincrement_filesize(file_.get(), end - lowered), "keep the end of allocation");
+  }
+}
+
 void CacheWriter::setStatus(const std::string& status) {
   const auto start = Clock::now();
   try {
+    // A frame that failed between closing the file and opening it again (reopen(), a full disk)
+    // left it closed: the status, which says so, still goes in.
+    if (!file_) {
+      file_ = checked(H5Fopen(path_.c_str(), H5F_ACC_RDWR, h5::fileAccessProps().get()),
+                      "open the cache again");
+      growFile();
+    }
     h5::rewriteAttribute(file_.get(), cache::kStatusAttr, status.substr(0, cache::kStatusWidth));
     commitObjects(file_.get());
   } catch (const h5::Error& e) {

@@ -91,6 +91,12 @@ class CacheWriter {
   // before the indexes call it.
   void writePointIndex(std::size_t points);
 
+  // Removes the records of frame `first` and every later frame (their Step, Vectors, Restart,
+  // Rain and Render links) in one commit; the next frame written is `first`. For a resume after a
+  // run that ended between two frame times: that last frame lies off the frame grid, and the
+  // resume writes its number again at the grid's time (io/CacheSession.h).
+  void dropFramesFrom(std::size_t first);
+
   // Rewrites the root attribute run_status ("running", "finished", "stopped: ...") and commits.
   void setStatus(const std::string& status);
 
@@ -118,6 +124,8 @@ class CacheWriter {
   h5::Handle writeVectorViews(std::size_t frame, std::size_t particles);
   void linkVectorViews(std::size_t frame, std::size_t particles);
   void commitObjects(hid_t rewritten = H5I_INVALID_HID);
+  // Removes these links from the root, keeping HDF5's end of allocation (not committed).
+  void removeRootLinks(const std::vector<std::string>& names);
   void growFile();
   void journalHeader(hid_t object);
   void writeField(hid_t group, cache::Field field, const Particles& fluid);

@@ -31,6 +31,11 @@ class Error : public std::runtime_error {
 
 // Turns off HDF5's automatic error printing for this process (idempotent).
 void silence();
+// Starts the library without its clean-up at exit (or at MPI_Finalize, when MPI starts after
+// it): call first in main, before MPI and before any other HDF5 call. A file whose close failed
+// (a full disk) stays registered in HDF5 1.10 with its memory already freed, and that clean-up
+// would close it again and crash; every file is closed explicitly before the program ends.
+void startWithoutExitCleanup();
 // The innermost message of the current thread's HDF5 error stack ("" if empty).
 std::string errorText();
 

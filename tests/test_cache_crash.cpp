@@ -12,6 +12,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -205,6 +206,94 @@ TEST_F(CacheCrash, ResumingAKilledRunGivesTheUninterruptedRun) {
     ++resumed;
   }
   EXPECT_GE(resumed, 4);
+}
+
+TEST_F(CacheCrash, KilledBeforeEveryWriteOfAResumeThatRewritesAnOffGridFrame) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "a preload library cannot come before the AddressSanitizer runtime";
+#endif
+  // A run that ended at 0.025 s, between the frames at 0.02 and 0.03 s, leaves frame 3 off the
+  // frame grid; its resume removes that frame's records and writes frame 3 again at 0.03 s.
+  // Killed before each of the resume's writes, the cache holds the old frames (frame 3 the
+  // off-grid one) or a prefix of the uninterrupted run's, never part of either, and a second
+  // resume ends it as the uninterrupted run.
+  const std::string cut = dir_ + "/cut.h5";
+  const auto first = runShell(run("cut.h5", "--end 0.025"));
+  ASSERT_EQ(first.exitCode, 0) << first.output;
+  std::vector<Particles> offGrid = readAllFrames(cut);
+  ASSERT_EQ(offGrid.size(), 4u);
+  ASSERT_EQ(io::CacheReader(cut).summary().frames[3].time, 0.025);
+  const std::string resume = "OMP_WAIT_POLICY=PASSIVE " + test::sphsplatBinary() + " run '" +
+                             scene_ + "' --threads 1 --quiet --resume ";
+  const std::string copy = dir_ + "/resumed.h5";
+  const std::string fresh = "cp '" + cut + "' '" + copy + "' && cp '" + dir_ + "/cut.xdmf' '" +
+                            dir_ + "/resumed.xdmf' && ";
+  const auto counted = runShell(fresh + preload() +
+                                " SPHSPLAT_WRITE_COUNT_FILE='" + dir_ + "/resume.count' " +
+                                resume + "'" + copy + "'");
+  ASSERT_EQ(counted.exitCode, 0) << counted.output;
+  const long writes = std::stol(readFile(dir_ + "/resume.count"));
+  ASSERT_GT(writes, 10);
+  std::map<std::string, int> seen;  // what the killed resumes left
+  for (long n = 1; n <= writes; ++n) {
+    const std::string label = "resume killed before write " + std::to_string(n);
+    const auto r = runShell(fresh + preload() + " SPHSPLAT_KILL_AT_WRITE=" + std::to_string(n) +
+                            " " + resume + "'" + copy + "'");
+    ASSERT_EQ(r.exitCode, 128 + SIGKILL) << label << "\n" << r.output;
+    const io::CacheSummary s = io::CacheReader(copy).summary();
+    const bool old = s.frames.size() == 4 && s.frames[3].time == 0.025;
+    checkKilledCache(copy, old ? offGrid : reference_, label);
+    seen[old ? "the off-grid frame" : std::to_string(s.frames.size()) + " frames"]++;
+    const auto again = runShell(resume + "'" + copy + "'");
+    ASSERT_EQ(again.exitCode, 0) << label << ", then resumed:\n" << again.output;
+    const std::vector<Particles> frames = readAllFrames(copy);
+    ASSERT_EQ(frames.size(), reference_.size()) << label;
+    for (std::size_t k = 0; k < frames.size(); ++k)
+      EXPECT_TRUE(test::sameBits(reference_[k], frames[k])) << label << ", frame " << k;
+    if (HasFailure()) break;
+  }
+  // Killed before the removal, after it (frame 3 gone), and with each later frame count.
+  EXPECT_GT(seen["the off-grid frame"], 0);
+  for (std::size_t k = 3; k <= reference_.size(); ++k)
+    EXPECT_GT(seen[std::to_string(k) + " frames"], 0) << k << " frames never seen";
+}
+
+TEST_F(CacheCrash, AWriteRefusedAtAnyMomentEndsTheRunWithOneLineAndKeepsWhatWasCommitted) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "a preload library cannot come before the AddressSanitizer runtime";
+#endif
+  // A full disk refuses one write (the preload library's ENOSPC) at each moment of a run with
+  // --overwrite over an existing file: the run ends with exit 2 and one line, never a crash (HDF5
+  // 1.10 keeps a file whose close failed, and closed it again at exit); before frame 0 is in,
+  // the old file is untouched and no PATH.partial is left; after, the cache holds a prefix of
+  // the run's frames and says why it stopped, or that it finished when only the last close failed.
+  std::map<std::string, int> seen;
+  for (long n = 1; n <= writes_; ++n) {
+    const std::string label = "write " + std::to_string(n) + " refused";
+    const std::string path = dir_ + "/full.h5";
+    std::ofstream(path) << "an older file";
+    const auto r = runShell(preload() + " SPHSPLAT_FAIL_AT_WRITE=" + std::to_string(n) + " " +
+                            run("full.h5", "--overwrite"));
+    ASSERT_EQ(r.exitCode, 2) << label << "\n" << r.output;
+    ASSERT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << label << "\n" << r.output;
+    EXPECT_FALSE(fileExists(path + ".partial")) << label;
+    if (readFile(path) == "an older file") {
+      EXPECT_NE(r.output.find("is as it was before the run"), std::string::npos) << r.output;
+      seen["the old file"]++;
+      continue;
+    }
+    const std::size_t frames = checkKilledCache(path, reference_, label);
+    const std::string status = io::CacheReader(path).summary().status;
+    const bool finished = status.rfind("finished", 0) == 0;
+    EXPECT_TRUE(status.rfind("stopped: writing failed: ", 0) == 0 || finished) << label << status;
+    EXPECT_NE(r.output.find(" keeps frames 0-" + std::to_string(frames - 1)), std::string::npos)
+        << label << "\n" << r.output;
+    seen[finished ? "finished" : "stopped"]++;
+    if (HasFailure()) break;
+  }
+  EXPECT_GT(seen["the old file"], 0);
+  EXPECT_GT(seen["stopped"], 0);
+  EXPECT_GT(seen["finished"], 0);
 }
 
 TEST_F(CacheCrash, RecordingAStopOfAKilledRunWritesOnlyOverItsOwnRunningStatus) {

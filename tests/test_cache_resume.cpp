@@ -68,6 +68,34 @@ TEST(CacheResume, PositionsOnlyCacheStillResumesExactly) {
   checkResumeEqualsStraightRun(dir, scene, "", "0.3", "0.6");
 }
 
+TEST(CacheResume, ARunThatEndedBetweenFrameTimesResumesExactly) {
+  // --end 0.11 at 30 frames/s ends with a frame at 0.11 s, off the frame grid, which an
+  // uninterrupted run never writes: the resume goes on from the frame at 0.1 s and writes frame
+  // 4 again at 0.1333 s. Also an end just before a frame time, and one just after.
+  for (const char* half : {"0.11", "0.1333", "0.1334"}) {
+    SCOPED_TRACE(std::string("--end ") + half);
+    const std::string dir = test::makeTempDir();
+    const std::string scene = dir + "/tiny.json";
+    std::ofstream(scene) << test::tinyCacheScene(0.3, 30);
+    checkResumeEqualsStraightRun(dir, scene, "", half, "0.3");
+  }
+}
+
+TEST(CacheResume, ARenderingRunThatEndedBetweenFrameTimesGetsThatFramesImageAgain) {
+  // The images stored in the cache (/Render#<renderer>#N) of the frame written again are the new
+  // frame's: the same as an uninterrupted run's.
+  const std::string dir = test::makeTempDir();
+  const std::string scene = dir + "/render.json";
+  std::ofstream(scene) << test::tinyRenderingScene(0.2, 20);
+  checkResumeEqualsStraightRun(dir, scene, "", "0.12", "0.2");
+  const io::CacheReader straight(dir + "/straight.h5"), resumed(dir + "/resumed.h5");
+  ASSERT_EQ(resumed.frameCount(), 5u);
+  for (std::size_t k = 0; k < 5; ++k) {
+    const auto a = straight.readRenderedFrame("quad", k), b = resumed.readRenderedFrame("quad", k);
+    EXPECT_EQ(a.rgb, b.rgb) << "frame " << k;
+  }
+}
+
 TEST(CacheResume, ShowcasePourSceneResumesExactly) {
   // The shipped pour scene, coarser so the test stays quick; the nozzle is running at the cut.
   const std::string dir = test::makeTempDir();

@@ -44,7 +44,7 @@ TEST_F(Mpi, FramesAreBitIdenticalToOneProcessForOneToFourRanks) {
 
 TEST_F(Mpi, AResumeMayChangeTheNumberOfRanks) {
   const std::string out = dir_ + "/resumed.h5";
-  // Ends on frame times (2 x 1/40 s): an --end between frames ends a frame early, alone too.
+  // Ends on frame times (2 x 1/40 s).
   auto a = runShell(ranks(2, scene_, "--end 0.05 -o '" + out + "'"));
   ASSERT_EQ(a.exitCode, 0) << a.output;
   auto b = runShell(ranks(3, scene_, "--resume '" + out + "'", ""));
@@ -66,6 +66,16 @@ TEST_F(Mpi, AResumeMayChangeTheNumberOfRanks) {
   auto d = runShell(plain(scene_, "--resume '" + out2 + "'"));
   ASSERT_EQ(d.exitCode, 0) << d.output;
   test::expectSameCache(reference_, out2);
+  // An end between frame times (0.06 s, between 0.05 and 0.075 s) leaves a last frame off the
+  // frame grid: the resume goes on from the frame before and writes that one again, on the grid.
+  const std::string out3 = dir_ + "/resumed_between.h5";
+  auto e = runShell(ranks(3, scene_, "--end 0.06 -o '" + out3 + "'"));
+  ASSERT_EQ(e.exitCode, 0) << e.output;
+  EXPECT_EQ(io::CacheReader(out3).summary().frames.back().time, 0.06);
+  auto f = runShell(ranks(2, scene_, "--resume '" + out3 + "'", ""));
+  ASSERT_EQ(f.exitCode, 0) << f.output;
+  EXPECT_NE(f.output.find("is written again at t = 0.075 s"), std::string::npos) << f.output;
+  test::expectSameCache(reference_, out3);
 }
 
 TEST_F(Mpi, TheExactCollisionPassGivesTheSameFramesOnThreeRanks) {

@@ -110,7 +110,8 @@ TEST(RainCache, ACacheWithoutRainHoldsNoneOfIt) {
 
 // Runs `scene` (written as dir/scene.json) to 0.2 s straight (dir/straight.h5) and to 0.1 s then
 // resumed to 0.2 s (dir/resumed.h5), and expects the two caches and their drops bit-identical.
-void expectResumedEqualsStraight(const std::string& dir, const std::string& scene) {
+void expectResumedEqualsStraight(const std::string& dir, const std::string& scene,
+                                 const std::string& half = "0.1") {
   const std::string scenePath = dir + "/scene.json";
   std::ofstream(scenePath) << scene;
   const std::string straight = dir + "/straight.h5", resumed = dir + "/resumed.h5";
@@ -119,7 +120,7 @@ void expectResumedEqualsStraight(const std::string& dir, const std::string& scen
   };
   auto a = run("--end 0.2 -o " + straight);
   ASSERT_EQ(a.exitCode, 0) << a.output;
-  auto b = run("--end 0.1 -o " + resumed);
+  auto b = run("--end " + half + " -o " + resumed);
   ASSERT_EQ(b.exitCode, 0) << b.output;
   auto c = run("--end 0.2 --resume " + resumed);
   ASSERT_EQ(c.exitCode, 0) << c.output;
@@ -142,6 +143,12 @@ TEST(RainCache, AResumedRunContinuesTheDropsBitForBit) {
 // rain.feed_fluid: the landed rain's particles, the pending water and the drops are all part of
 // the run's state, so a resume continues the fluid exactly (tests/test_rain_feed.cpp has the
 // physics).
+TEST(RainCache, AResumedRunThatEndedBetweenFrameTimesGetsThatFramesDropsAgain) {
+  // The run ends at 0.13 s, between the frames at 0.1 and 0.15 s: the resume steps the drops on
+  // from 0.1 s and stores frame 3's again at 0.15 s.
+  expectResumedEqualsStraight(test::makeTempDir(), rainScene(0.2), "0.13");
+}
+
 TEST(RainCache, AResumedFeedingRunContinuesTheFluidAndTheDropsBitForBit) {
   const std::string dir = test::makeTempDir();
   // A quarter of a 0.025 m particle's water per drop.
