@@ -322,6 +322,7 @@ std::string readStringAttribute(hid_t obj, const std::string& name) {
   if (H5Sget_simple_extent_npoints(space.get()) != 1)
     throw Error("attribute '" + name + "' is not one string", "");
   if (H5Tis_variable_str(type.get()) > 0) {
+    checkHeapString(obj, name);
     // Read with the attribute's own type: its character set (UTF-8 or ASCII) is kept as it is.
     char* text = nullptr;
     check(H5Aread(attr.get(), type.get(), &text), "read attribute '" + name + "'");

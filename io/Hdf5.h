@@ -29,6 +29,11 @@ class Error : public std::runtime_error {
   std::string detail_;
 };
 
+// Before HDF5 reads the variable-length string attribute `name` of `object`: checks, in the file
+// itself, that the global heap object it points to lies whole in its collection and has the
+// string's length (io/Hdf5HeapCheck.cpp), and throws Error(what is damaged) if not.
+void checkHeapString(hid_t object, const std::string& name);
+
 // Turns off HDF5's automatic error printing for this process (idempotent).
 void silence();
 // Starts the library without its clean-up at exit (or at MPI_Finalize, when MPI starts after
