@@ -71,11 +71,14 @@ io::cache::FieldSet fieldsToDraw(const Scene& scene) {
 }
 
 Particles CacheRendering::positions(std::size_t frame) {
-  return reader().readFrame(frame, fieldsToDraw(scene));
+  Particles p = reader().readFrame(frame, fieldsToDraw(scene));
+  checkPositions(p.x, p.y, p.z, scene, "frame " + std::to_string(frame), path);
+  return p;
 }
 
 std::array<std::vector<float>, 3> CacheRendering::boundary() {
   const auto b = reader().readBoundary();
+  checkPositions(b[0], b[1], b[2], scene, "the boundary", path);
   return {b[0], b[1], b[2]};
 }
 

@@ -1,5 +1,6 @@
 #include "app/CacheScene.h"
 
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -9,6 +10,32 @@
 #include "sim/InputError.h"
 
 namespace sph::app {
+
+void checkPositions(const std::vector<float>& x, const std::vector<float>& y,
+                    const std::vector<float>& z, const Scene& scene, const std::string& what,
+                    const std::string& path) {
+  // A spacing of slack: a particle is removed once it is past the domain's face.
+  const float slack = scene.solver.spacing;
+  const bool bounded = !scene.domain.empty();
+  const std::vector<float>* axes[3] = {&x, &y, &z};
+  for (int a = 0; a < 3; ++a) {
+    for (std::size_t i = 0; i < axes[a]->size(); ++i) {
+      const float v = (*axes[a])[i];
+      if (std::isfinite(v) && (!bounded || (v >= scene.domain.lo[a] - slack &&
+                                            v <= scene.domain.hi[a] + slack)))
+        continue;
+      std::ostringstream s;
+      s << path << ": damaged cache: " << what << " has particle " << i << " at "
+        << "xyz"[a] << " = " << v << " m, ";
+      if (bounded)
+        s << "outside the scene's domain (" << scene.domain.lo[a] << " to " << scene.domain.hi[a]
+          << " m)";
+      else
+        s << "not a number";
+      throw InputError(s.str());
+    }
+  }
+}
 
 Scene sceneOfCache(const io::CacheSummary& summary, const std::vector<std::string>& extraEdits) {
   std::vector<std::string> edits;

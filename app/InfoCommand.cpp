@@ -128,7 +128,7 @@ int info(const InfoOptions& o) {
   // failed command, not a quiet success.
   if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
     std::fprintf(stderr, "sphsplat: cannot write to standard output (%s)\n", std::strerror(errno));
-    return kInternalError;
+    return kBadInput;
   }
   if (!s.damagedFrame.empty()) return exitAfterReading(s);
   if (n == 0) {

@@ -102,6 +102,7 @@ int meshFrames(const MeshOptions& o) {
   for (std::size_t k = 0; k < frames.size(); ++k) {
     const std::size_t f = frames[k];
     const Particles p = reader.readFrame(f, xyz);
+    checkPositions(p.x, p.y, p.z, scene, "frame " + std::to_string(f), o.cache);
     const auto t0 = std::chrono::steady_clock::now();
     const render::splat::DensityField field(p.x.data(), p.y.data(), p.z.data(), p.size(), spacing,
                                             desc.kernelRadius, scene.solver.restDensity);

@@ -25,6 +25,9 @@ std::function<int()> addRunCommand(CLI::App& app) {
   cmd->add_flag("--quiet,-q", o->quiet, "No progress and no summary, only errors");
   cmd->add_flag("--verbose,-v", o->verbose,
                 "Also print the domain, what the scene skips and the time per pass");
+  cmd->add_flag("--check", o->check,
+                "Check the scene (its keys, values, the edits and the memory the run would need) "
+                "and stop without simulating");
   cmd->add_option("--output,-o", o->cache.output,
                   "Write the HDF5 cache (and its .xdmf sidecar) to PATH; overrides output.path");
   cmd->add_flag("--overwrite", o->cache.overwrite, "Replace an existing cache at that path");

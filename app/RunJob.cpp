@@ -50,6 +50,13 @@ int runJob(const RunRequest& request) {
   setThreadCount(o.threads);  // first: DFSPH's estimate counts a spare pair chunk a thread
   // On K processes each rank's share, the ranks of a machine together (app/MachineMemory.h).
   const MemoryEstimate memory = checkMemory(scene, ranks, ranks && !writeCacheTogether());
+  if (o.check) {
+    if (!o.quiet) {
+      std::printf("%s: a valid scene (%s); memory: %s\n", o.scene.c_str(), scene.name.c_str(),
+                  describeMemory(memory, machineMemory()).c_str());
+    }
+    return kOk;
+  }
   // The cache's paths are checked before anything runs (nothing is overwritten by surprise).
   std::unique_ptr<io::CacheSession> cache;
   if (!ranks) {

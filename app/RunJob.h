@@ -17,6 +17,7 @@ struct RunRequest {
   double end = 0;   // s; 0: the scene's solver.end_time
   bool quiet = false;
   bool verbose = false;
+  bool check = false;                  // --check: validate the scene and stop
   std::vector<std::string> overrides;  // --set KEY=VALUE
   io::CacheSessionOptions cache;
 };

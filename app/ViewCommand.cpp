@@ -97,6 +97,7 @@ int view(const ViewOptions& o) {
   render::splat::FrameRenderer renderer(desc, scene.solver.spacing, scene.solver.restDensity);
   const auto solids = render::solids::showSolids(scene, renderer, [&] {
     const auto b = reader.readBoundary();
+    checkPositions(b[0], b[1], b[2], scene, "the boundary", o.cache);
     return std::array<std::vector<float>, 3>{b[0], b[1], b[2]};
   });
   const auto lights = render::lights::showLights(scene, renderer);
@@ -110,6 +111,7 @@ int view(const ViewOptions& o) {
   s.frame = parseOneFrame(o.frame, s.frames, "--frame");
   s.kind = *parseEnum<render::splat::SplatKind>(o.splat);
   const Particles first = reader.readFrame(s.frame, xyz);
+  checkPositions(first.x, first.y, first.z, scene, "frame " + std::to_string(s.frame), o.cache);
   const CameraDesc lens =
       scene.camera ? *scene.camera
                    : render::splat::framingCamera(first, static_cast<float>(o.width) / o.height);
@@ -207,6 +209,8 @@ int view(const ViewOptions& o) {
     const bool cullLights = lights && scene.lights->cull && !s.touched;
     if (s.frameChanged) {
       shown = reader.readFrame(s.frame, xyz);
+      checkPositions(shown.x, shown.y, shown.z, scene, "frame " + std::to_string(s.frame),
+                     o.cache);
       renderer.prepare(shown);
       if (rain) showCachedRain(*rain, reader, s.frame, time, shown);
     }

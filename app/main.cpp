@@ -1,27 +1,22 @@
-// sphsplat: the command-line program. Thin: parses arguments and hands over to one subcommand.
-#include <CLI/CLI.hpp>
+// sphsplat: the command-line program. Sets the process up (standard streams, HDF5, OpenMP, MPI)
+// and hands over to its command line (app/CommandLine.h).
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
-#include <exception>
-#include <functional>
-#include <new>
+#include <cstring>
 #include <optional>
 #include <string>
-#include <vector>
 
-#include "app/CliChecks.h"
-#include "app/Commands.h"
+#include "app/CommandLine.h"
+#include "app/ExitCode.h"
 #include "app/DistributedRun.h"
 #include "app/MpiStarter.h"
 #include "app/OpenMpSpinLimit.h"
 #include "app/StatusRecorder.h"
-#include "app/Version.h"
 #include "io/Hdf5.h"
-#include "render/gl/GlError.h"
-#include "sim/InputError.h"
 #ifdef SPHSPLAT_MPI
 #include "mpi/FileErrorWatch.h"
 #include "mpi/MpiCommunicator.h"
@@ -72,69 +67,5 @@ int main(int argc, char** argv) {
     return sph::app::kBadInput;
   }
 #endif
-  // Errors are told once: by the only process, or by rank 0 (every rank meets the same ones).
-  const auto tell = [](const char* format, const char* what) {
-#ifdef SPHSPLAT_MPI
-    sph::mpi::noteStopping();
-#endif
-    if (sph::app::isRootProcess() || sph::app::inLockstep()) std::fprintf(stderr, format, what);
-#ifdef SPHSPLAT_MPI
-    // This rank alone failed while the others wait in a collective: end them all.
-    if (sph::app::inLockstep()) {
-      std::fflush(stderr);
-      sph::mpi::MpiSession::abortAll(2);
-    }
-#endif
-  };
-  CLI::App app{"sphsplat " SPHSPLAT_VERSION_STRING
-               ": SPH fluid simulation with an image-based collision pass and splat rendering.\n"
-               "Scenes are JSON files (scenes/, docs/scene-format.md)."};
-  app.set_version_flag("--version", "sphsplat " SPHSPLAT_VERSION_STRING);
-  app.require_subcommand(1, 1);
-  app.failure_message(sph::app::oneLineFailure);
-
-  std::vector<std::function<int()>> commands;
-  commands.push_back(sph::app::addRunCommand(app));
-  commands.push_back(sph::app::addInfoCommand(app));
-  commands.push_back(sph::app::addExportCommand(app));
-  commands.push_back(sph::app::addMeshCommand(app));
-  commands.push_back(sph::app::addBenchCommand(app));
-  commands.push_back(sph::app::addRenderCommand(app));
-  commands.push_back(sph::app::addCompareCommand(app));
-  commands.push_back(sph::app::addViewCommand(app));
-  // After the subcommands: CLI11 copies a parent's footer into each subcommand made after it.
-  app.footer(
-      "Run 'sphsplat COMMAND --help' for a command's options.\n"
-      "Example: sphsplat run scenes/dam_break.json --threads 2");
-
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::Success& e) {
-    // --help, --version: every rank parses the same arguments, rank 0 alone prints.
-    return sph::app::isRootProcess() ? app.exit(e) : 0;
-  } catch (const CLI::ParseError& e) {
-    if (sph::app::isRootProcess()) app.exit(e);
-    return sph::app::kBadInput;
-  }
-  try {
-    for (auto& command : commands) {
-      const int code = command();
-      if (code >= 0) return code;
-    }
-  } catch (const sph::InputError& e) {
-    tell("sphsplat: %s\n", e.what());
-    return sph::app::kBadInput;
-  } catch (const sph::render::gl::GlError& e) {
-    tell("sphsplat: %s\n", e.what());
-    return sph::app::kNoGraphics;
-  } catch (const std::bad_alloc&) {
-    tell("sphsplat: %s\n",
-         "out of memory: the job needs more memory than this process may use "
-         "(run --verbose prints a scene's estimate; a larger solver.spacing needs less)");
-    return sph::app::kBadInput;
-  } catch (const std::exception& e) {
-    tell("sphsplat: internal error: %s\n", e.what());
-    return sph::app::kInternalError;
-  }
-  return sph::app::kInternalError;
+  return sph::app::runCommandLine(argc, argv);
 }

@@ -160,6 +160,11 @@ void CacheReader::load() {
   // No libver bounds for reading: those only govern what a writer may create.
   h5::Handle fapl = checked(H5Pcreate(H5P_FILE_ACCESS), "create a file access property list");
   h5::check(H5Pset_file_locking(fapl.get(), false, true), "disable file locking");
+  try {
+    h5::checkRootHeader(path_);
+  } catch (const h5::Error& e) {
+    fail(std::string("damaged HDF5 file: ") + e.what());
+  }
   hid_t file = H5Fopen(path_.c_str(), H5F_ACC_RDONLY, fapl.get());
   // HDF5 shares one open file per process and refuses to open it again with other locking
   // settings (when the program already has it open, e.g. through h5py or the C API).
@@ -266,7 +271,7 @@ void CacheReader::readHeader() {
     }
     attribute = "/Boundary/x";
     if (h5::objectType(root, cache::kBoundaryGroup) == H5O_TYPE_GROUP) {
-      h5::Handle b = checked(H5Gopen2(root, cache::kBoundaryGroup, H5P_DEFAULT), "open /Boundary");
+      h5::Handle b = h5::openCheckedGroup(root, cache::kBoundaryGroup);
       s.boundaryParticles = h5::datasetLength(b.get(), "x");
       s.boundaryView = h5::hasLink(b.get(), cache::kVectorViews[0].name);
     }
@@ -284,7 +289,7 @@ void CacheReader::scanFrames(const std::set<std::string>& links) {
     CacheFrame f;
     f.index = k;
     try {
-      h5::Handle g = checked(H5Gopen2(root, name.c_str(), H5P_DEFAULT), "open the group");
+      h5::Handle g = h5::openCheckedGroup(root, name);
       f.time = h5::readDoubleAttribute(g.get(), cache::kTimeAttr);
       f.particles = h5::datasetLength(g.get(), "x");
       if (h5::hasAttribute(g.get(), "step")) f.step = h5::readUintAttribute(g.get(), "step");
@@ -296,7 +301,7 @@ void CacheReader::scanFrames(const std::set<std::string>& links) {
     if (links.count(cache::rainName(k))) {
       try {
         h5::Handle g =
-            checked(H5Gopen2(root, cache::rainName(k).c_str(), H5P_DEFAULT), "open the group");
+            h5::openCheckedGroup(root, cache::rainName(k).c_str());
         f.rainDrops = h5::readUintAttribute(g.get(), cache::kRainDropsAttr);
       } catch (const h5::Error& e) {
         summary_.damagedFrame = "/" + cache::rainName(k) + ": " + e.what();
@@ -325,10 +330,9 @@ void CacheReader::scanRenderers(const std::set<std::string>& links) {
       h5::objectType(root, cache::kLegacyRenderGroup) == H5O_TYPE_GROUP) {
     try {
       h5::Handle render =
-          checked(H5Gopen2(root, cache::kLegacyRenderGroup, H5P_DEFAULT), "open /Render");
+          h5::openCheckedGroup(root, cache::kLegacyRenderGroup);
       for (const std::string& renderer : linkNames(render.get())) {
-        h5::Handle g = checked(H5Gopen2(render.get(), renderer.c_str(), H5P_DEFAULT),
-                               "open /Render/" + renderer);
+        h5::Handle g = h5::openCheckedGroup(render.get(), renderer);
         std::set<std::size_t>& frames = images[renderer];
         for (const std::string& name : linkNames(g.get())) {
           std::size_t k = 0;
@@ -362,7 +366,7 @@ Particles CacheReader::readFrame(std::size_t frame, const cache::FieldSet& field
   Particles p;
   std::string dataset;
   try {
-    h5::Handle g = checked(H5Gopen2(file_.get(), group.c_str(), H5P_DEFAULT), "open " + group);
+    h5::Handle g = h5::openCheckedGroup(file_.get(), group);
     const std::size_t n = summary_.frames[frame].particles;
     for (std::size_t f = 0; f < cache::kFieldCount; ++f) {
       if (!fields[f]) continue;
@@ -394,7 +398,7 @@ rain::FeedState CacheReader::readRainFeed(std::size_t frame) const {
   const std::string group = "/" + cache::restartName(frame);
   if (!summary_.frames[frame].hasRestart) return f;
   try {
-    h5::Handle g = checked(H5Gopen2(file_.get(), group.c_str(), H5P_DEFAULT), "open " + group);
+    h5::Handle g = h5::openCheckedGroup(file_.get(), group);
     if (!h5::hasAttribute(g.get(), "rain_landed_drops")) return f;
     f.landedDrops = h5::readUintAttribute(g.get(), "rain_landed_drops");
     f.particles = h5::readUintAttribute(g.get(), "rain_particles");
@@ -424,7 +428,7 @@ std::pair<RunState, Particles> CacheReader::readRestart(std::size_t frame,
   RunState s;
   std::string item = "attributes";
   try {
-    h5::Handle g = checked(H5Gopen2(file_.get(), group.c_str(), H5P_DEFAULT), "open " + group);
+    h5::Handle g = h5::openCheckedGroup(file_.get(), group);
     const hid_t r = g.get();
     s.time = h5::readDoubleAttribute(r, item = "time");
     s.step = h5::readUintAttribute(r, item = "step");
@@ -500,7 +504,7 @@ std::vector<std::vector<float>> CacheReader::readBoundary() const {
   const char* names[3] = {"x", "y", "z"};
   try {
     h5::Handle b =
-        checked(H5Gopen2(file_.get(), cache::kBoundaryGroup, H5P_DEFAULT), "open /Boundary");
+        h5::openCheckedGroup(file_.get(), cache::kBoundaryGroup);
     for (int a = 0; a < 3; ++a) xyz[a] = h5::readDataset<float>(b.get(), names[a]);
   } catch (const h5::Error& e) {
     fail(std::string("cannot read /Boundary (") + e.what() + ")");
@@ -525,7 +529,7 @@ RenderedFrame CacheReader::readRenderedFrame(const std::string& renderer, std::s
   }
   RenderedFrame out;
   try {
-    h5::Handle set = checked(H5Dopen2(file_.get(), path.c_str(), H5P_DEFAULT), "open " + path);
+    h5::Handle set = h5::openCheckedDataset(file_.get(), path);
     h5::Handle space = checked(H5Dget_space(set.get()), "read its shape");
     hsize_t dims[3] = {0, 0, 0};
     if (H5Sget_simple_extent_ndims(space.get()) != 3)
@@ -550,8 +554,9 @@ std::uint64_t CacheReader::frameDataBytes() const {
     for (const CacheFrame& f : summary_.frames) {
       for (const std::string& group : {cache::stepName(f.index), cache::restartName(f.index)}) {
         if (h5::objectType(file_.get(), group) != H5O_TYPE_GROUP) continue;
-        h5::Handle g = checked(H5Gopen2(file_.get(), group.c_str(), H5P_DEFAULT), "open /" + group);
+        h5::Handle g = h5::openCheckedGroup(file_.get(), group);
         for (const std::string& name : linkNames(g.get())) {
+          h5::checkHeaders(g.get(), name);
           h5::Handle set =
               checked(H5Dopen2(g.get(), name.c_str(), H5P_DEFAULT), "open /" + group + "/" + name);
           bytes += H5Dget_storage_size(set.get());

@@ -189,6 +189,7 @@ bool hasAttribute(hid_t obj, const std::string& name) {
 
 H5O_type_t objectType(hid_t loc, const std::string& name) {
   if (!hasLink(loc, name)) return H5O_TYPE_UNKNOWN;
+  checkHeaders(loc, name);  // HDF5 reads the whole header, continuations too
   H5O_info_t info;
   if (H5Oget_info_by_name2(loc, name.c_str(), &info, H5O_INFO_BASIC, H5P_DEFAULT) < 0)
     return H5O_TYPE_UNKNOWN;
@@ -440,7 +441,7 @@ void createColumnView(hid_t loc, const std::string& name, hid_t fileType, std::s
 }
 
 std::size_t datasetLength(hid_t loc, const std::string& name) {
-  Handle set = checked(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), "open dataset '" + name + "'");
+  Handle set = openCheckedDataset(loc, name);
   Handle type = checked(H5Dget_type(set.get()), "read the type of dataset '" + name + "'");
   const H5T_class_t cls = H5Tget_class(type.get());
   if (cls != H5T_FLOAT && cls != H5T_INTEGER)
@@ -455,14 +456,14 @@ std::size_t datasetLength(hid_t loc, const std::string& name) {
 }
 
 void readDataset(hid_t loc, const std::string& name, hid_t memType, void* out) {
-  Handle set = checked(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), "open dataset '" + name + "'");
+  Handle set = openCheckedDataset(loc, name);
   check(H5Dread(set.get(), memType, H5S_ALL, H5S_ALL, H5P_DEFAULT, out),
         "read dataset '" + name + "'");
 }
 
 void readDatasetRuns(hid_t loc, const std::string& name, hid_t memType, const Runs& runs,
                      void* out) {
-  Handle set = checked(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), "open dataset '" + name + "'");
+  Handle set = openCheckedDataset(loc, name);
   Handle file = checked(H5Dget_space(set.get()), "read the shape of dataset '" + name + "'");
   check(H5Sselect_none(file.get()), "select in dataset '" + name + "'");
   hsize_t n = 0;

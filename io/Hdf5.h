@@ -31,7 +31,7 @@ class Error : public std::runtime_error {
 
 // Before HDF5 reads the variable-length string attribute `name` of `object`: checks, in the file
 // itself, that the global heap object it points to lies whole in its collection and has the
-// string's length (io/Hdf5HeapCheck.cpp), and throws Error(what is damaged) if not.
+// string's length (io/Hdf5Checks.cpp), and throws Error(what is damaged) if not.
 void checkHeapString(hid_t object, const std::string& name);
 
 // Turns off HDF5's automatic error printing for this process (idempotent).
@@ -168,6 +168,23 @@ std::uint64_t writeDatasetPart(hid_t loc, const std::string& name, hid_t memType
 // global heap (see writeAttribute on strings).
 void createColumnView(hid_t loc, const std::string& name, hid_t fileType, std::size_t count,
                       const std::vector<std::string>& columns);
+
+// Opens the dataset `name` of `loc` for reading once its headers (checkHeaders) and its
+// storage have been checked against the file (io/Hdf5Checks.cpp): every chunk within the file, no chunk larger than the dataset, and no
+// more bytes than its stored ones can inflate to (a damaged shape or layout would otherwise make
+// the reader, or HDF5, allocate what the file never held). Throws Error if not.
+Handle openCheckedDataset(hid_t loc, const std::string& name);
+
+// Checks, from the file's bytes, the object headers on the way to `name` (a path in `loc`) and
+// its own, before HDF5 decodes them (io/Hdf5Checks.cpp): addresses at blocks of the kind they
+// name, links and attributes whole within their messages, a dataset's shape, type and layout
+// consistent with each other and with the file's size. HDF5 1.10 reads past its buffers or
+// allocates without bound at such damage when a header's checksum still matches. Throws Error.
+void checkHeaders(hid_t loc, const std::string& name);
+// Opens the group `name` of `loc` once checkHeaders() has passed.
+Handle openCheckedGroup(hid_t loc, const std::string& name);
+// The same check of the root group's header, from the file at `path`, before HDF5 opens it.
+void checkRootHeader(const std::string& path);
 
 // A 1-D dataset's element count; throws Error if it is not a 1-D numeric dataset.
 std::size_t datasetLength(hid_t loc, const std::string& name);

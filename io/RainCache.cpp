@@ -44,14 +44,14 @@ RainFrame readRainFrame(const CacheReader& reader, std::size_t frame) {
     throw InputError(where + ": the cache holds no rain drops for frame " + std::to_string(frame));
   RainFrame r;
   try {
-    h5::Handle g = checked(H5Gopen2(reader.file(), name.c_str(), H5P_DEFAULT), "open the group");
+    h5::Handle g = h5::openCheckedGroup(reader.file(), name);
     r.time = h5::readDoubleAttribute(g.get(), cache::kTimeAttr);
     const std::size_t n = h5::readUintAttribute(g.get(), cache::kRainDropsAttr);
     r.generations = h5::readDataset<std::uint32_t>(g.get(), "generation");
     r.layers = h5::readDataset<std::uint8_t>(g.get(), "layer");
     if (r.generations.size() != n || r.layers.size() != n)
       throw h5::Error("read the drops", "generation or layer is not of the drops' length");
-    h5::Handle position = checked(H5Dopen2(g.get(), "position", H5P_DEFAULT), "open position");
+    h5::Handle position = h5::openCheckedDataset(g.get(), "position");
     h5::Handle space = checked(H5Dget_space(position.get()), "read position's shape");
     hsize_t dims[2] = {0, 0};
     if (H5Sget_simple_extent_ndims(space.get()) != 2 ||

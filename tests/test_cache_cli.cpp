@@ -69,11 +69,11 @@ TEST_F(CacheCli, InfoDescribesTheCache) {
   }
 }
 
-// A report that cannot be written is a failed command: info > /dev/full exited 0. (export -o -
-// says so itself, exit 2.) Standard error stays with the test: only standard output is full.
+// A report that cannot be written is a failed command, exit 2 as for any write that failed (info
+// > /dev/full exited 0). Standard error stays with the test: only standard output is full.
 TEST_F(CacheCli, AFullStandardOutputFailsTheCommandWithOneLine) {
   auto r = runShell("(" + sphsplat("info '" + cache_ + "' --frames") + " > /dev/full)");
-  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_EQ(r.exitCode, 2) << r.output;
   EXPECT_EQ(r.output, "sphsplat: cannot write to standard output (No space left on device)\n");
   r = runShell("(" + sphsplat("export '" + cache_ + "' --frames 3 --format csv -o -") +
                " > /dev/full)");

@@ -124,6 +124,10 @@ TEST(Cli, EveryClassOfBadSceneIsRefusedWithOneLineAndExitTwo) {
   for (const BadScene& c : cases) {
     const std::string path = writeTempFile(c.text);
     const auto r = runSphsplat("run " + path);
+    // --check refuses it the same, without simulating.
+    const auto checked = runSphsplat("run " + path + " --check");
+    EXPECT_EQ(checked.exitCode, 2) << c.what << "\n" << checked.output;
+    EXPECT_EQ(lastLine(checked.output), lastLine(r.output)) << c.what;
     EXPECT_EQ(r.exitCode, 2) << c.what << "\n" << r.output;
     EXPECT_EQ(lastLine(r.output).rfind("sphsplat: " + path + ": " + c.message, 0), 0u)
         << c.what << ": got\n"
@@ -144,6 +148,23 @@ TEST(Cli, EveryClassOfBadSceneIsRefusedWithOneLineAndExitTwo) {
   EXPECT_NE(
       badSet.output.find("solver.spacing: expected a positive number of at most 1000 (m), got -1"),
       std::string::npos);
+}
+
+TEST(Cli, CheckValidatesTheSceneWithoutRunningOrWriting) {
+  const std::string dir = test::makeTempDirectory("sphsplat-check");
+  const auto r = runSphsplat("run " + test::sourcePath("scenes/dam_break.json") + " --check -o " +
+                             dir + "/never.h5");
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("a valid scene (dam_break); memory: about "), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("6400 fluid particles"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("done"), std::string::npos) << "it simulated:\n" << r.output;
+  EXPECT_NE(access((dir + "/never.h5").c_str(), F_OK), 0) << "it wrote a cache";
+  // A scene past what a run takes is refused as the run would refuse it.
+  const auto big = runSphsplat("run " + test::sourcePath("scenes/dam_break.json") +
+                               " --set solver.spacing=0.0002 --check");
+  EXPECT_EQ(big.exitCode, 2) << big.output;
+  EXPECT_NE(big.output.find("(raise the spacing)"), std::string::npos) << big.output;
 }
 
 TEST(Cli, RunPrintsProgressLinesAndASummary) {

@@ -1,0 +1,94 @@
+// The command line of `sphsplat` once the process is set up (app/main.cpp): the subcommands, their
+// parsing and the one line every failure ends with.
+#include "app/CommandLine.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <exception>
+#include <functional>
+#include <new>
+#include <vector>
+
+#include "app/CliChecks.h"
+#include "app/Commands.h"
+#include "app/DistributedRun.h"
+#include "app/Version.h"
+#include "render/gl/GlError.h"
+#include "sim/InputError.h"
+#ifdef SPHSPLAT_MPI
+#include "mpi/FileErrorWatch.h"
+#include "mpi/MpiCommunicator.h"
+#endif
+
+namespace sph::app {
+
+int runCommandLine(int argc, char** argv) {
+  // Errors are told once: by the only process, or by rank 0 (every rank meets the same ones).
+  const auto tell = [](const char* format, const char* what) {
+#ifdef SPHSPLAT_MPI
+    sph::mpi::noteStopping();
+#endif
+    if (isRootProcess() || inLockstep()) std::fprintf(stderr, format, what);
+#ifdef SPHSPLAT_MPI
+    // This rank alone failed while the others wait in a collective: end them all.
+    if (inLockstep()) {
+      std::fflush(stderr);
+      sph::mpi::MpiSession::abortAll(2);
+    }
+#endif
+  };
+  CLI::App app{"sphsplat " SPHSPLAT_VERSION_STRING
+               ": SPH fluid simulation with an image-based collision pass and splat rendering.\n"
+               "Scenes are JSON files (scenes/, docs/scene-format.md)."};
+  app.set_version_flag("--version", "sphsplat " SPHSPLAT_VERSION_STRING);
+  app.require_subcommand(1, 1);
+  app.failure_message(oneLineFailure);
+
+  std::vector<std::function<int()>> commands;
+  commands.push_back(addRunCommand(app));
+  commands.push_back(addInfoCommand(app));
+  commands.push_back(addExportCommand(app));
+  commands.push_back(addMeshCommand(app));
+  commands.push_back(addBenchCommand(app));
+  commands.push_back(addRenderCommand(app));
+  commands.push_back(addCompareCommand(app));
+  commands.push_back(addViewCommand(app));
+  // After the subcommands: CLI11 copies a parent's footer into each subcommand made after it.
+  app.footer(
+      "Run 'sphsplat COMMAND --help' for a command's options.\n"
+      "Example: sphsplat run scenes/dam_break.json --threads 2");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    // --help, --version: every rank parses the same arguments, rank 0 alone prints.
+    return isRootProcess() ? app.exit(e) : 0;
+  } catch (const CLI::ParseError& e) {
+    if (isRootProcess()) app.exit(e);
+    return kBadInput;
+  }
+  try {
+    for (auto& command : commands) {
+      const int code = command();
+      if (code >= 0) return code;
+    }
+  } catch (const sph::InputError& e) {
+    tell("sphsplat: %s\n", e.what());
+    return kBadInput;
+  } catch (const sph::render::gl::GlError& e) {
+    tell("sphsplat: %s\n", e.what());
+    return kNoGraphics;
+  } catch (const std::bad_alloc&) {
+    tell("sphsplat: %s\n",
+         "out of memory: the job needs more memory than this process may use "
+         "(run --verbose prints a scene's estimate; a larger solver.spacing needs less)");
+    return kBadInput;
+  } catch (const std::exception& e) {
+    tell("sphsplat: internal error: %s\n", e.what());
+    return kInternalError;
+  }
+  return kInternalError;
+}
+
+}  // namespace sph::app
