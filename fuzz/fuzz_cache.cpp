@@ -13,19 +13,17 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <fstream>
 #include <iterator>
-#include <map>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "fuzz/CacheMutator.h"
 #include "fuzz/ForkedCase.h"
+#include "fuzz/FuzzSession.h"
 
 namespace {
 
@@ -47,36 +45,6 @@ const char* const kScene = R"({
 }
 )";
 
-struct Options {
-  long cases = 200;
-  unsigned long long seed = 1;
-  std::string keep = "fuzz-failures";
-  double timeout = 20;
-  long renderEvery = 10;
-  std::string replay;
-};
-
-Options parse(int argc, char** argv) {
-  Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    const char* v = i + 1 < argc ? argv[i + 1] : nullptr;
-    if (a == "--cases" && v) o.cases = std::atol(v), ++i;
-    else if (a == "--seed" && v) o.seed = std::strtoull(v, nullptr, 10), ++i;
-    else if (a == "--keep" && v) o.keep = v, ++i;
-    else if (a == "--timeout" && v) o.timeout = std::atof(v), ++i;
-    else if (a == "--render-every" && v) o.renderEvery = std::atol(v), ++i;
-    else if (a == "--replay" && v) o.replay = v, o.cases = 1, o.renderEvery = 1, ++i;
-    else {
-      std::fprintf(stderr,
-                   "usage: fuzz_cache [--cases N] [--seed S] [--keep DIR] [--timeout SECONDS] "
-                   "[--render-every K] [--replay CASE.h5]\n");
-      std::exit(2);
-    }
-  }
-  return o;
-}
-
 Bytes readBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return Bytes(std::istreambuf_iterator<char>(in), {});
@@ -90,7 +58,10 @@ void writeBytes(const std::string& path, const Bytes& bytes) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const Options o = parse(argc, argv);
+  const sph::fuzz::FuzzOptions o = sph::fuzz::parseFuzzOptions(
+      argc, argv, 200, true,
+      "fuzz_cache [--cases N] [--seed S] [--keep DIR] [--timeout SECONDS] [--render-every K] "
+      "[--replay CASE.h5]");
   char dirTemplate[] = "/tmp/sphsplat-fuzz-XXXXXX";
   const std::string dir = mkdtemp(dirTemplate);
   const std::string scene = dir + "/fuzz.json", base = dir + "/base.h5";
@@ -111,9 +82,7 @@ int main(int argc, char** argv) {
   std::fflush(stdout);
 
   std::mt19937_64 random(o.seed);
-  std::map<std::string, long> outcomes;  // "info exit 2" -> count
-  long failures = 0;
-  const auto start = std::chrono::steady_clock::now();
+  sph::fuzz::FuzzTally tally("fuzz_cache", o);
   for (long k = 0; k < o.cases; ++k) {
     std::string what = "replayed " + o.replay;
     const Bytes damaged = o.replay.empty() ? mutator.mutate(random, what) : readBytes(o.replay);
@@ -130,27 +99,17 @@ int main(int argc, char** argv) {
       commands.push_back({"render", path, "--frames", "last", "--out", dir + "/render", "-q"});
     for (const std::vector<std::string>& command : commands) {
       writeBytes(path, damaged);  // afresh: a resume writes to it
-      const bool resume = command[0] == "run";
       const sph::fuzz::CaseResult r = sph::fuzz::runForked(command, o.timeout, limit);
-      const std::string wrong = sph::fuzz::verdict(r, resume ? std::vector<int>{3} : std::vector<int>{});
-      outcomes[command[0] + (r.exited ? " exit " + std::to_string(r.exitCode) : " killed")]++;
-      if (wrong.empty()) continue;
-      ++failures;
-      mkdir(o.keep.c_str(), 0755);
-      const std::string kept = o.keep + "/case" + std::to_string(k) + "_" + command[0] + ".h5";
-      writeBytes(kept, damaged);
+      // A resume may stop at a numerical blow-up: damaged numbers can be valid ones.
+      const std::vector<int> also = command[0] == "run" ? std::vector<int>{3} : std::vector<int>{};
       std::string line;
-      for (const std::string& word : command) line += " " + word;
-      std::printf("case %ld (%s): sphsplat%s: %s; kept as %s\n%s", k, what.c_str(), line.c_str(),
-                  wrong.c_str(), kept.c_str(), r.errors.c_str());
-      std::fflush(stdout);
+      for (const std::string& word : command) line += (line.empty() ? "" : " ") + word;
+      tally.record(k, command[0], r, sph::fuzz::verdict(r, also), what, line,
+                   "case" + std::to_string(k) + "_" + command[0] + ".h5",
+                   std::string(damaged.begin(), damaged.end()));
     }
   }
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("fuzz_cache: %ld cases in %.0f s, %ld failed;", o.cases, seconds, failures);
-  for (const auto& [outcome, n] : outcomes) std::printf(" %s: %ld,", outcome.c_str(), n);
-  std::printf("\n");
+  const int code = tally.finish();
   std::system(("rm -rf '" + dir + "'").c_str());
-  return failures == 0 ? 0 : 1;
+  return code;
 }

@@ -12,48 +12,19 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
-#include <map>
 #include <random>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "fuzz/ForkedCase.h"
+#include "fuzz/FuzzSession.h"
 #include "fuzz/SceneMutator.h"
 
 namespace {
-
-struct Options {
-  long cases = 300;
-  unsigned long long seed = 1;
-  std::string keep = "fuzz-failures";
-  double timeout = 20;
-  std::string replay;
-};
-
-Options parse(int argc, char** argv) {
-  Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    const char* v = i + 1 < argc ? argv[i + 1] : nullptr;
-    if (a == "--cases" && v) o.cases = std::atol(v), ++i;
-    else if (a == "--seed" && v) o.seed = std::strtoull(v, nullptr, 10), ++i;
-    else if (a == "--keep" && v) o.keep = v, ++i;
-    else if (a == "--timeout" && v) o.timeout = std::atof(v), ++i;
-    else if (a == "--replay" && v) o.replay = v, o.cases = 1, ++i;
-    else {
-      std::fprintf(stderr, "usage: fuzz_scene [--cases N] [--seed S] [--keep DIR] "
-                           "[--timeout SECONDS] [--replay CASE.json]\n");
-      std::exit(2);
-    }
-  }
-  return o;
-}
 
 std::string readText(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -63,7 +34,9 @@ std::string readText(const std::string& path) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const Options o = parse(argc, argv);
+  const sph::fuzz::FuzzOptions o = sph::fuzz::parseFuzzOptions(
+      argc, argv, 300, false,
+      "fuzz_scene [--cases N] [--seed S] [--keep DIR] [--timeout SECONDS] [--replay CASE.json]");
   // The shipped scenes, in name order: the corpus.
   const std::string scenes = std::string(SPHSPLAT_SOURCE_DIR) + "/scenes";
   std::vector<std::string> names;
@@ -88,9 +61,7 @@ int main(int argc, char** argv) {
   std::fflush(stdout);
 
   std::mt19937_64 random(o.seed);
-  std::map<std::string, long> outcomes;
-  long failures = 0;
-  const auto start = std::chrono::steady_clock::now();
+  sph::fuzz::FuzzTally tally("fuzz_scene", o);
   for (long k = 0; k < o.cases; ++k) {
     const std::size_t which = random() % corpus.size();
     std::string what = "replayed " + o.replay;
@@ -100,22 +71,10 @@ int main(int argc, char** argv) {
     std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
     const sph::fuzz::CaseResult r =
         sph::fuzz::runForked({"run", path, "--check", "-q"}, o.timeout, std::size_t{256} << 20);
-    outcomes[r.exited ? "exit " + std::to_string(r.exitCode) : "killed"]++;
-    const std::string wrong = sph::fuzz::verdict(r);
-    if (wrong.empty()) continue;
-    ++failures;
-    mkdir(o.keep.c_str(), 0755);
-    const std::string kept = o.keep + "/scene" + std::to_string(k) + ".json";
-    std::ofstream(kept, std::ios::binary) << text;
-    std::printf("case %ld (%s, %s): %s; kept as %s\n%s", k, names[which].c_str(), what.c_str(),
-                wrong.c_str(), kept.c_str(), r.errors.c_str());
-    std::fflush(stdout);
+    tally.record(k, "run --check", r, sph::fuzz::verdict(r), names[which] + ": " + what,
+                 "run " + path + " --check -q", "scene" + std::to_string(k) + ".json", text);
   }
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("fuzz_scene: %ld cases in %.0f s, %ld failed;", o.cases, seconds, failures);
-  for (const auto& [outcome, n] : outcomes) std::printf(" %s: %ld,", outcome.c_str(), n);
-  std::printf("\n");
+  const int code = tally.finish();
   std::system(("rm -rf '" + dir + "'").c_str());
-  return failures == 0 ? 0 : 1;
+  return code;
 }
