@@ -120,7 +120,7 @@ int exitAfterReading(const io::CacheSummary& summary) {
   const std::string line = damageLine(summary);
   if (line.empty()) return kOk;
   std::fflush(stdout);
-  std::fprintf(stderr, "%s\n", line.c_str());
+  std::fprintf(stderr, "%s\n", io::oneLine(line).c_str());
   return kBadInput;
 }
 

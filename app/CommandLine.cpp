@@ -14,6 +14,7 @@
 #include "app/Commands.h"
 #include "app/DistributedRun.h"
 #include "app/Version.h"
+#include "io/MessageText.h"
 #include "render/gl/GlError.h"
 #include "sim/InputError.h"
 #ifdef SPHSPLAT_MPI
@@ -29,7 +30,8 @@ int runCommandLine(int argc, char** argv) {
 #ifdef SPHSPLAT_MPI
     sph::mpi::noteStopping();
 #endif
-    if (isRootProcess() || inLockstep()) std::fprintf(stderr, format, what);
+    // One line whatever it quotes (a path or a scene's name with a newline or ESC in it).
+    if (isRootProcess() || inLockstep()) std::fprintf(stderr, format, io::oneLine(what).c_str());
 #ifdef SPHSPLAT_MPI
     // This rank alone failed while the others wait in a collective: end them all.
     if (inLockstep()) {

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "io/Png.h"
+#include "io/UserFiles.h"
 #include "sim/Camera.h"
 #include "sim/InputError.h"
 
@@ -36,10 +37,10 @@ std::string RenderOutput::directoryFor(const Scene& scene, const std::string& ca
   if (!scene.render->directory.empty()) return scene.render->directory;
   if (cachePath.empty()) return "results/" + scene.name + "_frames";
   const std::size_t dot = cachePath.rfind('.');
-  return (dot == std::string::npos || cachePath.find('/', dot) != std::string::npos
-              ? cachePath
-              : cachePath.substr(0, dot)) +
-         "_frames";
+  return io::siblingPath(dot == std::string::npos || cachePath.find('/', dot) != std::string::npos
+                             ? cachePath
+                             : cachePath.substr(0, dot),
+                         "", "_frames");
 }
 
 std::unique_ptr<RenderOutput> RenderOutput::prepare(const Scene& scene,

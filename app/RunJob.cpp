@@ -24,6 +24,7 @@
 #include "app/RunReport.h"
 #include "app/StatusRecorder.h"
 #include "app/Version.h"
+#include "io/MessageText.h"
 #include "io/SceneLoader.h"
 #include "render/cdt/CollisionSetup.h"
 #include "sim/InputError.h"
@@ -52,7 +53,8 @@ int runJob(const RunRequest& request) {
   const MemoryEstimate memory = checkMemory(scene, ranks, ranks && !writeCacheTogether());
   if (o.check) {
     if (!o.quiet) {
-      std::printf("%s: a valid scene (%s); memory: %s\n", o.scene.c_str(), scene.name.c_str(),
+      std::printf("%s: a valid scene (%s); memory: %s\n", io::oneLine(o.scene).c_str(),
+                  io::oneLine(scene.name).c_str(),
                   describeMemory(memory, machineMemory()).c_str());
     }
     return kOk;
@@ -89,7 +91,7 @@ int runJob(const RunRequest& request) {
     if (resume[1]) {
       if (root)
         std::printf("%s already reaches t = %g s; nothing to do (--end sets a later end time)\n",
-                    cache->path().c_str(), cache->lastFrameTime());
+                    io::oneLine(cache->path()).c_str(), cache->lastFrameTime());
       return kOk;
     }
   }
@@ -148,7 +150,7 @@ int runJob(const RunRequest& request) {
         std::printf(
             "  resuming %s from frame %llu at t = %g s (each of the %d ranks read its slab of it: "
             "at most %lld of its %lld particles)%s\n",
-            cache->path().c_str(), static_cast<unsigned long long>(frames - 1), sim.time(),
+            io::oneLine(cache->path()).c_str(), static_cast<unsigned long long>(frames - 1), sim.time(),
             ranks->size(), static_cast<long long>(*std::max_element(read.begin(), read.end())),
             all, cache->resumeNote().c_str());
       }
@@ -156,12 +158,12 @@ int runJob(const RunRequest& request) {
   } else if (cache && cache->resuming()) {
     if (cache->lastFrameTime() >= end) {
       std::printf("%s already reaches t = %g s; nothing to do (--end sets a later end time)\n",
-                  cache->path().c_str(), cache->lastFrameTime());
+                  io::oneLine(cache->path()).c_str(), cache->lastFrameTime());
       return kOk;
     }
     frames = cache->restore(sim, provenance) + 1;
     if (!o.quiet)
-      std::printf("  resuming %s from frame %llu at t = %g s%s\n", cache->path().c_str(),
+      std::printf("  resuming %s from frame %llu at t = %g s%s\n", io::oneLine(cache->path()).c_str(),
                   static_cast<unsigned long long>(frames - 1), sim.time(),
                   cache->resumeNote().c_str());
   }
@@ -277,13 +279,13 @@ int runJob(const RunRequest& request) {
     progress.finish(sample());
     setLockstep(false);  // every rank has the same error; rank 0 tells it
     if (!root) return kBlowUp;
-    std::fprintf(stderr, "sphsplat: %s\n", e.what());
+    std::fprintf(stderr, "sphsplat: %s\n", io::oneLine(e.what()).c_str());
     std::fprintf(stderr, "  reproduce: %s\n", reproduceCommand(o, plan, outcome).c_str());
     if (cache) {
       char reason[96];
       std::snprintf(reason, sizeof reason, "numerical blow-up at step %llu, t = %.6g s",
                     static_cast<unsigned long long>(e.step), e.time);
-      std::fprintf(stderr, "  %s\n", cache->stop(reason).c_str());
+      std::fprintf(stderr, "  %s\n", io::oneLine(cache->stop(reason)).c_str());
       cancelStatusRecorder();
     }
     return kBlowUp;
@@ -298,8 +300,9 @@ int runJob(const RunRequest& request) {
     std::fprintf(stderr, "sphsplat: interrupted by %s at t = %g s\n", signalName(signal),
                  sim.time());
     if (cache) {
-      std::fprintf(stderr, "  %s\n",
-                   cache->stop(std::string("interrupted by ") + signalName(signal)).c_str());
+      std::fprintf(
+          stderr, "  %s\n",
+          io::oneLine(cache->stop(std::string("interrupted by ") + signalName(signal))).c_str());
       cancelStatusRecorder();  // started by the signal during a frame the ranks wrote together
       // A resume needs the same scene, edits, end and (for bit-exactness) threads.
       std::fprintf(stderr, "  continue with: %s --resume %s\n", commandLine(o, o.end).c_str(),
@@ -346,7 +349,7 @@ int runJob(const RunRequest& request) {
                 humanSeconds(wall).c_str(), humanCount(wall > 0 ? particleSteps / wall : 0).c_str(),
                 prof.steps ? 1e3 * wall / prof.steps : 0.0);
     if (o.verbose) printPassSplit(prof);
-    if (cache) std::printf("  %s\n", cache->summary(wall).c_str());
+    if (cache) std::printf("  %s\n", io::oneLine(cache->summary(wall)).c_str());
     if (together)
       std::printf("  frames written by all %d ranks together (parallel HDF5, MPI-IO: %s)\n",
                   ranks->size(), mpiIoChoice().c_str());

@@ -1,6 +1,7 @@
 #include "fuzz/CacheMutator.h"
 
 #include <algorithm>
+#include <functional>
 #include <cstring>
 #include <sstream>
 
@@ -47,6 +48,14 @@ const char* const kOtherSignatures[] = {"BTHD", "BTIN", "BTLF", "FRHP", "FHIB", 
 }  // namespace
 
 CacheMutator::CacheMutator(Bytes file) : file_(std::move(file)) {
+  // HDF5's data starts at the superblock, past the user block (which holds the journal: a copy
+  // of the root group's header that only a repair reads, not to be taken for the header).
+  for (std::size_t at = 0; at + 8 <= file_.size(); at = at == 0 ? 512 : at * 2) {
+    if (std::memcmp(&file_[at], "\x89HDF\r\n\x1a\n", 8) == 0) {
+      base_ = at;
+      break;
+    }
+  }
   findObjectHeaders();
   findOtherBlocks();
   findHeapCollections();
@@ -56,18 +65,13 @@ void CacheMutator::findObjectHeaders() {
   const Bytes& b = file_;
   std::vector<std::pair<std::size_t, std::size_t>> continuations;  // file offsets found
   // Addresses in messages are relative to the superblock (after the user block).
-  std::size_t base = 0;
-  for (std::size_t at = 0; at + 8 <= b.size(); at = at == 0 ? 512 : at * 2) {
-    if (std::memcmp(&b[at], "\x89HDF\r\n\x1a\n", 8) == 0) {
-      base = at;
-      break;
-    }
-  }
+  const std::size_t base = base_;
   auto scan = [&](Block& block, std::size_t begin, std::size_t end, bool creationOrder) {
     const std::size_t prefix = creationOrder ? 6 : 4;
     for (std::size_t p = begin; p + prefix <= end;) {
       Message m;
       m.at = p;
+      m.prefix = prefix;
       m.type = b[p];
       m.size = prefix + little(&b[p + 1], 2);
       if (p + m.size > end) break;
@@ -78,7 +82,7 @@ void CacheMutator::findObjectHeaders() {
       p += m.size;
     }
   };
-  for (std::size_t at = 0; at + 16 <= b.size(); ++at) {
+  for (std::size_t at = base_; at + 16 <= b.size(); ++at) {
     if (std::memcmp(&b[at], "OHDR", 4) != 0 || b[at + 4] != 2) continue;
     const unsigned flags = b[at + 5];
     std::size_t prefix = 6 + ((flags & 0x20) ? 16 : 0) + ((flags & 0x10) ? 4 : 0);
@@ -105,7 +109,7 @@ void CacheMutator::findObjectHeaders() {
 
 void CacheMutator::findOtherBlocks() {
   const Bytes& b = file_;
-  for (std::size_t at = 0; at + 12 <= b.size(); ++at) {
+  for (std::size_t at = base_; at + 12 <= b.size(); ++at) {
     for (const char* signature : kOtherSignatures) {
       if (std::memcmp(&b[at], signature, 4) != 0) continue;
       // The block's length is where its checksum matches (these blocks are small, but for the
@@ -123,7 +127,7 @@ void CacheMutator::findOtherBlocks() {
 
 void CacheMutator::findHeapCollections() {
   const Bytes& b = file_;
-  for (std::size_t at = 0; at + 16 <= b.size(); ++at) {
+  for (std::size_t at = base_; at + 16 <= b.size(); ++at) {
     if (std::memcmp(&b[at], "GCOL", 4) != 0 || b[at + 4] != 1) continue;
     const std::uint64_t size = little(&b[at + 8], 8);
     if (size < 16 || size > b.size() - at) continue;
@@ -135,6 +139,7 @@ void CacheMutator::findHeapCollections() {
       m.at = p;
       m.type = static_cast<unsigned>(little(&b[p], 2));
       const std::uint64_t length = little(&b[p + 8], 8);
+      m.prefix = 16;
       m.size = 16 + ((length + 7) & ~std::uint64_t{7});
       if (m.type == 0 || m.size > at + size - p) break;  // the free space ends the objects
       block.messages.push_back(m);
@@ -196,6 +201,80 @@ void CacheMutator::mutateMetadata(Bytes& bytes, std::mt19937_64& random, std::st
     putLittle(&bytes[sumAt], 4, lookup3(&bytes[block.at], block.length - 4));
   what += where + ": " + std::to_string(width) + " bytes at " + std::to_string(at) + " = " +
           hex(value) + (block.checksummed ? ", checksum kept" : "");
+}
+
+std::vector<std::pair<std::string, Bytes>> CacheMutator::corpus() const {
+  std::vector<std::pair<std::string, Bytes>> out;
+  // `change` writes `width` bytes of `value` at `offset` of the body of the first message of
+  // `type` (in a block whose messages also hold `alongside`, if given) whose body has `needs`
+  // bytes and `where` accepts, and keeps the block's checksum.
+  auto add = [&](const std::string& name, unsigned type, std::size_t offset, std::size_t width,
+                 std::uint64_t value, std::size_t needs = 0, unsigned alongside = 0,
+                 const std::function<bool(const std::uint8_t*)>& where = nullptr) {
+    for (const Block& block : blocks_) {
+      if (block.kind != "OHDR" && block.kind != "OCHK") continue;
+      bool has = alongside == 0;
+      for (const Message& m : block.messages) has = has || m.type == alongside;
+      if (!has) continue;
+      for (const Message& m : block.messages) {
+        const std::size_t body = m.at + m.prefix, bodySize = m.size - m.prefix;
+        if (m.type != type || bodySize < std::max(needs, offset + width)) continue;
+        if (where && !where(&file_[body])) continue;
+        Bytes bytes = file_;
+        putLittle(&bytes[body + offset], width, value);
+        const std::size_t sumAt = block.at + block.length - 4;
+        putLittle(&bytes[sumAt], 4, lookup3(&bytes[block.at], block.length - 4));
+        out.emplace_back(name, std::move(bytes));
+        return;
+      }
+    }
+  };
+  constexpr std::uint64_t kPast = std::uint64_t{1} << 40;  // an address or size past the file
+  auto chunked = [](const std::uint8_t* b) { return b[1] == 2; };  // layout class 2
+  auto hard = [](const std::uint8_t* b) { return b[0] == 1 && (b[1] & 0x08) == 0; };
+  add("a link message's version", 0x06, 0, 1, 0x7f, 2);
+  add("a link's name length past its message", 0x06, 2, 1, 0xff, 3, 0, hard);
+  add("a hard link's address past the file", 0x06, 3, 8, kPast, 12, 0,
+      [](const std::uint8_t* b) { return b[0] == 1 && b[1] == 0; });
+  add("a dataspace's first dimension of 2^40", 0x01, 4, 8, kPast, 12, 0x08);
+  add("a layout's chunk dimension of 2^31", 0x08, 5, 4, 0x80000000u, 9, 0, chunked);
+  add("a layout's class made compact, without data", 0x08, 1, 3, 0, 4, 0, chunked);
+  add("a layout of version 1", 0x08, 0, 1, 1, 2);
+  add("a datatype's size of 0", 0x03, 4, 4, 0, 8);
+  add("a datatype's size of 2^31", 0x03, 4, 4, 0x80000000u, 8);
+  add("a filter pipeline of 255 filters", 0x0B, 1, 1, 0xff, 2);
+  add("an attribute's name size past its message", 0x0C, 2, 2, 0xffff, 8);
+  add("an attribute's dataspace size past its message", 0x0C, 6, 2, 0xffff, 8);
+  add("link info's dense storage address at 0", 0x02, 2, 8, 0, 18);
+  add("attribute info's dense storage address at 0", 0x15, 2, 8, 0, 18);
+  add("a continuation's length of 2^40", 0x10, 8, 8, kPast, 16);
+  add("a continuation's address past the file", 0x10, 0, 8, kPast, 16);
+  // The shared flag is in the message's header, not its body.
+  for (const Block& block : blocks_) {
+    if (block.kind != "OHDR" || block.messages.empty()) continue;
+    const auto m = std::find_if(block.messages.begin(), block.messages.end(),
+                                [](const Message& x) { return x.type == 0x01; });
+    if (m == block.messages.end()) continue;
+    Bytes bytes = file_;
+    bytes[m->at + 3] |= 0x02;
+    putLittle(&bytes[block.at + block.length - 4], 4,
+              lookup3(&bytes[block.at], block.length - 4));
+    out.emplace_back("a dataspace message flagged shared", std::move(bytes));
+    break;
+  }
+  // Global heap objects (no checksum): the first string object's size and index.
+  for (const Block& block : blocks_) {
+    if (block.kind != "GCOL" || block.messages.empty()) continue;
+    const Message& m = block.messages.front();
+    Bytes bytes = file_;
+    putLittle(&bytes[m.at + 8], 8, kPast);
+    out.emplace_back("a global heap object's size of 2^40", bytes);
+    bytes = file_;
+    putLittle(&bytes[m.at], 2, 0x7fff);
+    out.emplace_back("a global heap object's index changed", std::move(bytes));
+    break;
+  }
+  return out;
 }
 
 std::string CacheMutator::describe() const {

@@ -8,7 +8,7 @@
 
 namespace sph::fuzz {
 
-FuzzOptions parseFuzzOptions(int argc, char** argv, long defaultCases, bool renderEvery,
+FuzzOptions parseFuzzOptions(int argc, char** argv, long defaultCases, bool cacheFlags,
                              const char* usage) {
   FuzzOptions o;
   o.cases = defaultCases;
@@ -23,8 +23,10 @@ FuzzOptions parseFuzzOptions(int argc, char** argv, long defaultCases, bool rend
       o.keep = v, ++i;
     else if (a == "--timeout" && v)
       o.timeout = std::atof(v), ++i;
-    else if (renderEvery && a == "--render-every" && v)
+    else if (cacheFlags && a == "--render-every" && v)
       o.renderEvery = std::atol(v), ++i;
+    else if (cacheFlags && a == "--corpus")
+      o.corpus = true;
     else if (a == "--replay" && v)
       o.replay = v, o.cases = 1, o.renderEvery = 1, ++i;
     else {
@@ -53,11 +55,18 @@ void FuzzTally::record(long k, const std::string& label, const CaseResult& r,
   std::fflush(stdout);
 }
 
+void FuzzTally::fail(long k, const std::string& why) {
+  ++failures_;
+  std::printf("case %ld: %s\n", k, why.c_str());
+  std::fflush(stdout);
+}
+
 int FuzzTally::finish() const {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  std::printf("%s: %ld cases in %.0f s, %ld failed;", program_.c_str(), options_.cases, seconds,
-              failures_);
+  std::printf("%s: %s in %.0f s, %ld failed;", program_.c_str(),
+              options_.corpus ? "the corpus" : (std::to_string(options_.cases) + " cases").c_str(),
+              seconds, failures_);
   for (const auto& [outcome, n] : outcomes_) std::printf(" %s: %ld,", outcome.c_str(), n);
   std::printf("\n");
   return failures_ == 0 ? 0 : 1;

@@ -17,11 +17,12 @@ struct FuzzOptions {
   double timeout = 20;                 // s, per command
   long renderEvery = 10;               // fuzz_cache: every K-th case also through `render`
   std::string replay;                  // a kept case, run once
+  bool corpus = false;                 // fuzz_cache: the named damages instead of random ones
 };
 
-// --cases N --seed S --keep DIR --timeout SECONDS --replay FILE (and --render-every K where
-// `renderEvery` is taken); anything else prints `usage` and exits 2.
-FuzzOptions parseFuzzOptions(int argc, char** argv, long defaultCases, bool renderEvery,
+// --cases N --seed S --keep DIR --timeout SECONDS --replay FILE (and --render-every K and
+// --corpus where `cacheFlags`); anything else prints `usage` and exits 2.
+FuzzOptions parseFuzzOptions(int argc, char** argv, long defaultCases, bool cacheFlags,
                              const char* usage);
 
 class FuzzTally {
@@ -33,6 +34,8 @@ class FuzzTally {
   void record(long k, const std::string& label, const CaseResult& r, const std::string& wrong,
               const std::string& what, const std::string& command, const std::string& keptName,
               const std::string& input);
+  // A failure of case `k` that is no single command's.
+  void fail(long k, const std::string& why);
   // Prints "PROGRAM: N cases in T s, F failed; outcome: count, ..." and returns the exit code.
   int finish() const;
 

@@ -6,6 +6,8 @@
 //
 //   fuzz_cache [--cases N] [--seed S] [--keep DIR] [--timeout SECONDS] [--render-every K]
 //   fuzz_cache --replay CASE.h5     (a kept case again, through every command)
+//   fuzz_cache --corpus             (the named damages of CacheMutator::corpus(), each of which
+//                                    some command must refuse)
 //
 // Exit 0 when every case held, 1 when one did not (each such case is kept in DIR, default
 // fuzz-failures/, with the command that failed). The default suite runs a short fixed-seed run
@@ -61,7 +63,7 @@ int main(int argc, char** argv) {
   const sph::fuzz::FuzzOptions o = sph::fuzz::parseFuzzOptions(
       argc, argv, 200, true,
       "fuzz_cache [--cases N] [--seed S] [--keep DIR] [--timeout SECONDS] [--render-every K] "
-      "[--replay CASE.h5]");
+      "[--replay CASE.h5] [--corpus]");
   char dirTemplate[] = "/tmp/sphsplat-fuzz-XXXXXX";
   const std::string dir = mkdtemp(dirTemplate);
   const std::string scene = dir + "/fuzz.json", base = dir + "/base.h5";
@@ -77,15 +79,17 @@ int main(int argc, char** argv) {
   // One allocation may take the file's size many times over (a frame's arrays, their
   // decompression, the pictures), never a size that only a damaged field would ask for.
   const std::size_t limit = (std::size_t{64} << 20) + 16 * original.size();
-  std::printf("fuzz_cache: seed %llu, %ld cases, a cache of %zu bytes: %s\n", o.seed, o.cases,
-              original.size(), mutator.describe().c_str());
+  const std::string runs = o.corpus ? std::string("the corpus of named damages")
+                                    : "seed " + std::to_string(o.seed) + ", " +
+                                          std::to_string(o.cases) + " cases";
+  std::printf("fuzz_cache: %s, a cache of %zu bytes: %s\n", runs.c_str(), original.size(),
+              mutator.describe().c_str());
   std::fflush(stdout);
 
   std::mt19937_64 random(o.seed);
   sph::fuzz::FuzzTally tally("fuzz_cache", o);
-  for (long k = 0; k < o.cases; ++k) {
-    std::string what = "replayed " + o.replay;
-    const Bytes damaged = o.replay.empty() ? mutator.mutate(random, what) : readBytes(o.replay);
+  // Case `k`: `damaged` through every command; returns how many refused it (exit 2).
+  auto runCase = [&](long k, const std::string& what, const Bytes& damaged, bool render) {
     const std::string path = dir + "/case.h5";
     std::vector<std::vector<std::string>> commands = {
         {"info", path},
@@ -95,8 +99,9 @@ int main(int argc, char** argv) {
          "--overwrite"},
         {"run", scene, "--threads", "1", "-q", "--resume", path},
     };
-    if (o.renderEvery > 0 && k % o.renderEvery == 0)
+    if (render)
       commands.push_back({"render", path, "--frames", "last", "--out", dir + "/render", "-q"});
+    int refused = 0;
     for (const std::vector<std::string>& command : commands) {
       writeBytes(path, damaged);  // afresh: a resume writes to it
       const sph::fuzz::CaseResult r = sph::fuzz::runForked(command, o.timeout, limit);
@@ -107,7 +112,29 @@ int main(int argc, char** argv) {
       tally.record(k, command[0], r, sph::fuzz::verdict(r, also), what, line,
                    "case" + std::to_string(k) + "_" + command[0] + ".h5",
                    std::string(damaged.begin(), damaged.end()));
+      refused += r.exited && r.exitCode == 2;
     }
+    return refused;
+  };
+  if (o.corpus) {
+    // Each named damage must also be noticed: some command refuses the file.
+    long k = 0;
+    for (const auto& [name, damaged] : mutator.corpus()) {
+      const int refused = runCase(k, name, damaged, true);
+      std::printf("  %-52s refused by %d of 5 commands\n", name.c_str(), refused);
+      if (refused == 0) {
+        mkdir(o.keep.c_str(), 0755);
+        const std::string kept = o.keep + "/corpus" + std::to_string(k) + ".h5";
+        writeBytes(kept, damaged);
+        tally.fail(k, name + ": no command noticed the damage; kept as " + kept);
+      }
+      ++k;
+    }
+  }
+  for (long k = 0; k < (o.corpus ? 0 : o.cases); ++k) {
+    std::string what = o.replay.empty() ? "" : "replayed " + o.replay;
+    const Bytes damaged = o.replay.empty() ? mutator.mutate(random, what) : readBytes(o.replay);
+    runCase(k, what, damaged, o.renderEvery > 0 && k % o.renderEvery == 0);
   }
   const int code = tally.finish();
   std::system(("rm -rf '" + dir + "'").c_str());

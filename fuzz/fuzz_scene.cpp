@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
   sph::fuzz::FuzzTally tally("fuzz_scene", o);
   for (long k = 0; k < o.cases; ++k) {
     const std::size_t which = random() % corpus.size();
-    std::string what = "replayed " + o.replay;
+    std::string what = o.replay.empty() ? "" : "replayed " + o.replay;
     const std::string text =
         o.replay.empty() ? corpus[which].mutate(random, what) : readText(o.replay);
     const std::string path = dir + "/case.json";

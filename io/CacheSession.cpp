@@ -278,7 +278,7 @@ void CacheSession::create(const Simulation& sim, const CacheProvenance& provenan
   doublePositions_ = scene.output.doublePositions;
   boundaryParticles_ = sim.boundary().particles().size();
   followRain(sim);
-  const std::string partial = path_ + ".partial";
+  const std::string partial = siblingPath(path_, "", ".partial");
   try {
     writer_ = CacheWriter::create(partial, scene, sim.params(), sim.boundary().particles(),
                                   provenance, expectedFrames);

@@ -436,8 +436,9 @@ void checkRootHeader(const std::string& path) {
     const auto block = raw.read(at, 48);
     if (!block || std::memcmp(block->data(), "\x89HDF\r\n\x1a\n", 8) != 0) continue;
     if ((*block)[8] < 2 || (*block)[9] != 8 || (*block)[10] != 8) return;  // HDF5 reads others
-    // A file shorter than its superblock says: HDF5 refuses it as truncated, the better words.
-    if (raw.size() - at < little(&(*block)[28], 8)) return;
+    // A file shorter than its superblock says (the end of file as a file offset, the user block
+    // included): HDF5 refuses it as truncated, the better words.
+    if (raw.size() < little(&(*block)[28], 8)) return;
     try {
       checkMessages(raw, at, HeaderMessages(raw, at, little(&(*block)[36], 8)));
     } catch (const Damage& d) {

@@ -19,6 +19,13 @@ inline std::string printablePath(std::string_view path) {
   return printable(path, 240);
 }
 
+// `text` as one line a terminal shows as it is: valid UTF-8 kept (accents, other scripts), control
+// bytes (a newline, ESC, DEL, the C1 controls) and bytes that are not UTF-8 as \xHH. Every line
+// the program prints with a name in it (an error, a path, a scene's name) goes through it.
+std::string oneLine(std::string_view text);
+// Whether oneLine() would change `text`.
+bool hasControlBytes(std::string_view text);
+
 // A number as a person reads it, %g style with `digits` significant digits and a short exponent:
 // 0.25, 1500, 1e6, 1.79769e308, -3.5e-5, inf, nan. Never a 300-digit expansion.
 std::string readableNumber(double v, int digits = 6);

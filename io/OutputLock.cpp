@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "io/UserFiles.h"
 #include "sim/InputError.h"
 
 namespace sph::io {
@@ -24,10 +25,7 @@ struct flock wholeFile(short type) {
 std::string OutputLock::lockPath(const std::string& path) {
   std::string p = path;
   while (p.size() > 1 && p.back() == '/') p.pop_back();  // "frames/" locks like "frames"
-  const std::size_t slash = p.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? "" : p.substr(0, slash + 1);
-  const std::string name = slash == std::string::npos ? p : p.substr(slash + 1);
-  return dir + "." + name + ".lock";
+  return siblingPath(p, ".", ".lock");
 }
 
 OutputLock OutputLock::acquire(const std::string& path, const std::string& what) {

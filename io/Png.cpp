@@ -27,6 +27,22 @@ struct FileCloser {
 };
 using File = std::unique_ptr<FILE, FileCloser>;
 
+// libpng's errors and warnings, kept for the one line the program prints instead of printing
+// them itself (its default handlers write to standard error: a second line on a full disk).
+struct PngMessages {
+  char error[160] = "";
+  int errnoAtError = 0;
+};
+
+void onPngError(png_structp png, png_const_charp message) {
+  auto* m = static_cast<PngMessages*>(png_get_error_ptr(png));
+  m->errnoAtError = errno;
+  std::snprintf(m->error, sizeof m->error, "%s", message);
+  png_longjmp(png, 1);
+}
+
+void onPngWarning(png_structp, png_const_charp) {}
+
 }  // namespace
 
 void writePng(const std::string& path, int width, int height, const std::uint8_t* rgb) {
@@ -37,7 +53,9 @@ void writePng(const std::string& path, int width, int height, const std::uint8_t
                      ", not a regular file; refusing to replace it with an image");
   }
   AtomicOutput file(path);
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  PngMessages messages;
+  png_structp png =
+      png_create_write_struct(PNG_LIBPNG_VER_STRING, &messages, onPngError, onPngWarning);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
   if (!png || !info) {
     png_destroy_write_struct(&png, &info);
@@ -45,7 +63,10 @@ void writePng(const std::string& path, int width, int height, const std::uint8_t
   }
   if (setjmp(png_jmpbuf(png))) {
     png_destroy_write_struct(&png, &info);
-    throw InputError(path + ": cannot write the image (libpng error, disk full?)");
+    const std::string cause = messages.errnoAtError != 0
+                                  ? std::string(": ") + std::strerror(messages.errnoAtError)
+                                  : std::string();
+    throw InputError(path + ": cannot write the image (libpng: " + messages.error + cause + ")");
   }
   png_init_io(png, file.file());
   png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8,

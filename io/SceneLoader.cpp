@@ -457,6 +457,11 @@ Scene parseScene(const std::string& text, const std::string& path,
   std::string stem = path.substr(path.find_last_of('/') + 1);
   stem = stem.substr(0, stem.rfind('.'));
   scene.name = root.string("name", stem);
+  // A name is printed in every progress line and names the run's files.
+  if (hasControlBytes(scene.name)) {
+    root.fail("name", "expected a name without control characters or bytes that are not UTF-8, "
+                      "got \"" + oneLine(scene.name) + "\"");
+  }
   scene.description = root.string("description", std::string(""));
   const Quality quality = root.choice("quality", std::optional(Quality::Default));
   scene.solver = readSolver(root.object("solver"), quality);

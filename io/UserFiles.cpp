@@ -6,6 +6,8 @@
 
 #include <cerrno>
 #include <climits>
+#include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 
@@ -124,6 +126,25 @@ void checkOutputPath(const std::string& path, bool overwrite, const std::vector<
     throw InputError(path + ": " + whatExists(path) + "; pass --overwrite to replace it");
 }
 
+std::string siblingPath(const std::string& path, const std::string& prefix,
+                        const std::string& suffix) {
+  constexpr std::size_t kMostNameBytes = 255;  // NAME_MAX of Linux's file systems
+  const std::size_t slash = path.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
+  std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+  if (prefix.size() + name.size() + suffix.size() > kMostNameBytes) {
+    std::uint64_t hash = 1469598103934665603ull;  // FNV-1a of the whole name
+    for (const unsigned char c : name) hash = (hash ^ c) * 1099511628211ull;
+    char tail[24];
+    std::snprintf(tail, sizeof tail, "~%016llx", static_cast<unsigned long long>(hash));
+    std::size_t keep = kMostNameBytes - prefix.size() - suffix.size() - std::strlen(tail);
+    // Not inside a UTF-8 character.
+    while (keep > 0 && (static_cast<unsigned char>(name[keep]) & 0xc0) == 0x80) --keep;
+    name = name.substr(0, keep) + tail;
+  }
+  return dir + prefix + name + suffix;
+}
+
 AtomicOutput::AtomicOutput(const std::string& path) : path_(path), target_(path) {
   // Replace what a symlink points at, not the link (a dangling link is replaced itself).
   struct stat st {};
@@ -131,7 +152,7 @@ AtomicOutput::AtomicOutput(const std::string& path) : path_(path), target_(path)
     char resolved[PATH_MAX];
     if (::realpath(path.c_str(), resolved)) target_ = resolved;
   }
-  std::string pattern = target_ + ".partial-XXXXXX";
+  std::string pattern = siblingPath(target_, "", ".partial-XXXXXX");
   const int fd = ::mkstemp(pattern.data());
   if (fd < 0) throw InputError(path + ": cannot create the file (" + systemError() + ")");
   temporary_ = pattern;

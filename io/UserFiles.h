@@ -19,6 +19,13 @@ namespace sph::io {
 
 constexpr std::uint64_t kMaxInputFileBytes = 64ull << 20;
 
+// The name of a file the program keeps beside `path` (a lock ".NAME.lock", a temporary
+// "NAME.partial"): `prefix` + NAME + `suffix` in the same folder, with NAME shortened (its first
+// bytes, "~" and a hash of the whole) where the whole would pass the file system's 255-byte
+// limit on a name, so that any name a user may choose gets its lock and its temporary.
+std::string siblingPath(const std::string& path, const std::string& prefix,
+                        const std::string& suffix);
+
 // The whole of `path`; `what` names it in errors ("scene file"). Throws InputError.
 std::string readInputFile(const std::string& path, const std::string& what);
 

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "io/UserFiles.h"
 #include "sim/InputError.h"
 
 namespace sph::io {
@@ -39,7 +40,7 @@ std::string XdmfWriter::sidecarPath(const std::string& cachePath) {
   const std::size_t dot = cachePath.find_last_of('.');
   const bool hasExtension =
       dot != std::string::npos && (slash == std::string::npos || dot > slash + 1);
-  return (hasExtension ? cachePath.substr(0, dot) : cachePath) + ".xdmf";
+  return siblingPath(hasExtension ? cachePath.substr(0, dot) : cachePath, "", ".xdmf");
 }
 
 XdmfWriter::XdmfWriter(std::string xdmfPath, std::string cacheFileName,
@@ -67,7 +68,7 @@ void XdmfWriter::flush() {
 
 void XdmfWriter::rewrite() {
   const std::string text = document(frames_);
-  const std::string temporary = path_ + ".tmp";
+  const std::string temporary = siblingPath(path_, "", ".tmp");
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0)
     throw InputError(temporary + ": cannot create the XDMF sidecar (" + std::strerror(errno) + ")");

@@ -20,6 +20,8 @@
 #include <thread>
 
 #include "io/CacheReader.h"
+#include "io/UserFiles.h"
+#include "io/XdmfWriter.h"
 #include "tests/CacheTestSupport.h"
 
 namespace sph {
@@ -203,6 +205,32 @@ TEST_F(CacheCli, EveryBadCacheGivesOneLineAndExitTwo) {
   }
   EXPECT_EQ(readFile(truncated).size(), whole.size() / 2)
       << "a failed resume must not touch the file";
+}
+
+// A legal name near the file system's 255-byte limit gets its lock (.NAME.lock), its temporary
+// (NAME.partial) and its sidecar, whose names are shortened with a hash where they would pass it.
+TEST_F(CacheCli, NamesNearTheLimitGetTheirLockTemporaryAndSidecar) {
+  for (const std::size_t bytes : {246u, 250u, 255u}) {
+    const std::string name = std::string(bytes - 3, 'n') + ".h5";
+    const std::string cache = dir_ + "/" + name;
+    const auto r = runShell(sphsplat("run '" + scene_ + "' --threads 1 --quiet --end 0.02 -o '" +
+                                     cache + "'"));
+    EXPECT_EQ(r.exitCode, 0) << bytes << " bytes: " << r.output;
+    EXPECT_EQ(io::CacheReader(cache).frameCount(), 3u) << bytes;
+    const std::string sidecar = io::XdmfWriter::sidecarPath(cache);
+    EXPECT_TRUE(test::fileExists(sidecar)) << sidecar;
+    EXPECT_LE(sidecar.size() - dir_.size() - 1, 255u);
+    EXPECT_NE(readFile(sidecar).find(name), std::string::npos) << "the sidecar names the cache";
+    // The export of its frames beside it (NAME.partial-XXXXXX while written).
+    const auto e = runShell(sphsplat("export '" + cache + "' --frame 0 --format csv -o '" +
+                                     dir_ + "/" + std::string(bytes - 4, 'e') + ".csv'"));
+    EXPECT_EQ(e.exitCode, 0) << bytes << " bytes: " << e.output;
+  }
+  EXPECT_EQ(io::siblingPath("/d/abc", ".", ".lock"), "/d/.abc.lock");
+  const std::string shortened = io::siblingPath("/d/" + std::string(255, 'a'), "", ".partial");
+  EXPECT_EQ(shortened.size(), 3u + 255u);
+  EXPECT_EQ(shortened.substr(shortened.size() - 8), ".partial");
+  EXPECT_NE(shortened, io::siblingPath("/d/" + std::string(254, 'a') + "b", "", ".partial"));
 }
 
 // The header's texts (the format name, the scene) are variable-length strings, which HDF5 keeps

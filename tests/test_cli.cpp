@@ -1,11 +1,13 @@
 // The sphsplat binary as a user meets it: help, version, bad scenes and flags refused with one
 // line and exit code 2, a run with its summary, and the blow-up guard's message and exit code 3.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cstdlib>
 #include <regex>
 #include <sstream>
 
+#include "io/MessageText.h"
 #include "tests/TestSupport.h"
 
 namespace sph {
@@ -270,6 +272,29 @@ TEST(Cli, HostileScenesAreRefusedWithOneShortLine) {
     EXPECT_TRUE(oneShortLine(r)) << c.what;
     EXPECT_EQ(r.output, "sphsplat: " + c.path + c.message + "\n") << c.what;
   }
+}
+
+// A newline or ESC in a path or a scene's name neither splits an error line nor reaches the
+// terminal: both are written as \xHH (valid UTF-8 stays as it is).
+TEST(Cli, NamesWithControlBytesStayOneLineAndPrintable) {
+  const std::string dir = test::makeTempDirectory("sphsplat-names");
+  const std::string odd = dir + "/we\x1b[1mird\ndir";
+  ASSERT_EQ(::mkdir(odd.c_str(), 0755), 0);
+  auto r = test::runShell("timeout 60 " + test::sphsplatCommand() + " run '" + odd + "/nope.json'");
+  EXPECT_TRUE(oneShortLine(r)) << r.output;
+  EXPECT_EQ(r.output, "sphsplat: " + dir + "/we\\x1B[1mird\\x0Adir/nope.json: cannot open the scene "
+                      "file (No such file or directory)\n");
+  const std::string named = writeTempFile("{\"name\": \"a\\u001b[31mb\\nc\", \"solver\": "
+                                          "{\"spacing\": 0.05}, \"fluids\": [{\"min\": [0,0,0], "
+                                          "\"max\": [0.1,0.1,0.1]}]}");
+  r = test::runShell("timeout 60 " + test::sphsplatCommand() + " run '" + named + "' --check");
+  EXPECT_TRUE(oneShortLine(r)) << r.output;
+  EXPECT_NE(r.output.find("name: expected a name without control characters or bytes that are "
+                          "not UTF-8, got \"a\\x1B[31mb\\x0Ac\""),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(io::oneLine("caf\xc3\xa9 \xe6\xb0\xb4"), "caf\xc3\xa9 \xe6\xb0\xb4");  // kept
+  EXPECT_EQ(io::oneLine("a\xc2\x9b[1m\xff\xc3"), "a\\xC2\\x9B[1m\\xFF\\xC3");  // C1, not UTF-8
 }
 
 TEST(Cli, ThreadsAreCappedInEverySubcommand) {

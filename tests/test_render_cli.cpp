@@ -149,6 +149,21 @@ TEST_F(RenderCli, FramesAreNeverWrittenOverNonRegularFiles) {
   EXPECT_TRUE(exists(dir_ + "/all/dam_break_point_00006.png"));
 }
 
+// A full disk (here a file size limit, which fails writes the same way) while a picture is
+// written: one line naming the picture and why, not libpng's own second line, and no half PNG.
+TEST_F(RenderCli, AFullDiskWhileAPictureIsWrittenIsOneLine) {
+  const std::string out = dir_ + "/full-frames";
+  const auto r = test::runShell("sh -c \"ulimit -f 1; trap '' XFSZ; exec " +
+                                test::sphsplatCommand() + " render " + cache() +
+                                " --frames 0 --splat point --size 160x120 -q --out " + out +
+                                "\" 2>&1");
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_EQ(r.output, "sphsplat: " + out +
+                          "/dam_break_point_00000.png: cannot write the image (libpng: Write "
+                          "Error: File too large)\n");
+  EXPECT_FALSE(exists(out + "/dam_break_point_00000.png"));
+}
+
 // Fraction of pixels of a PNG that differ from its top-left pixel (the background).
 double nonBackground(const std::string& path) {
   int w = 0, h = 0;
