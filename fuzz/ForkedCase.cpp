@@ -13,9 +13,6 @@
 
 #include "app/CommandLine.h"
 
-#if defined(__SANITIZE_ADDRESS__)
-#include <sanitizer/allocator_interface.h>
-#endif
 
 namespace sph::fuzz {
 namespace {
@@ -37,7 +34,10 @@ void checkAllocation(std::size_t size) {
 }  // namespace sph::fuzz
 
 #if defined(__SANITIZE_ADDRESS__)
-// AddressSanitizer owns malloc: its hook sees every allocation once it is made.
+// AddressSanitizer owns malloc: its hook sees every allocation once it is made. (Declared here:
+// GCC ships no sanitizer/allocator_interface.h, though its runtime has the function.)
+extern "C" int __sanitizer_install_malloc_and_free_hooks(
+    void (*onMalloc)(const volatile void*, std::size_t), void (*onFree)(const volatile void*));
 namespace {
 void onMalloc(const volatile void*, std::size_t size) {
   sph::fuzz::checkAllocation(size);

@@ -261,20 +261,12 @@ std::string SceneMutator::mutate(std::mt19937_64& random, std::string& what) con
       break;
     case 9: {  // nesting: the value buried under brackets
       const std::size_t depth = random() % 2 ? 64 : 100000;
-      Node inner = deepCopy(node);
-      for (std::size_t i = 0; i < depth; ++i) {
-        auto outer = std::make_shared<JsonValue>();
-        outer->kind = JsonValue::Kind::Array;
-        outer->items.push_back(inner);
-        inner = outer;
-      }
-      // Written as text: a tree this deep would take the writer's stack.
-      const std::string marker = "\"@@nested@@\"";
+      // Written as text: a tree this deep would take the stack of whatever walks it.
+      const std::string value = write(v), marker = "\"@@nested@@\"";
       v = *leaf(JsonValue::Kind::String, "@@nested@@");
       std::string text = write(*root);
       const std::size_t at = text.find(marker);
-      text.replace(at, marker.size(),
-                   std::string(depth, '[') + write(*deepCopy(node)) + std::string(depth, ']'));
+      text.replace(at, marker.size(), std::string(depth, '[') + value + std::string(depth, ']'));
       what = path + " under " + std::to_string(depth) + " brackets";
       return text;
     }

@@ -213,6 +213,11 @@ void checkMessages(const RawFile& file, std::uint64_t base, const HeaderMessages
     // A shared message stands for one in the file's shared message table, which this project's
     // files do not have (HDF5 reads that table from wherever the damaged message says).
     if (m.flags & 0x02) throw Damage{"a shared message, in a file without shared messages"};
+    // A message of a kind HDF5 does not know it skips: a dataset whose filter pipeline message
+    // became one is read as if unfiltered, its compressed chunk copied as a whole one. And an
+    // external file list (0x07) would read another file; no cache has one.
+    if (m.type > 0x17 || m.type == 0x07 || m.type == 0x09)
+      throw Damage{"a message of a kind no cache holds"};
     switch (m.type) {
       case 0x01:  // dataspace
         elements = spaceElements(p, m.size, spaceDims), haveSpace = true;
@@ -508,6 +513,22 @@ Handle openCheckedDataset(hid_t loc, const std::string& name) {
       if (chunk[d] == 0 || chunk[d] > dims[d]) throw damaged("a chunk larger than the dataset");
       chunkBytes *= static_cast<long double>(chunk[d]);
     }
+    // The filters this project's caches use; without deflate a chunk is stored at its size.
+    bool inflates = false;
+    std::uint64_t checksumBytes = 0;
+    const int filters = H5Pget_nfilters(dcpl.get());
+    for (int f = 0; f < filters; ++f) {
+      unsigned flags = 0, config = 0;
+      std::size_t values = 0;
+      const H5Z_filter_t id = H5Pget_filter2(dcpl.get(), static_cast<unsigned>(f), &flags,
+                                             &values, nullptr, 0, nullptr, &config);
+      if (id == H5Z_FILTER_DEFLATE)
+        inflates = true;
+      else if (id == H5Z_FILTER_FLETCHER32)
+        checksumBytes = 4;
+      else if (id != H5Z_FILTER_SHUFFLE)
+        throw damaged("a filter no cache uses (" + std::to_string(id) + ")");
+    }
     hsize_t chunks = 0;
     check(H5Dget_num_chunks(set.get(), space.get(), &chunks), "count the chunks of '" + name + "'");
     long double stored = 0;
@@ -520,6 +541,10 @@ Handle openCheckedDataset(hid_t loc, const std::string& name) {
       if (at == HADDR_UNDEF || at > fileSize || size > fileSize - at ||
           chunkBytes > kMostInflation * static_cast<long double>(size) + 64)
         throw damaged("chunk " + std::to_string(i) + " is not in the file");
+      // Every filter applied (a skipped one leaves data HDF5 would read as filtered), and an
+      // uncompressed chunk exactly its size (HDF5 copies the chunk's size out of what it read).
+      if (mask != 0 || (!inflates && static_cast<long double>(size) != chunkBytes + checksumBytes))
+        throw damaged("chunk " + std::to_string(i) + " is not stored as its filters say");
       stored += static_cast<long double>(size);
     }
     if (bytes > kMostInflation * stored + 64)
