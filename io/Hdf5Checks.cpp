@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -37,6 +38,11 @@ class RawFile {
 
   bool open() const { return fd_ >= 0; }
   std::uint64_t size() const { return size_; }
+  // The size again (a writer in this process may have grown the file since).
+  void refresh() {
+    struct stat st {};
+    if (fd_ >= 0 && fstat(fd_, &st) == 0) size_ = static_cast<std::uint64_t>(st.st_size);
+  }
   // `length` bytes at `offset`, or nothing when they are not all in the file.
   std::optional<std::vector<std::uint8_t>> read(std::uint64_t offset, std::uint64_t length) const {
     if (offset > size_ || length > size_ - offset) return std::nullopt;
@@ -353,25 +359,43 @@ void checkMessages(const RawFile& file, std::uint64_t base, const HeaderMessages
   }
 }
 
-// The file an object is in: its path and where HDF5's addresses start (past the user block).
+// The file an object is in, opened for the checks, and where HDF5's addresses start in it (past
+// the user block). The last one stays open while the same file (by path, device and inode) is
+// checked again: a reader checks a header or two per frame, thousands per cache, and opening the
+// file and asking HDF5 for its properties each time cost more than the check.
 struct FileOf {
-  std::string path;
+  std::shared_ptr<RawFile> raw;
   std::uint64_t base = 0;
 };
 
-std::optional<FileOf> fileOf(hid_t object) {
+FileOf fileOf(hid_t object) {
+  struct Kept {
+    std::string path;
+    dev_t device = 0;
+    ino_t inode = 0;
+    FileOf file;
+  };
+  thread_local Kept kept;
   const ssize_t nameLength = H5Fget_name(object, nullptr, 0);
-  if (nameLength <= 0) return std::nullopt;
-  FileOf f;
-  f.path.assign(static_cast<std::size_t>(nameLength) + 1, '\0');
-  H5Fget_name(object, f.path.data(), f.path.size());
-  f.path.resize(static_cast<std::size_t>(nameLength));
+  if (nameLength <= 0) return {};
+  std::string path(static_cast<std::size_t>(nameLength) + 1, '\0');
+  H5Fget_name(object, path.data(), path.size());
+  path.resize(static_cast<std::size_t>(nameLength));
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return {};
+  if (kept.file.raw && kept.path == path && kept.device == st.st_dev && kept.inode == st.st_ino) {
+    kept.file.raw->refresh();
+    return kept.file;
+  }
   Handle file = checked(H5Iget_file_id(object), "find the object's file");
   Handle fcpl = checked(H5Fget_create_plist(file.get()), "read the file creation properties");
   hsize_t base = 0;
   check(H5Pget_userblock(fcpl.get(), &base), "read the user block size");
-  f.base = base;
-  return f;
+  kept.path = path, kept.device = st.st_dev, kept.inode = st.st_ino;
+  kept.file.raw = std::make_shared<RawFile>(path);
+  kept.file.base = base;
+  if (!kept.file.raw->open()) kept.file.raw.reset();
+  return kept.file;
 }
 
 // Walks the heap collection at `collection` as HDF5 loads it and checks the object `r` points to.
@@ -403,12 +427,11 @@ void checkCollection(const RawFile& file, std::uint64_t base, const HeapReferenc
 }
 
 void checkObjectHeader(hid_t inFile, std::uint64_t address, const std::string& name) {
-  const std::optional<FileOf> f = fileOf(inFile);
-  if (!f) return;
-  const RawFile raw(f->path);
-  if (!raw.open()) return;
+  const FileOf f = fileOf(inFile);
+  if (!f.raw) return;
+  const RawFile& raw = *f.raw;
   try {
-    checkMessages(raw, f->base, HeaderMessages(raw, f->base, address));
+    checkMessages(raw, f.base, HeaderMessages(raw, f.base, address));
   } catch (const Damage& d) {
     throw Error("'" + name + "' is damaged", d.what);
   }
@@ -419,14 +442,13 @@ void checkObjectHeader(hid_t inFile, std::uint64_t address, const std::string& n
 void checkHeapString(hid_t object, const std::string& name) {
   H5O_info_t info;
   if (H5Oget_info2(object, &info, H5O_INFO_BASIC) < 0) return;  // HDF5 says why, reading
-  const std::optional<FileOf> f = fileOf(object);
-  if (!f) return;
-  const RawFile raw(f->path);
-  if (!raw.open()) return;
+  const FileOf f = fileOf(object);
+  if (!f.raw) return;
+  const RawFile& raw = *f.raw;
   try {
     const std::optional<HeapReference> r =
-        findReference(HeaderMessages(raw, f->base, info.addr), name);
-    if (r && r->collection != 0) checkCollection(raw, f->base, *r);
+        findReference(HeaderMessages(raw, f.base, info.addr), name);
+    if (r && r->collection != 0) checkCollection(raw, f.base, *r);
   } catch (const Damage& d) {
     throw Error(d.what, "");
   }
