@@ -440,19 +440,38 @@ void createColumnView(hid_t loc, const std::string& name, hid_t fileType, std::s
   set.close("create the view '" + name + "'");
 }
 
-std::size_t datasetLength(hid_t loc, const std::string& name) {
-  Handle set = openCheckedDataset(loc, name);
-  Handle type = checked(H5Dget_type(set.get()), "read the type of dataset '" + name + "'");
+namespace {
+
+// The length of the 1-D numeric dataset `set`; throws Error if it is not one.
+std::size_t lengthOf(hid_t set, const std::string& name) {
+  Handle type = checked(H5Dget_type(set), "read the type of dataset '" + name + "'");
   const H5T_class_t cls = H5Tget_class(type.get());
   if (cls != H5T_FLOAT && cls != H5T_INTEGER)
     throw Error("dataset '" + name + "' does not hold numbers", "");
-  Handle space = checked(H5Dget_space(set.get()), "read the shape of dataset '" + name + "'");
+  Handle space = checked(H5Dget_space(set), "read the shape of dataset '" + name + "'");
   if (H5Sget_simple_extent_ndims(space.get()) != 1)
     throw Error("dataset '" + name + "' is not one-dimensional", "");
   hsize_t dims[1] = {0};
   check(H5Sget_simple_extent_dims(space.get(), dims, nullptr),
         "read the length of dataset '" + name + "'");
   return static_cast<std::size_t>(dims[0]);
+}
+
+}  // namespace
+
+std::size_t datasetLength(hid_t loc, const std::string& name) {
+  Handle set = openCheckedDataset(loc, name);
+  return lengthOf(set.get(), name);
+}
+
+void readDatasetInto(hid_t loc, const std::string& name, hid_t memType,
+                     const std::function<void*(std::size_t)>& place) {
+  Handle set = openCheckedDataset(loc, name);  // checked once for its length and its read
+  const std::size_t n = lengthOf(set.get(), name);
+  void* out = place(n);
+  if (n > 0)
+    check(H5Dread(set.get(), memType, H5S_ALL, H5S_ALL, H5P_DEFAULT, out),
+          "read dataset '" + name + "'");
 }
 
 void readDataset(hid_t loc, const std::string& name, hid_t memType, void* out) {

@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -216,10 +217,18 @@ inline hid_t nativeType<std::uint8_t>() {
   return H5T_NATIVE_UINT8;
 }
 
+// Reads a whole 1-D dataset converted to `memType`, opened and checked once: `place(n)` is given
+// its length and returns where its n values go.
+void readDatasetInto(hid_t loc, const std::string& name, hid_t memType,
+                     const std::function<void*(std::size_t)>& place);
+
 template <class T>
 std::vector<T> readDataset(hid_t loc, const std::string& name) {
-  std::vector<T> out(datasetLength(loc, name));
-  if (!out.empty()) readDataset(loc, name, nativeType<T>(), out.data());
+  std::vector<T> out;
+  readDatasetInto(loc, name, nativeType<T>(), [&](std::size_t n) {
+    out.resize(n);
+    return static_cast<void*>(out.data());
+  });
   return out;
 }
 
