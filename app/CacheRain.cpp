@@ -1,6 +1,6 @@
 #include "app/CacheRain.h"
 
-#include "io/RainCache.h"
+#include "io/cache/RainCache.h"
 
 namespace sph::app {
 

@@ -1,11 +1,11 @@
 // The rain of a cache's frame in `render` and `view` (docs/rain.md, "Replay"): the drops the run
-// stored beside the frame (/Rain#N, io/RainCache.h), or, for a cache written without them (before
+// stored beside the frame (/Rain#N, io/cache/RainCache.h), or, for a cache written without them (before
 // the drops were stored), the drops regenerated from the scene up to the frame's time.
 #pragma once
 
 #include <cstddef>
 
-#include "io/CacheReader.h"
+#include "io/cache/CacheReader.h"
 #include "render/rain/SceneRain.h"
 #include "sim/Particles.h"
 

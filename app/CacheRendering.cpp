@@ -4,10 +4,10 @@
 #include <cstdlib>
 
 #include "app/CacheScene.h"
-#include "io/CacheWriter.h"
+#include "io/cache/CacheWriter.h"
 #include "io/MessageText.h"
 #include "render/lights/SceneLights.h"
-#include "sim/EnumNames.h"
+#include "sim/scene/EnumNames.h"
 #include "sim/InputError.h"
 
 namespace sph::app {

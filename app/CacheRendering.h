@@ -8,13 +8,13 @@
 #include <string>
 #include <vector>
 
-#include "io/CacheReader.h"
+#include "io/cache/CacheReader.h"
 #include "render/splat/RenderImage.h"
 #include "render/splat/SplatBuilder.h"
-#include "sim/CameraDesc.h"
+#include "sim/scene/CameraDesc.h"
 #include "sim/Particles.h"
-#include "sim/RenderDesc.h"
-#include "sim/Scene.h"
+#include "sim/scene/RenderDesc.h"
+#include "sim/scene/Scene.h"
 
 namespace sph::app {
 

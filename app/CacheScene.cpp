@@ -6,7 +6,7 @@
 
 #include "app/ExitCode.h"
 #include "io/MessageText.h"
-#include "io/SceneLoader.h"
+#include "io/scene/SceneLoader.h"
 #include "sim/InputError.h"
 
 namespace sph::app {

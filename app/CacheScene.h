@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "io/CacheReader.h"
-#include "sim/Scene.h"
+#include "io/cache/CacheReader.h"
+#include "sim/scene/Scene.h"
 
 namespace sph::app {
 

@@ -22,9 +22,9 @@ struct Target {
   std::uint64_t lost = 0;
 };
 
-Target broadcastTarget(dist::Communicator& ranks, const io::CacheSession* cache,
+Target broadcastTarget(ranks::Communicator& ranks, const io::CacheSession* cache,
                        const Simulation& sim) {
-  dist::Bytes b;
+  ranks::Bytes b;
   if (ranks.rank() == 0) {
     const std::uint64_t head[2] = {cache->writerFrameCount(), sim.lostParticles()};
     b.resize(sizeof head);
@@ -47,7 +47,7 @@ bool writeCacheTogether() {
   return io::h5::haveParallel();
 }
 
-CollectiveCacheSink::CollectiveCacheSink(dist::Halo& halo, io::CacheSession* cache,
+CollectiveCacheSink::CollectiveCacheSink(ranks::Halo& halo, io::CacheSession* cache,
                                          const Scene& scene)
     : halo_(halo),
       cache_(cache),
@@ -63,9 +63,9 @@ std::unique_ptr<rain::WaterCells> CollectiveCacheSink::gatherWater(const Particl
     keys[i] = rain::WaterCells::keyOf(Vec3(fluid.x[i], fluid.y[i], fluid.z[i]), waterCell_);
   std::sort(keys.begin(), keys.end());
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-  dist::Bytes mine(keys.size() * sizeof(std::uint64_t));
+  ranks::Bytes mine(keys.size() * sizeof(std::uint64_t));
   if (!keys.empty()) std::memcpy(mine.data(), keys.data(), mine.size());
-  const std::vector<dist::Bytes> all = halo_.comm().gatherToRoot(mine);
+  const std::vector<ranks::Bytes> all = halo_.comm().gatherToRoot(mine);
   if (halo_.rank() != 0) return nullptr;
   std::vector<std::uint64_t> union_;
   for (std::size_t r = 0; r < all.size(); ++r) {
@@ -80,7 +80,7 @@ std::unique_ptr<rain::WaterCells> CollectiveCacheSink::gatherWater(const Particl
 
 void CollectiveCacheSink::frame(const Simulation& sim, std::size_t) {
   const auto start = std::chrono::steady_clock::now();
-  dist::Communicator& ranks = halo_.comm();
+  ranks::Communicator& ranks = halo_.comm();
   // This rank's particles in the single-process order (their keys'), and the runs of places
   // they fill in the frame's arrays.
   std::vector<std::uint64_t> places = halo_.globalPlaces();

@@ -8,9 +8,9 @@
 #include <cstdint>
 #include <memory>
 
-#include "io/CacheSession.h"
-#include "sim/RunLoop.h"
-#include "sim/dist/Halo.h"
+#include "io/cache/CacheSession.h"
+#include "sim/run/RunLoop.h"
+#include "sim/ranks/Halo.h"
 #include "sim/rain/RainSystem.h"
 
 namespace sph::app {
@@ -23,7 +23,7 @@ class CollectiveCacheSink final : public FrameSink {
   // `cache`: rank 0's session; null on the other ranks. For a scene with rain (and a camera)
   // every rank sends rank 0 the water cells its particles occupy at each frame (not the
   // particles): rank 0 steps the drops with their union and writes them beside the frame.
-  CollectiveCacheSink(dist::Halo& halo, io::CacheSession* cache, const Scene& scene);
+  CollectiveCacheSink(ranks::Halo& halo, io::CacheSession* cache, const Scene& scene);
   void frame(const Simulation& sim, std::size_t index) override;
   // Wall time in frame() on this rank (s), finding the places included.
   double seconds() const { return seconds_; }
@@ -35,7 +35,7 @@ class CollectiveCacheSink final : public FrameSink {
   // This rank's occupied water cells; on rank 0 the union of every rank's, else null.
   std::unique_ptr<rain::WaterCells> gatherWater(const Particles& fluid);
   double seconds_ = 0;
-  dist::Halo& halo_;
+  ranks::Halo& halo_;
   io::CacheSession* cache_;
   float waterCell_ = 0;  // 0: no rain
   std::uint64_t cellBytes_ = 0, frames_ = 0;

@@ -18,8 +18,8 @@
 #include "render/gl/GlError.h"
 #include "sim/InputError.h"
 #ifdef SPHSPLAT_MPI
-#include "mpi/FileErrorWatch.h"
-#include "mpi/MpiCommunicator.h"
+#include "sim/ranks/mpi/FileErrorWatch.h"
+#include "sim/ranks/mpi/MpiCommunicator.h"
 #endif
 
 namespace sph::app {
@@ -28,7 +28,7 @@ int runCommandLine(int argc, char** argv) {
   // Errors are told once: by the only process, or by rank 0 (every rank meets the same ones).
   const auto tell = [](const char* format, const char* what) {
 #ifdef SPHSPLAT_MPI
-    sph::mpi::noteStopping();
+    sph::ranks::mpi::noteStopping();
 #endif
     // One line whatever it quotes (a path or a scene's name with a newline or ESC in it).
     if (isRootProcess() || inLockstep()) std::fprintf(stderr, format, io::oneLine(what).c_str());
@@ -36,7 +36,7 @@ int runCommandLine(int argc, char** argv) {
     // This rank alone failed while the others wait in a collective: end them all.
     if (inLockstep()) {
       std::fflush(stderr);
-      sph::mpi::MpiSession::abortAll(2);
+      sph::ranks::mpi::MpiSession::abortAll(2);
     }
 #endif
   };

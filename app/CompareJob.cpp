@@ -8,16 +8,16 @@
 #include "app/CacheScene.h"
 #include "app/ExitCode.h"
 #include "app/RenderOutput.h"
-#include "io/Png.h"
+#include "io/export/Png.h"
 #include "render/gl/GlContext.h"
 #include "render/lights/LightComparison.h"
 #include "render/solids/SceneSolids.h"
 #include "render/solids/SolidRenderer.h"
 #include "render/splat/Annotate.h"
 #include "render/splat/FrameRenderer.h"
-#include "sim/EnumNames.h"
-#include "sim/LightParticles.h"
-#include "sim/SceneSetup.h"
+#include "sim/scene/EnumNames.h"
+#include "sim/lights/LightParticles.h"
+#include "sim/solver/SceneSetup.h"
 
 namespace sph::app {
 namespace {

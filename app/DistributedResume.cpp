@@ -5,7 +5,7 @@
 #include <limits>
 #include <tuple>
 
-#include "sim/NeighbourGrid.h"
+#include "sim/grid/NeighbourGrid.h"
 
 namespace sph::app {
 namespace {
@@ -39,8 +39,8 @@ void addToRuns(io::h5::Runs& runs, std::uint64_t first, std::uint64_t count) {
     runs.emplace_back(first, count);
 }
 
-dist::Bytes toBytes(const io::h5::Runs& runs) {
-  dist::Bytes b(runs.size() * 2 * sizeof(std::uint64_t));
+ranks::Bytes toBytes(const io::h5::Runs& runs) {
+  ranks::Bytes b(runs.size() * 2 * sizeof(std::uint64_t));
   std::size_t at = 0;
   for (const auto& [first, count] : runs) {
     std::memcpy(b.data() + at, &first, sizeof first), at += sizeof first;
@@ -49,7 +49,7 @@ dist::Bytes toBytes(const io::h5::Runs& runs) {
   return b;
 }
 
-io::h5::Runs fromBytes(const dist::Bytes& b) {
+io::h5::Runs fromBytes(const ranks::Bytes& b) {
   io::h5::Runs runs(b.size() / (2 * sizeof(std::uint64_t)));
   std::size_t at = 0;
   for (auto& [first, count] : runs) {
@@ -61,9 +61,9 @@ io::h5::Runs fromBytes(const dist::Bytes& b) {
 
 }  // namespace
 
-ResumePart readResumePart(dist::Halo& halo, const io::CacheReader& reader, std::size_t frame,
+ResumePart readResumePart(ranks::Halo& halo, const io::CacheReader& reader, std::size_t frame,
                           float h) {
-  dist::Communicator& comm = halo.comm();
+  ranks::Communicator& comm = halo.comm();
   const int ranks = comm.size(), me = comm.rank(), axis = halo.slabs().axis;
   const std::uint64_t n = reader.summary().frames.at(frame).particles;
   const std::uint64_t from = n * me / ranks, to = n * (me + 1) / ranks;  // this rank's share
@@ -87,16 +87,16 @@ ResumePart readResumePart(dist::Halo& halo, const io::CacheReader& reader, std::
     const float bhi[3] = {float(hi[0]), float(hi[1]), float(hi[2])};
     const float cellSize = NeighbourGrid::cellSizeFor(blo, bhi, n, h);
     const double inv = 1.0 / static_cast<double>(cellSize);
-    const long long p0 = dist::planeOf(blo[axis], inv), p1 = dist::planeOf(bhi[axis], inv);
+    const long long p0 = ranks::planeOf(blo[axis], inv), p1 = ranks::planeOf(bhi[axis], inv);
     std::vector<std::int64_t> counts(static_cast<std::size_t>(p1 - p0 + 1), 0);
     std::vector<float> share;  // the slab-axis coordinate of this rank's share, kept for step 3
     share.reserve(to - from);
     chunks(reader, frame, along, from, to, [&](std::uint64_t, const Particles& p) {
       for (float v : coordinate(p, axis))
-        ++counts[static_cast<std::size_t>(dist::planeOf(v, inv) - p0)], share.push_back(v);
+        ++counts[static_cast<std::size_t>(ranks::planeOf(v, inv) - p0)], share.push_back(v);
     });
     comm.sumInPlace(counts);
-    const dist::Slabs slabs = dist::Slabs::balance(axis, ranks, p0, counts);
+    const ranks::Slabs slabs = ranks::Slabs::balance(axis, ranks, p0, counts);
     halo.startWith(slabs, cellSize);
 
     // 3. The runs of this rank's particles: each rank finds, in its share, the runs of indices
@@ -106,13 +106,13 @@ ResumePart readResumePart(dist::Halo& halo, const io::CacheReader& reader, std::
     std::vector<io::h5::Runs> found(static_cast<std::size_t>(ranks));
     for (std::size_t i = 0; i < share.size(); ++i) {
       io::h5::Runs& r =
-          found[static_cast<std::size_t>(slabs.ownerOf(dist::planeOf(share[i], inv)))];
+          found[static_cast<std::size_t>(slabs.ownerOf(ranks::planeOf(share[i], inv)))];
       addToRuns(r, from + i, 1);
     }
-    std::vector<dist::Bytes> send(static_cast<std::size_t>(ranks));
+    std::vector<ranks::Bytes> send(static_cast<std::size_t>(ranks));
     for (int r = 0; r < ranks; ++r)
       send[static_cast<std::size_t>(r)] = toBytes(found[static_cast<std::size_t>(r)]);
-    for (const dist::Bytes& b : comm.allToAll(send))
+    for (const ranks::Bytes& b : comm.allToAll(send))
       for (const auto& [first, count] : fromBytes(b)) addToRuns(runs, first, count);
   }
 

@@ -17,9 +17,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "io/CacheReader.h"
-#include "sim/Simulation.h"
-#include "sim/dist/Halo.h"
+#include "io/cache/CacheReader.h"
+#include "sim/run/Simulation.h"
+#include "sim/ranks/Halo.h"
 
 namespace sph::app {
 
@@ -31,7 +31,7 @@ struct ResumePart {
 
 // Collective. Sets `halo`'s first cut (Halo::startWith) and returns this rank's part of frame
 // `frame` of `reader`'s cache (its resume record). `h`: the support radius.
-ResumePart readResumePart(dist::Halo& halo, const io::CacheReader& reader, std::size_t frame,
+ResumePart readResumePart(ranks::Halo& halo, const io::CacheReader& reader, std::size_t frame,
                           float h);
 
 }  // namespace sph::app

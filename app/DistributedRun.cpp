@@ -10,27 +10,27 @@
 namespace sph::app {
 namespace {
 
-dist::Communicator* gWorld = nullptr;
+ranks::Communicator* gWorld = nullptr;
 bool gLockstep = false;
 std::string gMpiIoChoice;
 
 template <class T>
-void put(dist::Bytes& out, const T& v) {
+void put(ranks::Bytes& out, const T& v) {
   const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
   out.insert(out.end(), p, p + sizeof v);
 }
 template <class T>
-void take(const dist::Bytes& in, std::size_t& at, T& v) {
+void take(const ranks::Bytes& in, std::size_t& at, T& v) {
   std::memcpy(&v, in.data() + at, sizeof v);
   at += sizeof v;
 }
 
 }  // namespace
 
-dist::Communicator* world() {
+ranks::Communicator* world() {
   return gWorld;
 }
-void setWorld(dist::Communicator* ranks) {
+void setWorld(ranks::Communicator* ranks) {
   gWorld = ranks;
 }
 const std::string& mpiIoChoice() {
@@ -52,7 +52,7 @@ bool isRootProcess() {
 void refuseUnsupported(const Scene& scene, int ranks) {
   const std::string where = scene.sourcePath.empty() ? "scene" : scene.sourcePath;
   // `exact` runs distributed, `octree` and `cdt-cpu` on the whole fluid gathered on every rank
-  // (sim/Simulation.cpp, collide); `cdt-gl` would need a GL context per rank.
+  // (sim/run/Simulation.cpp, collide); `cdt-gl` would need a GL context per rank.
   if (scene.collision && scene.collision->method == CollisionMethod::CdtGl) {
     throw InputError(where +
                      ": collision.method \"cdt-gl\" runs on one process only (it draws with "
@@ -86,8 +86,8 @@ void refuseUnsupported(const Scene& scene, int ranks) {
   }
 }
 
-void onRootAgreeing(dist::Communicator& ranks, const std::function<void()>& work) {
-  dist::Bytes message;
+void onRootAgreeing(ranks::Communicator& ranks, const std::function<void()>& work) {
+  ranks::Bytes message;
   if (ranks.rank() == 0) {
     try {
       work();
@@ -105,8 +105,8 @@ void onRootAgreeing(dist::Communicator& ranks, const std::function<void()>& work
   throw InputError(std::string(message.begin(), message.end()));
 }
 
-RunState broadcastRunState(dist::Communicator& ranks, const RunState& state) {
-  dist::Bytes b;
+RunState broadcastRunState(ranks::Communicator& ranks, const RunState& state) {
+  ranks::Bytes b;
   if (ranks.rank() == 0) {
     put(b, state.time), put(b, state.step), put(b, state.lastDt), put(b, state.maxSpeed);
     put(b, state.maxAcceleration), put(b, state.nextId), put(b, state.lostParticles);
@@ -158,8 +158,8 @@ void GatheringSink::frame(const Simulation&, std::size_t index) {
   seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-std::string describeExchanges(dist::Halo& halo, const StepProfile& profile) {
-  const dist::HaloStats& s = halo.stats();
+std::string describeExchanges(ranks::Halo& halo, const StepProfile& profile) {
+  const ranks::HaloStats& s = halo.stats();
   const double steps = s.steps ? static_cast<double>(s.steps) : 1.0;
   const double total = profile.total();
   char text[480];

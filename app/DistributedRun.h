@@ -1,24 +1,24 @@
 // The parts of `sphsplat run` that differ when it runs on K processes (mpirun -np K; docs/
-// scaling.md). MPI-free: the ranks are a dist::Communicator, set by main() when an MPI starter
-// launched the process (mpi/MpiCommunicator.h) and null otherwise.
+// scaling.md). MPI-free: the ranks are a ranks::Communicator, set by main() when an MPI starter
+// launched the process (sim/ranks/mpi/MpiCommunicator.h) and null otherwise.
 #pragma once
 
 #include <functional>
 #include <string>
 #include <vector>
 
-#include "sim/RunLoop.h"
-#include "sim/Scene.h"
-#include "sim/Simulation.h"
-#include "sim/dist/Communicator.h"
-#include "sim/dist/Halo.h"
+#include "sim/run/RunLoop.h"
+#include "sim/scene/Scene.h"
+#include "sim/run/Simulation.h"
+#include "sim/ranks/Communicator.h"
+#include "sim/ranks/Halo.h"
 
 namespace sph::app {
 
 // The ranks of this run (null: a plain single process).
-dist::Communicator* world();
-void setWorld(dist::Communicator* ranks);
-// What the ranks write the cache with (mpi/MpiIoChoice.h: "ROMIO (romio321)"), for the summary.
+ranks::Communicator* world();
+void setWorld(ranks::Communicator* ranks);
+// What the ranks write the cache with (sim/ranks/mpi/MpiIoChoice.h: "ROMIO (romio321)"), for the summary.
 const std::string& mpiIoChoice();
 void setMpiIoChoice(std::string choice);
 // True where messages are printed and files written: the only process, or rank 0.
@@ -34,30 +34,30 @@ void refuseUnsupported(const Scene& scene, int ranks);
 
 // Runs `work` on rank 0 only; if it throws an InputError every rank throws it (so all stop with
 // exit 2 and none is left waiting in a collective).
-void onRootAgreeing(dist::Communicator& ranks, const std::function<void()>& work);
+void onRootAgreeing(ranks::Communicator& ranks, const std::function<void()>& work);
 
 // Rank 0's run state (time, step, emitters: a resume) on every rank.
-RunState broadcastRunState(dist::Communicator& ranks, const RunState& state);
+RunState broadcastRunState(ranks::Communicator& ranks, const RunState& state);
 
 // A frame sink for the ranks: gathers the fluid in the single process's order onto rank 0 and
 // hands the frame to the real sinks (the cache) there, so they write the same file one process
 // would.
 class GatheringSink final : public FrameSink {
  public:
-  GatheringSink(dist::Halo& halo, Simulation& sim, std::vector<FrameSink*> sinks)
+  GatheringSink(ranks::Halo& halo, Simulation& sim, std::vector<FrameSink*> sinks)
       : halo_(halo), sim_(sim), sinks_(std::move(sinks)) {}
   void frame(const Simulation& sim, std::size_t index) override;
   // Wall time in frame() on rank 0 (s): gathering and the sinks (run -v, docs/benchmarks.md).
   double seconds() const { return seconds_; }
 
  private:
-  dist::Halo& halo_;
+  ranks::Halo& halo_;
   Simulation& sim_;
   std::vector<FrameSink*> sinks_;
   double seconds_ = 0;
 };
 
 // "2 ranks x 1 thread" style summary of a distributed run's exchanges (run --verbose).
-std::string describeExchanges(dist::Halo& halo, const StepProfile& profile);
+std::string describeExchanges(ranks::Halo& halo, const StepProfile& profile);
 
 }  // namespace sph::app

@@ -11,11 +11,11 @@
 #include "app/CacheScene.h"
 #include "app/Commands.h"
 #include "app/Progress.h"
-#include "io/CacheReader.h"
-#include "io/CacheWriter.h"
+#include "io/cache/CacheReader.h"
+#include "io/cache/CacheWriter.h"
 #include "io/MessageText.h"
 #include "io/OutputLock.h"
-#include "io/XdmfWriter.h"
+#include "io/cache/XdmfWriter.h"
 
 namespace sph::app {
 namespace {
@@ -94,7 +94,7 @@ int info(const InfoOptions& o) {
   for (const auto& [name, frames] : s.renderers)
     rendered += (rendered.empty() ? "" : "; ") + name + " " + io::describeFrames(frames);
   std::printf("  rendered   %s\n", rendered.empty() ? "none" : rendered.c_str());
-  // The rain's drops beside the frames (io/RainCache.h); nothing is printed for a cache without.
+  // The rain's drops beside the frames (io/cache/RainCache.h); nothing is printed for a cache without.
   std::size_t rainFrames = 0, rainDrops = 0;
   for (const io::CacheFrame& f : s.frames) {
     if (f.rainDrops > 0) ++rainFrames, rainDrops = f.rainDrops;

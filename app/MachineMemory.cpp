@@ -122,20 +122,20 @@ std::optional<std::string> memoryRefusal(const Scene& scene, const MemoryEstimat
   return text;
 }
 
-RanksHere ranksOnThisMachine(dist::Communicator& ranks) {
+RanksHere ranksOnThisMachine(ranks::Communicator& ranks) {
   char name[256] = {};
   gethostname(name, sizeof name - 1);
-  const dist::Bytes mine(name, name + std::strlen(name));
-  const std::vector<dist::Bytes> names = ranks.allGather(mine);
+  const ranks::Bytes mine(name, name + std::strlen(name));
+  const std::vector<ranks::Bytes> names = ranks.allGather(mine);
   RanksHere here;
   here.count = 0;
-  for (const dist::Bytes& other : names) here.count += other == mine;
+  for (const ranks::Bytes& other : names) here.count += other == mine;
   here.rankZero = ranks.rank() == 0;
   here.withRankZero = !names.empty() && names[0] == mine;
   return here;
 }
 
-MemoryEstimate checkMemory(const Scene& scene, dist::Communicator* ranks, bool gathersFrames) {
+MemoryEstimate checkMemory(const Scene& scene, ranks::Communicator* ranks, bool gathersFrames) {
   RankShare share;
   if (ranks)
     share.ranks = ranks->size(), share.distributed = true, share.gathersFrames = gathersFrames;
@@ -147,8 +147,8 @@ MemoryEstimate checkMemory(const Scene& scene, dist::Communicator* ranks, bool g
     return e;
   }
   // Machines differ: any rank's refusal stops every rank, told once (the first rank's).
-  const dist::Bytes mine = refusal ? dist::Bytes(refusal->begin(), refusal->end()) : dist::Bytes{};
-  for (const dist::Bytes& text : ranks->allGather(mine))
+  const ranks::Bytes mine = refusal ? ranks::Bytes(refusal->begin(), refusal->end()) : ranks::Bytes{};
+  for (const ranks::Bytes& text : ranks->allGather(mine))
     if (!text.empty()) throw InputError(std::string(text.begin(), text.end()));
   return e;
 }

@@ -1,5 +1,5 @@
 // The memory this process may use, and the check that refuses a run that would not fit (issue
-// 12, item 6): the estimate (sim/MemoryEstimate.h) against what the machine has free, a cgroup's
+// 12, item 6): the estimate (sim/run/MemoryEstimate.h) against what the machine has free, a cgroup's
 // memory.max and the process's address-space limit (ulimit -v), whichever is smallest. On K
 // processes each rank checks its own share, and the ranks on one machine their sum against what
 // that machine has free (issue 16).
@@ -8,9 +8,9 @@
 #include <optional>
 #include <string>
 
-#include "sim/MemoryEstimate.h"
-#include "sim/Scene.h"
-#include "sim/dist/Communicator.h"
+#include "sim/run/MemoryEstimate.h"
+#include "sim/scene/Scene.h"
+#include "sim/ranks/Communicator.h"
 
 namespace sph::app {
 
@@ -30,7 +30,7 @@ MachineMemory machineMemory();
 // With `ranks` (a run on K processes) it is collective: the estimate is one rank's share
 // (RankShare; `gathersFrames` when rank 0 gathers the frames to write them), the ranks on each
 // machine are counted together, and a refusal of any rank stops them all with its one line.
-MemoryEstimate checkMemory(const Scene& scene, dist::Communicator* ranks = nullptr,
+MemoryEstimate checkMemory(const Scene& scene, ranks::Communicator* ranks = nullptr,
                            bool gathersFrames = false);
 
 // Where this rank runs: how many of the run's ranks share its machine (the same host name),
@@ -42,7 +42,7 @@ struct RanksHere {
   bool withRankZero = true;
 };
 // Collective.
-RanksHere ranksOnThisMachine(dist::Communicator& ranks);
+RanksHere ranksOnThisMachine(ranks::Communicator& ranks);
 
 // The refusal's text, if `estimate` (rank 0's, RankShare) does not fit `machine` for this rank
 // and the ranks `here`: checkMemory without the collectives.

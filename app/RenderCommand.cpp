@@ -6,8 +6,8 @@
 #include "app/Commands.h"
 #include "app/CompareJob.h"
 #include "app/RenderJob.h"
-#include "sim/EnumNames.h"
-#include "sim/RenderDesc.h"
+#include "sim/scene/EnumNames.h"
+#include "sim/scene/RenderDesc.h"
 
 namespace sph::app {
 

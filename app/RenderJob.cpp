@@ -9,14 +9,14 @@
 #include "app/CacheScene.h"
 #include "app/ExitCode.h"
 #include "app/RenderOutput.h"
-#include "io/Png.h"
+#include "io/export/Png.h"
 #include "render/gl/GlContext.h"
 #include "render/lights/SceneLights.h"
 #include "render/rain/SceneRain.h"
 #include "render/solids/SceneSolids.h"
 #include "render/splat/FrameRenderer.h"
-#include "sim/Camera.h"
-#include "sim/EnumNames.h"
+#include "sim/scene/Camera.h"
+#include "sim/scene/EnumNames.h"
 
 namespace sph::app {
 

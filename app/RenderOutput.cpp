@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "io/Png.h"
+#include "io/export/Png.h"
 #include "io/UserFiles.h"
-#include "sim/Camera.h"
+#include "sim/scene/Camera.h"
 #include "sim/InputError.h"
 
 namespace sph::app {

@@ -6,15 +6,15 @@
 #include <memory>
 #include <string>
 
-#include "io/CacheSession.h"
+#include "io/cache/CacheSession.h"
 #include "io/OutputLock.h"
 #include "render/gl/GlContext.h"
 #include "render/lights/SceneLights.h"
 #include "render/rain/SceneRain.h"
 #include "render/solids/SceneSolids.h"
 #include "render/splat/FrameRenderer.h"
-#include "sim/RunLoop.h"
-#include "sim/Scene.h"
+#include "sim/run/RunLoop.h"
+#include "sim/scene/Scene.h"
 
 namespace sph::app {
 

@@ -4,7 +4,7 @@
 #include "app/CliChecks.h"
 #include "app/Commands.h"
 #include "app/RunJob.h"
-#include "io/SceneLoader.h"
+#include "io/scene/SceneLoader.h"
 
 namespace sph::app {
 

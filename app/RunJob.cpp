@@ -25,12 +25,12 @@
 #include "app/StatusRecorder.h"
 #include "app/Version.h"
 #include "io/MessageText.h"
-#include "io/SceneLoader.h"
+#include "io/scene/SceneLoader.h"
 #include "render/cdt/CollisionSetup.h"
 #include "sim/InputError.h"
 #include "sim/Parallel.h"
-#include "sim/RunLoop.h"
-#include "sim/Simulation.h"
+#include "sim/run/RunLoop.h"
+#include "sim/run/Simulation.h"
 #include "sim/cdt/CdtCpu.h"
 
 namespace sph::app {
@@ -38,7 +38,7 @@ namespace sph::app {
 int runJob(const RunRequest& request) {
   // On K processes (mpirun -np K; docs/scaling.md) every rank runs this; rank 0 alone prints
   // and writes the cache.
-  dist::Communicator* ranks = world();
+  ranks::Communicator* ranks = world();
   const bool root = isRootProcess();
   RunRequest o = request;
   if (!root) o.quiet = true, o.verbose = false;
@@ -67,7 +67,7 @@ int runJob(const RunRequest& request) {
     // Rank 0's checks stop every rank; prepare() may change the scene (a resume's frame rate),
     // and every rank must run the same scene.
     onRootAgreeing(*ranks, [&] { cache = io::CacheSession::prepare(o.cache, scene); });
-    dist::Bytes fps(sizeof(double));
+    ranks::Bytes fps(sizeof(double));
     std::memcpy(fps.data(), &scene.output.fps, sizeof(double));
     ranks->broadcastFromRoot(fps);
     std::memcpy(&scene.output.fps, fps.data(), sizeof(double));
@@ -96,10 +96,10 @@ int runJob(const RunRequest& request) {
     }
   }
   // On K processes the slabs exist before the fluid: each rank generates only its slab of the
-  // starting fluid (sim/dist/StartSlab.h), and no rank holds the whole of it; a resume starts
+  // starting fluid (sim/run/StartSlab.h), and no rank holds the whole of it; a resume starts
   // without fluid.
-  std::unique_ptr<dist::Halo> halo;
-  if (ranks) halo = std::make_unique<dist::Halo>(*ranks, scene.domain, deriveParams(scene).h);
+  std::unique_ptr<ranks::Halo> halo;
+  if (ranks) halo = std::make_unique<ranks::Halo>(*ranks, scene.domain, deriveParams(scene).h);
   const auto setupStart = std::chrono::steady_clock::now();
   // Samples the boundaries, once for the whole run.
   const std::unique_ptr<Simulation> simulation =
@@ -128,7 +128,7 @@ int runJob(const RunRequest& request) {
       });
       ranks->sumInPlace(frame);
       frames = static_cast<std::uint64_t>(frame[0]) + 1;
-      dist::Bytes path;
+      ranks::Bytes path;
       if (root) path.assign(cache->path().begin(), cache->path().end());
       ranks->broadcastFromRoot(path);
       {
@@ -356,7 +356,7 @@ int runJob(const RunRequest& request) {
     if (o.verbose && frameSeconds) {
       std::printf("  frames: %.3g s on rank 0 to %s\n", frameSeconds(),
                   together ? "write them together" : "gather and write them");
-      const dist::HaloStats& hs = halo->stats();
+      const ranks::HaloStats& hs = halo->stats();
       if (together && hs.placesCalls > 0)
         std::printf(
             "  their places (Halo::globalPlaces): %.3g ms, %llu bytes received and %llu "

@@ -1,5 +1,5 @@
 // What `sphsplat run` does once its flags are parsed: load the scene, prepare the cache session
-// and the pictures, run the frames (sim/RunLoop.h) with progress, and tell the user how it ended.
+// and the pictures, run the frames (sim/run/RunLoop.h) with progress, and tell the user how it ended.
 // The simulation, the loop and the cache session are libraries (sim/, io/); this is the wiring
 // and the words.
 #pragma once
@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "io/CacheSession.h"
+#include "io/cache/CacheSession.h"
 
 namespace sph::app {
 

@@ -10,7 +10,7 @@
 #include "app/MachineMemory.h"
 #include "app/OpenMpSpinLimit.h"
 #include "app/Progress.h"
-#include "io/CacheFormat.h"
+#include "io/cache/CacheFormat.h"
 #include "render/cdt/CollisionSetup.h"
 #include "sim/Parallel.h"
 

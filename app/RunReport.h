@@ -5,10 +5,10 @@
 #include <string>
 
 #include "app/RunJob.h"
-#include "io/CacheSession.h"
-#include "sim/MemoryEstimate.h"
-#include "sim/RunLoop.h"
-#include "sim/Simulation.h"
+#include "io/cache/CacheSession.h"
+#include "sim/run/MemoryEstimate.h"
+#include "sim/run/RunLoop.h"
+#include "sim/run/Simulation.h"
 
 namespace sph::app {
 

@@ -13,7 +13,7 @@
 #include <cstring>
 #include <thread>
 
-#include "io/CacheSession.h"
+#include "io/cache/CacheSession.h"
 #include "sim/InputError.h"
 
 namespace sph::app {

@@ -2,10 +2,10 @@
 // one rank"). While the ranks write a frame together, a failure on any rank can leave rank 0 in
 // a collective call it never returns from, or released from the cache's MPI-IO file mid-frame;
 // mpirun then ends it. So for that stretch rank 0 keeps a recorder ready: when the run must stop
-// (its own failure, the watch of mpi/FileErrorWatch.h, or mpirun's SIGTERM) it starts one, a
+// (its own failure, the watch of sim/ranks/mpi/FileErrorWatch.h, or mpirun's SIGTERM) it starts one, a
 // fresh `sphsplat` process that waits until rank 0 and then its launcher (mpirun, which exits
 // once every rank has) have exited, then writes "stopped: ..." into the cache as one process
-// would, through the commit protocol (io/CacheSession.h, recordStop), unless the cache no longer
+// would, through the commit protocol (io/cache/CacheSession.h, recordStop), unless the cache no longer
 // says "running" or holds more frames than this run could have written (a resume got there
 // first). A run that still stops cleanly and records its status itself tells a started recorder
 // to do nothing.

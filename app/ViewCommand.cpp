@@ -14,15 +14,15 @@
 #include "app/CacheScene.h"
 #include "app/CliChecks.h"
 #include "app/Commands.h"
-#include "io/CacheReader.h"
-#include "io/Png.h"
+#include "io/cache/CacheReader.h"
+#include "io/export/Png.h"
 #include "render/gl/GlContext.h"
 #include "render/lights/SceneLights.h"
 #include "render/rain/SceneRain.h"
 #include "render/solids/SceneSolids.h"
 #include "render/splat/FrameRenderer.h"
 #include "render/splat/HudText.h"
-#include "sim/Camera.h"
+#include "sim/scene/Camera.h"
 #include "sim/InputError.h"
 
 namespace sph::app {

@@ -16,11 +16,11 @@
 #include "app/MpiStarter.h"
 #include "app/OpenMpSpinLimit.h"
 #include "app/StatusRecorder.h"
-#include "io/Hdf5.h"
+#include "io/cache/Hdf5.h"
 #ifdef SPHSPLAT_MPI
-#include "mpi/FileErrorWatch.h"
-#include "mpi/MpiCommunicator.h"
-#include "mpi/MpiIoChoice.h"
+#include "sim/ranks/mpi/FileErrorWatch.h"
+#include "sim/ranks/mpi/MpiCommunicator.h"
+#include "sim/ranks/mpi/MpiIoChoice.h"
 #endif
 
 namespace {
@@ -47,18 +47,18 @@ int main(int argc, char** argv) {
   const sph::app::MpiStarter starter = sph::app::mpiStarter();
 #ifdef SPHSPLAT_MPI
   // Under mpirun: the ranks of a distributed run (docs/scaling.md); a plain process otherwise.
-  std::optional<sph::mpi::MpiSession> mpi;
+  std::optional<sph::ranks::mpi::MpiSession> mpi;
   if (starter.launched) {
     // Open MPI's OMPIO locks the whole file around each write on NFS (its automatic choice),
-    // which would wait for ever on the run's own lock of the cache (io/CacheFileLock.cpp): ask
+    // which would wait for ever on the run's own lock of the cache (io/cache/CacheFileLock.cpp): ask
     // it for the written ranges only, unless the user chose (mpirun --mca exports the setting).
     setenv("OMPI_MCA_fs_ufs_lock_algorithm", "3", 0);
-    // ROMIO reports a write the disk refused; OMPIO 4.1 does not (mpi/MpiIoChoice.h).
-    sph::app::setMpiIoChoice(sph::mpi::preferRomio());
+    // ROMIO reports a write the disk refused; OMPIO 4.1 does not (sim/ranks/mpi/MpiIoChoice.h).
+    sph::app::setMpiIoChoice(sph::ranks::mpi::preferRomio());
     sph::app::setWorld(mpi.emplace(&argc, &argv).world());
     // A rank stuck after its write of the cache failed ends the run after 3 s (a failure HDF5
     // returns has stopped every rank by then, with its own line).
-    sph::mpi::watchFileErrors(3.0, sph::app::kBadInput,
+    sph::ranks::mpi::watchFileErrors(3.0, sph::app::kBadInput,
                               [](const char* line) { sph::app::startStatusRecorder(line); });
   }
 #else

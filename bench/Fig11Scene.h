@@ -6,9 +6,9 @@
 
 #include <vector>
 
-#include "sim/CameraDesc.h"
-#include "sim/LightsDesc.h"
-#include "sim/Scene.h"
+#include "sim/scene/CameraDesc.h"
+#include "sim/scene/LightsDesc.h"
+#include "sim/scene/Scene.h"
 
 namespace sph::bench {
 

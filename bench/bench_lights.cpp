@@ -29,8 +29,8 @@
 #include "render/lights/LightVolume.h"
 #include "render/solids/SolidRenderer.h"
 #include "render/splat/SplatRenderer.h"
-#include "sim/Camera.h"
-#include "sim/LightParticles.h"
+#include "sim/scene/Camera.h"
+#include "sim/lights/LightParticles.h"
 
 using namespace sph;
 using namespace sph::render::lights;

@@ -47,18 +47,18 @@
 
 #include "app/OpenMpSpinLimit.h"
 #include "bench/Fig11Scene.h"
-#include "io/Png.h"
-#include "io/SceneLoader.h"
+#include "io/export/Png.h"
+#include "io/scene/SceneLoader.h"
 #include "render/gl/GlContext.h"
 #include "render/lights/CpuShading.h"
 #include "render/lights/LightCulling.h"
 #include "render/lights/LightVolume.h"
 #include "render/solids/SolidRenderer.h"
 #include "render/splat/SplatRenderer.h"
-#include "sim/EnumNames.h"
-#include "sim/LightParticles.h"
+#include "sim/scene/EnumNames.h"
+#include "sim/lights/LightParticles.h"
 #include "sim/Parallel.h"
-#include "sim/SceneSetup.h"
+#include "sim/solver/SceneSetup.h"
 
 using namespace sph;
 using namespace sph::render::lights;

@@ -24,7 +24,7 @@
 #include "render/rain/StreakRaster.h"
 #include "render/rain/StreakSums.h"
 #include "render/splat/SplatRenderer.h"
-#include "sim/Camera.h"
+#include "sim/scene/Camera.h"
 #include "sim/rain/RainRandom.h"
 #include "sim/rain/RainSystem.h"
 #include "sim/rain/ViewSampler.h"
@@ -313,7 +313,7 @@ CameraDesc pathCamera(int path, int frame) {
   return c;
 }
 
-// The rain camera's frustum from the general camera maths (sim/Camera.h, not the rain's own
+// The rain camera's frustum from the general camera maths (sim/scene/Camera.h, not the rain's own
 // test), and its volume near..far (a truncated pyramid), m^3.
 Frustum rainFrustum(const CameraDesc& camera, const RainDesc& d) {
   CameraDesc c = camera;

@@ -21,11 +21,11 @@
 #include <fstream>
 #include <string>
 
-#include "io/SceneLoader.h"
+#include "io/scene/SceneLoader.h"
 #include "render/gl/GlContext.h"
 #include "render/splat/DensityField.h"
 #include "render/splat/SplatBuilder.h"
-#include "sim/Simulation.h"
+#include "sim/run/Simulation.h"
 #include "sim/cdt/CdtCamera.h"
 
 namespace {

@@ -9,9 +9,9 @@
 #include <cmath>
 #include <string>
 
-#include "io/SceneLoader.h"
+#include "io/scene/SceneLoader.h"
 #include "sim/Parallel.h"
-#include "sim/Simulation.h"
+#include "sim/run/Simulation.h"
 
 namespace {
 

@@ -8,8 +8,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "io/SceneLoader.h"
-#include "sim/Simulation.h"
+#include "io/scene/SceneLoader.h"
+#include "sim/run/Simulation.h"
 #include "tests/StillTankFloor.h"
 
 int main(int argc, char** argv) {

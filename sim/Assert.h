@@ -1,5 +1,5 @@
 // Bug checks (STYLE.md rule 10). SPH_ASSERT is on in debug builds; SPH_VALIDATE guards the heavier
-// whole-state checks (sim/Validate.h) and is switched on by the CMake option SPHSPLAT_VALIDATE
+// whole-state checks (sim/solver/Validate.h) and is switched on by the CMake option SPHSPLAT_VALIDATE
 // (on in the sanitize preset, so `scripts/test --sanitize` runs every test with them).
 #pragma once
 

@@ -3,7 +3,7 @@
 // fields(); forEachField(), and through it resize, append and permute, walk that list, so a field
 // added to the struct but not to the list is caught by the static_assert below (and by
 // tests/test_particles.cpp). The cache's list of datasets is checked against it at compile time
-// (io/CacheFormat.cpp).
+// (io/cache/CacheFormat.cpp).
 #pragma once
 
 #include <cstddef>

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "io/CacheWriter.h"
-#include "io/SceneLoader.h"
+#include "io/cache/CacheWriter.h"
+#include "io/scene/SceneLoader.h"
 #include "sim/Parallel.h"
 #include "tests/CacheTestSupport.h"
 

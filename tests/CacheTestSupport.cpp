@@ -13,9 +13,9 @@
 #include <stdexcept>
 #include <vector>
 
-#include "io/CacheFormat.h"
-#include "io/CacheReader.h"
-#include "io/RainCache.h"
+#include "io/cache/CacheFormat.h"
+#include "io/cache/CacheReader.h"
+#include "io/cache/RainCache.h"
 
 namespace sph::test {
 
@@ -65,7 +65,7 @@ std::size_t lineCount(const std::string& s) {
 }
 
 ::testing::AssertionResult sameBits(const Particles& expected, const Particles& actual) {
-  // The cache lists every array of Particles in Particles' order (checked in io/CacheFormat.cpp).
+  // The cache lists every array of Particles in Particles' order (checked in io/cache/CacheFormat.cpp).
   static_assert(io::cache::kFieldCount == Particles::kFieldCount);
   auto name = [](std::size_t k) { return io::cache::fieldName(static_cast<io::cache::Field>(k)); };
   std::vector<std::pair<const void*, std::size_t>> a, b;

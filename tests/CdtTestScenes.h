@@ -7,7 +7,7 @@
 #include <numeric>
 #include <random>
 
-#include "sim/CollisionDesc.h"
+#include "sim/scene/CollisionDesc.h"
 #include "sim/Particles.h"
 #include "sim/cdt/CdtCpu.h"
 

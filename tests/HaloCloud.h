@@ -1,4 +1,4 @@
-// The particle cloud the sim/dist suites drive the halo with (tests/test_dist.cpp,
+// The particle cloud the sim/ranks suites drive the halo with (tests/test_dist.cpp,
 // tests/test_halo_places.cpp): a 1 x 0.3 x 0.3 m domain whose long side lies along `axis` (the
 // slabs cut it), a dense block of water in its lower half and a sparse spray everywhere. The
 // positions at step s are a function of the id, and every step moves most particles by up to

@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "render/splat/SplatRenderer.h"
-#include "sim/CameraDesc.h"
-#include "sim/LightParticles.h"
-#include "sim/Scene.h"
+#include "sim/scene/CameraDesc.h"
+#include "sim/lights/LightParticles.h"
+#include "sim/scene/Scene.h"
 
 namespace sph::test {
 

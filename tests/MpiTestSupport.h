@@ -12,7 +12,7 @@
 #include <iterator>
 #include <string>
 
-#include "io/CacheReader.h"
+#include "io/cache/CacheReader.h"
 #include "tests/CacheTestSupport.h"
 
 namespace sph::test::mpi {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "sim/Observables.h"
+#include "sim/run/Observables.h"
 
 namespace sph::test {
 

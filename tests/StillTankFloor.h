@@ -1,6 +1,6 @@
 // The floor of the narrowed still tank (tests/test_still_tank.cpp, test_dfsph.cpp) read as a
 // pressure sensor would read it, the same way for both pressure solvers: the force the fluid's
-// pressure pairs put on the floor's boundary particles (wallLoad(), sim/Observables.h) over the
+// pressure pairs put on the floor's boundary particles (wallLoad(), sim/run/Observables.h) over the
 // area they stand for, sampled after every step and averaged (DFSPH's stiffness alternates from
 // one step to the next, and frames a fixed number of steps apart would see one phase only).
 #pragma once
@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "sim/Simulation.h"
+#include "sim/run/Simulation.h"
 
 namespace sph::test {
 

@@ -15,7 +15,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "io/SceneLoader.h"
+#include "io/scene/SceneLoader.h"
 
 namespace sph::test {
 

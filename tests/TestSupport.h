@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "sim/Particles.h"
-#include "sim/Scene.h"
+#include "sim/scene/Scene.h"
 
 namespace sph::test {
 

@@ -1,6 +1,6 @@
-// K ranks of sim/dist in one process, one thread each: a dist::Communicator whose collectives
+// K ranks of sim/ranks in one process, one thread each: a ranks::Communicator whose collectives
 // meet at a barrier and read each other's contributions (the same semantics as
-// mpi/MpiCommunicator.cpp, no MPI). For the unit tests of sim/dist that need several ranks
+// sim/ranks/mpi/MpiCommunicator.cpp, no MPI). For the unit tests of sim/ranks that need several ranks
 // (ghost sets, migration) in the default suite; the MPI transport itself is tested through
 // mpirun by tests/test_mpi.cpp.
 #pragma once
@@ -14,7 +14,7 @@
 #include <thread>
 #include <vector>
 
-#include "sim/dist/Communicator.h"
+#include "sim/ranks/Communicator.h"
 
 namespace sph::test {
 
@@ -25,11 +25,11 @@ class ThreadRanks {
         barrier_(ranks),
         doubles_(ranks),
         ints_(ranks),
-        parcels_(ranks, std::vector<dist::Bytes>(ranks)),
+        parcels_(ranks, std::vector<ranks::Bytes>(ranks)),
         single_(ranks) {}
 
   // Runs body(comm) on every rank, each in its own thread, and waits for all.
-  void run(const std::function<void(dist::Communicator&)>& body) {
+  void run(const std::function<void(ranks::Communicator&)>& body) {
     std::vector<Rank> comms;
     for (int r = 0; r < ranks_; ++r) comms.emplace_back(*this, r);
     std::vector<std::thread> threads;
@@ -38,7 +38,7 @@ class ThreadRanks {
   }
 
  private:
-  class Rank final : public dist::Communicator {
+  class Rank final : public ranks::Communicator {
    public:
     Rank(ThreadRanks& all, int rank) : all_(all), rank_(rank) {}
     int rank() const override { return rank_; }
@@ -60,27 +60,27 @@ class ThreadRanks {
         for (std::size_t i = 0; i < v.size(); ++i) v[i] += all_.ints_[r][i];
       all_.barrier_.wait();
     }
-    std::vector<dist::Bytes> allToAll(const std::vector<dist::Bytes>& send) override {
+    std::vector<ranks::Bytes> allToAll(const std::vector<ranks::Bytes>& send) override {
       all_.parcels_[rank_] = send;
       all_.barrier_.wait();
-      std::vector<dist::Bytes> received(all_.ranks_);
+      std::vector<ranks::Bytes> received(all_.ranks_);
       for (int r = 0; r < all_.ranks_; ++r) received[r] = all_.parcels_[r][rank_];
       all_.barrier_.wait();
       return received;
     }
-    std::vector<dist::Bytes> allGather(const dist::Bytes& mine) override {
+    std::vector<ranks::Bytes> allGather(const ranks::Bytes& mine) override {
       all_.single_[rank_] = mine;
       all_.barrier_.wait();
-      std::vector<dist::Bytes> all = all_.single_;
+      std::vector<ranks::Bytes> all = all_.single_;
       all_.barrier_.wait();
       return all;
     }
-    std::vector<dist::Bytes> gatherToRoot(const dist::Bytes& mine) override {
-      std::vector<dist::Bytes> all = allGather(mine);
+    std::vector<ranks::Bytes> gatherToRoot(const ranks::Bytes& mine) override {
+      std::vector<ranks::Bytes> all = allGather(mine);
       if (rank_ != 0) all.clear();
       return all;
     }
-    void broadcastFromRoot(dist::Bytes& data) override {
+    void broadcastFromRoot(ranks::Bytes& data) override {
       if (rank_ == 0) all_.single_[0] = data;
       all_.barrier_.wait();
       data = all_.single_[0];
@@ -126,8 +126,8 @@ class ThreadRanks {
   Barrier barrier_;
   std::vector<std::vector<double>> doubles_;
   std::vector<std::vector<std::int64_t>> ints_;
-  std::vector<std::vector<dist::Bytes>> parcels_;
-  std::vector<dist::Bytes> single_;
+  std::vector<std::vector<ranks::Bytes>> parcels_;
+  std::vector<ranks::Bytes> single_;
 };
 
 }  // namespace sph::test

@@ -4,8 +4,8 @@
 
 #include <random>
 
-#include "sim/Boundary.h"
-#include "sim/Simulation.h"
+#include "sim/solver/Boundary.h"
+#include "sim/run/Simulation.h"
 
 namespace sph {
 namespace {

@@ -19,9 +19,9 @@
 #include <string>
 #include <thread>
 
-#include "io/CacheReader.h"
+#include "io/cache/CacheReader.h"
 #include "io/UserFiles.h"
-#include "io/XdmfWriter.h"
+#include "io/cache/XdmfWriter.h"
 #include "tests/CacheTestSupport.h"
 
 namespace sph {

@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "io/CacheReader.h"
+#include "io/cache/CacheReader.h"
 #include "sim/InputError.h"
 #include "tests/CacheTestSupport.h"
 
@@ -251,7 +251,7 @@ TEST_F(CacheConcurrent, ReadersReopeningInATightLoopWhileARunWritesNeverFail) {
   // What a plain reader may meet at its open, rarely: the root header in the middle of its
   // rewrite (it fails its checksum), or a superblock read just before a commit and a root header
   // just after it (the newest frame then lies past the end the superblock gave). Never a file
-  // shorter than its superblock says: without the writer's growth margin (io/CacheCommit.cpp,
+  // shorter than its superblock says: without the writer's growth margin (io/cache/CacheCommit.cpp,
   // point 4) about 2% of these opens failed so.
   EXPECT_LT(t.rawRetried * 20, t.rawOpens) << "more than 5% of plain opens failed";
   for (const auto& [kind, n] : t.rawFailures)

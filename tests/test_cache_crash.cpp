@@ -22,8 +22,8 @@
 #include <thread>
 #include <vector>
 
-#include "io/CacheReader.h"
-#include "io/CacheSession.h"
+#include "io/cache/CacheReader.h"
+#include "io/cache/CacheSession.h"
 #include "sim/InputError.h"
 #include "tests/CacheTestSupport.h"
 

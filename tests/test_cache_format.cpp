@@ -15,10 +15,10 @@
 #include <string>
 #include <vector>
 
-#include "io/CacheReader.h"
-#include "io/CacheWriter.h"
-#include "io/SceneLoader.h"
-#include "io/XdmfWriter.h"
+#include "io/cache/CacheReader.h"
+#include "io/cache/CacheWriter.h"
+#include "io/scene/SceneLoader.h"
+#include "io/cache/XdmfWriter.h"
 #include "sim/InputError.h"
 #include "sim/Parallel.h"
 #include "tests/CacheFormatSupport.h"
@@ -164,7 +164,7 @@ TEST_F(CacheFormat, H5PartLayoutAsDocumentedThroughTheHdf5Api) {
 
 TEST_F(CacheFormat, RootHeaderStaysOneBlockSoEachCommitIsOneWrite) {
   // Sized for 10 frames, written with 40 (a run resumed far past its planned end): the root's
-  // object header must not have grown a second block (io/CacheCommit.cpp, commitObjects).
+  // object header must not have grown a second block (io/cache/CacheCommit.cpp, commitObjects).
   const std::string path = dir_ + "/root.h5";
   writeRun(path, 40, "", 10);
   Id file(openRaw(path));
@@ -174,7 +174,7 @@ TEST_F(CacheFormat, RootHeaderStaysOneBlockSoEachCommitIsOneWrite) {
   EXPECT_EQ(info.hdr.version, 2u) << "checksummed object headers";
 }
 
-// The cache's field table is checked against Particles at compile time (io/CacheFormat.cpp); this
+// The cache's field table is checked against Particles at compile time (io/cache/CacheFormat.cpp); this
 // is the same promise kept at run time: a frame written with every field gives back every array
 // of Particles, bit for bit.
 TEST_F(CacheFormat, EveryParticlesArrayIsADatasetThatReadsBackBitForBit) {

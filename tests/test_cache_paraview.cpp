@@ -26,8 +26,8 @@
 #include <string>
 #include <vector>
 
-#include "io/CacheReader.h"
-#include "io/RainCache.h"
+#include "io/cache/CacheReader.h"
+#include "io/cache/RainCache.h"
 #include "tests/CacheTestSupport.h"
 
 namespace sph {

@@ -11,7 +11,7 @@
 #include <regex>
 #include <string>
 
-#include "io/CacheReader.h"
+#include "io/cache/CacheReader.h"
 #include "tests/CacheFormatSupport.h"
 #include "tests/CacheTestSupport.h"
 

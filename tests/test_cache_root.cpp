@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "io/CacheReader.h"
-#include "io/CacheWriter.h"
-#include "io/SceneLoader.h"
+#include "io/cache/CacheReader.h"
+#include "io/cache/CacheWriter.h"
+#include "io/scene/SceneLoader.h"
 #include "sim/InputError.h"
 #include "tests/CacheFormatSupport.h"
 #include "tests/CacheTestSupport.h"

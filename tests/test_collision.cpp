@@ -9,7 +9,7 @@
 #include <random>
 
 #include "render/cdt/CollisionSetup.h"
-#include "sim/Simulation.h"
+#include "sim/run/Simulation.h"
 #include "sim/cdt/CdtCpu.h"
 #include "sim/collision/Exact.h"
 #include "sim/collision/Octree.h"

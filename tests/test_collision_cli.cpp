@@ -15,7 +15,7 @@
 
 #include "render/cdt/CollisionSetup.h"
 #include "render/gl/GlContext.h"
-#include "sim/Simulation.h"
+#include "sim/run/Simulation.h"
 #include "tests/TestSupport.h"
 
 namespace sph {

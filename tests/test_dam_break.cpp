@@ -10,8 +10,8 @@
 #include <utility>
 #include <vector>
 
-#include "sim/Observables.h"
-#include "sim/Simulation.h"
+#include "sim/run/Observables.h"
+#include "sim/run/Simulation.h"
 #include "tests/TestSupport.h"
 
 namespace sph {

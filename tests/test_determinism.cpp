@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "sim/Parallel.h"
-#include "sim/Simulation.h"
+#include "sim/run/Simulation.h"
 #include "tests/TestSupport.h"
 
 namespace sph {
@@ -68,7 +68,7 @@ TEST(Determinism, TheHashSeesOneBitOfOneParticle) {
 //
 // PinnedHash: bit for bit. What the state hashes to (test::stateHash: FNV-1a over every Particles
 // field's bytes, in id order); one bit of one particle moved fails it. The hash depends on the
-// machine code of the neighbour passes, not only on the source: sim/SphPasses.cpp and the DFSPH
+// machine code of the neighbour passes, not only on the source: sim/solver/SphPasses.cpp and the DFSPH
 // files are built with -ffast-math and the tree's -march, so the reciprocal square-root estimate
 // (rsqrtps, whose bits differ between CPU vendors, or AVX-512's vrsqrt14ps), FMA contraction and
 // the vectoriser's choices (which follow the -march tuning) all reach the last bits. The pinned

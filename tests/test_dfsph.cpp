@@ -1,4 +1,4 @@
-// DFSPH (solver.pressure = "dfsph", sim/Dfsph.cpp; Bender & Koschier 2015, 2017): a still tank
+// DFSPH (solver.pressure = "dfsph", sim/solver/Dfsph.cpp; Bender & Koschier 2015, 2017): a still tank
 // holds its density within the solver's threshold at a step far above WCSPH's; the divergence-free
 // solver removes the divergence of a known velocity field; the dam-break front follows Martin &
 // Moyce at a coarse lattice; runs are bit-reproducible across thread counts and resume exactly.
@@ -7,10 +7,10 @@
 #include <cmath>
 #include <cstdio>
 
-#include "io/SceneLoader.h"
-#include "sim/Observables.h"
+#include "io/scene/SceneLoader.h"
+#include "sim/run/Observables.h"
 #include "sim/Parallel.h"
-#include "sim/Simulation.h"
+#include "sim/run/Simulation.h"
 #include "tests/StillTankFloor.h"
 #include "tests/TestSupport.h"
 

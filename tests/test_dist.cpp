@@ -17,13 +17,13 @@
 #include <set>
 #include <vector>
 
-#include "sim/NeighbourGrid.h"
-#include "sim/dist/ExactSum.h"
-#include "sim/dist/Halo.h"
+#include "sim/grid/NeighbourGrid.h"
+#include "sim/ranks/ExactSum.h"
+#include "sim/ranks/Halo.h"
 #include "tests/HaloCloud.h"
 #include "tests/ThreadRanks.h"
 
-namespace sph::dist {
+namespace sph::ranks {
 namespace {
 
 TEST(Slabs, EveryPlaneHasExactlyOneOwnerAndTheSlabsAreContiguous) {
@@ -101,7 +101,7 @@ TEST(ExactSum, IsExactAndIndependentOfOrderAndSplit) {
 }
 
 TEST(ExactSum, AddAllIsAddOneByOne) {
-  // addAll() (DFSPH's error means, sim/Dfsph.cpp) sums by exponent first: the same exact sum,
+  // addAll() (DFSPH's error means, sim/solver/Dfsph.cpp) sums by exponent first: the same exact sum,
   // digit for digit once normalised, over every exponent (subnormals, the largest floats, signs)
   // and with the skipped values left out.
   std::mt19937 rng(5);
@@ -291,7 +291,7 @@ TEST(Halo, OwnedParticlesAreEveryParticleOnceAndGhostsEqualABruteForceSearchAcro
 }
 
 TEST(Halo, AttachedArraysAndRefreshedGhostsFollowTheirParticles) {
-  // DFSPH's needs (sim/Dfsph.cpp): an attached per-particle array (the warm start) travels with
+  // DFSPH's needs (sim/solver/Dfsph.cpp): an attached per-particle array (the warm start) travels with
   // its particle through migration, to its ghosts, through the sorts and into the gathered frame;
   // refreshGhosts() overwrites every ghost's copy with its owner's current value, along the
   // ghost lists kept through the key order and the grid sort.
@@ -356,4 +356,4 @@ TEST(Halo, AttachedArraysAndRefreshedGhostsFollowTheirParticles) {
 }
 
 }  // namespace
-}  // namespace sph::dist
+}  // namespace sph::ranks

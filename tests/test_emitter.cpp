@@ -4,7 +4,7 @@
 
 #include <set>
 
-#include "sim/Emitter.h"
+#include "sim/run/Emitter.h"
 
 namespace sph {
 namespace {

@@ -4,8 +4,8 @@
 // gradient of the density it comes from, and the same tank gains energy by orders of magnitude.
 #include <gtest/gtest.h>
 
-#include "sim/Observables.h"
-#include "sim/Simulation.h"
+#include "sim/run/Observables.h"
+#include "sim/run/Simulation.h"
 
 namespace sph {
 namespace {

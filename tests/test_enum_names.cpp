@@ -1,4 +1,4 @@
-// The name tables of the user-visible choices (sim/EnumNames.h): every enumerator has a name, the
+// The name tables of the user-visible choices (sim/scene/EnumNames.h): every enumerator has a name, the
 // names are unique, and parsing a name gives its enumerator back; the scene loader's messages
 // list exactly the table.
 #include <gtest/gtest.h>
@@ -6,14 +6,14 @@
 #include <set>
 
 #include "bench/sweep/SweepRunner.h"
-#include "io/SceneLoader.h"
+#include "io/scene/SceneLoader.h"
 #include "render/splat/SplatBuilder.h"
-#include "sim/CollisionDesc.h"
-#include "sim/EnumNames.h"
-#include "sim/LightsDesc.h"
-#include "sim/RainDesc.h"
-#include "sim/RenderDesc.h"
-#include "sim/SolverParams.h"
+#include "sim/scene/CollisionDesc.h"
+#include "sim/scene/EnumNames.h"
+#include "sim/scene/LightsDesc.h"
+#include "sim/scene/RainDesc.h"
+#include "sim/scene/RenderDesc.h"
+#include "sim/scene/SolverParams.h"
 
 namespace sph {
 namespace {

@@ -19,7 +19,7 @@
 #include <string>
 #include <thread>
 
-#include "io/CacheReader.h"
+#include "io/cache/CacheReader.h"
 #include "tests/CacheTestSupport.h"
 
 namespace sph {

@@ -1,4 +1,4 @@
-// Halo::globalPlaces (sim/dist/HaloPlaces.cpp): the places each rank writes its particles to when
+// Halo::globalPlaces (sim/ranks/HaloPlaces.cpp): the places each rank writes its particles to when
 // the ranks write a cache frame together (app/CollectiveCacheSink.h), against the brute force
 // they replace: every rank's particles gathered on every rank and sorted by key
 // (Halo::allGather's `mine`, the all-gather of every key that globalPlaces did before). K = 1..4
@@ -13,12 +13,12 @@
 #include <string>
 #include <vector>
 
-#include "sim/NeighbourGrid.h"
-#include "sim/dist/Halo.h"
+#include "sim/grid/NeighbourGrid.h"
+#include "sim/ranks/Halo.h"
 #include "tests/HaloCloud.h"
 #include "tests/ThreadRanks.h"
 
-namespace sph::dist {
+namespace sph::ranks {
 namespace {
 
 using test::CloudShape;
@@ -196,4 +196,4 @@ TEST(HaloPlaces, EqualTheAllGatherWhenRanksOwnNothing) {
 }
 
 }  // namespace
-}  // namespace sph::dist
+}  // namespace sph::ranks

@@ -1,4 +1,4 @@
-// The one JSON entry point (io/JsonText.h) against hostile text: nesting that would overflow
+// The one JSON entry point (io/scene/JsonText.h) against hostile text: nesting that would overflow
 // nlohmann's recursion, numbers of a million digits, duplicate keys, UTF-16 files and raw bytes.
 // Every refusal is one short printable line naming the place. Also the message helpers
 // (io/MessageText.h) that keep such lines short.
@@ -7,7 +7,7 @@
 #include <limits>
 #include <string>
 
-#include "io/JsonText.h"
+#include "io/scene/JsonText.h"
 #include "io/MessageText.h"
 #include "sim/InputError.h"
 

@@ -1,14 +1,14 @@
 // Properties every SPH kernel must have (STYLE.md rule 12): unit integral over its support, zero
 // outside it, non-negative, antisymmetric gradient matching the derivative of W, and for the
 // viscosity kernel a Laplacian matching the numerical Laplacian. Checked on the kernels as the
-// neighbour loops evaluate them (the shapes of sim/Kernels.h times their factors: SphPasses.cpp,
+// neighbour loops evaluate them (the shapes of sim/solver/Kernels.h times their factors: SphPasses.cpp,
 // render/splat/DensityField.cpp), and those against Kernels' full functions, which the lattice
 // sums use.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "sim/Kernels.h"
+#include "sim/solver/Kernels.h"
 #include "sim/Types.h"
 
 namespace sph {

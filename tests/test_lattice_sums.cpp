@@ -1,4 +1,4 @@
-// The rest-lattice sums (sim/LatticeSums.h) that calibrate the solver's density and pressure
+// The rest-lattice sums (sim/solver/LatticeSums.h) that calibrate the solver's density and pressure
 // gradient and the renderer's density field: against a brute-force sum over a larger block in
 // another order, against values worked out by hand at a support of 1.5 spacings, and against the
 // integrals they approximate once the support holds many spacings.
@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "sim/LatticeSums.h"
+#include "sim/solver/LatticeSums.h"
 #include "sim/Types.h"
 
 namespace sph {

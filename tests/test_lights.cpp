@@ -18,9 +18,9 @@
 #include "render/lights/LightVolume.h"
 #include "render/solids/SolidRenderer.h"
 #include "render/splat/SplatRenderer.h"
-#include "sim/Camera.h"
+#include "sim/scene/Camera.h"
 #include "sim/InputError.h"
-#include "sim/LightParticles.h"
+#include "sim/lights/LightParticles.h"
 #include "tests/LightTestScenes.h"
 
 namespace sph::render::lights {

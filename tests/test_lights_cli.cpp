@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "io/Png.h"
+#include "io/export/Png.h"
 #include "tests/TestSupport.h"
 
 namespace sph {

@@ -15,7 +15,7 @@
 #include "render/lights/CpuAccumulation.h"
 #include "render/lights/LightCulling.h"
 #include "render/lights/LightVolume.h"
-#include "sim/Camera.h"
+#include "sim/scene/Camera.h"
 #include "tests/LightTestScenes.h"
 
 namespace sph::render::lights {

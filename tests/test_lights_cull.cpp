@@ -15,7 +15,7 @@
 #include "render/lights/LightVolume.h"
 #include "render/solids/SolidRenderer.h"
 #include "render/splat/SplatRenderer.h"
-#include "sim/Camera.h"
+#include "sim/scene/Camera.h"
 #include "tests/LightTestScenes.h"
 
 namespace sph::render::lights {

@@ -19,7 +19,7 @@
 #include "render/solids/SolidRenderer.h"
 #include "render/splat/SplatRenderer.h"
 #include "render/splat/Srgb8Table.h"
-#include "sim/Camera.h"
+#include "sim/scene/Camera.h"
 #include "sim/InputError.h"
 #include "tests/LightTestScenes.h"
 

@@ -1,6 +1,6 @@
 // Issue 12, item 6: a scene too big for the machine is refused before anything is allocated, with
 // one line naming the estimate, the machine's memory and the key to change; and the estimate
-// (sim/MemoryEstimate.h) is within 20% of the measured peak resident memory of real runs.
+// (sim/run/MemoryEstimate.h) is within 20% of the measured peak resident memory of real runs.
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -13,8 +13,8 @@
 #include <string>
 
 #include "app/MachineMemory.h"
-#include "sim/Boundary.h"
-#include "sim/MemoryEstimate.h"
+#include "sim/solver/Boundary.h"
+#include "sim/run/MemoryEstimate.h"
 #include "tests/CacheTestSupport.h"
 #include "tests/TestSupport.h"
 

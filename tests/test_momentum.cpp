@@ -4,8 +4,8 @@
 
 #include <random>
 
-#include "sim/Observables.h"
-#include "sim/Simulation.h"
+#include "sim/run/Observables.h"
+#include "sim/run/Simulation.h"
 
 namespace sph {
 namespace {

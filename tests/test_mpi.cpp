@@ -10,10 +10,10 @@
 #include <fstream>
 #include <string>
 
-#include "io/CacheReader.h"
-#include "io/Hdf5.h"
-#include "io/RainCache.h"
-#include "io/SceneLoader.h"
+#include "io/cache/CacheReader.h"
+#include "io/cache/Hdf5.h"
+#include "io/cache/RainCache.h"
+#include "io/scene/SceneLoader.h"
 #include "sim/rain/RainStepper.h"
 #include "tests/CacheTestSupport.h"
 #include "tests/MpiTestSupport.h"

@@ -15,9 +15,9 @@
 #include <utility>
 #include <vector>
 
-#include "io/CacheReader.h"
-#include "io/RainCache.h"
-#include "mpi/MpiIoChoice.h"
+#include "io/cache/CacheReader.h"
+#include "io/cache/RainCache.h"
+#include "sim/ranks/mpi/MpiIoChoice.h"
 #include "sim/InputError.h"
 #include "tests/CacheTestSupport.h"
 #include "tests/MpiTestSupport.h"
@@ -258,31 +258,31 @@ TEST_F(Mpi, ReadersDuringFramesWrittenTogetherNeverFail) {
 }
 
 TEST(MpiIo, TheRanksWriteThroughRomioUnlessTheUserChose) {
-  // OMPIO 4.1 hides a write the disk refused, ROMIO reports it (mpi/MpiIoChoice.h): the ranks ask
+  // OMPIO 4.1 hides a write the disk refused, ROMIO reports it (sim/ranks/mpi/MpiIoChoice.h): the ranks ask
   // for ROMIO when a plug-in of it is installed, and leave a choice the user made alone.
   const std::string dir = test::makeTempDir();
   for (const char* name : {"mca_io_ompio.so", "mca_io_romio321.so", "mca_io_romio341.so",
                            "mca_fs_romio999.so", "mca_io_romio.txt"})
     std::ofstream(dir + "/" + name) << "";
-  EXPECT_EQ(mpi::findRomioComponent({"/nonexistent", dir}), "romio341");
-  EXPECT_EQ(mpi::findRomioComponent({"/nonexistent"}), "");
+  EXPECT_EQ(ranks::mpi::findRomioComponent({"/nonexistent", dir}), "romio341");
+  EXPECT_EQ(ranks::mpi::findRomioComponent({"/nonexistent"}), "");
   std::remove((dir + "/mca_io_romio321.so").c_str());
   std::remove((dir + "/mca_io_romio341.so").c_str());
-  EXPECT_EQ(mpi::findRomioComponent({dir}), "");
+  EXPECT_EQ(ranks::mpi::findRomioComponent({dir}), "");
 
   const std::string installed = romioComponent();  // what ompi_info lists
-  EXPECT_EQ(mpi::findRomioComponent(mpi::componentDirectories()), installed);
+  EXPECT_EQ(ranks::mpi::findRomioComponent(ranks::mpi::componentDirectories()), installed);
   const char* users = std::getenv("OMPI_MCA_io");  // put back at the end
   const std::string before = users ? users : "";
   setenv("OMPI_MCA_io", "ompio", 1);
-  EXPECT_EQ(mpi::preferRomio(), "as OMPI_MCA_io says (ompio)");
+  EXPECT_EQ(ranks::mpi::preferRomio(), "as OMPI_MCA_io says (ompio)");
   EXPECT_STREQ(std::getenv("OMPI_MCA_io"), "ompio");
   unsetenv("OMPI_MCA_io");
   if (installed.empty()) {
-    EXPECT_EQ(mpi::preferRomio(), "OMPIO (this Open MPI has no ROMIO component that loads)");
+    EXPECT_EQ(ranks::mpi::preferRomio(), "OMPIO (this Open MPI has no ROMIO component that loads)");
     EXPECT_EQ(std::getenv("OMPI_MCA_io"), nullptr);
   } else {
-    EXPECT_EQ(mpi::preferRomio(), "ROMIO (" + installed + ")");
+    EXPECT_EQ(ranks::mpi::preferRomio(), "ROMIO (" + installed + ")");
     EXPECT_EQ(std::getenv("OMPI_MCA_io"), installed);
   }
   if (users)
@@ -295,7 +295,7 @@ TEST_F(Mpi, FramesWrittenTogetherThroughEitherMpiIoMatchOneProcess) {
   // ROMIO (MPICH's MPI-IO, the one the ranks ask Open MPI for) takes POSIX byte-range locks on
   // the cache while the ranks write a frame together; the run's own lock on the cache must not
   // overlap them (it did: a whole-file lock made rank 0's first ROMIO lock wait forever,
-  // io/CacheFileLock.cpp). OMPIO, where a user asks for it, writes the same frames.
+  // io/cache/CacheFileLock.cpp). OMPIO, where a user asks for it, writes the same frames.
   const std::string component = romioComponent();
   if (component.empty()) GTEST_SKIP() << "this Open MPI has no ROMIO component";
   for (const std::string chosen : {"", "ompio"}) {
@@ -321,7 +321,7 @@ TEST_F(Mpi, AFullDiskOnOneRankStopsTheRunWithOneLineAndRecordsIt) {
   // rank says so in one line (no HDF5 error stack), the cache holds frames equal to the single
   // process's and its status says it stopped (recorded by rank 0, or by the recorder rank 0
   // starts when it cannot, app/StatusRecorder.h). Through ROMIO, which returns the error on the
-  // failing rank, where the watch of mpi/FileErrorWatch.h ends a rank left waiting in a
+  // failing rank, where the watch of sim/ranks/mpi/FileErrorWatch.h ends a rank left waiting in a
   // collective call after it; Open MPI's OMPIO 4.1.4 hangs inside some collective writes that
   // fail on one rank (docs/scaling.md), so the ranks ask for ROMIO themselves: the runs here
   // leave OMPI_MCA_io unset, as a user's would be.

@@ -6,7 +6,7 @@
 #include <random>
 #include <set>
 
-#include "sim/NeighbourGrid.h"
+#include "sim/grid/NeighbourGrid.h"
 
 namespace sph {
 namespace {

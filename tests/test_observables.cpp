@@ -1,4 +1,4 @@
-// The observables shared by the validation tests and the sweeps (sim/Observables.h), on states
+// The observables shared by the validation tests and the sweeps (sim/run/Observables.h), on states
 // small enough to work out by hand, and the EOS energy against a numerical integral of p / rho^2
 // of the equation of state the solver runs.
 #include <gtest/gtest.h>
@@ -6,8 +6,8 @@
 #include <cmath>
 #include <limits>
 
-#include "sim/Kernels.h"
-#include "sim/Observables.h"
+#include "sim/solver/Kernels.h"
+#include "sim/run/Observables.h"
 
 namespace sph {
 namespace {

@@ -1,4 +1,4 @@
-// The DFSPH factor pass's pair packing (sim/PairPacking.h): the scalar version - what a build
+// The DFSPH factor pass's pair packing (sim/grid/PairPacking.h): the scalar version - what a build
 // without AVX-512 runs - and the AVX-512 one keep exactly the candidates with h - r > 0, with
 // their index bits and values, in their order. Both are compiled and compared here whenever the
 // build's CPU has AVX-512, so the fallback is tested on a machine that would never run it.
@@ -11,7 +11,7 @@
 #include <random>
 #include <vector>
 
-#include "sim/PairPacking.h"
+#include "sim/grid/PairPacking.h"
 
 namespace sph {
 namespace {

@@ -1,11 +1,11 @@
-// PNG files (io/Png.h): what is written reads back pixel for pixel, a bad file is an InputError
+// PNG files (io/export/Png.h): what is written reads back pixel for pixel, a bad file is an InputError
 // naming it, and every command names a frame's picture the same way.
 #include <gtest/gtest.h>
 
 #include <cstdio>
 #include <fstream>
 
-#include "io/Png.h"
+#include "io/export/Png.h"
 #include "sim/InputError.h"
 #include "tests/TestSupport.h"
 

@@ -11,9 +11,9 @@
 #include <random>
 #include <vector>
 
-#include "io/SceneLoader.h"
-#include "sim/Camera.h"
-#include "sim/Solid.h"
+#include "io/scene/SceneLoader.h"
+#include "sim/scene/Camera.h"
+#include "sim/scene/Solid.h"
 #include "sim/rain/RainRandom.h"
 #include "sim/rain/RainSystem.h"
 #include "sim/rain/Spotlight.h"
@@ -46,7 +46,7 @@ RainDesc rainDesc(RainSpawn spawn, std::size_t count = 20000) {
   return d;
 }
 
-// The frustum of the rain camera, from the general camera maths (sim/Camera.h, not RainSpace).
+// The frustum of the rain camera, from the general camera maths (sim/scene/Camera.h, not RainSpace).
 Frustum rainFrustum(const CameraDesc& camera, const RainDesc& d) {
   CameraDesc c = camera;
   c.near = d.near, c.far = d.far;

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <iterator>
 
-#include "io/Png.h"
+#include "io/export/Png.h"
 #include "tests/TestSupport.h"
 
 namespace sph {

@@ -8,12 +8,12 @@
 #include <cstdio>
 #include <string>
 
-#include "io/SceneLoader.h"
+#include "io/scene/SceneLoader.h"
 #include "sim/InputError.h"
-#include "sim/MemoryEstimate.h"
-#include "sim/Observables.h"
-#include "sim/SceneSetup.h"
-#include "sim/Simulation.h"
+#include "sim/run/MemoryEstimate.h"
+#include "sim/run/Observables.h"
+#include "sim/solver/SceneSetup.h"
+#include "sim/run/Simulation.h"
 #include "sim/rain/RainSystem.h"
 #include "tests/TestSupport.h"
 
@@ -27,7 +27,7 @@ constexpr float kSpacing = 0.01f;
 // A still pool 5 cm deep in a 16 x 16 cm tank, rain over all of it (spawn "region", so where it
 // lands does not depend on the camera). The speed of sound is fixed so that the runs with and
 // without the feed differ only in the rain's water (the feed otherwise raises it to cover the
-// rain's entry speed, sim/SceneSetup.cpp).
+// rain's entry speed, sim/solver/SceneSetup.cpp).
 // `feedKeys` replaces the rain's feed_fluid and drop_volume keys.
 std::string poolScene(bool feed, int seed = 7, std::string feedKeys = "") {
   if (feedKeys.empty())

@@ -13,7 +13,7 @@
 #include "render/rain/StreakImages.h"
 #include "render/solids/SolidRenderer.h"
 #include "render/splat/SplatRenderer.h"
-#include "sim/Camera.h"
+#include "sim/scene/Camera.h"
 #include "sim/rain/RainSystem.h"
 #include "sim/rain/Spotlight.h"
 

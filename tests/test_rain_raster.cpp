@@ -25,7 +25,7 @@
 #include "render/rain/StreakSums.h"
 #include "render/solids/SolidRenderer.h"
 #include "render/splat/SplatRenderer.h"
-#include "sim/Camera.h"
+#include "sim/scene/Camera.h"
 #include "sim/rain/RainSystem.h"
 
 namespace sph::render::rain {

@@ -1,4 +1,4 @@
-// sim/RunLoop.h and io/CacheSession.h driven in-process, the way `sphsplat run` drives them:
+// sim/run/RunLoop.h and io/cache/CacheSession.h driven in-process, the way `sphsplat run` drives them:
 // frames at the planned times, a stop between steps, a run that dies mid-way and is resumed from
 // its cache, and a blow-up reported as an outcome. (tests/test_cache_crash.cpp kills real
 // processes with SIGKILL; these check the library's own contract without a process boundary.)
@@ -10,11 +10,11 @@
 #include <string>
 #include <vector>
 
-#include "io/CacheReader.h"
-#include "io/CacheSession.h"
-#include "io/SceneLoader.h"
+#include "io/cache/CacheReader.h"
+#include "io/cache/CacheSession.h"
+#include "io/scene/SceneLoader.h"
 #include "sim/Parallel.h"
-#include "sim/RunLoop.h"
+#include "sim/run/RunLoop.h"
 #include "tests/CacheTestSupport.h"
 #include "tests/TestSupport.h"
 

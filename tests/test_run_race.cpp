@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "io/CacheReader.h"
+#include "io/cache/CacheReader.h"
 #include "tests/CacheTestSupport.h"
 #include "tests/TestSupport.h"
 

@@ -5,7 +5,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "io/SceneLoader.h"
+#include "io/scene/SceneLoader.h"
 #include "tests/TestSupport.h"
 
 namespace sph {

@@ -4,9 +4,9 @@
 
 #include <cmath>
 
-#include "sim/Emitter.h"
+#include "sim/run/Emitter.h"
 #include "sim/InputError.h"
-#include "sim/Simulation.h"
+#include "sim/run/Simulation.h"
 #include "tests/TestSupport.h"
 
 namespace sph {

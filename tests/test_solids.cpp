@@ -17,7 +17,7 @@
 #include "render/splat/ReferenceRaymarcher.h"
 #include "render/splat/SplatBuilder.h"
 #include "render/splat/SplatRenderer.h"
-#include "sim/Solid.h"
+#include "sim/scene/Solid.h"
 
 namespace sph::render::solids {
 namespace {

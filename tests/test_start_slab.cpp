@@ -1,4 +1,4 @@
-// A distributed start (sim/dist/StartSlab.h, docs/scaling.md "A distributed start"): with K
+// A distributed start (sim/run/StartSlab.h, docs/scaling.md "A distributed start"): with K
 // ranks as threads (tests/ThreadRanks.h), each rank's Simulation generates only its slab of the
 // starting fluid, and together the ranks hold the single process's initialFluid exactly once:
 // the same ids, the same bits, each particle on the rank whose slab holds it, in the order of its
@@ -11,12 +11,12 @@
 #include <tuple>
 #include <vector>
 
-#include "io/SceneLoader.h"
-#include "sim/Simulation.h"
-#include "sim/dist/Halo.h"
+#include "io/scene/SceneLoader.h"
+#include "sim/run/Simulation.h"
+#include "sim/ranks/Halo.h"
 #include "tests/ThreadRanks.h"
 
-namespace sph::dist {
+namespace sph::ranks {
 namespace {
 
 // A tank longest along `axis` holding a box of water against its walls (the points within 0.4
@@ -139,4 +139,4 @@ TEST(StartSlab, AResumingRankGeneratesNoStart) {
 }
 
 }  // namespace
-}  // namespace sph::dist
+}  // namespace sph::ranks

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "sim/Observables.h"
-#include "sim/Simulation.h"
+#include "sim/run/Observables.h"
+#include "sim/run/Simulation.h"
 #include "tests/StillTankFloor.h"
 #include "tests/TestSupport.h"
 

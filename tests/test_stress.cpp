@@ -12,11 +12,11 @@
 
 #include "bench/sweep/Sweep.h"
 #include "bench/sweep/SweepRunner.h"
-#include "io/SceneLoader.h"
-#include "sim/Observables.h"
-#include "sim/Simulation.h"
+#include "io/scene/SceneLoader.h"
+#include "sim/run/Observables.h"
+#include "sim/run/Simulation.h"
 #include "sim/StabilityError.h"
-#include "sim/Validate.h"
+#include "sim/solver/Validate.h"
 #include "tests/TestSupport.h"
 
 namespace sph {

@@ -14,8 +14,8 @@
 #include "bench/sweep/Sweep.h"
 #include "bench/sweep/SweepReport.h"
 #include "bench/sweep/SweepRunner.h"
-#include "io/SceneLoader.h"
-#include "sim/SceneSetup.h"
+#include "io/scene/SceneLoader.h"
+#include "sim/solver/SceneSetup.h"
 #include "tests/TestSupport.h"
 
 namespace sph {

@@ -1,4 +1,4 @@
-// The solver's invariant checks (sim/Validate.h, NeighbourGrid::checkSorted): they hold on real
+// The solver's invariant checks (sim/solver/Validate.h, NeighbourGrid::checkSorted): they hold on real
 // states, and each catches the corruption it is there for. (SPH_VALIDATE builds run them inside
 // every step; these tests run them in every build.)
 #include <gtest/gtest.h>
@@ -8,10 +8,10 @@
 #include <random>
 
 #include "sim/Assert.h"
-#include "sim/NeighbourGrid.h"
+#include "sim/grid/NeighbourGrid.h"
 #include "sim/Parallel.h"
-#include "sim/Simulation.h"
-#include "sim/Validate.h"
+#include "sim/run/Simulation.h"
+#include "sim/solver/Validate.h"
 #include "tests/TestSupport.h"
 
 namespace sph {

@@ -6,9 +6,9 @@
 #include <optional>
 #include <vector>
 
-#include "sim/CollisionDesc.h"
+#include "sim/scene/CollisionDesc.h"
 #include "sim/Particles.h"
-#include "sim/Scene.h"
+#include "sim/scene/Scene.h"
 #include "sim/cdt/CdtCpu.h"
 #include "sim/collision/Detector.h"
 #include "sim/collision/Recall.h"

@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-#include "io/SceneLoader.h"
+#include "io/scene/SceneLoader.h"
 #include "render/cdt/CollisionSetup.h"
 
 namespace sph::collisionbench {

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "sim/Particles.h"
-#include "sim/Scene.h"
-#include "sim/Simulation.h"
+#include "sim/scene/Scene.h"
+#include "sim/run/Simulation.h"
 
 namespace sph::collisionbench {
 

@@ -8,7 +8,7 @@
 #include "render/cdt/CdtGl.h"
 #include "render/cdt/CollisionSetup.h"
 #include "render/gl/GlContext.h"
-#include "sim/Simulation.h"
+#include "sim/run/Simulation.h"
 #include "sim/cdt/CdtCpu.h"
 
 namespace sph::collisionbench {

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "bench/collision/Snapshot.h"
-#include "sim/CollisionDesc.h"
+#include "sim/scene/CollisionDesc.h"
 
 namespace sph::collisionbench {
 

@@ -3,10 +3,10 @@
 #include <cmath>
 #include <sstream>
 
-#include "io/JsonReader.h"
-#include "io/JsonText.h"
+#include "io/scene/JsonReader.h"
+#include "io/scene/JsonText.h"
 #include "io/MessageText.h"
-#include "io/SceneLoader.h"
+#include "io/scene/SceneLoader.h"
 #include "io/UserFiles.h"
 #include "sim/Parallel.h"
 

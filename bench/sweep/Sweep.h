@@ -1,6 +1,6 @@
 // A sweep file (`sphsplat bench SWEEP.json`, docs/benchmarks.md): one base scene, the variants to
 // run it in, what to measure and how to plot it. Variants are scene edits in the `--set` syntax
-// (io/SceneLoader.h), so any scene key can be an axis: resolution, CFL number, speed of sound,
+// (io/scene/SceneLoader.h), so any scene key can be an axis: resolution, CFL number, speed of sound,
 // EOS, quality preset, a collision method. Every variant's scene is loaded and validated before
 // anything runs, so a bad sweep costs nothing.
 #pragma once

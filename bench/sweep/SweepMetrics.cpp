@@ -8,8 +8,8 @@
 #include <sstream>
 #include <utility>
 
-#include "io/JsonReader.h"
-#include "sim/Observables.h"
+#include "io/scene/JsonReader.h"
+#include "sim/run/Observables.h"
 
 namespace sph::sweep {
 namespace {

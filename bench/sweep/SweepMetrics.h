@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/Simulation.h"
+#include "sim/run/Simulation.h"
 
 namespace sph::sweep {
 

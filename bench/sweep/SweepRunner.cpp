@@ -11,11 +11,11 @@
 #include <memory>
 
 #include "bench/sweep/SweepMetrics.h"
-#include "io/SceneLoader.h"
+#include "io/scene/SceneLoader.h"
 #include "render/cdt/CollisionSetup.h"
 #include "sim/Parallel.h"
-#include "sim/SceneSetup.h"
-#include "sim/Simulation.h"
+#include "sim/solver/SceneSetup.h"
+#include "sim/run/Simulation.h"
 #include "sim/StabilityError.h"
 
 namespace sph::sweep {

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "bench/sweep/Sweep.h"
-#include "sim/EnumNames.h"
-#include "sim/StepProfile.h"
+#include "sim/scene/EnumNames.h"
+#include "sim/solver/StepProfile.h"
 
 namespace sph::sweep {
 
@@ -22,7 +22,7 @@ enum class RunStatus {
   Failed,   // another error (out of memory, a collision pass that cannot start)
 };
 
-// The status column of the sweep's CSV and report (sim/EnumNames.h).
+// The status column of the sweep's CSV and report (sim/scene/EnumNames.h).
 constexpr const char* nameOf(RunStatus status) {
   switch (status) {
     case RunStatus::Stable:

@@ -8,7 +8,7 @@
 
 #include "render/cdt/CdtGl.h"
 #include "render/gl/GlContext.h"
-#include "sim/CollisionDesc.h"
+#include "sim/scene/CollisionDesc.h"
 #include "sim/CollisionPass.h"
 
 namespace sph::render::cdt {

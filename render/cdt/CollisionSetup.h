@@ -7,7 +7,7 @@
 #include <string>
 
 #include "sim/CollisionPass.h"
-#include "sim/Scene.h"
+#include "sim/scene/Scene.h"
 
 namespace sph::render::cdt {
 

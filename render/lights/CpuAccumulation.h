@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "render/lights/LightCulling.h"
-#include "sim/LightParticles.h"
-#include "sim/LightsDesc.h"
+#include "sim/lights/LightParticles.h"
+#include "sim/scene/LightsDesc.h"
 
 namespace sph::render::lights {
 

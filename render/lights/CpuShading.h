@@ -21,7 +21,7 @@
 
 #include "render/lights/CpuAccumulation.h"
 #include "render/splat/ExtraLights.h"
-#include "sim/LightsDesc.h"
+#include "sim/scene/LightsDesc.h"
 #include "sim/Types.h"
 
 namespace sph::render::lights {

@@ -7,8 +7,8 @@
 
 #include <vector>
 
-#include "sim/LightParticles.h"
-#include "sim/LightsDesc.h"
+#include "sim/lights/LightParticles.h"
+#include "sim/scene/LightsDesc.h"
 
 namespace sph::render::lights {
 

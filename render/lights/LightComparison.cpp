@@ -6,7 +6,7 @@
 
 #include "render/gl/Shader.h"
 #include "render/splat/Lighting.h"
-#include "sim/Camera.h"
+#include "sim/scene/Camera.h"
 
 namespace sph::render::lights {
 namespace {

@@ -15,15 +15,15 @@
 #include <array>
 #include <vector>
 
-#include "sim/Camera.h"
-#include "sim/LightParticles.h"
-#include "sim/LightsDesc.h"
+#include "sim/scene/Camera.h"
+#include "sim/lights/LightParticles.h"
+#include "sim/scene/LightsDesc.h"
 
 namespace sph::render::lights {
 
 // The camera a frame is drawn through, as the volume needs it.
 struct LightView {
-  Mat4 projView;     // the frame's projection * view (sim/Camera.h, cameraFrame)
+  Mat4 projView;     // the frame's projection * view (sim/scene/Camera.h, cameraFrame)
   float margin = 0;  // m: how far outside the frustum a point may still be shaded (splat vertices)
 };
 // The view of `camera` over a width / height `aspect` picture, with the margin of the water's

@@ -99,7 +99,7 @@ LightsDesc decided(LightsDesc desc) {
 // lights.shade decided: "auto" is "cpu" where the volume is on the CPU and the frame deferred
 // (the lighting pass's two 3D-texture fetches a pixel are llvmpipe's slowest part of Fig. 11,
 // docs/benchmarks.md) with a filter the CPU pass has; "cpu" asked for where it cannot work is
-// refused as the scene loader refuses it (io/ViewSections.cpp).
+// refused as the scene loader refuses it (io/scene/ViewSections.cpp).
 LightsDesc decidedShade(LightsDesc desc) {
   const bool onCpu = desc.accumulate == LightAccumulate::Cpu;
   const bool deferred = desc.pipeline == LightPipeline::Deferred;

@@ -15,8 +15,8 @@
 #include "render/lights/CpuAccumulation.h"
 #include "render/lights/LightCulling.h"
 #include "render/splat/ExtraLights.h"
-#include "sim/LightParticles.h"
-#include "sim/LightsDesc.h"
+#include "sim/lights/LightParticles.h"
+#include "sim/scene/LightsDesc.h"
 
 namespace sph::render::lights {
 

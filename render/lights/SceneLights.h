@@ -9,7 +9,7 @@
 
 #include "render/lights/LightVolume.h"
 #include "render/splat/FrameRenderer.h"
-#include "sim/Scene.h"
+#include "sim/scene/Scene.h"
 
 namespace sph::render::lights {
 

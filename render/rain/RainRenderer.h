@@ -16,7 +16,7 @@
 #include "render/gl/ShaderLibrary.h"
 #include "render/rain/StreakRaster.h"
 #include "render/splat/FrameLayer.h"
-#include "sim/RainDesc.h"
+#include "sim/scene/RainDesc.h"
 #include "sim/rain/RainSystem.h"
 
 namespace sph::render::rain {

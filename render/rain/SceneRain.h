@@ -1,6 +1,6 @@
 // The rain of a scene in its pictures (`run` with a render section, `render`, `view`): the drops
 // of a sim/rain/RainStepper uploaded to a RainRenderer layer. `run` steps the rain beside the
-// fluid and stores its drops in the cache (io/RainCache.h); `render` and `view` redraw the stored
+// fluid and stores its drops in the cache (io/cache/RainCache.h); `render` and `view` redraw the stored
 // drops (restore()), or, for a cache without them, regenerate them deterministically from the
 // scene and the frame times (advanceTo(); docs/rain.md, "Replay").
 #pragma once
@@ -11,7 +11,7 @@
 #include "render/rain/RainRenderer.h"
 #include "render/splat/FrameRenderer.h"
 #include "sim/Particles.h"
-#include "sim/Scene.h"
+#include "sim/scene/Scene.h"
 #include "sim/rain/RainStepper.h"
 
 namespace sph::render::rain {
@@ -25,7 +25,7 @@ class SceneRain {
   // Brings the drops to `time` (s) and uploads them to the layer; `fluid` is the water at `time`.
   // Going back in time starts again from 0.
   void advanceTo(double time, const Particles& fluid);
-  // Takes the drops a run stored for `time` (io/RainCache.h) and uploads them.
+  // Takes the drops a run stored for `time` (io/cache/RainCache.h) and uploads them.
   void restore(double time, const std::vector<Vec3>& positions,
                const std::vector<std::uint32_t>& generations);
   // Uploads the drops of another stepper (the run's own, which the cache stores).

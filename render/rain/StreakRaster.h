@@ -19,8 +19,8 @@
 #include "render/rain/StreakBand.h"
 #include "render/rain/StreakImages.h"
 #include "render/rain/StreakSums.h"
-#include "sim/Camera.h"
-#include "sim/RainDesc.h"
+#include "sim/scene/Camera.h"
+#include "sim/scene/RainDesc.h"
 
 namespace sph::render::rain {
 

@@ -9,7 +9,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "sim/Scene.h"
+#include "sim/scene/Scene.h"
 #include "sim/Types.h"
 
 namespace sph::render::solids {

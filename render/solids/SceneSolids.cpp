@@ -1,6 +1,6 @@
 #include "render/solids/SceneSolids.h"
 
-#include "sim/SceneSetup.h"
+#include "sim/solver/SceneSetup.h"
 
 namespace sph::render::solids {
 
@@ -15,7 +15,7 @@ std::unique_ptr<SolidRenderer> showSolids(const Scene& scene, splat::FrameRender
       return nullptr;
     }
     case RenderSolids::Opaque: {
-      // The walls as thick as the boundary particles' layers (sim/Solid.h has them so).
+      // The walls as thick as the boundary particles' layers (sim/scene/Solid.h has them so).
       const float thickness = deriveParams(scene).boundaryLayers * scene.solver.spacing;
       auto solids = std::make_unique<SolidRenderer>(scene.boundaries, scene.domain, thickness);
       renderer.setLayers({solids.get()});

@@ -10,7 +10,7 @@
 
 #include "render/solids/SolidRenderer.h"
 #include "render/splat/FrameRenderer.h"
-#include "sim/Scene.h"
+#include "sim/scene/Scene.h"
 
 namespace sph::render::solids {
 

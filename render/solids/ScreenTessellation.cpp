@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "sim/Kernels.h"
+#include "sim/solver/Kernels.h"
 
 namespace sph::render::solids {
 

@@ -18,8 +18,8 @@
 // Multiples of 4 keep a moving camera from re-tessellating for every pixel of change.
 #pragma once
 
-#include "sim/Camera.h"
-#include "sim/Scene.h"
+#include "sim/scene/Camera.h"
+#include "sim/scene/Scene.h"
 
 namespace sph::render::solids {
 
@@ -33,7 +33,7 @@ struct TessellationBound {
 int segmentsFor(float radiusPixels, const TessellationBound& bound);
 
 // The radius on screen (px) of a length `radius` (m) at the nearest point of the bounding sphere
-// (centre, boundRadius) seen through `projView` (sim/Camera.h's perspective) in a viewport of
+// (centre, boundRadius) seen through `projView` (sim/scene/Camera.h's perspective) in a viewport of
 // width x height px: 0 outside the frustum, +infinity where the sphere reaches the eye's plane.
 float radiusOnScreen(const Mat4& projView, int width, int height, const Vec3& centre,
                      float boundRadius, float radius);

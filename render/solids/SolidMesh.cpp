@@ -4,8 +4,8 @@
 #include <cmath>
 #include <limits>
 
-#include "sim/Kernels.h"
-#include "sim/Solid.h"
+#include "sim/solver/Kernels.h"
+#include "sim/scene/Solid.h"
 
 namespace sph::render::solids {
 namespace {

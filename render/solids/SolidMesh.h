@@ -1,4 +1,4 @@
-// Triangle meshes of the scene's solids (tank, block, cup, sphere, plane: sim/Scene.h's
+// Triangle meshes of the scene's solids (tank, block, cup, sphere, plane: sim/scene/Scene.h's
 // BoundaryShape), for drawing them opaque and lit in the same frame as the water (issue 14: "so
 // there is something for the particles to light"; issue 12: the showcase's cup and tray). CPU
 // only: positions and unit normals pointing out of the solid (into the fluid's side), triangles
@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "sim/Scene.h"
+#include "sim/scene/Scene.h"
 #include "sim/Types.h"
 
 namespace sph::render::solids {
@@ -30,7 +30,7 @@ struct SolidMesh {
 };
 
 // The surface of `shape`; containers (tank, cup) are shells `thickness` metres thick, as
-// sim/Solid.h has them. A plane is cut to the shadow of `domain`. `segments`: around a cup or a
+// sim/scene/Solid.h has them. A plane is cut to the shadow of `domain`. `segments`: around a cup or a
 // sphere's equator (a sphere has segments / 2 rings); SolidRenderer picks them for each draw's
 // size on screen (ScreenTessellation.h).
 SolidMesh tessellate(const BoundaryShape& shape, const Aabb& domain, float thickness,

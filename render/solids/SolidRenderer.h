@@ -12,7 +12,7 @@
 #include "render/solids/ScreenTessellation.h"
 #include "render/solids/SolidMesh.h"
 #include "render/splat/FrameLayer.h"
-#include "sim/Scene.h"
+#include "sim/scene/Scene.h"
 
 namespace sph::render::solids {
 

@@ -12,7 +12,7 @@
 
 #include "render/gl/GlHandle.h"
 #include "render/gl/ShaderLibrary.h"
-#include "sim/Camera.h"
+#include "sim/scene/Camera.h"
 #include "sim/Types.h"
 
 namespace sph::render::splat {

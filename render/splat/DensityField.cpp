@@ -3,14 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sim/LatticeSums.h"
+#include "sim/solver/LatticeSums.h"
 #include "sim/Parallel.h"
 
 namespace sph::render::splat {
 namespace {
 
 // The inner loops over one contiguous range [b, e) of sorted particles, written over raw
-// restrict pointers with the kernel's branch-free shape (sim/Kernels.h) so they vectorise (as
+// restrict pointers with the kernel's branch-free shape (sim/solver/Kernels.h) so they vectorise (as
 // lambdas over the members they compiled to scalar code: 2 ns per candidate).
 float poly6Range(const float* __restrict x, const float* __restrict y, const float* __restrict z,
                  std::uint32_t b, std::uint32_t e, float px, float py, float pz, Poly6Shape poly6) {

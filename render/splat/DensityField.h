@@ -3,7 +3,7 @@
 //   gradC(x)  = sum_j m / rho_j gradW_poly6(x - x_j)           eq. (4): the splat normal, eq. (5)
 // evaluated at the particles and at arbitrary points (the splat vertices of eq. (6), the
 // reference ray-marcher). It has its own kernel radius (render.kernel_radius) and normalisation
-// (the rest lattice reads rest_density: sim/LatticeSums.h), independent of the solver's kernels.
+// (the rest lattice reads rest_density: sim/solver/LatticeSums.h), independent of the solver's kernels.
 //
 // gradC points towards higher density, i.e. into the fluid; shading uses its opposite.
 #pragma once
@@ -11,8 +11,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "sim/Kernels.h"
-#include "sim/NeighbourGrid.h"
+#include "sim/solver/Kernels.h"
+#include "sim/grid/NeighbourGrid.h"
 #include "sim/Types.h"
 
 namespace sph::render::splat {

@@ -5,7 +5,7 @@
 #pragma once
 
 #include "render/splat/Lighting.h"
-#include "sim/Camera.h"
+#include "sim/scene/Camera.h"
 
 namespace sph::render::splat {
 

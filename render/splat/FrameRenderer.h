@@ -11,9 +11,9 @@
 #include "render/splat/RenderImage.h"
 #include "render/splat/SplatBuilder.h"
 #include "render/splat/SplatRenderer.h"
-#include "sim/CameraDesc.h"
+#include "sim/scene/CameraDesc.h"
 #include "sim/Particles.h"
-#include "sim/RenderDesc.h"
+#include "sim/scene/RenderDesc.h"
 
 namespace sph::render::splat {
 

@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <optional>
 
-#include "sim/RainDesc.h"
+#include "sim/scene/RainDesc.h"
 #include "sim/Types.h"
 
 namespace sph::render::splat {

@@ -11,7 +11,7 @@
 #include "render/splat/DensityField.h"
 #include "render/splat/Lighting.h"
 #include "render/splat/RenderImage.h"
-#include "sim/CameraDesc.h"
+#include "sim/scene/CameraDesc.h"
 
 namespace sph::render::splat {
 

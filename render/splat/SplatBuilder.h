@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "render/splat/DensityField.h"
-#include "sim/Camera.h"
-#include "sim/RenderDesc.h"
+#include "sim/scene/Camera.h"
+#include "sim/scene/RenderDesc.h"
 #include "sim/Types.h"
 
 namespace sph::render::splat {
@@ -81,7 +81,7 @@ struct SplatFrame {
 };
 
 enum class SplatKind { Point, Quad };
-// `view --splat`, the PNG names and the cache's /Render groups (sim/EnumNames.h).
+// `view --splat`, the PNG names and the cache's /Render groups (sim/scene/EnumNames.h).
 constexpr const char* nameOf(SplatKind v) {
   switch (v) {
     case SplatKind::Point:

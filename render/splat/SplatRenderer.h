@@ -14,7 +14,7 @@
 #include "render/splat/ReferenceRaymarcher.h"
 #include "render/splat/RenderImage.h"
 #include "render/splat/SplatBuilder.h"
-#include "sim/Camera.h"
+#include "sim/scene/Camera.h"
 
 namespace sph::render::splat {
 

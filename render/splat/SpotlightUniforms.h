@@ -6,7 +6,7 @@
 #include <optional>
 
 #include <glad/gl.h>
-#include "sim/RainDesc.h"
+#include "sim/scene/RainDesc.h"
 
 namespace sph::render::splat {
 

@@ -11,8 +11,8 @@
 #include <array>
 #include <optional>
 
-#include "sim/Camera.h"
-#include "sim/CollisionDesc.h"
+#include "sim/scene/Camera.h"
+#include "sim/scene/CollisionDesc.h"
 
 namespace sph::cdt {
 

@@ -43,7 +43,7 @@ Settings makeSettings(const CollisionDesc& c, const std::optional<CameraDesc>& r
 }
 
 CdtCpu::CdtCpu(const Settings& settings) : settings_(settings) {
-  // Preconditions: the scene loader allows exactly these ranges (io/SceneLoader.cpp).
+  // Preconditions: the scene loader allows exactly these ranges (io/scene/SceneLoader.cpp).
   if (settings.layers < 1 || settings.layers > kMaxLayers)
     throw std::invalid_argument("cdt: layers out of range");
   if (settings.texelRange < 0 || settings.texelRange > kMaxTexelRange ||

@@ -19,11 +19,11 @@
 #include <utility>
 #include <vector>
 
-#include "sim/CollisionDesc.h"
+#include "sim/scene/CollisionDesc.h"
 #include "sim/CollisionPass.h"
 #include "sim/Particles.h"
-#include "sim/Scene.h"
-#include "sim/SceneSetup.h"
+#include "sim/scene/Scene.h"
+#include "sim/solver/SceneSetup.h"
 #include "sim/cdt/CdtCamera.h"
 #include "sim/cdt/CdtConstants.h"
 

@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "sim/CollisionDesc.h"
+#include "sim/scene/CollisionDesc.h"
 #include "sim/CollisionPass.h"
 #include "sim/collision/Response.h"
 

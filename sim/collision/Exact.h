@@ -1,12 +1,12 @@
 // exact: every pair closer than collision_range, found with a uniform grid of cell = range
-// (sim/NeighbourGrid.h): a pair can only be in the same or adjacent cells. The ground truth that
+// (sim/grid/NeighbourGrid.h): a pair can only be in the same or adjacent cells. The ground truth that
 // recall is measured against, and the time baseline against the thesis's octree.
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
-#include "sim/NeighbourGrid.h"
+#include "sim/grid/NeighbourGrid.h"
 #include "sim/collision/Detector.h"
 
 namespace sph::collision {

@@ -88,7 +88,7 @@ const std::vector<Vec3>& RainFeed::advanceTo(double time, const Particles& fluid
 
 std::size_t RainFeed::addLandings(const std::vector<Vec3>& landings, FeedState& state,
                                   Particles& fluid, std::uint32_t& nextId) const {
-  // The scene refuses drops of more than a particle's water (io/ViewSections.cpp), so a landing
+  // The scene refuses drops of more than a particle's water (io/scene/ViewSections.cpp), so a landing
   // completes at most one particle and no two new particles share a position.
   const Vec3 velocity = stepper_->system().velocity();
   std::unique_ptr<FreeSpace> space;  // built at the first particle of the tick

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "sim/Particles.h"
-#include "sim/Scene.h"
+#include "sim/scene/Scene.h"
 #include "sim/rain/RainStepper.h"
 
 namespace sph::rain {

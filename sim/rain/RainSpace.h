@@ -8,7 +8,7 @@
 #include <array>
 #include <cmath>
 
-#include "sim/CameraDesc.h"
+#include "sim/scene/CameraDesc.h"
 #include "sim/Types.h"
 
 namespace sph::rain {

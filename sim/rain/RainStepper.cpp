@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include "sim/RenderDesc.h"
-#include "sim/SceneSetup.h"
+#include "sim/scene/RenderDesc.h"
+#include "sim/solver/SceneSetup.h"
 
 namespace sph::rain {
 

@@ -1,7 +1,7 @@
 // The rain of a scene over time (docs/rain.md, "Replay"), without GL or files: the drops of
 // sim/rain/RainSystem stepped at the scene's output frames with the camera of each frame's time
 // (camera and camera.path) and stopped by the solids and by the water of the frames it is given.
-// `run` steps it beside the fluid and stores its drops in the cache (io/RainCache.h); `render`
+// `run` steps it beside the fluid and stores its drops in the cache (io/cache/RainCache.h); `render`
 // and `view` redraw those, or, for a cache written without them, regenerate them from time 0:
 // drops are a pure function of (seed, drop, respawn count), so both give the same drops.
 #pragma once
@@ -10,10 +10,10 @@
 #include <memory>
 #include <vector>
 
-#include "sim/Camera.h"
+#include "sim/scene/Camera.h"
 #include "sim/Particles.h"
-#include "sim/Scene.h"
-#include "sim/Solid.h"
+#include "sim/scene/Scene.h"
+#include "sim/scene/Solid.h"
 #include "sim/rain/RainSystem.h"
 
 namespace sph::rain {

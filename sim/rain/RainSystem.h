@@ -8,8 +8,8 @@
 #include <unordered_set>
 #include <vector>
 
-#include "sim/RainDesc.h"
-#include "sim/Solid.h"
+#include "sim/scene/RainDesc.h"
+#include "sim/scene/Solid.h"
 #include "sim/rain/RainRandom.h"
 #include "sim/rain/RainSpace.h"
 #include "sim/rain/ViewSampler.h"
@@ -73,7 +73,7 @@ class RainSystem {
   // Moves the drops by dt (s) and respawns those that left the spawn volume of `camera` (which
   // may have moved since the last call) or hit an obstacle.
   void update(const CameraDesc& camera, float dt, const RainObstacles& obstacles = {});
-  // Takes over drops as a run left them (a resume from the cache, io/RainCache.h): positions and
+  // Takes over drops as a run left them (a resume from the cache, io/cache/RainCache.h): positions and
   // respawn counts per drop (as many as the budget), the rain camera of that moment. Counters
   // start again from 0.
   void restore(const CameraDesc& camera, const std::vector<Vec3>& positions,

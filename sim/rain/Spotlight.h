@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sim/RainDesc.h"
+#include "sim/scene/RainDesc.h"
 
 namespace sph::rain {
 

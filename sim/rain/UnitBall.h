@@ -5,7 +5,7 @@
 
 #include <cstdint>
 
-#include "sim/RainDesc.h"
+#include "sim/scene/RainDesc.h"
 #include "sim/Types.h"
 #include "sim/rain/RainRandom.h"
 #include "sim/rain/RainSystem.h"

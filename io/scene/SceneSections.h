@@ -1,0 +1,24 @@
+// The scene loader's parts (io/scene/SceneLoader.cpp reads the simulation's sections, io/scene/ViewSections.cpp
+// what is seen: camera, render, rain, lights) and the value checks they share. Internal to io/.
+#pragma once
+
+#include <string>
+
+#include "io/scene/JsonReader.h"
+#include "sim/scene/Scene.h"
+
+namespace sph::io {
+
+std::string formatVec(const Vec3& v);  // "[x, y, z]" for messages
+bool integerIn(double v, double lo, double hi);
+// Fails at "max" unless lo < hi on every axis.
+void requireOrdered(JsonReader& r, const Vec3& lo, const Vec3& hi);
+
+// `camera` (and its key frames into *path when given), `render`, `rain`, `lights`
+// (docs/scene-format.md).
+CameraDesc readCamera(JsonReader r, CameraPath* path = nullptr);
+RenderDesc readRender(JsonReader r);
+RainDesc readRain(JsonReader r);
+LightsDesc readLights(JsonReader r);
+
+}  // namespace sph::io

@@ -1,0 +1,50 @@
+#include "sim/run/Emitter.h"
+
+#include <cmath>
+
+namespace sph {
+
+Emitter::Emitter(const EmitterDesc& desc, float spacing)
+    : desc_(desc), spacing_(spacing), direction_(desc.direction.normalized()) {
+  const Vec3 helper = std::abs(direction_.x()) < 0.9f ? Vec3::UnitX() : Vec3::UnitZ();
+  const Vec3 t1 = direction_.cross(helper).normalized(), t2 = direction_.cross(t1);
+  // Lattice points (including the centre) within the radius.
+  const int n = static_cast<int>(std::floor(desc.radius / spacing));
+  for (int k = -n; k <= n; ++k) {
+    for (int i = -n; i <= n; ++i) {
+      const float u = i * spacing, w = k * spacing;
+      if (u * u + w * w <= desc.radius * desc.radius * (1 + 1e-6f))
+        layer_.push_back(u * t1 + w * t2);
+    }
+  }
+}
+
+std::size_t Emitter::emit(double time, double dt, Particles& fluid, std::uint32_t& nextId,
+                          float restDensity) {
+  if (layer_.empty() || time <= desc_.start || time - dt >= desc_.stop) return 0;
+  const double active = std::min(time, desc_.stop) - std::max(time - dt, desc_.start);
+  if (!state_.started) {
+    state_.started = true;
+    state_.travelled = spacing_;  // the first layer leaves the nozzle at once
+  } else {
+    state_.travelled += desc_.speed * active;
+  }
+  std::size_t added = 0;
+  const Vec3 velocity = desc_.speed * direction_;
+  while (state_.travelled >= spacing_) {
+    if (desc_.maxParticles && state_.emitted + layer_.size() > desc_.maxParticles) {
+      state_.travelled = 0;  // the nozzle is spent; stop accumulating
+      break;
+    }
+    state_.travelled -= spacing_;
+    const Vec3 centre = desc_.position + static_cast<float>(state_.travelled) * direction_;
+    for (const Vec3& offset : layer_) {
+      fluid.append(centre + offset, velocity, nextId++, restDensity);
+      ++added;
+    }
+    state_.emitted += layer_.size();
+  }
+  return added;
+}
+
+}  // namespace sph

@@ -1,0 +1,60 @@
+// General camera maths, one home for every part that looks through a camera: the CDT's collision
+// camera (sim/cdt/CdtCamera.h), the splat renderer (render/splat/), the reference ray-marcher and
+// the view-dependent parts to come. Conventions of OpenGL / GLU: the camera looks down its -z
+// axis, matrices are column-major like GLSL's mat4, NDC z in [-1, 1].
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+
+#include "sim/scene/CameraDesc.h"
+
+namespace sph {
+
+// 4x4 float matrix, column-major like GLSL's mat4 and glUniformMatrix4fv(..., GL_FALSE, ...):
+// row r, column c is m[4 c + r].
+struct Mat4 {
+  std::array<float, 16> m{};
+  float operator()(int row, int column) const {
+    return m[static_cast<std::size_t>(4 * column + row)];
+  }
+};
+
+Mat4 identity();
+// a * b, each entry summed in double and rounded once.
+Mat4 multiply(const Mat4& a, const Mat4& b);
+// gluLookAt / gluPerspective conventions.
+Mat4 lookAt(const Vec3& eye, const Vec3& target, const Vec3& up);
+Mat4 perspective(float fovYDegrees, float aspect, float near, float far);
+
+// The matrices and orthonormal basis of a camera for a viewport aspect ratio (width / height).
+struct CameraFrame {
+  Mat4 projView;
+  Vec3 eye, right, up;  // up: perpendicular to the view direction (not the desc's up hint)
+};
+CameraFrame cameraFrame(const CameraDesc& camera, float aspect);
+
+// The camera at time t (s) along a key-frame path (scene key camera.path): `base` (its up, near,
+// far, and the pose when the path is empty) with the pose and fov of the path. Before the first
+// key the first holds, after the last the last. Between keys: the eye moves linearly, the view
+// direction turns at a constant rate about the axis between the two (slerp) while the distance
+// to the target and the fov change linearly, so a two-key pan turns evenly.
+CameraDesc cameraAt(const CameraDesc& base, const CameraPath& path, double t);
+
+// The six planes of the frustum of a projection * view matrix (Gribb & Hartmann 2001): a point p
+// is inside when a.p + d >= 0 for all of them, with (a, d) normalised so that value is a distance
+// in metres. Order: left, right, bottom, top, near, far.
+struct Frustum {
+  std::array<Eigen::Vector4f, 6> planes;
+  explicit Frustum(const Mat4& projView);
+  // Signed distance (m) of p from plane k, positive inside.
+  float distance(int k, const Vec3& p) const { return planes[k].head<3>().dot(p) + planes[k].w(); }
+  bool sphereVisible(const Vec3& centre, float radius) const {
+    for (int k = 0; k < 6; ++k) {
+      if (distance(k, centre) < -radius) return false;
+    }
+    return true;
+  }
+};
+
+}  // namespace sph

@@ -1,0 +1,216 @@
+// Divergence-free SPH (Bender & Koschier 2015, "Divergence-free smoothed particle hydrodynamics";
+// 2017, "Divergence-free SPH for incompressible and viscous fluids"): the pressure passes of
+// solver.pressure = "dfsph". Written from the papers' equations; the notation follows 2017:
+//
+//   V_j = m / rho0 (every particle, fluid or boundary, has the fluid's mass), s_i = rho_i / rho0,
+//   G_i = sum_j V_j gradW_ij over fluid and boundary neighbours,
+//   alpha_i = 1 / (|G_i|^2 + sum_{fluid j} |V_j gradW_ij|^2)                        (2017, eq. 9)
+//
+// A pressure-like stiffness k_i (m^2/s^2) accelerates particle i by
+//   a_i = - sum_{fluid j} V_j (k_i + k_j) gradW_ij - sum_{boundary b} V_b k_i gradW_ib
+//       = - k_i G_i - sum_{fluid j} V_j k_j gradW_ij
+// (boundary particles mirror the fluid particle's own stiffness, as Akinci et al. 2012 boundary
+// particles do in the papers), and the rate of change of s_i for velocities v is
+//   Ds_i/Dt = sum_{fluid j} V_j (v_i - v_j) . gradW_ij + sum_b V_b v_i . gradW_ib
+//           = v_i . G_i - sum_{fluid j} V_j v_j . gradW_ij                       (walls at rest).
+// So G_i, computed once per step with the factor, carries the boundary: the solver iterations
+// loop over fluid neighbours only.
+//
+// Divergence-free solver (2017, Algorithm 2): k_i = alpha_i max(Ds_i/Dt, 0) / dt, until the mean
+// dt Ds/Dt is at most max_divergence_error. Constant-density solver (Algorithm 3): with the
+// predicted s*_i = s_i + dt Ds_i/Dt, k_i = alpha_i max(s*_i - 1, 0) / dt^2, until the mean
+// s*_i - 1 is at most max_density_error. Both are Jacobi iterations (every k from the same
+// velocities, then every velocity from the same k's) warm-started with half the last step's sums
+// (jacobiSolve() says why half).
+//
+// The neighbours do not move within a step, so computeDfsphDensityAndFactor() (DfsphPairs.cpp)
+// stores every fluid pair with its V_j gradW_ij once (StepScratch::pairRows), and each Jacobi
+// pass is a gather over that list instead of a neighbour search with the kernel recomputed (3x
+// faster per pass on the peer's dam break, docs/benchmarks.md).
+//
+// Built with -ffast-math like SphPasses.cpp (sim/CMakeLists.txt), under the same rules: every
+// per-particle computation runs in a cell-range loop of forEachCellWithCandidates (the same split
+// whatever the thread count), and the error means are exact sums.
+//
+// On K processes (docs/scaling.md) the fluid holds this rank's particles and two cell planes of
+// ghosts beyond each face of its slab, so the pairs of the first plane's ghosts are complete and
+// their factors, sources and stiffnesses are the single process's. A velocity pass leaves the
+// ghosts' velocities stale (the second plane's read stiffnesses beyond it): their owners send
+// them again before every source pass (ranks::Halo::refreshGhosts). The warm start travels with
+// its particles and ghosts (Halo::attach), and every decision (the warm start, when to stop) is
+// taken from global sums, exact, so every rank iterates as the single process does.
+#include <algorithm>
+#include <cmath>
+
+#include "sim/solver/DfsphPairs.h"
+#include "sim/solver/SphPasses.h"
+#include "sim/ranks/ExactSum.h"
+#include "sim/ranks/Halo.h"
+
+namespace sph {
+namespace {
+
+bool owned(const StepContext& c, std::size_t i) {
+  return !c.ghost || !(*c.ghost)[i];
+}
+
+// The mean of `v` over the fluid (every rank's owned particles): an exact sum, rounded once, so
+// the same double whatever the split of the particles between threads and ranks.
+double meanOverFluid(const StepContext& c, const std::vector<float>& v) {
+  const std::size_t n = c.fluid.size();
+  const std::uint8_t* ghost = c.ghost ? c.ghost->data() : nullptr;
+  ranks::ExactSum sum;
+  sum.addAll(v.data(), n, ghost);
+  auto count = static_cast<std::int64_t>(ghost ? std::count(ghost, ghost + n, 0) : n);
+  if (c.ranks) ranks::sumOverRanks(*c.ranks, sum, count);
+  return count > 0 ? sum.toDouble() / static_cast<double>(count) : 0.0;
+}
+
+// True if any particle of the fluid (on any rank) has a non-zero warm start.
+bool anyWarm(const StepContext& c, const std::vector<float>& warm) {
+  std::int64_t warmed = 0;
+  for (std::size_t i = 0; i < warm.size(); ++i) {
+    if (owned(c, i) && warm[i] != 0.0f) {
+      warmed = 1;
+      break;
+    }
+  }
+  if (!c.ranks) return warmed != 0;
+  std::vector<std::int64_t> any{warmed};
+  c.ranks->sumInPlace(any);
+  return any[0] > 0;
+}
+
+// One source pass: for every particle the rate Ds_i/Dt of the current velocities (1/s), turned
+// by `source(i, rate)` into the solver's source term and stiffness.
+template <class Source>
+void sourcePass(StepContext& c, Source&& source) {
+  Particles& f = c.fluid;
+  const StepScratch& s = c.scratch;
+  const float* vx = f.vx.data();
+  const float* vy = f.vy.data();
+  const float* vz = f.vz.data();
+  forEachParticlePairs(c, [&](std::uint32_t i, const PairSpan& p) {
+    float sum = 0;
+#pragma omp simd reduction(+ : sum)
+    for (std::uint32_t q = 0; q < p.count; ++q) {
+      const std::uint32_t j = p.index[q];
+      sum += vx[j] * p.gx[q] + vy[j] * p.gy[q] + vz[j] * p.gz[q];
+    }
+    const float rate =
+        vx[i] * s.gradientSumX[i] + vy[i] * s.gradientSumY[i] + vz[i] * s.gradientSumZ[i] - sum;
+    source(i, rate);
+  });
+}
+
+// One velocity pass: v_i -= dt (k_i G_i + sum_j V_j k_j gradW_ij), the stiffness of the last
+// source pass; adds it to `warm` (and, with `acceleration`, the pressure acceleration to a).
+void velocityPass(StepContext& c, std::vector<float>& warm, bool acceleration) {
+  Particles& f = c.fluid;
+  const StepScratch& s = c.scratch;
+  const float* k = s.stiffness.data();
+  const float dt = c.dt;
+  forEachParticlePairs(c, [&](std::uint32_t i, const PairSpan& p) {
+    float ax = 0, ay = 0, az = 0;
+#pragma omp simd reduction(+ : ax, ay, az)
+    for (std::uint32_t q = 0; q < p.count; ++q) {
+      const float kj = k[p.index[q]];
+      ax += kj * p.gx[q], ay += kj * p.gy[q], az += kj * p.gz[q];
+    }
+    const float ki = k[i];
+    const float px = -(ki * s.gradientSumX[i] + ax);
+    const float py = -(ki * s.gradientSumY[i] + ay);
+    const float pz = -(ki * s.gradientSumZ[i] + az);
+    f.vx[i] += dt * px, f.vy[i] += dt * py, f.vz[i] += dt * pz;
+    if (acceleration) f.ax[i] += px, f.ay[i] += py, f.az[i] += pz;
+    warm[i] += ki;
+  });
+}
+
+// A Jacobi solve: warm start from `warm` (which then collects this step's sum), then iterations
+// of source and velocity passes until `error()` (a fraction) is at most `tolerance` after at
+// least `minIterations`, or `maxIterations`. `rate(i, rate)` sets source[i] and stiffness[i].
+// Returns the iterations and the error reached.
+template <class Rate>
+std::pair<int, double> jacobiSolve(StepContext& c, std::vector<float>& warm, double tolerance,
+                                   int minIterations, int maxIterations, bool acceleration,
+                                   Rate&& rate) {
+  const std::size_t n = c.fluid.size();
+  StepScratch& s = c.scratch;
+  s.source.resize(n);
+  s.stiffness.resize(n);
+  warm.resize(n, 0.0f);  // new particles start from 0
+  if (anyWarm(c, warm)) {
+    // Half the last step's sum: every iteration adds a non-negative stiffness (only compression
+    // is corrected), so a full warm start could only grow from step to step, never relax.
+    std::transform(warm.begin(), warm.end(), s.stiffness.begin(), [](float k) { return 0.5f * k; });
+    std::fill(warm.begin(), warm.end(), 0.0f);
+    velocityPass(c, warm, acceleration);
+  } else {
+    std::fill(warm.begin(), warm.end(), 0.0f);
+  }
+  int iterations = 0;
+  double error = 0;
+  while (true) {
+    // The ghosts' velocities as their owners have them now (distributed runs).
+    if (c.halo) c.halo->refreshGhosts({&c.fluid.vx, &c.fluid.vy, &c.fluid.vz});
+    sourcePass(c, rate);
+    error = meanOverFluid(c, s.source);
+    if ((error <= tolerance && iterations >= minIterations) || iterations >= maxIterations) break;
+    velocityPass(c, warm, acceleration);
+    ++iterations;
+  }
+  return {iterations, error};
+}
+
+}  // namespace
+
+// Divergence-free solver: makes Ds/Dt = 0 for the velocities at the start of the step (2017,
+// Algorithm 2; the papers run it at the end of a step, on the same positions and velocities).
+void solveDivergence(StepContext& c) {
+  StepScratch& s = c.scratch;
+  const float invDt = 1.0f / c.dt, dt = c.dt;
+  const auto [iterations, error] =
+      jacobiSolve(c, c.warmStart.divergence, c.solver.maxDivergenceError * 0.01, 1,
+                  c.solver.maxDivergenceIterations, false, [&](std::uint32_t i, float rate) {
+                    const float r = std::max(rate, 0.0f);
+                    s.source[i] = dt * r;
+                    s.stiffness[i] = s.factor[i] * r * invDt;
+                  });
+  c.solveStats.divergenceIterations = iterations;
+  c.solveStats.divergenceError = static_cast<float>(100 * error);
+  c.solveStats.totalDivergenceIterations += static_cast<std::uint64_t>(iterations);
+}
+
+// Constant-density solver on the velocities after the non-pressure forces (2017, Algorithm 3);
+// the pressure acceleration is added to a, and for output p_i, the pressure that gives the same
+// force in the WCSPH formula as both solvers' stiffness of this step.
+void solveDensity(StepContext& c) {
+  Particles& f = c.fluid;
+  StepScratch& s = c.scratch;
+  const float rho0 = c.solver.restDensity;
+  const float invRho0 = 1.0f / rho0, dt = c.dt, invDt2 = 1.0f / (c.dt * c.dt);
+  const auto [iterations, error] = jacobiSolve(
+      c, c.warmStart.density, c.solver.maxDensityError * 0.01, c.solver.minDensityIterations,
+      c.solver.maxDensityIterations, true, [&](std::uint32_t i, float rate) {
+        const float e = std::max(f.rho[i] * invRho0 + dt * rate - 1.0f, 0.0f);
+        s.source[i] = e;
+        s.stiffness[i] = s.factor[i] * e * invDt2;
+      });
+  c.solveStats.densityIterations = iterations;
+  c.solveStats.densityError = static_cast<float>(100 * error);
+  c.solveStats.totalDensityIterations += static_cast<std::uint64_t>(iterations);
+  c.solveStats.steps += 1;
+  // The WCSPH force is c sum m (p_i/rho_i^2 + p_j/rho_j^2) gradW_spiky (c the lattice gradient
+  // correction); DFSPH's is sum (m/rho0) n (k_i + k_j) gradW_spiky (n the density normalisation):
+  // the same force for p_i = rho_i^2 / rho0 (n / c) k_i. k_i is all this step applied: the
+  // divergence solver's sum with the constant-density solver's (each warm start included). Near
+  // a wall p_i is not the physical pressure: the walls push with k_i alone, as if they held no
+  // pressure (docs/benchmarks.md, "Bottom pressure of DFSPH").
+  const float scale = invRho0 * c.derived.densityNormalisation / c.derived.gradientCorrection;
+  const std::vector<float>& k = c.warmStart.density;
+  const std::vector<float>& kv = c.warmStart.divergence;
+  for (std::size_t i = 0; i < f.size(); ++i) f.p[i] = f.rho[i] * f.rho[i] * scale * (k[i] + kv[i]);
+}
+
+}  // namespace sph

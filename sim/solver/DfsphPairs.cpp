@@ -1,0 +1,215 @@
+// The neighbour passes of a DFSPH step that are not the pressure solvers (sim/solver/Dfsph.cpp):
+//
+// - computeDfsphDensityAndFactor(), the step's one neighbour search: the summation density (seed
+//   003, eq. (1), spiky kernel), Bender & Koschier's per-particle factor (2017, eq. 9; Dfsph.cpp
+//   gives the notation) and the fluid pairs with V_j gradW_ij and h - r_ij, stored for the passes
+//   after it (StepScratch::pairs). One pass where WCSPH's density pass and a separate factor
+//   pass each searched the neighbours.
+// - computeDfsphViscosity(), the non-pressure forces of DFSPH (viscosity, no-slip walls, gravity)
+//   as a gather over the stored pairs: the same terms as computeForces() (SphPasses.cpp) without
+//   its pressure terms, which DFSPH's solvers replace.
+//
+// Built with -ffast-math like SphPasses.cpp (sim/CMakeLists.txt), under the same rules: the
+// search runs in cell-range loops of forEachCellWithCandidates and the gathers per particle over
+// its own pairs (DfsphPairs.h), both the same whatever the thread count.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "sim/solver/DfsphPairs.h"
+#include "sim/grid/PairPacking.h"
+#include "sim/solver/SphPasses.h"
+
+namespace sph {
+namespace {
+
+// The same 32 bits as another type (std::bit_cast, C++20).
+template <class To, class From>
+To bitsAs(From from) {
+  static_assert(sizeof(To) == sizeof(From));
+  To to;
+  std::memcpy(&to, &from, sizeof(to));
+  return to;
+}
+
+// sum_j |V gradW_ij|^2 for a particle inside the rest lattice (where G_i = 0): the scale of
+// alpha's denominator for a full neighbourhood.
+float latticeDenominator(const StepContext& c) {
+  const float dx = c.solver.spacing, h = c.derived.h, g = dfsphGradientScale(c);
+  const int reach = static_cast<int>(std::ceil(h / dx));
+  double sum = 0;
+  for (int i = -reach; i <= reach; ++i)
+    for (int j = -reach; j <= reach; ++j)
+      for (int k = -reach; k <= reach; ++k) {
+        const double r = dx * std::sqrt(static_cast<double>(i * i + j * j + k * k));
+        if (r <= 0 || r >= h) continue;
+        const double w = g * (h - r) * (h - r);  // |V gradW| = |g| (h - r)^2
+        sum += w * w;
+      }
+  return static_cast<float>(sum);
+}
+
+// A particle's sums over its fluid candidates (padded lanes add 0), and each candidate's V gradW
+// and h - r into `out` (fields x, y, z, h - r). A plain function with unaliased pointers: as a
+// loop inside the pass's lambda, GCC 12 left it scalar.
+struct FluidSums {
+  float gx, gy, gz, squares, cubes;
+};
+FluidSums fluidCandidates(float xi, float yi, float zi, std::size_t padded,
+                          const float* __restrict fx, const float* __restrict fy,
+                          const float* __restrict fz, SpikyPairShape spiky, float g,
+                          CandidateBatch<4>& out) {
+  float* __restrict tx = out.field[0].data();
+  float* __restrict ty = out.field[1].data();
+  float* __restrict tz = out.field[2].data();
+  float* __restrict th = out.field[3].data();
+  float gx = 0, gy = 0, gz = 0, squares = 0, cubes = 0;
+#pragma omp simd reduction(+ : gx, gy, gz, squares, cubes)
+  for (std::size_t j = 0; j < padded; ++j) {
+    const float dx = xi - fx[j], dy = yi - fy[j], dz = zi - fz[j];
+    const float r2 = dx * dx + dy * dy + dz * dz;
+    const float invR = spiky.inverseDistance(r2);
+    const float hr = spiky.hMinusR(r2, invR);
+    const float wj = hr * hr * invR;
+    th[j] = hr;
+    tx[j] = g * wj * dx, ty[j] = g * wj * dy, tz[j] = g * wj * dz;
+    gx += wj * dx, gy += wj * dy, gz += wj * dz;
+    squares += wj * wj * r2;
+    cubes += hr * hr * hr;
+  }
+  return {gx, gy, gz, squares, cubes};
+}
+
+// The same over the boundary candidates: sum (h - r)^2 / r (x_i - x_b), sum (h - r)^3 and sum
+// (h - r).
+struct BoundarySums {
+  float gx, gy, gz, cubes, weight;
+};
+BoundarySums boundaryCandidates(float xi, float yi, float zi, const CandidateBatch<3>& bb,
+                                SpikyPairShape spiky) {
+  const float* __restrict bxs = bb.field[0].data();
+  const float* __restrict bys = bb.field[1].data();
+  const float* __restrict bzs = bb.field[2].data();
+  float gx = 0, gy = 0, gz = 0, cubes = 0, weight = 0;
+#pragma omp simd reduction(+ : gx, gy, gz, cubes, weight)
+  for (std::size_t j = 0; j < bb.padded; ++j) {
+    const float dx = xi - bxs[j], dy = yi - bys[j], dz = zi - bzs[j];
+    const float r2 = dx * dx + dy * dy + dz * dz;
+    const float invR = spiky.inverseDistance(r2);
+    const float hr = spiky.hMinusR(r2, invR);
+    const float wb = hr * hr * invR;
+    gx += wb * dx, gy += wb * dy, gz += wb * dz;
+    cubes += hr * hr * hr;
+    weight += hr;
+  }
+  return {gx, gy, gz, cubes, weight};
+}
+
+}  // namespace
+
+void computeDfsphDensityAndFactor(StepContext& c) {
+  Particles& f = c.fluid;
+  const BoundaryParticles& b = c.boundary.particles();
+  StepScratch& s = c.scratch;
+  const std::size_t n = f.size();
+  s.gradientSumX.resize(n), s.gradientSumY.resize(n), s.gradientSumZ.resize(n);
+  s.factor.resize(n);
+  s.pairCount.resize(n);
+  s.inverseDensity.resize(n);
+  s.wallWeight.resize(n);
+  if (s.indexBits.size() < n) {  // the bits of i: unchanged by the sort, so set once
+    const std::size_t from = s.indexBits.size();
+    s.indexBits.resize(n);
+    for (std::size_t i = from; i < n; ++i)
+      s.indexBits[i] = bitsAs<float>(static_cast<std::uint32_t>(i));
+  }
+  s.pairs.begin(rowCount(c.grid), threadCount());
+  const float h = c.derived.h;
+  const SpikyPairShape spiky{h, h * h};
+  const float g = dfsphGradientScale(c);
+  // rho = densityScale sum (h - r)^3, the particle itself (r = 0, which the pair shape leaves
+  // out) included: SpikyShape with the spiky factor (the scene loader requires the spiky density
+  // kernel with DFSPH).
+  const float densityScale =
+      c.derived.kernels.spikyFactor * c.derived.mass * c.derived.densityNormalisation;
+  const float self = h * h * h;
+  // A floor under alpha's denominator: a particle with a sparse neighbourhood (a drop touching a
+  // wall at the edge of the support) has a tiny one, and its stiffness, acting on its few
+  // neighbours through their gradients rather than its own, blew up runs. A quarter of the full
+  // neighbourhood's value leaves every particle with half a neighbourhood or more (the free
+  // surface) untouched and under-corrects only spray.
+  const float floor = 0.25f * latticeDenominator(c);
+  // Per thread: each candidate's V gradW_ij and h - r (0 outside the support), before the
+  // candidates inside the support are packed into the row.
+  std::vector<CandidateBatch<4>> gradients(threadCount());
+  forEachCellWithCandidates<4, 3>(
+      c.grid, {f.x.data(), f.y.data(), f.z.data(), s.indexBits.data()}, c.boundary.grid(),
+      {b.x.data(), b.y.data(), b.z.data()}, h,
+      [&](std::size_t row, std::uint32_t begin, std::uint32_t end, const CandidateBatch<4>& fb,
+          const CandidateBatch<3>& bb) {
+        const int thread = threadIndex();
+        CandidateBatch<4>& t = gradients[thread];
+        t.resize(fb.padded);
+        const float* fx = fb.field[0].data();
+        const float* fy = fb.field[1].data();
+        const float* fz = fb.field[2].data();
+        for (std::uint32_t i = begin; i < end; ++i) {
+          const float xi = f.x[i], yi = f.y[i], zi = f.z[i];
+          const FluidSums sums = fluidCandidates(xi, yi, zi, fb.padded, fx, fy, fz, spiky, g, t);
+          float gx = sums.gx, gy = sums.gy, gz = sums.gz;
+          const float squares = sums.squares, cubes = sums.cubes;
+          // The pairs: the candidates inside the support.
+          const PairStore::Row to = s.pairs.room(row, thread, fb.padded);
+          const std::uint32_t count =
+              packPairs(fb.padded, fb.field[3].data(), t, {to.index, to.gx, to.gy, to.gz, to.hr});
+          s.pairs.add(row, thread, count);
+          s.pairCount[i] = count;
+          const BoundarySums wall = boundaryCandidates(xi, yi, zi, bb, spiky);
+          const float bx = wall.gx, by = wall.gy, bz = wall.gz, bcubes = wall.cubes,
+                      bweight = wall.weight;
+          const float rho = densityScale * (self + cubes + bcubes);
+          f.rho[i] = rho;
+          s.inverseDensity[i] = 1.0f / rho;
+          s.wallWeight[i] = bweight;
+          gx = g * (gx + bx), gy = g * (gy + by), gz = g * (gz + bz);
+          s.gradientSumX[i] = gx, s.gradientSumY[i] = gy, s.gradientSumZ[i] = gz;
+          const float denominator = gx * gx + gy * gy + gz * gz + g * g * squares;
+          s.factor[i] = 1.0f / std::max(denominator, floor);
+        }
+      });
+  s.pairs.end();
+}
+
+// a_i = nu (rho0 / rho_i) [sum_j m / rho_j (v_j - v_i) lapW_visc - (no-slip) sum_b m / rho0 v_i
+// lapW_visc] + g, computeForces()'s viscosity, wall and gravity terms (Müller 2003), over the
+// stored pairs.
+void computeDfsphViscosity(StepContext& c) {
+  Particles& f = c.fluid;
+  const StepScratch& s = c.scratch;
+  const Kernels& kern = c.derived.kernels;
+  const float viscScale =
+      c.derived.viscosity * c.solver.restDensity * c.derived.mass * kern.viscLapFactor;
+  const Vec3 g = c.solver.gravity;
+  const float noSlip = c.solver.noSlipWalls ? 1.0f / c.solver.restDensity : 0.0f;
+  const float* vx = f.vx.data();
+  const float* vy = f.vy.data();
+  const float* vz = f.vz.data();
+  const float* invRho = s.inverseDensity.data();
+  forEachParticlePairs(c, [&](std::uint32_t i, const PairSpan& p) {
+    const float vxi = vx[i], vyi = vy[i], vzi = vz[i];
+    float ax = 0, ay = 0, az = 0;
+#pragma omp simd reduction(+ : ax, ay, az)
+    for (std::uint32_t q = 0; q < p.count; ++q) {
+      const std::uint32_t j = p.index[q];
+      const float w = invRho[j] * p.hr[q];
+      ax += w * (vx[j] - vxi), ay += w * (vy[j] - vyi), az += w * (vz[j] - vzi);
+    }
+    // No-slip: the viscosity term with the wall at rest (v_b = 0, rho_b = rho0).
+    const float drag = noSlip * s.wallWeight[i];
+    ax -= drag * vxi, ay -= drag * vyi, az -= drag * vzi;
+    const float visc = viscScale * invRho[i];
+    f.ax[i] = visc * ax + g.x(), f.ay[i] = visc * ay + g.y(), f.az[i] = visc * az + g.z();
+  });
+}
+
+}  // namespace sph

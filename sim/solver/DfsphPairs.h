@@ -1,0 +1,51 @@
+// DFSPH's stored fluid pairs (StepScratch::pairs, sim/grid/PairStore.h): the per-step neighbour list
+// that computeDfsphDensityAndFactor() builds and every other DFSPH pass walks (sim/solver/DfsphPairs.cpp,
+// sim/solver/Dfsph.cpp). Internal to those files, which are built with -ffast-math.
+#pragma once
+
+#include <cstdint>
+
+#include "sim/grid/CellBatch.h"
+#include "sim/Parallel.h"
+#include "sim/solver/StepContext.h"
+
+namespace sph {
+
+// V gradW_spiky(x_i - x_j) = gradientScale (h - r)^2 / r (x_i - x_j): the exact gradient of the
+// normalised density sum over rho0 (SphPasses.cpp, computeDensity()).
+inline float dfsphGradientScale(const StepContext& c) {
+  return c.derived.kernels.spikyGradFactor * c.derived.mass * c.derived.densityNormalisation /
+         c.solver.restDensity;
+}
+
+// One particle's pairs: `count` neighbours j (index), V_j gradW_ij (gx, gy, gz; 1/m) and
+// h - r_ij (hr; m), contiguous.
+struct PairSpan {
+  const std::uint32_t* index;
+  const float *gx, *gy, *gz, *hr;
+  std::uint32_t count;
+};
+
+// Calls body(i, pairs) for every fluid particle, in parallel by rows of cells, with its pairs of
+// this step. Each particle's pairs start at the same offset from a cache line whatever the thread
+// count, so the simd loops over them peel the same way and the sums keep their bits. On K
+// processes with slabs across x a row holds only the rank's part, so the offsets differ from the
+// single process's; the release build's loops do not peel (with every row shifted by 5 floats a
+// run kept its bits, 2026-11-26), and tests/test_mpi.cpp (MpiDfsph, slabs across x) would see it
+// if a compiler or -march did.
+template <class Body>
+void forEachParticlePairs(const StepContext& c, Body&& body) {
+  const StepScratch& s = c.scratch;
+  parallelForDynamic(rowCount(c.grid), 4, [&](std::size_t row) {
+    const auto [begin, end] = rowRange(c.grid, row);
+    const PairStore::Row r = s.pairs.row(row);
+    std::size_t at = 0;
+    for (std::uint32_t i = begin; i < end; ++i) {
+      const std::uint32_t count = s.pairCount[i];
+      body(i, PairSpan{r.index + at, r.gx + at, r.gy + at, r.gz + at, r.hr + at, count});
+      at += count;
+    }
+  });
+}
+
+}  // namespace sph
