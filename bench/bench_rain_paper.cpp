@@ -25,7 +25,8 @@ using bench::cameraAtFrame;
 using bench::desc;
 using bench::kAspect;
 
-// --- The paper's claim in numbers (issue 13, "Measured" 1): drops inside the view frustum ---
+// --- The paper's claim in numbers: drops inside the view frustum (docs/benchmarks.md, "The
+// paper's budgets along camera paths") ---
 
 // Camera paths of 1 s at 30 fps from the still camera (0, 1, 4) looking along -z, fov 45:
 // 0 still, 1 a 90-degree pan, 2 a dolly 3 m forward, 3 a zoom to fov 20.
@@ -85,7 +86,8 @@ BENCHMARK(RainInView)
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 
-// --- The paper's Table 1 (issue 13, "Measured" 3): random number methods for spawning ---
+// --- The paper's Table 1: random number methods for spawning (docs/benchmarks.md, "The paper's
+// Table 1: random numbers for spawning") ---
 
 // args: method (0 rand(), 1 srand(seed) + rand(), 2 std::mt19937 + uniform_real_distribution,
 // 3 ours: the counter-based hash, OpenMP), sampling (0 uniform: rejection from the sphere's

@@ -158,9 +158,9 @@ TEST_F(CacheCli, InterruptStopsBetweenStepsAndTheRunResumes) {
   EXPECT_EQ(io::CacheReader(cache).frameCount(), 251u);
 }
 
-// Issue 12, item 10: a full disk (here a file size limit, which fails writes the same way) stops
-// the run with one line saying what the cache keeps; the cache says why it stopped instead of
-// "running", no temporary sidecar or partial cache is left, and the run resumes from it.
+// A full disk (here a file size limit, which fails writes the same way) stops the run with one line
+// saying what the cache keeps; the cache says why it stopped instead of "running", no temporary
+// sidecar or partial cache is left, and the run resumes from it.
 TEST_F(CacheCli, AFullDiskStopsTheRunWithItsFramesKeptAndSaid) {
   const std::string scene = dir_ + "/long.json";
   std::ofstream(scene) << test::tinyCacheScene(2.0, 100);
