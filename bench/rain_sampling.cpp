@@ -1,14 +1,14 @@
-// The distribution behind `rain.sampling` (issue 13, "Measured 3"; docs/benchmarks.md, "The
-// paper's Table 1"), once with our uniform ball sampling and once with eq. (7) read literally (a
-// separate random radius per axis). Prints CSV for scripts/plot_rain_sampling.py, per sampling
-// and bin: the density of the radius of 10^6 points of the sphere of eq. (5) (with the
-// counter-based numbers, before the side planes: `uniform` the cube's points inside the ball as
-// sim/rain/ViewSampler.h takes them, `paper` eq. (6)-(7); in sphere radii, the uniform ball is
-// 3 r^2), and the density of the depth (distance from the camera along its axis, in units of
-// `far`) of the 10^6 drops the shipped RainSystem spawns in the rain space of a still camera.
-// With the argument `fov` (issue 13, "Measured 4"): per vertical field of view, the share of
-// sphere samples the side planes reject (eq. (8)-(9)) when 10^6 drops are spawned, the share
-// the volumes predict (1 - volume(frustum and sphere) / volume(sphere), RainSpace::volume, an
+// The distribution behind `rain.sampling` (docs/benchmarks.md, "The paper's Table 1"), once with
+// our uniform ball sampling and once with eq. (7) read literally (a separate random radius per
+// axis). Prints CSV for scripts/plot_rain_sampling.py, per sampling and bin: the density of the
+// radius of 10^6 points of the sphere of eq. (5) (with the counter-based numbers, before the side
+// planes: `uniform` the cube's points inside the ball as sim/rain/ViewSampler.h takes them, `paper`
+// eq. (6)-(7); in sphere radii, the uniform ball is 3 r^2), and the density of the depth (distance
+// from the camera along its axis, in units of `far`) of the 10^6 drops the shipped RainSystem
+// spawns in the rain space of a still camera. With the argument `fov` (docs/benchmarks.md, "The
+// frustum test's rejections against the field of view"): per vertical field of view, the share of
+// sphere samples the side planes reject (eq. (8)-(9)) when 10^6 drops are spawned, the share the
+// volumes predict (1 - volume(frustum and sphere) / volume(sphere), RainSpace::volume, an
 // independent Monte Carlo estimate) and the wall time of the spawn.
 #include <algorithm>
 #include <chrono>

@@ -1,5 +1,5 @@
-// Lights and solids for the particle-light tests (test_lights, test_lights_cull, test_lights_cpu,
-// test_lights_shade).
+// Lights and solids for the particle-light tests (test_lights, test_lights_volume,
+// test_lights_filters, test_lights_cull, test_lights_cpu, test_lights_shade).
 #pragma once
 
 #include <algorithm>

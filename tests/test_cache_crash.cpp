@@ -1,7 +1,6 @@
-// Crash safety of the HDF5 cache (issue 3): a run killed with SIGKILL at any moment leaves a file
-// that opens, with the project's reader and with h5dump, and whose complete frames all read back
-// bit for bit as an uninterrupted run wrote them; a killed run resumed to the end equals the
-// uninterrupted run.
+// Crash safety of the HDF5 cache: a run killed with SIGKILL at any moment leaves a file that opens,
+// with the project's reader and with h5dump, and whose complete frames all read back bit for bit as
+// an uninterrupted run wrote them; a killed run resumed to the end equals the uninterrupted run.
 //
 // Two ways of killing, both for real (no mocks): (1) a preload library (KillAtWrite.cpp) sends
 // SIGKILL just before the N-th write to the cache, for every N of a run, which visits every state

@@ -1,8 +1,8 @@
-// Resume (issue 3): `sphsplat run SCENE --resume CACHE` continues from the cache's last frame, and
-// a run of 2 s equals, bit for bit, a run of 1 s resumed to 2 s with the same thread count: every
-// frame, every resume record. Also with a cache that holds positions only (the resume record then
-// carries the rest), and with the showcase scene's nozzle. A cache written before the point
-// indexes gets them.
+// Resume: `sphsplat run SCENE --resume CACHE` continues from the cache's last frame, and a run of
+// 2 s equals, bit for bit, a run of 1 s resumed to 2 s with the same thread count: every frame,
+// every resume record. Also with a cache that holds positions only (the resume record then carries
+// the rest), and with the showcase scene's nozzle. A cache written before the point indexes gets
+// them.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <sys/stat.h>

@@ -215,7 +215,8 @@ TEST(Cli, BlowUpStopsWithStepTimeParticleAndExitThree) {
             blowUp.substr(0, 80));
 }
 
-// One line on stderr, printable ASCII, short: what every refusal must be (issue 12).
+// One line on stderr, printable ASCII, short: what every refusal must be (docs/reliability.md,
+// "Bad input is one line and exit 2").
 ::testing::AssertionResult oneShortLine(const test::CommandResult& r) {
   const std::string& m = r.output;
   if (r.exitCode != 2) return ::testing::AssertionFailure() << "exit " << r.exitCode << ": " << m;

@@ -74,8 +74,10 @@ TEST_F(ExportCli, ExportWritesExactCsvAndPly) {
   EXPECT_EQ(lineCount(r.output), 1 + reader.summary().boundaryParticles);
 }
 
-// Issue 12: `export` wrote CSV over the cache it read when the output named it by another path,
-// and replaced any existing file without asking.
+// The output is compared with the cache as a file, not by its name: compared by name, an output
+// that named the cache by another path (relative, dotted, a symbolic or hard link) let `export`
+// write CSV over the cache it read. Not even --overwrite lets `export` write over its cache or its
+// sidecar, or `run` over its scene.
 TEST_F(ExportCli, ExportNeverWritesOverTheCacheWhateverPathNamesIt) {
   const std::string before = readFile(cache_);
   ASSERT_EQ(symlink(cache_.c_str(), (dir_ + "/link.h5").c_str()), 0);

@@ -1,6 +1,6 @@
-// Issue 12, item 6: a scene too big for the machine is refused before anything is allocated, with
-// one line naming the estimate, the machine's memory and the key to change; and the estimate
-// (sim/run/MemoryEstimate.h) is within 20% of the measured peak resident memory of real runs.
+// A scene too big for the machine is refused before anything is allocated, with one line naming the
+// estimate, the machine's memory and the key to change; and the estimate (sim/run/MemoryEstimate.h) is
+// within 20% of the measured peak resident memory of real runs.
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <sys/wait.h>

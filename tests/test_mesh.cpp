@@ -1,7 +1,7 @@
-// The renderer's SD iso-surface as a mesh (render/mesh, issue 12 item 14): the derived case table,
-// a closed mesh of a ball of particles with the sphere's area and volume, outward normals that
-// agree with the triangles and the density gradient, the silhouette and normals against the
-// reference ray-marcher's picture of the same field, and the same mesh for any thread count.
+// The renderer's SD iso-surface as a mesh (render/mesh): the derived case table, a closed mesh of a
+// ball of particles with the sphere's area and volume, outward normals that agree with the
+// triangles and the density gradient, the silhouette and normals against the reference
+// ray-marcher's picture of the same field, and the same mesh for any thread count.
 #include <gtest/gtest.h>
 
 #include <algorithm>

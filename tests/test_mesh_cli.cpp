@@ -1,7 +1,7 @@
-// `sphsplat mesh` (issue 12, item 14): the frame syntax and file naming of `export`, files that
-// meshio reads back as closed triangle meshes with unit normals, PLY and OBJ of one frame holding
-// the same numbers, and the refusals (frames not in the cache, an existing output, several
-// frames into one file, the cache itself), each one line with exit code 2 and nothing written.
+// `sphsplat mesh`: the frame syntax and file naming of `export`, files that meshio reads back as
+// closed triangle meshes with unit normals, PLY and OBJ of one frame holding the same numbers, and
+// the refusals (frames not in the cache, an existing output, several frames into one file, the
+// cache itself), each one line with exit code 2 and nothing written.
 #include <gtest/gtest.h>
 
 #include <filesystem>

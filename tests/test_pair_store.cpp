@@ -1,6 +1,6 @@
 // DFSPH's pair store (sim/grid/PairStore.h): rows keep what was written to them, start on a cache line
 // wherever they land, and the memory held follows the last pass's need instead of the most any
-// row ever needed (issue 15: 2.5x MemoryEstimate at the impact of a 1M-particle dam break).
+// row ever needed (which reached 2.5x MemoryEstimate at the impact of a 1M-particle dam break).
 #include <gtest/gtest.h>
 
 #include <cstdint>

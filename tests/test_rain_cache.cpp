@@ -1,7 +1,7 @@
-// The rain's drops in the cache (issue 13; docs/cache-format.md, "Rain drops"): a run of a scene
-// with rain stores every frame's drops as /Rain#N - exactly the drops the scene's rain stepper
-// gives at that frame - the XDMF sidecar lists them as a third point set, `info` counts them, and
-// a cache without rain holds none of it.
+// The rain's drops in the cache (docs/cache-format.md, "Rain drops"): a run of a scene with rain
+// stores every frame's drops as /Rain#N - exactly the drops the scene's rain stepper gives at that
+// frame - the XDMF sidecar lists them as a third point set, `info` counts them, and a cache without
+// rain holds none of it.
 #include <gtest/gtest.h>
 
 #include <cstring>

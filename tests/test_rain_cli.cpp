@@ -1,6 +1,6 @@
-// Rain as a user meets it (issue 13): `run` of scenes/rain_pour.json draws its pictures with
-// rain, `render` of the cache regenerates the same rain pixel for pixel (docs/rain.md, "Replay"),
-// and a bad rain key stops the run with one line and exit code 2.
+// Rain as a user meets it: `run` of scenes/rain_pour.json draws its pictures with rain, `render` of
+// the cache regenerates the same rain pixel for pixel (docs/rain.md, "Replay"), and a bad rain key
+// stops the run with one line and exit code 2.
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>

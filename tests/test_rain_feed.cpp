@@ -1,7 +1,7 @@
-// rain.feed_fluid (issue 13; docs/rain.md, "Rain that fills the pool"): the water of the drops
-// that land in the pool joins the SPH fluid, one particle per particle's worth, so the mass the
-// fluid gains is the rain's that landed, the pool's level rises by that volume over its area,
-// runs are deterministic, and without the key the rain leaves the fluid exactly as it was.
+// rain.feed_fluid (docs/rain.md, "Rain that fills the pool"): the water of the drops that land in
+// the pool joins the SPH fluid, one particle per particle's worth, so the mass the fluid gains is
+// the rain's that landed, the pool's level rises by that volume over its area, runs are
+// deterministic, and without the key the rain leaves the fluid exactly as it was.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -2,7 +2,7 @@
 // shaders through the splat renderer's layer hook - streak pixels where the drops are and none
 // where they are not, none at all without drops, streaks along the projected velocity, and the
 // spotlight's colour on the drops inside its cone only - for both rain.draw paths ("cpu" and
-// "triangles"; tests/test_rain_raster.cpp compares the two).
+// "triangles"; tests/test_rain_raster_gl.cpp compares the two).
 #include <gtest/gtest.h>
 
 #include <cmath>

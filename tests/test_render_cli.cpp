@@ -124,7 +124,7 @@ TEST_F(RenderCli, BadInputIsOneLineAndExitTwo) {
             "'2:5'\n");
 }
 
-// Issue 12: a frame's PNG is redrawn over an older PNG, never over a device node or FIFO.
+// A frame's PNG is redrawn over an older PNG, never over a device node or FIFO.
 TEST_F(RenderCli, FramesAreNeverWrittenOverNonRegularFiles) {
   const std::string out = dir_ + "/fifo-frames";
   ::mkdir(out.c_str(), 0755);

@@ -1,6 +1,6 @@
-// Issue 12, item 1: runs started at the same moment on the same output. Exactly one proceeds;
-// every other one stops with exit 2 and one line before it creates, truncates or renames anything
-// (io/OutputLock.h), and the winner's cache and pictures are whole.
+// Runs started at the same moment on the same output. Exactly one proceeds; every other one stops
+// with exit 2 and one line before it creates, truncates or renames anything (io/OutputLock.h), and
+// the winner's cache and pictures are whole.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>

@@ -225,8 +225,8 @@ TEST(SceneLoader, OverridesEditNestedKeysAndArrays) {
   EXPECT_NE(errorOf(kMinimal, {"nonsense"}).find("expected KEY.PATH=VALUE"), std::string::npos);
 }
 
-// Issue 12: --set key paths were read loosely (stoul: "internal error" for a long index, index 0
-// for "0.5", "solver..spacing" accepted, -1 wrapped to 18446744073709551615).
+// --set key paths are read strictly: read loosely (stoul) they gave "internal error" for a long
+// index, index 0 for "0.5", accepted "solver..spacing" and wrapped -1 to 18446744073709551615.
 TEST(SceneLoader, SetKeyPathsAreStrict) {
   auto set = [](const std::string& edit) { return errorOf(kMinimal, {edit}); };
   EXPECT_EQ(set("fluids[99999999999999999999].min=[0,0,0]"),
@@ -268,8 +268,9 @@ TEST(SceneLoader, DuplicateKeysAreRefusedWithTheirPathAndLine) {
             0u);
 }
 
-// Issue 12: numbers past what a run can use were accepted (output.fps = 1e308 crawled at 1e-304 s
-// a step) or overflowed in messages ("-9223372036854775808 particles", 300-digit limits).
+// Numbers are bounded by what a run can use, and the messages print them readably: unbounded,
+// output.fps = 1e308 crawled at 1e-304 s a step, and messages overflowed ("-9223372036854775808
+// particles", 300-digit limits).
 TEST(SceneLoader, NumbersHaveSaneRangesAndReadableMessages) {
   auto set = [](const std::string& edit) { return errorOf(kMinimal, {edit}); };
   EXPECT_EQ(set("output.fps=1e308"),

@@ -65,10 +65,10 @@ TEST_F(SplatGl, ShadersLightASplatExactlyAsTheLightingModel) {
 }
 
 TEST_F(SplatGl, TranslucentWaterShowsItsBackLitFromTheSideTheEyeSees) {
-  // Issue 12, item 15: through translucent water the eye sees the far surface from inside, the
-  // side whose normal points away. Lit with that normal a splat read as grazing (Fresnel 1: pure
-  // sky colour), the white shards on the pour's jet; lit from the side seen it matches a splat
-  // that faces the eye. Opaque water keeps the normal as it is (culling handles the back).
+  // Through translucent water the eye sees the far surface from inside, the side whose normal
+  // points away. Lit with that normal a splat read as grazing (Fresnel 1: pure sky colour), the
+  // white shards on the pour's jet; lit from the side seen it matches a splat that faces the eye.
+  // Opaque water keeps the normal as it is (culling handles the back).
   SplatRenderer r(8, 8);
   CameraDesc top = topView();
   top.position = Vec3(0, 1, 0), top.target = Vec3::Zero();

@@ -1,7 +1,7 @@
 // Hydrostatic validation (DESIGN.md): water at rest in the shipped still tank (narrowed to a few
-// thousand particles) must carry the pressure rho0 g depth at the bottom (within 1%, issue 15),
-// read in the bottom layer's p and by a sensor in the floor (tests/StillTankFloor.h, the same
-// reading as DFSPH's in test_dfsph.cpp), stay within 1% of the rest density and lose no particle.
+// thousand particles) must carry the pressure rho0 g depth at the bottom (within 1%), read in the
+// bottom layer's p and by a sensor in the floor (tests/StillTankFloor.h, the same reading as
+// DFSPH's in test_dfsph.cpp), stay within 1% of the rest density and lose no particle.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -89,7 +89,7 @@ TEST(Sweep, BadSweepFilesNameTheKey) {
                    "sweep.json: threads: expected an integer");
   expectInputError(R"({"scene": "x.json", "set": ["solver.cfl"]})",
                    "sweep.json: set: expected \"KEY.PATH=VALUE\"");
-  // Issue 12: the sweep file goes through the same JSON checks as a scene.
+  // The sweep file is user input as a scene is: it goes through the same JSON checks.
   expectInputError(
       "{\"scene\": \"x.json\", \"axes\": " + std::string(100, '[') + std::string(100, ']') + "}",
       "sweep.json:1:92: nested deeper than 64 levels");

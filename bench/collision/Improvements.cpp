@@ -26,8 +26,9 @@ void printImprovements(const Options& o) {
       "| variant | pair recall | particle recall | one-sided | cdt-cpu ms (least / median) | "
       "cdt-gl ms "
       "|\n| --- | ---: | ---: | ---: | ---: | ---: |\n");
-  // Run time against error for the collision pass (issue 6): one row per method and option set,
-  // the miss rate (1 - pair recall) against the least cdt-cpu / method ms, for plot_sweep.py.
+  // Run time against error for the collision pass (docs/benchmarks.md, "Run time vs error:
+  // collision"): one row per method and option set, the miss rate (1 - pair recall) against the
+  // least cdt-cpu / method ms, for plot_sweep.py.
   FILE* csv = o.csv.empty() ? nullptr : std::fopen(o.csv.c_str(), "w");
   if (!o.csv.empty() && !csv) throw std::runtime_error("cannot write " + o.csv);
   if (csv)

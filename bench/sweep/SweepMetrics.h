@@ -10,7 +10,8 @@
 //   density      compression (rho - rho0) / rho0 at every output frame: mean and max
 //   energy       total energy (kinetic + potential + EOS elastic) and mean density every N steps,
 //                written as a time series; their drift after a settling time
-// Planned (issue 6): collision recall against `exact`, render PSNR / hole fraction.
+// Not yet metrics: collision recall against `exact` (bench_collision measures it), render PSNR /
+// hole fraction.
 #pragma once
 
 #include <cstdint>

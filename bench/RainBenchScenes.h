@@ -1,0 +1,37 @@
+// The frame, camera and rain of bench_rain's benchmarks (docs/benchmarks.md, "View-dependent
+// rain"): 960 x 540 pixels, a camera at (0, 1, 4) panning 90 degrees a second at 30 fps, and rain
+// near 0.1 m to far 5 m with a 10 x 5 x 10 m region for the `region` spawn.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+#include "sim/scene/Camera.h"
+#include "sim/scene/RainDesc.h"
+
+namespace sph::bench {
+
+inline constexpr int kWidth = 960, kHeight = 540;
+inline constexpr float kAspect = static_cast<float>(kWidth) / kHeight;
+
+inline CameraDesc cameraAtFrame(int frame) {
+  CameraDesc c;
+  c.position = Vec3(0, 1, 4);
+  const double a = frame / 30.0 * M_PI / 2;  // 90 degrees a second
+  c.target =
+      c.position + Vec3(static_cast<float>(-std::sin(a)), 0, static_cast<float>(-std::cos(a)));
+  c.fovYDegrees = 45;
+  return c;
+}
+
+inline RainDesc desc(std::int64_t count, std::int64_t spawn) {
+  RainDesc d;
+  d.count = static_cast<std::size_t>(count);
+  d.near = 0.1f, d.far = 5;
+  d.spawn = static_cast<RainSpawn>(spawn);
+  d.region.lo = Vec3(-5, -1, -5), d.region.hi = Vec3(5, 4, 5);
+  return d;
+}
+
+}  // namespace sph::bench
