@@ -44,7 +44,8 @@ std::string reproduceCommand(const BenchOptions& o, const std::string& output) {
 
 void printVariant(const sweep::VariantResult& r, const std::vector<std::string>& columns,
                   std::size_t index, std::size_t count) {
-  std::printf("[%zu/%zu] %s: %s", index + 1, count, r.variant.label.c_str(), enumName(r.status));
+  std::printf("[%zu/%zu] %s: %s", index + 1, count, r.variant.label.c_str(),
+              scene::enumName(r.status));
   if (r.status == sweep::RunStatus::Guard)
     std::printf(" at step %llu", static_cast<unsigned long long>(r.guardStep));
   std::printf(", %zu particles, %llu steps, %.3g s (%.3g ms/step)", r.particles,

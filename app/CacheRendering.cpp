@@ -13,7 +13,7 @@
 namespace sph::app {
 namespace {
 
-void applySize(const std::string& size, RenderDesc& d) {
+void applySize(const std::string& size, scene::RenderDesc& d) {
   if (size.empty()) return;
   // WIDTHxHEIGHT, each 16-8192: strtol with its end checked (sscanf's %d overflows silently).
   auto dimension = [](const std::string& text, long& value) {
@@ -35,9 +35,9 @@ void applySize(const std::string& size, RenderDesc& d) {
 
 }  // namespace
 
-std::vector<render::splat::SplatKind> kindsOf(RenderDesc::Splat s) {
-  if (s == RenderDesc::Splat::Point) return {render::splat::SplatKind::Point};
-  if (s == RenderDesc::Splat::Quad) return {render::splat::SplatKind::Quad};
+std::vector<render::splat::SplatKind> kindsOf(scene::RenderDesc::Splat s) {
+  if (s == scene::RenderDesc::Splat::Point) return {render::splat::SplatKind::Point};
+  if (s == scene::RenderDesc::Splat::Quad) return {render::splat::SplatKind::Quad};
   return {render::splat::SplatKind::Point, render::splat::SplatKind::Quad};
 }
 
@@ -47,8 +47,8 @@ CacheRendering::CacheRendering(const std::string& path_, const std::vector<std::
       open(std::make_unique<io::CacheReader>(path_)),
       summary(open->summary()),
       scene(sceneOfCache(summary, overrides)) {
-  desc = scene.render ? *scene.render : RenderDesc{};
-  if (!splat.empty()) desc.splat = *parseEnum<RenderDesc::Splat>(splat);
+  desc = scene.render ? *scene.render : scene::RenderDesc{};
+  if (!splat.empty()) desc.splat = *scene::parseEnum<scene::RenderDesc::Splat>(splat);
   applySize(size, desc);
   cameraFromScene = scene.camera.has_value();
   if (cameraFromScene) camera = *scene.camera;
@@ -59,7 +59,7 @@ io::CacheReader& CacheRendering::reader() {
   return *open;
 }
 
-io::cache::FieldSet fieldsToDraw(const Scene& scene) {
+io::cache::FieldSet fieldsToDraw(const scene::Scene& scene) {
   io::cache::FieldSet fields;
   for (auto f : {io::cache::Field::X, io::cache::Field::Y, io::cache::Field::Z})
     fields.set(static_cast<std::size_t>(f));

@@ -20,18 +20,18 @@ namespace sph::app {
 
 // The fields a frame of `scene` needs to be drawn: positions, and velocities for lights coloured
 // by speed.
-io::cache::FieldSet fieldsToDraw(const Scene& scene);
+io::cache::FieldSet fieldsToDraw(const scene::Scene& scene);
 
 // The splat kinds a render.splat choice draws, in drawing order.
-std::vector<render::splat::SplatKind> kindsOf(RenderDesc::Splat s);
+std::vector<render::splat::SplatKind> kindsOf(scene::RenderDesc::Splat s);
 
 struct CacheRendering {
   std::string path;
   std::unique_ptr<io::CacheReader> open;  // null while the cache is written
   io::CacheSummary summary;
-  Scene scene;
-  RenderDesc desc;
-  CameraDesc camera;
+  scene::Scene scene;
+  scene::RenderDesc desc;
+  scene::CameraDesc camera;
   bool cameraFromScene = false;
 
   // `splat`: a render.splat name or empty (the scene's); `size`: WIDTHxHEIGHT or empty.

@@ -12,7 +12,7 @@
 namespace sph::app {
 
 void checkPositions(const std::vector<float>& x, const std::vector<float>& y,
-                    const std::vector<float>& z, const Scene& scene, const std::string& what,
+                    const std::vector<float>& z, const scene::Scene& scene, const std::string& what,
                     const std::string& path) {
   // A spacing of slack: a particle is removed once it is past the domain's face.
   const float slack = scene.solver.spacing;
@@ -37,7 +37,8 @@ void checkPositions(const std::vector<float>& x, const std::vector<float>& y,
   }
 }
 
-Scene sceneOfCache(const io::CacheSummary& summary, const std::vector<std::string>& extraEdits) {
+scene::Scene sceneOfCache(const io::CacheSummary& summary,
+                          const std::vector<std::string>& extraEdits) {
   std::vector<std::string> edits;
   std::istringstream lines(summary.sceneOverrides);
   for (std::string line; std::getline(lines, line);) {

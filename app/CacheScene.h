@@ -10,14 +10,15 @@
 
 namespace sph::app {
 
-Scene sceneOfCache(const io::CacheSummary& summary, const std::vector<std::string>& extraEdits);
+scene::Scene sceneOfCache(const io::CacheSummary& summary,
+                          const std::vector<std::string>& extraEdits);
 
 // Positions read from the cache at `path` (frame `frame`'s particles, or its boundary when
 // `frame` is "the boundary") as a run leaves them: finite and inside the scene's domain (a run
 // removes the particles that leave it). A damaged array is one InputError line instead of a
 // lattice over an absurd box. Throws InputError.
 void checkPositions(const std::vector<float>& x, const std::vector<float>& y,
-                    const std::vector<float>& z, const Scene& scene, const std::string& what,
+                    const std::vector<float>& z, const scene::Scene& scene, const std::string& what,
                     const std::string& path);
 
 // The one frame syntax of every subcommand (render, compare, view, export): "7", "last", "-1"

@@ -23,7 +23,7 @@ struct Target {
 };
 
 Target broadcastTarget(ranks::Communicator& ranks, const io::CacheSession* cache,
-                       const Simulation& sim) {
+                       const run::Simulation& sim) {
   ranks::Bytes b;
   if (ranks.rank() == 0) {
     const std::uint64_t head[2] = {cache->writerFrameCount(), sim.lostParticles()};
@@ -48,7 +48,7 @@ bool writeCacheTogether() {
 }
 
 CollectiveCacheSink::CollectiveCacheSink(ranks::Halo& halo, io::CacheSession* cache,
-                                         const Scene& scene)
+                                         const scene::Scene& scene)
     : halo_(halo),
       cache_(cache),
       // As rain::RainStepper::create: no drops without a camera.
@@ -78,7 +78,7 @@ std::unique_ptr<rain::WaterCells> CollectiveCacheSink::gatherWater(const Particl
   return std::make_unique<rain::WaterCells>(rain::WaterCells::fromKeys(union_, waterCell_));
 }
 
-void CollectiveCacheSink::frame(const Simulation& sim, std::size_t) {
+void CollectiveCacheSink::frame(const run::Simulation& sim, std::size_t) {
   const auto start = std::chrono::steady_clock::now();
   ranks::Communicator& ranks = halo_.comm();
   // This rank's particles in the single-process order (their keys'), and the runs of places
@@ -94,7 +94,7 @@ void CollectiveCacheSink::frame(const Simulation& sim, std::size_t) {
   const std::unique_ptr<rain::WaterCells> water =
       waterCell_ > 0 ? gatherWater(sim.fluid()) : nullptr;
   Particles mine = sim.fluid();
-  RunState state = broadcastRunState(ranks, sim.runState());
+  run::RunState state = broadcastRunState(ranks, sim.runState());
   state.warmStart = sim.runState().warmStart;
   // The local arrays are in key order, so the places ascend, but for particles emitted or
   // migrated since the last sort.

@@ -18,13 +18,13 @@ namespace sph::app {
 // Whether this run's cache is written by all ranks together: a build with parallel HDF5.
 bool writeCacheTogether();
 
-class CollectiveCacheSink final : public FrameSink {
+class CollectiveCacheSink final : public run::FrameSink {
  public:
   // `cache`: rank 0's session; null on the other ranks. For a scene with rain (and a camera)
   // every rank sends rank 0 the water cells its particles occupy at each frame (not the
   // particles): rank 0 steps the drops with their union and writes them beside the frame.
-  CollectiveCacheSink(ranks::Halo& halo, io::CacheSession* cache, const Scene& scene);
-  void frame(const Simulation& sim, std::size_t index) override;
+  CollectiveCacheSink(ranks::Halo& halo, io::CacheSession* cache, const scene::Scene& scene);
+  void frame(const run::Simulation& sim, std::size_t index) override;
   // Wall time in frame() on this rank (s), finding the places included.
   double seconds() const { return seconds_; }
   // Rain: bytes of water-cell keys rank 0 received from the other ranks, and frames (run -v).

@@ -32,13 +32,13 @@ std::string fmt(const char* format, double a, double b = 0, double c = 0, double
 // on the solids through each filter beside the exact sum, a table and a sheet of pictures.
 void compareParticleLights(CacheRendering& c, std::size_t f, const Particles& p,
                            const std::string& out) {
-  const LightsDesc& desc = *c.scene.lights;
+  const scene::LightsDesc& desc = *c.scene.lights;
   render::lights::LightVolume volume(desc);
-  const std::vector<LightParticle> lights =
-      lightParticles(desc, p, c.frameTime(f), lightSolids(c.scene));
+  const std::vector<lights::LightParticle> lights =
+      sph::lights::lightParticles(desc, p, c.frameTime(f), sph::lights::lightSolids(c.scene));
   volume.update(lights);  // the first dispatch compiles llvmpipe's shader variants
   const double accumulate = volume.update(lights);
-  const float thickness = deriveParams(c.scene).boundaryLayers * c.scene.solver.spacing;
+  const float thickness = solver::deriveParams(c.scene).boundaryLayers * c.scene.solver.spacing;
   render::solids::SolidRenderer solids(c.scene.boundaries, c.scene.domain, thickness);
   const render::lights::SolidGBuffer g =
       render::lights::solidGBuffer(solids, c.camera, c.desc.width, c.desc.height);
@@ -51,11 +51,11 @@ void compareParticleLights(CacheRendering& c, std::size_t f, const Particles& p,
     return;
   }
   using render::lights::FilterSetting;
-  const std::vector<FilterSetting> settings = {{LightFilter::Nearest, 0, 1},
-                                               {LightFilter::Trilinear, 0, 1},
-                                               {LightFilter::Tricubic, 0, 1},
-                                               {LightFilter::Trilinear, 0, 2},
-                                               {LightFilter::Tricubic, 1, 2}};
+  const std::vector<FilterSetting> settings = {{scene::LightFilter::Nearest, 0, 1},
+                                               {scene::LightFilter::Trilinear, 0, 1},
+                                               {scene::LightFilter::Tricubic, 0, 1},
+                                               {scene::LightFilter::Trilinear, 0, 2},
+                                               {scene::LightFilter::Tricubic, 1, 2}};
   const std::vector<render::lights::LightComparison> results =
       render::lights::compareLights(volume, lights, g, solids.material.colour, settings);
   std::printf("  light on the solids (%zu pixels) against the exact sum over the lights:\n",
@@ -96,7 +96,7 @@ int compareJob(const CompareRequest& o) {
   // rays end on them). Boundary points are translucent: the reference could not have them, so
   // the panels show the water alone then.
   std::unique_ptr<render::solids::SolidRenderer> solids;
-  if (c.desc.solids == RenderSolids::Opaque)
+  if (c.desc.solids == scene::RenderSolids::Opaque)
     solids = render::solids::showSolids(c.scene, renderer, [&] { return c.boundary(); });
   renderer.prepare(p);
   const render::splat::RenderedSplats point =
@@ -138,7 +138,8 @@ int compareJob(const CompareRequest& o) {
       "splats cover %.1f%%, quad %.1f%%\n",
       tq.pixels, 100 * tp.fraction, 100 * tq.fraction);
 
-  const std::string method = c.desc.projection == SplatProjection::Newton ? "newton" : "eq. (6)";
+  const std::string method =
+      c.desc.projection == scene::SplatProjection::Newton ? "newton" : "eq. (6)";
   std::vector<render::splat::Panel> panels = {
       {&point.image,
        {"point splats", fmt("%.1f ms build + draw", 1e3 * point.timings.total()),

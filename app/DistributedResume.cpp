@@ -85,7 +85,7 @@ ResumePart readResumePart(ranks::Halo& halo, const io::CacheReader& reader, std:
     // 2. The cut the first exchange will make: its cell size and histogram of cell planes.
     const float blo[3] = {float(lo[0]), float(lo[1]), float(lo[2])};
     const float bhi[3] = {float(hi[0]), float(hi[1]), float(hi[2])};
-    const float cellSize = NeighbourGrid::cellSizeFor(blo, bhi, n, h);
+    const float cellSize = grid::NeighbourGrid::cellSizeFor(blo, bhi, n, h);
     const double inv = 1.0 / static_cast<double>(cellSize);
     const long long p0 = ranks::planeOf(blo[axis], inv), p1 = ranks::planeOf(bhi[axis], inv);
     std::vector<std::int64_t> counts(static_cast<std::size_t>(p1 - p0 + 1), 0);

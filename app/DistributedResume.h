@@ -24,7 +24,7 @@
 namespace sph::app {
 
 struct ResumePart {
-  RunState state;
+  run::RunState state;
   Particles fluid;                  // this rank's particles of the frame, in its order
   std::vector<std::uint64_t> keys;  // their indices in the frame
 };

@@ -49,11 +49,11 @@ bool isRootProcess() {
   return !gWorld || gWorld->rank() == 0;
 }
 
-void refuseUnsupported(const Scene& scene, int ranks) {
+void refuseUnsupported(const scene::Scene& scene, int ranks) {
   const std::string where = scene.sourcePath.empty() ? "scene" : scene.sourcePath;
   // `exact` runs distributed, `octree` and `cdt-cpu` on the whole fluid gathered on every rank
   // (sim/run/Simulation.cpp, collide); `cdt-gl` would need a GL context per rank.
-  if (scene.collision && scene.collision->method == CollisionMethod::CdtGl) {
+  if (scene.collision && scene.collision->method == scene::CollisionMethod::CdtGl) {
     throw InputError(where +
                      ": collision.method \"cdt-gl\" runs on one process only (it draws with "
                      "OpenGL); run without mpirun, or set collision.method to \"cdt-cpu\" "
@@ -72,7 +72,7 @@ void refuseUnsupported(const Scene& scene, int ranks) {
   }
   // Slabs are whole planes of support-radius cells along the longest axis; fewer than 4 per
   // rank leaves ranks that hold mostly ghosts.
-  const DerivedParams d = deriveParams(scene);
+  const solver::DerivedParams d = solver::deriveParams(scene);
   const Vec3 extent = scene.domain.hi - scene.domain.lo;
   const double planes = std::floor(extent.maxCoeff() / d.h);
   if (planes < 4.0 * ranks) {
@@ -105,19 +105,19 @@ void onRootAgreeing(ranks::Communicator& ranks, const std::function<void()>& wor
   throw InputError(std::string(message.begin(), message.end()));
 }
 
-RunState broadcastRunState(ranks::Communicator& ranks, const RunState& state) {
+run::RunState broadcastRunState(ranks::Communicator& ranks, const run::RunState& state) {
   ranks::Bytes b;
   if (ranks.rank() == 0) {
     put(b, state.time), put(b, state.step), put(b, state.lastDt), put(b, state.maxSpeed);
     put(b, state.maxAcceleration), put(b, state.nextId), put(b, state.lostParticles);
     put(b, static_cast<std::uint64_t>(state.emitters.size()));
-    for (const EmitterState& e : state.emitters) {
+    for (const run::EmitterState& e : state.emitters) {
       put(b, e.travelled), put(b, e.emitted);
       put(b, static_cast<std::uint8_t>(e.started));
     }
   }
   ranks.broadcastFromRoot(b);
-  RunState s;
+  run::RunState s;
   std::size_t at = 0;
   take(b, at, s.time), take(b, at, s.step), take(b, at, s.lastDt), take(b, at, s.maxSpeed);
   // The lost particles so far: every rank checks the tolerance with them (Simulation::step).
@@ -125,7 +125,7 @@ RunState broadcastRunState(ranks::Communicator& ranks, const RunState& state) {
   std::uint64_t emitters = 0;
   take(b, at, emitters);
   s.emitters.resize(emitters);
-  for (EmitterState& e : s.emitters) {
+  for (run::EmitterState& e : s.emitters) {
     std::uint8_t started = 0;
     take(b, at, e.travelled), take(b, at, e.emitted), take(b, at, started);
     e.started = started != 0;
@@ -133,13 +133,13 @@ RunState broadcastRunState(ranks::Communicator& ranks, const RunState& state) {
   return s;
 }
 
-void GatheringSink::frame(const Simulation&, std::size_t index) {
+void GatheringSink::frame(const run::Simulation&, std::size_t index) {
   const auto start = std::chrono::steady_clock::now();
   // DFSPH's warm start is attached to the halo (Simulation::setHalo), density then divergence.
   std::vector<std::vector<float>> attached;
   Particles all = halo_.gather(sim_.fluid(), &attached);
   if (halo_.rank() != 0) return;
-  PressureWarmStart warm;
+  solver::PressureWarmStart warm;
   if (attached.size() == 2) warm.density.swap(attached[0]), warm.divergence.swap(attached[1]);
   // The sinks see the whole fluid and its warm start (the resume record), in the order one
   // process would hold them.
@@ -149,7 +149,7 @@ void GatheringSink::frame(const Simulation&, std::size_t index) {
   };
   swapIn();
   try {
-    for (FrameSink* sink : sinks_) sink->frame(sim_, index);
+    for (run::FrameSink* sink : sinks_) sink->frame(sim_, index);
   } catch (...) {
     swapIn();
     throw;
@@ -158,7 +158,7 @@ void GatheringSink::frame(const Simulation&, std::size_t index) {
   seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-std::string describeExchanges(ranks::Halo& halo, const StepProfile& profile) {
+std::string describeExchanges(ranks::Halo& halo, const solver::StepProfile& profile) {
   const ranks::HaloStats& s = halo.stats();
   const double steps = s.steps ? static_cast<double>(s.steps) : 1.0;
   const double total = profile.total();
@@ -169,7 +169,7 @@ std::string describeExchanges(ranks::Halo& halo, const StepProfile& profile) {
       "ghosts per step, %llu particles migrated out, %llu migrated between ranks "
       "after the first step (all ranks), imbalance (max/mean particles per rank) mean "
       "%.3f max %.3f",
-      halo.rank(), halo.ranks(), total > 0 ? 100 * profile[Pass::Exchange] / total : 0.0,
+      halo.rank(), halo.ranks(), total > 0 ? 100 * profile[solver::Pass::Exchange] / total : 0.0,
       s.bytesSent / steps, s.ghostsReceived / steps, static_cast<unsigned long long>(s.migrated),
       static_cast<unsigned long long>(s.migratedAllRanks), s.imbalanceSum / steps, s.imbalanceMax);
   std::string line = text;

@@ -30,34 +30,34 @@ bool inLockstep();
 
 // What a run on `ranks` processes cannot do yet, refused with one line before anything runs:
 // the collision pass and the renderer (single-process), a domain too thin for the slabs.
-void refuseUnsupported(const Scene& scene, int ranks);
+void refuseUnsupported(const scene::Scene& scene, int ranks);
 
 // Runs `work` on rank 0 only; if it throws an InputError every rank throws it (so all stop with
 // exit 2 and none is left waiting in a collective).
 void onRootAgreeing(ranks::Communicator& ranks, const std::function<void()>& work);
 
 // Rank 0's run state (time, step, emitters: a resume) on every rank.
-RunState broadcastRunState(ranks::Communicator& ranks, const RunState& state);
+run::RunState broadcastRunState(ranks::Communicator& ranks, const run::RunState& state);
 
 // A frame sink for the ranks: gathers the fluid in the single process's order onto rank 0 and
 // hands the frame to the real sinks (the cache) there, so they write the same file one process
 // would.
-class GatheringSink final : public FrameSink {
+class GatheringSink final : public run::FrameSink {
  public:
-  GatheringSink(ranks::Halo& halo, Simulation& sim, std::vector<FrameSink*> sinks)
+  GatheringSink(ranks::Halo& halo, run::Simulation& sim, std::vector<run::FrameSink*> sinks)
       : halo_(halo), sim_(sim), sinks_(std::move(sinks)) {}
-  void frame(const Simulation& sim, std::size_t index) override;
+  void frame(const run::Simulation& sim, std::size_t index) override;
   // Wall time in frame() on rank 0 (s): gathering and the sinks (run -v, docs/benchmarks.md).
   double seconds() const { return seconds_; }
 
  private:
   ranks::Halo& halo_;
-  Simulation& sim_;
-  std::vector<FrameSink*> sinks_;
+  run::Simulation& sim_;
+  std::vector<run::FrameSink*> sinks_;
   double seconds_ = 0;
 };
 
 // "2 ranks x 1 thread" style summary of a distributed run's exchanges (run --verbose).
-std::string describeExchanges(ranks::Halo& halo, const StepProfile& profile);
+std::string describeExchanges(ranks::Halo& halo, const solver::StepProfile& profile);
 
 }  // namespace sph::app

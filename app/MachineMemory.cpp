@@ -69,7 +69,7 @@ MachineMemory machineMemory() {
   return m;
 }
 
-std::string describeMemory(const MemoryEstimate& e, const MachineMemory& m) {
+std::string describeMemory(const run::MemoryEstimate& e, const MachineMemory& m) {
   std::ostringstream s;
   s << "about " << humanBytes(e.bytes);
   if (e.ranks > 1) s << " a process on " << e.ranks << " processes";
@@ -89,11 +89,12 @@ std::string describeMemory(const MemoryEstimate& e, const MachineMemory& m) {
   return s.str();
 }
 
-std::optional<std::string> memoryRefusal(const Scene& scene, const MemoryEstimate& estimate,
+std::optional<std::string> memoryRefusal(const scene::Scene& scene,
+                                         const run::MemoryEstimate& estimate,
                                          const MachineMemory& m, const RanksHere& here) {
   // This process alone (what only rank 0 holds on rank 0 alone), then the ranks of this machine
   // together (rank 0's part where it runs).
-  MemoryEstimate e = estimate;
+  run::MemoryEstimate e = estimate;
   const double shared = e.bytes - e.rootOnlyBytes;
   if (!here.rankZero) e.bytes = shared;
   const double together =
@@ -135,11 +136,12 @@ RanksHere ranksOnThisMachine(ranks::Communicator& ranks) {
   return here;
 }
 
-MemoryEstimate checkMemory(const Scene& scene, ranks::Communicator* ranks, bool gathersFrames) {
-  RankShare share;
+run::MemoryEstimate checkMemory(const scene::Scene& scene, ranks::Communicator* ranks,
+                                bool gathersFrames) {
+  run::RankShare share;
   if (ranks)
     share.ranks = ranks->size(), share.distributed = true, share.gathersFrames = gathersFrames;
-  const MemoryEstimate e = estimateMemory(scene, share);
+  const run::MemoryEstimate e = estimateMemory(scene, share);
   const RanksHere here = ranks ? ranksOnThisMachine(*ranks) : RanksHere{};
   const std::optional<std::string> refusal = memoryRefusal(scene, e, machineMemory(), here);
   if (!ranks) {

@@ -30,8 +30,8 @@ MachineMemory machineMemory();
 // With `ranks` (a run on K processes) it is collective: the estimate is one rank's share
 // (RankShare; `gathersFrames` when rank 0 gathers the frames to write them), the ranks on each
 // machine are counted together, and a refusal of any rank stops them all with its one line.
-MemoryEstimate checkMemory(const Scene& scene, ranks::Communicator* ranks = nullptr,
-                           bool gathersFrames = false);
+run::MemoryEstimate checkMemory(const scene::Scene& scene, ranks::Communicator* ranks = nullptr,
+                                bool gathersFrames = false);
 
 // Where this rank runs: how many of the run's ranks share its machine (the same host name),
 // whether it is rank 0, and whether rank 0 runs on this machine (what only rank 0 holds counts
@@ -46,11 +46,12 @@ RanksHere ranksOnThisMachine(ranks::Communicator& ranks);
 
 // The refusal's text, if `estimate` (rank 0's, RankShare) does not fit `machine` for this rank
 // and the ranks `here`: checkMemory without the collectives.
-std::optional<std::string> memoryRefusal(const Scene& scene, const MemoryEstimate& estimate,
+std::optional<std::string> memoryRefusal(const scene::Scene& scene,
+                                         const run::MemoryEstimate& estimate,
                                          const MachineMemory& machine, const RanksHere& here);
 
 // "about 41.3 MB (96 fluid particles, ...); the machine has 23.4 GB, 21.0 GB of it free" (or
 // "..., of which ulimit -v leaves 921.6 MB").
-std::string describeMemory(const MemoryEstimate& estimate, const MachineMemory& machine);
+std::string describeMemory(const run::MemoryEstimate& estimate, const MachineMemory& machine);
 
 }  // namespace sph::app

@@ -73,8 +73,8 @@ int meshFrames(const MeshOptions& o) {
   const std::string format = formatOf(o);
   const io::CacheReader reader(o.cache);
   const io::CacheSummary& s = reader.summary();
-  const Scene scene = sceneOfCache(s, o.overrides);
-  const RenderDesc desc = scene.render ? *scene.render : RenderDesc{};
+  const scene::Scene scene = sceneOfCache(s, o.overrides);
+  const scene::RenderDesc desc = scene.render ? *scene.render : scene::RenderDesc{};
   const std::vector<std::size_t> frames =
       parseFrameRange(o.frames, reader.frameCount(), "--frames");
   const OutputNames names(o.output, format, fileSafe(s.sceneName), frames.size(), "--out");

@@ -18,10 +18,10 @@ std::function<int()> addRenderCommand(CLI::App& app) {
   cmd->add_option("cache", o->cache, "HDF5 cache written by `sphsplat run`")->required();
   cmd->add_option("--frames", o->frames,
                   "Frames: N, A:B (inclusive), A:, :B, last or -1, all (default: all)");
-  cmd->add_option(
-         "--splat", o->splat,
-         enumNameList<RenderDesc::Splat>() + " (default: the scene's render.splat, else quad)")
-      ->check(CLI::IsMember(enumNames<RenderDesc::Splat>()));
+  cmd->add_option("--splat", o->splat,
+                  scene::enumNameList<scene::RenderDesc::Splat>() +
+                      " (default: the scene's render.splat, else quad)")
+      ->check(CLI::IsMember(scene::enumNames<scene::RenderDesc::Splat>()));
   cmd->add_option("--size", o->size,
                   "Image size WIDTHxHEIGHT (default: the scene's render section, else 960x540)");
   cmd->add_option("--out", o->out, "Directory for the PNGs (created)")->capture_default_str();

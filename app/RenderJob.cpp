@@ -36,12 +36,12 @@ int renderJob(const RenderRequest& o) {
   // The rain: the drops the run stored, else regenerated (app/CacheRain.h).
   const auto rain = render::rain::showRain(c.scene, renderer, solids.get());
   if (!o.quiet) {
-    std::printf("%s: rendering %zu frame%s of %s at %dx%d with %s splats on %s\n",
-                c.scene.name.c_str(), frames.size(), frames.size() == 1 ? "" : "s", o.cache.c_str(),
-                c.desc.width, c.desc.height,
-                c.desc.splat == RenderDesc::Splat::Both ? "point and quad"
-                                                        : enumName(kindsOf(c.desc.splat)[0]),
-                context.info().renderer.c_str());
+    std::printf(
+        "%s: rendering %zu frame%s of %s at %dx%d with %s splats on %s\n", c.scene.name.c_str(),
+        frames.size(), frames.size() == 1 ? "" : "s", o.cache.c_str(), c.desc.width, c.desc.height,
+        c.desc.splat == scene::RenderDesc::Splat::Both ? "point and quad"
+                                                       : scene::enumName(kindsOf(c.desc.splat)[0]),
+        context.info().renderer.c_str());
     if (lights)
       std::printf("  %s\n", render::lights::describeLights(lights->volume().desc()).c_str());
   }
@@ -55,7 +55,7 @@ int renderJob(const RenderRequest& o) {
       c.camera = render::splat::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
     renderer.prepare(p);
     const double time = c.frameTime(f);
-    const CameraDesc camera =
+    const scene::CameraDesc camera =
         c.cameraFromScene ? cameraAt(c.camera, c.scene.cameraPath, time) : c.camera;
     if (lights) seconds += lights->update(p, time, &camera);
     if (rain) showCachedRain(*rain, c.reader(), f, time, p);
@@ -63,9 +63,9 @@ int renderJob(const RenderRequest& o) {
       const render::splat::RenderedSplats r = renderer.render(kind, camera);
       seconds += r.timings.total();
       const std::string path =
-          o.out + "/" + io::framePngName(c.scene.name + "_" + enumName(kind), f);
+          o.out + "/" + io::framePngName(c.scene.name + "_" + scene::enumName(kind), f);
       io::writePng(path, r.image.width, r.image.height, r.image.rgb.data());
-      if (o.toCache) c.store(enumName(kind), f, r.image);
+      if (o.toCache) c.store(scene::enumName(kind), f, r.image);
       if (first.empty()) first = path;
       last = path;
       ++images;

@@ -33,7 +33,7 @@ void makeDirectory(const std::string& dir) {
   }
 }
 
-std::string RenderOutput::directoryFor(const Scene& scene, const std::string& cachePath) {
+std::string RenderOutput::directoryFor(const scene::Scene& scene, const std::string& cachePath) {
   if (!scene.render->directory.empty()) return scene.render->directory;
   if (cachePath.empty()) return "results/" + scene.name + "_frames";
   const std::size_t dot = cachePath.rfind('.');
@@ -43,8 +43,8 @@ std::string RenderOutput::directoryFor(const Scene& scene, const std::string& ca
                          "", "_frames");
 }
 
-std::unique_ptr<RenderOutput> RenderOutput::prepare(const Scene& scene,
-                                                    const BoundaryParticles& boundary,
+std::unique_ptr<RenderOutput> RenderOutput::prepare(const scene::Scene& scene,
+                                                    const solver::BoundaryParticles& boundary,
                                                     io::CacheSession* cache) {
   if (!scene.render) return nullptr;
   const std::string dir = directoryFor(scene, cache ? cache->path() : "");
@@ -58,7 +58,8 @@ std::unique_ptr<RenderOutput> RenderOutput::prepare(const Scene& scene,
   return out;
 }
 
-RenderOutput::RenderOutput(const Scene& scene, std::string directory, io::CacheSession* cache)
+RenderOutput::RenderOutput(const scene::Scene& scene, std::string directory,
+                           io::CacheSession* cache)
     : context_(render::gl::GlContext::headless()),
       renderer_(*scene.render, scene.solver.spacing, scene.solver.restDensity),
       desc_(*scene.render),
@@ -68,7 +69,7 @@ RenderOutput::RenderOutput(const Scene& scene, std::string directory, io::CacheS
       directory_(std::move(directory)),
       cache_(cache) {}
 
-void RenderOutput::frame(const Simulation& sim, std::size_t frame) {
+void RenderOutput::frame(const run::Simulation& sim, std::size_t frame) {
   // The rain: the drops the cache stores (its session steps them at every output frame, before
   // this sink), else stepped here the same way, so `render` of the cache draws the same drops.
   // A feeding rain is the simulation's own (rain.feed_fluid).
@@ -82,15 +83,15 @@ void RenderOutput::frame(const Simulation& sim, std::size_t frame) {
   }
   if (frame % static_cast<std::size_t>(desc_.every) != 0) return;
   renderer_.prepare(sim.fluid());
-  const CameraDesc camera = cameraAt(camera_, cameraPath_, sim.time());
+  const scene::CameraDesc camera = cameraAt(camera_, cameraPath_, sim.time());
   if (lights_) lights_->update(sim.fluid(), sim.time(), &camera);
-  const bool both = desc_.splat == RenderDesc::Splat::Both;
+  const bool both = desc_.splat == scene::RenderDesc::Splat::Both;
   for (render::splat::SplatKind kind :
        {render::splat::SplatKind::Point, render::splat::SplatKind::Quad}) {
     const bool wanted = both || (kind == render::splat::SplatKind::Point) ==
-                                    (desc_.splat == RenderDesc::Splat::Point);
+                                    (desc_.splat == scene::RenderDesc::Splat::Point);
     if (!wanted) continue;
-    const char* kindName = enumName(kind);
+    const char* kindName = scene::enumName(kind);
     const render::splat::RenderedSplats r = renderer_.render(kind, camera);
     seconds_ += r.timings.total();
     io::writePng(directory_ + "/" + io::framePngName(name_ + "_" + kindName, frame), r.image.width,

@@ -18,35 +18,35 @@
 
 namespace sph::app {
 
-class RenderOutput final : public FrameSink {
+class RenderOutput final : public run::FrameSink {
  public:
   // nullptr if the scene has no render section. `cachePath` ("" for none) names the default
   // picture directory: next to the cache, else results/<scene>_frames.
   // Where the pictures of `scene` go: render.directory, else next to the cache, else
   // results/<scene>_frames.
-  static std::string directoryFor(const Scene& scene, const std::string& cachePath);
+  static std::string directoryFor(const scene::Scene& scene, const std::string& cachePath);
   // With a cache, pictures also go into it (render.to_cache).
-  static std::unique_ptr<RenderOutput> prepare(const Scene& scene,
-                                               const BoundaryParticles& boundary,
+  static std::unique_ptr<RenderOutput> prepare(const scene::Scene& scene,
+                                               const solver::BoundaryParticles& boundary,
                                                io::CacheSession* cache);
 
   // Draws output frame `index` of the run (the current state of `sim`).
-  void frame(const Simulation& sim, std::size_t index) override;
+  void frame(const run::Simulation& sim, std::size_t index) override;
 
   const std::string& directory() const { return directory_; }
   std::size_t images() const { return images_; }
   double seconds() const { return seconds_; }
 
  private:
-  RenderOutput(const Scene& scene, std::string directory, io::CacheSession* cache);
+  RenderOutput(const scene::Scene& scene, std::string directory, io::CacheSession* cache);
   render::gl::GlContext context_;  // first: outlives the GL objects below
   render::splat::FrameRenderer renderer_;
   std::unique_ptr<render::solids::SolidRenderer> solids_;  // a layer of renderer_
   std::unique_ptr<render::lights::SceneLights> lights_;    // renderer_'s extra lights, if any
   std::unique_ptr<render::rain::SceneRain> rain_;          // a layer of renderer_ (rain section)
-  RenderDesc desc_;
-  CameraDesc camera_;
-  CameraPath cameraPath_;
+  scene::RenderDesc desc_;
+  scene::CameraDesc camera_;
+  scene::CameraPath cameraPath_;
   std::string name_, directory_;
   io::CacheSession* cache_;
   std::size_t images_ = 0;

@@ -42,7 +42,7 @@ int runJob(const RunRequest& request) {
   const bool root = isRootProcess();
   RunRequest o = request;
   if (!root) o.quiet = true, o.verbose = false;
-  Scene scene = io::loadScene(o.scene, o.overrides);
+  scene::Scene scene = io::loadScene(o.scene, o.overrides);
   if (o.end > 0) scene.solver.endTime = o.end;
   if (ranks) refuseUnsupported(scene, ranks->size());
   // Before anything is allocated: the CDT's id range (once --end is applied) and the machine's
@@ -50,7 +50,7 @@ int runJob(const RunRequest& request) {
   cdt::requireIdsInRange(scene);
   setThreadCount(o.threads);  // first: DFSPH's estimate counts a spare pair chunk a thread
   // On K processes each rank's share, the ranks of a machine together (app/MachineMemory.h).
-  const MemoryEstimate memory = checkMemory(scene, ranks, ranks && !writeCacheTogether());
+  const run::MemoryEstimate memory = checkMemory(scene, ranks, ranks && !writeCacheTogether());
   if (o.check) {
     if (!o.quiet) {
       std::printf("%s: a valid scene (%s); memory: %s\n", io::oneLine(o.scene).c_str(),
@@ -99,14 +99,16 @@ int runJob(const RunRequest& request) {
   // starting fluid (sim/run/StartSlab.h), and no rank holds the whole of it; a resume starts
   // without fluid.
   std::unique_ptr<ranks::Halo> halo;
-  if (ranks) halo = std::make_unique<ranks::Halo>(*ranks, scene.domain, deriveParams(scene).h);
+  if (ranks)
+    halo = std::make_unique<ranks::Halo>(*ranks, scene.domain, solver::deriveParams(scene).h);
   const auto setupStart = std::chrono::steady_clock::now();
   // Samples the boundaries, once for the whole run.
-  const std::unique_ptr<Simulation> simulation =
-      halo ? std::make_unique<Simulation>(
-                 scene, *halo, resumed ? Simulation::Start::Empty : Simulation::Start::Slab)
-           : std::make_unique<Simulation>(scene);
-  Simulation& sim = *simulation;
+  const std::unique_ptr<run::Simulation> simulation =
+      halo ? std::make_unique<run::Simulation>(
+                 scene, *halo,
+                 resumed ? run::Simulation::Start::Empty : run::Simulation::Start::Slab)
+           : std::make_unique<run::Simulation>(scene);
+  run::Simulation& sim = *simulation;
   const double setupSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - setupStart).count();
   sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
@@ -204,7 +206,7 @@ int runJob(const RunRequest& request) {
   };
   if (cache && !halo && !resumed) {
     try {
-      cache->create(sim, provenance, plannedFrameCount(end, frameInterval));
+      cache->create(sim, provenance, run::plannedFrameCount(end, frameInterval));
       cache->writeFrame(sim);
     } catch (const std::exception& e) {
       writingFailed(e);
@@ -222,18 +224,18 @@ int runJob(const RunRequest& request) {
       throw;
     }
   }
-  RunPlan plan;
+  run::RunPlan plan;
   plan.endTime = end;
   plan.frameInterval = frameInterval;
   plan.nextFrame = frames;
   plan.stopRequested = [] { return interruptSignal() != 0; };
   // Every rank stops at the same step when any of them is told to.
   if (halo) plan.stopRequested = [&halo] { return halo->any(interruptSignal() != 0); };
-  plan.afterStep = [&](const Simulation&) { progress.update(sample()); };
-  std::vector<FrameSink*> sinks;
+  plan.afterStep = [&](const run::Simulation&) { progress.update(sample()); };
+  std::vector<run::FrameSink*> sinks;
   if (cache) sinks.push_back(cache.get());
   if (pictures) sinks.push_back(pictures.get());
-  std::unique_ptr<FrameSink> distributed;
+  std::unique_ptr<run::FrameSink> distributed;
   std::function<double()> frameSeconds;  // rank 0's time handing frames out (run -v)
   bool together = false;
   const CollectiveCacheSink* collective = nullptr;  // run -v: the rain's water cells
@@ -262,12 +264,12 @@ int runJob(const RunRequest& request) {
       // under PATH.partial (its checks stop every rank), all ranks write the frame, and rank 0
       // publishes it as PATH once the frame is committed.
       onRootAgreeing(*ranks, [&] {
-        if (cache) cache->create(sim, provenance, plannedFrameCount(end, frameInterval));
+        if (cache) cache->create(sim, provenance, run::plannedFrameCount(end, frameInterval));
       });
       distributed->frame(sim, 0);
     }
   }
-  RunOutcome outcome;
+  run::RunOutcome outcome;
   try {
     outcome = runFrames(sim, plan, sinks);
   } catch (const std::exception& e) {
@@ -293,7 +295,7 @@ int runJob(const RunRequest& request) {
   progress.finish(sample());
   int signal = interruptSignal();
   // A distributed run stops when any rank was signalled (mpirun forwards SIGINT and SIGTERM).
-  if (!signal && halo && outcome.end == RunOutcome::End::Stopped) signal = SIGTERM;
+  if (!signal && halo && outcome.end == run::RunOutcome::End::Stopped) signal = SIGTERM;
   if (signal) {
     setLockstep(false);
     if (!root) return 128 + signal;
@@ -328,7 +330,7 @@ int runJob(const RunRequest& request) {
 
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const StepProfile& prof = sim.profile();
+  const solver::StepProfile& prof = sim.profile();
   if (!o.quiet) {
     std::printf(
         "done: simulated %.4g s in %llu steps (mean dt %.3g s), %zu fluid particles at the end\n",
@@ -340,7 +342,7 @@ int runJob(const RunRequest& request) {
           static_cast<unsigned long long>(sim.lostParticles()),
           static_cast<unsigned long long>(sim.params().maxLostParticles));
     }
-    if (const PressureSolveStats& ds = sim.solveStats(); ds.steps > 0) {
+    if (const solver::PressureSolveStats& ds = sim.solveStats(); ds.steps > 0) {
       std::printf("  dfsph: %.2f density and %.2f divergence iterations per step\n",
                   static_cast<double>(ds.totalDensityIterations) / ds.steps,
                   static_cast<double>(ds.totalDivergenceIterations) / ds.steps);

@@ -43,13 +43,14 @@ std::string endTimeText(double t) {
 
 }  // namespace
 
-void printPassSplit(const StepProfile& profile) {
+void printPassSplit(const solver::StepProfile& profile) {
   const double total = profile.total();
   std::printf("  per pass:");
-  for (int p = 0; p < static_cast<int>(Pass::Count); ++p) {
+  for (int p = 0; p < static_cast<int>(solver::Pass::Count); ++p) {
     const double s = profile.seconds[p];
     if (s <= 0) continue;
-    std::printf(" %s %.1f%%", passName(static_cast<Pass>(p)), total > 0 ? 100 * s / total : 0.0);
+    std::printf(" %s %.1f%%", passName(static_cast<solver::Pass>(p)),
+                total > 0 ? 100 * s / total : 0.0);
   }
   std::printf("\n");
 }
@@ -68,17 +69,18 @@ std::string commandLine(const RunRequest& o, double end) {
 // before it are the same only if every step aims at the same frame time as the run did (the step
 // is shortened to land on frames and on the end), so the end is that frame's time, not the time
 // of the blow-up.
-std::string reproduceCommand(const RunRequest& o, const RunPlan& plan, const RunOutcome& outcome) {
+std::string reproduceCommand(const RunRequest& o, const run::RunPlan& plan,
+                             const run::RunOutcome& outcome) {
   const double frameEnd = static_cast<double>(outcome.nextFrame) * plan.frameInterval;
   return commandLine(o, std::min(plan.endTime, frameEnd));
 }
 
 // What the run is about to do: particles, the main derived numbers and, with --verbose, the
 // domain and every piece of work the scene skips (docs/benchmarks.md, "What a scene skips").
-void printHeader(const RunRequest& o, const Scene& scene, const Simulation& sim,
+void printHeader(const RunRequest& o, const scene::Scene& scene, const run::Simulation& sim,
                  std::size_t fluidParticles, const io::CacheSession* cache, double setupSeconds,
-                 const MemoryEstimate& memory) {
-  const DerivedParams& d = sim.params();
+                 const run::MemoryEstimate& memory) {
+  const solver::DerivedParams& d = sim.params();
   const double frameInterval = 1.0 / scene.output.fps;
   std::printf("%s: %zu fluid particles, %zu boundary particles, %s%d thread%s\n",
               scene.name.c_str(), fluidParticles, sim.boundary().particles().size(),

@@ -18,14 +18,15 @@ std::string commandLine(const RunRequest& o, double end);
 // A POSIX shell word: as it is when it is safe, else in single quotes.
 std::string shellQuote(const std::string& word);
 // Runs to the blow-up and no further (see RunReport.cpp).
-std::string reproduceCommand(const RunRequest& o, const RunPlan& plan, const RunOutcome& outcome);
+std::string reproduceCommand(const RunRequest& o, const run::RunPlan& plan,
+                             const run::RunOutcome& outcome);
 // What the run is about to do: particles (`fluidParticles`: on all ranks), the main derived
 // numbers and, with --verbose, the domain and every piece of work the scene skips
 // (docs/benchmarks.md, "What a scene skips").
-void printHeader(const RunRequest& o, const Scene& scene, const Simulation& sim,
+void printHeader(const RunRequest& o, const scene::Scene& scene, const run::Simulation& sim,
                  std::size_t fluidParticles, const io::CacheSession* cache, double setupSeconds,
-                 const MemoryEstimate& memory);
+                 const run::MemoryEstimate& memory);
 // The share of the run's time in each pass (--verbose).
-void printPassSplit(const StepProfile& profile);
+void printPassSplit(const solver::StepProfile& profile);
 
 }  // namespace sph::app

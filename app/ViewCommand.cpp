@@ -59,8 +59,8 @@ struct ViewerState {
     frameChanged |= next != frame;
     frame = next;
   }
-  CameraDesc camera(const CameraDesc& lens) const {
-    CameraDesc c = lens;
+  scene::CameraDesc camera(const scene::CameraDesc& lens) const {
+    scene::CameraDesc c = lens;
     c.target = target;
     c.position = target + distance * Vec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch),
                                           std::cos(pitch) * std::cos(yaw));
@@ -86,10 +86,10 @@ void saveScreenshot(const std::string& path, int width, int height) {
 
 int view(const ViewOptions& o) {
   io::CacheReader reader(o.cache);
-  const Scene scene = sceneOfCache(reader.summary(), o.overrides);
+  const scene::Scene scene = sceneOfCache(reader.summary(), o.overrides);
   if (reader.frameCount() == 0)
     throw InputError(o.cache + ": the cache has no complete frame to show");
-  RenderDesc desc = scene.render ? *scene.render : RenderDesc{};
+  scene::RenderDesc desc = scene.render ? *scene.render : scene::RenderDesc{};
   render::gl::GlWindowOptions wo;
   wo.width = o.width, wo.height = o.height;
   wo.title = "sphsplat view - " + scene.name;
@@ -109,10 +109,10 @@ int view(const ViewOptions& o) {
   ViewerState s;
   s.frames = reader.frameCount();
   s.frame = parseOneFrame(o.frame, s.frames, "--frame");
-  s.kind = *parseEnum<render::splat::SplatKind>(o.splat);
+  s.kind = *scene::parseEnum<render::splat::SplatKind>(o.splat);
   const Particles first = reader.readFrame(s.frame, xyz);
   checkPositions(first.x, first.y, first.z, scene, "frame " + std::to_string(s.frame), o.cache);
-  const CameraDesc lens =
+  const scene::CameraDesc lens =
       scene.camera ? *scene.camera
                    : render::splat::framingCamera(first, static_cast<float>(o.width) / o.height);
   s.target = lens.target;
@@ -203,7 +203,8 @@ int view(const ViewOptions& o) {
     }
     const double time = reader.summary().frames[s.frame].time;
     // The scene's camera path until the user drags or zooms; then the user's orbit.
-    const CameraDesc camera = s.touched ? s.camera(lens) : cameraAt(lens, scene.cameraPath, time);
+    const scene::CameraDesc camera =
+        s.touched ? s.camera(lens) : cameraAt(lens, scene.cameraPath, time);
     const auto size = window.framebufferSize();
     const float aspect = static_cast<float>(size[0]) / static_cast<float>(std::max(size[1], 1));
     const bool cullLights = lights && scene.lights->cull && !s.touched;
@@ -234,7 +235,8 @@ int view(const ViewOptions& o) {
     char status[128], timing[64];
     std::snprintf(status, sizeof status, "frame %zu/%zu  t = %.3f s%s", s.frame, s.frames - 1,
                   reader.summary().frames[s.frame].time, s.playing ? "" : "  paused");
-    std::snprintf(timing, sizeof timing, "%s splats  %.0f ms", enumName(s.kind), 1e3 * t.total());
+    std::snprintf(timing, sizeof timing, "%s splats  %.0f ms", scene::enumName(s.kind),
+                  1e3 * t.total());
     // On the picture (window managers hide or cut titles), and in the title bar.
     hud.draw({scene.name, status, timing}, size[0], size[1]);
     window.setTitle("sphsplat view - " + scene.name + " - " + status + " - " + timing);
@@ -261,8 +263,8 @@ std::function<int()> addViewCommand(CLI::App& app) {
                                      "step, scrub, orbit, zoom, point/quad");
   cmd->add_option("cache", o->cache, "HDF5 cache written by `sphsplat run`")->required();
   cmd->add_option("--splat", o->splat,
-                  "Splats to start with: " + enumNameList<render::splat::SplatKind>())
-      ->check(CLI::IsMember(enumNames<render::splat::SplatKind>()))
+                  "Splats to start with: " + scene::enumNameList<render::splat::SplatKind>())
+      ->check(CLI::IsMember(scene::enumNames<render::splat::SplatKind>()))
       ->capture_default_str();
   cmd->add_option("--frame", o->frame, "Frame to start at (index or last)")->capture_default_str();
   cmd->add_option("--speed", o->speed, "Playback speed (1 = the cache's frame rate), up to 1000")

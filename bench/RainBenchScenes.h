@@ -15,8 +15,8 @@ namespace sph::bench {
 inline constexpr int kWidth = 960, kHeight = 540;
 inline constexpr float kAspect = static_cast<float>(kWidth) / kHeight;
 
-inline CameraDesc cameraAtFrame(int frame) {
-  CameraDesc c;
+inline scene::CameraDesc cameraAtFrame(int frame) {
+  scene::CameraDesc c;
   c.position = Vec3(0, 1, 4);
   const double a = frame / 30.0 * M_PI / 2;  // 90 degrees a second
   c.target =
@@ -25,11 +25,11 @@ inline CameraDesc cameraAtFrame(int frame) {
   return c;
 }
 
-inline RainDesc desc(std::int64_t count, std::int64_t spawn) {
-  RainDesc d;
+inline scene::RainDesc desc(std::int64_t count, std::int64_t spawn) {
+  scene::RainDesc d;
   d.count = static_cast<std::size_t>(count);
   d.near = 0.1f, d.far = 5;
-  d.spawn = static_cast<RainSpawn>(spawn);
+  d.spawn = static_cast<scene::RainSpawn>(spawn);
   d.region.lo = Vec3(-5, -1, -5), d.region.hi = Vec3(5, 4, 5);
   return d;
 }

@@ -42,25 +42,25 @@ std::size_t maxLights = 1048576;
 std::string ppm;  // pipelines: write each frame to PREFIX_N_PIPELINE.ppm
 
 // Lights uniform in a cube of `side` m from the origin, white, intensity 1.
-std::vector<LightParticle> uniformLights(std::size_t n, float side, unsigned seed) {
-  LightEmitterDesc e;
+std::vector<sph::lights::LightParticle> uniformLights(std::size_t n, float side, unsigned seed) {
+  scene::LightEmitterDesc e;
   e.box.lo = Vec3::Zero(), e.box.hi = Vec3::Constant(side);
   e.count = n, e.seed = seed, e.speed = 0;
-  LightsDesc d;
-  d.source = LightSource::Emitter, d.emitter = e, d.colour = Vec3::Ones();
-  return lightParticles(d, Particles{}, 0.0);
+  scene::LightsDesc d;
+  d.source = scene::LightSource::Emitter, d.emitter = e, d.colour = Vec3::Ones();
+  return sph::lights::lightParticles(d, Particles{}, 0.0);
 }
 
 // The paper's world: 1 m voxels over N^3 m, attenuation range `range` m.
-LightsDesc paperVolume(int n, float range, LightAccumulate mode) {
-  LightsDesc d;
+scene::LightsDesc paperVolume(int n, float range, scene::LightAccumulate mode) {
+  scene::LightsDesc d;
   d.origin = Vec3::Zero(), d.voxelSize = 1.0f, d.voxels = {n, n, n};
   d.range = range, d.attenuation = {1.0f, 0.0f, 1.0f};
   d.accumulate = mode;
   return d;
 }
 
-double minUpdate(LightVolume& v, const std::vector<LightParticle>& lights) {
+double minUpdate(LightVolume& v, const std::vector<sph::lights::LightParticle>& lights) {
   v.update(lights);  // compiles llvmpipe's variants, sizes the buffer
   double best = 1e30;
   for (int k = 0; k < repeat; ++k) best = std::min(best, v.update(lights));
@@ -84,10 +84,11 @@ void table1() {
   // lights.max_memory_mib); `"cpu"` keeps only the two RGBA16F textures (2 GiB) and the half
   // floats of the box the lights reach in main memory.
   for (int n : {128, 256, 512}) {
-    const std::vector<LightAccumulate> modes =
-        n < 512 ? std::vector<LightAccumulate>{LightAccumulate::Atomic, LightAccumulate::Paper}
-                : std::vector<LightAccumulate>{LightAccumulate::Cpu};
-    for (LightAccumulate mode : modes) {
+    const std::vector<scene::LightAccumulate> modes =
+        n < 512 ? std::vector<scene::LightAccumulate>{scene::LightAccumulate::Atomic,
+                                                      scene::LightAccumulate::Paper}
+                : std::vector<scene::LightAccumulate>{scene::LightAccumulate::Cpu};
+    for (scene::LightAccumulate mode : modes) {
       LightVolume v(paperVolume(n, 0.5f, mode));
       std::printf("%-10s %-7s", (std::to_string(n) + "^3").c_str(), nameOf(mode));
       for (std::size_t c : counts()) {
@@ -105,7 +106,7 @@ void table2() {
   for (std::size_t n : counts()) std::printf(" %10zu", n);
   std::printf("\n");
   for (float range : {0.5f, 1.0f, 2.0f}) {
-    LightVolume v(paperVolume(128, range, LightAccumulate::Atomic));
+    LightVolume v(paperVolume(128, range, scene::LightAccumulate::Atomic));
     std::printf("%-10.1f", range);
     for (std::size_t c : counts()) {
       std::printf(" %10.1f", 1e3 * minUpdate(v, uniformLights(c, 128, 1)));
@@ -127,7 +128,8 @@ void loss() {
       const auto lights = uniformLights(n, side, 2);
       double sum[2], ms[2];
       int k = 0;
-      for (LightAccumulate mode : {LightAccumulate::Atomic, LightAccumulate::Paper}) {
+      for (scene::LightAccumulate mode :
+           {scene::LightAccumulate::Atomic, scene::LightAccumulate::Paper}) {
         LightVolume v(paperVolume(128, 2.0f, mode));
         ms[k] = 1e3 * minUpdate(v, lights);
         double s = 0;
@@ -145,7 +147,7 @@ void filters() {
   // A 4 m x 4 m floor (y = 0) under 4096 lights in the 4 m cube above it, seen from above at
   // 45 degrees; 256 x 256 surface points.
   const float side = 4.0f;
-  std::vector<LightParticle> lights = uniformLights(4096, side, 3);
+  std::vector<sph::lights::LightParticle> lights = uniformLights(4096, side, 3);
   std::vector<ProbePoint> points;
   const Vec3 eye(2, 6, 8);
   for (int j = 0; j < 256; ++j)
@@ -162,7 +164,7 @@ void filters() {
       "over a 4 m floor, 65,536 points\n");
   std::printf("%-8s %-22s %9s | %8s %9s | %8s %9s | %8s %9s\n", "voxel m", "filter", "ms",
               "PSNR dB", "mean abs", "diff dB", "diff abs", "spec dB", "spec abs");
-  LightsDesc d;
+  scene::LightsDesc d;
   d.range = 0.5f, d.attenuation = {1.0f, 0.0f, 8.0f}, d.specular = 0.5f, d.shininess = 16;
   std::vector<Vec3> exactT, exactD, exactS;
   {
@@ -185,14 +187,14 @@ void filters() {
     LightVolume v(d);
     v.update(lights);
     struct S {
-      LightFilter f;
+      scene::LightFilter f;
       float t;
       int o;
     };
-    for (S s : {S{LightFilter::Nearest, 0, 1}, S{LightFilter::Nearest, 0, 2},
-                S{LightFilter::Trilinear, 0, 1}, S{LightFilter::Trilinear, 0, 2},
-                S{LightFilter::Tricubic, 0, 1}, S{LightFilter::Tricubic, 1, 1},
-                S{LightFilter::Tricubic, 0, 2}, S{LightFilter::Tricubic, 1, 2}}) {
+    for (S s : {S{scene::LightFilter::Nearest, 0, 1}, S{scene::LightFilter::Nearest, 0, 2},
+                S{scene::LightFilter::Trilinear, 0, 1}, S{scene::LightFilter::Trilinear, 0, 2},
+                S{scene::LightFilter::Tricubic, 0, 1}, S{scene::LightFilter::Tricubic, 1, 1},
+                S{scene::LightFilter::Tricubic, 0, 2}, S{scene::LightFilter::Tricubic, 1, 2}}) {
       v.setFilter(s.f, s.t, s.o);
       v.terms = 3;
       v.probe(points, base);
@@ -212,7 +214,7 @@ void filters() {
                        es = lightError(specular, exactS);
       char name[64];
       std::snprintf(name, sizeof name, "%s%s%s", nameOf(s.f),
-                    s.f == LightFilter::Tricubic ? (s.t > 0 ? " t1" : " t0") : "",
+                    s.f == scene::LightFilter::Tricubic ? (s.t > 0 ? " t1" : " t0") : "",
                     s.o > 1 ? " x8" : "");
       std::printf("%-8.4g %-22s %9.1f | %8.2f %9.5f | %8.2f %9.5f | %8.2f %9.5f\n", h, name,
                   1e3 * best, et.psnr, et.meanAbs, ed.psnr, ed.meanAbs, es.psnr, es.meanAbs);
@@ -255,7 +257,7 @@ void pipelines() {
   const int width = 960, height = 540;
   render::splat::SplatRenderer renderer(width, height, shaders);
   renderer.setLayers({&solids});
-  const CameraDesc camera = fig11Camera();
+  const scene::CameraDesc camera = fig11Camera();
   // No solid triangle count here: the solids are tessellated for the screen at their first draw
   // (render/solids/ScreenTessellation.h), so SolidRenderer::triangles() is 0 until then.
   std::printf(
@@ -265,11 +267,12 @@ void pipelines() {
               "draw", "G-buffer", "lighting", "frame", "max diff");
   for (std::size_t n : {16384u, 65536u, 262144u, 1048576u}) {
     if (n > maxLights) continue;
-    LightsDesc d = bench::fig11Lights(n);
-    const std::vector<LightParticle> lights = lightParticles(d, Particles{}, 0.0);
+    scene::LightsDesc d = bench::fig11Lights(n);
+    const std::vector<sph::lights::LightParticle> lights =
+        sph::lights::lightParticles(d, Particles{}, 0.0);
     LightVolume forward(d, shaders);
     const double accumulate = minUpdate(forward, lights);
-    d.pipeline = LightPipeline::Deferred;
+    d.pipeline = scene::LightPipeline::Deferred;
     LightVolume deferred(d, shaders);
     deferred.update(lights);
     std::vector<std::uint8_t> first;

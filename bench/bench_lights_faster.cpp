@@ -67,21 +67,22 @@ namespace {
 
 int repeat = 3;
 std::size_t maxLights = 1048576;
-LightAccumulate accumulate = LightAccumulate::Atomic;       // fig11, fireflies: --accumulate
-LightShade shade = LightShade::Auto;                        // frame: --shade
+scene::LightAccumulate accumulate =
+    scene::LightAccumulate::Atomic;                         // fig11, fireflies: --accumulate
+scene::LightShade shade = scene::LightShade::Auto;          // frame: --shade
 float pixels = render::solids::TessellationBound{}.pixels;  // frame: --pixels
 std::string png;                                            // frame: --png
 
 struct View {
   const char* name;
-  CameraDesc camera;
+  scene::CameraDesc camera;
 };
 
 // The minimum seconds of `repeat` updates of each of two volumes, taken in turn (the machine's
 // load changes while we measure: both see the same).
 std::pair<double, double> pairedMin(LightVolume& a, const LightView* viewA, LightVolume& b,
                                     const LightView* viewB,
-                                    const std::vector<LightParticle>& lights) {
+                                    const std::vector<sph::lights::LightParticle>& lights) {
   a.update(lights, viewA), b.update(lights, viewB);  // compile llvmpipe's variants, size buffers
   double ta = 1e30, tb = 1e30;
   for (int k = 0; k < repeat; ++k) {
@@ -91,7 +92,7 @@ std::pair<double, double> pairedMin(LightVolume& a, const LightView* viewA, Ligh
   return {ta, tb};
 }
 
-render::splat::RenderImage draw(render::splat::SplatRenderer& r, const CameraDesc& camera,
+render::splat::RenderImage draw(render::splat::SplatRenderer& r, const scene::CameraDesc& camera,
                                 const LightVolume& v) {
   render::splat::Lighting lighting;
   lighting.extra = &v;
@@ -99,7 +100,7 @@ render::splat::RenderImage draw(render::splat::SplatRenderer& r, const CameraDes
 }
 
 // One table row per camera: the whole volume, then culled to the camera; both drawn.
-void measure(const LightsDesc& desc, const std::vector<LightParticle>& lights,
+void measure(const scene::LightsDesc& desc, const std::vector<sph::lights::LightParticle>& lights,
              render::solids::SolidRenderer& solids, int width, int height,
              const std::vector<View>& views) {
   render::splat::SplatRenderer renderer(width, height);
@@ -147,7 +148,7 @@ void fig11() {
   render::solids::SolidRenderer solids(bench::fig11Solids(),
                                        Aabb{Vec3(0, -1, 0), Vec3(128, 128, 128)}, 0.5f);
   // From a corner across the world; from 40 m and 15 m above the middle, looking down.
-  CameraDesc corner = bench::fig11Camera(), above = bench::fig11Camera(), low = above;
+  scene::CameraDesc corner = bench::fig11Camera(), above = bench::fig11Camera(), low = above;
   corner.position = Vec3(8, 10, 8), corner.target = Vec3(40, 2, 40);
   above.position = Vec3(64, 40, 70), above.target = Vec3(64, 0, 64);
   low.position = Vec3(64, 15, 70), low.target = Vec3(64, 0, 62);
@@ -158,9 +159,9 @@ void fig11() {
   header();
   for (std::size_t n : {262144u, 1048576u}) {
     if (n > maxLights) continue;
-    LightsDesc d = bench::fig11Lights(n);
-    d.pipeline = LightPipeline::Deferred, d.accumulate = accumulate;
-    measure(d, lightParticles(d, Particles{}, 0.0), solids, 960, 540,
+    scene::LightsDesc d = bench::fig11Lights(n);
+    d.pipeline = scene::LightPipeline::Deferred, d.accumulate = accumulate;
+    measure(d, sph::lights::lightParticles(d, Particles{}, 0.0), solids, 960, 540,
             {{"fig11", bench::fig11Camera()}, {"corner", corner}, {"above", above}, {"low", low}});
   }
 }
@@ -189,10 +190,11 @@ void cpu() {
               "max texel diff", "> 1e-3");
   for (std::size_t n : {65536u, 262144u, 1048576u, 4194304u}) {
     if (n > maxLights) continue;
-    LightsDesc d = bench::fig11Lights(n);
-    const std::vector<LightParticle> lights = lightParticles(d, Particles{}, 0.0);
+    scene::LightsDesc d = bench::fig11Lights(n);
+    const std::vector<sph::lights::LightParticle> lights =
+        sph::lights::lightParticles(d, Particles{}, 0.0);
     LightVolume atomic(d);
-    d.accumulate = LightAccumulate::Cpu;
+    d.accumulate = scene::LightAccumulate::Cpu;
     LightVolume onCpu(d);
     const auto [ta, tc] = pairedMin(atomic, nullptr, onCpu, nullptr, lights);
     const auto [worst, more] = texelDifference(atomic, onCpu);
@@ -201,11 +203,13 @@ void cpu() {
     std::fflush(stdout);
   }
   // The fireflies' frame (range 2.5 voxels: the shader visits 7^3 voxels a light).
-  const Scene scene = io::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/fireflies.json");
-  LightsDesc d = *scene.lights;
-  const std::vector<LightParticle> lights = lightParticles(d, Particles{}, 0.2, lightSolids(scene));
+  const scene::Scene scene =
+      io::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/fireflies.json");
+  scene::LightsDesc d = *scene.lights;
+  const std::vector<sph::lights::LightParticle> lights =
+      sph::lights::lightParticles(d, Particles{}, 0.2, sph::lights::lightSolids(scene));
   LightVolume atomic(d);
-  d.accumulate = LightAccumulate::Cpu;
+  d.accumulate = scene::LightAccumulate::Cpu;
   LightVolume onCpu(d);
   const auto [ta, tc] = pairedMin(atomic, nullptr, onCpu, nullptr, lights);
   const auto [worst, more] = texelDifference(atomic, onCpu);
@@ -227,7 +231,7 @@ struct Fig11View {
   render::solids::SolidRenderer solids{bench::fig11Solids(),
                                        Aabb{Vec3(0, -1, 0), Vec3(128, 128, 128)}, 0.5f};
   render::splat::SplatRenderer renderer{kWidth, kHeight};
-  const CameraDesc camera = bench::fig11Camera();
+  const scene::CameraDesc camera = bench::fig11Camera();
   Fig11View() { renderer.setLayers({&solids}); }
 };
 
@@ -240,7 +244,7 @@ void frame() {
   world.solids.tessellation.pixels = pixels;
   render::splat::SplatRenderer& renderer = world.renderer;
   const int width = Fig11View::kWidth, height = Fig11View::kHeight;
-  const CameraDesc& camera = world.camera;
+  const scene::CameraDesc& camera = world.camera;
   std::printf(
       "Fig. 11 frame (128^3 voxels of 1 m, range 0.5 m, trilinear, deferred, accumulate cpu, "
       "shade %s; %d x %d; solids tessellated for their size on screen, %g px): ms, min of %d "
@@ -250,9 +254,11 @@ void frame() {
               "G-buffer", "cpu shade", "copy", "draw", "frame", "[acc cul]", "[draw]", "triangles");
   for (std::size_t n : {262144u, 1048576u}) {
     if (n > maxLights) continue;
-    LightsDesc d = bench::fig11Lights(n);
-    d.pipeline = LightPipeline::Deferred, d.accumulate = LightAccumulate::Cpu, d.shade = shade;
-    const std::vector<LightParticle> lights = lightParticles(d, Particles{}, 0.0);
+    scene::LightsDesc d = bench::fig11Lights(n);
+    d.pipeline = scene::LightPipeline::Deferred, d.accumulate = scene::LightAccumulate::Cpu,
+    d.shade = shade;
+    const std::vector<sph::lights::LightParticle> lights =
+        sph::lights::lightParticles(d, Particles{}, 0.0);
     const LightView view = lightView(camera, static_cast<float>(width) / static_cast<float>(height),
                                      1.5f, 2.5f, d.voxelSize);
     LightVolume all(d), culled(d);
@@ -287,13 +293,15 @@ void frame() {
 }
 
 void fireflies() {
-  const Scene scene = io::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/fireflies.json");
-  LightsDesc d = *scene.lights;
+  const scene::Scene scene =
+      io::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/fireflies.json");
+  scene::LightsDesc d = *scene.lights;
   d.accumulate = accumulate;
-  const std::vector<LightParticle> lights = lightParticles(d, Particles{}, 0.2, lightSolids(scene));
-  const float thickness = deriveParams(scene).boundaryLayers * scene.solver.spacing;
+  const std::vector<sph::lights::LightParticle> lights =
+      sph::lights::lightParticles(d, Particles{}, 0.2, sph::lights::lightSolids(scene));
+  const float thickness = solver::deriveParams(scene).boundaryLayers * scene.solver.spacing;
   render::solids::SolidRenderer solids(scene.boundaries, scene.domain, thickness);
-  CameraDesc cup = *scene.camera;
+  scene::CameraDesc cup = *scene.camera;
   cup.position = Vec3(0.62f, 0.3f, 0.05f), cup.target = Vec3(0.35f, 0.07f, -0.25f);
   std::printf(
       "scenes/fireflies.json at t = 0.2 s (%d x %d x %d voxels of %g m, range %g m, %s, %s, %s; "
@@ -349,10 +357,11 @@ void cpuSide() {
               "[accumulate]", "shade", "[shade]", "sums hash", "pixels hash");
   for (std::size_t n : {262144u, 1048576u}) {
     if (n > maxLights) continue;
-    LightsDesc d = bench::fig11Lights(n);
-    d.pipeline = LightPipeline::Deferred, d.accumulate = LightAccumulate::Cpu;
-    d.shade = LightShade::Cpu;
-    const std::vector<LightParticle> lights = lightParticles(d, Particles{}, 0.0);
+    scene::LightsDesc d = bench::fig11Lights(n);
+    d.pipeline = scene::LightPipeline::Deferred, d.accumulate = scene::LightAccumulate::Cpu;
+    d.shade = scene::LightShade::Cpu;
+    const std::vector<sph::lights::LightParticle> lights =
+        sph::lights::lightParticles(d, Particles{}, 0.0);
     const LightView view =
         lightView(world.camera, static_cast<float>(Fig11View::kWidth) / Fig11View::kHeight, 1.5f,
                   2.5f, d.voxelSize);
@@ -405,11 +414,11 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--max-lights")) maxLights = std::strtoull(argv[i + 1], nullptr, 10);
     if (!std::strcmp(argv[i], "--repeat")) repeat = std::max(1, std::atoi(argv[i + 1]));
     if (!std::strcmp(argv[i], "--accumulate") && !std::strcmp(argv[i + 1], "cpu"))
-      accumulate = LightAccumulate::Cpu;
+      accumulate = scene::LightAccumulate::Cpu;
     if (!std::strcmp(argv[i], "--pixels")) pixels = std::strtof(argv[i + 1], nullptr);
     if (!std::strcmp(argv[i], "--png")) png = argv[i + 1];
     if (!std::strcmp(argv[i], "--shade")) {
-      const std::optional<LightShade> s = parseEnum<LightShade>(argv[i + 1]);
+      const std::optional<scene::LightShade> s = scene::parseEnum<scene::LightShade>(argv[i + 1]);
       if (!s) {
         std::fprintf(stderr, "--shade: expected gl, cpu or auto, got %s\n", argv[i + 1]);
         return 2;

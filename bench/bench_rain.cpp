@@ -67,18 +67,18 @@ std::unique_ptr<render::gl::GlContext> context;
 // `d`'s drops reset at the first camera, their layer, and the 960x540 frame (no water) it is
 // drawn into; makes the headless context on first use.
 struct RainFrameDraw {
-  static const RainDesc& withContext(const RainDesc& d) {
+  static const scene::RainDesc& withContext(const scene::RainDesc& d) {
     if (!context)
       context = std::make_unique<render::gl::GlContext>(render::gl::GlContext::headless());
     return d;
   }
-  explicit RainFrameDraw(const RainDesc& d)
+  explicit RainFrameDraw(const scene::RainDesc& d)
       : drops(withContext(d), kAspect), layer(d), renderer(kWidth, kHeight) {
     drops.reset(cameraAtFrame(0));
     renderer.setLayers({&layer});
   }
   // Uploads the drops and draws them: upload + draw + read back.
-  render::splat::RenderImage draw(const CameraDesc& camera) {
+  render::splat::RenderImage draw(const scene::CameraDesc& camera) {
     layer.setDrops(drops);
     return renderer.render(render::splat::SplatFrame{}, render::splat::SplatKind::Point, camera,
                            render::splat::Lighting{});
@@ -110,16 +110,16 @@ double fragmentsPerDrop(const render::rain::RainRenderer& layer, Frame frame) {
 // args: drops, spotlight (0 none, 1 hard cone, 2 soft edge + falloff, 3 profile: streaks of no
 // size), rain.draw (0 "cpu", 1 "triangles"). Upload + draw + read back.
 void RainDraw(benchmark::State& state) {
-  RainDesc d = desc(state.range(0), 0);
+  scene::RainDesc d = desc(state.range(0), 0);
   if (state.range(1) > 0) {
-    SpotlightDesc l;
+    scene::SpotlightDesc l;
     l.position = Vec3(0, 4, 0), l.height = 5, l.baseRadius = 3;
     l.colour = Vec3(1, 0.2f, 0.2f);
     if (state.range(1) == 2) l.softEdge = 0.3f, l.falloff = true;
     d.spotlight = l;
   }
   if (state.range(1) == 3) d.exposure = 0, d.dropWidth = 0;  // profile: no fragments
-  d.draw = static_cast<sph::RainDraw>(state.range(2));
+  d.draw = static_cast<sph::scene::RainDraw>(state.range(2));
   RainFrameDraw rain(d);
   auto frame = [&] { return rain.draw(cameraAtFrame(0)); };
   state.counters["fragments/drop"] = fragmentsPerDrop(rain.layer, frame);
@@ -140,8 +140,8 @@ BENCHMARK(RainDraw)
 // "cpu" cases spend besides the depth read-back, the layer upload and the blend pass), against an
 // empty depth buffer. args: drops, rain.lod_width in hundredths of a pixel (0: every streak exact).
 // `farTier`: rain.far_tier (RainRasterSums: "sums").
-void rainRaster(benchmark::State& state, RainFarTier farTier) {
-  RainDesc d = desc(state.range(0), 0);
+void rainRaster(benchmark::State& state, scene::RainFarTier farTier) {
+  scene::RainDesc d = desc(state.range(0), 0);
   d.lodWidth = static_cast<float>(state.range(1)) / 100;
   d.farTier = farTier;
   rain::RainSystem r(d, kAspect);
@@ -165,7 +165,7 @@ void rainRaster(benchmark::State& state, RainFarTier farTier) {
   state.counters["layer_hash"] = static_cast<double>(hash);
 }
 void RainRaster(benchmark::State& state) {
-  rainRaster(state, RainFarTier::Lines);
+  rainRaster(state, scene::RainFarTier::Lines);
 }
 BENCHMARK(RainRaster)
     ->ArgsProduct({{10000, 100000, 1000000}, {0}})
@@ -173,7 +173,7 @@ BENCHMARK(RainRaster)
     ->Args({1000000, 100})
     ->Unit(benchmark::kMillisecond);
 void RainRasterSums(benchmark::State& state) {
-  rainRaster(state, RainFarTier::Sums);
+  rainRaster(state, scene::RainFarTier::Sums);
 }
 BENCHMARK(RainRasterSums)
     ->Args({1000000, 50})
@@ -241,15 +241,15 @@ BENCHMARK(RainCompose)->Unit(benchmark::kMillisecond);
 // + upload + draw + read back, 960x540, no water - while the camera pans 90 degrees a second.
 // args: drops, spawn (0 view, 1 box, 2 region), rain.draw (0 "cpu", 1 "triangles"),
 // rain.lod_width in hundredths of a pixel. `farTier`: rain.far_tier (RainFrameSums: "sums").
-void rainFrame(benchmark::State& state, RainFarTier farTier) {
-  RainDesc d = desc(state.range(0), state.range(1));
-  d.draw = static_cast<sph::RainDraw>(state.range(2));
+void rainFrame(benchmark::State& state, scene::RainFarTier farTier) {
+  scene::RainDesc d = desc(state.range(0), state.range(1));
+  d.draw = static_cast<sph::scene::RainDraw>(state.range(2));
   d.lodWidth = static_cast<float>(state.range(3)) / 100;
   d.farTier = farTier;
   RainFrameDraw rain(d);
   int frame = 0;
   for (auto _ : state) {
-    const CameraDesc camera = cameraAtFrame(++frame);
+    const scene::CameraDesc camera = cameraAtFrame(++frame);
     rain.drops.update(camera, 1.0f / 30);
     benchmark::DoNotOptimize(rain.draw(camera));
   }
@@ -259,7 +259,7 @@ void rainFrame(benchmark::State& state, RainFarTier farTier) {
                                          : 0.0;
 }
 void RainFrame(benchmark::State& state) {
-  rainFrame(state, RainFarTier::Lines);
+  rainFrame(state, scene::RainFarTier::Lines);
 }
 BENCHMARK(RainFrame)
     ->ArgsProduct({{1000, 10000, 100000, 1000000}, {0, 1, 2}, {0}, {0}})
@@ -267,7 +267,7 @@ BENCHMARK(RainFrame)
     ->Args({1000000, 0, 0, 100})
     ->Unit(benchmark::kMillisecond);
 void RainFrameSums(benchmark::State& state) {
-  rainFrame(state, RainFarTier::Sums);
+  rainFrame(state, scene::RainFarTier::Sums);
 }
 BENCHMARK(RainFrameSums)
     ->Args({10000, 0, 0, 800})

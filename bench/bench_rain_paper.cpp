@@ -30,9 +30,9 @@ using bench::kAspect;
 
 // Camera paths of 1 s at 30 fps from the still camera (0, 1, 4) looking along -z, fov 45:
 // 0 still, 1 a 90-degree pan, 2 a dolly 3 m forward, 3 a zoom to fov 20.
-CameraDesc pathCamera(int path, int frame) {
+scene::CameraDesc pathCamera(int path, int frame) {
   const double t = frame / 30.0;
-  CameraDesc c = cameraAtFrame(0);
+  scene::CameraDesc c = cameraAtFrame(0);
   if (path == 1) c = cameraAtFrame(frame);
   if (path == 2) {
     c.position = Vec3(0, 1, static_cast<float>(4 - 3 * t));
@@ -44,12 +44,12 @@ CameraDesc pathCamera(int path, int frame) {
 
 // The rain camera's frustum from the general camera maths (sim/scene/Camera.h, not the rain's own
 // test), and its volume near..far (a truncated pyramid), m^3.
-Frustum rainFrustum(const CameraDesc& camera, const RainDesc& d) {
-  CameraDesc c = camera;
+scene::Frustum rainFrustum(const scene::CameraDesc& camera, const scene::RainDesc& d) {
+  scene::CameraDesc c = camera;
   c.near = d.near, c.far = d.far;
-  return Frustum(cameraFrame(c, kAspect).projView);
+  return scene::Frustum(cameraFrame(c, kAspect).projView);
 }
-double frustumVolume(const CameraDesc& c, const RainDesc& d) {
+double frustumVolume(const scene::CameraDesc& c, const scene::RainDesc& d) {
   const double t = std::tan(c.fovYDegrees * M_PI / 360);
   return 4.0 / 3.0 * t * t * kAspect * (std::pow(d.far, 3.0) - std::pow(d.near, 3.0));
 }
@@ -58,16 +58,16 @@ double frustumVolume(const CameraDesc& c, const RainDesc& d) {
 // the path after a reset; counters: the minimum over the frames of the share of the budget in
 // the frustum and of the drops in the frustum per m^3 of it.
 void RainInView(benchmark::State& state) {
-  const RainDesc d = desc(state.range(0), state.range(1));
+  const scene::RainDesc d = desc(state.range(0), state.range(1));
   const int path = static_cast<int>(state.range(2));
   double minShare = 1, minDensity = 1e30;
   for (auto _ : state) {
     rain::RainSystem r(d, kAspect);
     r.reset(pathCamera(path, 0));
     for (int f = 1; f <= 30; ++f) {
-      const CameraDesc c = pathCamera(path, f);
+      const scene::CameraDesc c = pathCamera(path, f);
       r.update(c, 1.0f / 30);
-      const Frustum frustum = rainFrustum(c, d);
+      const scene::Frustum frustum = rainFrustum(c, d);
       std::size_t in = 0;
       for (const Vec3& p : r.positions()) {
         bool inside = true;
@@ -97,7 +97,7 @@ BENCHMARK(RainInView)
 // in 10 x 10 bins, 99 dof, 148.2 is p = 0.001) against the uniform ball.
 void RainSpawnRng(benchmark::State& state) {
   const int method = static_cast<int>(state.range(0));
-  const auto sampling = static_cast<RainSampling>(state.range(1));
+  const auto sampling = static_cast<scene::RainSampling>(state.range(1));
   const rain::RainSpace space = rain::RainSpace::build(cameraAtFrame(0), kAspect, 0.1f, 5);
   constexpr std::size_t kSpawns = 1000000;
   std::vector<Vec3> ball;  // every sphere sample of the last iteration, unit ball
@@ -114,7 +114,7 @@ void RainSpawnRng(benchmark::State& state) {
       return static_cast<float>(std::rand()) / (static_cast<float>(RAND_MAX) + 1.0f);
     };
     auto ballPoint = [&]() {
-      if (sampling == RainSampling::Paper) {
+      if (sampling == scene::RainSampling::Paper) {
         const float u[5] = {next(), next(), next(), next(), next()};
         return rain::paperBallPoint(u);
       }
@@ -158,7 +158,7 @@ void RainSpawnRng(benchmark::State& state) {
 #pragma omp parallel for schedule(static)
       for (std::ptrdiff_t k = 0; k < n; ++k) {
         const auto i = static_cast<std::size_t>(k);
-        if (sampling == RainSampling::Uniform) {  // the shipped sampler
+        if (sampling == scene::RainSampling::Uniform) {  // the shipped sampler
           rain::ViewSpawnCount count;
           rain::spawnInView(space, rain::DropRandom(2021 + iteration, i, 0), 1 << 20, always,
                             placed[i], count);
@@ -180,7 +180,7 @@ void RainSpawnRng(benchmark::State& state) {
       for (std::size_t i = 0; i < kSpawns; ++i) {
         const rain::DropRandom u(2021 + iteration, i, 0);
         for (std::uint64_t t = 0; t <= tries[i]; ++t) {
-          if (sampling == RainSampling::Paper) {
+          if (sampling == scene::RainSampling::Paper) {
             ball.push_back(paperTry(i, t));
             continue;
           }
@@ -216,7 +216,7 @@ void RainSpawnRng(benchmark::State& state) {
   state.counters["samples_per_spawn"] =
       static_cast<double>(ball.size()) / static_cast<double>(kSpawns);
   // `uniform`: the cube's candidates (sphere samples and those outside the sphere)
-  if (sampling == RainSampling::Uniform)
+  if (sampling == scene::RainSampling::Uniform)
     state.counters["candidates_per_spawn"] =
         static_cast<double>(candidates) / static_cast<double>(kSpawns);
   state.counters["spawns/s"] = benchmark::Counter(static_cast<double>(state.iterations() * kSpawns),

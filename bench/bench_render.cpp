@@ -108,11 +108,11 @@ int main(int argc, char** argv) {
     float spacing = 0;
     const Particles pool = wavyPool(n, spacing);
     for (bool newton : {false, true}) {
-      RenderDesc desc;
+      scene::RenderDesc desc;
       desc.width = width, desc.height = height,
-      desc.projection = newton ? SplatProjection::Newton : SplatProjection::Equation6;
+      desc.projection = newton ? scene::SplatProjection::Newton : scene::SplatProjection::Equation6;
       render::splat::FrameRenderer r(desc, spacing, 1000.0f);
-      const CameraDesc camera =
+      const scene::CameraDesc camera =
           render::splat::framingCamera(pool, static_cast<float>(width) / height);
       render::splat::RenderImage ref;
       r.prepare(pool);

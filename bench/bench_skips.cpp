@@ -31,7 +31,7 @@
 namespace {
 
 // The dam break at a / dx = 20 (6400 fluid, ~24k boundary particles), as in docs/benchmarks.md.
-sph::Scene damBreak() {
+sph::scene::Scene damBreak() {
   return sph::io::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/dam_break.json",
                             {"solver.spacing=0.0073"});
 }
@@ -61,11 +61,12 @@ void GlContextHeadless(benchmark::State& state) {
 }
 
 void BoundarySample(benchmark::State& state) {
-  const sph::Scene scene = damBreak();
-  const sph::DerivedParams d = sph::deriveParams(scene);
+  const sph::scene::Scene scene = damBreak();
+  const sph::solver::DerivedParams d = sph::solver::deriveParams(scene);
   std::size_t n = 0;
   for (auto _ : state) {
-    sph::Boundary b(scene.boundaries, scene.domain, scene.solver.spacing, d.boundaryLayers, d.h);
+    sph::solver::Boundary b(scene.boundaries, scene.domain, scene.solver.spacing, d.boundaryLayers,
+                            d.h);
     n = b.particles().size();
     benchmark::DoNotOptimize(&b);
   }
@@ -73,15 +74,15 @@ void BoundarySample(benchmark::State& state) {
 }
 
 void SimulationSetup(benchmark::State& state) {
-  const sph::Scene scene = damBreak();
+  const sph::scene::Scene scene = damBreak();
   for (auto _ : state) {
-    sph::Simulation sim(scene);
+    sph::run::Simulation sim(scene);
     benchmark::DoNotOptimize(&sim);
   }
 }
 
 void SimulationStep(benchmark::State& state) {
-  sph::Simulation sim(damBreak());
+  sph::run::Simulation sim(damBreak());
   sim.advanceTo(0.05);  // a moving, disordered state
   for (auto _ : state) sim.step();
   state.counters["particles"] = static_cast<double>(sim.fluid().size());
@@ -90,7 +91,7 @@ void SimulationStep(benchmark::State& state) {
 // Quad splats of the dam break at t = 0.2 s (the surge running along the floor). Args: surface
 // threshold x 100 (0 = automatic), vertical field of view in degrees.
 void Splats(benchmark::State& state) {
-  sph::Simulation sim(damBreak());
+  sph::run::Simulation sim(damBreak());
   sim.advanceTo(0.2);
   const sph::Particles& p = sim.fluid();
   const float spacing = sim.scene().solver.spacing;
@@ -100,9 +101,9 @@ void Splats(benchmark::State& state) {
                                                spacing, params.kernelRadius);
   // The scene's camera looks at the tank's middle; a narrow field of view keeps part of it.
   const sph::Vec3 eye(0.5f, 0.32f, 0.62f), target(0.27f, 0.08f, 0.03f);
-  const sph::Mat4 projView =
-      sph::multiply(sph::perspective(static_cast<float>(state.range(1)), 4.0f / 3.0f, 0.01f, 10.0f),
-                    sph::lookAt(eye, target, sph::Vec3::UnitY()));
+  const sph::scene::Mat4 projView = sph::scene::multiply(
+      sph::scene::perspective(static_cast<float>(state.range(1)), 4.0f / 3.0f, 0.01f, 10.0f),
+      sph::scene::lookAt(eye, target, sph::Vec3::UnitY()));
   sph::render::splat::SplatFrame frame;
   for (auto _ : state) {
     frame = sph::render::splat::buildSplats(field, params, sph::render::splat::SplatKind::Quad,

@@ -21,16 +21,16 @@ std::string spacingFor(double n) {
   return "solver.spacing=" + std::to_string(std::cbrt(volume / n));
 }
 
-sph::Scene damBreak(double n) {
+sph::scene::Scene damBreak(double n) {
   return sph::io::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/dam_break.json",
                             {spacingFor(n)});
 }
 
 void NeighbourGridBuild(benchmark::State& state) {
-  sph::Simulation sim(damBreak(static_cast<double>(state.range(0))));
+  sph::run::Simulation sim(damBreak(static_cast<double>(state.range(0))));
   sim.step();  // a realistic, slightly disordered state
   const sph::Particles& p = sim.fluid();
-  sph::NeighbourGrid grid;
+  sph::grid::NeighbourGrid grid;
   std::vector<std::uint32_t> order;
   for (auto _ : state) {
     grid.build(p.x.data(), p.y.data(), p.z.data(), p.size(), sim.params().h, order);
@@ -41,10 +41,10 @@ void NeighbourGridBuild(benchmark::State& state) {
 }
 
 void NeighbourGridQuery(benchmark::State& state) {
-  sph::Simulation sim(damBreak(static_cast<double>(state.range(0))));
+  sph::run::Simulation sim(damBreak(static_cast<double>(state.range(0))));
   sim.step();
   const sph::Particles& p = sim.fluid();
-  sph::NeighbourGrid grid;
+  sph::grid::NeighbourGrid grid;
   std::vector<std::uint32_t> order;
   grid.build(p.x.data(), p.y.data(), p.z.data(), p.size(), sim.params().h, order);
   std::vector<float> x(p.size()), y(p.size()), z(p.size());
@@ -74,7 +74,7 @@ void NeighbourGridQuery(benchmark::State& state) {
 }
 
 void Step(benchmark::State& state) {
-  sph::Simulation sim(damBreak(static_cast<double>(state.range(0))));
+  sph::run::Simulation sim(damBreak(static_cast<double>(state.range(0))));
   sim.step();
   for (auto _ : state) sim.step();
   state.counters["particles"] = static_cast<double>(sim.fluid().size());

@@ -27,24 +27,25 @@ using namespace sph;
 constexpr std::size_t kDrops = 1000000;
 constexpr float kAspect = 960.0f / 540.0f;
 
-CameraDesc stillCamera(float fov) {  // bench_rain's: at (0, 1, 4) looking along -z
-  CameraDesc camera;
+scene::CameraDesc stillCamera(float fov) {  // bench_rain's: at (0, 1, 4) looking along -z
+  scene::CameraDesc camera;
   camera.position = Vec3(0, 1, 4);
   camera.target = Vec3(0, 1, 3);
   camera.fovYDegrees = fov;
   return camera;
 }
 
-RainDesc viewRain(RainSampling sampling) {
-  RainDesc d;
-  d.count = kDrops, d.near = 0.1f, d.far = 5, d.spawn = RainSpawn::View, d.sampling = sampling;
+scene::RainDesc viewRain(scene::RainSampling sampling) {
+  scene::RainDesc d;
+  d.count = kDrops, d.near = 0.1f, d.far = 5, d.spawn = scene::RainSpawn::View,
+  d.sampling = sampling;
   return d;
 }
 
 void rejectionAgainstFov() {
   std::printf("fov_deg,rejected_share,predicted_share,spawn_ms\n");
   for (const float fov : {10.f, 20.f, 30.f, 45.f, 60.f, 75.f, 90.f, 105.f, 120.f, 150.f}) {
-    rain::RainSystem rain(viewRain(RainSampling::Uniform), kAspect);
+    rain::RainSystem rain(viewRain(scene::RainSampling::Uniform), kAspect);
     const auto start = std::chrono::steady_clock::now();
     rain.reset(stillCamera(fov));
     const double ms =
@@ -69,9 +70,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   constexpr int kBins = 50;
-  const CameraDesc camera = stillCamera(45);  // 45 degrees, 16:9
+  const scene::CameraDesc camera = stillCamera(45);  // 45 degrees, 16:9
   std::printf("sampling,bin_lo,bin_hi,radius_density,depth_density\n");
-  for (const RainSampling sampling : {RainSampling::Uniform, RainSampling::Paper}) {
+  for (const scene::RainSampling sampling :
+       {scene::RainSampling::Uniform, scene::RainSampling::Paper}) {
     rain::RainSystem rain(viewRain(sampling), kAspect);
     rain.reset(camera);
     const rain::RainSpace& s = rain.space();

@@ -28,11 +28,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string w = std::to_string(width);
-  const sph::Scene scene = sph::io::loadScene(
+  const sph::scene::Scene scene = sph::io::loadScene(
       SPHSPLAT_SOURCE_DIR "/scenes/still_tank.json",
       {"fluids[0].max=[" + w + ",0.3," + w + "]", "boundaries[0].max=[" + w + ",0.4," + w + "]",
        "solver.pressure=" + solver});
-  sph::Simulation sim(scene);
+  sph::run::Simulation sim(scene);
   const double dx = scene.solver.spacing, rho0 = scene.solver.restDensity;
   // The depth of the water at rest density: its volume over the floor.
   const double depth = static_cast<double>(sim.fluid().size()) * dx * dx * dx / (width * width);

@@ -19,9 +19,9 @@ namespace sph::test {
 
 // Runs the tiny scene and writes `frames` frames (one every 0.01 s) to `path` in-process.
 struct WrittenRun {
-  Scene scene;
+  scene::Scene scene;
   std::vector<Particles> frames;
-  std::vector<RunState> states;
+  std::vector<run::RunState> states;
 };
 
 inline WrittenRun writeRun(const std::string& path, std::size_t frames,
@@ -29,7 +29,7 @@ inline WrittenRun writeRun(const std::string& path, std::size_t frames,
   setThreadCount(1);  // a unit suite: it must not compete with others for the cores
   WrittenRun run;
   run.scene = io::parseScene(tinyCacheScene(1.0, 100, extraOutput), path + ".json");
-  Simulation sim(run.scene);
+  run::Simulation sim(run.scene);
   auto writer = io::CacheWriter::create(path, run.scene, sim.params(), sim.boundary().particles(),
                                         io::CacheProvenance{"test", 1, {"solver.cfl=0.4"}},
                                         expectedFrames ? expectedFrames : frames);

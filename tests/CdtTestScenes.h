@@ -33,12 +33,12 @@ inline Particles randomParticles(std::size_t n, float half, std::uint32_t seed) 
 }
 
 // A collision section looking at the origin from +z (3 m), 128^2 texels.
-inline CollisionDesc testCollision() {
-  CollisionDesc c;
-  c.method = CollisionMethod::CdtCpu;
+inline scene::CollisionDesc testCollision() {
+  scene::CollisionDesc c;
+  c.method = scene::CollisionMethod::CdtCpu;
   c.range = 0.03f;
   c.resolution = {128, 128};
-  c.camera = CdtCameraMode::Fixed;
+  c.camera = scene::CdtCameraMode::Fixed;
   c.hasPose = true;
   c.pose.position = Vec3(0.3f, 0.4f, 3.0f);
   c.pose.target = Vec3(0, 0, 0);

@@ -15,34 +15,36 @@
 namespace sph::test {
 
 // A light at p of `colour` times `intensity`, its direction weighted by `intensity`.
-inline LightParticle light(const Vec3& p, const Vec3& colour, float intensity) {
+inline lights::LightParticle light(const Vec3& p, const Vec3& colour, float intensity) {
   return {{p.x(), p.y(), p.z(), 0.0f},
           {colour.x() * intensity, colour.y() * intensity, colour.z() * intensity, intensity}};
 }
 
 // A floor at y = 0, a sphere and a block on it: something for the lights to light.
-inline std::vector<BoundaryShape> floorSphereBlock(const Vec3& centre, float radius,
-                                                   const Vec3& blockLo, const Vec3& blockHi) {
-  BoundaryShape plane, sphere, block;
-  plane.kind = BoundaryShape::Kind::Plane, plane.point = Vec3::Zero(), plane.normal = Vec3::UnitY();
-  sphere.kind = BoundaryShape::Kind::Sphere, sphere.centre = centre, sphere.radius = radius;
-  block.kind = BoundaryShape::Kind::Block, block.lo = blockLo, block.hi = blockHi;
+inline std::vector<scene::BoundaryShape> floorSphereBlock(const Vec3& centre, float radius,
+                                                          const Vec3& blockLo,
+                                                          const Vec3& blockHi) {
+  scene::BoundaryShape plane, sphere, block;
+  plane.kind = scene::BoundaryShape::Kind::Plane, plane.point = Vec3::Zero(),
+  plane.normal = Vec3::UnitY();
+  sphere.kind = scene::BoundaryShape::Kind::Sphere, sphere.centre = centre, sphere.radius = radius;
+  block.kind = scene::BoundaryShape::Kind::Block, block.lo = blockLo, block.hi = blockHi;
   return {plane, sphere, block};
 }
 
 // The scene two renderings of one frame are compared on (forward against deferred, GL against
 // CPU shading): 96 warm lights over a floor, a sphere and a block, a sheet of point splats over
 // the floor partly behind the sphere, and a camera that sees them all.
-inline std::vector<LightParticle> sheetLights(unsigned seed) {
+inline std::vector<lights::LightParticle> sheetLights(unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  std::vector<LightParticle> lights;
+  std::vector<lights::LightParticle> lights;
   for (int i = 0; i < 96; ++i)
     lights.push_back(light(Vec3(u(rng) - 0.5f, 0.02f + 0.4f * u(rng), u(rng) - 0.5f),
                            Vec3(1.0f, 0.4f + 0.6f * u(rng), 0.2f + 0.8f * u(rng)), 0.5f));
   return lights;
 }
-inline std::vector<BoundaryShape> sheetSolids() {
+inline std::vector<scene::BoundaryShape> sheetSolids() {
   return floorSphereBlock(Vec3(0, 0.15f, 0), 0.15f, Vec3(0.15f, 0, -0.35f),
                           Vec3(0.35f, 0.2f, -0.15f));
 }
@@ -55,8 +57,8 @@ inline render::splat::SplatFrame waterSheet() {
           render::splat::SplatVertex{{-0.45f + 0.06f * i, 0.04f, -0.45f + 0.06f * j}, {0, 1, 0}});
   return water;
 }
-inline CameraDesc sheetCamera() {
-  CameraDesc camera;
+inline scene::CameraDesc sheetCamera() {
+  scene::CameraDesc camera;
   camera.position = Vec3(0.6f, 0.55f, 0.8f), camera.target = Vec3(0, 0.1f, 0);
   camera.fovYDegrees = 50;
   return camera;

@@ -18,8 +18,8 @@ namespace sph::test {
 using Texels = std::vector<std::array<float, 4>>;
 
 // 8^3 voxels of 0.25 m from (-1, -1, -1).
-inline LightsDesc smallVolume() {
-  LightsDesc d;
+inline scene::LightsDesc smallVolume() {
+  scene::LightsDesc d;
   d.origin = Vec3(-1, -1, -1);
   d.voxelSize = 0.25f;
   d.voxels = {8, 8, 8};
@@ -28,7 +28,7 @@ inline LightsDesc smallVolume() {
   return d;
 }
 
-inline Vec3 voxelCentre(const LightsDesc& d, int x, int y, int z) {
+inline Vec3 voxelCentre(const scene::LightsDesc& d, int x, int y, int z) {
   return d.origin + d.voxelSize * Vec3(x + 0.5f, y + 0.5f, z + 0.5f);
 }
 

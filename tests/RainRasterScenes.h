@@ -15,8 +15,8 @@ inline constexpr float kAspect = static_cast<float>(kWidth) / kHeight;
 
 // Above and to the right of the rain, looking down on it a little: no axis of the picture is an
 // axis of the world.
-inline CameraDesc camera() {
-  CameraDesc c;
+inline scene::CameraDesc camera() {
+  scene::CameraDesc c;
   c.position = Vec3(0.6f, 1.6f, 4), c.target = Vec3(0, 1, 0);
   c.fovYDegrees = 50;
   return c;
@@ -24,8 +24,8 @@ inline CameraDesc camera() {
 
 // Rain of the view model in front of camera(), slanted by a wind, lit in part by a soft-edged
 // spotlight so that the drops' colours differ.
-inline RainDesc desc(std::size_t count, RainDraw draw) {
-  RainDesc d;
+inline scene::RainDesc desc(std::size_t count, scene::RainDraw draw) {
+  scene::RainDesc d;
   d.count = count;
   d.near = 0.5f, d.far = 4;
   d.dropWidth = 0.01f;
@@ -33,7 +33,7 @@ inline RainDesc desc(std::size_t count, RainDraw draw) {
   d.wind = Vec3(2, 0, 0);
   d.seed = 7;
   d.draw = draw;
-  SpotlightDesc l;
+  scene::SpotlightDesc l;
   l.position = Vec3(-0.8f, 4, 2), l.height = 5, l.baseRadius = 2;
   l.colour = Vec3(1, 0.3f, 0.1f), l.softEdge = 0.3f;
   d.spotlight = l;

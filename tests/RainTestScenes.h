@@ -12,16 +12,16 @@ namespace sph::test {
 
 inline constexpr float kAspect = 16.0f / 9.0f;
 
-inline CameraDesc lookingAlongZ() {
-  CameraDesc c;
+inline scene::CameraDesc lookingAlongZ() {
+  scene::CameraDesc c;
   c.position = Vec3(0, 1, 4);
   c.target = Vec3(0, 1, 0);
   c.fovYDegrees = 45;
   return c;
 }
 
-inline RainDesc rainDesc(RainSpawn spawn, std::size_t count = 20000) {
-  RainDesc d;
+inline scene::RainDesc rainDesc(scene::RainSpawn spawn, std::size_t count = 20000) {
+  scene::RainDesc d;
   d.count = count;
   d.near = 0.1f;
   d.far = 5;
@@ -31,21 +31,21 @@ inline RainDesc rainDesc(RainSpawn spawn, std::size_t count = 20000) {
 }
 
 // The frustum of the rain camera, from the general camera maths (sim/scene/Camera.h, not RainSpace).
-inline Frustum rainFrustum(const CameraDesc& camera, const RainDesc& d) {
-  CameraDesc c = camera;
+inline scene::Frustum rainFrustum(const scene::CameraDesc& camera, const scene::RainDesc& d) {
+  scene::CameraDesc c = camera;
   c.near = d.near, c.far = d.far;
-  return Frustum(cameraFrame(c, kAspect).projView);
+  return scene::Frustum(cameraFrame(c, kAspect).projView);
 }
 
-inline bool inFrustum(const Frustum& f, const Vec3& p) {
+inline bool inFrustum(const scene::Frustum& f, const Vec3& p) {
   for (int k = 0; k < 6; ++k) {
     if (f.distance(k, p) < -1e-4f) return false;
   }
   return true;
 }
 
-inline double fractionInView(const rain::RainSystem& r, const CameraDesc& camera) {
-  const Frustum f = rainFrustum(camera, r.desc());
+inline double fractionInView(const rain::RainSystem& r, const scene::CameraDesc& camera) {
+  const scene::Frustum f = rainFrustum(camera, r.desc());
   std::size_t in = 0;
   for (const Vec3& p : r.positions()) in += inFrustum(f, p);
   return static_cast<double>(in) / static_cast<double>(r.size());

@@ -8,7 +8,7 @@
 
 namespace sph::test {
 
-void StillTankFloor::advanceTo(Simulation& sim, double t) {
+void StillTankFloor::advanceTo(run::Simulation& sim, double t) {
   const float w = static_cast<float>(width_), below = -1.0f, above = 1e3f;
   // Boundary particles stand at the centres of lattice cells: a box whose sides lie on cell
   // faces holds those of a floor area (its side)^2 (a quarter of a side that is not a whole
@@ -22,10 +22,10 @@ void StillTankFloor::advanceTo(Simulation& sim, double t) {
   while (sim.time() < t) {
     sim.step(t);
     const Particles& p = sim.fluid();
-    const DerivedParams& d = sim.params();
+    const solver::DerivedParams& d = sim.params();
     auto load = [&](const Aabb& sensor) {
-      return wallLoad(p, sim.boundary().particles(), sim.boundaryPressureTerm(), sensor, d.mass,
-                      d.h, sim.gradientCorrection());
+      return run::wallLoad(p, sim.boundary().particles(), sim.boundaryPressureTerm(), sensor,
+                           d.mass, d.h, sim.gradientCorrection());
     };
     const double weight =
         static_cast<double>(p.size()) * d.mass * sim.scene().solver.gravity.norm();
@@ -34,7 +34,7 @@ void StillTankFloor::advanceTo(Simulation& sim, double t) {
     total_ += load(all).dot(sim.scene().solver.gravity.cast<double>()) /
               (weight * sim.scene().solver.gravity.norm());
     readProfile(p, d.mass, sim.scene().solver.gravity.norm());
-    const LayerMean bottom = bottomLayer(p, spacing_);
+    const run::LayerMean bottom = run::bottomLayer(p, spacing_);
     bottomPressure_ += bottom.pressure;
     bottomHeight_ += bottom.height;
     ++steps_;

@@ -19,7 +19,7 @@ class StillTankFloor {
   StillTankFloor(double width, double spacing) : width_(width), spacing_(spacing) {}
 
   // Steps `sim` to time `t` (s) as advanceTo() does, reading the floor after every step.
-  void advanceTo(Simulation& sim, double t);
+  void advanceTo(run::Simulation& sim, double t);
 
   // Mean downward force over area (Pa) on the centre of the floor (the middle half of each side,
   // to whole lattice cells, away from the side walls), and on all of the floor under the water.

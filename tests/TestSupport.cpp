@@ -23,7 +23,7 @@ std::string sourcePath(const std::string& relative) {
   return std::string(SPHSPLAT_SOURCE_DIR) + "/" + relative;
 }
 
-Scene shippedScene(const std::string& name, const std::vector<std::string>& overrides) {
+scene::Scene shippedScene(const std::string& name, const std::vector<std::string>& overrides) {
   return io::loadScene(sourcePath("scenes/" + name + ".json"), overrides);
 }
 

@@ -13,7 +13,7 @@ namespace sph::test {
 // Absolute path of a file in the source tree ("scenes/dam_break.json").
 std::string sourcePath(const std::string& relative);
 // Loads a shipped scene with overrides ("solver.spacing=0.01").
-Scene shippedScene(const std::string& name, const std::vector<std::string>& overrides = {});
+scene::Scene shippedScene(const std::string& name, const std::vector<std::string>& overrides = {});
 // Martin & Moyce (1952)'s surge front, tests/data/martin_moyce_1952.csv: T = t sqrt(2g/a),
 // Z = front / a.
 struct SurgePoint {

@@ -10,46 +10,46 @@
 namespace sph {
 namespace {
 
-BoundaryShape tank() {
-  BoundaryShape t;
-  t.kind = BoundaryShape::Kind::Tank;
+scene::BoundaryShape tank() {
+  scene::BoundaryShape t;
+  t.kind = scene::BoundaryShape::Kind::Tank;
   t.lo = Vec3(0, 0, 0), t.hi = Vec3(1, 0.5f, 0.4f);
   return t;
 }
-BoundaryShape cup() {
-  BoundaryShape c;
-  c.kind = BoundaryShape::Kind::Cup;
+scene::BoundaryShape cup() {
+  scene::BoundaryShape c;
+  c.kind = scene::BoundaryShape::Kind::Cup;
   c.centre = Vec3(0, 0, 0), c.radius = 0.05f, c.height = 0.1f;
   return c;
 }
 
 TEST(Solid, SignedDistancesOfEachShape) {
-  const Solid t(tank(), 0.02f);
+  const scene::Solid t(tank(), 0.02f);
   EXPECT_NEAR(t.distance(Vec3(0.5f, 0.2f, 0.2f)), 0.2f, 1e-6f);  // inside the tank: to the floor
   EXPECT_NEAR(t.distance(Vec3(-0.01f, 0.2f, 0.2f)), -0.01f, 1e-6f);  // inside the left wall
   EXPECT_NEAR(t.distance(Vec3(-0.05f, 0.2f, 0.2f)), 0.03f, 1e-6f);   // outside, beyond the wall
   EXPECT_GT(t.distance(Vec3(0.5f, 3.0f, 0.2f)), 0.0f);               // open top: far above is free
 
-  const Solid c(cup(), 0.01f);
+  const scene::Solid c(cup(), 0.01f);
   EXPECT_NEAR(c.distance(Vec3(0, 0.05f, 0)), 0.05f, 1e-6f);  // centre: to the inner wall/floor
   EXPECT_NEAR(c.distance(Vec3(0.055f, 0.05f, 0)), -0.005f, 1e-6f);  // in the wall
   EXPECT_NEAR(c.distance(Vec3(0, -0.004f, 0)), -0.004f, 1e-6f);     // in the floor
   EXPECT_GT(c.distance(Vec3(0.055f, 0.12f, 0)), 0.0f);              // above the rim
 
-  BoundaryShape sphere;
-  sphere.kind = BoundaryShape::Kind::Sphere;
+  scene::BoundaryShape sphere;
+  sphere.kind = scene::BoundaryShape::Kind::Sphere;
   sphere.centre = Vec3(1, 1, 1), sphere.radius = 0.5f;
-  EXPECT_NEAR(Solid(sphere, 0.01f).distance(Vec3(1, 2, 1)), 0.5f, 1e-6f);
-  BoundaryShape plane;
-  plane.kind = BoundaryShape::Kind::Plane;
+  EXPECT_NEAR(scene::Solid(sphere, 0.01f).distance(Vec3(1, 2, 1)), 0.5f, 1e-6f);
+  scene::BoundaryShape plane;
+  plane.kind = scene::BoundaryShape::Kind::Plane;
   plane.point = Vec3(0, 0.1f, 0), plane.normal = Vec3(0, 2, 0);
-  EXPECT_NEAR(Solid(plane, 0.01f).distance(Vec3(3, 0.05f, -2)), -0.05f, 1e-6f);
+  EXPECT_NEAR(scene::Solid(plane, 0.01f).distance(Vec3(3, 0.05f, -2)), -0.05f, 1e-6f);
 }
 
 TEST(Boundary, TankSamplesContinueTheFluidLattice) {
   Aabb domain;
   domain.lo = Vec3(-1, -1, -1), domain.hi = Vec3(2, 2, 2);
-  const std::vector<Vec3> s = sampleBoundaryShape(tank(), domain, 0.1f, 2);
+  const std::vector<Vec3> s = solver::sampleBoundaryShape(tank(), domain, 0.1f, 2);
   // Every sample sits at a half-integer lattice position outside the interior, in 2 layers.
   for (const Vec3& p : s) {
     for (int a = 0; a < 3; ++a) {
@@ -66,12 +66,12 @@ TEST(Boundary, TankSamplesContinueTheFluidLattice) {
 
 // Fires particles at the walls of a container at speeds far beyond what the step allows, and
 // checks none ends up inside a wall or outside the container.
-void fireAtWalls(const BoundaryShape& shape, const Vec3& inside, float speed) {
-  Scene scene;
+void fireAtWalls(const scene::BoundaryShape& shape, const Vec3& inside, float speed) {
+  scene::Scene scene;
   scene.solver.spacing = 0.005f;
   scene.boundaries.push_back(shape);
   scene.domain.lo = Vec3::Constant(-2), scene.domain.hi = Vec3::Constant(2);
-  Boundary boundary(scene.boundaries, scene.domain, 0.005f, 2, 0.01f);
+  solver::Boundary boundary(scene.boundaries, scene.domain, 0.005f, 2, 0.01f);
   std::mt19937 rng(1);
   std::uniform_real_distribution<float> u(-1, 1);
   for (int i = 0; i < 2000; ++i) {
@@ -86,7 +86,7 @@ void fireAtWalls(const BoundaryShape& shape, const Vec3& inside, float speed) {
       ASSERT_GE(boundary.distance(x), 0.0f) << "particle " << i << " step " << step;
     }
     // Below the rim it is still inside the container (it may leave through the open top).
-    if (shape.kind == BoundaryShape::Kind::Tank) {
+    if (shape.kind == scene::BoundaryShape::Kind::Tank) {
       ASSERT_GE(x.y(), shape.lo.y());
       if (x.y() < shape.hi.y()) {
         ASSERT_TRUE(x.x() >= shape.lo.x() && x.x() <= shape.hi.x() && x.z() >= shape.lo.z() &&

@@ -241,8 +241,8 @@ TEST_F(CacheFormat, VaryingCollisionCooldownsAreRecordedForResume) {
   // With a collision pass the cooldowns differ between particles: the resume record keeps them.
   setThreadCount(1);
   const std::string path = dir_ + "/cooldown.h5";
-  const Scene scene = io::parseScene(test::tinyCacheScene(1.0, 100), path + ".json");
-  Simulation sim(scene);
+  const scene::Scene scene = io::parseScene(test::tinyCacheScene(1.0, 100), path + ".json");
+  run::Simulation sim(scene);
   Particles fluid = sim.fluid();
   for (std::size_t i = 0; i < fluid.size(); ++i)
     fluid.collideTime[i] = 0.001f * static_cast<float>(i % 7) - 0.002f;

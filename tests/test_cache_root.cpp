@@ -163,8 +163,8 @@ TEST_F(CacheRoot, ALongSceneFileIsKeptWhole) {
   std::string text = test::tinyCacheScene(0.1, 100);
   text.insert(1, "\"description\": \"" + description + "\",");
   const std::string path = dir_ + "/long.h5";
-  const Scene scene = io::parseScene(text, path + ".json");
-  Simulation sim(scene);
+  const scene::Scene scene = io::parseScene(text, path + ".json");
+  run::Simulation sim(scene);
   auto writer = io::CacheWriter::create(path, scene, sim.params(), sim.boundary().particles(),
                                         {"test", 1, {}}, 1);
   writer->writeFrame(sim.fluid(), sim.runState());

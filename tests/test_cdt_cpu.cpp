@@ -107,8 +107,8 @@ TEST(CdtConstants, TransformFeedbackBuffersAgree) {
 
 // ---- the collision camera (seed 000, section 3.4) ---------------------------------------------
 
-CameraDesc frontCamera() {
-  CameraDesc c;
+scene::CameraDesc frontCamera() {
+  scene::CameraDesc c;
   c.position = Vec3(0.1f, 0.2f, 2.0f);
   c.target = Vec3(0.1f, 0.2f, 0.0f);  // looking down world -z
   c.fovYDegrees = 40;
@@ -118,21 +118,21 @@ CameraDesc frontCamera() {
 }
 
 TEST(CdtCamera, RenderModeIsTheSceneCamera) {
-  CollisionDesc d;
-  d.camera = CdtCameraMode::Render;
-  const CameraDesc c = cdt::collisionCamera(d, frontCamera());
+  scene::CollisionDesc d;
+  d.camera = scene::CdtCameraMode::Render;
+  const scene::CameraDesc c = cdt::collisionCamera(d, frontCamera());
   EXPECT_EQ(c.position, frontCamera().position);
   EXPECT_EQ(c.target, frontCamera().target);
   EXPECT_THROW(cdt::collisionCamera(d, std::nullopt), std::invalid_argument);
 }
 
 TEST(CdtCamera, FixedModeUsesItsOwnPose) {
-  CollisionDesc d;
-  d.camera = CdtCameraMode::Fixed;
+  scene::CollisionDesc d;
+  d.camera = scene::CdtCameraMode::Fixed;
   d.pose = frontCamera();
   d.pose.position = Vec3(3, 1, 0);
   d.hasPose = true;
-  CameraDesc render = frontCamera();
+  scene::CameraDesc render = frontCamera();
   render.position = Vec3(-5, 0, 0);
   EXPECT_EQ(cdt::collisionCamera(d, render).position, Vec3(3, 1, 0));
 }
@@ -141,14 +141,14 @@ TEST(CdtCamera, FixedModeUsesItsOwnPose) {
 // world z, so the offset camera sits exactly `offset` further along world +z and the projection
 // is that of the moved camera.
 TEST(CdtCamera, OffsetModeFollowsEquation1) {
-  CollisionDesc d;
-  d.camera = CdtCameraMode::Offset;
+  scene::CollisionDesc d;
+  d.camera = scene::CdtCameraMode::Offset;
   d.offset = 0.75f;
-  const CameraDesc moved = cdt::collisionCamera(d, frontCamera());
+  const scene::CameraDesc moved = cdt::collisionCamera(d, frontCamera());
   EXPECT_NEAR((moved.position - (frontCamera().position + Vec3(0, 0, 0.75f))).norm(), 0.0f, 1e-6f);
   EXPECT_NEAR((moved.target - (frontCamera().target + Vec3(0, 0, 0.75f))).norm(), 0.0f, 1e-6f);
 
-  CameraDesc byHand = frontCamera();
+  scene::CameraDesc byHand = frontCamera();
   byHand.position.z() += 0.75f, byHand.target.z() += 0.75f;
   const cdt::View a = cdt::makeView(moved, {500, 500}), b = cdt::makeView(byHand, {500, 500});
   for (int i = 0; i < 16; ++i) EXPECT_NEAR(a.projView.m[i], b.projView.m[i], 1e-6f) << i;
@@ -161,9 +161,9 @@ TEST(CdtCamera, OffsetModeFollowsEquation1) {
                           qo = cdt::texelOf(a, 0.2f, 0.2f, 0.0f);
   EXPECT_LT(qo.x - po.x, q.x - p.x);
   // And for a camera not aligned with world z, the offset is along the camera's own z axis.
-  CameraDesc oblique = frontCamera();
+  scene::CameraDesc oblique = frontCamera();
   oblique.position = Vec3(2, 1, 2), oblique.target = Vec3(0, 0, 0);
-  const CameraDesc movedOblique = cdt::collisionCamera(d, oblique);
+  const scene::CameraDesc movedOblique = cdt::collisionCamera(d, oblique);
   EXPECT_NEAR((movedOblique.position - oblique.position).norm(), 0.75f, 1e-5f);
   EXPECT_NEAR(
       (movedOblique.position - oblique.position).normalized().dot(Vec3(2, 1, 2).normalized()), 1.0f,
@@ -219,7 +219,7 @@ TEST(CdtCamera, TexelAddressing) {
 // ---- the texture: nearest per texel, ties to draw order, peeled layers --------------------------
 
 TEST(CdtCpu, TextureKeepsNearestThenFirstAndPeelsLayers) {
-  CollisionDesc d = test::testCollision();
+  scene::CollisionDesc d = test::testCollision();
   d.layers = 3;
   // On the axis of a camera looking down -z, with an odd resolution: the axis is the centre of
   // texel (64, 64), whatever the rounding.
@@ -247,7 +247,7 @@ TEST(CdtCpu, TextureKeepsNearestThenFirstAndPeelsLayers) {
 }
 
 TEST(CdtCpu, FirstStepFindsAnEmptyTexture) {
-  CollisionDesc d = test::testCollision();
+  scene::CollisionDesc d = test::testCollision();
   cdt::CdtCpu cpu(cdt::makeSettings(d, std::nullopt));
   Particles p = test::randomParticles(5000, 0.3f, 2);
   for (float& t : p.collideTime) t = -1;
@@ -267,7 +267,7 @@ TEST(CdtCpu, FirstStepFindsAnEmptyTexture) {
 // ---- the paper's response on two particles (seed 000, section 3.2, lines 8 and 20-30) ----------
 
 struct TwoParticles {
-  CollisionDesc desc;
+  scene::CollisionDesc desc;
   Particles p;
 };
 
@@ -275,14 +275,14 @@ struct TwoParticles {
 // falling; C far away as a bystander.
 TwoParticles twoParticles() {
   TwoParticles s;
-  CollisionDesc& d = s.desc;
+  scene::CollisionDesc& d = s.desc;
   d.range = 0.01f;
-  d.response = CollisionResponse::Paper;
-  d.positionSource = CdtPositionSource::Texel;
+  d.response = scene::CollisionResponse::Paper;
+  d.positionSource = scene::CdtPositionSource::Texel;
   d.speedFactor = 0.2f;
   d.cooldown = 0.05f;
   d.resolution = {200, 200};
-  d.camera = CdtCameraMode::Fixed;
+  d.camera = scene::CdtCameraMode::Fixed;
   d.hasPose = true;
   d.pose.position = Vec3(0, 0, 1);
   d.pose.target = Vec3(0, 0, 0);
@@ -355,7 +355,7 @@ TEST(CdtPaperResponse, OutOfRangeOrTheNearestOnly) {
   TwoParticles t = twoParticles();
   t.p.append(Vec3(-0.004f, 0.0f, 0.0f), Vec3(0, -2, 0), 4, 1);
   t.p.ax[3] = 0, t.p.ay[3] = -9.81f, t.p.az[3] = 0;
-  t.desc.positionSource = CdtPositionSource::Particle;
+  t.desc.positionSource = scene::CdtPositionSource::Particle;
   cdt::CdtCpu cpu2(cdt::makeSettings(t.desc, std::nullopt));
   cpu2.step(t.p, 0.001f, true);
   cpu2.step(t.p, 0.001f, true);
@@ -366,8 +366,8 @@ TEST(CdtPaperResponse, OutOfRangeOrTheNearestOnly) {
 // Our default response: apart to the range, no velocity towards each other.
 TEST(CdtSeparateResponse, PushesApartAndStopsTheApproach) {
   TwoParticles s = twoParticles();
-  s.desc.response = CollisionResponse::Separate;
-  s.desc.positionSource = CdtPositionSource::Particle;
+  s.desc.response = scene::CollisionResponse::Separate;
+  s.desc.positionSource = scene::CdtPositionSource::Particle;
   s.desc.cooldown = 0;
   s.p.vx[0] = 0.5f, s.p.vx[1] = -0.5f;  // approaching along x
   s.p.vy[0] = s.p.vy[1] = 0;

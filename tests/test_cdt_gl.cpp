@@ -17,7 +17,7 @@ namespace {
 
 struct Variant {
   const char* name;
-  void (*configure)(CollisionDesc&);
+  void (*configure)(scene::CollisionDesc&);
   bool integrate;
 };
 
@@ -69,7 +69,7 @@ class CdtGlAgreement : public ::testing::TestWithParam<Variant> {};
 TEST_P(CdtGlAgreement, SameTextureCollisionsAndOutputs) {
   const Variant& v = GetParam();
   render::gl::GlContext context = render::gl::GlContext::headless();
-  CollisionDesc desc = test::testCollision();
+  scene::CollisionDesc desc = test::testCollision();
   v.configure(desc);
   const cdt::Settings settings = cdt::makeSettings(desc, std::nullopt);
   cdt::CdtCpu cpu(settings);
@@ -108,7 +108,7 @@ TEST_P(CdtGlAgreement, SameTextureCollisionsAndOutputs) {
 // several dispatches, the one dispatch failed and the texture was empty.
 TEST(CdtGlLarge, MoreParticlesThanOneDispatchCovers) {
   render::gl::GlContext context = render::gl::GlContext::headless();
-  CollisionDesc desc = test::testCollision();
+  scene::CollisionDesc desc = test::testCollision();
   const cdt::Settings settings = cdt::makeSettings(desc, std::nullopt);
   cdt::CdtCpu cpu(settings);
   render::cdt::CdtGl gl(settings);
@@ -123,26 +123,31 @@ INSTANTIATE_TEST_SUITE_P(
     Variants, CdtGlAgreement,
     ::testing::Values(
         Variant{"paper",
-                [](CollisionDesc& c) {
-                  c.response = CollisionResponse::Paper;
-                  c.positionSource = CdtPositionSource::Texel;
+                [](scene::CollisionDesc& c) {
+                  c.response = scene::CollisionResponse::Paper;
+                  c.positionSource = scene::CdtPositionSource::Texel;
                   c.cooldown = 0.05f;
                 },
                 true},
-        Variant{"separate", [](CollisionDesc&) {}, false},
+        Variant{"separate", [](scene::CollisionDesc&) {}, false},
         Variant{"adaptive",
-                [](CollisionDesc& c) { c.adaptiveTexelRange = true, c.maxTexelRange = 3; }, false},
-        Variant{"layers", [](CollisionDesc& c) { c.layers = 3; }, true},
+                [](scene::CollisionDesc& c) { c.adaptiveTexelRange = true, c.maxTexelRange = 3; },
+                false},
+        Variant{"layers", [](scene::CollisionDesc& c) { c.layers = 3; }, true},
         Variant{"wide",
-                [](CollisionDesc& c) { c.texelRange = 2, c.response = CollisionResponse::Paper; },
+                [](scene::CollisionDesc& c) {
+                  c.texelRange = 2, c.response = scene::CollisionResponse::Paper;
+                },
                 false},
         // The paper's texture write (rasterised points, depth test) gives the same texture.
-        Variant{"raster", [](CollisionDesc& c) { c.textureWrite = CdtTextureWrite::Raster; }, true},
+        Variant{"raster",
+                [](scene::CollisionDesc& c) { c.textureWrite = scene::CdtTextureWrite::Raster; },
+                true},
         Variant{"raster_layers",
-                [](CollisionDesc& c) {
-                  c.textureWrite = CdtTextureWrite::Raster;
+                [](scene::CollisionDesc& c) {
+                  c.textureWrite = scene::CdtTextureWrite::Raster;
                   c.layers = 4;
-                  c.response = CollisionResponse::Paper;
+                  c.response = scene::CollisionResponse::Paper;
                 },
                 false}),
     [](const ::testing::TestParamInfo<Variant>& p) { return std::string(p.param.name); });

@@ -131,7 +131,7 @@ TEST(OctreeCollision, FindsPairsInsideALeafOnly) {
 }
 
 // The CDT's recall on one texture of the same positions: what its window shows, against exact.
-collision::Recall cdtRecall(const CollisionDesc& desc, const Particles& p) {
+collision::Recall cdtRecall(const scene::CollisionDesc& desc, const Particles& p) {
   cdt::CdtCpu cpu(cdt::makeSettings(desc, std::nullopt));
   cpu.setRecordPairs(true);
   cpu.writeTexture(p.x.data(), p.y.data(), p.z.data(), p.id.data(), p.size());
@@ -151,17 +151,17 @@ collision::Recall cdtRecall(const CollisionDesc& desc, const Particles& p) {
 
 TEST(CdtRecall, ReportedAndRaisedByTheImprovements) {
   const Particles p = test::randomParticles(20000, 0.5f, 21);
-  CollisionDesc paper = test::testCollision();
-  paper.positionSource = CdtPositionSource::Particle;
+  scene::CollisionDesc paper = test::testCollision();
+  paper.positionSource = scene::CdtPositionSource::Particle;
   const collision::Recall base = cdtRecall(paper, p);
-  CollisionDesc adaptive = paper;
+  scene::CollisionDesc adaptive = paper;
   adaptive.adaptiveTexelRange = true;
   adaptive.maxTexelRange = 4;
   const collision::Recall withAdaptive = cdtRecall(adaptive, p);
-  CollisionDesc layered = paper;
+  scene::CollisionDesc layered = paper;
   layered.layers = 4;
   const collision::Recall withLayers = cdtRecall(layered, p);
-  CollisionDesc both = adaptive;
+  scene::CollisionDesc both = adaptive;
   both.layers = 4;
   const collision::Recall withBoth = cdtRecall(both, p);
   std::printf(
@@ -179,8 +179,8 @@ TEST(CdtRecall, ReportedAndRaisedByTheImprovements) {
   EXPECT_EQ(base.falsePairs, 0u);
   EXPECT_EQ(base.partnerPrecision(), 1.0);
   // The paper's curr_pos from the base texel: another particle's position stands in for its own.
-  CollisionDesc texel = paper;
-  texel.positionSource = CdtPositionSource::Texel;
+  scene::CollisionDesc texel = paper;
+  texel.positionSource = scene::CdtPositionSource::Texel;
   const collision::Recall fromTexel = cdtRecall(texel, p);
   std::printf("    curr_pos from the base texel: partner precision %.3f, pair recall %.3f\n",
               fromTexel.partnerPrecision(), fromTexel.pairRecall());
@@ -191,18 +191,18 @@ TEST(CdtRecall, ReportedAndRaisedByTheImprovements) {
 // whole step: no SPH passes, collisions happen, the run stays finite and inside the domain.
 TEST(ParticleModel, RainFallsAndCollidesWithEveryCpuMethod) {
   for (const char* method : {"exact", "octree", "cdt-cpu"}) {
-    Scene scene = test::shippedScene(
+    scene::Scene scene = test::shippedScene(
         "cdt_rain", {"solver.spacing=0.03", std::string("collision.method=") + method,
                      "fluids[0].min=[-0.3,0.62,-0.3]"});
-    Simulation sim(scene);
+    run::Simulation sim(scene);
     sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
     ASSERT_NE(sim.collisionPass(), nullptr);
     EXPECT_EQ(sim.collisionPass()->name(), method);
     const std::size_t n = sim.fluid().size();
     ASSERT_GT(n, 1000u);
     sim.advanceTo(0.2);
-    EXPECT_EQ(sim.profile()[Pass::Density], 0.0) << "no SPH density in the particle model";
-    EXPECT_EQ(sim.profile()[Pass::Pressure], 0.0);
+    EXPECT_EQ(sim.profile()[solver::Pass::Density], 0.0) << "no SPH density in the particle model";
+    EXPECT_EQ(sim.profile()[solver::Pass::Pressure], 0.0);
     std::size_t cooling = 0;
     for (float t : sim.fluid().collideTime) cooling += t >= 0;
     std::printf("    %s: %zu of %zu particles cooling down after a collision at t = 0.2 s\n",

@@ -56,16 +56,16 @@ TEST(CollisionSetup, NoGlContextUnlessTheSceneAsksForCdtGl) {
   // No collision section at all: no pass.
   EXPECT_EQ(render::cdt::makeCollisionPass(test::shippedScene("dam_break")), nullptr);
   for (const char* method : {"none", "exact", "octree", "cdt-cpu"}) {
-    Scene scene = test::shippedScene(
+    scene::Scene scene = test::shippedScene(
         "cdt_rain", {"solver.spacing=0.03", std::string("collision.method=") + method});
-    Simulation sim(scene);
+    run::Simulation sim(scene);
     sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
     for (int s = 0; s < 3; ++s) sim.step();
     EXPECT_EQ(render::gl::GlContext::createdCount(), before)
         << method << " must not create a GL context";
   }
   {
-    Scene scene = test::shippedScene("cdt_rain", {"solver.spacing=0.03"});
+    scene::Scene scene = test::shippedScene("cdt_rain", {"solver.spacing=0.03"});
     auto pass = render::cdt::makeCollisionPass(scene);
     EXPECT_EQ(pass->name(), "cdt-gl");
     EXPECT_EQ(render::gl::GlContext::createdCount(), before + 1)
@@ -183,10 +183,10 @@ TEST(CollisionCli, ScenesThatWouldPassTheTexturesIdRangeAreRefusedBeforeTheRun) 
 // the very state cdt-cpu reaches (same bits), collisions included.
 TEST(CollisionCli, CdtGlRunEqualsCdtCpuRun) {
   auto run = [](const char* method) {
-    Scene scene =
+    scene::Scene scene =
         test::shippedScene("cdt_rain", {"solver.spacing=0.03", "fluids[0].min=[-0.3,0.62,-0.3]",
                                         std::string("collision.method=") + method});
-    Simulation sim(scene);
+    run::Simulation sim(scene);
     sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
     sim.advanceTo(0.16);
     std::size_t cooling = 0;

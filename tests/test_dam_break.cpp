@@ -20,17 +20,17 @@ namespace {
 TEST(DamBreak, SurgeFrontFollowsMartinAndMoyce) {
   const std::vector<test::SurgePoint> data = test::martinMoyce();
   ASSERT_EQ(data.size(), 15u);
-  const Scene scene = test::shippedScene("dam_break");
+  const scene::Scene scene = test::shippedScene("dam_break");
   const double a = scene.fluids[0].hi.x() - scene.fluids[0].lo.x();
   ASSERT_NEAR(a, 0.146, 1e-6);
   ASSERT_NEAR(scene.fluids[0].hi.y() - scene.fluids[0].lo.y(), 2 * a, 1e-6);  // n^2 = 2
   const double g = -scene.solver.gravity.y();
-  Simulation sim(scene);
+  run::Simulation sim(scene);
   int checked = 0;
   for (const test::SurgePoint& p : data) {
     if (p.T > 3) break;
-    sim.advanceTo(p.T / std::sqrt(2 * g / a));     // T = t sqrt(2g/a)
-    const double Z = surgeFront(sim.fluid()) / a;  // the wall is at x = 0
+    sim.advanceTo(p.T / std::sqrt(2 * g / a));          // T = t sqrt(2g/a)
+    const double Z = run::surgeFront(sim.fluid()) / a;  // the wall is at x = 0
     EXPECT_NEAR(Z, p.Z, 0.10 * p.Z) << "T = " << p.T;
     ++checked;
   }
@@ -39,7 +39,7 @@ TEST(DamBreak, SurgeFrontFollowsMartinAndMoyce) {
 
 TEST(DamBreak, InviscidFrontMatchesMartinAndMoyceWithTheGateDelay) {
   // DFSPH without viscosity at a / dx = 15 (2,700 particles; the lattice fills the tank's depth).
-  const Scene scene = test::shippedScene(
+  const scene::Scene scene = test::shippedScene(
       "dam_break", {"quality=accurate", "solver.viscosity=0", "solver.spacing=0.0097333"});
   const double a = 0.146, g = -scene.solver.gravity.y(), delay = 0.0245;  // s, the fitted gate
   std::vector<std::pair<double, double>> points;  // (simulated time, Z measured there)
@@ -52,11 +52,11 @@ TEST(DamBreak, InviscidFrontMatchesMartinAndMoyceWithTheGateDelay) {
   std::vector<double> stops;
   for (const auto& [t, Z] : points) stops.push_back(t), stops.push_back(t - delay);
   std::sort(stops.begin(), stops.end());
-  Simulation sim(scene);
+  run::Simulation sim(scene);
   std::vector<double> fronts;
   for (double t : stops) {
     sim.advanceTo(t);
-    fronts.push_back(surgeFront(sim.fluid()) / a);
+    fronts.push_back(run::surgeFront(sim.fluid()) / a);
   }
   auto frontAt = [&](double t) {
     return fronts[std::lower_bound(stops.begin(), stops.end(), t - 1e-12) - stops.begin()];

@@ -24,7 +24,7 @@ namespace {
 std::uint64_t runPour(int threads) {
   setThreadCount(threads);
   // The pour exercises the emitter, cup, plane and sorting with a changing particle count.
-  Simulation sim(test::shippedScene("pour", {"solver.spacing=0.008"}));
+  run::Simulation sim(test::shippedScene("pour", {"solver.spacing=0.008"}));
   sim.advanceTo(0.25);
   EXPECT_GT(sim.fluid().size(), 100u);
   return test::stateHash(sim.fluid());
@@ -41,8 +41,8 @@ TEST(Determinism, ThreadCountDoesNotChangeTheResult) {
 
 TEST(Determinism, TheHashSeesADifference) {
   setThreadCount(2);
-  Simulation a(test::shippedScene("pour", {"solver.spacing=0.008"}));
-  Simulation b(test::shippedScene("pour", {"solver.spacing=0.008", "solver.cfl=0.39"}));
+  run::Simulation a(test::shippedScene("pour", {"solver.spacing=0.008"}));
+  run::Simulation b(test::shippedScene("pour", {"solver.spacing=0.008", "solver.cfl=0.39"}));
   a.advanceTo(0.1);
   b.advanceTo(0.1);
   EXPECT_NE(test::stateHash(a.fluid()), test::stateHash(b.fluid()));
@@ -50,7 +50,7 @@ TEST(Determinism, TheHashSeesADifference) {
 
 TEST(Determinism, TheHashSeesOneBitOfOneParticle) {
   setThreadCount(2);
-  Simulation sim(test::shippedScene("dam_break", {"solver.spacing=0.0146"}));
+  run::Simulation sim(test::shippedScene("dam_break", {"solver.spacing=0.0146"}));
   sim.step();
   Particles p = sim.fluid();
   const std::uint64_t before = test::stateHash(p);
@@ -178,7 +178,7 @@ struct PinnedRun {
 Particles pinnedPour(const std::vector<std::string>& more = {}) {
   std::vector<std::string> set = {"solver.spacing=0.008", "emitters[0].position=[0,0.04,0]"};
   set.insert(set.end(), more.begin(), more.end());
-  Simulation sim(test::shippedScene("pour", set));
+  run::Simulation sim(test::shippedScene("pour", set));
   for (int s = 0; s < 300; ++s) sim.step();
   EXPECT_EQ(sim.fluid().size(), 90u);
   const auto& y = sim.fluid().y;
@@ -192,7 +192,7 @@ Particles pinnedDamBreak(const std::vector<std::string>& more = {}) {
   std::vector<std::string> set = {"solver.spacing=0.0146", "solver.density_kernel=poly6",
                                   "solver.eos=linear", "solver.walls=slip"};
   set.insert(set.end(), more.begin(), more.end());
-  Simulation sim(test::shippedScene("dam_break", set));
+  run::Simulation sim(test::shippedScene("dam_break", set));
   for (int s = 0; s < 40; ++s) sim.step();
   EXPECT_EQ(sim.fluid().size(), 800u);
   return sim.fluid();
@@ -203,7 +203,7 @@ Particles pinnedDamBreak(const std::vector<std::string>& more = {}) {
 Particles pinnedDfsphDamBreak(const std::vector<std::string>& more = {}) {
   std::vector<std::string> set = {"solver.spacing=0.0146", "solver.pressure=dfsph"};
   set.insert(set.end(), more.begin(), more.end());
-  Simulation sim(test::shippedScene("dam_break", set));
+  run::Simulation sim(test::shippedScene("dam_break", set));
   for (int s = 0; s < 40; ++s) sim.step();
   EXPECT_EQ(sim.fluid().size(), 800u);
   return sim.fluid();

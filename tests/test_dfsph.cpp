@@ -19,7 +19,8 @@ namespace {
 
 // sum_j V (v_i - v_j) . gradW_spiky(x_i - x_j) by brute force in double: the rate of compression
 // Ds/Dt = -div v (1/s) at particle i, fluid neighbours only.
-double compressionRateAt(const Particles& p, std::size_t i, const DerivedParams& d, double rho0) {
+double compressionRateAt(const Particles& p, std::size_t i, const solver::DerivedParams& d,
+                         double rho0) {
   const double h = d.h;
   const double scale =
       d.kernels.spikyGradFactor * d.mass * d.densityNormalisation / rho0;  // V gradW factor
@@ -39,14 +40,14 @@ TEST(Dfsph, StillTankHoldsDensityAtALargeStep) {
                                            "boundaries[0].max=[0.12,0.4,0.12]"};
   std::vector<std::string> dfsph = narrow;
   dfsph.push_back("solver.pressure=dfsph");
-  const Scene scene = test::shippedScene("still_tank", dfsph);
-  Simulation sim(scene);
+  const scene::Scene scene = test::shippedScene("still_tank", dfsph);
+  run::Simulation sim(scene);
   const std::size_t count = sim.fluid().size();
   const double dx = scene.solver.spacing, rho0 = scene.solver.restDensity, g = 9.81;
   const double surface = count * dx * dx * dx / (0.12 * 0.12);
   // WCSPH's step for the same tank at rest: the largest it ever takes.
-  const Scene wcsph = test::shippedScene("still_tank", narrow);
-  const float wcsphStep = timeStep(wcsph, deriveParams(wcsph), 0, 0);
+  const scene::Scene wcsph = test::shippedScene("still_tank", narrow);
+  const float wcsphStep = solver::timeStep(wcsph, solver::deriveParams(wcsph), 0, 0);
 
   sim.advanceTo(0.3);  // settle
   const std::uint64_t steps0 = sim.stepCount();
@@ -56,17 +57,17 @@ TEST(Dfsph, StillTankHoldsDensityAtALargeStep) {
   for (double t = 0.35; t <= 0.6 + 1e-9; t += 0.05, ++frames) {
     floor.advanceTo(sim, t);
     const Particles& p = sim.fluid();
-    const LayerMean bottom = bottomLayer(p, dx);
+    const run::LayerMean bottom = run::bottomLayer(p, dx);
     ASSERT_GT(bottom.count, 100u);
     pressure += bottom.pressure;
     expected += rho0 * g * (surface - bottom.height);
-    const DensityError e = densityError(p, rho0);
+    const run::DensityError e = run::densityError(p, rho0);
     compression += e.meanCompression;
     maxCompression = std::max(maxCompression, e.maxCompression);
   }
   pressure /= frames, expected /= frames, compression /= frames;
   const double meanDt = 0.3 / static_cast<double>(sim.stepCount() - steps0);
-  const PressureSolveStats& s = sim.solveStats();
+  const solver::PressureSolveStats& s = sim.solveStats();
   std::printf(
       "dfsph still tank: mean dt %.3g s (wcsph at rest %.3g s); mean compression %.4f%%, max "
       "%.3f%%; bottom %.1f Pa vs rho0 g d %.1f Pa (%+.2f%%); iterations/step density %.2f, "
@@ -93,26 +94,26 @@ TEST(Dfsph, StillTankHoldsDensityAtALargeStep) {
   EXPECT_NEAR(floor.floorPressure(), floorExpected, 0.03 * floorExpected);
   const Particles& p = sim.fluid();
   ASSERT_EQ(p.size(), count);
-  EXPECT_LT(maxSpeed(p), 0.2f);
+  EXPECT_LT(run::maxSpeed(p), 0.2f);
 }
 
 TEST(Dfsph, StepIsBoundByTheFlowSpeedGravityAndTheFiveMillisecondCap) {
   // At rest: gravity's bound 0.09 sqrt(dx / |g|) (g dt^2 <= 0.81% of the spacing), under the
   // default cap of 5 ms (SolverParams.h, kDfsphMaxTimeStep).
-  const Scene tank = test::shippedScene("still_tank", {"solver.pressure=dfsph"});
+  const scene::Scene tank = test::shippedScene("still_tank", {"solver.pressure=dfsph"});
   EXPECT_FLOAT_EQ(tank.solver.maxTimeStep, 5e-3f);
-  const DerivedParams d = deriveParams(tank);
+  const solver::DerivedParams d = solver::deriveParams(tank);
   const float gravityBound = 0.09f * std::sqrt(0.01f / 9.81f);  // 2.87 ms
   EXPECT_NEAR(timeStep(tank, d, 0, 0), gravityBound, 1e-7);
   // Moving: the CFL on the flow speed, cfl h / v_max (the scene's cfl 0.4: 0.4 x 0.02 m / 8 m/s).
   EXPECT_NEAR(timeStep(tank, d, 8.0f, 0), 1e-3f, 1e-8);
   // Without gravity the cap alone, and an explicit max_time_step still wins.
-  const Scene weightless =
+  const scene::Scene weightless =
       test::shippedScene("still_tank", {"solver.pressure=dfsph", "solver.gravity=[0,0,0]"});
-  EXPECT_FLOAT_EQ(timeStep(weightless, deriveParams(weightless), 0, 0), 5e-3f);
-  const Scene capped =
+  EXPECT_FLOAT_EQ(solver::timeStep(weightless, solver::deriveParams(weightless), 0, 0), 5e-3f);
+  const scene::Scene capped =
       test::shippedScene("still_tank", {"solver.pressure=dfsph", "solver.max_time_step=0.001"});
-  EXPECT_FLOAT_EQ(timeStep(capped, deriveParams(capped), 0, 0), 1e-3f);
+  EXPECT_FLOAT_EQ(solver::timeStep(capped, solver::deriveParams(capped), 0, 0), 1e-3f);
   // WCSPH keeps its 1 ms default cap.
   EXPECT_FLOAT_EQ(test::shippedScene("still_tank", {}).solver.maxTimeStep, 1e-3f);
 }
@@ -124,7 +125,7 @@ TEST(Dfsph, DivergenceSolverRemovesACompressingField) {
                "max_divergence_error": 0.01, "max_density_error": 0.01},
     "fluids": [{"type": "box", "min": [0, 0, 0], "max": [0.12, 0.12, 0.12]}]
   })");
-  Simulation sim(io::loadScene(scene, {}));
+  run::Simulation sim(io::loadScene(scene, {}));
   Particles& p = sim.fluid();
   const float k = 0.5f;  // 1/s
   for (std::size_t i = 0; i < p.size(); ++i) {
@@ -157,16 +158,16 @@ TEST(Dfsph, DivergenceSolverRemovesACompressingField) {
 
 TEST(Dfsph, DamBreakFrontFollowsMartinAndMoyceAtACoarseLattice) {
   // a / dx = 10 (800 particles), as the coarsest row of the dam-break sweep.
-  const Scene scene =
+  const scene::Scene scene =
       test::shippedScene("dam_break", {"solver.spacing=0.0146", "solver.pressure=dfsph"});
   const double a = 0.146, g = 9.81;
-  Simulation sim(scene);
+  run::Simulation sim(scene);
   double squares = 0;
   int checked = 0;
   for (const test::SurgePoint& p : test::martinMoyce()) {
     if (p.T > 3) break;
     sim.advanceTo(p.T / std::sqrt(2 * g / a));
-    const double Z = surgeFront(sim.fluid()) / a;
+    const double Z = run::surgeFront(sim.fluid()) / a;
     std::printf("T = %.2f: Z = %.3f (Martin & Moyce %.3f, %+.1f%%)\n", p.T, Z, p.Z,
                 100 * (Z - p.Z) / p.Z);
     EXPECT_NEAR(Z, p.Z, 0.15 * p.Z) << "T = " << p.T;
@@ -183,7 +184,8 @@ TEST(Dfsph, DamBreakFrontFollowsMartinAndMoyceAtACoarseLattice) {
 std::uint64_t runPour(int threads, double end) {
   setThreadCount(threads);
   // Emitter, cup and a changing particle count: the warm start follows sorting and new particles.
-  Simulation sim(test::shippedScene("pour", {"solver.spacing=0.008", "solver.pressure=dfsph"}));
+  run::Simulation sim(
+      test::shippedScene("pour", {"solver.spacing=0.008", "solver.pressure=dfsph"}));
   sim.advanceTo(end);
   EXPECT_GT(sim.fluid().size(), 100u);
   return test::stateHash(sim.fluid());
@@ -195,10 +197,11 @@ TEST(Dfsph, ThreadCountDoesNotChangeTheResult) {
 
 TEST(Dfsph, RestoredRunContinuesBitExactly) {
   setThreadCount(2);
-  const Scene scene = test::shippedScene("pour", {"solver.spacing=0.008", "solver.pressure=dfsph"});
-  Simulation straight(scene);
+  const scene::Scene scene =
+      test::shippedScene("pour", {"solver.spacing=0.008", "solver.pressure=dfsph"});
+  run::Simulation straight(scene);
   straight.advanceTo(0.15);
-  const RunState saved = straight.runState();
+  const run::RunState saved = straight.runState();
   ASSERT_EQ(saved.warmStart.density.size(), straight.fluid().size());
   ASSERT_EQ(saved.warmStart.divergence.size(), straight.fluid().size());
   bool warm = false;
@@ -206,15 +209,15 @@ TEST(Dfsph, RestoredRunContinuesBitExactly) {
   for (float v : saved.warmStart.divergence) warm = warm || v != 0;
   EXPECT_TRUE(warm) << "the warm start must be part of the saved state";
   const Particles fluidAtCut = straight.fluid();
-  Simulation resumed(scene);
+  run::Simulation resumed(scene);
   resumed.restore(saved, fluidAtCut);
   straight.advanceTo(0.25);
   resumed.advanceTo(0.25);
   EXPECT_EQ(test::stateHash(straight.fluid()), test::stateHash(resumed.fluid()));
   // Without the warm start the continuation differs: the test sees what it is about.
-  RunState cold = saved;
+  run::RunState cold = saved;
   cold.warmStart = {};
-  Simulation coldStart(scene);
+  run::Simulation coldStart(scene);
   coldStart.restore(cold, fluidAtCut);
   coldStart.advanceTo(0.25);
   EXPECT_NE(test::stateHash(straight.fluid()), test::stateHash(coldStart.fluid()));

@@ -175,7 +175,7 @@ std::vector<std::vector<Seen>> exchangeSteps(int ranks, std::vector<std::uint64_
     Particles fluid = comm.rank() == 0 ? fullCloud() : Particles{};
     Halo halo(comm, domain, kSupport);
     halo.adopt(fluid);
-    NeighbourGrid grid;
+    grid::NeighbourGrid grid;
     std::vector<std::uint32_t> order, scratch;
     for (int step = 0; step < kSteps; ++step) {
       Seen& s = seen[step][comm.rank()];
@@ -185,7 +185,7 @@ std::vector<std::vector<Seen>> exchangeSteps(int ranks, std::vector<std::uint64_
       for (std::size_t i = 0; i < fluid.size(); ++i)
         (halo.ghost()[i] ? s.ghosts : s.owned)[fluid.id[i]] = bitsOf(fluid, i);
       grid.build(fluid.x.data(), fluid.y.data(), fluid.z.data(), fluid.size(), s.cellSize, order,
-                 NeighbourGrid::kExactCellSize);
+                 grid::NeighbourGrid::kExactCellSize);
       fluid.permute(order, scratch);
       halo.sorted(grid, order);
       halo.dropGhosts(fluid);
@@ -311,7 +311,7 @@ TEST(Halo, AttachedArraysAndRefreshedGhostsFollowTheirParticles) {
       Halo halo(comm, domain, kSupport);
       halo.adopt(fluid);
       halo.attach(warm);
-      NeighbourGrid grid;
+      grid::NeighbourGrid grid;
       std::vector<std::uint32_t> order, scratch;
       for (int step = 0; step < kSteps; ++step) {
         const float cs = halo.exchange(fluid, kSupport);
@@ -319,7 +319,7 @@ TEST(Halo, AttachedArraysAndRefreshedGhostsFollowTheirParticles) {
         for (std::size_t i = 0; i < fluid.size(); ++i)  // step 0: exchange() gave 0
           wrongWarm[me] += warm[i] != (step == 0 ? 0.0f : warmOf(fluid.id[i], step - 1));
         grid.build(fluid.x.data(), fluid.y.data(), fluid.z.data(), fluid.size(), cs, order,
-                   NeighbourGrid::kExactCellSize);
+                   grid::NeighbourGrid::kExactCellSize);
         fluid.permute(order, scratch);
         halo.sorted(grid, order);
         // The owners change their velocities; the ghosts' copies are stale until the refresh.

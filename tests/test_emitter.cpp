@@ -9,8 +9,8 @@
 namespace sph {
 namespace {
 
-EmitterDesc nozzle() {
-  EmitterDesc e;
+scene::EmitterDesc nozzle() {
+  scene::EmitterDesc e;
   e.position = Vec3(0, 1, 0);
   e.direction = Vec3(0, -1, 0);
   e.radius = 0.02f;
@@ -21,7 +21,7 @@ EmitterDesc nozzle() {
 }
 
 TEST(Emitter, DiscHoldsTheLatticePointsWithinItsRadius) {
-  Emitter e(nozzle(), 0.01f);
+  run::Emitter e(nozzle(), 0.01f);
   // Points (i, k) * 0.01 with i^2 + k^2 <= 4: 13 of them.
   EXPECT_EQ(e.layer().size(), 13u);
   for (const Vec3& o : e.layer()) {
@@ -31,7 +31,7 @@ TEST(Emitter, DiscHoldsTheLatticePointsWithinItsRadius) {
 }
 
 TEST(Emitter, ReleasesSpeedOverSpacingLayersPerSecondBetweenStartAndStop) {
-  Emitter e(nozzle(), 0.01f);
+  run::Emitter e(nozzle(), 0.01f);
   Particles fluid;
   std::uint32_t nextId = 0;
   const double dt = 1e-3;
@@ -48,9 +48,9 @@ TEST(Emitter, ReleasesSpeedOverSpacingLayersPerSecondBetweenStartAndStop) {
 }
 
 TEST(Emitter, StopsAtItsParticleCap) {
-  EmitterDesc d = nozzle();
+  scene::EmitterDesc d = nozzle();
   d.maxParticles = 13 * 5;
-  Emitter e(d, 0.01f);
+  run::Emitter e(d, 0.01f);
   Particles fluid;
   std::uint32_t nextId = 0;
   for (int s = 1; s <= 1000; ++s) e.emit(s * 1e-3, 1e-3, fluid, nextId, 1000.0f);

@@ -20,39 +20,40 @@ namespace {
 
 template <class E>
 class EnumNamesTest : public ::testing::Test {};
-using AllChoices =
-    ::testing::Types<LightSource, LightColouring, LightFilter, LightPipeline, LightAccumulate,
-                     LightShade, CollisionMethod, CollisionResponse, CdtCameraMode,
-                     CdtPositionSource, EquationOfState, DensityKernel, SolverModel, Walls,
-                     PressureSolver, SplatProjection, RenderDesc::Splat, render::splat::SplatKind,
-                     io::Quality, sweep::RunStatus, RainSpawn, RainSampling, RainDraw, RainFarTier>;
+using AllChoices = ::testing::Types<
+    scene::LightSource, scene::LightColouring, scene::LightFilter, scene::LightPipeline,
+    scene::LightAccumulate, scene::LightShade, scene::CollisionMethod, scene::CollisionResponse,
+    scene::CdtCameraMode, scene::CdtPositionSource, scene::EquationOfState, scene::DensityKernel,
+    scene::SolverModel, scene::Walls, scene::PressureSolver, scene::SplatProjection,
+    scene::RenderDesc::Splat, render::splat::SplatKind, io::Quality, sweep::RunStatus,
+    scene::RainSpawn, scene::RainSampling, scene::RainDraw, scene::RainFarTier>;
 TYPED_TEST_SUITE(EnumNamesTest, AllChoices);
 
 TYPED_TEST(EnumNamesTest, EveryEnumeratorHasAUniqueNameThatParsesBack) {
-  const std::vector<TypeParam> all = enumerators<TypeParam>();
+  const std::vector<TypeParam> all = scene::enumerators<TypeParam>();
   ASSERT_GE(all.size(), 2u);
   std::set<std::string> seen;
   for (std::size_t i = 0; i < all.size(); ++i) {
     EXPECT_EQ(static_cast<std::size_t>(all[i]), i);  // declaration order, dense from 0
-    const std::string name = enumName(all[i]);
+    const std::string name = scene::enumName(all[i]);
     EXPECT_FALSE(name.empty());
     EXPECT_EQ(name.find_first_of(" \"\t"), std::string::npos) << name;  // one word, no quotes
     EXPECT_TRUE(seen.insert(name).second) << "duplicate name " << name;
-    EXPECT_EQ(parseEnum<TypeParam>(name), all[i]) << name;
+    EXPECT_EQ(scene::parseEnum<TypeParam>(name), all[i]) << name;
   }
-  const std::vector<std::string> names = enumNames<TypeParam>();
+  const std::vector<std::string> names = scene::enumNames<TypeParam>();
   ASSERT_EQ(names.size(), all.size());
-  for (std::size_t i = 0; i < all.size(); ++i) EXPECT_EQ(names[i], enumName(all[i]));
-  EXPECT_FALSE(parseEnum<TypeParam>("no-such-choice").has_value());
-  EXPECT_FALSE(parseEnum<TypeParam>("").has_value());
+  for (std::size_t i = 0; i < all.size(); ++i) EXPECT_EQ(names[i], scene::enumName(all[i]));
+  EXPECT_FALSE(scene::parseEnum<TypeParam>("no-such-choice").has_value());
+  EXPECT_FALSE(scene::parseEnum<TypeParam>("").has_value());
   // One past the last enumerator has no name: what enumerators() stops at.
-  EXPECT_STREQ(enumName(static_cast<TypeParam>(all.size())), "?");
+  EXPECT_STREQ(scene::enumName(static_cast<TypeParam>(all.size())), "?");
 }
 
 TEST(EnumNames, ListsForHelpTexts) {
-  EXPECT_EQ(enumNameList<RenderDesc::Splat>(), "point, quad or both");
-  EXPECT_EQ(enumNameList<DensityKernel>(), "spiky or poly6");
-  EXPECT_EQ(enumNames<CollisionMethod>(),
+  EXPECT_EQ(scene::enumNameList<scene::RenderDesc::Splat>(), "point, quad or both");
+  EXPECT_EQ(scene::enumNameList<scene::DensityKernel>(), "spiky or poly6");
+  EXPECT_EQ(scene::enumNames<scene::CollisionMethod>(),
             (std::vector<std::string>{"none", "exact", "octree", "cdt-cpu", "cdt-gl"}));
 }
 
@@ -75,16 +76,17 @@ TEST(EnumNames, TheSceneLoaderOffersExactlyTheTable) {
     for (const std::string& n : names) text += (text.empty() ? "\"" : ", \"") + n + "\"";
     return text;
   };
-  EXPECT_EQ(message("collision.method=teleport"), "s.json: collision.method: expected one of " +
-                                                      quoted(enumNames<CollisionMethod>()) +
-                                                      ", got the string \"teleport\"");
+  EXPECT_EQ(message("collision.method=teleport"),
+            "s.json: collision.method: expected one of " +
+                quoted(scene::enumNames<scene::CollisionMethod>()) +
+                ", got the string \"teleport\"");
   EXPECT_EQ(message("render.splat=disc"), "s.json: render.splat: expected one of " +
-                                              quoted(enumNames<RenderDesc::Splat>()) +
+                                              quoted(scene::enumNames<scene::RenderDesc::Splat>()) +
                                               ", got the string \"disc\"");
   EXPECT_EQ(message("quality=perfect"), "s.json: quality: expected one of " +
-                                            quoted(enumNames<io::Quality>()) +
+                                            quoted(scene::enumNames<io::Quality>()) +
                                             ", got the string \"perfect\"");
-  for (const std::string& name : enumNames<CollisionMethod>())
+  for (const std::string& name : scene::enumNames<scene::CollisionMethod>())
     EXPECT_EQ(message("collision.method=" + name), "accepted") << name;
 }
 

@@ -74,7 +74,7 @@ Outcome placesAfter(int ranks, CloudShape shape, Before before) {
     Particles fluid = me == 0 ? test::fullCloud(shape) : Particles{};
     Halo halo(comm, domain, kSupport);
     halo.adopt(fluid);
-    NeighbourGrid grid;
+    grid::NeighbourGrid grid;
     std::vector<std::uint32_t> order, scratch;
     std::uint32_t nextId = kCloud;
     // As Simulation::emitParticles: the rank holding the nozzle adds them, every rank counts ids.
@@ -89,7 +89,7 @@ Outcome placesAfter(int ranks, CloudShape shape, Before before) {
       const float cs = halo.exchange(fluid, kSupport);
       if (before != Before::Unsorted) {
         grid.build(fluid.x.data(), fluid.y.data(), fluid.z.data(), fluid.size(), cs, order,
-                   NeighbourGrid::kExactCellSize);
+                   grid::NeighbourGrid::kExactCellSize);
         fluid.permute(order, scratch);
         halo.sorted(grid, order);
       }

@@ -19,51 +19,55 @@ namespace {
 // differences (float W loses too many digits near r = h for a second difference).
 struct Poly6 {
   // DensityField and the poly6 density pass: poly6Factor * (h^2 - r^2)^3.
-  static double W(const Kernels& k, double r) {
-    return k.poly6Factor * Poly6Shape{k.h2}(static_cast<float>(r * r));
+  static double W(const solver::Kernels& k, double r) {
+    return k.poly6Factor * solver::Poly6Shape{k.h2}(static_cast<float>(r * r));
   }
-  static double full(const Kernels& k, double r) { return k.poly6(static_cast<float>(r * r)); }
+  static double full(const solver::Kernels& k, double r) {
+    return k.poly6(static_cast<float>(r * r));
+  }
   static double ref(double h, double r) {
-    return r < h ? 315.0 / (64.0 * kPi * std::pow(h, 9)) * std::pow(h * h - r * r, 3) : 0.0;
+    return r < h ? 315.0 / (64.0 * solver::kPi * std::pow(h, 9)) * std::pow(h * h - r * r, 3) : 0.0;
   }
   // DensityField's normals: poly6GradFactor * (h^2 - r^2)^2 * r.
-  static Vec3 grad(const Kernels& k, const Vec3& r) {
-    return (k.poly6GradFactor * Poly6Shape{k.h2}.gradient(r.squaredNorm())) * r;
+  static Vec3 grad(const solver::Kernels& k, const Vec3& r) {
+    return (k.poly6GradFactor * solver::Poly6Shape{k.h2}.gradient(r.squaredNorm())) * r;
   }
-  static Vec3 fullGrad(const Kernels& k, const Vec3& r) {
+  static Vec3 fullGrad(const solver::Kernels& k, const Vec3& r) {
     return k.poly6GradScale(r.squaredNorm()) * r;
   }
 };
 struct Spiky {
   // The spiky density pass: spikyFactor * (h - r)^3.
-  static double W(const Kernels& k, double r) {
-    return k.spikyFactor * SpikyShape{k.h}(static_cast<float>(r * r));
+  static double W(const solver::Kernels& k, double r) {
+    return k.spikyFactor * solver::SpikyShape{k.h}(static_cast<float>(r * r));
   }
-  static double full(const Kernels& k, double r) { return k.spiky(static_cast<float>(r)); }
+  static double full(const solver::Kernels& k, double r) { return k.spiky(static_cast<float>(r)); }
   static double ref(double h, double r) {
-    return r < h ? 15.0 / (kPi * std::pow(h, 6)) * std::pow(h - r, 3) : 0.0;
+    return r < h ? 15.0 / (solver::kPi * std::pow(h, 6)) * std::pow(h - r, 3) : 0.0;
   }
   // The force pass: spikyGradFactor * hr^2 * invR * r, with the pair terms of SpikyPairShape.
-  static Vec3 grad(const Kernels& k, const Vec3& r) {
-    const SpikyPairShape s{k.h, k.h2};
+  static Vec3 grad(const solver::Kernels& k, const Vec3& r) {
+    const solver::SpikyPairShape s{k.h, k.h2};
     const float r2 = r.squaredNorm();
     const float invR = s.inverseDistance(r2);
     const float hr = s.hMinusR(r2, invR);
     return (k.spikyGradFactor * hr * hr * invR) * r;
   }
-  static Vec3 fullGrad(const Kernels& k, const Vec3& r) { return k.spikyGradScale(r.norm()) * r; }
+  static Vec3 fullGrad(const solver::Kernels& k, const Vec3& r) {
+    return k.spikyGradScale(r.norm()) * r;
+  }
 };
 struct Viscosity {
   // Not in a hot loop (only its Laplacian is, through SpikyPairShape): the full function.
-  static double W(const Kernels& k, double r) { return k.viscosity(static_cast<float>(r)); }
-  static double full(const Kernels& k, double r) { return W(k, r); }
+  static double W(const solver::Kernels& k, double r) { return k.viscosity(static_cast<float>(r)); }
+  static double full(const solver::Kernels& k, double r) { return W(k, r); }
   static double ref(double h, double r) {
     if (r >= h || r <= 0) return 0.0;
     const double q = r / h;
-    return 15.0 / (2 * kPi * h * h * h) * (-0.5 * q * q * q + q * q + 0.5 / q - 1.0);
+    return 15.0 / (2 * solver::kPi * h * h * h) * (-0.5 * q * q * q + q * q + 0.5 / q - 1.0);
   }
   // dW/dr = c (-3r^2/(2h^3) + 2r/h^2 - h/(2r^2)), along r/|r|.
-  static Vec3 grad(const Kernels& k, const Vec3& r) {
+  static Vec3 grad(const solver::Kernels& k, const Vec3& r) {
     const float d = r.norm();
     if (d >= k.h || d == 0) return Vec3::Zero();
     const float h = k.h;
@@ -71,7 +75,7 @@ struct Viscosity {
         k.viscFactor * (-1.5f * d * d / (h * h * h) + 2 * d / (h * h) - h / (2 * d * d));
     return dWdr / d * r;
   }
-  static Vec3 fullGrad(const Kernels& k, const Vec3& r) { return grad(k, r); }
+  static Vec3 fullGrad(const solver::Kernels& k, const Vec3& r) { return grad(k, r); }
 };
 
 template <class K>
@@ -82,7 +86,7 @@ TYPED_TEST_SUITE(KernelTest, AllKernels);
 constexpr float kH = 0.037f;  // an arbitrary support radius, not 1, so scaling errors show
 
 TYPED_TEST(KernelTest, IntegratesToOneOverItsSupport) {
-  const Kernels k(kH);
+  const solver::Kernels k(kH);
   // Simpson's rule of 4 pi r^2 W(r) over [0, h]; the viscosity kernel's 1/r singularity is
   // integrable and vanishes with the r^2 weight.
   const int n = 20000;
@@ -90,14 +94,14 @@ TYPED_TEST(KernelTest, IntegratesToOneOverItsSupport) {
   double sum = 0;
   for (int i = 0; i <= n; ++i) {
     const double r = i * dr;
-    const double f = (i == 0 ? 0.0 : 4 * kPi * r * r * TypeParam::W(k, r));
+    const double f = (i == 0 ? 0.0 : 4 * solver::kPi * r * r * TypeParam::W(k, r));
     sum += f * (i == 0 || i == n ? 1 : (i % 2 ? 4 : 2));
   }
   EXPECT_NEAR(sum * dr / 3, 1.0, 1e-3);
 }
 
 TYPED_TEST(KernelTest, IsZeroOutsideTheSupportAndNonNegativeInside) {
-  const Kernels k(kH);
+  const solver::Kernels k(kH);
   for (double q : {1.0, 1.0001, 1.5, 3.0}) {
     EXPECT_EQ(TypeParam::W(k, q * kH), 0.0) << "r/h = " << q;
     EXPECT_EQ(TypeParam::full(k, q * kH), 0.0) << "r/h = " << q;
@@ -109,7 +113,7 @@ TYPED_TEST(KernelTest, IsZeroOutsideTheSupportAndNonNegativeInside) {
 }
 
 TYPED_TEST(KernelTest, MatchesItsFormula) {
-  const Kernels k(kH);
+  const solver::Kernels k(kH);
   for (double q = 0.05; q < 0.99; q += 0.01) {
     const double ref = TypeParam::ref(kH, q * kH);
     const double tolerance = 1e-5 * std::abs(ref) + 1e-6 * TypeParam::ref(kH, 0.5 * kH);
@@ -123,7 +127,7 @@ TYPED_TEST(KernelTest, MatchesItsFormula) {
 // cancellation, about 6 ulp(r) / (h - r) relative in the cube or square of it. Within rounding of
 // r = h the two may disagree on which side of the support a point is, where both are ~0.
 TYPED_TEST(KernelTest, ShapeTimesFactorIsTheFullKernel) {
-  const Kernels k(kH);
+  const solver::Kernels k(kH);
   const Vec3 d = Vec3(0.3f, -0.8f, 0.52f).normalized();
   const double scaleW = 1e-9 * std::abs(TypeParam::full(k, 0.5 * kH));
   const double scaleG = 1e-9 * TypeParam::fullGrad(k, static_cast<float>(0.5 * kH) * d).norm();
@@ -139,7 +143,7 @@ TYPED_TEST(KernelTest, ShapeTimesFactorIsTheFullKernel) {
 }
 
 TYPED_TEST(KernelTest, GradientIsAntisymmetricAndMatchesTheDerivative) {
-  const Kernels k(kH);
+  const solver::Kernels k(kH);
   const Vec3 dirs[] = {Vec3(1, 0, 0), Vec3(0.3f, -0.8f, 0.52f).normalized(),
                        Vec3(-1, 1, 1).normalized()};
   for (const Vec3& d : dirs) {
@@ -157,16 +161,16 @@ TYPED_TEST(KernelTest, GradientIsAntisymmetricAndMatchesTheDerivative) {
 }
 
 TEST(SpikyPairShape, AnOverlappingPairHasNoDirectionAndNoForce) {
-  const Kernels k(kH);
-  const SpikyPairShape s{k.h, k.h2};
+  const solver::Kernels k(kH);
+  const solver::SpikyPairShape s{k.h, k.h2};
   EXPECT_EQ(s.inverseDistance(0.0f), 0.0f);
   EXPECT_EQ(s.hMinusR(0.0f, 0.0f), 0.0f);
   EXPECT_EQ(Spiky::grad(k, Vec3::Zero()), Vec3::Zero());
 }
 
 TEST(ViscosityKernel, LaplacianAsTheForcePassComputesItMatchesTheNumericalLaplacian) {
-  const Kernels k(kH);
-  const SpikyPairShape s{k.h, k.h2};
+  const solver::Kernels k(kH);
+  const solver::SpikyPairShape s{k.h, k.h2};
   for (double q = 0.1; q < 0.95; q += 0.05) {
     // Radial Laplacian: W'' + 2 W' / r.
     const double r = q * kH, e = 1e-4 * kH;
@@ -185,24 +189,26 @@ TEST(ViscosityKernel, LaplacianAsTheForcePassComputesItMatchesTheNumericalLaplac
 
 TEST(SpikyMomentShape, IsTheRadialMomentOfTheSpikyGradient) {
   // (x_j - x_i) . gradW(x_i - x_j) = -r . gradW(r) = -spikyGradFactor * moment(r^2).
-  const Kernels k(kH);
+  const solver::Kernels k(kH);
   const Vec3 d = Vec3(-0.2f, 0.9f, 0.4f).normalized();
   for (double q = 0.0; q < 1.2; q += 0.05) {
     const Vec3 r = static_cast<float>(q * kH) * d;
     const double expected = -r.dot(Spiky::fullGrad(k, r));
-    const double moment = -k.spikyGradFactor * SpikyMomentShape{k.h}(r.squaredNorm());
+    const double moment = -k.spikyGradFactor * solver::SpikyMomentShape{k.h}(r.squaredNorm());
     EXPECT_NEAR(moment, expected, 1e-6 * std::abs(expected) + 1e-12) << "r/h = " << q;
     EXPECT_GE(moment, 0.0);
   }
 }
 
 TEST(WithDensityShape, HandsOutTheShapeAndFactorOfTheChosenKernel) {
-  const Kernels k(kH);
-  for (const DensityKernel kernel : {DensityKernel::Spiky, DensityKernel::Poly6}) {
+  const solver::Kernels k(kH);
+  for (const scene::DensityKernel kernel :
+       {scene::DensityKernel::Spiky, scene::DensityKernel::Poly6}) {
     withDensityShape(kernel, k, [&](auto shape, float factor) {
       for (double q = 0.0; q < 1.1; q += 0.1) {
         const double r = q * kH;
-        const double full = kernel == DensityKernel::Spiky ? Spiky::full(k, r) : Poly6::full(k, r);
+        const double full =
+            kernel == scene::DensityKernel::Spiky ? Spiky::full(k, r) : Poly6::full(k, r);
         EXPECT_NEAR(factor * shape(static_cast<float>(r * r)), full,
                     (1e-6 + 4e-7 * q / (1 - q)) * full)
             << "r/h = " << q;

@@ -29,15 +29,15 @@ using test::LightsGl;
 // centre (nearest filter): the pixel under the light is kd base att(0.3) (n.l = 1), the pixel
 // under the neighbouring voxel centre 0.3 m aside kd base att(0.3 sqrt 2) cos 45.
 TEST_F(LightsGl, ALightOverAPlaneLightsTheDrawnPlaneByTheFormula) {
-  LightsDesc d;
+  scene::LightsDesc d;
   d.origin = Vec3(-0.5f, -0.05f, -0.5f), d.voxelSize = 0.1f, d.voxels = {10, 10, 10};
-  d.attenuation = {1.0f, 0.0f, 4.0f}, d.range = 0.5f, d.filter = LightFilter::Nearest;
+  d.attenuation = {1.0f, 0.0f, 4.0f}, d.range = 0.5f, d.filter = scene::LightFilter::Nearest;
   d.specular = 0;
   LightVolume volume(d);
   const Vec3 lamp(0.05f, 0.3f, 0.05f);
   volume.update({light(lamp, Vec3::Ones(), 1.0f)});
-  BoundaryShape plane;
-  plane.kind = BoundaryShape::Kind::Plane;
+  scene::BoundaryShape plane;
+  plane.kind = scene::BoundaryShape::Kind::Plane;
   plane.point = Vec3::Zero(), plane.normal = Vec3::UnitY();
   solids::SolidRenderer solids({plane}, Aabb{Vec3(-1, -1, -1), Vec3(1, 1, 1)}, 0.02f);
   solids.material.ambient = 0, solids.material.diffuse = 0, solids.material.specular = 0;
@@ -45,14 +45,14 @@ TEST_F(LightsGl, ALightOverAPlaneLightsTheDrawnPlaneByTheFormula) {
   const int size = 128;
   splat::SplatRenderer r(size, size);
   r.setLayers({&solids});
-  CameraDesc top;
+  scene::CameraDesc top;
   top.position = Vec3(0.05f, 2, 0.05f), top.target = Vec3(0.05f, 0, 0.05f), top.up = Vec3(0, 0, -1);
   top.fovYDegrees = 30;
   splat::Lighting lighting;
   lighting.extra = &volume;
   const splat::RenderImage picture =
       r.render(splat::SplatFrame{}, splat::SplatKind::Point, top, lighting);
-  const CameraFrame cf = cameraFrame(top, 1.0f);
+  const scene::CameraFrame cf = cameraFrame(top, 1.0f);
   auto pixel = [&](const Vec3& w) {
     float c[4];
     for (int row = 0; row < 4; ++row)
@@ -86,9 +86,9 @@ TEST_F(LightsGl, ALightOverAPlaneLightsTheDrawnPlaneByTheFormula) {
 // The water's splats take the same light as the solids. (Their programs without particle-light
 // code are for scenes without `lights`; a lit scene must get the lit ones.)
 TEST_F(LightsGl, WaterSplatsAreLitByTheVolumeToo) {
-  LightsDesc d;
+  scene::LightsDesc d;
   d.origin = Vec3(-0.5f, -0.05f, -0.5f), d.voxelSize = 0.1f, d.voxels = {10, 10, 10};
-  d.attenuation = {1.0f, 0.0f, 4.0f}, d.range = 0.5f, d.filter = LightFilter::Nearest;
+  d.attenuation = {1.0f, 0.0f, 4.0f}, d.range = 0.5f, d.filter = scene::LightFilter::Nearest;
   d.specular = 0;
   LightVolume volume(d);
   volume.update({light(Vec3(0.05f, 0.3f, 0.05f), Vec3::Ones(), 1.0f)});
@@ -97,7 +97,7 @@ TEST_F(LightsGl, WaterSplatsAreLitByTheVolumeToo) {
   frame.points.push_back(splat::SplatVertex{{0.05f, 0, 0.05f}, {0, 1, 0}});  // facing the lamp
   const int size = 32;
   splat::SplatRenderer r(size, size);
-  CameraDesc top;
+  scene::CameraDesc top;
   top.position = Vec3(0.05f, 2, 0.05f), top.target = Vec3(0.05f, 0, 0.05f), top.up = Vec3(0, 0, -1);
   top.fovYDegrees = 30;
   splat::Lighting unlit;  // no scene light at all: only the particle light can colour the splat
@@ -121,10 +121,10 @@ TEST_F(LightsGl, WaterSplatsAreLitByTheVolumeToo) {
 }
 
 // 24^3 voxels of 0.05 m over test::sheetSolids(), trilinear, forward.
-LightsDesc sheetVolume() {
-  LightsDesc d;
+scene::LightsDesc sheetVolume() {
+  scene::LightsDesc d;
   d.origin = Vec3(-0.6f, -0.1f, -0.6f), d.voxelSize = 0.05f, d.voxels = {24, 24, 24};
-  d.attenuation = {1.0f, 0.0f, 20.0f}, d.range = 0.3f, d.filter = LightFilter::Trilinear;
+  d.attenuation = {1.0f, 0.0f, 20.0f}, d.range = 0.3f, d.filter = scene::LightFilter::Trilinear;
   d.specular = 0.5f, d.shininess = 16, d.roomLight = 0.3f;
   return d;
 }
@@ -134,10 +134,10 @@ LightsDesc sheetVolume() {
 // solids per pixel, point splats lit at their centre either way, translucent water composited
 // forward on the deferred-lit frame, depth tested against it (splats half hidden by the sphere).
 TEST_F(LightsGl, DeferredGivesTheForwardImageToOneStep) {
-  LightsDesc d = sheetVolume();
-  const std::vector<LightParticle> lights = test::sheetLights(14);
+  scene::LightsDesc d = sheetVolume();
+  const std::vector<sph::lights::LightParticle> lights = test::sheetLights(14);
   LightVolume forward(d);
-  d.pipeline = LightPipeline::Deferred;
+  d.pipeline = scene::LightPipeline::Deferred;
   LightVolume deferred(d);
   ASSERT_FALSE(forward.deferred());
   ASSERT_TRUE(deferred.deferred());
@@ -147,7 +147,7 @@ TEST_F(LightsGl, DeferredGivesTheForwardImageToOneStep) {
   const int width = 160, height = 120;
   splat::SplatRenderer r(width, height);
   r.setLayers({&solids});
-  const CameraDesc camera = test::sheetCamera();
+  const scene::CameraDesc camera = test::sheetCamera();
   for (float alpha : {1.0f, 0.5f}) {
     splat::Lighting lighting;
     lighting.alpha = alpha;
@@ -184,11 +184,11 @@ TEST_F(LightsGl, DeferredGivesTheForwardImageToOneStep) {
 // (depth tested, as forward draws them), the lighting pass restores the depth instead: a point
 // behind the sphere stays hidden, one in front of it shows.
 TEST_F(LightsGl, ShadedOnTheCpuTheCopyKeepsTheBackgroundAndTheDepthThatIsDrawnAgainst) {
-  LightsDesc d = sheetVolume();
-  const std::vector<LightParticle> lights = test::sheetLights(14);
+  scene::LightsDesc d = sheetVolume();
+  const std::vector<sph::lights::LightParticle> lights = test::sheetLights(14);
   LightVolume forward(d);
-  d.pipeline = LightPipeline::Deferred, d.accumulate = LightAccumulate::Cpu;
-  d.shade = LightShade::Cpu;
+  d.pipeline = scene::LightPipeline::Deferred, d.accumulate = scene::LightAccumulate::Cpu;
+  d.shade = scene::LightShade::Cpu;
   LightVolume cpu(d);
   ASSERT_TRUE(cpu.shadesOnCpu());
   forward.update(lights), cpu.update(lights);
@@ -196,7 +196,7 @@ TEST_F(LightsGl, ShadedOnTheCpuTheCopyKeepsTheBackgroundAndTheDepthThatIsDrawnAg
   const int width = 160, height = 120;
   splat::SplatRenderer r(width, height);
   r.setLayers({&solids});
-  const CameraDesc camera = test::sheetCamera();
+  const scene::CameraDesc camera = test::sheetCamera();
   splat::Lighting lighting;
   lighting.background = Vec3(0.3f, 0.5f, 0.7f);
   auto picture = [&](const LightVolume& v) {

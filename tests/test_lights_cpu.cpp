@@ -26,17 +26,17 @@ using Texels = std::vector<std::array<float, 4>>;
 using test::light;
 
 // 40 x 12 x 32 voxels of 0.05 m (range 0.12 m: 5^3 voxels visited per light).
-LightsDesc volume(LightAccumulate mode) {
-  LightsDesc d;
+scene::LightsDesc volume(scene::LightAccumulate mode) {
+  scene::LightsDesc d;
   d.origin = Vec3(-1.0f, -0.1f, -0.8f), d.voxelSize = 0.05f, d.voxels = {40, 12, 32};
   d.attenuation = {1.0f, 2.0f, 30.0f}, d.range = 0.12f, d.accumulate = mode;
   return d;
 }
 
-std::vector<LightParticle> someLights() {
+std::vector<sph::lights::LightParticle> someLights() {
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  std::vector<LightParticle> lights;
+  std::vector<sph::lights::LightParticle> lights;
   for (int i = 0; i < 3000; ++i)  // spread, a few beyond the volume's faces
     lights.push_back(light(Vec3(2.2f * u(rng) - 1.1f, 0.7f * u(rng) - 0.15f, 1.8f * u(rng) - 0.9f),
                            Vec3(u(rng), u(rng), u(rng)), 0.2f + u(rng)));
@@ -96,8 +96,9 @@ class LightsCpuGl : public ::testing::Test {
 };
 
 TEST_F(LightsCpuGl, TheCpuVolumeIsTheAtomicOne) {
-  const std::vector<LightParticle> lights = someLights();
-  LightVolume atomic(volume(LightAccumulate::Atomic)), onCpu(volume(LightAccumulate::Cpu));
+  const std::vector<sph::lights::LightParticle> lights = someLights();
+  LightVolume atomic(volume(scene::LightAccumulate::Atomic)),
+      onCpu(volume(scene::LightAccumulate::Cpu));
   atomic.update(lights), onCpu.update(lights);
   const Texels colour = atomic.readColour();
   float brightest = 0;
@@ -109,11 +110,12 @@ TEST_F(LightsCpuGl, TheCpuVolumeIsTheAtomicOne) {
 
 TEST_F(LightsCpuGl, AutoIsCpuInSoftwareAndGivesTheAtomicVolume) {
   const std::string renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-  const LightAccumulate expected = renderer.find("llvmpipe") != std::string::npos
-                                       ? LightAccumulate::Cpu
-                                       : LightAccumulate::Atomic;
-  const std::vector<LightParticle> lights = someLights();
-  LightVolume automatic(volume(LightAccumulate::Auto)), atomic(volume(LightAccumulate::Atomic));
+  const scene::LightAccumulate expected = renderer.find("llvmpipe") != std::string::npos
+                                              ? scene::LightAccumulate::Cpu
+                                              : scene::LightAccumulate::Atomic;
+  const std::vector<sph::lights::LightParticle> lights = someLights();
+  LightVolume automatic(volume(scene::LightAccumulate::Auto)),
+      atomic(volume(scene::LightAccumulate::Atomic));
   EXPECT_EQ(automatic.desc().accumulate, expected) << renderer;
   automatic.update(lights), atomic.update(lights);
   expectSame(atomic.readColour(), automatic.readColour(), "colour");
@@ -121,15 +123,16 @@ TEST_F(LightsCpuGl, AutoIsCpuInSoftwareAndGivesTheAtomicVolume) {
 }
 
 TEST_F(LightsCpuGl, CulledToAViewItFillsTheSameBox) {
-  const std::vector<LightParticle> lights = someLights();
-  CameraDesc camera;
+  const std::vector<sph::lights::LightParticle> lights = someLights();
+  scene::CameraDesc camera;
   camera.position = Vec3(0.2f, 0.35f, -0.1f), camera.target = Vec3(0.2f, 0.0f, -0.3f);
   camera.fovYDegrees = 30, camera.near = 0.05f, camera.far = 10;
   const LightView view = lightView(camera, 4.0f / 3.0f, 1.5f, 2.5f, 0.01f);
-  LightVolume atomic(volume(LightAccumulate::Atomic)), onCpu(volume(LightAccumulate::Cpu));
+  LightVolume atomic(volume(scene::LightAccumulate::Atomic)),
+      onCpu(volume(scene::LightAccumulate::Cpu));
   onCpu.update(lights);  // a whole volume first: its voxels outside the box must go
   atomic.update(lights, &view), onCpu.update(lights, &view);
-  ASSERT_LT(onCpu.lastBox().count(), volume(LightAccumulate::Cpu).voxelCount() / 2);
+  ASSERT_LT(onCpu.lastBox().count(), volume(scene::LightAccumulate::Cpu).voxelCount() / 2);
   EXPECT_EQ(onCpu.lastLights(), atomic.lastLights());
   expectSame(atomic.readColour(), onCpu.readColour(), "colour");
   expectSame(atomic.readDirection(), onCpu.readDirection(), "direction");
@@ -142,9 +145,9 @@ TEST_F(LightsCpuGl, CulledToAViewItFillsTheSameBox) {
 // vector code shows here; that its rounding is the scalar code's rests on the Fig. 11 lights'
 // sums, the same bits as before it (docs/benchmarks.md).
 TEST(CpuAccumulation, TheSumsDoNotDependOnTheLightsOrder) {
-  const LightsDesc d = volume(LightAccumulate::Cpu);
-  std::vector<LightParticle> lights = someLights();
-  CameraDesc camera;
+  const scene::LightsDesc d = volume(scene::LightAccumulate::Cpu);
+  std::vector<sph::lights::LightParticle> lights = someLights();
+  scene::CameraDesc camera;
   camera.position = Vec3(0.2f, 0.35f, -0.1f), camera.target = Vec3(0.2f, 0.0f, -0.3f);
   camera.fovYDegrees = 30, camera.near = 0.05f, camera.far = 10;
   const LightView view = lightView(camera, 4.0f / 3.0f, 1.5f, 2.5f, 0.01f);
@@ -172,7 +175,7 @@ TEST(CpuAccumulation, TheSumsDoNotDependOnTheLightsOrder) {
     const VoxelBox b = c ? box : wholeVolume(d);
     VoxelSums given;
     accumulateOnCpu(d, lights, b, fixedScale(d), c, given);
-    std::vector<LightParticle> other = lights;
+    std::vector<sph::lights::LightParticle> other = lights;
     for (int order = 0; order < 2; ++order) {
       if (order == 0) std::rotate(other.begin(), other.begin() + 7, other.end());
       if (order == 1) std::reverse(other.begin(), other.end());
@@ -195,13 +198,13 @@ TEST(CpuAccumulation, TheSumsDoNotDependOnTheLightsOrder) {
 // the range inside it or outside it, or half a range outside. Each inside one lights its voxel,
 // as the atomic shader's, and nothing else is lit.
 TEST_F(LightsCpuGl, LightsShorterThanAVoxelLightOnlyTheCentresInRange) {
-  LightsDesc d = volume(LightAccumulate::Atomic);
+  scene::LightsDesc d = volume(scene::LightAccumulate::Atomic);
   d.range = 0.02f;
   std::mt19937 rng(7);
   std::uniform_int_distribution<int> voxel(0, 1 << 20);
   std::normal_distribution<float> g(0.0f, 1.0f);
   const float distances[] = {0.9999f, 1.0001f, 1.5f};
-  std::vector<LightParticle> lights;
+  std::vector<sph::lights::LightParticle> lights;
   std::vector<bool> used(d.voxelCount(), false);
   std::size_t inside = 0;
   while (lights.size() < 600) {
@@ -221,7 +224,7 @@ TEST_F(LightsCpuGl, LightsShorterThanAVoxelLightOnlyTheCentresInRange) {
                            Vec3::Ones(), 1.0f));
   }
   LightVolume atomic(d);
-  d.accumulate = LightAccumulate::Cpu;
+  d.accumulate = scene::LightAccumulate::Cpu;
   LightVolume onCpu(d);
   atomic.update(lights), onCpu.update(lights);
   const Texels colour = onCpu.readColour();
@@ -235,11 +238,12 @@ TEST_F(LightsCpuGl, LightsShorterThanAVoxelLightOnlyTheCentresInRange) {
 // Only the voxels a frame's lights reach are uploaded: lights that move between frames (spread,
 // then a cluster in one corner, then none) leave nothing of the last frame behind.
 TEST_F(LightsCpuGl, MovingLightsLeaveNoStaleVoxels) {
-  const std::vector<LightParticle> spread = someLights();
-  std::vector<LightParticle> corner;
+  const std::vector<sph::lights::LightParticle> spread = someLights();
+  std::vector<sph::lights::LightParticle> corner;
   for (int i = 0; i < 20; ++i)
     corner.push_back(light(Vec3(0.8f + 0.005f * i, 0.4f, 0.6f - 0.004f * i), Vec3::Ones(), 1.0f));
-  LightVolume moving(volume(LightAccumulate::Cpu)), fresh(volume(LightAccumulate::Cpu));
+  LightVolume moving(volume(scene::LightAccumulate::Cpu)),
+      fresh(volume(scene::LightAccumulate::Cpu));
   moving.update(spread);
   moving.update(corner);
   fresh.update(corner);
@@ -257,13 +261,13 @@ TEST_F(LightsCpuGl, MovingLightsLeaveNoStaleVoxels) {
 // The other way: a frame whose box holds the last frame's (the corner, then lights spread over
 // it) takes the branch that clears nothing, since every voxel of its box is written again.
 TEST_F(LightsCpuGl, LightsSpreadingOverTheLastFramesBoxRewriteIt) {
-  const std::vector<LightParticle> spread = someLights();
-  std::vector<LightParticle> corner;
+  const std::vector<sph::lights::LightParticle> spread = someLights();
+  std::vector<sph::lights::LightParticle> corner;
   for (int i = 0; i < 20; ++i)
     corner.push_back(light(Vec3(0.8f + 0.005f * i, 0.4f, 0.6f - 0.004f * i), Vec3::Ones(), 5.0f));
   // The box of the voxels a frame lights (what it writes), from the volume read back.
   auto litBox = [](const Texels& texels) {
-    const std::array<int, 3> n = volume(LightAccumulate::Cpu).voxels;
+    const std::array<int, 3> n = volume(scene::LightAccumulate::Cpu).voxels;
     std::array<int, 3> lo = n, hi{-1, -1, -1};
     for (std::size_t i = 0; i < texels.size(); ++i) {
       if (texels[i][0] <= 0) continue;
@@ -274,7 +278,8 @@ TEST_F(LightsCpuGl, LightsSpreadingOverTheLastFramesBoxRewriteIt) {
     }
     return std::make_pair(lo, hi);
   };
-  LightVolume growing(volume(LightAccumulate::Cpu)), fresh(volume(LightAccumulate::Cpu));
+  LightVolume growing(volume(scene::LightAccumulate::Cpu)),
+      fresh(volume(scene::LightAccumulate::Cpu));
   growing.update(corner);
   const auto first = litBox(growing.readColour());
   growing.update(spread);

@@ -24,16 +24,16 @@ namespace {
 using test::light;
 
 // A 4 m floor under lights in its lowest 0.4 m, seen from a camera that looks at a corner of it.
-LightsDesc floorVolume() {
-  LightsDesc d;
+scene::LightsDesc floorVolume() {
+  scene::LightsDesc d;
   d.origin = Vec3(-2.1f, -0.1f, -2.1f), d.voxelSize = 0.05f, d.voxels = {84, 12, 84};
   d.attenuation = {1.0f, 0.0f, 20.0f}, d.range = 0.15f;
   d.specular = 0.5f, d.shininess = 16, d.roomLight = 0.2f;
   return d;
 }
 
-CameraDesc cornerCamera() {
-  CameraDesc c;
+scene::CameraDesc cornerCamera() {
+  scene::CameraDesc c;
   c.position = Vec3(0.2f, 1.0f, 0.5f), c.target = Vec3(0.2f, 0.0f, 0.0f), c.fovYDegrees = 40;
   c.near = 0.05f, c.far = 20;
   return c;
@@ -50,10 +50,10 @@ LightView cornerView(bool splatMargin) {
   return v;
 }
 
-std::vector<LightParticle> floorLights(std::size_t n) {
+std::vector<sph::lights::LightParticle> floorLights(std::size_t n) {
   std::mt19937 rng(41);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  std::vector<LightParticle> lights;
+  std::vector<sph::lights::LightParticle> lights;
   for (std::size_t i = 0; i < n; ++i)
     lights.push_back(light(Vec3(4 * u(rng) - 2, 0.02f + 0.38f * u(rng), 4 * u(rng) - 2),
                            Vec3(1.0f, 0.4f + 0.6f * u(rng), 0.2f + 0.8f * u(rng)), 0.5f));
@@ -61,13 +61,13 @@ std::vector<LightParticle> floorLights(std::size_t n) {
 }
 
 // The nearest frustum plane's signed distance (m, negative outside).
-float insideBy(const Frustum& f, const Vec3& p) {
+float insideBy(const scene::Frustum& f, const Vec3& p) {
   float d = 1e30f;
   for (int k = 0; k < 6; ++k) d = std::min(d, f.distance(k, p));
   return d;
 }
 
-Vec3 at(const LightParticle& l) {
+Vec3 at(const sph::lights::LightParticle& l) {
   return Vec3(l.position[0], l.position[1], l.position[2]);
 }
 
@@ -75,18 +75,19 @@ Vec3 at(const LightParticle& l) {
 // rejected unless inside) is in the box; and the box is well under half the volume.
 TEST(LightCulling, EveryVoxelAVisiblePointReadsIsInTheBox) {
   const LightView view = cornerView(false);
-  const Frustum frustum(view.projView);
-  for (LightFilter filter : {LightFilter::Nearest, LightFilter::Trilinear, LightFilter::Tricubic}) {
+  const scene::Frustum frustum(view.projView);
+  for (scene::LightFilter filter :
+       {scene::LightFilter::Nearest, scene::LightFilter::Trilinear, scene::LightFilter::Tricubic}) {
     for (int oversampling : {1, 2}) {
-      LightsDesc d = floorVolume();
+      scene::LightsDesc d = floorVolume();
       d.filter = filter, d.oversampling = oversampling;
       const VoxelBox box = viewVoxels(d, view);
       ASSERT_FALSE(box.empty());
       EXPECT_LT(box.count(), d.voxelCount() * 2 / 5);
       // Per axis: the filter's reach in voxels (half a voxel, one, two; half more oversampled).
-      const float reach = (filter == LightFilter::Nearest     ? 0.5f
-                           : filter == LightFilter::Trilinear ? 1.0f
-                                                              : 2.0f) +
+      const float reach = (filter == scene::LightFilter::Nearest     ? 0.5f
+                           : filter == scene::LightFilter::Trilinear ? 1.0f
+                                                                     : 2.0f) +
                           (oversampling > 1 ? 0.5f : 0.0f);
       std::mt19937 rng(7);
       std::uniform_real_distribution<float> u(0.0f, 1.0f);
@@ -119,10 +120,10 @@ TEST(LightCulling, EveryVoxelAVisiblePointReadsIsInTheBox) {
 // in) is kept; one outside by more than range + filter reach is dropped, as is one beyond every
 // voxel of the box.
 TEST(LightCulling, ALightJustOutsideTheViewWhoseRangeReachesInIsKept) {
-  const LightsDesc d = floorVolume();
+  const scene::LightsDesc d = floorVolume();
   const LightView view = cornerView(false);
   ASSERT_GT(0.9f * d.range, filterReach(d));
-  const Frustum frustum(view.projView);
+  const scene::Frustum frustum(view.projView);
   const VoxelBox box = viewVoxels(d, view);
   // From a point on the floor in view, out through the left plane (k = 0).
   const Vec3 inside(0.2f, 0.05f, 0.0f);
@@ -133,10 +134,10 @@ TEST(LightCulling, ALightJustOutsideTheViewWhoseRangeReachesInIsKept) {
   const float beyond = d.range + filterReach(d) + view.margin;
   const Vec3 far = inside + (toPlane + 1.05f * beyond) * out;
   ASSERT_LT(frustum.distance(0, near), 0.0f);
-  const std::vector<LightParticle> lights = {light(near, Vec3::Ones(), 1),
-                                             light(far, Vec3::Ones(), 1),
-                                             light(Vec3(50, 0, 0), Vec3::Ones(), 1)};
-  const std::vector<LightParticle> kept = lightsInView(d, lights, view, box);
+  const std::vector<sph::lights::LightParticle> lights = {light(near, Vec3::Ones(), 1),
+                                                          light(far, Vec3::Ones(), 1),
+                                                          light(Vec3(50, 0, 0), Vec3::Ones(), 1)};
+  const std::vector<sph::lights::LightParticle> kept = lightsInView(d, lights, view, box);
   ASSERT_EQ(kept.size(), 1u);
   EXPECT_EQ(at(kept[0]), near);
 }
@@ -170,12 +171,13 @@ splat::RenderImage draw(splat::SplatRenderer& r, const LightVolume& v) {
 // while it accumulates a small part of the lights and voxels; the lights just outside the view
 // (within range of it) change the picture, so a culling that dropped them would fail here.
 TEST_F(LightsCullGl, TheCulledPictureIsTheUnculledOne) {
-  const std::vector<LightParticle> lights = floorLights(4000);
+  const std::vector<sph::lights::LightParticle> lights = floorLights(4000);
   const LightView view = cornerView(false);
-  const Frustum frustum(view.projView);
-  std::vector<LightParticle> withoutEdge;  // less those outside the view but within range of it
+  const scene::Frustum frustum(view.projView);
+  std::vector<sph::lights::LightParticle>
+      withoutEdge;  // less those outside the view but within range of it
   std::size_t edge = 0;
-  for (const LightParticle& l : lights) {
+  for (const sph::lights::LightParticle& l : lights) {
     const float in = insideBy(frustum, at(l));
     if (in < 0 && in > -floorVolume().range)
       ++edge;
@@ -187,15 +189,16 @@ TEST_F(LightsCullGl, TheCulledPictureIsTheUnculledOne) {
   splat::SplatRenderer r(kWidth, kHeight);
   r.setLayers({&solids});
   struct Setting {
-    LightFilter filter;
+    scene::LightFilter filter;
     int oversampling;
-    LightPipeline pipeline;
+    scene::LightPipeline pipeline;
   };
-  for (const Setting s : {Setting{LightFilter::Trilinear, 1, LightPipeline::Forward},
-                          Setting{LightFilter::Trilinear, 1, LightPipeline::Deferred},
-                          Setting{LightFilter::Nearest, 1, LightPipeline::Deferred},
-                          Setting{LightFilter::Tricubic, 2, LightPipeline::Forward}}) {
-    LightsDesc d = floorVolume();
+  for (const Setting s :
+       {Setting{scene::LightFilter::Trilinear, 1, scene::LightPipeline::Forward},
+        Setting{scene::LightFilter::Trilinear, 1, scene::LightPipeline::Deferred},
+        Setting{scene::LightFilter::Nearest, 1, scene::LightPipeline::Deferred},
+        Setting{scene::LightFilter::Tricubic, 2, scene::LightPipeline::Forward}}) {
+    scene::LightsDesc d = floorVolume();
     d.filter = s.filter, d.oversampling = s.oversampling, d.pipeline = s.pipeline;
     LightVolume all(d), culled(d);
     all.update(lights);
@@ -221,9 +224,9 @@ TEST_F(LightsCullGl, TheCulledPictureIsTheUnculledOne) {
 // are cleared (the new frame's outside reads zero), those the new camera sees hold the plain
 // volume's values, and an unculled update after culled ones is the plain volume again.
 TEST_F(LightsCullGl, AMovingCameraLeavesNoStaleVoxels) {
-  const LightsDesc d = floorVolume();
-  const std::vector<LightParticle> lights = floorLights(4000);
-  CameraDesc other = cornerCamera();
+  const scene::LightsDesc d = floorVolume();
+  const std::vector<sph::lights::LightParticle> lights = floorLights(4000);
+  scene::CameraDesc other = cornerCamera();
   other.position = Vec3(-0.5f, 0.5f, -1.4f), other.target = Vec3(-0.8f, 0.0f, -0.6f);
   const LightView a = cornerView(true),
                   b = lightView(other, static_cast<float>(kWidth) / kHeight, 1.5f, 2.5f, 0.02f);
@@ -234,7 +237,7 @@ TEST_F(LightsCullGl, AMovingCameraLeavesNoStaleVoxels) {
   moving.update(lights, &b);
   const VoxelBox box = moving.lastBox();
   const VoxelBox boxA = viewVoxels(d, a);
-  const Frustum frustumB(b.projView);
+  const scene::Frustum frustumB(b.projView);
   ASSERT_FALSE(box.empty());
   const auto colour = moving.readColour();
   std::size_t outsideA = 0, insideBoth = 0;

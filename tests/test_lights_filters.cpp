@@ -27,7 +27,7 @@ using test::Texels;
 // --- The shading's filters against a CPU evaluation of the same (read-back) textures ---
 
 struct CpuVolume {
-  LightsDesc d;
+  scene::LightsDesc d;
   Texels colour, direction;
   std::array<float, 4> texel(const Texels& t, int x, int y, int z) const {
     if (x < 0 || y < 0 || z < 0 || x >= d.voxels[0] || y >= d.voxels[1] || z >= d.voxels[2])
@@ -45,7 +45,7 @@ struct CpuVolume {
       const auto v = texel(t, x, y, z);
       sum += w * Vec3(v[0], v[1], v[2]);
     };
-    if (d.filter == LightFilter::Nearest) {
+    if (d.filter == scene::LightFilter::Nearest) {
       add(1, static_cast<int>(std::floor(g.x())), static_cast<int>(std::floor(g.y())),
           static_cast<int>(std::floor(g.z())));
       return sum;
@@ -54,7 +54,7 @@ struct CpuVolume {
     const int ix = static_cast<int>(std::floor(c.x())), iy = static_cast<int>(std::floor(c.y())),
               iz = static_cast<int>(std::floor(c.z()));
     const Vec3 f = c - Vec3(ix, iy, iz);
-    if (d.filter == LightFilter::Trilinear) {
+    if (d.filter == scene::LightFilter::Trilinear) {
       for (int k = 0; k < 8; ++k) {
         const int ox = k & 1, oy = (k >> 1) & 1, oz = k >> 2;
         add((ox ? f.x() : 1 - f.x()) * (oy ? f.y() : 1 - f.y()) * (oz ? f.z() : 1 - f.z()), ix + ox,
@@ -110,10 +110,10 @@ std::vector<ProbePoint> probePoints(int count, unsigned seed) {
 }
 
 TEST_F(LightsGl, EveryFilterMatchesItsCpuEvaluation) {
-  LightsDesc d = smallVolume();
+  scene::LightsDesc d = smallVolume();
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(-0.8f, 0.8f);
-  std::vector<LightParticle> lights;
+  std::vector<sph::lights::LightParticle> lights;
   for (int i = 0; i < 40; ++i)
     lights.push_back(light(Vec3(u(rng), u(rng), u(rng)), Vec3(1, 0.7f, 0.4f), 0.8f));
   LightVolume volume(d);
@@ -121,9 +121,10 @@ TEST_F(LightsGl, EveryFilterMatchesItsCpuEvaluation) {
   CpuVolume cpu{d, volume.readColour(), volume.readDirection()};
   const std::vector<ProbePoint> points = probePoints(300, 11);
   const Vec3 base(0.8f, 0.7f, 0.6f);
-  for (LightFilter f : {LightFilter::Nearest, LightFilter::Trilinear, LightFilter::Tricubic}) {
+  for (scene::LightFilter f :
+       {scene::LightFilter::Nearest, scene::LightFilter::Trilinear, scene::LightFilter::Tricubic}) {
     for (int n : {1, 2}) {
-      const float tension = f == LightFilter::Tricubic && n == 2 ? 1.0f : 0.0f;
+      const float tension = f == scene::LightFilter::Tricubic && n == 2 ? 1.0f : 0.0f;
       volume.setFilter(f, tension, n);
       cpu.d.filter = f, cpu.d.tension = tension, cpu.d.oversampling = n;
       const std::vector<Vec3> gpu = volume.probe(points, base);
@@ -132,8 +133,8 @@ TEST_F(LightsGl, EveryFilterMatchesItsCpuEvaluation) {
         const Vec3 want = cpu.shade(points[i], base);
         lit += want.maxCoeff() > 0.01f;
         // llvmpipe's linear filter weights are 8-bit fixed point: 1/256 of the texel values.
-        const float tol =
-            f == LightFilter::Trilinear ? 2e-2f * want.norm() + 4e-3f : 1e-4f + 1e-4f * want.norm();
+        const float tol = f == scene::LightFilter::Trilinear ? 2e-2f * want.norm() + 4e-3f
+                                                             : 1e-4f + 1e-4f * want.norm();
         EXPECT_LT((gpu[i] - want).norm(), tol) << nameOf(f) << " x" << n << " point " << i;
       }
       EXPECT_GT(lit, 50) << nameOf(f);
@@ -144,7 +145,7 @@ TEST_F(LightsGl, EveryFilterMatchesItsCpuEvaluation) {
 // The exact reference at a point, by hand: one light 0.3 m above a point of an upward surface,
 // seen from straight above: diffuse = kd base att, specular = ks att (r . v = 1).
 TEST(ExactLights, OneLightOverAPointByHand) {
-  LightsDesc d = smallVolume();
+  scene::LightsDesc d = smallVolume();
   d.attenuation = {1.0f, 0.0f, 4.0f};
   d.diffuse = 0.8f, d.specular = 0.5f, d.shininess = 8;
   const ExactLights exact(d, {light(Vec3(0.1f, 0.3f, 0.0f), Vec3(1.0f, 0.5f, 0.25f), 2.0f)});
@@ -168,11 +169,11 @@ TEST(ExactLights, OneLightOverAPointByHand) {
 // Against the exact sum over many lights above a floor, trilinear beats nearest and tricubic is
 // no worse than nearest (diffuse term, PSNR over 4096 floor points).
 TEST_F(LightsGl, TrilinearBeatsNearestAgainstTheExactReference) {
-  LightsDesc d = smallVolume();
+  scene::LightsDesc d = smallVolume();
   d.voxels = {16, 16, 16}, d.voxelSize = 0.125f;
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(-0.7f, 0.7f), height(0.08f, 0.7f);
-  std::vector<LightParticle> lights;
+  std::vector<sph::lights::LightParticle> lights;
   for (int i = 0; i < 200; ++i)
     lights.push_back(light(Vec3(u(rng), height(rng), u(rng)), Vec3(1, 0.8f, 0.5f), 0.02f));
   LightVolume volume(d);
@@ -189,7 +190,8 @@ TEST_F(LightsGl, TrilinearBeatsNearestAgainstTheExactReference) {
   for (const ProbePoint& p : points)
     want.push_back(exact.at(p.position, p.normal, p.toEye, base).diffuse);
   double psnr[3];
-  for (LightFilter f : {LightFilter::Nearest, LightFilter::Trilinear, LightFilter::Tricubic}) {
+  for (scene::LightFilter f :
+       {scene::LightFilter::Nearest, scene::LightFilter::Trilinear, scene::LightFilter::Tricubic}) {
     volume.setFilter(f, 0.0f, 1);
     const LightError e = lightError(volume.probe(points, base), want);
     psnr[static_cast<int>(f)] = e.psnr;

@@ -35,17 +35,18 @@ class LightsShade : public ::testing::Test {
 };
 
 // 24^3 voxels of 0.05 m over a floor, a sphere and a block; deferred, accumulated on the CPU.
-LightsDesc scene(LightShade shade) {
-  LightsDesc d;
+scene::LightsDesc scene(scene::LightShade shade) {
+  scene::LightsDesc d;
   d.origin = Vec3(-0.6f, -0.1f, -0.6f), d.voxelSize = 0.05f, d.voxels = {24, 24, 24};
-  d.attenuation = {1.0f, 0.0f, 20.0f}, d.range = 0.3f, d.filter = LightFilter::Trilinear;
+  d.attenuation = {1.0f, 0.0f, 20.0f}, d.range = 0.3f, d.filter = scene::LightFilter::Trilinear;
   d.specular = 0.5f, d.shininess = 16, d.roomLight = 0.3f;
-  d.pipeline = LightPipeline::Deferred, d.accumulate = LightAccumulate::Cpu, d.shade = shade;
+  d.pipeline = scene::LightPipeline::Deferred, d.accumulate = scene::LightAccumulate::Cpu,
+  d.shade = shade;
   return d;
 }
 
 TEST_F(LightsShade, TheCpuTermIsTheGlTermAtPointsThroughEachFilter) {
-  LightVolume volume(scene(LightShade::Cpu));
+  LightVolume volume(scene(scene::LightShade::Cpu));
   ASSERT_TRUE(volume.shadesOnCpu());
   volume.update(test::sheetLights(3));
   std::mt19937 rng(8);
@@ -59,7 +60,7 @@ TEST_F(LightsShade, TheCpuTermIsTheGlTermAtPointsThroughEachFilter) {
     points.push_back(p);
   }
   const Vec3 base(0.8f, 0.7f, 0.6f);
-  for (LightFilter f : {LightFilter::Nearest, LightFilter::Trilinear}) {
+  for (scene::LightFilter f : {scene::LightFilter::Nearest, scene::LightFilter::Trilinear}) {
     for (int n : {1, 2}) {
       volume.setFilter(f, 0.0f, n);
       for (int terms : {1, 2, 3}) {
@@ -86,7 +87,7 @@ TEST_F(LightsShade, TheCpuTermIsTheGlTermAtPointsThroughEachFilter) {
 // position, bit for bit: every path rounds alike (CpuShading.h). Rows wider than a block, points
 // inside the lights' box, on its faces and beyond the volume, pixels with nothing drawn.
 TEST_F(LightsShade, ThePixelLoopShadesEachPixelAsTheTermAtItsPoint) {
-  LightVolume volume(scene(LightShade::Cpu));
+  LightVolume volume(scene(scene::LightShade::Cpu));
   volume.update(test::sheetLights(3));
   const int width = 301, height = 3;
   const std::size_t n = static_cast<std::size_t>(width) * height;
@@ -110,7 +111,7 @@ TEST_F(LightsShade, ThePixelLoopShadesEachPixelAsTheTermAtItsPoint) {
   g.albedo = albedo.data(), g.lit = lit.data();
   const splat::Srgb8Table& encode = splat::srgb8Table();
   std::vector<std::uint8_t> rgba(4 * n);
-  for (LightFilter f : {LightFilter::Nearest, LightFilter::Trilinear}) {
+  for (scene::LightFilter f : {scene::LightFilter::Nearest, scene::LightFilter::Trilinear}) {
     for (int over : {1, 2}) {
       volume.setFilter(f, 0.0f, over);
       for (int terms : {1, 2, 3}) {
@@ -147,15 +148,15 @@ TEST_F(LightsShade, ThePixelLoopShadesEachPixelAsTheTermAtItsPoint) {
 // CPU, whole volume and culled to the camera, opaque and translucent water (the latter drawn
 // forward over the frame: it samples the 3D textures, which "cpu" uploads only then).
 TEST_F(LightsShade, ShadedOnTheCpuTheDeferredFrameIsTheGlOneToOneStep) {
-  const std::vector<LightParticle> lights = test::sheetLights(14);
+  const std::vector<sph::lights::LightParticle> lights = test::sheetLights(14);
   solids::SolidRenderer solids(test::sheetSolids(), Aabb{Vec3(-1, -1, -1), Vec3(1, 1, 1)}, 0.02f);
   const splat::SplatFrame water = test::waterSheet();
   const int width = 160, height = 120;
   splat::SplatRenderer r(width, height);
   r.setLayers({&solids});
-  const CameraDesc camera = test::sheetCamera();
+  const scene::CameraDesc camera = test::sheetCamera();
   const LightView view = lightView(camera, static_cast<float>(width) / height, 1.5f, 2.5f, 0.05f);
-  LightVolume gl(scene(LightShade::Gl)), cpu(scene(LightShade::Cpu));
+  LightVolume gl(scene(scene::LightShade::Gl)), cpu(scene(scene::LightShade::Cpu));
   ASSERT_FALSE(gl.shadesOnCpu());
   for (const LightView* v : {static_cast<const LightView*>(nullptr), &view}) {
     gl.update(lights, v), cpu.update(lights, v);
@@ -176,7 +177,7 @@ TEST_F(LightsShade, ShadedOnTheCpuTheDeferredFrameIsTheGlOneToOneStep) {
     }
   }
   // Lights that move: the next frame's term, not the last one's.
-  const std::vector<LightParticle> moved = test::sheetLights(15);
+  const std::vector<sph::lights::LightParticle> moved = test::sheetLights(15);
   gl.update(moved), cpu.update(moved);
   splat::Lighting lighting;
   lighting.extra = &gl;
@@ -192,10 +193,10 @@ TEST_F(LightsShade, ShadedOnTheCpuTheDeferredFrameIsTheGlOneToOneStep) {
 // then is the frame's volume, as the GL-shaded volume holds it (a smaller box after a larger one
 // included: the voxels left from the last upload read zero).
 TEST_F(LightsShade, TheTexturesHoldTheFrameWhenReadThoughNotUploadedEachFrame) {
-  LightVolume gl(scene(LightShade::Gl)), cpu(scene(LightShade::Cpu));
-  std::vector<LightParticle> few = test::sheetLights(4);
+  LightVolume gl(scene(scene::LightShade::Gl)), cpu(scene(scene::LightShade::Cpu));
+  std::vector<sph::lights::LightParticle> few = test::sheetLights(4);
   few.resize(8);
-  for (const std::vector<LightParticle>& lights : {test::sheetLights(4), few}) {
+  for (const std::vector<sph::lights::LightParticle>& lights : {test::sheetLights(4), few}) {
     gl.update(lights), cpu.update(lights);
     EXPECT_EQ(cpu.readColour(), gl.readColour());
     EXPECT_EQ(cpu.readDirection(), gl.readDirection());
@@ -203,19 +204,19 @@ TEST_F(LightsShade, TheTexturesHoldTheFrameWhenReadThoughNotUploadedEachFrame) {
 }
 
 TEST_F(LightsShade, AutoShadesOnTheCpuWhereTheVolumeIsOnItAndTheFrameDeferred) {
-  EXPECT_TRUE(LightVolume(scene(LightShade::Auto)).shadesOnCpu());
-  LightsDesc d = scene(LightShade::Auto);
-  d.pipeline = LightPipeline::Forward;
+  EXPECT_TRUE(LightVolume(scene(scene::LightShade::Auto)).shadesOnCpu());
+  scene::LightsDesc d = scene(scene::LightShade::Auto);
+  d.pipeline = scene::LightPipeline::Forward;
   EXPECT_FALSE(LightVolume(d).shadesOnCpu()) << "forward: no G-buffer to shade";
-  d = scene(LightShade::Auto), d.accumulate = LightAccumulate::Atomic;
+  d = scene(scene::LightShade::Auto), d.accumulate = scene::LightAccumulate::Atomic;
   EXPECT_FALSE(LightVolume(d).shadesOnCpu()) << "the volume is on the GPU";
-  d = scene(LightShade::Auto), d.filter = LightFilter::Tricubic;
+  d = scene(scene::LightShade::Auto), d.filter = scene::LightFilter::Tricubic;
   EXPECT_FALSE(LightVolume(d).shadesOnCpu()) << "tricubic stays on GL";
   // Asked for where it cannot work: refused (the scene loader says so with the key first).
-  for (auto change : {+[](LightsDesc& x) { x.pipeline = LightPipeline::Forward; },
-                      +[](LightsDesc& x) { x.accumulate = LightAccumulate::Paper; },
-                      +[](LightsDesc& x) { x.filter = LightFilter::Tricubic; }}) {
-    d = scene(LightShade::Cpu);
+  for (auto change : {+[](scene::LightsDesc& x) { x.pipeline = scene::LightPipeline::Forward; },
+                      +[](scene::LightsDesc& x) { x.accumulate = scene::LightAccumulate::Paper; },
+                      +[](scene::LightsDesc& x) { x.filter = scene::LightFilter::Tricubic; }}) {
+    d = scene(scene::LightShade::Cpu);
     change(d);
     try {
       LightVolume v(d);
@@ -225,10 +226,10 @@ TEST_F(LightsShade, AutoShadesOnTheCpuWhereTheVolumeIsOnItAndTheFrameDeferred) {
     }
   }
   // compare's tricubic rows on a "cpu" volume: the GL path, as the lighting pass would take.
-  LightVolume v(scene(LightShade::Cpu));
-  v.setFilter(LightFilter::Tricubic, 0.0f, 1);
+  LightVolume v(scene(scene::LightShade::Cpu));
+  v.setFilter(scene::LightFilter::Tricubic, 0.0f, 1);
   EXPECT_FALSE(v.shadesOnCpu());
-  v.setFilter(LightFilter::Trilinear, 0.0f, 1);
+  v.setFilter(scene::LightFilter::Trilinear, 0.0f, 1);
   EXPECT_TRUE(v.shadesOnCpu());
 }
 

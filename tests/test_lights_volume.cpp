@@ -27,8 +27,8 @@ using test::Texels;
 using test::voxelCentre;
 
 // The CPU sum the volume should hold: colour texture (rgb) and direction texture (xyz).
-void cpuSums(const LightsDesc& d, const std::vector<LightParticle>& lights, Texels& colour,
-             Texels& direction) {
+void cpuSums(const scene::LightsDesc& d, const std::vector<sph::lights::LightParticle>& lights,
+             Texels& colour, Texels& direction) {
   colour.assign(d.voxelCount(), {0, 0, 0, 0});
   direction.assign(d.voxelCount(), {0, 0, 0, 0});
   for (int z = 0; z < d.voxels[2]; ++z)
@@ -36,10 +36,10 @@ void cpuSums(const LightsDesc& d, const std::vector<LightParticle>& lights, Texe
       for (int x = 0; x < d.voxels[0]; ++x) {
         const std::size_t v = (static_cast<std::size_t>(z) * d.voxels[1] + y) * d.voxels[0] + x;
         const Vec3 c = voxelCentre(d, x, y, z);
-        for (const LightParticle& l : lights) {
+        for (const sph::lights::LightParticle& l : lights) {
           const Vec3 p(l.position[0], l.position[1], l.position[2]);
           const float dist = (p - c).norm();
-          const float att = lightAttenuation(d, dist);
+          const float att = sph::lights::lightAttenuation(d, dist);
           if (att == 0) continue;
           for (int a = 0; a < 3; ++a) {
             colour[v][static_cast<std::size_t>(a)] += att * l.colour[static_cast<std::size_t>(a)];
@@ -54,8 +54,9 @@ void cpuSums(const LightsDesc& d, const std::vector<LightParticle>& lights, Texe
 // range, zero beyond; the direction texture holds the unit vector to the light times intensity.
 // Stored as RGBA16F (the paper's format): relative precision 2^-11, plus the fixed-point step.
 TEST_F(LightsGl, OneLightGivesTheAttenuationFormulaAtVoxelCentres) {
-  for (LightAccumulate mode : {LightAccumulate::Atomic, LightAccumulate::Paper}) {
-    LightsDesc d = smallVolume();
+  for (scene::LightAccumulate mode :
+       {scene::LightAccumulate::Atomic, scene::LightAccumulate::Paper}) {
+    scene::LightsDesc d = smallVolume();
     d.accumulate = mode;
     LightVolume volume(d);
     const Vec3 p(0.13f, -0.21f, 0.17f), colour(1.0f, 0.5f, 0.25f);
@@ -87,10 +88,10 @@ TEST_F(LightsGl, OneLightGivesTheAttenuationFormulaAtVoxelCentres) {
 // fixed-point rounding (half a step per light) and the RGBA16F storage; the paper's imageLoad /
 // imageStore loses most of the light where invocations share voxels.
 TEST_F(LightsGl, AtomicAccumulationEqualsTheCpuSumWherePaperLosesLight) {
-  LightsDesc d = smallVolume();
+  scene::LightsDesc d = smallVolume();
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> u(-0.2f, 0.2f);
-  std::vector<LightParticle> lights;
+  std::vector<sph::lights::LightParticle> lights;
   for (int i = 0; i < 2048; ++i)
     lights.push_back(light(Vec3(u(rng), u(rng), u(rng)), Vec3(1.0f, 0.6f, 0.3f), 0.05f));
   Texels cpuColour, cpuDirection;
@@ -108,7 +109,7 @@ TEST_F(LightsGl, AtomicAccumulationEqualsTheCpuSumWherePaperLosesLight) {
         cpuTotal += cpuColour[v][a], atomicTotal += c[v][a];
       }
   }
-  d.accumulate = LightAccumulate::Paper;
+  d.accumulate = scene::LightAccumulate::Paper;
   LightVolume paper(d);
   paper.update(lights);
   for (const auto& t : paper.readColour()) paperTotal += t[0] + t[1] + t[2];
@@ -122,21 +123,22 @@ TEST_F(LightsGl, AtomicAccumulationEqualsTheCpuSumWherePaperLosesLight) {
 // CPU sum instead of a wrapped, negative one; past RGBA16F's 65504 the colour saturates there and
 // the direction keeps where it points.
 TEST_F(LightsGl, ACrowdedVoxelDoesNotWrap) {
-  LightsDesc d = smallVolume();
+  scene::LightsDesc d = smallVolume();
   d.range = 0.1f;      // one voxel lit: fast
   d.intensity = 0.1f;  // the fixed point's step is relative to the intensity: wraps all the same
   const int count = 200000;
   // Every light a quarter voxel from the centre of voxel (4, 4, 4), on +x, intensity 0.1.
   const Vec3 centre = voxelCentre(d, 4, 4, 4);
   const Vec3 at = centre + Vec3(0.25f * d.voxelSize, 0, 0);
-  std::vector<LightParticle> lights(count, light(at, Vec3(1.0f, 0.5f, 0.25f), d.intensity));
+  std::vector<sph::lights::LightParticle> lights(count,
+                                                 light(at, Vec3(1.0f, 0.5f, 0.25f), d.intensity));
   LightVolume v(d);
   v.update(lights);
   EXPECT_TRUE(v.lastRescaled());
   EXPECT_LT(v.lastFixedScale(), fixedScale(d) / 1.5f);
   const std::size_t voxel = (4u * 8u + 4u) * 8u + 4u;
   const float dist = 0.25f * d.voxelSize;
-  const float att = lightAttenuation(d, dist);
+  const float att = sph::lights::lightAttenuation(d, dist);
   const Texels colour = v.readColour(), direction = v.readDirection();
   const float want[3] = {count * 0.1f * att, count * 0.05f * att, count * 0.025f * att};
   for (int a = 0; a < 3; ++a)  // RGBA16F: 2^-11 relative, plus half a (coarser) step per light
@@ -150,7 +152,7 @@ TEST_F(LightsGl, ACrowdedVoxelDoesNotWrap) {
   EXPECT_FALSE(v.lastRescaled());
   EXPECT_EQ(v.lastFixedScale(), fixedScale(d));
   // Full intensity: 200,000 x 1 / att is past RGBA16F's 65504: saturated, not infinite or wrapped.
-  for (LightParticle& l : lights) l = light(at, Vec3::Ones(), 1.0f);
+  for (sph::lights::LightParticle& l : lights) l = light(at, Vec3::Ones(), 1.0f);
   d.intensity = 1.0f;
   LightVolume bright(d);
   bright.update(lights);
@@ -165,10 +167,11 @@ TEST_F(LightsGl, ACrowdedVoxelDoesNotWrap) {
 // to 4,194,304): the lights past it are accumulated too. The first light lights voxel (0, 0, 0),
 // the last 128 voxel (7, 7, 7), the others lie far outside the volume (nothing to visit: fast).
 TEST_F(LightsGl, MoreLightsThanOneDispatchAreAllAccumulated) {
-  LightsDesc d = smallVolume();
+  scene::LightsDesc d = smallVolume();
   d.range = 0.1f, d.attenuation = {1.0f, 0.0f, 0.0f};
   const std::size_t count = 4194304 + 64, tail = 128;
-  std::vector<LightParticle> lights(count, light(Vec3(-100, -100, -100), Vec3::Ones(), 1.0f));
+  std::vector<sph::lights::LightParticle> lights(count,
+                                                 light(Vec3(-100, -100, -100), Vec3::Ones(), 1.0f));
   lights[0] = light(voxelCentre(d, 0, 0, 0), Vec3::Ones(), 1.0f);
   for (std::size_t i = count - tail; i < count; ++i)
     lights[i] = light(voxelCentre(d, 7, 7, 7), Vec3::Ones(), 1.0f);
@@ -182,7 +185,7 @@ TEST_F(LightsGl, MoreLightsThanOneDispatchAreAllAccumulated) {
 // 4096 voxels along x is more than llvmpipe's GL_MAX_3D_TEXTURE_SIZE (2048): one line naming the
 // size and the key, no GL object half made.
 TEST_F(LightsGl, AVolumeGlCannotHoldIsRefusedWithTheKeyToChange) {
-  LightsDesc d;
+  scene::LightsDesc d;
   d.voxels = {4096, 2, 2};
   try {
     LightVolume v(d);

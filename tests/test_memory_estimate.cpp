@@ -144,18 +144,18 @@ TEST(MemoryEstimate, IsWithinTwentyPercentWithFourMillionRainDrops) {
 // The counts behind the estimate follow the samplers they predict.
 TEST(MemoryEstimate, BoundaryCountsMatchTheSamplers) {
   const Aabb domain{Vec3(-0.2f, -0.2f, -0.2f), Vec3(0.5f, 0.5f, 0.5f)};
-  std::vector<BoundaryShape> shapes(4);
-  shapes[0].kind = BoundaryShape::Kind::Tank, shapes[0].lo = Vec3(0, 0, 0),
+  std::vector<scene::BoundaryShape> shapes(4);
+  shapes[0].kind = scene::BoundaryShape::Kind::Tank, shapes[0].lo = Vec3(0, 0, 0),
   shapes[0].hi = Vec3(0.3f, 0.2f, 0.1f);
   shapes[1] = shapes[0], shapes[1].openTop = false;
-  shapes[2] = shapes[0], shapes[2].kind = BoundaryShape::Kind::Block;
-  shapes[3].kind = BoundaryShape::Kind::Cup, shapes[3].centre = Vec3(0.1f, 0, 0.1f),
+  shapes[2] = shapes[0], shapes[2].kind = scene::BoundaryShape::Kind::Block;
+  shapes[3].kind = scene::BoundaryShape::Kind::Cup, shapes[3].centre = Vec3(0.1f, 0, 0.1f),
   shapes[3].radius = 0.05f, shapes[3].height = 0.08f;
-  for (const BoundaryShape& s : shapes) {
+  for (const scene::BoundaryShape& s : shapes) {
     for (int layers : {1, 2, 3}) {
-      const double counted = countBoundarySamples(s, domain, 0.01f, layers);
+      const double counted = solver::countBoundarySamples(s, domain, 0.01f, layers);
       const double sampled =
-          static_cast<double>(sampleBoundaryShape(s, domain, 0.01f, layers).size());
+          static_cast<double>(solver::sampleBoundaryShape(s, domain, 0.01f, layers).size());
       EXPECT_NEAR(counted, sampled, 0.02 * sampled) << static_cast<int>(s.kind) << " " << layers;
     }
   }
@@ -164,12 +164,12 @@ TEST(MemoryEstimate, BoundaryCountsMatchTheSamplers) {
 // On K processes each rank estimates its own share (RankShare): the fluid shared out, the
 // boundary whole, and what only rank 0 holds when it gathers the frames.
 TEST(MemoryEstimate, ARankHoldsItsShareOfTheFluidAndAllOfTheBoundary) {
-  const Scene scene = test::shippedScene("dam_break", {"solver.spacing=0.0021"});
-  const MemoryEstimate one = estimateMemory(scene);
-  const MemoryEstimate k1 = estimateMemory(scene, {1, true, false});
-  const MemoryEstimate k2 = estimateMemory(scene, {2, true, false});
-  const MemoryEstimate k4 = estimateMemory(scene, {4, true, false});
-  const MemoryEstimate gathering = estimateMemory(scene, {2, true, true});
+  const scene::Scene scene = test::shippedScene("dam_break", {"solver.spacing=0.0021"});
+  const run::MemoryEstimate one = run::estimateMemory(scene);
+  const run::MemoryEstimate k1 = run::estimateMemory(scene, {1, true, false});
+  const run::MemoryEstimate k2 = run::estimateMemory(scene, {2, true, false});
+  const run::MemoryEstimate k4 = run::estimateMemory(scene, {4, true, false});
+  const run::MemoryEstimate gathering = run::estimateMemory(scene, {2, true, true});
   EXPECT_EQ(one.ranks, 1);
   EXPECT_EQ(k4.ranks, 4);
   // The distributed path's keys, places and buffers cost more than one process's arrays.
@@ -187,9 +187,9 @@ TEST(MemoryEstimate, ARankHoldsItsShareOfTheFluidAndAllOfTheBoundary) {
 // The check's decision (app/MachineMemory.h): a rank's share against what a process may use, and
 // the ranks of one machine together against what it has free.
 TEST(MemoryEstimate, RanksThatFitAloneButNotTogetherAreRefusedNamingTheirSum) {
-  Scene scene = test::shippedScene("dam_break", {"solver.spacing=0.0021"});
+  scene::Scene scene = test::shippedScene("dam_break", {"solver.spacing=0.0021"});
   scene.sourcePath = "dam.json";
-  const MemoryEstimate e = estimateMemory(scene, {4, true, false});
+  const run::MemoryEstimate e = run::estimateMemory(scene, {4, true, false});
   app::MachineMemory machine;
   machine.totalBytes = 64e9;
   machine.availableBytes = machine.sharedBytes = 1.5 * e.bytes;
@@ -218,9 +218,9 @@ TEST(MemoryEstimate, RanksThatFitAloneButNotTogetherAreRefusedNamingTheirSum) {
 // What only rank 0 holds (a gathered frame, without parallel HDF5) is asked of rank 0 and of the
 // machine rank 0 runs on, not of every rank.
 TEST(MemoryEstimate, RankZerosOwnPartIsAskedOfRankZeroAlone) {
-  Scene scene = test::shippedScene("dam_break", {"solver.spacing=0.0021"});
+  scene::Scene scene = test::shippedScene("dam_break", {"solver.spacing=0.0021"});
   scene.sourcePath = "dam.json";
-  const MemoryEstimate e = estimateMemory(scene, {4, true, true});
+  const run::MemoryEstimate e = run::estimateMemory(scene, {4, true, true});
   ASSERT_GT(e.rootOnlyBytes, 0.3 * e.bytes);
   app::MachineMemory machine;
   machine.totalBytes = 64e9;

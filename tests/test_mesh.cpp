@@ -138,8 +138,8 @@ TEST_F(MeshOfBall, AreaAndVolumeAreTheSpheres) {
   EXPECT_GT(isoRadius_, 10.5 * kSpacing);
   EXPECT_LT(isoRadius_, 13 * kSpacing);
   const double area = surfaceArea(*mesh_), volume = enclosedVolume(*mesh_);
-  const double sphereArea = 4 * kPi * isoRadius_ * isoRadius_;
-  const double sphereVolume = 4.0 / 3.0 * kPi * isoRadius_ * isoRadius_ * isoRadius_;
+  const double sphereArea = 4 * solver::kPi * isoRadius_ * isoRadius_;
+  const double sphereVolume = 4.0 / 3.0 * solver::kPi * isoRadius_ * isoRadius_ * isoRadius_;
   EXPECT_NEAR(area / sphereArea, 1.0, 0.02) << area << " m^2 against " << sphereArea;
   EXPECT_NEAR(volume / sphereVolume, 1.0, 0.01) << volume << " m^3 against " << sphereVolume;
   // Every vertex lies on the iso-surface: D there within 2% of SD (linear interpolation on a
@@ -179,8 +179,8 @@ TEST_F(MeshOfBall, NormalsPointOutwardAlongTheGradientAndAgreeWithTheTriangles) 
   }
   const double count = static_cast<double>(m.vertexCount());
   EXPECT_GT(meanRadial / count, 0.99);
-  EXPECT_LT(meanFace / count * 180 / kPi, 5.0);  // degrees
-  EXPECT_LT(worstFace * 180 / kPi, 45.0);
+  EXPECT_LT(meanFace / count * 180 / solver::kPi, 5.0);  // degrees
+  EXPECT_LT(worstFace * 180 / solver::kPi, 45.0);
   EXPECT_LT(worstGradient, 1e-4);  // -gradD, normalised
 }
 
@@ -235,12 +235,13 @@ struct Raster {
   std::vector<float> depth;
   std::vector<Vec3> normal, position;  // interpolated from the nearest triangle
 };
-Raster rasterise(const SurfaceMesh& m, const CameraDesc& camera, int width, int height) {
+Raster rasterise(const SurfaceMesh& m, const scene::CameraDesc& camera, int width, int height) {
   const Vec3 eye = camera.position;
   const Vec3 forward = (camera.target - eye).normalized();
   const Vec3 right = forward.cross(camera.up).normalized();
   const Vec3 up = right.cross(forward);
-  const float tanHalf = std::tan(0.5f * camera.fovYDegrees * static_cast<float>(kPi) / 180.0f);
+  const float tanHalf =
+      std::tan(0.5f * camera.fovYDegrees * static_cast<float>(solver::kPi) / 180.0f);
   const float aspect = static_cast<float>(width) / height;
   Raster r;
   r.depth.assign(static_cast<std::size_t>(width) * height, std::numeric_limits<float>::infinity());
@@ -299,7 +300,7 @@ TEST(Mesh, SilhouetteAndNormalsMatchTheReferenceRaymarcher) {
   const splat::DensityField field = c.field();
   const float SD = splat::surfaceDensity(field, 0);
   const SurfaceMesh m = extractSurface(field, SD, 0.5f * kSpacing);
-  CameraDesc camera;
+  scene::CameraDesc camera;
   camera.target = Vec3(0.15f, 0.08f, 0.06f);
   camera.position = camera.target + Vec3(0.25f, 0.2f, 0.35f);
   camera.fovYDegrees = 40;
@@ -335,7 +336,7 @@ TEST(Mesh, SilhouetteAndNormalsMatchTheReferenceRaymarcher) {
     meshAngle += angle(r.normal[p], -gradD.normalized());
     between += angle(ref, r.normal[p]);
   }
-  const double degrees = 180 / kPi / static_cast<double>(both);
+  const double degrees = 180 / solver::kPi / static_cast<double>(both);
   EXPECT_LT(refAngle * degrees, 3.0);
   EXPECT_LT(meshAngle * degrees, 2.0);
   EXPECT_LT(between * degrees, 15.0);

@@ -383,7 +383,7 @@ TEST(MpiRain, FramesAndDropsWrittenTogetherAreThoseOfOneProcess) {
     // The water stops drops in this scene: the stored drops are not those of a rain that meets
     // the solids alone (so the cells rank 0 is sent matter).
     const io::CacheReader reader(one);
-    Scene sc = io::loadScene(file);
+    scene::Scene sc = io::loadScene(file);
     auto dry = rain::RainStepper::create(sc, rain::RainStepper::sceneAspect(sc));
     bool wet = false;
     for (std::size_t k = 0; k < reader.frameCount(); ++k) {

@@ -21,13 +21,14 @@ std::vector<std::set<std::uint32_t>> bruteForce(const Cloud& c, float h) {
   std::vector<std::set<std::uint32_t>> out(n);
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t j = 0; j < n; ++j)
-      if (withinRadius(c.x[i] - c.x[j], c.y[i] - c.y[j], c.z[i] - c.z[j], h)) out[i].insert(j);
+      if (grid::withinRadius(c.x[i] - c.x[j], c.y[i] - c.y[j], c.z[i] - c.z[j], h))
+        out[i].insert(j);
   return out;
 }
 
 // Neighbour sets from the grid, mapped back to the original indices.
 std::vector<std::set<std::uint32_t>> fromGrid(const Cloud& c, float h, std::size_t maxCells = 0) {
-  NeighbourGrid grid;
+  grid::NeighbourGrid grid;
   std::vector<std::uint32_t> order;
   grid.build(c.x.data(), c.y.data(), c.z.data(), c.x.size(), h, order, maxCells);
   Cloud sorted;
@@ -37,8 +38,8 @@ std::vector<std::set<std::uint32_t>> fromGrid(const Cloud& c, float h, std::size
     grid.forEachNeighbourRange(
         grid.cellOf(sorted.x[i], sorted.y[i], sorted.z[i]), [&](std::uint32_t b, std::uint32_t e) {
           for (std::uint32_t j = b; j < e; ++j) {
-            if (withinRadius(sorted.x[i] - sorted.x[j], sorted.y[i] - sorted.y[j],
-                             sorted.z[i] - sorted.z[j], h)) {
+            if (grid::withinRadius(sorted.x[i] - sorted.x[j], sorted.y[i] - sorted.y[j],
+                                   sorted.z[i] - sorted.z[j], h)) {
               out[order[i]].insert(order[j]);
             }
           }
@@ -83,7 +84,7 @@ TEST(NeighbourGrid, StaysExactWhenTheBoxForcesLargerCells) {
   Cloud c;
   for (int i = 0; i < 800; ++i) c.add(u(rng), u(rng) * 0.01f, u(rng));
   c.add(1000.0f, 0, 0);  // an outlier far away: the box becomes huge
-  NeighbourGrid g;
+  grid::NeighbourGrid g;
   std::vector<std::uint32_t> order;
   g.build(c.x.data(), c.y.data(), c.z.data(), c.x.size(), 0.3f, order, 4096);
   EXPECT_GT(g.cellSize(), 0.3f);
@@ -96,7 +97,7 @@ TEST(NeighbourGrid, CountingSortIsAStablePermutationByCell) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   Cloud c;
   for (int i = 0; i < 5000; ++i) c.add(u(rng), u(rng), u(rng));
-  NeighbourGrid g;
+  grid::NeighbourGrid g;
   std::vector<std::uint32_t> order;
   g.build(c.x.data(), c.y.data(), c.z.data(), c.x.size(), 0.1f, order);
   std::vector<std::uint32_t> sorted(order);
@@ -104,7 +105,7 @@ TEST(NeighbourGrid, CountingSortIsAStablePermutationByCell) {
   for (std::uint32_t i = 0; i < sorted.size(); ++i) ASSERT_EQ(sorted[i], i);
   // Cells never decrease along the order; inside a cell the original order is kept.
   auto key = [&](std::uint32_t i) {
-    const CellCoord cc = g.cellOf(c.x[i], c.y[i], c.z[i]);
+    const grid::CellCoord cc = g.cellOf(c.x[i], c.y[i], c.z[i]);
     return std::make_tuple(cc[2], cc[1], cc[0]);
   };
   for (std::size_t i = 1; i < order.size(); ++i) {

@@ -23,13 +23,14 @@ struct Packed {
 
   explicit Packed(std::size_t room)
       : index(room, 0xdeadbeefu), gx(room, -1), gy(room, -1), gz(room, -1), hr(room, -1) {}
-  PairRow row() { return {index.data(), gx.data(), gy.data(), gz.data(), hr.data()}; }
+  grid::PairRow row() { return {index.data(), gx.data(), gy.data(), gz.data(), hr.data()}; }
 };
 
 // A batch of `padded` candidates, about a third of them outside the support (h - r <= 0, among
 // them 0, -0 and NaN, which no comparison calls inside), and index bits in `bits`.
-CandidateBatch<4> randomBatch(std::size_t padded, std::mt19937& rng, std::vector<float>& bits) {
-  CandidateBatch<4> t;
+grid::CandidateBatch<4> randomBatch(std::size_t padded, std::mt19937& rng,
+                                    std::vector<float>& bits) {
+  grid::CandidateBatch<4> t;
   t.resize(padded);
   t.count = t.padded = padded;
   std::uniform_real_distribution<float> value(-1, 1);
@@ -49,7 +50,7 @@ CandidateBatch<4> randomBatch(std::size_t padded, std::mt19937& rng, std::vector
 }
 
 // What the pass needs: the candidates inside, in order.
-Packed reference(const std::vector<float>& bits, const CandidateBatch<4>& t) {
+Packed reference(const std::vector<float>& bits, const grid::CandidateBatch<4>& t) {
   Packed p(t.padded);
   for (std::size_t j = 0; j < t.padded; ++j) {
     if (!(t.field[3][j] > 0.0f)) continue;
@@ -75,10 +76,11 @@ void expectSamePairs(const Packed& expected, const Packed& actual, const char* w
 TEST(PairPacking, BothVersionsKeepTheCandidatesInsideTheSupportInTheirOrder) {
   std::mt19937 rng(2015);
   [[maybe_unused]] int withAvx512 = 0;  // counted only where the AVX-512 version is built
-  for (std::size_t padded : {std::size_t{0}, kBatchLanes, 2 * kBatchLanes, 7 * kBatchLanes}) {
+  for (std::size_t padded :
+       {std::size_t{0}, grid::kBatchLanes, 2 * grid::kBatchLanes, 7 * grid::kBatchLanes}) {
     for (int round = 0; round < 200; ++round) {
       std::vector<float> bits;
-      const CandidateBatch<4> t = randomBatch(padded, rng, bits);
+      const grid::CandidateBatch<4> t = randomBatch(padded, rng, bits);
       const Packed expected = reference(bits, t);
       Packed scalar(padded);
       scalar.count = packPairsScalar(padded, bits.data(), t, scalar.row());

@@ -11,14 +11,14 @@
 namespace sph {
 namespace {
 
-constexpr std::size_t kChunk = PairStore::kChunkPairs;
+constexpr std::size_t kChunk = grid::PairStore::kChunkPairs;
 
 // Appends `n` pairs to `row` from `thread` in pieces of `piece` (as the factor pass does a cell at
 // a time, asking for room for more than it keeps), pair q of the row holding q + 1000 row.
-void fill(PairStore& s, std::size_t row, int thread, std::size_t n, std::size_t piece) {
+void fill(grid::PairStore& s, std::size_t row, int thread, std::size_t n, std::size_t piece) {
   for (std::size_t done = 0; done < n;) {
     const std::size_t take = std::min(piece, n - done);
-    const PairStore::Row to = s.room(row, thread, take + 16);
+    const grid::PairStore::Row to = s.room(row, thread, take + 16);
     for (std::size_t q = 0; q < take; ++q) {
       const auto v = static_cast<std::uint32_t>(done + q + 1000 * row);
       to.index[q] = v;
@@ -30,8 +30,8 @@ void fill(PairStore& s, std::size_t row, int thread, std::size_t n, std::size_t 
   }
 }
 
-void expectRow(const PairStore& s, std::size_t row, std::size_t n) {
-  const PairStore::Row r = s.row(row);
+void expectRow(const grid::PairStore& s, std::size_t row, std::size_t n) {
+  const grid::PairStore::Row r = s.row(row);
   ASSERT_EQ(r.used, n) << "row " << row;
   EXPECT_EQ(reinterpret_cast<std::uintptr_t>(r.gx) % 64, 0u) << "row " << row;
   EXPECT_EQ(reinterpret_cast<std::uintptr_t>(r.index) % 64, 0u) << "row " << row;
@@ -46,7 +46,7 @@ void expectRow(const PairStore& s, std::size_t row, std::size_t n) {
 }
 
 TEST(PairStore, RowsKeepTheirPairsAcrossChunksAndStartOnACacheLine) {
-  PairStore s;
+  grid::PairStore s;
   s.begin(5, 2);
   // Rows of odd lengths from two threads, one larger than a chunk (a chunk of its own), and
   // enough in all that rows move to a thread's next chunk with their first cells copied along.
@@ -60,14 +60,14 @@ TEST(PairStore, RowsKeepTheirPairsAcrossChunksAndStartOnACacheLine) {
 }
 
 TEST(PairStore, HoldsWhatTheLastPassNeededNotTheMostEver) {
-  PairStore s;
+  grid::PairStore s;
   // A pass as at an impact: ten chunks of pairs over 200 rows of one thread (a row is 5% of a
   // chunk, about the longest at 117k particles)...
   constexpr std::size_t kRow = kChunk / 20;
   s.begin(200, 1);
   for (std::size_t row = 0; row < 200; ++row) fill(s, row, 0, kRow, 200);
   s.end();
-  const std::size_t chunk = kChunk * PairStore::kBytesPerPair;
+  const std::size_t chunk = kChunk * grid::PairStore::kBytesPerPair;
   EXPECT_GE(s.bytesHeld(), 10 * chunk);
   EXPECT_LE(s.bytesHeld(), 13 * chunk) << "a chunk's unused end and a spare";
   // ...then the fluid in other rows and a fiftieth as many pairs: the store gives back all but

@@ -28,14 +28,15 @@ using test::rainDesc;
 
 // The claim of the paper in numbers: the share of the budget inside the view frustum.
 TEST(RainSystem, ViewKeepsTheWholeBudgetInViewTheBaselinesDoNot) {
-  const CameraDesc c = lookingAlongZ();
+  const scene::CameraDesc c = lookingAlongZ();
   double fraction[3];
-  for (RainSpawn spawn : {RainSpawn::View, RainSpawn::Box, RainSpawn::Region}) {
+  for (scene::RainSpawn spawn :
+       {scene::RainSpawn::View, scene::RainSpawn::Box, scene::RainSpawn::Region}) {
     RainSystem r(rainDesc(spawn), kAspect);
     r.reset(c);
     for (int f = 0; f < 30; ++f) r.update(c, 1.0f / 30);
     fraction[static_cast<int>(spawn)] = fractionInView(r, c);
-    if (spawn == RainSpawn::View) {
+    if (spawn == scene::RainSpawn::View) {
       const double sphere = 4.0 / 3 * M_PI * std::pow(r.space().radius, 3.0);
       std::printf(
           "rain space %.2f m^3 of the sphere's %.2f m^3; side planes rejected %.3f of "
@@ -47,7 +48,7 @@ TEST(RainSystem, ViewKeepsTheWholeBudgetInViewTheBaselinesDoNot) {
                       static_cast<double>(r.counters().rejected + r.counters().accepted),
                   r.space().volume() / sphere, 0.02);
     }
-    if (spawn == RainSpawn::Box) std::printf("box edge %.3f m\n", r.boxEdge());
+    if (spawn == scene::RainSpawn::Box) std::printf("box edge %.3f m\n", r.boxEdge());
     std::printf("spawn %-6s: %.4f of %zu drops in the frustum\n", enumName(spawn),
                 fraction[static_cast<int>(spawn)], r.size());
   }
@@ -62,13 +63,13 @@ TEST(RainSystem, ViewKeepsTheWholeBudgetInViewTheBaselinesDoNot) {
 }
 
 TEST(RainSystem, RespawnKeepsTheBudgetAndNoDropIsEverInsideASolid) {
-  const CameraDesc c = lookingAlongZ();
-  RainDesc d = rainDesc(RainSpawn::View);
+  const scene::CameraDesc c = lookingAlongZ();
+  scene::RainDesc d = rainDesc(scene::RainSpawn::View);
   d.wind = Vec3(1, 0, 0);
-  BoundaryShape block;
-  block.kind = BoundaryShape::Kind::Block;
+  scene::BoundaryShape block;
+  block.kind = scene::BoundaryShape::Kind::Block;
   block.lo = Vec3(-1, -1, -1), block.hi = Vec3(1, 1, 3);  // the lower half of the rain space
-  const std::vector<Solid> solids = {Solid(block, 0.01f)};
+  const std::vector<scene::Solid> solids = {scene::Solid(block, 0.01f)};
   rain::RainObstacles obstacles;
   obstacles.solids = &solids;
   RainSystem r(d, kAspect);
@@ -86,7 +87,7 @@ TEST(RainSystem, RespawnKeepsTheBudgetAndNoDropIsEverInsideASolid) {
 }
 
 TEST(RainSystem, DropsHittingTheWaterAreRespawned) {
-  const CameraDesc c = lookingAlongZ();
+  const scene::CameraDesc c = lookingAlongZ();
   std::vector<Vec3> pool;  // a 2 m x 0.2 m x 2 m slab of water around y = 0.5
   for (float x = -1; x < 1; x += 0.02f)
     for (float z = 0; z < 2; z += 0.02f)
@@ -94,7 +95,7 @@ TEST(RainSystem, DropsHittingTheWaterAreRespawned) {
   const rain::WaterCells water(pool, 0.04f);
   rain::RainObstacles obstacles;
   obstacles.water = &water;
-  RainSystem r(rainDesc(RainSpawn::View), kAspect);
+  RainSystem r(rainDesc(scene::RainSpawn::View), kAspect);
   r.reset(c, obstacles);
   for (int f = 0; f < 30; ++f) r.update(c, 1.0f / 60, obstacles);
   EXPECT_GT(r.counters().hitWater, 100u);
@@ -106,14 +107,14 @@ TEST(RainSystem, DropsHittingTheWaterAreRespawned) {
 // A sheet of water one cell (0.04 m) thick: at 6 m/s and 30 fps a drop falls 0.2 m a step, so a
 // test of where it ends alone let most drops through. The path is tested: none gets through.
 TEST(RainSystem, DropsFallingThroughAThinSheetOfWaterLandInIt) {
-  const CameraDesc c = lookingAlongZ();
+  const scene::CameraDesc c = lookingAlongZ();
   std::vector<Vec3> sheet;  // 2 m x 2 m at y = 0.5: the cells 0.48 <= y < 0.52
   for (float x = -1; x < 1; x += 0.02f)
     for (float z = 0; z < 2; z += 0.02f) sheet.emplace_back(x, 0.5f, z);
   const rain::WaterCells water(sheet, 0.04f);
   rain::RainObstacles obstacles;
   obstacles.water = &water;
-  RainDesc d = rainDesc(RainSpawn::View);
+  scene::RainDesc d = rainDesc(scene::RainSpawn::View);
   ASSERT_GT(d.fallSpeed / 30, 4 * 0.04f);
   RainSystem r(d, kAspect);
   r.reset(c, obstacles);
@@ -136,14 +137,14 @@ TEST(RainSystem, DropsFallingThroughAThinSheetOfWaterLandInIt) {
 // A pool whose surface is the floor of the rain space (rain_fill's region ends at its pool): a
 // drop that enters the water and ends below the space in the same step landed; it did not leave.
 TEST(RainSystem, ADropThatCrossesTheWaterOutOfTheRainSpaceLandsInIt) {
-  const CameraDesc c = lookingAlongZ();
+  const scene::CameraDesc c = lookingAlongZ();
   std::vector<Vec3> sheet;  // the cells 0.48 <= y < 0.52 over x, z in [-1, 1]
   for (float x = -1; x < 1; x += 0.02f)
     for (float z = -1; z < 1; z += 0.02f) sheet.emplace_back(x, 0.5f, z);
   const rain::WaterCells water(sheet, 0.04f);
   rain::RainObstacles obstacles;
   obstacles.water = &water;
-  RainDesc d = rainDesc(RainSpawn::Region, 5000);
+  scene::RainDesc d = rainDesc(scene::RainSpawn::Region, 5000);
   d.wind = Vec3::Zero();
   d.region.lo = Vec3(-0.9f, 0.5f, -0.9f), d.region.hi = Vec3(0.9f, 1.5f, 0.9f);
   RainSystem r(d, kAspect);
@@ -156,7 +157,7 @@ TEST(RainSystem, ADropThatCrossesTheWaterOutOfTheRainSpaceLandsInIt) {
 TEST(RainSystem, TheUnionOfThePartsWaterCellsStopsTheDropsAsTheWholeFluidDoes) {
   // An MPI run's rank 0 steps the drops with the union of the cells its ranks' particles occupy
   // (app/CollectiveCacheSink.h): cut across x off the cell grid, so cells straddle the cuts.
-  const CameraDesc c = lookingAlongZ();
+  const scene::CameraDesc c = lookingAlongZ();
   std::vector<Vec3> pool;
   std::vector<std::vector<Vec3>> parts(3);
   for (float x = -1; x < 1; x += 0.02f)
@@ -181,7 +182,8 @@ TEST(RainSystem, TheUnionOfThePartsWaterCellsStopsTheDropsAsTheWholeFluidDoes) {
   EXPECT_GT(keys.size(), whole.size());  // the straddling cells were sent by two parts
   keys.resize(withoutLast);              // a part missing is missed
   EXPECT_LT(rain::WaterCells::fromKeys(keys, cell).size(), whole.size());
-  RainSystem a(rainDesc(RainSpawn::View), kAspect), b(rainDesc(RainSpawn::View), kAspect);
+  RainSystem a(rainDesc(scene::RainSpawn::View), kAspect),
+      b(rainDesc(scene::RainSpawn::View), kAspect);
   rain::RainObstacles withWhole, withUnited;
   withWhole.water = &whole, withUnited.water = &united;
   a.reset(c, withWhole), b.reset(c, withUnited);
@@ -195,7 +197,7 @@ TEST(RainSystem, TheUnionOfThePartsWaterCellsStopsTheDropsAsTheWholeFluidDoes) {
 }
 
 TEST(RainSystem, DropsFallWithTheWind) {
-  RainDesc d = rainDesc(RainSpawn::Region, 1000);
+  scene::RainDesc d = rainDesc(scene::RainSpawn::Region, 1000);
   d.wind = Vec3(2, 0, -1);
   d.fallSpeed = 5;
   RainSystem r(d, kAspect);
@@ -210,14 +212,15 @@ TEST(RainSystem, DropsFallWithTheWind) {
 }
 
 TEST(RainSystem, AfterANinetyDegreePanEveryDropIsInTheNewViewTheBoxLosesThem) {
-  CameraDesc c = lookingAlongZ();
-  RainSystem view(rainDesc(RainSpawn::View), kAspect);
-  RainSystem box(rainDesc(RainSpawn::Box), kAspect);
+  scene::CameraDesc c = lookingAlongZ();
+  RainSystem view(rainDesc(scene::RainSpawn::View), kAspect);
+  RainSystem box(rainDesc(scene::RainSpawn::Box), kAspect);
   view.reset(c), box.reset(c);
-  const CameraPath pan = {{0.0, c.position, c.target, 45}, {1.0, c.position, Vec3(-4, 1, 4), 45}};
+  const scene::CameraPath pan = {{0.0, c.position, c.target, 45},
+                                 {1.0, c.position, Vec3(-4, 1, 4), 45}};
   double minView = 1, minBox = 1;
   for (int f = 1; f <= 30; ++f) {
-    const CameraDesc now = cameraAt(c, pan, f / 30.0);
+    const scene::CameraDesc now = cameraAt(c, pan, f / 30.0);
     view.update(now, 1.0f / 30), box.update(now, 1.0f / 30);
     minView = std::min(minView, fractionInView(view, now));
     minBox = std::min(minBox, fractionInView(box, now));
@@ -232,7 +235,7 @@ TEST(RainSystem, AfterANinetyDegreePanEveryDropIsInTheNewViewTheBoxLosesThem) {
 
 TEST(RainSystem, SameSeedIsBitIdenticalAnotherSeedIsNot) {
   auto run = [](std::uint64_t seed) {
-    RainDesc d = rainDesc(RainSpawn::View, 5000);
+    scene::RainDesc d = rainDesc(scene::RainSpawn::View, 5000);
     d.seed = seed;
     RainSystem r(d, kAspect);
     r.reset(lookingAlongZ());

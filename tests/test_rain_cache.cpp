@@ -57,7 +57,7 @@ TEST(RainCache, RunStoresEveryFramesDropsAndTheSidecarAndInfoShowThem) {
   const io::CacheReader reader(cache);
   ASSERT_EQ(reader.frameCount(), 5u);  // 0.2 s at 20 fps
   // The drops of each frame are the stepper's at that frame's time with that frame's water.
-  const Scene scene = io::loadScene(scenePath);
+  const scene::Scene scene = io::loadScene(scenePath);
   auto stepper = rain::RainStepper::create(scene, rain::RainStepper::sceneAspect(scene));
   std::vector<Vec3> previous;
   for (std::size_t k = 0; k < reader.frameCount(); ++k) {

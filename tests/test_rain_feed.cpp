@@ -52,8 +52,8 @@ bool sameFluid(const Particles& a, const Particles& b) {
 }
 
 TEST(RainFeed, ConservesMassOverManyLandings) {
-  const Scene scene = io::parseScene(poolScene(true), "pool.json");
-  Simulation sim(scene);
+  const scene::Scene scene = io::parseScene(poolScene(true), "pool.json");
+  run::Simulation sim(scene);
   ASSERT_NE(sim.rainFeed(), nullptr);
   const std::size_t before = sim.fluid().size();
   sim.advanceTo(0.3);
@@ -86,14 +86,14 @@ TEST(RainFeed, ConservesMassOverManyLandings) {
   EXPECT_EQ(fresh, f.particles);
   // The particle budget (memory check, id limits) bounds what the rain made by that time: at most
   // one landing per drop per frame, 1500 x 9 x 0.1 particles.
-  Scene until = scene;
+  scene::Scene until = scene;
   until.solver.endTime = 0.3;
-  EXPECT_EQ(particleBudget(until).rain, 1350u);
-  EXPECT_GE(particleBudget(until).rain, f.particles);
-  EXPECT_EQ(particleBudget(until).total(), before + 1350u);
-  EXPECT_EQ(estimateMemory(until).rainParticles, 1350.0);
+  EXPECT_EQ(solver::particleBudget(until).rain, 1350u);
+  EXPECT_GE(solver::particleBudget(until).rain, f.particles);
+  EXPECT_EQ(solver::particleBudget(until).total(), before + 1350u);
+  EXPECT_EQ(run::estimateMemory(until).rainParticles, 1350.0);
   try {
-    requireIdsBelow(until, before + 1000, "a test", "why");
+    solver::requireIdsBelow(until, before + 1000, "a test", "why");
     FAIL() << "the rain's 1350 particles passed an id limit 1000 above the pool's";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("pool.json: rain.drop_volume: the rain that feeds the "
@@ -104,16 +104,18 @@ TEST(RainFeed, ConservesMassOverManyLandings) {
 }
 
 TEST(RainFeed, ThePoolRisesByTheLandedVolumeOverItsArea) {
-  const Scene fed = io::parseScene(poolScene(true), "pool.json");
-  const Scene dry = io::parseScene(poolScene(false), "pool.json");
-  Simulation a(fed), b(dry);
+  const scene::Scene fed = io::parseScene(poolScene(true), "pool.json");
+  const scene::Scene dry = io::parseScene(poolScene(false), "pool.json");
+  run::Simulation a(fed), b(dry);
   // Columns away from the walls (one support radius), searched from inside the water to above
   // anything the rain could fill in this run.
   const float h = fed.solver.supportRadius();
   Aabb columns;
   columns.lo = Vec3(h, 0.02f, h);
   columns.hi = Vec3(kSide - h, 0.2f, kSide - h);
-  auto level = [&](const Simulation& s) { return waterLevel(s.fluid(), columns, h, kSpacing); };
+  auto level = [&](const run::Simulation& s) {
+    return run::waterLevel(s.fluid(), columns, h, kSpacing);
+  };
   // Averaged over the frames of the last 0.1 s: the fresh particles still splash the surface.
   const double end = 0.5;
   double rise = 0, predicted = 0;
@@ -136,7 +138,7 @@ TEST(RainFeed, ThePoolRisesByTheLandedVolumeOverItsArea) {
 
 // The shipped demonstration: its pool gains particles within a few frames.
 TEST(RainFeed, TheShippedSceneFillsItsPool) {
-  Simulation sim(test::shippedScene("rain_fill"));
+  run::Simulation sim(test::shippedScene("rain_fill"));
   const std::size_t before = sim.fluid().size();
   sim.advanceTo(0.1);
   const rain::FeedState& f = sim.runState().rain;
@@ -147,7 +149,7 @@ TEST(RainFeed, TheShippedSceneFillsItsPool) {
 
 TEST(RainFeed, RunsAreDeterministicAndTheSeedMatters) {
   auto run = [](int seed) {
-    Simulation sim(io::parseScene(poolScene(true, seed), "pool.json"));
+    run::Simulation sim(io::parseScene(poolScene(true, seed), "pool.json"));
     sim.advanceTo(0.15);
     return std::make_pair(sim.fluid(), sim.runState().rain.landedDrops);
   };
@@ -161,10 +163,10 @@ TEST(RainFeed, RunsAreDeterministicAndTheSeedMatters) {
 }
 
 TEST(RainFeed, WithoutItTheRainLeavesTheFluidAsItWas) {
-  const Scene dry = io::parseScene(poolScene(false), "pool.json");
-  Scene noRain = dry;
+  const scene::Scene dry = io::parseScene(poolScene(false), "pool.json");
+  scene::Scene noRain = dry;
   noRain.rain.reset();
-  Simulation a(dry), b(noRain);
+  run::Simulation a(dry), b(noRain);
   EXPECT_EQ(a.rainFeed(), nullptr);
   a.advanceTo(0.1), b.advanceTo(0.1);
   EXPECT_TRUE(sameFluid(a.fluid(), b.fluid()));
@@ -182,11 +184,11 @@ TEST(RainFeed, LandingsAreRecordedOnlyWhenFeedingAndLieInTheWater) {
   const rain::WaterCells water(fluid, 0.02f);
   rain::RainObstacles obstacles;
   obstacles.water = &water;
-  CameraDesc camera;
+  scene::CameraDesc camera;
   camera.position = Vec3(0.5f, 0.4f, 0.5f), camera.target = Vec3(0.1f, 0.05f, 0.1f);
   for (bool feed : {false, true}) {
-    RainDesc d;
-    d.count = 2000, d.fallSpeed = 3, d.seed = 3, d.spawn = RainSpawn::Region;
+    scene::RainDesc d;
+    d.count = 2000, d.fallSpeed = 3, d.seed = 3, d.spawn = scene::RainSpawn::Region;
     d.region.lo = Vec3(0, 0, 0), d.region.hi = Vec3(0.2f, 0.3f, 0.2f);
     d.feedFluid = feed;
     rain::RainSystem rain(d, 1.0f);
@@ -222,12 +224,12 @@ std::string errorOf(const std::string& feedKeys) {
 }
 
 TEST(RainFeed, BadKeysAreRefusedWithOneLine) {
-  const Scene s = io::parseScene(poolScene(true), "r.json");
+  const scene::Scene s = io::parseScene(poolScene(true), "r.json");
   EXPECT_TRUE(s.rain->feedFluid);
   EXPECT_EQ(s.rain->dropVolume, 1e-7);
   // The default: a real 2 mm drop.
-  EXPECT_NEAR(RainDesc{}.dropVolume, M_PI / 6 * 8e-9, 1e-13);
-  EXPECT_FALSE(RainDesc{}.feedFluid);
+  EXPECT_NEAR(scene::RainDesc{}.dropVolume, M_PI / 6 * 8e-9, 1e-13);
+  EXPECT_FALSE(scene::RainDesc{}.feedFluid);
   struct Bad {
     const char* keys;
     const char* expect;

@@ -43,23 +43,24 @@ class GlFrame : public ::testing::Test {
 };
 
 // The rain tests, once per rain.draw.
-class RainGl : public ::testing::TestWithParam<RainDraw> {
+class RainGl : public ::testing::TestWithParam<scene::RainDraw> {
  protected:
   void SetUp() override { context_ = std::make_unique<gl::GlContext>(gl::GlContext::headless()); }
   std::unique_ptr<gl::GlContext> context_;
 };
-INSTANTIATE_TEST_SUITE_P(Draw, RainGl, ::testing::Values(RainDraw::Cpu, RainDraw::Triangles),
+INSTANTIATE_TEST_SUITE_P(Draw, RainGl,
+                         ::testing::Values(scene::RainDraw::Cpu, scene::RainDraw::Triangles),
                          [](const auto& p) { return std::string(nameOf(p.param)); });
 
-CameraDesc camera() {
-  CameraDesc c;
+scene::CameraDesc camera() {
+  scene::CameraDesc c;
   c.position = Vec3(0, 1, 4), c.target = Vec3(0, 1, 0);
   c.fovYDegrees = 45;
   return c;
 }
 
-RainDesc desc(std::size_t count, RainDraw draw) {
-  RainDesc d;
+scene::RainDesc desc(std::size_t count, scene::RainDraw draw) {
+  scene::RainDesc d;
   d.draw = draw;
   d.count = count;
   d.near = 1, d.far = 4;
@@ -70,7 +71,7 @@ RainDesc desc(std::size_t count, RainDraw draw) {
 
 // Pixel of a world point (row 0 at the top), or (-1, -1) behind the camera.
 std::pair<int, int> pixelOf(const Vec3& p) {
-  const Mat4 m = cameraFrame(camera(), static_cast<float>(kWidth) / kHeight).projView;
+  const scene::Mat4 m = cameraFrame(camera(), static_cast<float>(kWidth) / kHeight).projView;
   Eigen::Vector4f c(0, 0, 0, 0);
   for (int r = 0; r < 4; ++r) c[r] = m(r, 0) * p.x() + m(r, 1) * p.y() + m(r, 2) * p.z() + m(r, 3);
   if (c.w() <= 0) return {-1, -1};
@@ -138,8 +139,8 @@ TEST_P(RainGl, StreakPixelsAreWhereTheDropsAreAndNoneWithoutDrops) {
 // One big drop falling in a side wind: the streak's principal axis in the picture is the
 // projected velocity's direction.
 TEST_P(RainGl, AStreakLiesAlongTheProjectedVelocity) {
-  RainDesc d = desc(1, GetParam());
-  d.spawn = RainSpawn::Region;
+  scene::RainDesc d = desc(1, GetParam());
+  d.spawn = scene::RainSpawn::Region;
   d.region.lo = Vec3(-0.01f, 0.99f, 1.99f), d.region.hi = Vec3(0.01f, 1.01f, 2.01f);
   d.wind = Vec3(4, 0, 0);
   d.fallSpeed = 6;
@@ -174,9 +175,9 @@ TEST_P(RainGl, AStreakLiesAlongTheProjectedVelocity) {
 // A red spotlight whose cone holds the left half of the rain: drops in it are red, the others
 // grey (the unlit tint), as eq. (13).
 TEST_P(RainGl, DropsInTheConeTakeTheLightsColourTheOthersDoNot) {
-  RainDesc d = desc(200, GetParam());
+  scene::RainDesc d = desc(200, GetParam());
   d.dropWidth = 0.015f;
-  SpotlightDesc l;
+  scene::SpotlightDesc l;
   l.position = Vec3(-1.5f, 4, 2);
   l.direction = -Vec3::UnitY();
   l.height = 5;
@@ -214,17 +215,17 @@ TEST_P(RainGl, DropsInTheConeTakeTheLightsColourTheOthersDoNot) {
 // a grey floor and a water splat turn red inside the cone's footprint and stay as they were
 // outside it.
 TEST_F(GlFrame, TheSpotlightLightsSolidsAndWaterInsideItsConeOnly) {
-  CameraDesc top;
+  scene::CameraDesc top;
   top.position = Vec3(0, 2, 0), top.target = Vec3::Zero(), top.up = Vec3(0, 0, -1);
   top.fovYDegrees = 60;
-  BoundaryShape floor;
-  floor.kind = BoundaryShape::Kind::Block;
+  scene::BoundaryShape floor;
+  floor.kind = scene::BoundaryShape::Kind::Block;
   floor.lo = Vec3(-2, -0.1f, -2), floor.hi = Vec3(2, 0, 2);
   solids::SolidRenderer solid({floor}, Aabb{Vec3(-3, -3, -3), Vec3(3, 3, 3)}, 0.01f);
   splat::SplatFrame water;
   water.halfSize = 0.15f;
   water.points.push_back(splat::SplatVertex{{0.5f, 0.05f, 0}, {0, 1, 0}});  // right of centre
-  SpotlightDesc l;
+  scene::SpotlightDesc l;
   l.position = Vec3(0.5f, 1, 0), l.direction = -Vec3::UnitY();
   l.height = 2, l.baseRadius = 0.6f;  // footprint radius 0.3 m on the floor around x = 0.5
   l.colour = Vec3(1, 0, 0), l.intensity = 1;
@@ -236,7 +237,7 @@ TEST_F(GlFrame, TheSpotlightLightsSolidsAndWaterInsideItsConeOnly) {
   const splat::RenderImage b = r.render(water, splat::SplatKind::Point, top, spot);
   // Pixels of world points on the floor seen from above: x right, z down the picture.
   auto pixel = [&](float x, float z) {
-    const Mat4 m = cameraFrame(top, static_cast<float>(kWidth) / kHeight).projView;
+    const scene::Mat4 m = cameraFrame(top, static_cast<float>(kWidth) / kHeight).projView;
     Eigen::Vector4f c;
     for (int row = 0; row < 4; ++row) c[row] = m(row, 0) * x + m(row, 2) * z + m(row, 3);
     const int px = static_cast<int>((c.x() / c.w() * 0.5f + 0.5f) * kWidth);

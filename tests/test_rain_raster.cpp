@@ -30,24 +30,24 @@ using test::streaks::kWidth;
 // lines side by side).
 struct Lod {
   float width;
-  RainFarTier farTier;
+  scene::RainFarTier farTier;
 };
 class StreakRasterLod : public ::testing::TestWithParam<Lod> {
  protected:
-  RainDesc lodDesc(std::size_t count) const {
-    RainDesc d = desc(count, RainDraw::Cpu);
+  scene::RainDesc lodDesc(std::size_t count) const {
+    scene::RainDesc d = desc(count, scene::RainDraw::Cpu);
     d.lodWidth = GetParam().width, d.farTier = GetParam().farTier;
     return d;
   }
 };
 INSTANTIATE_TEST_SUITE_P(LodWidth, StreakRasterLod,
-                         ::testing::Values(Lod{0.0f, RainFarTier::Lines},
-                                           Lod{1.0f, RainFarTier::Lines},
-                                           Lod{1.0f, RainFarTier::Sums},
-                                           Lod{4.0f, RainFarTier::Sums}));
+                         ::testing::Values(Lod{0.0f, scene::RainFarTier::Lines},
+                                           Lod{1.0f, scene::RainFarTier::Lines},
+                                           Lod{1.0f, scene::RainFarTier::Sums},
+                                           Lod{4.0f, scene::RainFarTier::Sums}));
 
 TEST_P(StreakRasterLod, TheLayerIsTheSameBitForBitForAnyThreadCount) {
-  const RainDesc d = lodDesc(20000);
+  const scene::RainDesc d = lodDesc(20000);
   sph::rain::RainSystem drops(d, kAspect);
   drops.reset(camera());
   // A depth buffer with a near wall over the left third, so the depth test takes part.
@@ -81,9 +81,9 @@ TEST_P(StreakRasterLod, TheLayerIsTheSameBitForBitForAnyThreadCount) {
 // has no AVX-512 both are the row-at-a-time path.
 TEST(StreakRaster, LinesInSimdLanesGiveTheSameLayerAsOneRowAtATime) {
   for (const bool slanted : {true, false}) {
-    RainDesc d = desc(20000, RainDraw::Cpu);
+    scene::RainDesc d = desc(20000, scene::RainDraw::Cpu);
     d.lodWidth = 1;
-    CameraDesc c = camera();
+    scene::CameraDesc c = camera();
     if (!slanted) d.wind = Vec3::Zero(), c.target = Vec3(c.position.x(), c.position.y(), 0);
     sph::rain::RainSystem drops(d, kAspect);
     drops.reset(c);
@@ -108,7 +108,7 @@ TEST(StreakRaster, LinesInSimdLanesGiveTheSameLayerAsOneRowAtATime) {
 }
 
 TEST_P(StreakRasterLod, NothingIsDrawnBehindTheDepthAndEverythingInFrontOfIt) {
-  const RainDesc d = lodDesc(2000);
+  const scene::RainDesc d = lodDesc(2000);
   sph::rain::RainSystem drops(d, kAspect);
   drops.reset(camera());
   const StreakView view{cameraFrame(camera(), kAspect), kWidth, kHeight};
@@ -133,7 +133,7 @@ TEST_P(StreakRasterLod, NothingIsDrawnBehindTheDepthAndEverythingInFrontOfIt) {
 // it is without them - a pixel's layer depends only on the fragments at that pixel, for every
 // tier (the sums too: each pixel's running sum holds the lines over it and no other).
 TEST_P(StreakRasterLod, HiddenPixelsStayAsTheyWereAndHideNothingElse) {
-  const RainDesc d = lodDesc(20000);
+  const scene::RainDesc d = lodDesc(20000);
   sph::rain::RainSystem drops(d, kAspect);
   drops.reset(camera());
   const StreakView view{cameraFrame(camera(), kAspect), kWidth, kHeight};
@@ -162,14 +162,14 @@ TEST_P(StreakRasterLod, HiddenPixelsStayAsTheyWereAndHideNothingElse) {
 // row instead of the rows whose pixel centre it happens to cover, so single pixels differ by up
 // to a streak's full alpha; the light in total stays the same and the picture stays close.
 TEST(StreakRaster, LevelOfDetailKeepsTheLightAndStaysCloseToTheExactStreaks) {
-  RainDesc d = desc(20000, RainDraw::Cpu);
+  scene::RainDesc d = desc(20000, scene::RainDraw::Cpu);
   d.spotlight.reset();  // one colour: the light in total compares as one number
   sph::rain::RainSystem drops(d, kAspect);
   drops.reset(camera());
   const StreakView view{cameraFrame(camera(), kAspect), kWidth, kHeight};
   const StreakDrops input{&drops.positions(), &drops.layers(), drops.velocity()};
-  auto frame = [&](float lodWidth, RainFarTier farTier, std::uint64_t& fragments) {
-    RainDesc e = d;
+  auto frame = [&](float lodWidth, scene::RainFarTier farTier, std::uint64_t& fragments) {
+    scene::RainDesc e = d;
     e.lodWidth = lodWidth, e.farTier = farTier;
     StreakRaster raster(e, generateStreakImages(e.streakLayers, 16, 64, e.seed));
     raster.draw(view, input, Vec3(0.9f, 0.9f, 0.9f), nullptr);
@@ -181,12 +181,13 @@ TEST(StreakRaster, LevelOfDetailKeepsTheLightAndStaysCloseToTheExactStreaks) {
     return out;
   };
   std::uint64_t exactFragments = 0;
-  const std::vector<double> exact = frame(0, RainFarTier::Lines, exactFragments);
+  const std::vector<double> exact = frame(0, scene::RainFarTier::Lines, exactFragments);
   for (const Lod& level :
-       {Lod{0.5f, RainFarTier::Lines}, Lod{1.0f, RainFarTier::Lines}, Lod{0.5f, RainFarTier::Sums},
-        Lod{1.0f, RainFarTier::Sums}, Lod{2.0f, RainFarTier::Sums}, Lod{4.0f, RainFarTier::Sums}}) {
+       {Lod{0.5f, scene::RainFarTier::Lines}, Lod{1.0f, scene::RainFarTier::Lines},
+        Lod{0.5f, scene::RainFarTier::Sums}, Lod{1.0f, scene::RainFarTier::Sums},
+        Lod{2.0f, scene::RainFarTier::Sums}, Lod{4.0f, scene::RainFarTier::Sums}}) {
     const float lodWidth = level.width;
-    const bool sums = level.farTier == RainFarTier::Sums;
+    const bool sums = level.farTier == scene::RainFarTier::Sums;
     std::uint64_t fragments = 0;
     const std::vector<double> lod = frame(lodWidth, level.farTier, fragments);
     double mse = 0, worst = 0, lightExact = 0, lightLod = 0;

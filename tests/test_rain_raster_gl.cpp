@@ -42,7 +42,7 @@ struct Frame {
   splat::RenderImage image;
   std::uint64_t fragments = 0;
 };
-Frame drawFrame(const RainDesc& d, const std::vector<BoundaryShape>& solids) {
+Frame drawFrame(const scene::RainDesc& d, const std::vector<scene::BoundaryShape>& solids) {
   sph::rain::RainSystem drops(d, kAspect);
   drops.reset(camera());
   RainRenderer layer(d);
@@ -77,9 +77,9 @@ Frame drawFrame(const RainDesc& d, const std::vector<BoundaryShape>& solids) {
 // RGBA8 frame after each blend, the rasteriser once; its bilinear weights are 8-bit) and the
 // rare pixel centre on a quad's edge.
 TEST_F(RainRasterGl, TheCpuPathDrawsTheTrianglesPictureWithinRounding) {
-  const Frame cpu = drawFrame(desc(3000, RainDraw::Cpu), {});
-  const Frame triangles = drawFrame(desc(3000, RainDraw::Triangles), {});
-  const Frame sky = drawFrame(desc(0, RainDraw::Triangles), {});
+  const Frame cpu = drawFrame(desc(3000, scene::RainDraw::Cpu), {});
+  const Frame triangles = drawFrame(desc(3000, scene::RainDraw::Triangles), {});
+  const Frame sky = drawFrame(desc(0, scene::RainDraw::Triangles), {});
   double squared = 0;
   int worst = 0, over8 = 0, streakPixels = 0;
   for (std::size_t i = 0; i < cpu.image.rgb.size(); ++i) {
@@ -106,23 +106,23 @@ TEST_F(RainRasterGl, TheCpuPathDrawsTheTrianglesPictureWithinRounding) {
 
 // A wall over the left half of the picture, between the camera and the rain: the drops behind
 // it leave its pixels exactly as they were and show beside it; drops in front of it show on it.
-class RainBehindASolid : public ::testing::TestWithParam<RainDraw> {
+class RainBehindASolid : public ::testing::TestWithParam<scene::RainDraw> {
  protected:
   void SetUp() override { context_ = std::make_unique<gl::GlContext>(gl::GlContext::headless()); }
   std::unique_ptr<gl::GlContext> context_;
 };
 INSTANTIATE_TEST_SUITE_P(Draw, RainBehindASolid,
-                         ::testing::Values(RainDraw::Cpu, RainDraw::Triangles),
+                         ::testing::Values(scene::RainDraw::Cpu, scene::RainDraw::Triangles),
                          [](const auto& p) { return std::string(nameOf(p.param)); });
 
 TEST_P(RainBehindASolid, IsHiddenWhereTheSolidIsAndShowsBesideIt) {
-  BoundaryShape wall;
-  wall.kind = BoundaryShape::Kind::Block;
+  scene::BoundaryShape wall;
+  wall.kind = scene::BoundaryShape::Kind::Block;
   wall.lo = Vec3(-5, -5, 1.9f), wall.hi = Vec3(0, 5, 2);
   auto rain = [&](float zLo, float zHi) {
-    RainDesc d = desc(4000, GetParam());
+    scene::RainDesc d = desc(4000, GetParam());
     d.spotlight.reset();
-    d.spawn = RainSpawn::Region;
+    d.spawn = scene::RainSpawn::Region;
     d.region.lo = Vec3(-2, -0.5f, zLo), d.region.hi = Vec3(2, 2.5f, zHi);
     return d;
   };

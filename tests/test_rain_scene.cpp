@@ -16,15 +16,15 @@ namespace {
 using test::lookingAlongZ;
 
 TEST(CameraPath, InterpolatesPoseAndFovAndTurnsEvenly) {
-  CameraDesc base = lookingAlongZ();
-  const CameraPath path = {{0.5, Vec3(0, 1, 4), Vec3(0, 1, 0), 40},
-                           {1.5, Vec3(2, 1, 4), Vec3(-2, 1, 4), 60}};
+  scene::CameraDesc base = lookingAlongZ();
+  const scene::CameraPath path = {{0.5, Vec3(0, 1, 4), Vec3(0, 1, 0), 40},
+                                  {1.5, Vec3(2, 1, 4), Vec3(-2, 1, 4), 60}};
   // Before and after the keys: the end keys.
   EXPECT_EQ(cameraAt(base, path, 0).target, Vec3(0, 1, 0));
   EXPECT_EQ(cameraAt(base, path, 9).position, Vec3(2, 1, 4));
   EXPECT_EQ(cameraAt(base, path, 9).fovYDegrees, 60.0f);
   // Halfway: eye and fov linear, direction turned by half of the 90 degrees.
-  const CameraDesc mid = cameraAt(base, path, 1.0);
+  const scene::CameraDesc mid = cameraAt(base, path, 1.0);
   EXPECT_NEAR((mid.position - Vec3(1, 1, 4)).norm(), 0, 1e-6f);
   EXPECT_FLOAT_EQ(mid.fovYDegrees, 50);
   const Vec3 dir = (mid.target - mid.position).normalized();
@@ -32,7 +32,7 @@ TEST(CameraPath, InterpolatesPoseAndFovAndTurnsEvenly) {
   EXPECT_NEAR(dir.dot(Vec3(-1, 0, 0)), std::cos(M_PI / 4), 1e-6);
   EXPECT_NEAR((mid.target - mid.position).norm(), 4, 1e-5);
   // A quarter of the way: a quarter of the turn.
-  const CameraDesc q = cameraAt(base, path, 0.75);
+  const scene::CameraDesc q = cameraAt(base, path, 0.75);
   EXPECT_NEAR((q.target - q.position).normalized().dot(Vec3(0, 0, -1)), std::cos(M_PI / 8), 1e-6);
   // No path: the base camera.
   EXPECT_EQ(cameraAt(base, {}, 3).position, base.position);
@@ -61,15 +61,15 @@ TEST(RainScene, KeysAreReadAndBadValuesRefusedWithOneLine) {
              "far_tier": "sums",
              "region": {"min": [-1, -1, -1], "max": [1, 1, 1]},
              "spotlight": {"position": [0, 2, 0], "colour": [1, 0, 0], "intensity": 2}}})";
-  const Scene s = io::parseScene(text, "r.json");
+  const scene::Scene s = io::parseScene(text, "r.json");
   ASSERT_TRUE(s.rain.has_value());
   EXPECT_EQ(s.rain->count, 500u);
   EXPECT_EQ(s.rain->far, 8.0f);
-  EXPECT_EQ(s.rain->spawn, RainSpawn::Region);
-  EXPECT_EQ(s.rain->sampling, RainSampling::Paper);
+  EXPECT_EQ(s.rain->spawn, scene::RainSpawn::Region);
+  EXPECT_EQ(s.rain->sampling, scene::RainSampling::Paper);
   EXPECT_EQ(s.rain->seed, 9u);
   EXPECT_EQ(s.rain->lodWidth, 0.5f);
-  EXPECT_EQ(s.rain->farTier, RainFarTier::Sums);
+  EXPECT_EQ(s.rain->farTier, scene::RainFarTier::Sums);
   ASSERT_TRUE(s.rain->spotlight.has_value());
   EXPECT_EQ(s.rain->spotlight->colour, Vec3(1, 0, 0));
   ASSERT_EQ(s.cameraPath.size(), 2u);

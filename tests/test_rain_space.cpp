@@ -32,14 +32,14 @@ using test::rainDesc;
 using test::rainFrustum;
 
 TEST(RainSpace, SphereOfEquation5TouchesNearAndFarAndSidesAgreeWithTheFrustum) {
-  const CameraDesc c = lookingAlongZ();
+  const scene::CameraDesc c = lookingAlongZ();
   const RainSpace s = RainSpace::build(c, kAspect, 0.1f, 5);
   EXPECT_NEAR(s.radius, 2.45f, 1e-5f);
   EXPECT_NEAR((s.centre - Vec3(0, 1, 4 - 2.55f)).norm(), 0, 1e-5f);
   // The four side planes against Gribb-Hartmann's planes of the same camera on 10^6 points of
   // the sphere's bounding box: they must disagree only within a hair of a plane.
-  RainDesc d;
-  const Frustum f = rainFrustum(c, d);
+  scene::RainDesc d;
+  const scene::Frustum f = rainFrustum(c, d);
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> u(-1, 1);
   int disagree = 0, inside = 0;
@@ -59,12 +59,12 @@ TEST(RainSpace, SphereOfEquation5TouchesNearAndFarAndSidesAgreeWithTheFrustum) {
 }
 
 TEST(RainSystem, ViewSpawnsAMillionDropsAllInsideFrustumAndSphere) {
-  for (RainSampling sampling : {RainSampling::Uniform, RainSampling::Paper}) {
-    RainDesc d = rainDesc(RainSpawn::View, 1000000);
+  for (scene::RainSampling sampling : {scene::RainSampling::Uniform, scene::RainSampling::Paper}) {
+    scene::RainDesc d = rainDesc(scene::RainSpawn::View, 1000000);
     d.sampling = sampling;
     RainSystem r(d, kAspect);
     r.reset(lookingAlongZ());
-    const Frustum f = rainFrustum(lookingAlongZ(), d);
+    const scene::Frustum f = rainFrustum(lookingAlongZ(), d);
     std::size_t outFrustum = 0, outSphere = 0;
     for (const Vec3& p : r.positions()) {
       outFrustum += !inFrustum(f, p);
@@ -92,7 +92,7 @@ struct BallStatistics {
 // ball, ViewSampler.h), `paper` eq. (6)-(7), against the uniform ball: the fraction within radius
 // r is r^3, so r^3 binned in 10 equal bins is flat (9 dof); so is cos(phi) x theta in 10 x 10
 // bins (99 dof); and the share within r/2 is 1/8.
-BallStatistics ballStatistics(RainSampling sampling, int n) {
+BallStatistics ballStatistics(scene::RainSampling sampling, int n) {
   std::vector<int> radial(10, 0), angular(100, 0);
   int inner = 0;
   std::uint64_t draw = 0;
@@ -114,8 +114,8 @@ BallStatistics ballStatistics(RainSampling sampling, int n) {
 }
 
 TEST(RainSampling, UniformFillsTheBallEvenlyEquation7DoesNot) {
-  const BallStatistics uniform = ballStatistics(RainSampling::Uniform, 200000);
-  const BallStatistics paper = ballStatistics(RainSampling::Paper, 200000);
+  const BallStatistics uniform = ballStatistics(scene::RainSampling::Uniform, 200000);
+  const BallStatistics paper = ballStatistics(scene::RainSampling::Paper, 200000);
   std::printf(
       "chi2 radius (9 dof): uniform %.1f, paper %.1f; direction (99 dof): %.1f, %.1f; share "
       "within r/2: %.4f vs %.4f\n",
@@ -133,14 +133,14 @@ TEST(RainSampling, UniformFillsTheBallEvenlyEquation7DoesNot) {
 std::vector<RainSpace> someRainSpaces() {
   std::vector<RainSpace> spaces;
   for (int f = 0; f < 30; f += 7) {
-    CameraDesc c = lookingAlongZ();
+    scene::CameraDesc c = lookingAlongZ();
     const double a = f / 30.0 * M_PI / 2;
     c.target =
         c.position + Vec3(static_cast<float>(-std::sin(a)), 0.1f, static_cast<float>(-std::cos(a)));
     spaces.push_back(RainSpace::build(c, kAspect, 0.1f, 5));
   }
   for (float fov : {10.0f, 120.0f}) {
-    CameraDesc c = lookingAlongZ();
+    scene::CameraDesc c = lookingAlongZ();
     c.fovYDegrees = fov;
     spaces.push_back(RainSpace::build(c, kAspect, 0.05f, 0.6f));
   }
@@ -193,7 +193,7 @@ TEST(RainSampling, CandidatesInSimdLanesAreTheOnesOneAtATime) {
 // A `uniform` view drop is the first candidate (draws 1, 2, ... of its numbers) inside the rain
 // space, whichever way the build computes them, and the counters count the candidates before it.
 TEST(RainSampling, AUniformViewDropIsTheFirstCandidateInsideTheRainSpace) {
-  RainDesc d = rainDesc(RainSpawn::View, 20000);
+  scene::RainDesc d = rainDesc(scene::RainSpawn::View, 20000);
   d.seed = 99;
   RainSystem r(d, kAspect);
   r.reset(lookingAlongZ());
@@ -221,7 +221,7 @@ TEST(RainSampling, AUniformViewDropIsTheFirstCandidateInsideTheRainSpace) {
 // eq. (10)-(13) against the plain angle test: inside the cone when the angle between p - apex and
 // D is at most atan(base radius / height) and 0 <= (p - apex).D <= height.
 TEST(Spotlight, ConeClassificationAgreesWithTheAngleTestOnAMillionPoints) {
-  SpotlightDesc l;
+  scene::SpotlightDesc l;
   l.position = Vec3(0.3f, 2, -0.2f);
   l.direction = Vec3(0.3f, -1, 0.1f).normalized();
   l.height = 2.5f;

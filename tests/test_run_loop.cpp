@@ -22,35 +22,35 @@ namespace sph {
 namespace {
 
 // Records every frame it is handed; can throw at one of them to play a crash.
-class RecordingSink final : public FrameSink {
+class RecordingSink final : public run::FrameSink {
  public:
   std::vector<std::size_t> indices;
   std::vector<double> times;
   std::size_t crashAt = static_cast<std::size_t>(-1);
-  void frame(const Simulation& sim, std::size_t index) override {
+  void frame(const run::Simulation& sim, std::size_t index) override {
     if (index == crashAt) throw std::runtime_error("crash");
     indices.push_back(index);
     times.push_back(sim.time());
   }
 };
 
-Scene tinyScene(double end, double fps = 100) {
+scene::Scene tinyScene(double end, double fps = 100) {
   return io::parseScene(test::tinyCacheScene(end, fps), "tiny.json");
 }
 
-RunPlan planFor(const Scene& scene) {
-  RunPlan plan;
+run::RunPlan planFor(const scene::Scene& scene) {
+  run::RunPlan plan;
   plan.endTime = scene.solver.endTime;
   plan.frameInterval = 1.0 / scene.output.fps;
   return plan;
 }
 
 TEST(RunLoop, HandsOverEveryFrameAtItsExactTime) {
-  const Scene scene = tinyScene(0.05);
-  Simulation sim(scene);
+  const scene::Scene scene = tinyScene(0.05);
+  run::Simulation sim(scene);
   RecordingSink sink;
-  const RunOutcome outcome = runFrames(sim, planFor(scene), {&sink});
-  EXPECT_EQ(outcome.end, RunOutcome::End::Finished);
+  const run::RunOutcome outcome = runFrames(sim, planFor(scene), {&sink});
+  EXPECT_EQ(outcome.end, run::RunOutcome::End::Finished);
   EXPECT_FALSE(outcome.blowUp);
   ASSERT_EQ(sink.indices.size(), 5u);  // frames 1..5; frame 0 is the caller's
   for (std::size_t k = 0; k < sink.indices.size(); ++k) {
@@ -58,19 +58,19 @@ TEST(RunLoop, HandsOverEveryFrameAtItsExactTime) {
     EXPECT_EQ(sink.times[k], std::min(0.05, (k + 1) * 0.01)) << "frame " << k + 1;
   }
   EXPECT_EQ(outcome.nextFrame, 6u);
-  EXPECT_EQ(plannedFrameCount(0.05, 0.01), 6u);
+  EXPECT_EQ(run::plannedFrameCount(0.05, 0.01), 6u);
 }
 
 TEST(RunLoop, AStopRequestEndsBetweenStepsWithoutAPartialFrame) {
-  const Scene scene = tinyScene(0.05);
-  Simulation sim(scene);
+  const scene::Scene scene = tinyScene(0.05);
+  run::Simulation sim(scene);
   RecordingSink sink;
-  RunPlan plan = planFor(scene);
+  run::RunPlan plan = planFor(scene);
   int steps = 0;
-  plan.afterStep = [&](const Simulation&) { ++steps; };
+  plan.afterStep = [&](const run::Simulation&) { ++steps; };
   plan.stopRequested = [&] { return steps >= 7; };
-  const RunOutcome outcome = runFrames(sim, plan, {&sink});
-  EXPECT_EQ(outcome.end, RunOutcome::End::Stopped);
+  const run::RunOutcome outcome = runFrames(sim, plan, {&sink});
+  EXPECT_EQ(outcome.end, run::RunOutcome::End::Stopped);
   EXPECT_EQ(steps, 7);
   EXPECT_EQ(sim.stepCount(), 7u);
   EXPECT_EQ(outcome.nextFrame, sink.indices.size() + 1);
@@ -80,12 +80,13 @@ TEST(RunLoop, AStopRequestEndsBetweenStepsWithoutAPartialFrame) {
 
 TEST(RunLoop, ABlowUpIsAnOutcomeNamingStepAndParticle) {
   // The stress tables' must-stop case (tests/test_stress.cpp, GuardStops cfl 3.0).
-  Scene scene = test::shippedScene("dam_break", {"solver.spacing=0.0146", "solver.end_time=0.6",
-                                                 "solver.max_time_step=0.01", "solver.cfl=3.0"});
-  Simulation sim(scene);
+  scene::Scene scene =
+      test::shippedScene("dam_break", {"solver.spacing=0.0146", "solver.end_time=0.6",
+                                       "solver.max_time_step=0.01", "solver.cfl=3.0"});
+  run::Simulation sim(scene);
   RecordingSink sink;
-  const RunOutcome outcome = runFrames(sim, planFor(scene), {&sink});
-  ASSERT_EQ(outcome.end, RunOutcome::End::BlowUp);
+  const run::RunOutcome outcome = runFrames(sim, planFor(scene), {&sink});
+  ASSERT_EQ(outcome.end, run::RunOutcome::End::BlowUp);
   ASSERT_TRUE(outcome.blowUp);
   EXPECT_GT(outcome.blowUp->step, 0u);
   EXPECT_EQ(outcome.blowUp->step, sim.stepCount());
@@ -99,12 +100,12 @@ TEST(RunLoop, ACrashedRunResumedFromItsCacheEqualsTheUninterruptedRun) {
   const std::string dir = test::makeTempDir();
   const io::CacheProvenance provenance{"test", threadCount(), {}};
   auto runToEnd = [&](const std::string& path, std::size_t crashAt) {
-    Scene scene = tinyScene(0.1);
+    scene::Scene scene = tinyScene(0.1);
     io::CacheSessionOptions options;
     options.output = path;
     std::unique_ptr<io::CacheSession> cache = io::CacheSession::prepare(options, scene);
-    Simulation sim(scene);
-    cache->create(sim, provenance, plannedFrameCount(0.1, 0.01));
+    run::Simulation sim(scene);
+    cache->create(sim, provenance, run::plannedFrameCount(0.1, 0.01));
     cache->writeFrame(sim);
     RecordingSink crash;
     crash.crashAt = crashAt;
@@ -112,14 +113,14 @@ TEST(RunLoop, ACrashedRunResumedFromItsCacheEqualsTheUninterruptedRun) {
   };
   const std::string whole = dir + "/whole.h5", crashed = dir + "/crashed.h5";
   {
-    Scene scene = tinyScene(0.1);
+    scene::Scene scene = tinyScene(0.1);
     io::CacheSessionOptions options;
     options.output = whole;
     auto cache = io::CacheSession::prepare(options, scene);
-    Simulation sim(scene);
-    cache->create(sim, provenance, plannedFrameCount(0.1, 0.01));
+    run::Simulation sim(scene);
+    cache->create(sim, provenance, run::plannedFrameCount(0.1, 0.01));
     cache->writeFrame(sim);
-    EXPECT_EQ(runFrames(sim, planFor(scene), {cache.get()}).end, RunOutcome::End::Finished);
+    EXPECT_EQ(runFrames(sim, planFor(scene), {cache.get()}).end, run::RunOutcome::End::Finished);
     cache->finish(sim.time());
     cache->close();
   }
@@ -127,16 +128,16 @@ TEST(RunLoop, ACrashedRunResumedFromItsCacheEqualsTheUninterruptedRun) {
   EXPECT_EQ(io::CacheReader(crashed).frameCount(), 7u)
       << "the cache sink writes frame 6 before the crashing sink sees it";
   {
-    Scene scene = tinyScene(0.1);
+    scene::Scene scene = tinyScene(0.1);
     io::CacheSessionOptions options;
     options.resume = crashed;
     auto cache = io::CacheSession::prepare(options, scene);
     ASSERT_TRUE(cache->resuming());
-    Simulation sim(scene);
-    RunPlan plan = planFor(scene);
+    run::Simulation sim(scene);
+    run::RunPlan plan = planFor(scene);
     plan.nextFrame = cache->restore(sim, provenance) + 1;
     EXPECT_EQ(plan.nextFrame, 7u);
-    EXPECT_EQ(runFrames(sim, plan, {cache.get()}).end, RunOutcome::End::Finished);
+    EXPECT_EQ(runFrames(sim, plan, {cache.get()}).end, run::RunOutcome::End::Finished);
     cache->finish(sim.time());
     cache->close();
   }

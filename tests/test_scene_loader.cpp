@@ -26,7 +26,7 @@ std::string errorOf(const std::string& text, const std::vector<std::string>& ove
 
 TEST(SceneLoader, LoadsEveryShippedScene) {
   for (const char* name : {"dam_break", "still_tank", "pour", "rain_pour", "rain_fill"}) {
-    const Scene s = test::shippedScene(name);
+    const scene::Scene s = test::shippedScene(name);
     EXPECT_EQ(s.name, name);
     EXPECT_GT(s.solver.spacing, 0.0f);
     EXPECT_FALSE(s.domain.empty());
@@ -35,12 +35,12 @@ TEST(SceneLoader, LoadsEveryShippedScene) {
 }
 
 TEST(SceneLoader, MinimalSceneGetsDocumentedDefaults) {
-  const Scene s = io::parseScene(kMinimal, "min.json");
+  const scene::Scene s = io::parseScene(kMinimal, "min.json");
   EXPECT_EQ(s.name, "min");
   EXPECT_EQ(s.solver.support, 2.0f);
   EXPECT_EQ(s.solver.restDensity, 1000.0f);
-  EXPECT_EQ(s.solver.eos, EquationOfState::Tait);
-  EXPECT_EQ(s.solver.densityKernel, DensityKernel::Spiky);
+  EXPECT_EQ(s.solver.eos, scene::EquationOfState::Tait);
+  EXPECT_EQ(s.solver.densityKernel, scene::DensityKernel::Spiky);
   EXPECT_EQ(s.solver.cfl, 0.4f);
   EXPECT_EQ(s.solver.gravity, Vec3(0, -9.81f, 0));
   EXPECT_TRUE(s.solver.noSlipWalls);
@@ -76,11 +76,11 @@ TEST(SceneLoader, RenderSolidsChooseHowWallsAreDrawn) {
     text.insert(text.rfind('}'), camera + R"(, "render": )" + render);
     return text;
   };
-  EXPECT_EQ(io::parseScene(with("{}"), "s.json").render->solids, RenderSolids::Points);
+  EXPECT_EQ(io::parseScene(with("{}"), "s.json").render->solids, scene::RenderSolids::Points);
   EXPECT_EQ(io::parseScene(with(R"({"solids": "opaque"})"), "s.json").render->solids,
-            RenderSolids::Opaque);
+            scene::RenderSolids::Opaque);
   EXPECT_EQ(io::parseScene(with(R"({"show_boundary": false})"), "s.json").render->solids,
-            RenderSolids::None);
+            scene::RenderSolids::None);
   EXPECT_NE(errorOf(with(R"({"solids": "glass"})")).find("render.solids"), std::string::npos);
 }
 
@@ -93,38 +93,38 @@ TEST(SceneLoader, LightsSectionIsReadAndValidated) {
   };
   const std::string volume = R"("volume": {"min": [-1, -1, -1], "voxel_size": 0.25, "voxels": 8})";
   EXPECT_FALSE(io::parseScene(kMinimal, "s.json").lights.has_value()) << "no section, no lights";
-  const Scene s = io::parseScene(with("{" + volume + "}"), "s.json");
+  const scene::Scene s = io::parseScene(with("{" + volume + "}"), "s.json");
   ASSERT_TRUE(s.lights);
-  EXPECT_EQ(s.lights->source, LightSource::Fluid);
+  EXPECT_EQ(s.lights->source, scene::LightSource::Fluid);
   // Race-free by default: atomic on a GPU, cpu where GL draws in software (LightVolume decides).
-  EXPECT_EQ(s.lights->accumulate, LightAccumulate::Auto);
+  EXPECT_EQ(s.lights->accumulate, scene::LightAccumulate::Auto);
   EXPECT_TRUE(s.lights->cull) << "culled to the view by default";
-  EXPECT_EQ(s.lights->filter, LightFilter::Trilinear);
+  EXPECT_EQ(s.lights->filter, scene::LightFilter::Trilinear);
   EXPECT_EQ(s.lights->voxels, (std::array<int, 3>{8, 8, 8}));
   EXPECT_FLOAT_EQ(s.lights->extent().x(), 2.0f);
-  const Scene e = io::parseScene(
+  const scene::Scene e = io::parseScene(
       with(R"({"source": "emitter", "emitter": {"min": [0, 0, 0], "max": [1, 1, 1], "count": 64},
                "filter": "tricubic", "tension": 0.5, "accumulate": "paper", "oversampling": 2,
                "attenuation": [1, 0.5, 2], "range": 0.7, "volume": {"min": [0, 0, 0],
                "voxel_size": 0.1, "voxels": [10, 12, 14]}})"),
       "s.json");
   EXPECT_EQ(e.lights->emitter.count, 64u);
-  EXPECT_EQ(e.lights->filter, LightFilter::Tricubic);
+  EXPECT_EQ(e.lights->filter, scene::LightFilter::Tricubic);
   EXPECT_FLOAT_EQ(e.lights->tension, 0.5f);
-  EXPECT_EQ(e.lights->accumulate, LightAccumulate::Paper);
+  EXPECT_EQ(e.lights->accumulate, scene::LightAccumulate::Paper);
   EXPECT_EQ(e.lights->voxels, (std::array<int, 3>{10, 12, 14}));
   EXPECT_FLOAT_EQ(e.lights->attenuation[2], 2.0f);
-  const Scene c =
+  const scene::Scene c =
       io::parseScene(with(R"({"accumulate": "cpu", "cull": false, )" + volume + "}"), "s.json");
-  EXPECT_EQ(c.lights->accumulate, LightAccumulate::Cpu);
+  EXPECT_EQ(c.lights->accumulate, scene::LightAccumulate::Cpu);
   EXPECT_FALSE(c.lights->cull);
   // lights.shade: "auto" by default (LightVolume decides); "cpu" takes the volume onto the CPU.
-  EXPECT_EQ(s.lights->shade, LightShade::Auto);
-  const Scene sc = io::parseScene(
+  EXPECT_EQ(s.lights->shade, scene::LightShade::Auto);
+  const scene::Scene sc = io::parseScene(
       with(R"({"shade": "cpu", "pipeline": "deferred", "filter": "nearest", )" + volume + "}"),
       "s.json");
-  EXPECT_EQ(sc.lights->shade, LightShade::Cpu);
-  EXPECT_EQ(sc.lights->accumulate, LightAccumulate::Cpu) << "auto: the volume on the CPU";
+  EXPECT_EQ(sc.lights->shade, scene::LightShade::Cpu);
+  EXPECT_EQ(sc.lights->accumulate, scene::LightAccumulate::Cpu) << "auto: the volume on the CPU";
   const std::pair<std::string, std::string> bad[] = {
       {R"({"source": "rain", )" + volume + "}", "lights.source"},
       {R"({"source": "emitter", )" + volume + "}", "lights.emitter"},
@@ -215,8 +215,8 @@ TEST(SceneLoader, InvalidJsonNamesLineAndColumn) {
 }
 
 TEST(SceneLoader, OverridesEditNestedKeysAndArrays) {
-  const Scene s = io::parseScene(kMinimal, "min.json",
-                                 {"solver.cfl=0.2", "fluids[0].velocity=[1,0,0]", "name=custom"});
+  const scene::Scene s = io::parseScene(
+      kMinimal, "min.json", {"solver.cfl=0.2", "fluids[0].velocity=[1,0,0]", "name=custom"});
   EXPECT_EQ(s.solver.cfl, 0.2f);
   EXPECT_EQ(s.fluids[0].velocity, Vec3(1, 0, 0));
   EXPECT_EQ(s.name, "custom");

@@ -12,12 +12,12 @@
 namespace sph {
 namespace {
 
-Scene restingBlock(DensityKernel kernel) {
-  Scene s;
+scene::Scene restingBlock(scene::DensityKernel kernel) {
+  scene::Scene s;
   s.solver.spacing = 0.01f;
   s.solver.densityKernel = kernel;
   s.solver.gravity = Vec3::Zero();
-  FluidBlock b;
+  scene::FluidBlock b;
   b.lo = Vec3::Zero();
   b.hi = Vec3::Constant(0.1f);
   s.fluids.push_back(b);
@@ -26,16 +26,16 @@ Scene restingBlock(DensityKernel kernel) {
 }
 
 TEST(SceneSetup, ParticleMassIsTheWaterOfOneLatticeCell) {
-  const Scene s = restingBlock(DensityKernel::Spiky);
-  const DerivedParams d = deriveParams(s);
+  const scene::Scene s = restingBlock(scene::DensityKernel::Spiky);
+  const solver::DerivedParams d = solver::deriveParams(s);
   EXPECT_FLOAT_EQ(d.mass, 1000.0f * 1e-6f);
   EXPECT_FLOAT_EQ(d.h, 0.02f);
 }
 
-class RestingLattice : public ::testing::TestWithParam<DensityKernel> {};
+class RestingLattice : public ::testing::TestWithParam<scene::DensityKernel> {};
 
 TEST_P(RestingLattice, HasRestDensityAndNoForceInTheBulk) {
-  Simulation sim(restingBlock(GetParam()));
+  run::Simulation sim(restingBlock(GetParam()));
   sim.step(1e-6);
   const Particles& p = sim.fluid();
   int interior = 0;
@@ -50,21 +50,22 @@ TEST_P(RestingLattice, HasRestDensityAndNoForceInTheBulk) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Kernels, RestingLattice,
-                         ::testing::Values(DensityKernel::Spiky, DensityKernel::Poly6));
+                         ::testing::Values(scene::DensityKernel::Spiky,
+                                           scene::DensityKernel::Poly6));
 
 TEST(SceneSetup, CorrectedPressureGradientIsExactForALinearPressure) {
   // Impose p = G y on the lattice through the EOS-free route: the force pass reads p via the
   // pressure term, so use the linear EOS with k = 1 and densities rho0 + G y.
-  Scene s = restingBlock(DensityKernel::Spiky);
-  s.solver.eos = EquationOfState::Linear;
+  scene::Scene s = restingBlock(scene::DensityKernel::Spiky);
+  s.solver.eos = scene::EquationOfState::Linear;
   s.solver.stiffness = 1.0f;
   s.solver.clampNegativePressure = false;
   s.solver.viscosity = 0;
-  Simulation sim(s);
+  run::Simulation sim(s);
   sim.step(1e-6);  // sorts and fills every array
   // Expected acceleration of -grad(p)/rho = -G/rho0 along y for the pressure from the densities.
   // We cannot set densities between passes, so check the constant directly: K * correction = 1.
-  const DerivedParams& d = sim.params();
+  const solver::DerivedParams& d = sim.params();
   double moment = 0;
   const int reach = 2;
   const float dx = s.solver.spacing;
@@ -82,43 +83,45 @@ TEST(SceneSetup, CorrectedPressureGradientIsExactForALinearPressure) {
 // particleBudget is what stops a scene before it runs past an id limit (requireIdsBelow): it must
 // bound what a run makes, and not by much.
 TEST(SceneSetup, ParticleBudgetBoundsWhatARunMakes) {
-  const Scene dam = test::shippedScene("dam_break", {"solver.spacing=0.0146"});
-  EXPECT_EQ(particleBudget(dam).blocks, Simulation(dam).fluid().size());  // 10 x 20 x 4
-  EXPECT_EQ(particleBudget(dam).total(), 800u);
-  const Scene pour = test::shippedScene("pour", {"solver.spacing=0.008", "solver.end_time=0.3"});
-  Simulation sim(pour);
+  const scene::Scene dam = test::shippedScene("dam_break", {"solver.spacing=0.0146"});
+  EXPECT_EQ(solver::particleBudget(dam).blocks,
+            run::Simulation(dam).fluid().size());  // 10 x 20 x 4
+  EXPECT_EQ(solver::particleBudget(dam).total(), 800u);
+  const scene::Scene pour =
+      test::shippedScene("pour", {"solver.spacing=0.008", "solver.end_time=0.3"});
+  run::Simulation sim(pour);
   sim.advanceTo(pour.solver.endTime);
-  const ParticleBudget b = particleBudget(pour);
+  const solver::ParticleBudget b = solver::particleBudget(pour);
   ASSERT_EQ(b.emitters.size(), 1u);
   const std::size_t layer = sim.emitters()[0].layer().size();
   EXPECT_GE(b.total(), sim.fluid().size());
   EXPECT_LE(b.total(), sim.fluid().size() + 2 * layer);
   // max_particles caps it.
-  const Scene capped = test::shippedScene("pour", {"emitters[0].max_particles=250"});
-  EXPECT_EQ(particleBudget(capped).emitters[0], 250u);
+  const scene::Scene capped = test::shippedScene("pour", {"emitters[0].max_particles=250"});
+  EXPECT_EQ(solver::particleBudget(capped).emitters[0], 250u);
 }
 
 // The budget counts a nozzle's disc without building it (a 1000 m nozzle must not allocate), and
 // never fewer points than the Emitter puts in a layer.
 TEST(SceneSetup, ParticleBudgetCountsANozzleDiscWithoutBuildingIt) {
-  Scene s = test::shippedScene("pour", {"solver.spacing=0.005"});
+  scene::Scene s = test::shippedScene("pour", {"solver.spacing=0.005"});
   s.solver.endTime = s.emitters[0].start;  // no time to travel: the budget is two layers
   for (const float radius : {0.0025f, 0.005f, 0.0071f, 0.012f, 0.02f, 0.0333f, 0.1f}) {
     s.emitters[0].radius = radius;
-    const std::size_t layer = Emitter(s.emitters[0], s.solver.spacing).layer().size();
-    const std::uint64_t budget = particleBudget(s).emitters[0];
+    const std::size_t layer = run::Emitter(s.emitters[0], s.solver.spacing).layer().size();
+    const std::uint64_t budget = solver::particleBudget(s).emitters[0];
     EXPECT_GE(budget, 2 * layer) << "radius " << radius;
     EXPECT_LE(budget, 2 * layer + 8) << "radius " << radius;
   }
   s.emitters[0].radius = 1000;
-  EXPECT_GT(particleBudget(s).emitters[0], 2e10);
+  EXPECT_GT(solver::particleBudget(s).emitters[0], 2e10);
 }
 
 TEST(SceneSetup, AnIdLimitNamesTheKeyToChange) {
-  const Scene dam = test::shippedScene("dam_break", {"solver.spacing=0.0146"});
-  EXPECT_NO_THROW(requireIdsBelow(dam, 800, "a test", "why"));
+  const scene::Scene dam = test::shippedScene("dam_break", {"solver.spacing=0.0146"});
+  EXPECT_NO_THROW(solver::requireIdsBelow(dam, 800, "a test", "why"));
   try {
-    requireIdsBelow(dam, 799, "a test", "why");
+    solver::requireIdsBelow(dam, 799, "a test", "why");
     FAIL() << "800 particles passed a limit of 799 ids";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("dam_break.json: solver.spacing: the fluid blocks would "
@@ -130,18 +133,18 @@ TEST(SceneSetup, AnIdLimitNamesTheKeyToChange) {
 }
 
 TEST(SceneSetup, AutomaticSpeedOfSoundAndViscosityFollowTheScene) {
-  const Scene dam = test::shippedScene("dam_break");
-  const DerivedParams d = deriveParams(dam);
+  const scene::Scene dam = test::shippedScene("dam_break");
+  const solver::DerivedParams d = solver::deriveParams(dam);
   // Free fall from the top of the 0.292 m column to the domain floor, times 10.
   const float fall = std::sqrt(2 * 9.81f * (0.292f - dam.domain.lo.y()));
   EXPECT_NEAR(d.speedOfSound, 10 * fall, 1e-3f * d.speedOfSound);
   EXPECT_NEAR(d.viscosity, 0.002f * d.h * d.speedOfSound, 1e-9f);
-  const Scene given =
+  const scene::Scene given =
       test::shippedScene("dam_break", {"solver.speed_of_sound=50", "solver.viscosity=0.01"});
-  EXPECT_FLOAT_EQ(deriveParams(given).speedOfSound, 50.0f);
-  EXPECT_FLOAT_EQ(deriveParams(given).viscosity, 0.01f);
+  EXPECT_FLOAT_EQ(solver::deriveParams(given).speedOfSound, 50.0f);
+  EXPECT_FLOAT_EQ(solver::deriveParams(given).viscosity, 0.01f);
   // Tait: B = rho0 c^2 / 7.
-  EXPECT_NEAR(deriveParams(given).stiffness, 1000.0f * 2500.0f / 7.0f, 1.0f);
+  EXPECT_NEAR(solver::deriveParams(given).stiffness, 1000.0f * 2500.0f / 7.0f, 1.0f);
 }
 
 }  // namespace

@@ -24,18 +24,18 @@ namespace {
 
 const Aabb kDomain{Vec3(-1, -1, -1), Vec3(1, 1, 1)};
 
-std::vector<BoundaryShape> everyShape() {
-  std::vector<BoundaryShape> shapes(6);
-  shapes[0].kind = BoundaryShape::Kind::Tank;  // open top
+std::vector<scene::BoundaryShape> everyShape() {
+  std::vector<scene::BoundaryShape> shapes(6);
+  shapes[0].kind = scene::BoundaryShape::Kind::Tank;  // open top
   shapes[0].lo = Vec3(0, 0, 0), shapes[0].hi = Vec3(0.4f, 0.3f, 0.2f);
   shapes[1] = shapes[0], shapes[1].openTop = false;
-  shapes[2].kind = BoundaryShape::Kind::Block;
+  shapes[2].kind = scene::BoundaryShape::Kind::Block;
   shapes[2].lo = Vec3(0.1f, 0, 0.1f), shapes[2].hi = Vec3(0.2f, 0.05f, 0.15f);
-  shapes[3].kind = BoundaryShape::Kind::Cup;
+  shapes[3].kind = scene::BoundaryShape::Kind::Cup;
   shapes[3].centre = Vec3(0.2f, 0.01f, 0.1f), shapes[3].radius = 0.05f, shapes[3].height = 0.08f;
-  shapes[4].kind = BoundaryShape::Kind::Sphere;
+  shapes[4].kind = scene::BoundaryShape::Kind::Sphere;
   shapes[4].centre = Vec3(0.1f, 0.2f, 0.1f), shapes[4].radius = 0.04f;
-  shapes[5].kind = BoundaryShape::Kind::Plane;
+  shapes[5].kind = scene::BoundaryShape::Kind::Plane;
   shapes[5].point = Vec3(0, -0.1f, 0), shapes[5].normal = Vec3(0.1f, 1, 0).normalized();
   return shapes;
 }
@@ -49,9 +49,9 @@ Vec3 normalOf(const SolidVertex& v) {
 
 TEST(SolidMesh, EveryTriangleLiesOnTheSurfaceFacingOutOfTheSolid) {
   const float thickness = 0.02f;
-  for (const BoundaryShape& shape : everyShape()) {
+  for (const scene::BoundaryShape& shape : everyShape()) {
     const SolidMesh m = tessellate(shape, kDomain, thickness, 48);
-    const Solid solid(shape, thickness);
+    const scene::Solid solid(shape, thickness);
     ASSERT_FALSE(m.indices.empty());
     ASSERT_EQ(m.indices.size() % 3, 0u);
     std::size_t degenerate = 0;
@@ -71,7 +71,7 @@ TEST(SolidMesh, EveryTriangleLiesOnTheSurfaceFacingOutOfTheSolid) {
       const Vec3 n = normalOf(a);
       EXPECT_NEAR(solid.distance(centre), 0.0f, 2e-3f) << static_cast<int>(shape.kind);
       EXPECT_GT(solid.distance(centre + 4e-3f * n), 0.0f) << static_cast<int>(shape.kind);
-      if (shape.kind != BoundaryShape::Kind::Plane) {
+      if (shape.kind != scene::BoundaryShape::Kind::Plane) {
         EXPECT_LT(solid.distance(centre - 4e-3f * n), 0.0f) << static_cast<int>(shape.kind);
       }
     }
@@ -82,8 +82,9 @@ TEST(SolidMesh, EveryTriangleLiesOnTheSurfaceFacingOutOfTheSolid) {
 // Closed solids: every edge (by position) is shared by exactly two triangles, once each way.
 // (A tank is a cut-away, a plane a quad.)
 TEST(SolidMesh, ClosedSolidsHaveNoOpenEdge) {
-  for (const BoundaryShape& shape : everyShape()) {
-    if (shape.kind == BoundaryShape::Kind::Plane || shape.kind == BoundaryShape::Kind::Tank)
+  for (const scene::BoundaryShape& shape : everyShape()) {
+    if (shape.kind == scene::BoundaryShape::Kind::Plane ||
+        shape.kind == scene::BoundaryShape::Kind::Tank)
       continue;
     const SolidMesh m = tessellate(shape, kDomain, 0.02f, 32);
     using Key = std::tuple<long, long, long>;
@@ -126,7 +127,7 @@ TEST(SolidMesh, AreasMatchTheShapes) {
 // Distances by hand: a sphere's is to its surface, a block's and a cup's to their boxes (0 from
 // inside), a plane and a tank go last; ties keep their given order.
 TEST(DrawOrder, NearestFirstPlanesAndTanksLast) {
-  const std::vector<BoundaryShape> shapes = everyShape();
+  const std::vector<scene::BoundaryShape> shapes = everyShape();
   // tank, closed tank, block [0.1, 0.2] x [0, 0.05] x [0.1, 0.15], cup at (0.2, 0.01, 0.1)
   // r 0.05 h 0.08, sphere at (0.1, 0.2, 0.1) r 0.04, plane.
   const Vec3 eye(0.15f, 1.0f, 0.1f);
@@ -154,14 +155,14 @@ class SolidsGl : public ::testing::Test {
 // target stays the water's.
 TEST_F(SolidsGl, AnOpaqueSolidHidesTheWaterBehindIt) {
   splat::SplatRenderer r(32, 32);
-  CameraDesc top;
+  scene::CameraDesc top;
   top.position = Vec3(0, 1, 0), top.target = Vec3::Zero(), top.up = Vec3(0, 0, -1);
   top.fovYDegrees = 30;
   splat::SplatFrame water;
   water.halfSize = 0.2f;
   water.points.push_back(splat::SplatVertex{{0, 0, 0}, {0, 1, 0}});
-  BoundaryShape block;
-  block.kind = BoundaryShape::Kind::Block;
+  scene::BoundaryShape block;
+  block.kind = scene::BoundaryShape::Kind::Block;
   block.lo = Vec3(-0.05f, 0.2f, -0.05f), block.hi = Vec3(0.05f, 0.3f, 0.05f);
   SolidRenderer solids({block}, kDomain, 0.01f);
   solids.material.colour = Vec3(0.9f, 0.1f, 0.1f);
@@ -183,7 +184,7 @@ TEST_F(SolidsGl, AnOpaqueSolidHidesTheWaterBehindIt) {
 TEST_F(SolidsGl, TheReferenceEndsItsRaysOnTheSolids) {
   const int size = 64;
   splat::SplatRenderer r(size, size);
-  CameraDesc top;
+  scene::CameraDesc top;
   top.position = Vec3(0.05f, 0.6f, 0.05f), top.target = Vec3(0.05f, 0, 0.05f);
   top.up = Vec3(0, 0, -1), top.fovYDegrees = 20;
   // A pool of 10 x 4 x 10 particles, 1 cm apart, from the origin; a red block above its middle.
@@ -194,8 +195,8 @@ TEST_F(SolidsGl, TheReferenceEndsItsRaysOnTheSolids) {
         x.push_back(0.01f * (i + 0.5f)), y.push_back(0.01f * (j + 0.5f)),
             z.push_back(0.01f * (k + 0.5f));
   const splat::DensityField field(x.data(), y.data(), z.data(), x.size(), 0.01f, 2.5f);
-  BoundaryShape block;
-  block.kind = BoundaryShape::Kind::Block;
+  scene::BoundaryShape block;
+  block.kind = scene::BoundaryShape::Kind::Block;
   block.lo = Vec3(0.04f, 0.1f, 0.04f), block.hi = Vec3(0.06f, 0.12f, 0.06f);
   SolidRenderer solids({block}, kDomain, 0.01f);
   solids.material.colour = Vec3(0.9f, 0.1f, 0.1f);
@@ -205,7 +206,7 @@ TEST_F(SolidsGl, TheReferenceEndsItsRaysOnTheSolids) {
   const splat::Backdrop backdrop = r.drawBackdrop(top, light);
   const splat::RenderImage ref =
       splat::raymarchReference(field, SD, top, size, size, light, &backdrop);
-  const CameraFrame cf = cameraFrame(top, 1.0f);
+  const scene::CameraFrame cf = cameraFrame(top, 1.0f);
   splat::SplatParams newton;
   newton.projection = splat::SplatParams::Projection::Newton;
   const splat::SplatFrame quads =
@@ -239,21 +240,21 @@ class DeferredWithoutLights : public splat::ExtraLights {
 // over it and over each other. Nearest first, the picture is the same to the bit (the depth test
 // keeps the nearest surface either way), forward and into the deferred G-buffer.
 TEST_F(SolidsGl, DrawnNearestFirstThePictureIsTheSame) {
-  std::vector<BoundaryShape> shapes;
-  BoundaryShape floor;
-  floor.kind = BoundaryShape::Kind::Plane, floor.point = Vec3(0, -0.5f, 0);
+  std::vector<scene::BoundaryShape> shapes;
+  scene::BoundaryShape floor;
+  floor.kind = scene::BoundaryShape::Kind::Plane, floor.point = Vec3(0, -0.5f, 0);
   shapes.push_back(floor);
   for (int i = 0; i < 4; ++i) {
-    BoundaryShape s;
-    s.kind = BoundaryShape::Kind::Sphere;
+    scene::BoundaryShape s;
+    s.kind = scene::BoundaryShape::Kind::Sphere;
     s.centre = Vec3(-0.45f + 0.3f * i, -0.3f, -0.5f + 0.35f * i), s.radius = 0.2f;
     shapes.push_back(s);
-    BoundaryShape b;
-    b.kind = BoundaryShape::Kind::Block;
+    scene::BoundaryShape b;
+    b.kind = scene::BoundaryShape::Kind::Block;
     b.lo = Vec3(-0.5f + 0.3f * i, -0.5f, -0.3f + 0.35f * i), b.hi = b.lo + Vec3(0.15f, 0.4f, 0.1f);
     shapes.push_back(b);
   }
-  CameraDesc camera;
+  scene::CameraDesc camera;
   camera.position = Vec3(0.1f, 0.6f, 1.6f), camera.target = Vec3(0, -0.4f, 0);
   camera.fovYDegrees = 50;
   const std::vector<std::size_t> order = frontToBack(shapes, 0.01f, camera.position);
@@ -283,14 +284,14 @@ TEST_F(SolidsGl, DrawnNearestFirstThePictureIsTheSame) {
 // A tank seen from outside: its near wall is culled, so the water inside shows.
 TEST_F(SolidsGl, ATankIsACutAwayFromOutside) {
   splat::SplatRenderer r(32, 32);
-  CameraDesc side;
+  scene::CameraDesc side;
   side.position = Vec3(0.2f, 0.1f, 1.5f), side.target = Vec3(0.2f, 0.1f, 0.1f);
   side.fovYDegrees = 20;
   splat::SplatFrame water;
   water.halfSize = 0.08f;
   water.points.push_back(splat::SplatVertex{{0.2f, 0.1f, 0.1f}, {0, 0, 1}});
-  BoundaryShape tank;
-  tank.kind = BoundaryShape::Kind::Tank;
+  scene::BoundaryShape tank;
+  tank.kind = scene::BoundaryShape::Kind::Tank;
   tank.lo = Vec3(0, 0, 0), tank.hi = Vec3(0.4f, 0.3f, 0.2f);
   SolidRenderer solids({tank}, kDomain, 0.02f);
   r.setLayers({&solids});

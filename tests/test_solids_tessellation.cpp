@@ -45,11 +45,11 @@ TEST(ScreenTessellation, TheFewestSegmentsThatMeetTheBound) {
 }
 
 TEST(ScreenTessellation, TheRadiusOnScreenIsTheProjections) {
-  CameraDesc c;
+  scene::CameraDesc c;
   c.position = Vec3(0, 0, 10), c.target = Vec3::Zero(), c.fovYDegrees = 60;
   c.near = 0.1f, c.far = 100;
   const int w = 800, h = 600;
-  const CameraFrame f = cameraFrame(c, static_cast<float>(w) / h);
+  const scene::CameraFrame f = cameraFrame(c, static_cast<float>(w) / h);
   const float focal = 0.5f * h / std::tan(static_cast<float>(M_PI) / 6);  // px per m at depth 1
   // On the axis: the radius at the depth of the nearest point, 10 - 1 m.
   EXPECT_NEAR(radiusOnScreen(f.projView, w, h, Vec3::Zero(), 1.0f, 1.0f), focal / 9, 1e-3f * focal);
@@ -68,19 +68,19 @@ class TessellationGl : public ::testing::Test {
   std::unique_ptr<gl::GlContext> context_;
 };
 
-BoundaryShape sphereAt(const Vec3& centre, float radius) {
-  BoundaryShape s;
-  s.kind = BoundaryShape::Kind::Sphere, s.centre = centre, s.radius = radius;
+scene::BoundaryShape sphereAt(const Vec3& centre, float radius) {
+  scene::BoundaryShape s;
+  s.kind = scene::BoundaryShape::Kind::Sphere, s.centre = centre, s.radius = radius;
   return s;
 }
 
-CameraDesc lookingAt(const Vec3& eye, const Vec3& target) {
-  CameraDesc c;
+scene::CameraDesc lookingAt(const Vec3& eye, const Vec3& target) {
+  scene::CameraDesc c;
   c.position = eye, c.target = target, c.fovYDegrees = 50, c.near = 0.05f, c.far = 100;
   return c;
 }
 
-splat::RenderImage picture(splat::SplatRenderer& r, const CameraDesc& camera) {
+splat::RenderImage picture(splat::SplatRenderer& r, const scene::CameraDesc& camera) {
   return r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera, splat::Lighting{});
 }
 
@@ -107,7 +107,7 @@ TEST_F(TessellationGl, TheCountFollowsTheSizeOnScreen) {
     previous = n;
   }
   EXPECT_EQ(solids.meshBuilds(), 3u);
-  const CameraDesc still = lookingAt(Vec3(0, 0, 10), Vec3::Zero());
+  const scene::CameraDesc still = lookingAt(Vec3(0, 0, 10), Vec3::Zero());
   picture(r, still);
   const std::size_t builds = solids.meshBuilds();
   picture(r, still);
@@ -120,8 +120,8 @@ TEST_F(TessellationGl, TheCountFollowsTheSizeOnScreen) {
 // The cup's walls and rims follow its size too.
 TEST_F(TessellationGl, ACupFollowsItsSizeOnScreen) {
   splat::SplatRenderer r(320, 240);
-  BoundaryShape cup;
-  cup.kind = BoundaryShape::Kind::Cup;
+  scene::BoundaryShape cup;
+  cup.kind = scene::BoundaryShape::Kind::Cup;
   cup.centre = Vec3::Zero(), cup.radius = 0.5f, cup.height = 0.6f;
   SolidRenderer solids({cup}, kDomain, 0.05f);
   r.setLayers({&solids});
@@ -141,18 +141,19 @@ TEST_F(TessellationGl, ACupFollowsItsSizeOnScreen) {
 // the shading differs by a few steps at most.
 TEST_F(TessellationGl, ThePictureIsTheFixedTessellationsWithinTheBound) {
   const int w = 320, h = 240;
-  std::vector<BoundaryShape> shapes;
-  BoundaryShape floor;
-  floor.kind = BoundaryShape::Kind::Plane, floor.point = Vec3::Zero(), floor.normal = Vec3::UnitY();
+  std::vector<scene::BoundaryShape> shapes;
+  scene::BoundaryShape floor;
+  floor.kind = scene::BoundaryShape::Kind::Plane, floor.point = Vec3::Zero(),
+  floor.normal = Vec3::UnitY();
   shapes.push_back(floor);
   for (int i = 0; i < 5; ++i)
     shapes.push_back(sphereAt(Vec3(-4.0f + 2.0f * i, 0.6f, -3.0f * i), 0.6f));
   shapes.push_back(sphereAt(Vec3(0.4f, 0.8f, 3.2f), 0.8f));
-  BoundaryShape cup;
-  cup.kind = BoundaryShape::Kind::Cup;
+  scene::BoundaryShape cup;
+  cup.kind = scene::BoundaryShape::Kind::Cup;
   cup.centre = Vec3(-1.5f, 0.05f, 2.5f), cup.radius = 0.4f, cup.height = 0.5f;
   shapes.push_back(cup);
-  const CameraDesc camera = lookingAt(Vec3(0, 2.5f, 7), Vec3(0, 0.5f, 0));
+  const scene::CameraDesc camera = lookingAt(Vec3(0, 2.5f, 7), Vec3(0, 0.5f, 0));
   splat::SplatRenderer r(w, h);
   SolidRenderer adaptive(shapes, kDomain, 0.05f);
   r.setLayers({&adaptive});

@@ -25,8 +25,8 @@ class SplatGl : public ::testing::Test {
   std::unique_ptr<gl::GlContext> context_;
 };
 
-CameraDesc topView() {
-  CameraDesc top;
+scene::CameraDesc topView() {
+  scene::CameraDesc top;
   top.position = Vec3(0.05f, 0.6f, 0.05f);
   top.target = Vec3(0.05f, 0.0f, 0.05f);
   top.up = Vec3(0, 0, -1);
@@ -38,7 +38,7 @@ TEST_F(SplatGl, ShadersLightASplatExactlyAsTheLightingModel) {
   // One splat facing up under a top camera, each renderer: the GLSL shadeSurface() and the C++
   // shade() must give the same 8-bit colour (the reference ray-marcher uses shade()).
   SplatRenderer r(8, 8);
-  CameraDesc top = topView();
+  scene::CameraDesc top = topView();
   top.position = Vec3(0, 1, 0), top.target = Vec3::Zero();
   SplatFrame point;
   point.halfSize = 1.0f;
@@ -70,7 +70,7 @@ TEST_F(SplatGl, TranslucentWaterShowsItsBackLitFromTheSideTheEyeSees) {
   // white shards on the pour's jet; lit from the side seen it matches a splat that faces the eye.
   // Opaque water keeps the normal as it is (culling handles the back).
   SplatRenderer r(8, 8);
-  CameraDesc top = topView();
+  scene::CameraDesc top = topView();
   top.position = Vec3(0, 1, 0), top.target = Vec3::Zero();
   auto splat = [](float ny) {
     SplatFrame point;
@@ -99,9 +99,9 @@ TEST_F(SplatGl, BlockSeenFromAboveScoresAgainstTheReference) {
   const float dx = 0.01f;
   const Block b(12, 12, 12, dx);
   const DensityField f(b.x.data(), b.y.data(), b.z.data(), b.x.size(), dx, 2.5f);
-  const CameraDesc cam = topView();
+  const scene::CameraDesc cam = topView();
   SplatRenderer r(96, 96);
-  const CameraFrame cf = cameraFrame(cam, 1.0f);
+  const scene::CameraFrame cf = cameraFrame(cam, 1.0f);
   const Lighting light;
   const RenderImage ref =
       raymarchReference(f, surfaceThresholdAuto(f) * f.meanDensity(), cam, 96, 96, light);
@@ -138,7 +138,7 @@ TEST_F(SplatGl, AJetBelowTheSurfaceDensityIsDrawnAtItsWidth) {
       b.x.push_back(0.06f + (i % 2) * dx), b.y.push_back(0.055f + j * dx),
           b.z.push_back(0.06f + (i / 2) * dx);
   const DensityField f = b.field(dx);
-  CameraDesc side;
+  scene::CameraDesc side;
   side.position = Vec3(0.065f, 0.12f, 0.75f), side.target = Vec3(0.065f, 0.12f, 0.0f);
   side.fovYDegrees = 25;
   const int size = 128;
@@ -146,11 +146,11 @@ TEST_F(SplatGl, AJetBelowTheSurfaceDensityIsDrawnAtItsWidth) {
   const Lighting light;
   const float SD = surfaceThresholdAuto(f) * f.meanDensity();
   const RenderImage ref = raymarchReference(f, SD, side, size, size, light);
-  const float radius = std::cbrt(3.0f / (4.0f * static_cast<float>(kPi))) * dx;
+  const float radius = std::cbrt(3.0f / (4.0f * static_cast<float>(solver::kPi))) * dx;
   const RenderImage balls = raytraceParticleBalls(f, radius, side, size, size, light);
   SplatParams newton;
   newton.projection = SplatParams::Projection::Newton;
-  const CameraFrame cf = cameraFrame(side, 1.0f);
+  const scene::CameraFrame cf = cameraFrame(side, 1.0f);
   const RenderImage quads = r.render(buildSplats(f, newton, SplatKind::Quad, cf.projView, cf.eye),
                                      SplatKind::Quad, side, light, ImageContents::ColourAndNormals);
   const ThinCoverage jet = thinCoverage(quads, ref, balls);
@@ -172,7 +172,7 @@ TEST_F(SplatGl, AJetBelowTheSurfaceDensityIsDrawnAtItsWidth) {
 TEST_F(SplatGl, ReferencesOfAnEmptyFrameCoverNothing) {
   const DensityField f(nullptr, nullptr, nullptr, 0, 0.01f, 2.5f);
   const Lighting light;
-  const CameraDesc cam = topView();
+  const scene::CameraDesc cam = topView();
   const float SD = surfaceThresholdAuto(f) * f.meanDensity();
   for (const RenderImage& image : {raymarchReference(f, SD, cam, 32, 32, light),
                                    raytraceParticleBalls(f, 0.006f, cam, 32, 32, light)}) {
@@ -187,8 +187,8 @@ TEST_F(SplatGl, PicturesSkipTheNormalTargetAndKeepTheSameColours) {
   const float dx = 0.01f;
   const Block b(8, 8, 8, dx);
   const DensityField f(b.x.data(), b.y.data(), b.z.data(), b.x.size(), dx, 2.5f);
-  const CameraDesc cam = topView();
-  const CameraFrame cf = cameraFrame(cam, 1.0f);
+  const scene::CameraDesc cam = topView();
+  const scene::CameraFrame cf = cameraFrame(cam, 1.0f);
   const SplatFrame quads = buildSplats(f, SplatParams{}, SplatKind::Quad, cf.projView, cf.eye);
   ASSERT_GT(quads.splats(), 0u);
   SplatRenderer r(64, 64);

@@ -15,8 +15,8 @@ namespace {
 
 using test::Block;
 
-CameraDesc lookingDownAt(const Vec3& target, float distance) {
-  CameraDesc c;
+scene::CameraDesc lookingDownAt(const Vec3& target, float distance) {
+  scene::CameraDesc c;
   c.position = target + Vec3(0.3f, 1.0f, 0.4f).normalized() * distance;
   c.target = target;
   return c;
@@ -41,8 +41,8 @@ TEST(SplatBuilder, SurfaceIsTheOuterLayerAndInteriorParticlesMakeNothing) {
   const float dx = 0.01f;
   const Block b(10, 10, 10, dx);  // a small block: its mean density ID is well below the bulk
   const DensityField f = b.field(dx);
-  const CameraDesc cam = lookingDownAt(Vec3(0.05f, 0.05f, 0.05f), 0.5f);
-  const CameraFrame cf = cameraFrame(cam, 4.0f / 3.0f);
+  const scene::CameraDesc cam = lookingDownAt(Vec3(0.05f, 0.05f, 0.05f), 0.5f);
+  const scene::CameraFrame cf = cameraFrame(cam, 4.0f / 3.0f);
   const SplatFrame quads = buildSplats(f, SplatParams{}, SplatKind::Quad, cf.projView, cf.eye);
   // Every particle of the outer shell, and none deeper than the second layer.
   EXPECT_GE(quads.surface, 10u * 10u * 10u - 8u * 8u * 8u);
@@ -59,8 +59,8 @@ TEST(SplatBuilder, EquationSixMovesVerticesTowardsTheIsoSurface) {
   const float dx = 0.01f;
   const Block b(16, 16, 16, dx);
   const DensityField f = b.field(dx);
-  const CameraDesc cam = lookingDownAt(Vec3(0.08f, 0.08f, 0.08f), 0.6f);
-  const CameraFrame cf = cameraFrame(cam, 1.0f);
+  const scene::CameraDesc cam = lookingDownAt(Vec3(0.08f, 0.08f, 0.08f), 0.6f);
+  const scene::CameraFrame cf = cameraFrame(cam, 1.0f);
   SplatParams flatParams;
   flatParams.pyramid = false;
   const SplatFrame flat = buildSplats(f, flatParams, SplatKind::Quad, cf.projView, cf.eye);
@@ -96,8 +96,8 @@ TEST(SplatBuilder, OpaqueWaterDropsBackFacingSplatsAndDrawsNearToFar) {
   const float dx = 0.01f;
   const Block b(10, 10, 10, dx);
   const DensityField f = b.field(dx);
-  const CameraDesc cam = lookingDownAt(Vec3(0.05f, 0.05f, 0.05f), 0.5f);
-  const CameraFrame cf = cameraFrame(cam, 4.0f / 3.0f);
+  const scene::CameraDesc cam = lookingDownAt(Vec3(0.05f, 0.05f, 0.05f), 0.5f);
+  const scene::CameraFrame cf = cameraFrame(cam, 4.0f / 3.0f);
   const SplatFrame opaque = buildSplats(f, SplatParams{}, SplatKind::Point, cf.projView, cf.eye);
   SplatParams translucentParams;
   translucentParams.translucent = true;
@@ -139,10 +139,10 @@ TEST(SplatBuilder, SplatsOutsideTheFrustumAreNotBuilt) {
   const float dx = 0.01f;
   const Block b(10, 10, 10, dx);
   const DensityField f = b.field(dx);
-  CameraDesc away;
+  scene::CameraDesc away;
   away.position = Vec3(0.05f, 0.05f, 2.0f);
   away.target = Vec3(0.05f, 0.05f, 3.0f);  // looking away from the block
-  const CameraFrame cf = cameraFrame(away, 1.0f);
+  const scene::CameraFrame cf = cameraFrame(away, 1.0f);
   const SplatFrame s = buildSplats(f, SplatParams{}, SplatKind::Quad, cf.projView, cf.eye);
   EXPECT_EQ(s.surface, 0u);
   EXPECT_GT(s.culled, 8u * 8u * 6u);  // at least the faces' particles were surface and culled
@@ -152,7 +152,7 @@ TEST(ReferenceRaymarcher, CoversTheBlockAndShadesTheTopFaceLikeTheLightingModel)
   const float dx = 0.01f;
   const Block b(10, 10, 10, dx);
   const DensityField f = b.field(dx);
-  CameraDesc top;
+  scene::CameraDesc top;
   top.position = Vec3(0.05f, 0.6f, 0.05f);
   top.target = Vec3(0.05f, 0.0f, 0.05f);
   top.up = Vec3(0, 0, -1);

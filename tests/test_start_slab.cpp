@@ -42,8 +42,8 @@ bool sameBits(float a, float b) {
 
 TEST(StartSlab, EachRankGeneratesItsSlabAndTogetherTheyHoldTheSingleProcesssFluid) {
   for (int axis = 0; axis < 3; ++axis) {
-    const Scene s = io::parseScene(scene(axis), "start_slab.json");
-    const Simulation alone(s);
+    const scene::Scene s = io::parseScene(scene(axis), "start_slab.json");
+    const run::Simulation alone(s);
     const Particles& all = alone.fluid();
     ASSERT_GT(all.size(), 300u);
     for (int k = 1; k <= 4; ++k) {
@@ -58,8 +58,8 @@ TEST(StartSlab, EachRankGeneratesItsSlabAndTogetherTheyHoldTheSingleProcesssFlui
       test::ThreadRanks threads(k);
       threads.run([&](Communicator& comm) {
         const int me = comm.rank();
-        Halo halo(comm, s.domain, deriveParams(s).h);
-        Simulation sim(s, halo);
+        Halo halo(comm, s.domain, solver::deriveParams(s).h);
+        run::Simulation sim(s, halo);
         sim.setHalo(&halo);
         parts[me] = sim.fluid();
         nextId[me] = sim.runState().nextId;
@@ -119,18 +119,18 @@ TEST(StartSlab, EachRankGeneratesItsSlabAndTogetherTheyHoldTheSingleProcesssFlui
 TEST(StartSlab, AResumingRankGeneratesNoStart) {
   // A distributed resume reads each rank's part of the cache's frame (app/DistributedResume.h):
   // its Simulation is built without the starting slab it would drop, the boundary as always.
-  const Scene s = io::parseScene(scene(0), "start_slab.json");
+  const scene::Scene s = io::parseScene(scene(0), "start_slab.json");
   std::vector<std::size_t> fluid(2, 1), boundary(2, 0);
   std::vector<std::uint32_t> nextId(2, 1);
   test::ThreadRanks threads(2);
   threads.run([&](Communicator& comm) {
-    Halo halo(comm, s.domain, deriveParams(s).h);
-    const Simulation sim(s, halo, Simulation::Start::Empty);
+    Halo halo(comm, s.domain, solver::deriveParams(s).h);
+    const run::Simulation sim(s, halo, run::Simulation::Start::Empty);
     fluid[comm.rank()] = sim.fluid().size();
     boundary[comm.rank()] = sim.boundary().particles().size();
     nextId[comm.rank()] = sim.runState().nextId;
   });
-  const Simulation alone(s);
+  const run::Simulation alone(s);
   for (int r = 0; r < 2; ++r) {
     EXPECT_EQ(fluid[r], 0u) << "rank " << r;
     EXPECT_EQ(nextId[r], 0u) << "rank " << r;

@@ -21,9 +21,9 @@ TEST(StillTank, HydrostaticPressureAndDensityAfterSettling) {
   // steps it runs are the dam break's and the stress tests', which run here.
   GTEST_SKIP() << "3 s of settling take over 15 minutes under AddressSanitizer";
 #endif
-  const Scene scene = test::shippedScene(
+  const scene::Scene scene = test::shippedScene(
       "still_tank", {"fluids[0].max=[0.12,0.3,0.12]", "boundaries[0].max=[0.12,0.4,0.12]"});
-  Simulation sim(scene);
+  run::Simulation sim(scene);
   const std::size_t count = sim.fluid().size();
   ASSERT_EQ(count, 12u * 30u * 12u);
   const double dx = scene.solver.spacing, rho0 = scene.solver.restDensity, g = 9.81;
@@ -50,8 +50,8 @@ TEST(StillTank, HydrostaticPressureAndDensityAfterSettling) {
   for (double t = 2.3; t <= 3.0 + 1e-9; t += 0.05, ++frames) {
     floor.advanceTo(sim, t);
     const Particles& p = sim.fluid();
-    ASSERT_GT(bottomLayer(p, dx).count, 100u);
-    densityDeviation += densityError(p, rho0).meanDeviation;
+    ASSERT_GT(run::bottomLayer(p, dx).count, 100u);
+    densityDeviation += run::densityError(p, rho0).meanDeviation;
   }
   densityDeviation /= frames;
   const double pressure = floor.bottomLayerPressure();
@@ -83,7 +83,7 @@ TEST(StillTank, HydrostaticPressureAndDensityAfterSettling) {
         << "particle " << p.id[i] << " escaped to " << p.position(i).transpose();
   }
   // And it is still: settled speeds are tiny compared with sqrt(g depth) ~ 1.7 m/s.
-  EXPECT_LT(maxSpeed(p), 0.1f);
+  EXPECT_LT(run::maxSpeed(p), 0.1f);
 }
 
 }  // namespace

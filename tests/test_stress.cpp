@@ -23,10 +23,10 @@ namespace sph {
 namespace {
 
 // Every field a frame can hold is finite and every particle is inside the domain.
-::testing::AssertionResult frameIsGood(const Simulation& sim) {
+::testing::AssertionResult frameIsGood(const run::Simulation& sim) {
   const Particles& p = sim.fluid();
   const Aabb& d = sim.scene().domain;
-  if (const std::size_t bad = firstNonFinite(p); bad < p.size())
+  if (const std::size_t bad = solver::firstNonFinite(p); bad < p.size())
     return ::testing::AssertionFailure() << "particle " << p.id[bad] << " has a non-finite field";
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (!d.contains(p.position(i))) {
@@ -39,7 +39,7 @@ namespace {
 
 // Runs to `end`, checking the state after every step that returned (any of them could be written
 // as a frame). Returns the guard's error if it stopped the run.
-std::optional<StabilityError> runChecked(Simulation& sim, double end) {
+std::optional<StabilityError> runChecked(run::Simulation& sim, double end) {
   try {
     while (sim.time() < end) {
       sim.step(end);
@@ -54,11 +54,11 @@ std::optional<StabilityError> runChecked(Simulation& sim, double end) {
   return std::nullopt;
 }
 
-Scene inlineScene(const std::string& json, const std::vector<std::string>& edits = {}) {
+scene::Scene inlineScene(const std::string& json, const std::vector<std::string>& edits = {}) {
   return io::parseScene(json, "stress.json", edits);
 }
 
-Scene damBreak(const std::vector<std::string>& edits) {
+scene::Scene damBreak(const std::vector<std::string>& edits) {
   std::vector<std::string> all = {"solver.spacing=0.0146", "solver.end_time=0.6"};  // a / dx = 10
   all.insert(all.end(), edits.begin(), edits.end());
   return test::shippedScene("dam_break", all);
@@ -73,7 +73,7 @@ TEST(Guard, StopsANonFiniteStateAtTheStepThatMadeIt) {
   // the step's own arithmetic is where non-finite values start).
   for (const float bad :
        {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
-    Simulation sim(inlineScene(kTank));
+    run::Simulation sim(inlineScene(kTank));
     sim.advanceTo(0.01);
     const std::uint64_t before = sim.stepCount();
     Particles& p = sim.fluid();
@@ -94,7 +94,7 @@ TEST(Guard, StopsANonFiniteStateAtTheStepThatMadeIt) {
 }
 
 TEST(Guard, RemovesAndCountsAParticleLeavingTheDomain) {
-  Simulation sim(inlineScene(kTank));
+  run::Simulation sim(inlineScene(kTank));
   ASSERT_EQ(sim.fluid().size(), 125u);
   ASSERT_EQ(sim.params().maxLostParticles, 1u);  // automatic: 1% of the particles
   Particles& p = sim.fluid();
@@ -125,7 +125,7 @@ TEST(Guard, RemovesAndCountsAParticleLeavingTheDomain) {
 }
 
 TEST(Guard, StopsAParticleLeavingTheDomainWithNoLossTolerated) {
-  Simulation sim(inlineScene(kTank, {"solver.max_lost_particles=0"}));
+  run::Simulation sim(inlineScene(kTank, {"solver.max_lost_particles=0"}));
   Particles& p = sim.fluid();
   p.vy[0] = 1e4f;
   try {
@@ -154,7 +154,7 @@ struct BlowUp {
 class GuardStops : public ::testing::TestWithParam<BlowUp> {};
 
 TEST_P(GuardStops, BeforeABadFrame) {
-  Simulation sim(damBreak(GetParam().edits));
+  run::Simulation sim(damBreak(GetParam().edits));
   const std::optional<StabilityError> e = runChecked(sim, sim.scene().solver.endTime);
   ASSERT_FALSE(::testing::Test::HasFailure());
   if (GetParam().marginal && !e) {
@@ -184,7 +184,7 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(Stress, OverlappingStartIsStoppedByTheGuard) {
   // Two lattices dx/2 apart: twice the rest density, 127 B of Tait pressure. In an open tank the
   // block explodes; the guard stops the first particle that leaves the domain.
-  Simulation sim(inlineScene(R"({"solver": {"spacing": 0.01, "end_time": 1},
+  run::Simulation sim(inlineScene(R"({"solver": {"spacing": 0.01, "end_time": 1},
     "fluids": [{"min": [0, 0, 0], "max": [0.05, 0.05, 0.05]}, {"min": [0.005, 0, 0], "max": [0.055, 0.05, 0.05]}],
     "boundaries": [{"type": "tank", "min": [0, 0, 0], "max": [0.2, 0.3, 0.2]}]})"));
   ASSERT_EQ(sim.fluid().size(), 250u);
@@ -198,7 +198,7 @@ TEST(Stress, ZeroViscosityDamBreakRunsToTheEndLosingAFewParticles) {
   // Without viscosity the splash at a / dx = 13 leaves the open tank's domain (it stopped the
   // whole run at t = 0.474 s before lost particles were removed): now those are counted and the
   // run goes on, within the automatic tolerance (1% of the particles).
-  Simulation sim(test::shippedScene(
+  run::Simulation sim(test::shippedScene(
       "dam_break", {"solver.spacing=0.01123", "solver.viscosity=0", "solver.end_time=0.6"}));
   const std::size_t start = sim.fluid().size();
   ASSERT_EQ(sim.params().maxLostParticles, start / 100);
@@ -214,14 +214,14 @@ TEST(Stress, SoftEosAndLowCflStayStable) {
   for (const std::vector<std::string>& edits :
        {std::vector<std::string>{"solver.speed_of_sound_factor=3.1623"},  // stiffness x 0.1
         std::vector<std::string>{"solver.cfl=0.1", "solver.end_time=0.3"}}) {
-    Simulation sim(damBreak(edits));
+    run::Simulation sim(damBreak(edits));
     EXPECT_FALSE(runChecked(sim, sim.scene().solver.endTime).has_value()) << edits[0];
     EXPECT_EQ(sim.fluid().size(), 800u);
   }
 }
 
 TEST(Stress, ASingleParticleFallsAndRestsOnTheFloor) {
-  Simulation sim(inlineScene(R"({"solver": {"spacing": 0.01, "end_time": 2},
+  run::Simulation sim(inlineScene(R"({"solver": {"spacing": 0.01, "end_time": 2},
     "fluids": [{"min": [0.05, 0.1, 0.05], "max": [0.0601, 0.1101, 0.0601]}],
     "boundaries": [{"type": "tank", "min": [0, 0, 0], "max": [0.1, 0.2, 0.1]}]})"));
   ASSERT_EQ(sim.fluid().size(), 1u);
@@ -236,19 +236,19 @@ TEST(Stress, ASingleParticleFallsAndRestsOnTheFloor) {
 TEST(Stress, ATenMetreDropStaysInTheTank) {
   // 14 m/s impact into a pool; the automatic speed of sound (10x the impact speed) keeps the
   // compression near 1%. Coarse (dx 4 cm) version of the table's 2 cm run.
-  Simulation sim(inlineScene(R"({"solver": {"spacing": 0.04, "end_time": 1.8},
+  run::Simulation sim(inlineScene(R"({"solver": {"spacing": 0.04, "end_time": 1.8},
     "fluids": [{"min": [0, 0, 0], "max": [0.4, 0.12, 0.4]}, {"min": [0.12, 10.1, 0.12], "max": [0.24, 10.22, 0.24]}],
     "boundaries": [{"type": "tank", "min": [0, 0, 0], "max": [0.4, 2.0, 0.4]}]})"));
   EXPECT_GT(sim.params().speedOfSound, 10 * 14.0f);
   ASSERT_FALSE(runChecked(sim, 1.8).has_value());
   const auto& y = sim.fluid().y;
   EXPECT_LT(*std::max_element(y.begin(), y.end()), 2.0f);  // the drop arrived, nothing flew out
-  EXPECT_LT(densityError(sim.fluid(), 1000.0).maxDensity, 1050.0);
+  EXPECT_LT(run::densityError(sim.fluid(), 1000.0).maxDensity, 1050.0);
 }
 
 TEST(Stress, AnEmitterOverflowingASmallCupStaysStable) {
   // A 3 cm cup (0.14 l) under the pour nozzle (0.36 l/s): full after ~0.4 s, overflowing after.
-  Simulation sim(inlineScene(R"({"solver": {"spacing": 0.01, "end_time": 1.2},
+  run::Simulation sim(inlineScene(R"({"solver": {"spacing": 0.01, "end_time": 1.2},
     "boundaries": [{"type": "cup", "centre": [0, 0, 0], "radius": 0.03, "height": 0.05},
                    {"type": "tank", "min": [-0.15, -0.05, -0.15], "max": [0.15, 0.2, 0.15]}],
     "emitters": [{"position": [0, 0.12, 0], "direction": [0, -1, 0], "radius": 0.012, "speed": 0.8}]})"));

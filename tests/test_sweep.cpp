@@ -248,33 +248,33 @@ TEST(QualityPresets, ParseAndDifferAsDocumented) {
   const std::string base =
       R"({"solver": {"spacing": 0.01}, "fluids": [{"min": [0,0,0], "max": [0.1,0.1,0.1]}]})";
   // What the factors do: the automatic speed of sound is factor x the scene's speed bound.
-  const float bound = expectedMaxSpeed(io::parseScene(base, "s.json"));
-  const Scene plain = io::parseScene(base, "s.json");
-  const Scene fast = io::parseScene(base, "s.json", {"quality=fast"});
-  const Scene accurate = io::parseScene(base, "s.json", {"quality=accurate"});
+  const float bound = solver::expectedMaxSpeed(io::parseScene(base, "s.json"));
+  const scene::Scene plain = io::parseScene(base, "s.json");
+  const scene::Scene fast = io::parseScene(base, "s.json", {"quality=fast"});
+  const scene::Scene accurate = io::parseScene(base, "s.json", {"quality=accurate"});
   EXPECT_FLOAT_EQ(plain.solver.cfl, 0.4f);
   EXPECT_FLOAT_EQ(plain.solver.soundSpeedFactor, 10.0f);
   EXPECT_FLOAT_EQ(fast.solver.cfl, 0.8f);
   EXPECT_FLOAT_EQ(fast.solver.soundSpeedFactor, 5.0f);
-  EXPECT_EQ(accurate.solver.pressure, PressureSolver::Dfsph);
-  EXPECT_EQ(plain.solver.pressure, PressureSolver::Wcsph);
-  EXPECT_EQ(fast.solver.pressure, PressureSolver::Wcsph);
+  EXPECT_EQ(accurate.solver.pressure, scene::PressureSolver::Dfsph);
+  EXPECT_EQ(plain.solver.pressure, scene::PressureSolver::Wcsph);
+  EXPECT_EQ(fast.solver.pressure, scene::PressureSolver::Wcsph);
   EXPECT_FLOAT_EQ(accurate.solver.cfl, 0.2f);
   EXPECT_FLOAT_EQ(accurate.solver.soundSpeedFactor, 10.0f);
-  EXPECT_NEAR(deriveParams(fast).speedOfSound, 5 * bound, 1e-3 * bound);
-  EXPECT_NEAR(deriveParams(plain).speedOfSound, 10 * bound, 1e-3 * bound);
-  EXPECT_NEAR(deriveParams(accurate).speedOfSound, 10 * bound, 1e-3 * bound);
+  EXPECT_NEAR(solver::deriveParams(fast).speedOfSound, 5 * bound, 1e-3 * bound);
+  EXPECT_NEAR(solver::deriveParams(plain).speedOfSound, 10 * bound, 1e-3 * bound);
+  EXPECT_NEAR(solver::deriveParams(accurate).speedOfSound, 10 * bound, 1e-3 * bound);
   // The preset's solver can be overridden like any key.
   EXPECT_EQ(
       io::parseScene(base, "s.json", {"quality=accurate", "solver.pressure=wcsph"}).solver.pressure,
-      PressureSolver::Wcsph);
+      scene::PressureSolver::Wcsph);
   // "default" is the built-in values.
   EXPECT_FLOAT_EQ(io::parseScene(base, "s.json", {"quality=default"}).solver.cfl, plain.solver.cfl);
   // Explicit keys win.
-  const Scene mixed = io::parseScene(base, "s.json", {"quality=fast", "solver.cfl=0.3"});
+  const scene::Scene mixed = io::parseScene(base, "s.json", {"quality=fast", "solver.cfl=0.3"});
   EXPECT_FLOAT_EQ(mixed.solver.cfl, 0.3f);
   EXPECT_FLOAT_EQ(mixed.solver.soundSpeedFactor, 5.0f);
-  const Scene explicitC =
+  const scene::Scene explicitC =
       io::parseScene(base, "s.json", {"quality=fast", "solver.speed_of_sound=40"});
   EXPECT_FLOAT_EQ(explicitC.solver.speedOfSound, 40.0f);
 

@@ -20,7 +20,7 @@ namespace {
 struct Cloud {
   std::vector<float> x, y, z;
   std::vector<std::uint32_t> order;
-  NeighbourGrid grid;
+  grid::NeighbourGrid grid;
   std::string check() { return grid.checkSorted(x.data(), y.data(), z.data(), x.size(), order); }
 };
 
@@ -49,9 +49,9 @@ TEST(CheckSorted, HoldsAfterBuildAndCatchesABrokenOrder) {
   c.order[1] = keep;
   // Two points of one cell out of their original order: the sort must be stable.
   for (std::size_t s = 1; s < c.order.size(); ++s) {
-    const CellCoord p =
+    const grid::CellCoord p =
         c.grid.cellOf(c.x[c.order[s - 1]], c.y[c.order[s - 1]], c.z[c.order[s - 1]]);
-    const CellCoord q = c.grid.cellOf(c.x[c.order[s]], c.y[c.order[s]], c.z[c.order[s]]);
+    const grid::CellCoord q = c.grid.cellOf(c.x[c.order[s]], c.y[c.order[s]], c.z[c.order[s]]);
     if (p != q) continue;
     std::swap(c.order[s - 1], c.order[s]);
     EXPECT_NE(c.check().find("swapped order"), std::string::npos) << c.check();
@@ -70,38 +70,39 @@ TEST(CheckSorted, HoldsForAGridThatGrewItsCells) {
 
 TEST(CheckState, HoldsThroughARunAndCatchesWhatTheGuardDoesNotSee) {
   setThreadCount(1);  // a unit suite: it must not compete with others for the cores
-  Simulation sim(test::shippedScene("pour", {"solver.spacing=0.008"}));
+  run::Simulation sim(test::shippedScene("pour", {"solver.spacing=0.008"}));
   sim.advanceTo(0.1);
   Particles p = sim.fluid();
   const std::uint32_t next = sim.runState().nextId;
   ASSERT_GT(p.size(), 10u);
-  EXPECT_EQ(checkState(p, next), "");
-  EXPECT_EQ(firstNonFinite(p), p.size());
+  EXPECT_EQ(solver::checkState(p, next), "");
+  EXPECT_EQ(solver::firstNonFinite(p), p.size());
   // The guard checks positions and velocities only.
   p.p[3] = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_EQ(firstNonFinite(p), 3u);
-  EXPECT_NE(checkState(p, next).find("non-finite"), std::string::npos) << checkState(p, next);
+  EXPECT_EQ(solver::firstNonFinite(p), 3u);
+  EXPECT_NE(solver::checkState(p, next).find("non-finite"), std::string::npos)
+      << solver::checkState(p, next);
   p.p[3] = 0;
   p.az[5] = std::numeric_limits<float>::infinity();
-  EXPECT_EQ(firstNonFinite(p), 5u);
+  EXPECT_EQ(solver::firstNonFinite(p), 5u);
   p.az[5] = 0;
   p.id[4] = p.id[2];
-  EXPECT_NE(checkState(p, next).find("two particles have id"), std::string::npos);
+  EXPECT_NE(solver::checkState(p, next).find("two particles have id"), std::string::npos);
   p.id[4] = next;
-  EXPECT_NE(checkState(p, next).find("not handed out"), std::string::npos);
+  EXPECT_NE(solver::checkState(p, next).find("not handed out"), std::string::npos);
   p.id[4] = sim.fluid().id[4];
   p.collideTime.pop_back();
-  EXPECT_NE(checkState(p, next).find("values for"), std::string::npos);
+  EXPECT_NE(solver::checkState(p, next).find("values for"), std::string::npos);
 }
 
 TEST(CheckDensity, HoldsAfterTheDensityPassAndCatchesAMissingSelfTerm) {
   setThreadCount(1);
   for (const char* kernel : {"spiky", "poly6"}) {
-    Simulation sim(test::shippedScene(
+    run::Simulation sim(test::shippedScene(
         "dam_break", {"solver.spacing=0.0146", std::string("solver.density_kernel=") + kernel}));
     sim.step();
     Particles p = sim.fluid();
-    const DensityKernel k = sim.scene().solver.densityKernel;
+    const scene::DensityKernel k = sim.scene().solver.densityKernel;
     EXPECT_EQ(checkDensity(p, sim.params(), k), "") << kernel;
     // A lone particle reads exactly its own term, which the check allows.
     float self = 0;

@@ -16,8 +16,9 @@ std::vector<IdPair> truePairs(const Particles& p, float range) {
   return collision::canonicalPairs(ids);
 }
 
-CdtDetection detectCdt(const CollisionDesc& desc, const std::optional<CameraDesc>& camera,
-                       const Particles& p, const std::vector<IdPair>& truth) {
+CdtDetection detectCdt(const scene::CollisionDesc& desc,
+                       const std::optional<scene::CameraDesc>& camera, const Particles& p,
+                       const std::vector<IdPair>& truth) {
   CdtDetection d;
   d.cdt = std::make_unique<cdt::CdtCpu>(cdt::makeSettings(desc, camera));
   d.cdt->setRecordPairs(true);
@@ -53,13 +54,13 @@ collision::Recall detectWith(collision::Detector& detector, const Particles& p, 
   return collision::measureRecall(truth, seen, p.id, chosen);
 }
 
-CollisionDesc paperCdt(const Scene& scene) {
-  CollisionDesc d = *scene.collision;
-  d.method = CollisionMethod::CdtCpu;
+scene::CollisionDesc paperCdt(const scene::Scene& scene) {
+  scene::CollisionDesc d = *scene.collision;
+  d.method = scene::CollisionMethod::CdtCpu;
   d.texelRange = 1;
   d.layers = 1;
   d.adaptiveTexelRange = false;
-  d.positionSource = CdtPositionSource::Texel;
+  d.positionSource = scene::CdtPositionSource::Texel;
   return d;
 }
 }  // namespace sph::collisionbench

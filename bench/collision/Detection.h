@@ -29,14 +29,15 @@ struct CdtDetection {
   double meanRange = 0;  // mean r searched
 };
 
-CdtDetection detectCdt(const CollisionDesc& desc, const std::optional<CameraDesc>& camera,
-                       const Particles& p, const std::vector<IdPair>& truth);
+CdtDetection detectCdt(const scene::CollisionDesc& desc,
+                       const std::optional<scene::CameraDesc>& camera, const Particles& p,
+                       const std::vector<IdPair>& truth);
 
 // What a CPU detector (exact, octree) finds, as recall against `truth`.
 collision::Recall detectWith(collision::Detector& detector, const Particles& p, float range,
                              const std::vector<IdPair>& truth);
 
 // The paper's CDT reading: r = 1, one layer, curr_pos from the base texel.
-CollisionDesc paperCdt(const Scene& scene);
+scene::CollisionDesc paperCdt(const scene::Scene& scene);
 
 }  // namespace sph::collisionbench

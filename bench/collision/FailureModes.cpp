@@ -19,9 +19,9 @@ void printModes(const Options& o) {
   const Particles& p = snap.particles;
   const float range = snap.scene.collision->range;
   const std::vector<IdPair> truth = truePairs(p, range);
-  CollisionDesc own = paperCdt(snap.scene);
-  own.positionSource = CdtPositionSource::Particle;
-  const CameraDesc camera = *snap.scene.camera;
+  scene::CollisionDesc own = paperCdt(snap.scene);
+  own.positionSource = scene::CdtPositionSource::Particle;
+  const scene::CameraDesc camera = *snap.scene.camera;
   const double distance = (camera.position - camera.target).norm();
   std::printf(
       "\n### Failure modes (density A, %zu particles, snapshot at t = %.2f s, %zu true pairs)\n",
@@ -37,11 +37,11 @@ void printModes(const Options& o) {
       "particle recall r=1 | pair recall adaptive r | mean adaptive r |\n");
   std::printf("| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
   for (double factor : {0.4, 0.6, 1.0, 1.5, 2.5, 4.0}) {
-    CollisionDesc d = own;
-    d.camera = CdtCameraMode::Offset;
+    scene::CollisionDesc d = own;
+    d.camera = scene::CdtCameraMode::Offset;
     d.offset = static_cast<float>((factor - 1.0) * distance);
     const CdtDetection fixed = detectCdt(d, camera, p, truth);
-    CollisionDesc a = d;
+    scene::CollisionDesc a = d;
     a.adaptiveTexelRange = true;
     a.maxTexelRange = 8;
     const CdtDetection adaptive = detectCdt(a, camera, p, truth);
@@ -83,10 +83,10 @@ void printModes(const Options& o) {
     std::vector<std::uint32_t> chosen(p.size());
     for (std::size_t i = 0; i < p.size(); ++i)
       chosen[i] = partner[i] == collision::kNone ? collision::kNone : p.id[partner[i]];
-    oneSided(enumName(CollisionMethod::Exact), collision::measureRecall(truth, {}, p.id, chosen),
-             chosen);
+    oneSided(enumName(scene::CollisionMethod::Exact),
+             collision::measureRecall(truth, {}, p.id, chosen), chosen);
     for (int variant = 0; variant < 3; ++variant) {
-      CollisionDesc d = variant == 0 ? paperCdt(snap.scene) : own;
+      scene::CollisionDesc d = variant == 0 ? paperCdt(snap.scene) : own;
       if (variant == 2) d.layers = 4, d.adaptiveTexelRange = true;
       const CdtDetection det = detectCdt(d, camera, p, truth);
       for (std::size_t i = 0; i < p.size(); ++i) chosen[i] = det.cdt->diagnostics()[i].partner;
@@ -118,7 +118,7 @@ void printModes(const Options& o) {
     for (const IdPair& q : truth)
       classCount[2 - visible.count(q.first) - visible.count(q.second)]++;
     for (int layers : {1, 2, 3, 4}) {
-      CollisionDesc d = own;
+      scene::CollisionDesc d = own;
       d.layers = layers;
       const CdtDetection det = detectCdt(d, camera, p, truth);
       const std::vector<IdPair> seen = collision::canonicalPairs(det.cdt->seenPairs());
@@ -154,8 +154,8 @@ void printModes(const Options& o) {
         "0.75 |\n");
     std::printf("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
     for (double factor : {1.0, 0.4}) {
-      CollisionDesc d = own;
-      d.camera = CdtCameraMode::Offset;
+      scene::CollisionDesc d = own;
+      d.camera = scene::CdtCameraMode::Offset;
       d.offset = static_cast<float>((factor - 1.0) * distance);
       const CdtDetection det = detectCdt(d, camera, p, truth);
       const cdt::View& view = det.cdt->settings().view;

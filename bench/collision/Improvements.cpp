@@ -46,17 +46,17 @@ void printImprovements(const Options& o) {
   {  // the baselines: exact is 1 by construction, the octree misses pairs across leaf faces
     collision::ExactDetector exact;
     const collision::Recall re = detectWith(exact, p, range, truth);
-    const Timing te = timeMethod(snap, CollisionMethod::Exact, o.steps);
+    const Timing te = timeMethod(snap, scene::CollisionMethod::Exact, o.steps);
     std::printf("| exact | %.3f | %.3f | %.3f | %s (exact) | - |\n", re.pairRecall(),
                 re.particleRecall(), re.unansweredFraction(), format(te).c_str());
-    csvRow(enumName(CollisionMethod::Exact), "", re, te);
+    csvRow(enumName(scene::CollisionMethod::Exact), "", re, te);
     const Vec3 centre = 0.5f * (snap.scene.domain.lo + snap.scene.domain.hi);
     collision::OctreeDetector octree(centre, snap.scene.domain.size().maxCoeff(), 3);
     const collision::Recall ro = detectWith(octree, p, range, truth);
-    const Timing to = timeMethod(snap, CollisionMethod::Octree, std::max(2, o.steps / 3));
+    const Timing to = timeMethod(snap, scene::CollisionMethod::Octree, std::max(2, o.steps / 3));
     std::printf("| octree (depth 3) | %.3f | %.3f | %.3f | %s (octree) | - |\n", ro.pairRecall(),
                 ro.particleRecall(), ro.unansweredFraction(), format(to).c_str());
-    csvRow(enumName(CollisionMethod::Octree), "depth 3", ro, to);
+    csvRow(enumName(scene::CollisionMethod::Octree), "depth 3", ro, to);
   }
   struct Variant {
     const char* name;
@@ -88,19 +88,19 @@ void printImprovements(const Options& o) {
         "collision.layers=4"}},
   };
   for (const Variant& v : variants) {
-    CollisionDesc d = paperCdt(snap.scene);
-    if (v.particle) d.positionSource = CdtPositionSource::Particle;
+    scene::CollisionDesc d = paperCdt(snap.scene);
+    if (v.particle) d.positionSource = scene::CdtPositionSource::Particle;
     d.adaptiveTexelRange = v.adaptive;
     d.maxTexelRange = 4;
     d.layers = v.layers;
     const CdtDetection det = detectCdt(d, snap.scene.camera, p, truth);
-    const Timing cpu = timeMethod(snap, CollisionMethod::CdtCpu, o.steps, v.keys);
-    const Timing gl = timeMethod(snap, CollisionMethod::CdtGl, o.steps, v.keys);
+    const Timing cpu = timeMethod(snap, scene::CollisionMethod::CdtCpu, o.steps, v.keys);
+    const Timing gl = timeMethod(snap, scene::CollisionMethod::CdtGl, o.steps, v.keys);
     std::printf("| %s | %.3f | %.3f | %.3f | %s | %s |\n", v.name, det.recall.pairRecall(),
                 det.recall.particleRecall(), det.recall.unansweredFraction(), format(cpu).c_str(),
                 format(gl).c_str());
-    csvRow(enumName(CollisionMethod::CdtCpu), v.name, det.recall, cpu);
-    csvRow(enumName(CollisionMethod::CdtGl), v.name, det.recall, gl);
+    csvRow(enumName(scene::CollisionMethod::CdtCpu), v.name, det.recall, cpu);
+    csvRow(enumName(scene::CollisionMethod::CdtGl), v.name, det.recall, gl);
     std::fflush(stdout);
   }
   if (csv) std::fclose(csv);

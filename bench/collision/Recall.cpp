@@ -34,18 +34,18 @@ void printRecall(const Options& o) {
         "| method | pair recall | particle recall | partner precision | one-sided | |\n| --- | "
         "---: | ---: | ---: | ---: | --- |\n");
     collision::ExactDetector exact;
-    printRecallRow(enumName(CollisionMethod::Exact), detectWith(exact, p, range, truth),
+    printRecallRow(enumName(scene::CollisionMethod::Exact), detectWith(exact, p, range, truth),
                    "1 by construction");
     const Vec3 centre = 0.5f * (snap.scene.domain.lo + snap.scene.domain.hi);
     collision::OctreeDetector octree(centre, snap.scene.domain.size().maxCoeff(), 3);
     printRecallRow("octree (depth 3)", detectWith(octree, p, range, truth), "leaf-local search");
-    const CollisionDesc paper = paperCdt(snap.scene);
+    const scene::CollisionDesc paper = paperCdt(snap.scene);
     const CdtDetection cdtPaper = detectCdt(paper, snap.scene.camera, p, truth);
     printRecallRow("cdt, paper (r 1, curr_pos from texel)", cdtPaper.recall);
-    CollisionDesc own = paper;
-    own.positionSource = CdtPositionSource::Particle;
+    scene::CollisionDesc own = paper;
+    own.positionSource = scene::CdtPositionSource::Particle;
     printRecallRow("cdt, own position (r 1)", detectCdt(own, snap.scene.camera, p, truth).recall);
-    CollisionDesc best = own;
+    scene::CollisionDesc best = own;
     best.adaptiveTexelRange = true;
     best.maxTexelRange = 4;
     best.layers = 4;

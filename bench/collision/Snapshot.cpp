@@ -7,7 +7,7 @@
 
 namespace sph::collisionbench {
 
-Scene rainScene(char density, std::size_t n, std::vector<std::string> overrides) {
+scene::Scene rainScene(char density, std::size_t n, std::vector<std::string> overrides) {
   const bool a = density == 'A';
   const double spacing = a ? 0.012 : 0.024;
   const double top = 0.75 + static_cast<double>(n / 2500) * spacing;
@@ -21,9 +21,9 @@ Scene rainScene(char density, std::size_t n, std::vector<std::string> overrides)
 
 Snapshot takeSnapshot(char density, std::size_t n, double warm) {
   Snapshot s{density, n, rainScene(density, n), {}, {}};
-  Scene scene = s.scene;
-  scene.collision->method = CollisionMethod::Exact;
-  Simulation sim(scene);
+  scene::Scene scene = s.scene;
+  scene.collision->method = scene::CollisionMethod::Exact;
+  run::Simulation sim(scene);
   sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
   sim.advanceTo(warm);
   s.state = sim.runState();

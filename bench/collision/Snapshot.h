@@ -15,13 +15,13 @@ namespace sph::collisionbench {
 
 // The shipped rain scene of density type A (dense, 12 mm lattice) or B (sparse, 24 mm) holding n
 // particles: 2,500 per layer, as many layers as needed above y = 0.75 m.
-Scene rainScene(char density, std::size_t n, std::vector<std::string> overrides = {});
+scene::Scene rainScene(char density, std::size_t n, std::vector<std::string> overrides = {});
 
 struct Snapshot {
   char density;
   std::size_t n;
-  Scene scene;
-  RunState state;
+  scene::Scene scene;
+  run::RunState state;
   Particles particles;
 };
 

@@ -27,12 +27,12 @@ void printTable(const Options& o) {
   for (char density : {'A', 'B'}) {
     for (std::size_t n : o.sizes) {
       const Snapshot snap = takeSnapshot(density, n, o.warm);
-      const Timing gl = timeMethod(snap, CollisionMethod::CdtGl, o.steps);
+      const Timing gl = timeMethod(snap, scene::CollisionMethod::CdtGl, o.steps);
       const Timing resident = timeGlResident(snap, o.steps);
       const Timing raster = timeGlResident(snap, o.steps, true);
-      const Timing cpu = timeMethod(snap, CollisionMethod::CdtCpu, o.steps);
-      const Timing exact = timeMethod(snap, CollisionMethod::Exact, o.steps);
-      const Timing octree = timeMethod(snap, CollisionMethod::Octree, octreeSteps);
+      const Timing cpu = timeMethod(snap, scene::CollisionMethod::CdtCpu, o.steps);
+      const Timing exact = timeMethod(snap, scene::CollisionMethod::Exact, o.steps);
+      const Timing octree = timeMethod(snap, scene::CollisionMethod::Octree, octreeSteps);
       const auto p = paper.count(n) ? paper.at(n) : std::array<double, 3>{NAN, NAN, NAN};
       auto figure = [](double v) {
         char text[32];

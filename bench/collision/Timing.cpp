@@ -37,27 +37,27 @@ double loadAverage() {
   return load;
 }
 
-Timing timeMethod(const Snapshot& snap, CollisionMethod method, int steps,
+Timing timeMethod(const Snapshot& snap, scene::CollisionMethod method, int steps,
                   const std::vector<std::string>& overrides) {
-  Scene scene = overrides.empty() ? snap.scene : rainScene(snap.density, snap.n, overrides);
+  scene::Scene scene = overrides.empty() ? snap.scene : rainScene(snap.density, snap.n, overrides);
   scene.collision->method = method;
-  Simulation sim(scene);
+  run::Simulation sim(scene);
   sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
   sim.restore(snap.state, snap.particles);
   sim.step();
   std::vector<double> ms;
   for (int s = 0; s < steps; ++s) {
-    const double before = sim.profile()[Pass::Collide];
+    const double before = sim.profile()[solver::Pass::Collide];
     sim.step();
-    ms.push_back(1e3 * (sim.profile()[Pass::Collide] - before));
+    ms.push_back(1e3 * (sim.profile()[solver::Pass::Collide] - before));
   }
   return summarise(ms);
 }
 
 Timing timeGlResident(const Snapshot& snap, int steps, bool rasterWrite) {
   render::gl::GlContext context = render::gl::GlContext::headless();
-  CollisionDesc desc = *snap.scene.collision;
-  desc.textureWrite = rasterWrite ? CdtTextureWrite::Raster : CdtTextureWrite::Atomic;
+  scene::CollisionDesc desc = *snap.scene.collision;
+  desc.textureWrite = rasterWrite ? scene::CdtTextureWrite::Raster : scene::CdtTextureWrite::Atomic;
   render::cdt::CdtGl gl(cdt::makeSettings(desc, snap.scene.camera));
   gl.upload(snap.particles);
   const float dt = snap.scene.solver.maxTimeStep;

@@ -30,7 +30,7 @@ double loadAverage();
 
 // Restores the snapshot, runs one untimed step (the CDT's first step finds an empty texture),
 // then times the collide pass of each of `steps` steps.
-Timing timeMethod(const Snapshot& snap, CollisionMethod method, int steps,
+Timing timeMethod(const Snapshot& snap, scene::CollisionMethod method, int steps,
                   const std::vector<std::string>& overrides = {});
 
 // cdt-gl as the paper runs it: the particle system lives on the GPU (integrate in the shader),

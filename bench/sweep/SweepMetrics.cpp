@@ -72,9 +72,9 @@ class SurgeFrontMetric : public SweepMetric {
     return c;
   }
 
-  void start(const Simulation& sim, const MetricContext& context) override {
-    const Scene& s = sim.scene();
-    if (fluid_ >= s.fluids.size() || s.fluids[fluid_].shape != FluidBlock::Shape::Box) {
+  void start(const run::Simulation& sim, const MetricContext& context) override {
+    const scene::Scene& s = sim.scene();
+    if (fluid_ >= s.fluids.size() || s.fluids[fluid_].shape != scene::FluidBlock::Shape::Box) {
       throw InputError(s.sourcePath + ": surge_front needs fluids[" + std::to_string(fluid_) +
                        "] to be the dam's box (the water column against the left wall)");
     }
@@ -102,12 +102,12 @@ class SurgeFrontMetric : public SweepMetric {
     return t;
   }
   std::uint64_t stepInterval() const override { return fit_ || series_ ? 1 : 0; }
-  void observe(const Simulation& sim) override {
+  void observe(const run::Simulation& sim) override {
     if (fit_ || series_) recordStep(sim);
     if (Z_.size() >= times_.size() || std::abs(sim.time() - times_[Z_.size()]) > 1e-9) return;
     Z_.push_back(front(sim));
   }
-  void finish(const Simulation&) override {
+  void finish(const run::Simulation&) override {
     if (seriesPath_.empty()) return;
     std::ofstream out(seriesPath_);
     out << "t,T,Z\n";
@@ -141,10 +141,10 @@ class SurgeFrontMetric : public SweepMetric {
   }
 
  private:
-  double front(const Simulation& sim) const {
-    return (surgeFront(sim.fluid()) + shift_ - wall_) / a_;
+  double front(const run::Simulation& sim) const {
+    return (run::surgeFront(sim.fluid()) + shift_ - wall_) / a_;
   }
-  void recordStep(const Simulation& sim) {
+  void recordStep(const run::Simulation& sim) {
     if (!seriesT_.empty() && sim.time() <= seriesT_.back()) return;  // a sample after its step
     seriesT_.push_back(sim.time()), seriesZ_.push_back(front(sim));
   }
@@ -191,12 +191,12 @@ class SurgeFrontMetric : public SweepMetric {
 class DensityMetric : public SweepMetric {
  public:
   std::vector<std::string> columns() const override { return {"rho_mean_pct", "rho_max_pct"}; }
-  void start(const Simulation&, const MetricContext&) override {
+  void start(const run::Simulation&, const MetricContext&) override {
     sum_ = 0, worst_ = 0, frames_ = 0;
   }
   bool everyFrame() const override { return true; }
-  void observe(const Simulation& sim) override {
-    const DensityError e = densityError(sim.fluid(), sim.scene().solver.restDensity);
+  void observe(const run::Simulation& sim) override {
+    const run::DensityError e = run::densityError(sim.fluid(), sim.scene().solver.restDensity);
     sum_ += e.meanCompression, worst_ = std::max(worst_, e.maxCompression);
     ++frames_;
   }
@@ -227,7 +227,7 @@ class EnergyMetric : public SweepMetric {
   std::vector<std::string> columns() const override {
     return {"energy_drift_pct", "rho_drift_pct"};
   }
-  void start(const Simulation& sim, const MetricContext& context) override {
+  void start(const run::Simulation& sim, const MetricContext& context) override {
     const Particles& p = sim.fluid();
     const Vec3 g = sim.scene().solver.gravity;
     floor_ = std::numeric_limits<double>::max();
@@ -242,8 +242,8 @@ class EnergyMetric : public SweepMetric {
     sample(sim);
   }
   std::uint64_t stepInterval() const override { return every_; }
-  void observe(const Simulation& sim) override { sample(sim); }
-  void finish(const Simulation& sim) override {
+  void observe(const run::Simulation& sim) override { sample(sim); }
+  void finish(const run::Simulation& sim) override {
     if (sim.stepCount() % every_ != 0) sample(sim);
     series_.close();
   }
@@ -258,14 +258,14 @@ class EnergyMetric : public SweepMetric {
     double total = 0, meanRho = 0;
   };
 
-  void sample(const Simulation& sim) {
+  void sample(const run::Simulation& sim) {
     const Particles& p = sim.fluid();
-    const DerivedParams& d = sim.params();
-    const SolverParams& s = sim.scene().solver;
-    const double kinetic = kineticEnergy(p, d.mass);
-    const double potential = potentialEnergy(p, d.mass, s.gravity, floor_);
-    const double elastic = elasticEnergy(p, s, d.mass, d.stiffness) * sim.gradientCorrection();
-    const DensityError density = densityError(p, s.restDensity);
+    const solver::DerivedParams& d = sim.params();
+    const scene::SolverParams& s = sim.scene().solver;
+    const double kinetic = run::kineticEnergy(p, d.mass);
+    const double potential = run::potentialEnergy(p, d.mass, s.gravity, floor_);
+    const double elastic = run::elasticEnergy(p, s, d.mass, d.stiffness) * sim.gradientCorrection();
+    const run::DensityError density = run::densityError(p, s.restDensity);
     const double total = kinetic + potential + elastic;
     const double meanRho = density.meanDensity, rhoMax = density.maxDensity;
     char line[256];

@@ -36,16 +36,16 @@ class SweepMetric {
   // Column names, in the order values() returns them.
   virtual std::vector<std::string> columns() const = 0;
   // Called once the simulation is built, before the first step; resets the metric's state.
-  virtual void start(const Simulation& sim, const MetricContext& context) = 0;
+  virtual void start(const run::Simulation& sim, const MetricContext& context) = 0;
   // Simulated times (s) at which observe() must see the state exactly (the run lands on them).
   virtual std::vector<double> sampleTimes() const { return {}; }
   // Also observe at every output frame of the scene (output.fps).
   virtual bool everyFrame() const { return false; }
   // Also observe every N steps (0 = no).
   virtual std::uint64_t stepInterval() const { return 0; }
-  virtual void observe(const Simulation& sim) = 0;
+  virtual void observe(const run::Simulation& sim) = 0;
   // Called after the last step of a run that ended normally.
-  virtual void finish(const Simulation& sim) { (void)sim; }
+  virtual void finish(const run::Simulation& sim) { (void)sim; }
   // One value per column; NaN for "no value" (written as an empty CSV field).
   virtual std::vector<double> values() const = 0;
 };

@@ -142,8 +142,8 @@ void writeCsv(const SweepResult& result, const std::string& path) {
          "setup_s,wall_s,cpu_s,"
          "ms_per_step,ns_per_particle_step,threads,speed_of_sound,stiffness,h,max_speed,speed_"
          "bound,rss_mb";
-  for (int p = 0; p < static_cast<int>(Pass::Count); ++p)
-    out << ",pass_" << passName(static_cast<Pass>(p)) << "_s";
+  for (int p = 0; p < static_cast<int>(solver::Pass::Count); ++p)
+    out << ",pass_" << passName(static_cast<solver::Pass>(p)) << "_s";
   for (const std::string& c : result.metricColumns) out << "," << c;
   out << ",pareto,message\n";
   for (std::size_t i = 0; i < result.rows.size(); ++i) {
@@ -151,7 +151,7 @@ void writeCsv(const SweepResult& result, const std::string& path) {
     out << i << "," << csvField(r.variant.label) << "," << csvField(r.variant.caseLabel);
     for (const std::string& v : r.variant.axisValues) out << "," << csvField(v);
     const double particleSteps = static_cast<double>(r.profile.particleSteps);
-    out << "," << enumName(r.status) << ","
+    out << "," << scene::enumName(r.status) << ","
         << (r.status == RunStatus::Guard ? std::to_string(r.guardStep) : "") << ","
         << (r.status == RunStatus::Guard ? number(r.guardTime) : "") << "," << r.particles << ","
         << r.particlesEnd << "," << r.boundaryParticles << "," << r.steps << ","

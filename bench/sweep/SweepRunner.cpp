@@ -46,8 +46,8 @@ std::string folderOf(const std::string& path) {
   return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
 }
 
-Scene variantScene(const SweepSpec& spec, const SweepVariant& v) {
-  Scene scene = io::parseScene(v.sceneText, v.scenePath, v.edits);
+scene::Scene variantScene(const SweepSpec& spec, const SweepVariant& v) {
+  scene::Scene scene = io::parseScene(v.sceneText, v.scenePath, v.edits);
   if (spec.endTime > 0) scene.solver.endTime = spec.endTime;
   return scene;
 }
@@ -74,13 +74,13 @@ std::vector<double> observationTimes(const SweepMetric& m, double end, double fp
 
 // One run of one variant. Metrics are restarted; the run lands exactly on every output frame
 // (like `sphsplat run`) and on every metric sample time.
-VariantResult runOnce(const SweepSpec& spec, const SweepVariant& v, const Scene& scene,
+VariantResult runOnce(const SweepSpec& spec, const SweepVariant& v, const scene::Scene& scene,
                       std::vector<std::unique_ptr<SweepMetric>>& metrics,
                       const MetricContext& context) {
   VariantResult r;
   r.variant = v;
   const Clock::time_point setupStart = Clock::now();
-  Simulation sim(scene);
+  run::Simulation sim(scene);
   sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
   r.setupSeconds = seconds(setupStart, Clock::now());
   r.particles = sim.fluid().size();
@@ -88,7 +88,7 @@ VariantResult runOnce(const SweepSpec& spec, const SweepVariant& v, const Scene&
   r.speedOfSound = sim.params().speedOfSound;
   r.stiffness = sim.params().stiffness;
   r.h = sim.params().h;
-  r.speedBound = expectedMaxSpeed(scene);
+  r.speedBound = solver::expectedMaxSpeed(scene);
 
   const double end = scene.solver.endTime, fps = scene.output.fps;
   std::vector<double> targets;  // where the run must land: frames, samples, the end
@@ -177,7 +177,7 @@ SweepResult runSweep(const SweepSpec& spec, const SweepRunOptions& options) {
                    variants.end());
   }
   // Nothing runs on a bad sweep: every scene and metric is checked first.
-  std::vector<Scene> scenes;
+  std::vector<scene::Scene> scenes;
   for (const SweepVariant& v : variants) scenes.push_back(variantScene(spec, v));
   std::vector<std::unique_ptr<SweepMetric>> metrics = makeMetrics(spec);
   for (const auto& m : metrics) {

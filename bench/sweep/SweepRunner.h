@@ -59,7 +59,7 @@ struct VariantResult {
   double maxSpeed = 0;          // m/s, largest fluid speed seen at any step
   double speedBound = 0;        // m/s, the energy bound of the scene (SceneSetup.h)
   double rssMb = 0;             // resident memory with the simulation alive, at its end
-  StepProfile profile;          // per-pass time of the reported run
+  solver::StepProfile profile;  // per-pass time of the reported run
   std::vector<double> metrics;  // one per metric column (NaN = none)
 
   double msPerStep() const { return steps ? 1e3 * wallSeconds / steps : 0; }

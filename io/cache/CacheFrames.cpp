@@ -74,7 +74,7 @@ void CacheWriter::writeField(hid_t group, cache::Field field, const Particles& f
   }
 }
 
-void CacheWriter::writeFrame(const Particles& fluid, const RunState& state,
+void CacheWriter::writeFrame(const Particles& fluid, const run::RunState& state,
                              const FrameSlice* slice) {
   const auto start = std::chrono::steady_clock::now();
   const std::size_t frame = frames_;
@@ -132,7 +132,7 @@ void CacheWriter::writeFrame(const Particles& fluid, const RunState& state,
 }
 
 void CacheWriter::joinFrame(const std::string& path, std::size_t frame, const Particles& fluid,
-                            const RunState& state, const FrameSlice& slice) {
+                            const run::RunState& state, const FrameSlice& slice) {
   h5::silence();  // one line on failure (below), not HDF5's stack: this rank never created a cache
   try {
     h5::Handle file =
@@ -160,7 +160,7 @@ void CacheWriter::joinFrame(const std::string& path, std::size_t frame, const Pa
   }
 }
 
-void CacheWriter::writeFrameObjects(const Particles& fluid, const RunState& state) {
+void CacheWriter::writeFrameObjects(const Particles& fluid, const run::RunState& state) {
   const std::size_t frame = frames_;
   const std::string step = cache::stepName(frame);
   const hid_t root = file_.get();
@@ -208,7 +208,7 @@ void CacheWriter::writeFrameObjects(const Particles& fluid, const RunState& stat
   }
 }
 
-void CacheWriter::writeRestart(hid_t r, const Particles& fluid, const RunState& state) {
+void CacheWriter::writeRestart(hid_t r, const Particles& fluid, const run::RunState& state) {
   h5::writeAttribute(r, "time", state.time);
   h5::writeAttribute(r, "step", static_cast<std::uint64_t>(state.step));
   h5::writeAttribute(r, "last_dt", state.lastDt);
@@ -225,7 +225,7 @@ void CacheWriter::writeRestart(hid_t r, const Particles& fluid, const RunState& 
   }
   std::vector<double> travelled;
   std::vector<std::uint64_t> emitted, started;
-  for (const EmitterState& e : state.emitters) {
+  for (const run::EmitterState& e : state.emitters) {
     travelled.push_back(e.travelled), emitted.push_back(e.emitted),
         started.push_back(e.started ? 1 : 0);
   }

@@ -409,8 +409,8 @@ rain::FeedState CacheReader::readRainFeed(std::size_t frame) const {
   return f;
 }
 
-std::pair<RunState, Particles> CacheReader::readRestart(std::size_t frame,
-                                                        const h5::Runs* runs) const {
+std::pair<run::RunState, Particles> CacheReader::readRestart(std::size_t frame,
+                                                             const h5::Runs* runs) const {
   checkFrame(frame);
   const std::string group = "/" + cache::restartName(frame);
   if (!summary_.frames[frame].hasRestart) {
@@ -425,7 +425,7 @@ std::pair<RunState, Particles> CacheReader::readRestart(std::size_t frame,
     selected = 0;
     for (const auto& run : *runs) selected += run.second;
   }
-  RunState s;
+  run::RunState s;
   std::string item = "attributes";
   try {
     h5::Handle g = h5::openCheckedGroup(file_.get(), group);

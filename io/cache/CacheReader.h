@@ -85,8 +85,8 @@ class CacheReader {
   // The state to continue the run from frame `frame`: RunState and every particle array (those
   // not recorded, which the first step recomputes, are zero). With `runs`, only the particles at
   // those indices, and their part of the per-particle state (DFSPH's warm start).
-  std::pair<RunState, Particles> readRestart(std::size_t frame,
-                                             const h5::Runs* runs = nullptr) const;
+  std::pair<run::RunState, Particles> readRestart(std::size_t frame,
+                                                  const h5::Runs* runs = nullptr) const;
   // rain.feed_fluid's ledger of frame `frame` (RunState::rain) without its particles: all zero
   // for a frame without a resume record or a run without fed rain.
   rain::FeedState readRainFeed(std::size_t frame) const;

@@ -54,7 +54,7 @@ std::string megabytes(double bytes) {
 }  // namespace
 
 std::unique_ptr<CacheSession> CacheSession::prepare(const CacheSessionOptions& flags,
-                                                    Scene& scene) {
+                                                    scene::Scene& scene) {
   if (flags.noCompress) scene.output.compression = 0;
   auto out = std::unique_ptr<CacheSession>(new CacheSession);
   out->overwrite_ = flags.overwrite;
@@ -140,7 +140,7 @@ std::unique_ptr<CacheSession> CacheSession::prepare(const CacheSessionOptions& f
   return out;
 }
 
-std::size_t CacheSession::restore(Simulation& sim, const CacheProvenance& provenance) {
+std::size_t CacheSession::restore(run::Simulation& sim, const CacheProvenance& provenance) {
   const std::size_t last = checkResume(sim, provenance);
   auto [state, fluid] = reader_->readRestart(last);
   checkRecord(path_, state, sim);
@@ -149,17 +149,18 @@ std::size_t CacheSession::restore(Simulation& sim, const CacheProvenance& proven
   return last;
 }
 
-void CacheSession::checkRecord(const std::string& path, const RunState& state,
-                               const Simulation& sim) {
+void CacheSession::checkRecord(const std::string& path, const run::RunState& state,
+                               const run::Simulation& sim) {
   if (state.emitters.size() != sim.emitters().size()) {
     throw InputError(path + ": the resume record has " + std::to_string(state.emitters.size()) +
                      " emitters, the scene " + std::to_string(sim.emitters().size()));
   }
 }
 
-std::size_t CacheSession::checkResume(const Simulation& sim, const CacheProvenance& provenance) {
+std::size_t CacheSession::checkResume(const run::Simulation& sim,
+                                      const CacheProvenance& provenance) {
   const CacheSummary& s = reader_->summary();
-  const Scene& scene = sim.scene();
+  const scene::Scene& scene = sim.scene();
   if (cache::dynamicsFingerprint(scene) != s.sceneFingerprint) {
     // Name the first parameter set by the scene that differs, if one does; the automatic ones
     // (the speed of sound follows the fluid's height) only when no set one does, so that a
@@ -209,7 +210,7 @@ std::size_t CacheSession::resumeFrame() const {
   return offGrid && last > 0 ? last - 1 : last;
 }
 
-void CacheSession::finishRestore(Simulation& sim) {
+void CacheSession::finishRestore(run::Simulation& sim) {
   const CacheSummary& s = reader_->summary();
   const std::size_t last = resumeFrame();
   followRain(sim);
@@ -254,7 +255,7 @@ void CacheSession::finishRestore(Simulation& sim) {
   writer_->setStatus("running (resumed from frame " + std::to_string(last) + ")");
 }
 
-void CacheSession::followRain(const Simulation& sim) {
+void CacheSession::followRain(const run::Simulation& sim) {
   // A feeding rain is stepped by the simulation itself (its landings change the fluid); any
   // other rain is stepped here, at every frame.
   if (sim.rainFeed()) {
@@ -270,9 +271,9 @@ double CacheSession::lastFrameTime() const {
   return frames.empty() ? 0.0 : frames.back().time;
 }
 
-void CacheSession::create(const Simulation& sim, const CacheProvenance& provenance,
+void CacheSession::create(const run::Simulation& sim, const CacheProvenance& provenance,
                           std::size_t expectedFrames) {
-  const Scene& scene = sim.scene();
+  const scene::Scene& scene = sim.scene();
   std::string error;
   fields_ = cache::parseFields(scene.output.fields, error);
   doublePositions_ = scene.output.doublePositions;
@@ -289,13 +290,13 @@ void CacheSession::create(const Simulation& sim, const CacheProvenance& provenan
   }
 }
 
-void CacheSession::writeFrame(const Simulation& sim) {
+void CacheSession::writeFrame(const run::Simulation& sim) {
   writer_->writeFrame(sim.fluid(), sim.runState());
   recordFrame(sim, sim.fluid().size());
 }
 
-void CacheSession::writeFrameTogether(const Simulation& sim, const Particles& mine,
-                                      const RunState& state, const FrameSlice& slice,
+void CacheSession::writeFrameTogether(const run::Simulation& sim, const Particles& mine,
+                                      const run::RunState& state, const FrameSlice& slice,
                                       const rain::WaterCells* water) {
   // Rank 0 holds part of the fluid only: its drops must meet the cells of all of it, and a rain
   // that feeds the fluid is not shared out (refused on K processes before the run; failing here,
@@ -307,7 +308,7 @@ void CacheSession::writeFrameTogether(const Simulation& sim, const Particles& mi
   recordFrame(sim, static_cast<std::size_t>(slice.part.total), water);
 }
 
-void CacheSession::recordFrame(const Simulation& sim, std::size_t particles,
+void CacheSession::recordFrame(const run::Simulation& sim, std::size_t particles,
                                const rain::WaterCells* water) {
   CacheFrame f;
   f.index = writer_->frameCount() - 1;

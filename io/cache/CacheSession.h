@@ -27,22 +27,23 @@ struct CacheSessionOptions {
   std::string resume;       // --resume CACHE
 };
 
-class CacheSession final : public FrameSink {
+class CacheSession final : public run::FrameSink {
  public:
   // Checks the flags and the files before anything is simulated; nullptr when the run writes no
   // cache. Applies --no-compress to the scene's output section and, when resuming, the cache's
   // own frame rate (its frames must stay evenly spaced).
-  static std::unique_ptr<CacheSession> prepare(const CacheSessionOptions& flags, Scene& scene);
+  static std::unique_ptr<CacheSession> prepare(const CacheSessionOptions& flags,
+                                               scene::Scene& scene);
 
   bool resuming() const { return resume_; }
   // Resume: checks that `sim`'s scene is the cache's, puts `sim` in the state of the cache's last
   // frame and opens the cache for appending. Returns the index of that frame.
-  std::size_t restore(Simulation& sim, const CacheProvenance& provenance);
+  std::size_t restore(run::Simulation& sim, const CacheProvenance& provenance);
   // restore() in three parts, for a resume on K processes (app/DistributedResume.h): rank 0
   // checks that `sim`'s scene is the cache's and gets the last frame's index; every rank reads
   // its part of that frame (rank 0 through reader()) and checks it (checkRecord); once every
   // rank has closed its reader, rank 0 opens the cache for appending (finishRestore).
-  std::size_t checkResume(const Simulation& sim, const CacheProvenance& provenance);
+  std::size_t checkResume(const run::Simulation& sim, const CacheProvenance& provenance);
   // The frame a resume continues from: the cache's last, unless that one lies between two frame
   // times (a run that ended at an --end off the frame grid, where an uninterrupted run never
   // stops): then the frame before it, and the resume writes the dropped frame's number again at
@@ -52,25 +53,28 @@ class CacheSession final : public FrameSink {
   // "; frame 4 (t = 0.11 s) ... is written again at t = 0.1333 s"; else empty.
   const std::string& resumeNote() const { return resumeNote_; }
   const CacheReader& reader() const { return *reader_; }
-  static void checkRecord(const std::string& path, const RunState& state, const Simulation& sim);
-  void finishRestore(Simulation& sim);
+  static void checkRecord(const std::string& path, const run::RunState& state,
+                          const run::Simulation& sim);
+  void finishRestore(run::Simulation& sim);
   // Time of the cache's last frame (resume), s.
   double lastFrameTime() const;
 
   // New cache: written under PATH.partial until writeFrame() has committed frame 0, then renamed.
-  void create(const Simulation& sim, const CacheProvenance& provenance, std::size_t expectedFrames);
+  void create(const run::Simulation& sim, const CacheProvenance& provenance,
+              std::size_t expectedFrames);
   // Writes and commits the current state as the next frame and adds it to the sidecar.
-  void writeFrame(const Simulation& sim);
+  void writeFrame(const run::Simulation& sim);
   // The same, written by all ranks of an MPI run together (rank 0 calls this, the others
   // CacheWriter::joinFrame with path() and frameCount(); docs/scaling.md): `mine` is rank 0's
   // part of the frame, `state` the run's. A scene with rain passes `water`, the cells the whole
   // fluid occupies (every rank's, app/CollectiveCacheSink.h): the drops are stepped with it and
   // rank 0 writes them alone once the frame is committed, as one process does. Not for a rain
   // that feeds the fluid (refused on K processes).
-  void writeFrameTogether(const Simulation& sim, const Particles& mine, const RunState& state,
-                          const FrameSlice& slice, const rain::WaterCells* water = nullptr);
+  void writeFrameTogether(const run::Simulation& sim, const Particles& mine,
+                          const run::RunState& state, const FrameSlice& slice,
+                          const rain::WaterCells* water = nullptr);
   // FrameSink: the run loop's frames go to writeFrame().
-  void frame(const Simulation& sim, std::size_t) override { writeFrame(sim); }
+  void frame(const run::Simulation& sim, std::size_t) override { writeFrame(sim); }
   // Stores a rendered image of frame `frame` (already written) as /Render#<renderer>#<frame>.
   void writeRenderedFrame(const std::string& renderer, std::size_t frame, int width, int height,
                           const std::uint8_t* rgb);
@@ -124,10 +128,10 @@ class CacheSession final : public FrameSink {
   double particleFramesWritten_ = 0;  // the same, of the frames this run wrote
   // The sidecar, the rain and the counts of a frame just written (of `particles` particles);
   // the rain meets `water` if given, else sim's fluid.
-  void recordFrame(const Simulation& sim, std::size_t particles,
+  void recordFrame(const run::Simulation& sim, std::size_t particles,
                    const rain::WaterCells* water = nullptr);
   // Sets rain_ (stepped here) or points rainShown_ at the simulation's feeding rain.
-  void followRain(const Simulation& sim);
+  void followRain(const run::Simulation& sim);
   std::unique_ptr<rain::RainStepper> rain_;
   const rain::RainStepper* rainShown_ = nullptr;
 };

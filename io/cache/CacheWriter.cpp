@@ -56,10 +56,10 @@ unsigned rootLinkEstimate(std::size_t expectedFrames, std::size_t linksPerFrame,
 }
 
 // Root links a frame adds: Step#N, Vectors#N, Restart#N, Render#<renderer>#N, Rain#N.
-std::size_t linksPerFrame(const Scene& scene) {
+std::size_t linksPerFrame(const scene::Scene& scene) {
   std::size_t links = 2 + (scene.output.restart ? 1 : 0);
   if (scene.render && scene.render->toCache) {
-    const std::size_t renderers = scene.render->splat == RenderDesc::Splat::Both ? 2 : 1;
+    const std::size_t renderers = scene.render->splat == scene::RenderDesc::Splat::Both ? 2 : 1;
     links += (renderers + static_cast<std::size_t>(scene.render->every) - 1) /
              static_cast<std::size_t>(scene.render->every);
   }
@@ -86,9 +86,9 @@ CacheWriter::~CacheWriter() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-std::unique_ptr<CacheWriter> CacheWriter::create(const std::string& path, const Scene& scene,
-                                                 const DerivedParams& derived,
-                                                 const BoundaryParticles& boundary,
+std::unique_ptr<CacheWriter> CacheWriter::create(const std::string& path, const scene::Scene& scene,
+                                                 const solver::DerivedParams& derived,
+                                                 const solver::BoundaryParticles& boundary,
                                                  const CacheProvenance& provenance,
                                                  std::size_t expectedFrames) {
   h5::silence();
@@ -115,7 +115,7 @@ std::unique_ptr<CacheWriter> CacheWriter::create(const std::string& path, const 
   }
   std::unique_ptr<CacheWriter> w(new CacheWriter(path, std::move(file), lockCacheFile(path)));
   w->userBlock_ = userBlock;
-  const OutputDesc& out = scene.output;
+  const scene::OutputDesc& out = scene.output;
   std::string error;
   w->fields_ = cache::parseFields(out.fields, error);
   if (!error.empty()) throw InputError(path + ": output.fields: " + error);

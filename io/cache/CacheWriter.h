@@ -46,9 +46,9 @@ class CacheWriter {
   // is allowed). Records the scene (its output section says which fields, the compression and
   // whether resume records are written), the resolved parameters and the boundary particles, and
   // commits. `expectedFrames` sizes the root group (see CacheWriter.cpp); more frames still work.
-  static std::unique_ptr<CacheWriter> create(const std::string& path, const Scene& scene,
-                                             const DerivedParams& derived,
-                                             const BoundaryParticles& boundary,
+  static std::unique_ptr<CacheWriter> create(const std::string& path, const scene::Scene& scene,
+                                             const solver::DerivedParams& derived,
+                                             const solver::BoundaryParticles& boundary,
                                              const CacheProvenance& provenance,
                                              std::size_t expectedFrames);
   // Opens an existing cache whose frames 0..frames-1 are complete to append frame `frames` on
@@ -65,11 +65,12 @@ class CacheWriter {
   // With `slice`, all ranks write the frame together: rank 0 calls this on its writer while
   // every other rank calls joinFrame() with its part (the file is opened through MPI-IO for the
   // frame and closed again, so that everything else stays rank 0's, as before).
-  void writeFrame(const Particles& fluid, const RunState& state, const FrameSlice* slice = nullptr);
+  void writeFrame(const Particles& fluid, const run::RunState& state,
+                  const FrameSlice* slice = nullptr);
   // The other ranks' half of writeFrame(fluid, state, slice): frame `frame` of the cache at
   // `path` (rank 0's writer's frameCount() and path()).
   static void joinFrame(const std::string& path, std::size_t frame, const Particles& fluid,
-                        const RunState& state, const FrameSlice& slice);
+                        const run::RunState& state, const FrameSlice& slice);
 
   // Stores one rendered image of frame `frame` (which must already be written) for `renderer`
   // (letters, digits, '_' and '-'): `rgb` holds height rows of width RGB triplets, top row first.
@@ -129,8 +130,8 @@ class CacheWriter {
   void growFile();
   void journalHeader(hid_t object);
   void writeField(hid_t group, cache::Field field, const Particles& fluid);
-  void writeFrameObjects(const Particles& fluid, const RunState& state);
-  void writeRestart(hid_t record, const Particles& fluid, const RunState& state);
+  void writeFrameObjects(const Particles& fluid, const run::RunState& state);
+  void writeRestart(hid_t record, const Particles& fluid, const run::RunState& state);
   std::uint64_t writeValues(hid_t group, const char* name, hid_t memType, hid_t fileType,
                             const void* data, std::size_t count);
   bool onAllRanks(bool mine) const;

@@ -39,9 +39,10 @@ class JsonReader {
   // One of the names of the enum E (its nameOf table, sim/scene/EnumNames.h); `def` empty = required.
   template <class E>
   E choice(const std::string& key, std::optional<E> def) {
-    const std::string name = string(
-        key, def ? std::optional<std::string>(enumName(*def)) : std::nullopt, enumNames<E>());
-    return *parseEnum<E>(name);
+    const std::string name =
+        string(key, def ? std::optional<std::string>(scene::enumName(*def)) : std::nullopt,
+               scene::enumNames<E>());
+    return *scene::parseEnum<E>(name);
   }
   bool boolean(const std::string& key, std::optional<bool> def);
   Vec3 vec3(const std::string& key, std::optional<Vec3> def, const char* expected = "3 numbers");

@@ -127,11 +127,11 @@ void applyOverride(json& doc, const std::string& edit, const std::string& file) 
 struct QualityPreset {
   double cfl;               // see SolverParams::cfl
   double soundSpeedFactor;  // see SolverParams::soundSpeedFactor
-  PressureSolver pressure = PressureSolver::Wcsph;
+  scene::PressureSolver pressure = scene::PressureSolver::Wcsph;
 };
 
 QualityPreset qualityPreset(Quality quality) {
-  const SolverParams defaults;
+  const scene::SolverParams defaults;
   switch (quality) {
     case Quality::Fast:
       return {0.8, 5.0};
@@ -140,20 +140,20 @@ QualityPreset qualityPreset(Quality quality) {
       // 0.02-0.05% (max 0.1-0.6%) with the surge front as close as the default's, where the
       // stiffer Tait EOS this preset used to be ran the front further off (docs/benchmarks.md).
       // c stays the default's: the automatic viscosity derives from it.
-      return {0.2, defaults.soundSpeedFactor, PressureSolver::Dfsph};
+      return {0.2, defaults.soundSpeedFactor, scene::PressureSolver::Dfsph};
     case Quality::Default:
       break;
   }
   return {defaults.cfl, defaults.soundSpeedFactor};
 }
 
-SolverParams readSolver(JsonReader r, Quality quality) {
-  SolverParams s;
+scene::SolverParams readSolver(JsonReader r, Quality quality) {
+  scene::SolverParams s;
   const QualityPreset preset = qualityPreset(quality);
   s.spacing =
       static_cast<float>(r.number("spacing", std::nullopt, "a positive number of at most 1000 (m)",
                                   [](double v) { return v > 0 && v <= 1e3; }));
-  s.model = r.choice("model", std::optional(SolverModel::Sph));
+  s.model = r.choice("model", std::optional(scene::SolverModel::Sph));
   s.support = static_cast<float>(r.number("support", 2.0,
                                           "a number in [1, 4] (kernel support radius / spacing)",
                                           [](double v) { return v >= 1 && v <= 4; }));
@@ -161,17 +161,17 @@ SolverParams readSolver(JsonReader r, Quality quality) {
       static_cast<float>(r.number("rest_density", 1000.0, "a positive number (kg/m^3)", positive));
   s.viscosity =
       static_cast<float>(r.number("viscosity", -1.0, "a number >= 0 (m^2/s)", nonNegative));
-  s.noSlipWalls = r.choice("walls", std::optional(Walls::NoSlip)) == Walls::NoSlip;
-  s.eos = r.choice("eos", std::optional(EquationOfState::Tait));
-  s.densityKernel = r.choice("density_kernel", std::optional(DensityKernel::Spiky));
+  s.noSlipWalls = r.choice("walls", std::optional(scene::Walls::NoSlip)) == scene::Walls::NoSlip;
+  s.eos = r.choice("eos", std::optional(scene::EquationOfState::Tait));
+  s.densityKernel = r.choice("density_kernel", std::optional(scene::DensityKernel::Spiky));
   s.pressure = r.choice("pressure", std::optional(preset.pressure));
-  const bool dfsph = s.pressure == PressureSolver::Dfsph;
+  const bool dfsph = s.pressure == scene::PressureSolver::Dfsph;
   for (const char* key : {"max_density_error", "max_divergence_error", "min_density_iterations",
                           "max_density_iterations", "max_divergence_iterations"}) {
     if (!dfsph && r.has(key)) r.fail(key, "only used with \"pressure\": \"dfsph\"");
   }
   if (dfsph) {
-    if (s.densityKernel != DensityKernel::Spiky) {
+    if (s.densityKernel != scene::DensityKernel::Spiky) {
       r.fail("density_kernel",
              "\"pressure\": \"dfsph\" needs \"spiky\" (its solvers use the exact gradient of the "
              "density sum)");
@@ -217,12 +217,13 @@ SolverParams readSolver(JsonReader r, Quality quality) {
   // A preset's cfl is for its own solver; with the other one, that solver's default.
   const double cfl = preset.pressure == s.pressure ? preset.cfl
                      : dfsph                       ? kDfsphCfl
-                                                   : SolverParams().cfl;
+                                                   : scene::SolverParams().cfl;
   s.cfl = static_cast<float>(r.number("cfl", cfl, "a positive number", positive));
   // DFSPH's step is bound by the flow speed and gravity (sim/solver/SceneSetup.cpp, timeStep()); its cap
   // is the peer's (SPlisHSPlasH, ../shared/reference/peers.md).
   s.maxTimeStep = static_cast<float>(r.number(
-      "max_time_step", s.pressure == PressureSolver::Dfsph ? kDfsphMaxTimeStep : s.maxTimeStep,
+      "max_time_step",
+      s.pressure == scene::PressureSolver::Dfsph ? scene::kDfsphMaxTimeStep : s.maxTimeStep,
       "a positive number (s)", positive));
   s.gravity = r.vec3("gravity", s.gravity, "3 numbers (m/s^2)");
   s.endTime = r.number("end_time", 1.0, "a positive number of at most 1e6 (s)",
@@ -237,16 +238,16 @@ SolverParams readSolver(JsonReader r, Quality quality) {
   return s;
 }
 
-FluidBlock readFluid(JsonReader r) {
-  FluidBlock f;
+scene::FluidBlock readFluid(JsonReader r) {
+  scene::FluidBlock f;
   const std::string type = r.string("type", std::string("box"), {"box", "sphere"});
   if (type == "box") {
-    f.shape = FluidBlock::Shape::Box;
+    f.shape = scene::FluidBlock::Shape::Box;
     f.lo = r.vec3("min", std::nullopt, "3 numbers (m)");
     f.hi = r.vec3("max", std::nullopt, "3 numbers (m)");
     requireOrdered(r, f.lo, f.hi);
   } else {
-    f.shape = FluidBlock::Shape::Sphere;
+    f.shape = scene::FluidBlock::Shape::Sphere;
     f.centre = r.vec3("centre", std::nullopt, "3 numbers (m)");
     f.radius =
         static_cast<float>(r.number("radius", std::nullopt, "a positive number (m)", positive));
@@ -256,31 +257,31 @@ FluidBlock readFluid(JsonReader r) {
   return f;
 }
 
-BoundaryShape readBoundary(JsonReader r) {
-  BoundaryShape b;
+scene::BoundaryShape readBoundary(JsonReader r) {
+  scene::BoundaryShape b;
   const std::string type =
       r.string("type", std::nullopt, {"tank", "block", "cup", "plane", "sphere"});
   if (type == "tank" || type == "block") {
-    b.kind = type == "tank" ? BoundaryShape::Kind::Tank : BoundaryShape::Kind::Block;
+    b.kind = type == "tank" ? scene::BoundaryShape::Kind::Tank : scene::BoundaryShape::Kind::Block;
     b.lo = r.vec3("min", std::nullopt, "3 numbers (m)");
     b.hi = r.vec3("max", std::nullopt, "3 numbers (m)");
     requireOrdered(r, b.lo, b.hi);
     if (type == "tank") b.openTop = r.boolean("open_top", true);
   } else if (type == "cup") {
-    b.kind = BoundaryShape::Kind::Cup;
+    b.kind = scene::BoundaryShape::Kind::Cup;
     b.centre = r.vec3("centre", std::nullopt, "3 numbers (m): the centre of the cup's inner floor");
     b.radius = static_cast<float>(
         r.number("radius", std::nullopt, "a positive number (m): inner radius", positive));
     b.height = static_cast<float>(
         r.number("height", std::nullopt, "a positive number (m): wall height", positive));
   } else if (type == "plane") {
-    b.kind = BoundaryShape::Kind::Plane;
+    b.kind = scene::BoundaryShape::Kind::Plane;
     b.point = r.vec3("point", Vec3::Zero(), "3 numbers (m)");
     b.normal = r.vec3("normal", Vec3::UnitY(), "3 numbers, not all zero");
     if (b.normal.norm() == 0) r.fail("normal", "expected a non-zero vector, got [0, 0, 0]");
     b.normal.normalize();
   } else {
-    b.kind = BoundaryShape::Kind::Sphere;
+    b.kind = scene::BoundaryShape::Kind::Sphere;
     b.centre = r.vec3("centre", std::nullopt, "3 numbers (m)");
     b.radius =
         static_cast<float>(r.number("radius", std::nullopt, "a positive number (m)", positive));
@@ -289,8 +290,8 @@ BoundaryShape readBoundary(JsonReader r) {
   return b;
 }
 
-EmitterDesc readEmitter(JsonReader r, float spacing) {
-  EmitterDesc e;
+scene::EmitterDesc readEmitter(JsonReader r, float spacing) {
+  scene::EmitterDesc e;
   r.string("type", std::string("nozzle"), {"nozzle"});
   e.position = r.vec3("position", std::nullopt, "3 numbers (m)");
   e.direction = r.vec3("direction", std::nullopt, "3 numbers, not all zero");
@@ -316,8 +317,8 @@ EmitterDesc readEmitter(JsonReader r, float spacing) {
   return e;
 }
 
-OutputDesc readOutput(JsonReader r) {
-  OutputDesc o;
+scene::OutputDesc readOutput(JsonReader r) {
+  scene::OutputDesc o;
   o.fps = r.number("fps", o.fps, "a positive number (frames per simulated second)", positive);
   o.path = r.string("path", std::string(""));
   // The cache's per-frame datasets (docs/cache-format.md): names checked and put in canonical
@@ -341,20 +342,20 @@ OutputDesc readOutput(JsonReader r) {
 }
 
 // The `collision` section (docs/scene-format.md, "collision"; DESIGN.md, "The CDT collision pass").
-CollisionDesc readCollision(JsonReader r, const SolverParams& solver) {
-  CollisionDesc c;
-  c.method = r.choice<CollisionMethod>("method", std::nullopt);
+scene::CollisionDesc readCollision(JsonReader r, const scene::SolverParams& solver) {
+  scene::CollisionDesc c;
+  c.method = r.choice<scene::CollisionMethod>("method", std::nullopt);
   c.range = static_cast<float>(
       r.number("range", 0.5 * solver.spacing, "a positive number (m)", positive));
-  c.response = r.choice("response", std::optional(CollisionResponse::Separate));
-  const bool paper = c.response == CollisionResponse::Paper;
+  c.response = r.choice("response", std::optional(scene::CollisionResponse::Separate));
+  const bool paper = c.response == scene::CollisionResponse::Paper;
   c.speedFactor = static_cast<float>(r.number("speed_factor", 0.2, "a number in [0, 1]",
                                               [](double v) { return v >= 0 && v <= 1; }));
   c.cooldown = static_cast<float>(
       r.number("cooldown", paper ? 0.05 : 0.0, "a number >= 0 (s)", nonNegative));
-  c.positionSource =
-      r.choice("position_source",
-               std::optional(paper ? CdtPositionSource::Texel : CdtPositionSource::Particle));
+  c.positionSource = r.choice(
+      "position_source",
+      std::optional(paper ? scene::CdtPositionSource::Texel : scene::CdtPositionSource::Particle));
   const int resolution =
       static_cast<int>(r.number("resolution", 500.0, "an integer in [16, 8192] (texels per side)",
                                 [](double v) { return integerIn(v, 16, 8192); }));
@@ -372,12 +373,12 @@ CollisionDesc readCollision(JsonReader r, const SolverParams& solver) {
   const std::string layerCounts = "an integer in [1, " + std::to_string(cdt::kMaxLayers) + "]";
   c.layers = static_cast<int>(r.number("layers", 1.0, layerCounts.c_str(),
                                        [](double v) { return integerIn(v, 1, cdt::kMaxLayers); }));
-  c.camera = r.choice("camera", std::optional(CdtCameraMode::Render));
+  c.camera = r.choice("camera", std::optional(scene::CdtCameraMode::Render));
   c.offset = static_cast<float>(r.number("offset", 0.0, "a number (m, along the camera's z axis)"));
   if (auto pose = r.optionalObject("pose")) c.pose = readCamera(*pose), c.hasPose = true;
-  if (c.camera == CdtCameraMode::Fixed && !c.hasPose)
+  if (c.camera == scene::CdtCameraMode::Fixed && !c.hasPose)
     r.fail("pose", "missing; camera \"fixed\" needs its pose {position, target, ...}");
-  if (c.camera != CdtCameraMode::Offset && r.has("offset"))
+  if (c.camera != scene::CdtCameraMode::Offset && r.has("offset"))
     r.fail("offset", "only used with \"camera\": \"offset\"");
   c.octreeDepth = static_cast<int>(r.number("octree_depth", 3.0, "an integer in [1, 6]",
                                             [](double v) { return integerIn(v, 1, 6); }));
@@ -388,7 +389,7 @@ CollisionDesc readCollision(JsonReader r, const SolverParams& solver) {
 }
 
 // Geometric checks that need the whole scene.
-void validate(const Scene& s, const std::string& file) {
+void validate(const scene::Scene& s, const std::string& file) {
   auto fail = [&](const std::string& path, const std::string& msg) {
     throw InputError(file + ": " + path + ": " + msg);
   };
@@ -398,9 +399,9 @@ void validate(const Scene& s, const std::string& file) {
   }
   const float dx = s.solver.spacing;
   for (std::size_t i = 0; i < s.fluids.size(); ++i) {
-    const FluidBlock& f = s.fluids[i];
+    const scene::FluidBlock& f = s.fluids[i];
     Aabb b;
-    if (f.shape == FluidBlock::Shape::Box)
+    if (f.shape == scene::FluidBlock::Shape::Box)
       b.lo = f.lo, b.hi = f.hi;
     else
       b.lo = f.centre - Vec3::Constant(f.radius), b.hi = f.centre + Vec3::Constant(f.radius);
@@ -422,9 +423,9 @@ void validate(const Scene& s, const std::string& file) {
   }
   // Refuse runs that would not fit in memory before allocating anything (~100 B per particle).
   double estimate = 0;
-  for (const FluidBlock& f : s.fluids) {
-    estimate += f.shape == FluidBlock::Shape::Box ? (f.hi - f.lo).prod() / (dx * dx * dx)
-                                                  : 4.18879 * std::pow(f.radius / dx, 3.0);
+  for (const scene::FluidBlock& f : s.fluids) {
+    estimate += f.shape == scene::FluidBlock::Shape::Box ? (f.hi - f.lo).prod() / (dx * dx * dx)
+                                                         : 4.18879 * std::pow(f.radius / dx, 3.0);
   }
   if (!(estimate <= 2e8)) {
     fail("solver.spacing", "the fluid blocks would hold " + readableCount(estimate) +
@@ -432,7 +433,7 @@ void validate(const Scene& s, const std::string& file) {
   }
   // Frames no closer than the solver's step at rest (its largest): a shorter frame interval would
   // only cut every step short, and output.fps = 1e308 would crawl at 1e-308 s a step.
-  const float restStep = timeStep(s, deriveParams(s), 0, 0);
+  const float restStep = solver::timeStep(s, solver::deriveParams(s), 0, 0);
   if (s.output.fps * restStep > 1.0) {
     fail("output.fps",
          "expected at most " + readableNumber(1.0 / restStep, 4) +
@@ -445,13 +446,13 @@ void validate(const Scene& s, const std::string& file) {
 
 }  // namespace
 
-Scene parseScene(const std::string& text, const std::string& path,
-                 const std::vector<std::string>& overrides) {
+scene::Scene parseScene(const std::string& text, const std::string& path,
+                        const std::vector<std::string>& overrides) {
   json doc = parseJson(text, path);
   for (const std::string& edit : overrides) applyOverride(doc, edit, path);
 
   JsonReader root(doc, "", path);
-  Scene scene;
+  scene::Scene scene;
   scene.sourcePath = path;
   scene.sourceText = text;
   std::string stem = path.substr(path.find_last_of('/') + 1);
@@ -493,9 +494,9 @@ Scene parseScene(const std::string& text, const std::string& path,
   if (auto l = root.optionalObject("lights")) scene.lights = readLights(*l);
   if (auto c = root.optionalObject("collision")) {
     scene.collision = readCollision(*c, scene.solver);
-    const bool cdt = scene.collision->method == CollisionMethod::CdtCpu ||
-                     scene.collision->method == CollisionMethod::CdtGl;
-    if (cdt && scene.collision->camera != CdtCameraMode::Fixed && !scene.camera) {
+    const bool cdt = scene.collision->method == scene::CollisionMethod::CdtCpu ||
+                     scene.collision->method == scene::CollisionMethod::CdtGl;
+    if (cdt && scene.collision->camera != scene::CdtCameraMode::Fixed && !scene.camera) {
       c->fail("camera",
               "the collision camera follows the scene's camera, but the scene has no \"camera\"; "
               "add one or use \"camera\": \"fixed\" with a \"pose\"");
@@ -507,14 +508,14 @@ Scene parseScene(const std::string& text, const std::string& path,
     requireOrdered(*d, scene.domain.lo, scene.domain.hi);
     d->finish();
   } else {
-    scene.domain = defaultDomain(scene);
+    scene.domain = solver::defaultDomain(scene);
   }
   root.finish();
   validate(scene, path);
   return scene;
 }
 
-Scene loadScene(const std::string& path, const std::vector<std::string>& overrides) {
+scene::Scene loadScene(const std::string& path, const std::vector<std::string>& overrides) {
   return parseScene(readInputFile(path, "scene file"), path, overrides);
 }
 

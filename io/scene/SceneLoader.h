@@ -29,10 +29,10 @@ constexpr const char* nameOf(Quality v) {
 
 // Loads and validates `path`. `overrides` are "key.path=value" edits applied to the JSON before
 // validation (value parsed as JSON, else taken as a string), e.g. "solver.spacing=0.01".
-Scene loadScene(const std::string& path, const std::vector<std::string>& overrides = {});
+scene::Scene loadScene(const std::string& path, const std::vector<std::string>& overrides = {});
 
 // Same, from text already in memory; `path` is only used in messages and for the default name.
-Scene parseScene(const std::string& text, const std::string& path,
-                 const std::vector<std::string>& overrides = {});
+scene::Scene parseScene(const std::string& text, const std::string& path,
+                        const std::vector<std::string>& overrides = {});
 
 }  // namespace sph::io

@@ -16,9 +16,9 @@ void requireOrdered(JsonReader& r, const Vec3& lo, const Vec3& hi);
 
 // `camera` (and its key frames into *path when given), `render`, `rain`, `lights`
 // (docs/scene-format.md).
-CameraDesc readCamera(JsonReader r, CameraPath* path = nullptr);
-RenderDesc readRender(JsonReader r);
-RainDesc readRain(JsonReader r);
-LightsDesc readLights(JsonReader r);
+scene::CameraDesc readCamera(JsonReader r, scene::CameraPath* path = nullptr);
+scene::RenderDesc readRender(JsonReader r);
+scene::RainDesc readRain(JsonReader r);
+scene::LightsDesc readLights(JsonReader r);
 
 }  // namespace sph::io

@@ -21,7 +21,7 @@ class CdtGlPass final : public CollisionPass {
                      const gl::ShaderLibrary& shaders = gl::ShaderLibrary::fromEnvironment());
   ~CdtGlPass() override;
 
-  std::string name() const override { return enumName(CollisionMethod::CdtGl); }
+  std::string name() const override { return enumName(scene::CollisionMethod::CdtGl); }
   void apply(Particles& particles, const CollisionContext& context) override;
 
   const gl::GlInfo& info() const { return context_.info(); }

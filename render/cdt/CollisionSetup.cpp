@@ -10,18 +10,18 @@
 #include "sim/collision/Octree.h"
 
 namespace sph::render::cdt {
-std::unique_ptr<CollisionPass> makeCollisionPass(const Scene& scene) {
-  if (!scene.collision || scene.collision->method == CollisionMethod::None) return nullptr;
-  const CollisionDesc& c = *scene.collision;
+std::unique_ptr<CollisionPass> makeCollisionPass(const scene::Scene& scene) {
+  if (!scene.collision || scene.collision->method == scene::CollisionMethod::None) return nullptr;
+  const scene::CollisionDesc& c = *scene.collision;
   // Checked by the loader too, but `run --end` may have moved the end time since.
   sph::cdt::requireIdsInRange(scene);
   switch (c.method) {
-    case CollisionMethod::None:
+    case scene::CollisionMethod::None:
       return nullptr;
-    case CollisionMethod::Exact:
+    case scene::CollisionMethod::Exact:
       return std::make_unique<collision::DetectorPass>(std::make_unique<collision::ExactDetector>(),
                                                        c);
-    case CollisionMethod::Octree: {
+    case scene::CollisionMethod::Octree: {
       // The thesis's root is a fixed cube around the scene (50^3 units); ours defaults to the
       // cube around the domain.
       const Vec3 centre = 0.5f * (scene.domain.lo + scene.domain.hi);
@@ -29,9 +29,9 @@ std::unique_ptr<CollisionPass> makeCollisionPass(const Scene& scene) {
       return std::make_unique<collision::DetectorPass>(
           std::make_unique<collision::OctreeDetector>(centre, size, c.octreeDepth), c);
     }
-    case CollisionMethod::CdtCpu:
+    case scene::CollisionMethod::CdtCpu:
       return std::make_unique<sph::cdt::CdtCpuPass>(sph::cdt::makeSettings(c, scene.camera));
-    case CollisionMethod::CdtGl:
+    case scene::CollisionMethod::CdtGl:
       try {
         return std::make_unique<CdtGlPass>(sph::cdt::makeSettings(c, scene.camera));
       } catch (const gl::GlError& e) {
@@ -44,19 +44,20 @@ std::unique_ptr<CollisionPass> makeCollisionPass(const Scene& scene) {
   return nullptr;
 }
 
-std::string describeCollision(const Scene& scene) {
+std::string describeCollision(const scene::Scene& scene) {
   if (!scene.collision) return "none (no collision section)";
-  const CollisionDesc& c = *scene.collision;
+  const scene::CollisionDesc& c = *scene.collision;
   std::ostringstream s;
   s << enumName(c.method);
-  if (c.method == CollisionMethod::None) return s.str();
+  if (c.method == scene::CollisionMethod::None) return s.str();
   s << ", range " << c.range << " m, response " << enumName(c.response);
-  if (c.method == CollisionMethod::CdtCpu || c.method == CollisionMethod::CdtGl) {
+  if (c.method == scene::CollisionMethod::CdtCpu || c.method == scene::CollisionMethod::CdtGl) {
     s << ", texture " << c.resolution[0] << "x" << c.resolution[1] << " x " << c.layers << " layer"
       << (c.layers == 1 ? "" : "s") << ", r "
       << (c.adaptiveTexelRange ? "adaptive" : std::to_string(c.texelRange));
-    s << (c.method == CollisionMethod::CdtGl ? ", GL context: headless EGL" : ", no GL context");
-  } else if (c.method == CollisionMethod::Octree) {
+    s << (c.method == scene::CollisionMethod::CdtGl ? ", GL context: headless EGL"
+                                                    : ", no GL context");
+  } else if (c.method == scene::CollisionMethod::Octree) {
     s << ", depth " << c.octreeDepth;
   }
   return s.str();

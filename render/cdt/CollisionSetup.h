@@ -13,9 +13,9 @@ namespace sph::render::cdt {
 
 // Throws InputError with one line when cdt-gl cannot run here (no EGL, GL too old, a shader
 // that does not compile), naming the failure and suggesting cdt-cpu.
-std::unique_ptr<CollisionPass> makeCollisionPass(const Scene& scene);
+std::unique_ptr<CollisionPass> makeCollisionPass(const scene::Scene& scene);
 
 // One line for `run --verbose`: the method and its main parameters.
-std::string describeCollision(const Scene& scene);
+std::string describeCollision(const scene::Scene& scene);
 
 }  // namespace sph::render::cdt

@@ -82,11 +82,12 @@ struct Sixteen {
   alignas(64) std::int32_t lo[3][16], hi[3][16];
   __mmask16 kept = 0, inside = 0;
 };
-inline void testSixteen(const LightParticle* lights, const ViewCull* cull, const LightsDesc& d,
-                        const VoxelBox& box, int dist, float r, Sixteen& out) {
+inline void testSixteen(const sph::lights::LightParticle* lights, const ViewCull* cull,
+                        const scene::LightsDesc& d, const VoxelBox& box, int dist, float r,
+                        Sixteen& out) {
   const __m512i stride = _mm512_mullo_epi32(
       _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15),
-      _mm512_set1_epi32(static_cast<int>(sizeof(LightParticle) / sizeof(float))));
+      _mm512_set1_epi32(static_cast<int>(sizeof(sph::lights::LightParticle) / sizeof(float))));
   __m512 p[3];
   for (int a = 0; a < 3; ++a) p[a] = _mm512_i32gather_ps(stride, lights[0].position.data() + a, 4);
   __mmask16 keep = 0xffff;
@@ -140,8 +141,9 @@ inline void testSixteen(const LightParticle* lights, const ViewCull* cull, const
 
 }  // namespace
 
-void accumulateOnCpu(const LightsDesc& d, const std::vector<LightParticle>& lights,
-                     const VoxelBox& box, float scale, const ViewCull* cull, VoxelSums& out) {
+void accumulateOnCpu(const scene::LightsDesc& d,
+                     const std::vector<sph::lights::LightParticle>& lights, const VoxelBox& box,
+                     float scale, const ViewCull* cull, VoxelSums& out) {
   out.touched = VoxelBox{};
   out.lights = cull ? 0 : lights.size();
   if (box.empty()) return;
@@ -205,7 +207,7 @@ void accumulateOnCpu(const LightsDesc& d, const std::vector<LightParticle>& ligh
     }
 #endif
     for (; i < last; ++i) {
-      const LightParticle& l = lights[i];
+      const sph::lights::LightParticle& l = lights[i];
       VoxelSums::Reach& v = reachOf[i];  // left empty for a light that adds nothing
       v.lo[2] = 1, v.hi[2] = 0;
       if (cull && !cull->keeps(l)) continue;
@@ -241,7 +243,7 @@ void accumulateOnCpu(const LightsDesc& d, const std::vector<LightParticle>& ligh
     for (std::size_t i = first; i < last; ++i) {
       const VoxelSums::Reach& v = reachOf[i];
       if (v.lo[2] > v.hi[2]) continue;  // culled or out of the box: its light is not read
-      const LightParticle& l = lights[i];
+      const sph::lights::LightParticle& l = lights[i];
       const VoxelSums::BinnedLight b{{l.position[0], l.position[1], l.position[2]},
                                      l.colour,
                                      {v.lo[0], v.hi[0], v.lo[1], v.hi[1]}};

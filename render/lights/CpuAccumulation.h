@@ -50,7 +50,8 @@ std::uint16_t toHalf(float f);
 float fromHalf(std::uint16_t h);
 // The sums of `lights` over the voxels of `box` into `out`; with a `cull`, only the lights it
 // keeps (as the atomic path runs only lightsInView's).
-void accumulateOnCpu(const LightsDesc& desc, const std::vector<LightParticle>& lights,
-                     const VoxelBox& box, float scale, const ViewCull* cull, VoxelSums& out);
+void accumulateOnCpu(const scene::LightsDesc& desc,
+                     const std::vector<sph::lights::LightParticle>& lights, const VoxelBox& box,
+                     float scale, const ViewCull* cull, VoxelSums& out);
 
 }  // namespace sph::render::lights

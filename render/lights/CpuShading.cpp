@@ -125,7 +125,7 @@ inline void blend(const Texel* const colour[4], const Texel* const direction[4],
 
 }  // namespace
 
-CpuShading::CpuShading(const LightsDesc& desc, const VoxelSums& sums, int terms)
+CpuShading::CpuShading(const scene::LightsDesc& desc, const VoxelSums& sums, int terms)
     : desc_(desc),
       sums_(sums),
       terms_(terms),
@@ -153,7 +153,7 @@ void CpuShading::filtered(const float g[3], float colour[4], float direction[4])
     return x >= t.lo[0] && x < t.hi[0] && y >= t.lo[1] && y < t.hi[1] && z >= t.lo[2] &&
            z < t.hi[2];
   };
-  if (desc_.filter == LightFilter::Nearest) {  // lightTexel(floor(g)): zero outside
+  if (desc_.filter == scene::LightFilter::Nearest) {  // lightTexel(floor(g)): zero outside
     const int x = static_cast<int>(std::floor(g[0])), y = static_cast<int>(std::floor(g[1])),
               z = static_cast<int>(std::floor(g[2]));
     if (!inside(x, y, z)) return;
@@ -323,7 +323,8 @@ void CpuShading::pixels(const splat::GBufferPixels& g, const Vec3& eye, std::uin
   const float h = desc_.voxelSize, perVoxel = 1.0f / h, ex = eye.x(), ey = eye.y(), ez = eye.z();
   const std::size_t width = static_cast<std::size_t>(g.width);
   const float sx = 2.0f / static_cast<float>(g.width);
-  const bool trilinearOnce = desc_.filter == LightFilter::Trilinear && desc_.oversampling <= 1;
+  const bool trilinearOnce =
+      desc_.filter == scene::LightFilter::Trilinear && desc_.oversampling <= 1;
   parallelForDynamic(static_cast<std::size_t>(g.height), 1, [&](std::size_t row) {
     Run run;
     float(&f)[Run::kFields][Run::kRun] = run.f;

@@ -30,7 +30,7 @@ class CpuShading {
  public:
   // `sums` must outlive this and hold the volume's last frame (every voxel outside sums.touched
   // reads zero, as the textures do). `terms`: bit 0 diffuse, bit 1 specular (LightVolume::terms).
-  CpuShading(const LightsDesc& desc, const VoxelSums& sums, int terms = 3);
+  CpuShading(const scene::LightsDesc& desc, const VoxelSums& sums, int terms = 3);
 
   // particleLight(base, position, n, toEye) at one point.
   Vec3 at(const Vec3& position, const Vec3& n, const Vec3& toEye, const Vec3& base) const;
@@ -46,7 +46,7 @@ class CpuShading {
   struct Run;
 
  private:
-  const LightsDesc& desc_;
+  const scene::LightsDesc& desc_;
   const VoxelSums& sums_;
   int terms_;
   int wholeShininess_;  // desc.shininess where it is a whole number (power by squaring), else 0

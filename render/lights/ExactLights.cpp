@@ -11,11 +11,12 @@ int ExactLights::cellOf(const Vec3& p, int a) const {
   return std::clamp(c, 0, cells_[static_cast<std::size_t>(a)] - 1);
 }
 
-ExactLights::ExactLights(const LightsDesc& desc, const std::vector<LightParticle>& lights)
+ExactLights::ExactLights(const scene::LightsDesc& desc,
+                         const std::vector<sph::lights::LightParticle>& lights)
     : desc_(desc) {
   cellSize_ = std::max(desc.range, 1e-6f);
   Vec3 lo = Vec3::Constant(std::numeric_limits<float>::max()), hi = -lo;
-  for (const LightParticle& l : lights) {
+  for (const sph::lights::LightParticle& l : lights) {
     const Vec3 p(l.position[0], l.position[1], l.position[2]);
     lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
   }
@@ -26,17 +27,17 @@ ExactLights::ExactLights(const LightsDesc& desc, const std::vector<LightParticle
         std::clamp(static_cast<int>(std::floor((hi[a] - lo[a]) / cellSize_)) + 1, 1, 1024);
   }
   const std::size_t n = static_cast<std::size_t>(cells_[0]) * cells_[1] * cells_[2];
-  auto index = [&](const LightParticle& l) {
+  auto index = [&](const sph::lights::LightParticle& l) {
     const Vec3 p(l.position[0], l.position[1], l.position[2]);
     return (static_cast<std::size_t>(cellOf(p, 2)) * cells_[1] + cellOf(p, 1)) * cells_[0] +
            cellOf(p, 0);
   };
   cellStart_.assign(n + 1, 0);
-  for (const LightParticle& l : lights) ++cellStart_[index(l) + 1];
+  for (const sph::lights::LightParticle& l : lights) ++cellStart_[index(l) + 1];
   for (std::size_t c = 0; c < n; ++c) cellStart_[c + 1] += cellStart_[c];
   lights_.resize(lights.size());
   std::vector<std::size_t> next(cellStart_.begin(), cellStart_.end() - 1);
-  for (const LightParticle& l : lights) lights_[next[index(l)]++] = l;
+  for (const sph::lights::LightParticle& l : lights) lights_[next[index(l)]++] = l;
 }
 
 LightTerms ExactLights::at(const Vec3& x, const Vec3& n, const Vec3& toEye,
@@ -59,10 +60,10 @@ LightTerms ExactLights::at(const Vec3& x, const Vec3& n, const Vec3& toEye,
       for (int cx = lo[0]; cx <= hi[0]; ++cx) {
         const std::size_t c = (static_cast<std::size_t>(cz) * cells_[1] + cy) * cells_[0] + cx;
         for (std::size_t k = cellStart_[c]; k < cellStart_[c + 1]; ++k) {
-          const LightParticle& l = lights_[k];
+          const sph::lights::LightParticle& l = lights_[k];
           const Vec3 toLight = Vec3(l.position[0], l.position[1], l.position[2]) - x;
           const float d = toLight.norm();
-          const float att = lightAttenuation(desc_, d);
+          const float att = sph::lights::lightAttenuation(desc_, d);
           if (att == 0.0f || d <= 0.0f) continue;
           const Vec3 colour = att * Vec3(l.colour[0], l.colour[1], l.colour[2]);
           const Vec3 dir = toLight / d;

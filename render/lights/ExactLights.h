@@ -18,14 +18,14 @@ struct LightTerms {
 
 class ExactLights {
  public:
-  ExactLights(const LightsDesc& desc, const std::vector<LightParticle>& lights);
+  ExactLights(const scene::LightsDesc& desc, const std::vector<sph::lights::LightParticle>& lights);
   // The particle lights at `position` with unit normal `n`, unit `toEye`, surface colour `base`,
   // with desc's diffuse, specular and shininess (the same terms as shaders/extra_lights.glsl).
   LightTerms at(const Vec3& position, const Vec3& n, const Vec3& toEye, const Vec3& base) const;
 
  private:
-  LightsDesc desc_;
-  std::vector<LightParticle> lights_;   // sorted by cell
+  scene::LightsDesc desc_;
+  std::vector<sph::lights::LightParticle> lights_;  // sorted by cell
   std::vector<std::size_t> cellStart_;  // lights of cell c: [cellStart_[c], cellStart_[c + 1])
   Vec3 lo_;
   std::array<int, 3> cells_{};

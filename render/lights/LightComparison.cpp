@@ -28,12 +28,12 @@ splat::RenderImage picture(const SolidGBuffer& g, const std::vector<Vec3>& colou
 
 std::string FilterSetting::label() const {
   std::string s = nameOf(filter);
-  if (filter == LightFilter::Tricubic) s += " t" + std::to_string(tension).substr(0, 3);
+  if (filter == scene::LightFilter::Tricubic) s += " t" + std::to_string(tension).substr(0, 3);
   if (oversampling > 1) s += " x" + std::to_string(oversampling * oversampling * oversampling);
   return s;
 }
 
-SolidGBuffer solidGBuffer(solids::SolidRenderer& solids, const CameraDesc& camera, int width,
+SolidGBuffer solidGBuffer(solids::SolidRenderer& solids, const scene::CameraDesc& camera, int width,
                           int height, const gl::ShaderLibrary& shaders) {
   const gl::Program program = gl::buildProgram(
       shaders,
@@ -58,7 +58,7 @@ SolidGBuffer solidGBuffer(solids::SolidRenderer& solids, const CameraDesc& camer
   glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, zero);
   glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 1, zero);
   glClearNamedFramebufferfv(fbo.id(), GL_DEPTH, 0, &one);
-  const CameraFrame cf = cameraFrame(camera, static_cast<float>(width) / height);
+  const scene::CameraFrame cf = cameraFrame(camera, static_cast<float>(width) / height);
   solids.drawWith(program.id(), cf);
   const std::size_t n = static_cast<std::size_t>(width) * height;
   std::vector<float> pos(4 * n), nrm(4 * n);
@@ -85,7 +85,7 @@ SolidGBuffer solidGBuffer(solids::SolidRenderer& solids, const CameraDesc& camer
 }
 
 std::vector<LightComparison> compareLights(LightVolume& volume,
-                                           const std::vector<LightParticle>& lights,
+                                           const std::vector<sph::lights::LightParticle>& lights,
                                            const SolidGBuffer& g, const Vec3& base,
                                            const std::vector<FilterSetting>& settings) {
   std::vector<LightComparison> out;
@@ -112,7 +112,7 @@ std::vector<LightComparison> compareLights(LightVolume& volume,
   volume.probe(
       std::vector<ProbePoint>(g.points.begin(), g.points.begin() + std::min<std::size_t>(n, 64)),
       base);
-  const LightsDesc saved = volume.desc();
+  const scene::LightsDesc saved = volume.desc();
   for (const FilterSetting& s : settings) {
     volume.setFilter(s.filter, s.tension, s.oversampling);
     LightComparison c;

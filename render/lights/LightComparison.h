@@ -22,7 +22,7 @@ struct SolidGBuffer {
   std::vector<ProbePoint> points;
   std::vector<std::size_t> pixels;  // row 0 at the top
 };
-SolidGBuffer solidGBuffer(solids::SolidRenderer& solids, const CameraDesc& camera, int width,
+SolidGBuffer solidGBuffer(solids::SolidRenderer& solids, const scene::CameraDesc& camera, int width,
                           int height,
                           const gl::ShaderLibrary& shaders = gl::ShaderLibrary::fromEnvironment());
 
@@ -38,13 +38,13 @@ struct LightComparison {
 // The exact image first, then one per (filter, tension, oversampling) in `settings`, with
 // `volume` already updated with `lights`.
 struct FilterSetting {
-  LightFilter filter = LightFilter::Trilinear;
+  scene::LightFilter filter = scene::LightFilter::Trilinear;
   float tension = 0;
   int oversampling = 1;
   std::string label() const;
 };
 std::vector<LightComparison> compareLights(LightVolume& volume,
-                                           const std::vector<LightParticle>& lights,
+                                           const std::vector<sph::lights::LightParticle>& lights,
                                            const SolidGBuffer& gbuffer, const Vec3& base,
                                            const std::vector<FilterSetting>& settings);
 

@@ -7,18 +7,18 @@
 
 namespace sph::render::lights {
 
-LightView lightView(const CameraDesc& camera, float aspect, float splatSize, float kernelRadius,
-                    float spacing) {
+LightView lightView(const scene::CameraDesc& camera, float aspect, float splatSize,
+                    float kernelRadius, float spacing) {
   LightView v;
   v.projView = cameraFrame(camera, aspect).projView;
   v.margin = (3 * splatSize + 2 * kernelRadius) * spacing;
   return v;
 }
 
-float filterReach(const LightsDesc& d) {
-  float perAxis = d.filter == LightFilter::Nearest     ? 0.5f
-                  : d.filter == LightFilter::Trilinear ? 1.0f
-                                                       : 2.0f;
+float filterReach(const scene::LightsDesc& d) {
+  float perAxis = d.filter == scene::LightFilter::Nearest     ? 0.5f
+                  : d.filter == scene::LightFilter::Trilinear ? 1.0f
+                                                              : 2.0f;
   if (d.oversampling > 1) perAxis += 0.5f;
   return std::sqrt(3.0f) * perAxis * d.voxelSize;
 }
@@ -35,7 +35,7 @@ bool VoxelBox::contains(const std::array<int, 3>& v) const {
   return true;
 }
 
-VoxelBox wholeVolume(const LightsDesc& d) {
+VoxelBox wholeVolume(const scene::LightsDesc& d) {
   VoxelBox b;
   b.hi = d.voxels;
   return b;
@@ -44,14 +44,14 @@ VoxelBox wholeVolume(const LightsDesc& d) {
 namespace {
 
 // A little more than nothing, so float rounding in the planes never drops a voxel or a light.
-float slack(const LightsDesc& d) {
+float slack(const scene::LightsDesc& d) {
   return 0.01f * d.voxelSize;
 }
 
 }  // namespace
 
-VoxelBox viewVoxels(const LightsDesc& d, const LightView& view) {
-  const Frustum frustum(view.projView);
+VoxelBox viewVoxels(const scene::LightsDesc& d, const LightView& view) {
+  const scene::Frustum frustum(view.projView);
   const float grow = view.margin + filterReach(d) + slack(d);
   // Twelve half-spaces n.p + w >= 0: the frustum's six grown by `grow`, the volume's six faces.
   std::array<Eigen::Vector4f, 12> planes;
@@ -100,7 +100,7 @@ VoxelBox viewVoxels(const LightsDesc& d, const LightView& view) {
   return b;
 }
 
-ViewCull::ViewCull(const LightsDesc& d, const LightView& view, const VoxelBox& box)
+ViewCull::ViewCull(const scene::LightsDesc& d, const LightView& view, const VoxelBox& box)
     : frustum_(view.projView),
       reach_(d.range + filterReach(d) + view.margin + slack(d)),
       range_(d.range + slack(d)),
@@ -112,12 +112,12 @@ ViewCull::ViewCull(const LightsDesc& d, const LightView& view, const VoxelBox& b
   }
 }
 
-std::vector<LightParticle> lightsInView(const LightsDesc& d,
-                                        const std::vector<LightParticle>& lights,
-                                        const LightView& view, const VoxelBox& box) {
+std::vector<sph::lights::LightParticle> lightsInView(
+    const scene::LightsDesc& d, const std::vector<sph::lights::LightParticle>& lights,
+    const LightView& view, const VoxelBox& box) {
   const ViewCull cull(d, view, box);
-  std::vector<LightParticle> kept;
-  for (const LightParticle& l : lights)
+  std::vector<sph::lights::LightParticle> kept;
+  for (const sph::lights::LightParticle& l : lights)
     if (cull.keeps(l)) kept.push_back(l);
   return kept;
 }

@@ -23,7 +23,7 @@ namespace sph::render::lights {
 
 // The camera a frame is drawn through, as the volume needs it.
 struct LightView {
-  Mat4 projView;     // the frame's projection * view (sim/scene/Camera.h, cameraFrame)
+  scene::Mat4 projView;  // the frame's projection * view (sim/scene/Camera.h, cameraFrame)
   float margin = 0;  // m: how far outside the frustum a point may still be shaded (splat vertices)
 };
 // The view of `camera` over a width / height `aspect` picture, with the margin of the water's
@@ -31,13 +31,13 @@ struct LightView {
 // (render/splat/SplatBuilder.cpp), and its vertices lie up to halfSize (corner) + max(halfSize,
 // R) (the move onto the surface) from the particle: 3 halfSize + 2 R covers both. `splatSize`
 // and `kernelRadius` in spacings (RenderDesc), `spacing` in m.
-LightView lightView(const CameraDesc& camera, float aspect, float splatSize, float kernelRadius,
-                    float spacing);
+LightView lightView(const scene::CameraDesc& camera, float aspect, float splatSize,
+                    float kernelRadius, float spacing);
 
 // How far (m) from a shaded point the voxel centres the filter reads may lie: per axis half a
 // voxel (nearest), one (trilinear), two (tricubic's 4x4x4), half a voxel more with oversampling
 // (its samples spread over one voxel around the point); times sqrt(3) for the diagonal.
-float filterReach(const LightsDesc& desc);
+float filterReach(const scene::LightsDesc& desc);
 
 // A box of voxels: lo <= v < hi on each axis (empty when any hi <= lo).
 struct VoxelBox {
@@ -46,25 +46,25 @@ struct VoxelBox {
   std::size_t count() const;
   bool contains(const std::array<int, 3>& v) const;
 };
-VoxelBox wholeVolume(const LightsDesc& desc);
+VoxelBox wholeVolume(const scene::LightsDesc& desc);
 // The smallest box holding every voxel a point seen through `view` may read: the volume clipped
 // by the frustum grown by margin + filterReach (the vertices of that convex solid, each the
 // meeting of three of its twelve planes), widened by one voxel for rounding.
-VoxelBox viewVoxels(const LightsDesc& desc, const LightView& view);
+VoxelBox viewVoxels(const scene::LightsDesc& desc, const LightView& view);
 
 // Whether a light may change a voxel of `box` read from `view`: within range + filterReach +
 // margin of the frustum (each plane) and within range of the box's voxel centres. Made once a
 // frame; the CPU accumulation asks it while it bins the lights, with no copy of the kept ones.
 class ViewCull {
  public:
-  ViewCull(const LightsDesc& desc, const LightView& view, const VoxelBox& box);
-  bool keeps(const LightParticle& light) const {
+  ViewCull(const scene::LightsDesc& desc, const LightView& view, const VoxelBox& box);
+  bool keeps(const sph::lights::LightParticle& light) const {
     const Vec3 p(light.position[0], light.position[1], light.position[2]);
     if (empty_ || !frustum_.sphereVisible(p, reach_)) return false;
     return (p.cwiseMax(lo_).cwiseMin(hi_) - p).squaredNorm() <= range_ * range_;
   }
   // What keeps() tests, for a vectorised copy of it (CpuAccumulation.cpp: 16 lights at a time).
-  const Frustum& frustum() const { return frustum_; }
+  const scene::Frustum& frustum() const { return frustum_; }
   float reach() const { return reach_; }
   float range() const { return range_; }
   const Vec3& lo() const { return lo_; }
@@ -72,15 +72,15 @@ class ViewCull {
   bool empty() const { return empty_; }
 
  private:
-  Frustum frustum_;
+  scene::Frustum frustum_;
   float reach_ = 0, range_ = 0;
   Vec3 lo_, hi_;  // the box's outermost voxel centres
   bool empty_ = true;
 };
 
 // The lights of `lights` that ViewCull(desc, view, box) keeps, in their order.
-std::vector<LightParticle> lightsInView(const LightsDesc& desc,
-                                        const std::vector<LightParticle>& lights,
-                                        const LightView& view, const VoxelBox& box);
+std::vector<sph::lights::LightParticle> lightsInView(
+    const scene::LightsDesc& desc, const std::vector<sph::lights::LightParticle>& lights,
+    const LightView& view, const VoxelBox& box);
 
 }  // namespace sph::render::lights

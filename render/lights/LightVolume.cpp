@@ -17,14 +17,14 @@ namespace {
 
 constexpr GLuint kColourUnit = 6, kDirectionUnit = 7;  // extra_lights.glsl's bindings
 
-void setVolumeUniforms(GLuint p, const LightsDesc& d) {
+void setVolumeUniforms(GLuint p, const scene::LightsDesc& d) {
   glProgramUniform3f(p, glGetUniformLocation(p, "u_origin"), d.origin.x(), d.origin.y(),
                      d.origin.z());
   glProgramUniform1f(p, glGetUniformLocation(p, "u_voxelSize"), d.voxelSize);
   glProgramUniform3i(p, glGetUniformLocation(p, "u_voxels"), d.voxels[0], d.voxels[1], d.voxels[2]);
 }
 
-std::string sizeText(const LightsDesc& d) {
+std::string sizeText(const scene::LightsDesc& d) {
   return std::to_string(d.voxels[0]) + " x " + std::to_string(d.voxels[1]) + " x " +
          std::to_string(d.voxels[2]) + " voxels (" +
          std::to_string(static_cast<long long>(d.memoryBytes() / 1048576.0)) + " MiB)";
@@ -32,15 +32,16 @@ std::string sizeText(const LightsDesc& d) {
 
 }  // namespace
 
-float fixedScale(const LightsDesc& d) {
+float fixedScale(const scene::LightsDesc& d) {
   return kFixedSteps / d.intensity;
 }
 
-float safeFixedScale(const LightsDesc& d, const std::vector<LightParticle>& lights) {
+float safeFixedScale(const scene::LightsDesc& d,
+                     const std::vector<sph::lights::LightParticle>& lights) {
   // One light adds at most round(x * scale) <= x * scale + 1/2 steps to a sum, x its brightest
   // value; n of them fit while n (x scale + 1/2) <= 2^31 - 1.
   double brightest = 0;
-  for (const LightParticle& l : lights) {
+  for (const sph::lights::LightParticle& l : lights) {
     const float colour = std::max({l.colour[0], l.colour[1], l.colour[2]}) / d.attenuation[0];
     brightest =
         std::max({brightest, static_cast<double>(colour), static_cast<double>(l.colour[3])});
@@ -53,7 +54,7 @@ float safeFixedScale(const LightsDesc& d, const std::vector<LightParticle>& ligh
 
 namespace {
 
-gl::Texture volumeTexture(const LightsDesc& d, GLenum format) {
+gl::Texture volumeTexture(const scene::LightsDesc& d, GLenum format) {
   gl::Texture t = gl::Texture::create(GL_TEXTURE_3D);
   glTextureStorage3D(t.id(), 1, format, d.voxels[0], d.voxels[1], d.voxels[2]);
   return t;
@@ -85,14 +86,14 @@ bool holds(const VoxelBox& outer, const VoxelBox& inner) {
 // `auto` decided for this GL: llvmpipe and the other software rasterisers run the compute
 // shader's atomics a lane at a time on the CPU, where OpenMP over z slices is 7-10x faster
 // (docs/benchmarks.md, "Particle lights"); a GPU keeps the atomic path.
-LightsDesc decided(LightsDesc desc) {
-  if (desc.accumulate != LightAccumulate::Auto) return desc;
+scene::LightsDesc decided(scene::LightsDesc desc) {
+  if (desc.accumulate != scene::LightAccumulate::Auto) return desc;
   const auto* name = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   const std::string renderer = name ? name : "";
   const bool software = renderer.find("llvmpipe") != std::string::npos ||
                         renderer.find("softpipe") != std::string::npos ||
                         renderer.find("SwiftShader") != std::string::npos;
-  desc.accumulate = software ? LightAccumulate::Cpu : LightAccumulate::Atomic;
+  desc.accumulate = software ? scene::LightAccumulate::Cpu : scene::LightAccumulate::Atomic;
   return desc;
 }
 
@@ -100,13 +101,13 @@ LightsDesc decided(LightsDesc desc) {
 // (the lighting pass's two 3D-texture fetches a pixel are llvmpipe's slowest part of Fig. 11,
 // docs/benchmarks.md) with a filter the CPU pass has; "cpu" asked for where it cannot work is
 // refused as the scene loader refuses it (io/scene/ViewSections.cpp).
-LightsDesc decidedShade(LightsDesc desc) {
-  const bool onCpu = desc.accumulate == LightAccumulate::Cpu;
-  const bool deferred = desc.pipeline == LightPipeline::Deferred;
-  const bool filter = desc.filter != LightFilter::Tricubic;
-  if (desc.shade == LightShade::Auto)
-    desc.shade = onCpu && deferred && filter ? LightShade::Cpu : LightShade::Gl;
-  if (desc.shade == LightShade::Cpu && !(onCpu && deferred && filter))
+scene::LightsDesc decidedShade(scene::LightsDesc desc) {
+  const bool onCpu = desc.accumulate == scene::LightAccumulate::Cpu;
+  const bool deferred = desc.pipeline == scene::LightPipeline::Deferred;
+  const bool filter = desc.filter != scene::LightFilter::Tricubic;
+  if (desc.shade == scene::LightShade::Auto)
+    desc.shade = onCpu && deferred && filter ? scene::LightShade::Cpu : scene::LightShade::Gl;
+  if (desc.shade == scene::LightShade::Cpu && !(onCpu && deferred && filter))
     throw InputError(
         "lights.shade: \"cpu\" needs \"accumulate\": \"cpu\", \"pipeline\": \"deferred\" "
         "and filter nearest or trilinear");
@@ -115,9 +116,9 @@ LightsDesc decidedShade(LightsDesc desc) {
 
 }  // namespace
 
-LightVolume::LightVolume(const LightsDesc& requested, const gl::ShaderLibrary& shaders)
+LightVolume::LightVolume(const scene::LightsDesc& requested, const gl::ShaderLibrary& shaders)
     : desc_(decidedShade(decided(requested))) {
-  const LightsDesc& desc = desc_;
+  const scene::LightsDesc& desc = desc_;
   GLint maxSize = 0;
   glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &maxSize);
   for (int n : desc.voxels) {
@@ -127,9 +128,9 @@ LightVolume::LightVolume(const LightsDesc& requested, const gl::ShaderLibrary& s
                        " per axis); use fewer voxels or a larger lights.volume.voxel_size");
     }
   }
-  const bool paper = desc.accumulate == LightAccumulate::Paper;
-  const bool atomic = desc.accumulate == LightAccumulate::Atomic;
-  if (desc.accumulate != LightAccumulate::Cpu) {
+  const bool paper = desc.accumulate == scene::LightAccumulate::Paper;
+  const bool atomic = desc.accumulate == scene::LightAccumulate::Atomic;
+  if (desc.accumulate != scene::LightAccumulate::Cpu) {
     accumulate_ =
         gl::buildProgram(shaders,
                          {{gl::ShaderStage::Compute,
@@ -179,35 +180,37 @@ LightVolume::LightVolume(const LightsDesc& requested, const gl::ShaderLibrary& s
   box_ = dirty_ = wholeVolume(desc);
 }
 
-void LightVolume::setFilter(LightFilter filter, float tension, int oversampling) {
+void LightVolume::setFilter(scene::LightFilter filter, float tension, int oversampling) {
   desc_.filter = filter, desc_.tension = tension, desc_.oversampling = oversampling;
 }
 
-double LightVolume::update(const std::vector<LightParticle>& all, const LightView* view) {
+double LightVolume::update(const std::vector<sph::lights::LightParticle>& all,
+                           const LightView* view) {
   const auto start = std::chrono::steady_clock::now();
   box_ = view ? viewVoxels(desc_, *view) : wholeVolume(desc_);
-  if (desc_.accumulate == LightAccumulate::Cpu) {
+  if (desc_.accumulate == scene::LightAccumulate::Cpu) {
     scale_ = fixedScale(desc_), rescaled_ = false;  // 64-bit sums: no voxel can wrap
     accumulateOnCpu(all, view);  // culls the lights as it bins them: no copy of the kept ones
     glFinish();
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
-  std::vector<LightParticle> inView;
+  std::vector<sph::lights::LightParticle> inView;
   if (view) inView = lightsInView(desc_, all, *view, box_);
-  const std::vector<LightParticle>& lights = view ? inView : all;
+  const std::vector<sph::lights::LightParticle>& lights = view ? inView : all;
   lastLights_ = lights.size();
   if (lights.size() > capacity_) {
     capacity_ = lights.size();
-    glNamedBufferData(lights_.id(), static_cast<GLsizeiptr>(capacity_ * sizeof(LightParticle)),
+    glNamedBufferData(lights_.id(),
+                      static_cast<GLsizeiptr>(capacity_ * sizeof(sph::lights::LightParticle)),
                       nullptr, GL_DYNAMIC_DRAW);
     if (glGetError() == GL_OUT_OF_MEMORY)
       throw InputError("lights: GL could not allocate a buffer for " +
                        std::to_string(lights.size()) + " light particles");
   }
   if (!lights.empty()) {
-    glNamedBufferSubData(lights_.id(), 0,
-                         static_cast<GLsizeiptr>(lights.size() * sizeof(LightParticle)),
-                         lights.data());
+    glNamedBufferSubData(
+        lights_.id(), 0,
+        static_cast<GLsizeiptr>(lights.size() * sizeof(sph::lights::LightParticle)), lights.data());
   }
   scale_ = fixedScale(desc_), rescaled_ = false;
   if (accumulate(lights.size(), scale_)) {
@@ -219,14 +222,15 @@ double LightVolume::update(const std::vector<LightParticle>& all, const LightVie
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-void LightVolume::accumulateOnCpu(const std::vector<LightParticle>& lights, const LightView* view) {
+void LightVolume::accumulateOnCpu(const std::vector<sph::lights::LightParticle>& lights,
+                                  const LightView* view) {
   std::optional<ViewCull> cull;
   if (view) cull.emplace(desc_, *view, box_);
   lights::accumulateOnCpu(desc_, lights, box_, scale_, cull ? &*cull : nullptr, cpuSums_);
   lastLights_ = cpuSums_.lights;
   stale_ = true;
   // Shaded on the CPU, the lighting pass samples no texture: uploaded only if one is sampled.
-  if (desc_.shade != LightShade::Cpu) upload();
+  if (desc_.shade != scene::LightShade::Cpu) upload();
 }
 
 void LightVolume::upload() const {
@@ -248,7 +252,7 @@ void LightVolume::upload() const {
 }
 
 bool LightVolume::accumulate(std::size_t count, float scale) {
-  const bool paper = desc_.accumulate == LightAccumulate::Paper;
+  const bool paper = desc_.accumulate == scene::LightAccumulate::Paper;
   // Outside this frame's box every voxel must read zero: clear what the last frame left there.
   // Inside it the paper's read-modify-write starts from zero; the atomic path's resolve writes
   // every voxel of the box, so its textures need no clear there (only its integer sums).
@@ -312,7 +316,7 @@ bool LightVolume::accumulate(std::size_t count, float scale) {
 }
 
 bool LightVolume::shadesOnCpu() const {
-  return desc_.shade == LightShade::Cpu && desc_.filter != LightFilter::Tricubic;
+  return desc_.shade == scene::LightShade::Cpu && desc_.filter != scene::LightFilter::Tricubic;
 }
 
 void LightVolume::shadeOnCpu(const splat::GBufferPixels& g, const Vec3& eye,
@@ -322,7 +326,7 @@ void LightVolume::shadeOnCpu(const splat::GBufferPixels& g, const Vec3& eye,
 
 std::vector<Vec3> LightVolume::probeOnCpu(const std::vector<ProbePoint>& points,
                                           const Vec3& base) const {
-  if (desc_.accumulate != LightAccumulate::Cpu)
+  if (desc_.accumulate != scene::LightAccumulate::Cpu)
     throw InputError("lights.shade: the CPU shading needs \"accumulate\": \"cpu\"");
   const CpuShading shading(desc_, cpuSums_, terms);
   std::vector<Vec3> out(points.size());

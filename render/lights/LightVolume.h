@@ -26,10 +26,11 @@ namespace sph::render::lights {
 // distance 0. A frame that crowds more into one voxel is detected (an add that wraps sets a flag)
 // and accumulated again at safeFixedScale, where no voxel can wrap whatever the lights' places.
 inline constexpr float kFixedSteps = 16384.0f;
-float fixedScale(const LightsDesc& desc);
+float fixedScale(const scene::LightsDesc& desc);
 // The largest scale at which every light of `lights` in one voxel, each at its brightest (distance
 // 0: colour / attenuation constant; direction: intensity), still fits an int32, rounding included.
-float safeFixedScale(const LightsDesc& desc, const std::vector<LightParticle>& lights);
+float safeFixedScale(const scene::LightsDesc& desc,
+                     const std::vector<sph::lights::LightParticle>& lights);
 
 // A shading point for probe(): world position, outward unit normal, unit vector to the eye.
 struct ProbePoint {
@@ -41,7 +42,7 @@ class LightVolume final : public splat::ExtraLights {
   // Allocates the textures (and the atomic path's six int32 images). A volume GL cannot hold
   // (larger than GL_MAX_3D_TEXTURE_SIZE, or GL_OUT_OF_MEMORY) throws InputError naming its size
   // and the keys to change.
-  explicit LightVolume(const LightsDesc& desc,
+  explicit LightVolume(const scene::LightsDesc& desc,
                        const gl::ShaderLibrary& shaders = gl::ShaderLibrary::fromEnvironment());
 
   // Clears the volume and accumulates `lights` into it (desc().accumulate: `auto` is decided
@@ -49,12 +50,13 @@ class LightVolume final : public splat::ExtraLights {
   // Returns the seconds it took (culling and upload included). With a `view` (lights.cull), only
   // the voxels a point seen through it may read are cleared, accumulated and resolved, and only
   // the lights that reach them run (LightCulling.h); every other voxel reads zero.
-  double update(const std::vector<LightParticle>& lights, const LightView* view = nullptr);
+  double update(const std::vector<sph::lights::LightParticle>& lights,
+                const LightView* view = nullptr);
 
   // Binds the textures to units 6 and 7 and sets the hook's uniforms on `program`.
   void apply(GLuint program) const override;
   // lights.pipeline "deferred": the frame's opaque surfaces are lit in one full-screen pass.
-  bool deferred() const override { return desc_.pipeline == LightPipeline::Deferred; }
+  bool deferred() const override { return desc_.pipeline == scene::LightPipeline::Deferred; }
   // lights.shade "cpu" (desc().shade, `auto` decided when the volume is made; CpuShading.h):
   // the lighting pass's term computed on the CPU from the last update's sums. A filter set to
   // tricubic since (compare's) goes back to the GL path.
@@ -65,7 +67,7 @@ class LightVolume final : public splat::ExtraLights {
   // Which Phong terms apply() switches on (bit 0 diffuse, bit 1 specular; the error figures).
   int terms = 3;
   // The filter settings may change between frames (compare draws each filter from one volume).
-  void setFilter(LightFilter filter, float tension, int oversampling);
+  void setFilter(scene::LightFilter filter, float tension, int oversampling);
 
   // The shading term of extra_lights.glsl at each point, on the GPU (base colour `base`).
   std::vector<Vec3> probe(const std::vector<ProbePoint>& points, const Vec3& base) const;
@@ -78,7 +80,7 @@ class LightVolume final : public splat::ExtraLights {
   std::vector<std::array<float, 4>> readColour() const;
   std::vector<std::array<float, 4>> readDirection() const;
 
-  const LightsDesc& desc() const { return desc_; }
+  const scene::LightsDesc& desc() const { return desc_; }
   // The fixed-point scale of the last update (atomic), and whether it had to be lowered from
   // fixedScale(desc()) because a voxel would have wrapped.
   float lastFixedScale() const { return scale_; }
@@ -88,7 +90,7 @@ class LightVolume final : public splat::ExtraLights {
   const VoxelBox& lastBox() const { return box_; }
 
  private:
-  LightsDesc desc_;
+  scene::LightsDesc desc_;
   gl::Program accumulate_, resolve_, probe_;
   gl::Texture colour_, direction_;
   std::array<gl::Texture, 6> sums_;
@@ -113,7 +115,8 @@ class LightVolume final : public splat::ExtraLights {
   bool accumulate(std::size_t count, float scale);
   // lights.accumulate "cpu": the sums of `lights` (those `view` keeps, if any) over box_ on the
   // CPU (CpuAccumulation.h); only the voxels they reach are uploaded into the two textures.
-  void accumulateOnCpu(const std::vector<LightParticle>& lights, const LightView* view);
+  void accumulateOnCpu(const std::vector<sph::lights::LightParticle>& lights,
+                       const LightView* view);
 };
 
 }  // namespace sph::render::lights

@@ -4,18 +4,18 @@
 
 namespace sph::render::lights {
 
-SceneLights::SceneLights(const Scene& scene, splat::FrameRenderer& renderer)
-    : volume_(*scene.lights), renderer_(renderer), solids_(lightSolids(scene)) {
-  const LightsDesc& desc = *scene.lights;
+SceneLights::SceneLights(const scene::Scene& scene, splat::FrameRenderer& renderer)
+    : volume_(*scene.lights), renderer_(renderer), solids_(sph::lights::lightSolids(scene)) {
+  const scene::LightsDesc& desc = *scene.lights;
   renderer.setExtraLights(&volume_);
   renderer.setBackground(desc.roomLight * splat::Lighting{}.background);
 }
 
-double SceneLights::update(const Particles& fluid, double time, const CameraDesc* camera,
+double SceneLights::update(const Particles& fluid, double time, const scene::CameraDesc* camera,
                            float aspect) {
-  lights_ = lightParticles(volume_.desc(), fluid, time, solids_);
+  lights_ = sph::lights::lightParticles(volume_.desc(), fluid, time, solids_);
   if (camera && volume_.desc().cull) {
-    const RenderDesc& r = renderer_.desc();
+    const scene::RenderDesc& r = renderer_.desc();
     if (aspect <= 0) aspect = static_cast<float>(r.width) / static_cast<float>(r.height);
     const LightView view =
         lightView(*camera, aspect, r.splatSize, r.kernelRadius, renderer_.spacing());
@@ -26,14 +26,14 @@ double SceneLights::update(const Particles& fluid, double time, const CameraDesc
   return seconds_;
 }
 
-std::unique_ptr<SceneLights> showLights(const Scene& scene, splat::FrameRenderer& renderer) {
+std::unique_ptr<SceneLights> showLights(const scene::Scene& scene, splat::FrameRenderer& renderer) {
   if (!scene.lights) return nullptr;
   return std::make_unique<SceneLights>(scene, renderer);
 }
 
-std::string describeLights(const LightsDesc& d) {
+std::string describeLights(const scene::LightsDesc& d) {
   char line[256];
-  const std::string source = d.source == LightSource::Emitter
+  const std::string source = d.source == scene::LightSource::Emitter
                                  ? std::to_string(d.emitter.count) + " from an emitter"
                                  : std::string("every fluid particle");
   std::snprintf(line, sizeof line,
@@ -41,17 +41,17 @@ std::string describeLights(const LightsDesc& d) {
                 "accumulation%s%s",
                 source.c_str(), d.voxels[0], d.voxels[1], d.voxels[2], d.voxelSize, d.range,
                 nameOf(d.filter), d.oversampling > 1 ? " oversampled" : "", nameOf(d.accumulate),
-                d.pipeline != LightPipeline::Deferred ? ""
-                : d.shade == LightShade::Cpu
+                d.pipeline != scene::LightPipeline::Deferred ? ""
+                : d.shade == scene::LightShade::Cpu
                     ? ", deferred (G-buffer + lighting pass), shaded on the CPU"
                     : ", deferred (G-buffer + lighting pass)",
                 d.cull ? ", culled to the view" : "");
   return line;
 }
 
-bool lightsNeedVelocity(const Scene& scene) {
-  return scene.lights && scene.lights->source == LightSource::Fluid &&
-         scene.lights->colouring == LightColouring::Speed;
+bool lightsNeedVelocity(const scene::Scene& scene) {
+  return scene.lights && scene.lights->source == scene::LightSource::Fluid &&
+         scene.lights->colouring == scene::LightColouring::Speed;
 }
 
 }  // namespace sph::render::lights

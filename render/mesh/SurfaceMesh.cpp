@@ -84,7 +84,7 @@ Lattice buildLattice(const splat::DensityField& field, float cellSize) {
   }
   L.slotOf.assign(static_cast<std::size_t>(total), 0);
   // Mark the blocks within `margin` of each grid cell's particles (their tight box).
-  const NeighbourGrid& grid = field.grid();
+  const grid::NeighbourGrid& grid = field.grid();
   for (std::size_t c = 0; c < grid.cellCount(); ++c) {
     const std::uint32_t b = grid.cellBegin(c), e = grid.cellEnd(c);
     if (b == e) continue;

@@ -16,11 +16,12 @@ constexpr int kStreakWidth = 16, kStreakHeight = 64;  // pixels of one streak im
 
 }  // namespace
 
-RainRenderer::RainRenderer(const RainDesc& desc, const gl::ShaderLibrary& shaders) : desc_(desc) {
+RainRenderer::RainRenderer(const scene::RainDesc& desc, const gl::ShaderLibrary& shaders)
+    : desc_(desc) {
   StreakImages images =
       generateStreakImages(desc.streakLayers, kStreakWidth, kStreakHeight, desc.seed);
   vao_ = gl::VertexArray::create();
-  if (desc.draw == RainDraw::Cpu) {
+  if (desc.draw == scene::RainDraw::Cpu) {
     raster_ = std::make_unique<StreakRaster>(desc, std::move(images));
     return;
   }
@@ -87,7 +88,7 @@ void RainRenderer::setDrops(const sph::rain::RainSystem& rain) {
   }
 }
 
-void RainRenderer::draw(const CameraFrame& camera, const splat::Lighting& lighting) {
+void RainRenderer::draw(const scene::CameraFrame& camera, const splat::Lighting& lighting) {
   if (count_ == 0) return;
   if (raster_) {
     drawCpu(camera, lighting);
@@ -96,7 +97,7 @@ void RainRenderer::draw(const CameraFrame& camera, const splat::Lighting& lighti
   }
 }
 
-void RainRenderer::drawCpu(const CameraFrame& camera, const splat::Lighting& lighting) {
+void RainRenderer::drawCpu(const scene::CameraFrame& camera, const splat::Lighting& lighting) {
   GLint viewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_VIEWPORT, viewport);
   const int w = viewport[2], h = viewport[3];
@@ -150,7 +151,8 @@ void RainRenderer::drawCpu(const CameraFrame& camera, const splat::Lighting& lig
   glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(readFramebuffer));
 }
 
-void RainRenderer::drawTriangles(const CameraFrame& camera, const splat::Lighting& lighting) {
+void RainRenderer::drawTriangles(const scene::CameraFrame& camera,
+                                 const splat::Lighting& lighting) {
   const GLuint p = program_.id();
   glProgramUniformMatrix4fv(p, glGetUniformLocation(p, "u_projView"), 1, GL_FALSE,
                             camera.projView.m.data());

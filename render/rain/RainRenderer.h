@@ -24,21 +24,21 @@ namespace sph::render::rain {
 class RainRenderer final : public splat::FrameLayer {
  public:
   // Builds the program and the streak array texture. Needs a current context.
-  explicit RainRenderer(const RainDesc& desc,
+  explicit RainRenderer(const scene::RainDesc& desc,
                         const gl::ShaderLibrary& shaders = gl::ShaderLibrary::fromEnvironment());
   Order order() const override { return Order::AfterSplats; }
   // Uploads the drops to draw (their positions, streak layers and the common velocity).
   void setDrops(const sph::rain::RainSystem& rain);
-  void draw(const CameraFrame& camera, const splat::Lighting& lighting) override;
+  void draw(const scene::CameraFrame& camera, const splat::Lighting& lighting) override;
 
   std::size_t drops() const { return count_; }
   // "cpu": the fragments of the last draw that passed the depth test; null for "triangles".
   const StreakRaster* raster() const { return raster_.get(); }
 
  private:
-  void drawTriangles(const CameraFrame& camera, const splat::Lighting& lighting);
-  void drawCpu(const CameraFrame& camera, const splat::Lighting& lighting);
-  RainDesc desc_;
+  void drawTriangles(const scene::CameraFrame& camera, const splat::Lighting& lighting);
+  void drawCpu(const scene::CameraFrame& camera, const splat::Lighting& lighting);
+  scene::RainDesc desc_;
   // "cpu": the rasteriser, the drops it draws, the frame's depth and colour, and the texture
   // (with its framebuffer) the composed colour is copied back from.
   std::unique_ptr<StreakRaster> raster_;

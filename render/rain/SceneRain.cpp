@@ -4,12 +4,12 @@
 
 namespace sph::render::rain {
 
-std::unique_ptr<SceneRain> SceneRain::create(const Scene& scene, float aspect) {
+std::unique_ptr<SceneRain> SceneRain::create(const scene::Scene& scene, float aspect) {
   if (!scene.rain || !scene.camera) return nullptr;
   return std::unique_ptr<SceneRain>(new SceneRain(scene, aspect));
 }
 
-SceneRain::SceneRain(const Scene& scene, float aspect)
+SceneRain::SceneRain(const scene::Scene& scene, float aspect)
     : stepper_(sph::rain::RainStepper::create(scene, aspect)), renderer_(*scene.rain) {}
 
 void SceneRain::advanceTo(double time, const Particles& fluid) {
@@ -29,14 +29,14 @@ void SceneRain::show(const sph::rain::RainSystem& drops) {
   renderer_.setDrops(drops);
 }
 
-void SceneRain::follow(const CameraDesc& camera) {
+void SceneRain::follow(const scene::CameraDesc& camera) {
   stepper_->follow(camera);
   renderer_.setDrops(stepper_->system());
 }
 
-std::unique_ptr<SceneRain> showRain(const Scene& scene, splat::FrameRenderer& renderer,
+std::unique_ptr<SceneRain> showRain(const scene::Scene& scene, splat::FrameRenderer& renderer,
                                     splat::FrameLayer* solids) {
-  const RenderDesc& d = renderer.desc();
+  const scene::RenderDesc& d = renderer.desc();
   auto rain = SceneRain::create(scene, static_cast<float>(d.width) / static_cast<float>(d.height));
   if (!rain) return nullptr;
   std::vector<splat::FrameLayer*> layers;

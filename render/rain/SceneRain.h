@@ -20,7 +20,7 @@ class SceneRain {
  public:
   // Null if the scene has no rain section (nothing is allocated then). Needs a current context.
   // `aspect`: the pictures' width / height.
-  static std::unique_ptr<SceneRain> create(const Scene& scene, float aspect);
+  static std::unique_ptr<SceneRain> create(const scene::Scene& scene, float aspect);
 
   // Brings the drops to `time` (s) and uploads them to the layer; `fluid` is the water at `time`.
   // Going back in time starts again from 0.
@@ -32,14 +32,14 @@ class SceneRain {
   void show(const sph::rain::RainSystem& drops);
   // Keeps the drops where `camera` looks without moving them (an update of 0 s: drops out of its
   // rain space are respawned in it), for a camera the user flies (`view`). Uploads them.
-  void follow(const CameraDesc& camera);
+  void follow(const scene::CameraDesc& camera);
   RainRenderer& layer() { return renderer_; }
   const sph::rain::RainSystem& system() const { return stepper_->system(); }
   // Seconds spent in the rain update (CPU) and the upload, cumulative.
   double updateSeconds() const { return updateSeconds_; }
 
  private:
-  SceneRain(const Scene& scene, float aspect);
+  SceneRain(const scene::Scene& scene, float aspect);
   std::unique_ptr<sph::rain::RainStepper> stepper_;
   RainRenderer renderer_;
   double updateSeconds_ = 0;
@@ -48,7 +48,7 @@ class SceneRain {
 // Sets up `renderer` to draw the rain of `scene` (null and nothing done without a rain section):
 // its streaks as a layer after the splats, beside the opaque `solids` (null if not drawn), and
 // its spotlight on the water and solids. Keep the result alive while `renderer` draws.
-std::unique_ptr<SceneRain> showRain(const Scene& scene, splat::FrameRenderer& renderer,
+std::unique_ptr<SceneRain> showRain(const scene::Scene& scene, splat::FrameRenderer& renderer,
                                     splat::FrameLayer* solids);
 
 }  // namespace sph::render::rain

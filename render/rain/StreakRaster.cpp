@@ -23,9 +23,9 @@ Vec3 toSrgb(const Vec3& c) {
   return Vec3(splat::toSrgb(c.x()), splat::toSrgb(c.y()), splat::toSrgb(c.z()));
 }
 
-Frame frameOf(const StreakView& view, const RainDesc& desc, const Vec3& velocity) {
+Frame frameOf(const StreakView& view, const scene::RainDesc& desc, const Vec3& velocity) {
   Frame f{};
-  const Mat4& c = view.camera.projView;
+  const scene::Mat4& c = view.camera.projView;
   const float sx = 0.5f * static_cast<float>(view.width);
   const float sy = 0.5f * static_cast<float>(view.height);
   for (int col = 0; col < 4; ++col) {
@@ -237,7 +237,7 @@ inline float fragmentAlpha(const Streak& s, const Row& r, int x, float frameDept
 
 }  // namespace
 
-StreakRaster::StreakRaster(const RainDesc& desc, StreakImages images)
+StreakRaster::StreakRaster(const scene::RainDesc& desc, StreakImages images)
     : desc_(desc), images_(std::move(images)) {
   // Each image with a border of copies of its edge texels: bilinear filtering with
   // GL_CLAMP_TO_EDGE then needs no clamping of texel indices.
@@ -275,7 +275,7 @@ void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const 
   // 1. The colours: eq. (13), texture x light colour x intensity inside the cone, the unlit
   // tint outside, sRGB-encoded as the frame is.
   const Vec3 unlitSrgb = toSrgb(unlit);
-  const std::optional<SpotlightDesc>& light = desc_.spotlight;
+  const std::optional<scene::SpotlightDesc>& light = desc_.spotlight;
   const Vec3 litSrgb = light ? toSrgb(light->colour * light->intensity) : unlitSrgb;
   auto colourOf = [&](const Vec3& head) {
     if (!light) return unlitSrgb;
@@ -296,7 +296,7 @@ void StreakRaster::draw(const StreakView& view, const StreakDrops& drops, const 
   // the far tier's lines are added to the sums here, in one pass over the drops, and only the
   // other drops are binned, to be drawn over it.
   const bool lod = desc_.lodWidth > 0;
-  const bool sumsTier = lod && desc_.farTier == RainFarTier::Sums;
+  const bool sumsTier = lod && desc_.farTier == scene::RainFarTier::Sums;
   // The bands draw lines only in the lines tier: with the sums every line was added to them
   // already, and the bands hold only the exact streaks (no set-up to do for them).
   const bool lineTier = lod && !sumsTier;

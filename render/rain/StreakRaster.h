@@ -26,7 +26,7 @@ namespace sph::render::rain {
 
 // What the rasteriser needs of the camera: its matrices and a viewport of width x height pixels.
 struct StreakView {
-  CameraFrame camera;
+  scene::CameraFrame camera;
   int width = 0, height = 0;
 };
 
@@ -46,7 +46,7 @@ class StreakRaster {
   static constexpr int kRowsPerBand = StreakBand::kRows;
 
   // `desc`: the streak's exposure and width and the spotlight; `images`: the streak images.
-  StreakRaster(const RainDesc& desc, StreakImages images);
+  StreakRaster(const scene::RainDesc& desc, StreakImages images);
 
   // Rasterises the drops into layer(). `unlit`: the linear colour of a drop outside the
   // spotlight's cone (eq. (13)). `depth`: the frame's window depth per pixel (width x height,
@@ -71,7 +71,7 @@ class StreakRaster {
   void setSimd(bool simd) { simd_ = simd; }
 
  private:
-  RainDesc desc_;
+  scene::RainDesc desc_;
   StreakImages images_;
   std::vector<float> alpha_;    // images_ as floats in [0, 1], each padded by its edge texels
   std::vector<float> profile_;  // alpha_'s rows averaged across the width (rain.lod_width)

@@ -17,14 +17,14 @@ namespace sph::render::solids {
 // The distance from `eye` to the nearest point of `shape` (its walls `thickness` m thick; 0 with
 // the eye inside), m; +infinity for a plane and a tank, which lie under and around the others
 // and go last.
-float nearestDistance(const BoundaryShape& shape, float thickness, const Vec3& eye);
+float nearestDistance(const scene::BoundaryShape& shape, float thickness, const Vec3& eye);
 
 // The shapes' indices into `order`, nearest first (ties in the order given); `distance` is
 // scratch. Both keep their storage between calls: a still scene allocates nothing.
-void frontToBack(const std::vector<BoundaryShape>& shapes, float thickness, const Vec3& eye,
+void frontToBack(const std::vector<scene::BoundaryShape>& shapes, float thickness, const Vec3& eye,
                  std::vector<std::size_t>& order, std::vector<float>& distance);
 // The same, returned.
-std::vector<std::size_t> frontToBack(const std::vector<BoundaryShape>& shapes, float thickness,
-                                     const Vec3& eye);
+std::vector<std::size_t> frontToBack(const std::vector<scene::BoundaryShape>& shapes,
+                                     float thickness, const Vec3& eye);
 
 }  // namespace sph::render::solids

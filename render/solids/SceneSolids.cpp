@@ -4,19 +4,19 @@
 
 namespace sph::render::solids {
 
-std::unique_ptr<SolidRenderer> showSolids(const Scene& scene, splat::FrameRenderer& renderer,
+std::unique_ptr<SolidRenderer> showSolids(const scene::Scene& scene, splat::FrameRenderer& renderer,
                                           const BoundaryPositions& boundary) {
   switch (renderer.desc().solids) {
-    case RenderSolids::None:
+    case scene::RenderSolids::None:
       return nullptr;
-    case RenderSolids::Points: {
+    case scene::RenderSolids::Points: {
       const auto b = boundary();
       renderer.setBoundary(b[0], b[1], b[2]);
       return nullptr;
     }
-    case RenderSolids::Opaque: {
+    case scene::RenderSolids::Opaque: {
       // The walls as thick as the boundary particles' layers (sim/scene/Solid.h has them so).
-      const float thickness = deriveParams(scene).boundaryLayers * scene.solver.spacing;
+      const float thickness = solver::deriveParams(scene).boundaryLayers * scene.solver.spacing;
       auto solids = std::make_unique<SolidRenderer>(scene.boundaries, scene.domain, thickness);
       renderer.setLayers({solids.get()});
       return solids;

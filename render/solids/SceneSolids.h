@@ -20,7 +20,7 @@ using BoundaryPositions = std::function<std::array<std::vector<float>, 3>()>;
 // Sets up `renderer` to draw the walls of `scene`. The returned renderer of opaque solids (null
 // otherwise) is a layer of `renderer`: keep it alive while `renderer` draws. Needs a current
 // context.
-std::unique_ptr<SolidRenderer> showSolids(const Scene& scene, splat::FrameRenderer& renderer,
+std::unique_ptr<SolidRenderer> showSolids(const scene::Scene& scene, splat::FrameRenderer& renderer,
                                           const BoundaryPositions& boundary);
 
 }  // namespace sph::render::solids

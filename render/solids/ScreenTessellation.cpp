@@ -14,14 +14,14 @@ int segmentsFor(float radiusPixels, const TessellationBound& b) {
   if (!std::isfinite(radiusPixels) || b.pixels <= 0) return cap;
   // r sin^2(pi / n) <= pixels  <=>  pi / n <= asin(sqrt(pixels / r)).
   const double s = std::sqrt(std::min(1.0, static_cast<double>(b.pixels) / radiusPixels));
-  const double n = kPi / std::asin(s);
+  const double n = solver::kPi / std::asin(s);
   const int wanted = static_cast<int>(std::ceil(n / 4 - 1e-9)) * 4;
   return std::clamp(wanted, floor, cap);
 }
 
-float radiusOnScreen(const Mat4& pv, int width, int height, const Vec3& centre, float boundRadius,
-                     float radius) {
-  if (!Frustum(pv).sphereVisible(centre, boundRadius)) return 0.0f;
+float radiusOnScreen(const scene::Mat4& pv, int width, int height, const Vec3& centre,
+                     float boundRadius, float radius) {
+  if (!scene::Frustum(pv).sphereVisible(centre, boundRadius)) return 0.0f;
   auto rowDot = [&](int r) {
     return pv(r, 0) * centre.x() + pv(r, 1) * centre.y() + pv(r, 2) * centre.z() + pv(r, 3);
   };
@@ -39,21 +39,21 @@ float radiusOnScreen(const Mat4& pv, int width, int height, const Vec3& centre, 
   return radius * pixelsPerMetre * std::sqrt(1.0f + tx * tx + ty * ty);
 }
 
-int screenSegments(const BoundaryShape& s, float thickness, const Mat4& pv, int width, int height,
-                   const TessellationBound& bound) {
+int screenSegments(const scene::BoundaryShape& s, float thickness, const scene::Mat4& pv, int width,
+                   int height, const TessellationBound& bound) {
   switch (s.kind) {
-    case BoundaryShape::Kind::Sphere:
+    case scene::BoundaryShape::Kind::Sphere:
       return segmentsFor(radiusOnScreen(pv, width, height, s.centre, s.radius, s.radius), bound);
-    case BoundaryShape::Kind::Cup: {
+    case scene::BoundaryShape::Kind::Cup: {
       // From the underside (thickness below the floor) to the rim; the outer wall's radius.
       const float outer = s.radius + thickness, half = 0.5f * (s.height + thickness);
       const Vec3 middle = s.centre + Vec3(0, half - thickness, 0);
       const float bound3 = std::sqrt(outer * outer + half * half);
       return segmentsFor(radiusOnScreen(pv, width, height, middle, bound3, outer), bound);
     }
-    case BoundaryShape::Kind::Tank:
-    case BoundaryShape::Kind::Block:
-    case BoundaryShape::Kind::Plane:
+    case scene::BoundaryShape::Kind::Tank:
+    case scene::BoundaryShape::Kind::Block:
+    case scene::BoundaryShape::Kind::Plane:
       return 0;
   }
   return 0;

@@ -35,12 +35,12 @@ int segmentsFor(float radiusPixels, const TessellationBound& bound);
 // The radius on screen (px) of a length `radius` (m) at the nearest point of the bounding sphere
 // (centre, boundRadius) seen through `projView` (sim/scene/Camera.h's perspective) in a viewport of
 // width x height px: 0 outside the frustum, +infinity where the sphere reaches the eye's plane.
-float radiusOnScreen(const Mat4& projView, int width, int height, const Vec3& centre,
+float radiusOnScreen(const scene::Mat4& projView, int width, int height, const Vec3& centre,
                      float boundRadius, float radius);
 
 // The segments for `shape` (walls `thickness` m thick) seen through projView in width x height
 // px; 0 for the shapes with no curve (tank, block, plane), whose mesh does not depend on it.
-int screenSegments(const BoundaryShape& shape, float thickness, const Mat4& projView, int width,
-                   int height, const TessellationBound& bound);
+int screenSegments(const scene::BoundaryShape& shape, float thickness, const scene::Mat4& projView,
+                   int width, int height, const TessellationBound& bound);
 
 }  // namespace sph::render::solids

@@ -54,7 +54,7 @@ void cylinder(SolidMesh& m, const Vec3& c, float r, float y0, float y1, int segm
               bool outward) {
   const std::uint32_t first = static_cast<std::uint32_t>(m.vertices.size());
   for (int s = 0; s <= segments; ++s) {
-    const float phi = static_cast<float>(2 * kPi) * s / segments;
+    const float phi = static_cast<float>(2 * solver::kPi) * s / segments;
     const Vec3 radial(std::cos(phi), 0, std::sin(phi));
     const Vec3 n = outward ? radial : -radial;
     vertex(m, Vec3(c.x() + r * radial.x(), y0, c.z() + r * radial.z()), n);
@@ -75,7 +75,7 @@ void annulus(SolidMesh& m, const Vec3& c, float r0, float r1, float y, int segme
   const Vec3 n = up ? Vec3(0, 1, 0) : Vec3(0, -1, 0);
   const std::uint32_t first = static_cast<std::uint32_t>(m.vertices.size());
   for (int s = 0; s <= segments; ++s) {
-    const float phi = static_cast<float>(2 * kPi) * s / segments;
+    const float phi = static_cast<float>(2 * solver::kPi) * s / segments;
     const float cx = std::cos(phi), cz = std::sin(phi);
     vertex(m, Vec3(c.x() + r0 * cx, y, c.z() + r0 * cz), n);
     vertex(m, Vec3(c.x() + r1 * cx, y, c.z() + r1 * cz), n);
@@ -100,9 +100,9 @@ void sphere(SolidMesh& m, const Vec3& c, float r, int segments) {
   const int rings = std::max(4, segments / 2);
   const std::uint32_t first = static_cast<std::uint32_t>(m.vertices.size());
   for (int j = 0; j <= rings; ++j) {
-    const float theta = static_cast<float>(kPi) * j / rings;  // from the top
+    const float theta = static_cast<float>(solver::kPi) * j / rings;  // from the top
     for (int s = 0; s <= segments; ++s) {
-      const float phi = static_cast<float>(2 * kPi) * s / segments;
+      const float phi = static_cast<float>(2 * solver::kPi) * s / segments;
       const Vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta),
                    std::sin(theta) * std::sin(phi));
       vertex(m, c + r * n, n);
@@ -119,8 +119,8 @@ void sphere(SolidMesh& m, const Vec3& c, float r, int segments) {
   }
 }
 
-void plane(SolidMesh& m, const BoundaryShape& s, const Aabb& domain) {
-  const PlanePatch p = planeOverDomain(s, domain);
+void plane(SolidMesh& m, const scene::BoundaryShape& s, const Aabb& domain) {
+  const scene::PlanePatch p = planeOverDomain(s, domain);
   auto at = [&](float u, float w) { return p.at(u, w, s.point); };
   // t1 then t2 is counter-clockwise seen from n: the quad faces out of the solid.
   quad(m, at(p.lo1, p.lo2), at(p.hi1, p.lo2), at(p.hi1, p.hi2), at(p.lo1, p.hi2), p.n);
@@ -134,14 +134,15 @@ void SolidMesh::append(const SolidMesh& other) {
   for (std::uint32_t i : other.indices) indices.push_back(offset + i);
 }
 
-SolidMesh tessellate(const BoundaryShape& s, const Aabb& domain, float thickness, int segments) {
+SolidMesh tessellate(const scene::BoundaryShape& s, const Aabb& domain, float thickness,
+                     int segments) {
   SolidMesh m;
   switch (s.kind) {
-    case BoundaryShape::Kind::Block:
+    case scene::BoundaryShape::Kind::Block:
       for (int axis = 0; axis < 3; ++axis)
         for (bool high : {false, true}) boxFace(m, s.lo, s.hi, axis, high, true);
       break;
-    case BoundaryShape::Kind::Tank: {
+    case scene::BoundaryShape::Kind::Tank: {
       // A cut-away: the inner walls and floor (and the lid of a closed tank) facing the fluid,
       // and the rim, but not the shell's outside, so from outside one sees in through the near
       // walls (turned away, culled) to the water, the far walls and the floor.
@@ -163,7 +164,7 @@ SolidMesh tessellate(const BoundaryShape& s, const Aabb& domain, float thickness
       }
       break;
     }
-    case BoundaryShape::Kind::Cup: {
+    case scene::BoundaryShape::Kind::Cup: {
       const Vec3& c = s.centre;
       const float top = c.y() + s.height, bottom = c.y() - thickness;
       cylinder(m, c, s.radius, c.y(), top, segments, false);               // inside wall
@@ -173,10 +174,10 @@ SolidMesh tessellate(const BoundaryShape& s, const Aabb& domain, float thickness
       annulus(m, c, 0, s.radius + thickness, bottom, segments, false);     // underside
       break;
     }
-    case BoundaryShape::Kind::Sphere:
+    case scene::BoundaryShape::Kind::Sphere:
       sphere(m, s.centre, s.radius, segments);
       break;
-    case BoundaryShape::Kind::Plane:
+    case scene::BoundaryShape::Kind::Plane:
       plane(m, s, domain);
       break;
   }

@@ -33,7 +33,7 @@ struct SolidMesh {
 // sim/scene/Solid.h has them. A plane is cut to the shadow of `domain`. `segments`: around a cup or a
 // sphere's equator (a sphere has segments / 2 rings); SolidRenderer picks them for each draw's
 // size on screen (ScreenTessellation.h).
-SolidMesh tessellate(const BoundaryShape& shape, const Aabb& domain, float thickness,
+SolidMesh tessellate(const scene::BoundaryShape& shape, const Aabb& domain, float thickness,
                      int segments = 64);
 
 }  // namespace sph::render::solids

@@ -13,7 +13,7 @@
 
 namespace sph::render::solids {
 
-SolidRenderer::SolidRenderer(const std::vector<BoundaryShape>& shapes, const Aabb& domain,
+SolidRenderer::SolidRenderer(const std::vector<scene::BoundaryShape>& shapes, const Aabb& domain,
                              float thickness, const gl::ShaderLibrary& shaders)
     : shaders_(shaders),
       shapes_(shapes),
@@ -35,7 +35,7 @@ SolidRenderer::SolidRenderer(const std::vector<BoundaryShape>& shapes, const Aab
   glVertexArrayElementBuffer(vao, indices_.id());
 }
 
-void SolidRenderer::fit(const Mat4& projView) {
+void SolidRenderer::fit(const scene::Mat4& projView) {
   GLint viewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_VIEWPORT, viewport);
   bool changed = false;
@@ -64,7 +64,7 @@ void SolidRenderer::fit(const Mat4& projView) {
                     mesh.indices.data(), GL_STATIC_DRAW);
 }
 
-void SolidRenderer::setLighting(GLuint p, const CameraFrame& camera,
+void SolidRenderer::setLighting(GLuint p, const scene::CameraFrame& camera,
                                 const splat::Lighting& lighting) const {
   splat::setVec3(p, "u_eye", camera.eye);
   // The scene's light, the solids' own material; no sky reflection (they are not water).
@@ -102,14 +102,14 @@ GLuint SolidRenderer::program(Pass pass, const splat::Lighting& lighting) {
   return p.id();
 }
 
-void SolidRenderer::draw(const CameraFrame& camera, const splat::Lighting& lighting) {
+void SolidRenderer::draw(const scene::CameraFrame& camera, const splat::Lighting& lighting) {
   if (shapes_.empty()) return;
   const GLuint p = program(lighting.extra != nullptr ? Pass::Lit : Pass::Plain, lighting);
   setLighting(p, camera, lighting);
   drawWith(p, camera);
 }
 
-bool SolidRenderer::drawGBuffer(const CameraFrame& camera, const splat::Lighting& lighting) {
+bool SolidRenderer::drawGBuffer(const scene::CameraFrame& camera, const splat::Lighting& lighting) {
   if (shapes_.empty()) return true;
   const GLuint p = program(Pass::GBuffer, lighting);
   setLighting(p, camera, lighting);
@@ -117,7 +117,7 @@ bool SolidRenderer::drawGBuffer(const CameraFrame& camera, const splat::Lighting
   return true;
 }
 
-void SolidRenderer::drawWith(GLuint p, const CameraFrame& camera) {
+void SolidRenderer::drawWith(GLuint p, const scene::CameraFrame& camera) {
   fit(camera.projView);
   if (indexCount_ == 0) return;
   glProgramUniformMatrix4fv(p, glGetUniformLocation(p, "u_projView"), 1, GL_FALSE,

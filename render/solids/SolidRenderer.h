@@ -25,17 +25,18 @@ class SolidRenderer final : public splat::FrameLayer {
  public:
   // Keeps `shapes` (walls `thickness` m thick) to tessellate for each draw's camera and viewport
   // (`tessellation`). Needs a current context.
-  SolidRenderer(const std::vector<BoundaryShape>& shapes, const Aabb& domain, float thickness,
+  SolidRenderer(const std::vector<scene::BoundaryShape>& shapes, const Aabb& domain,
+                float thickness,
                 const gl::ShaderLibrary& shaders = gl::ShaderLibrary::fromEnvironment());
   Order order() const override { return Order::BeforeSplats; }
-  void draw(const CameraFrame& camera, const splat::Lighting& lighting) override;
+  void draw(const scene::CameraFrame& camera, const splat::Lighting& lighting) override;
   // The deferred pipeline's G-buffer (lights.pipeline "deferred"): the same lighting less the
   // particle lights, with albedo, position and normal per pixel; its program is built on first use.
-  bool drawGBuffer(const CameraFrame& camera, const splat::Lighting& lighting) override;
+  bool drawGBuffer(const scene::CameraFrame& camera, const splat::Lighting& lighting) override;
 
   // The same triangles with `program` (its vertex stage solid.vert: u_projView), depth tested,
   // into the current framebuffer and viewport: G-buffers (render/lights/LightComparison.h).
-  void drawWith(GLuint program, const CameraFrame& camera);
+  void drawWith(GLuint program, const scene::CameraFrame& camera);
 
   // The triangles of the last draw (0 before the first).
   std::size_t triangles() const { return indexCount_ / 3; }
@@ -53,13 +54,13 @@ class SolidRenderer final : public splat::FrameLayer {
   bool frontToBack = true;
 
  private:
-  void setLighting(GLuint program, const CameraFrame& camera,
+  void setLighting(GLuint program, const scene::CameraFrame& camera,
                    const splat::Lighting& lighting) const;
   // Tessellates the shapes for `projView` in the current viewport where a shape's segments
   // change, and uploads the mesh; nothing (no allocation) while they stay.
-  void fit(const Mat4& projView);
+  void fit(const scene::Mat4& projView);
   gl::ShaderLibrary shaders_;
-  std::vector<BoundaryShape> shapes_;
+  std::vector<scene::BoundaryShape> shapes_;
   Aabb domain_;
   float thickness_;
   std::vector<int> segments_;  // per shape, what the buffers hold; -1 before the first draw

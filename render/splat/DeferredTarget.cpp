@@ -15,7 +15,7 @@ namespace {
 
 // projView's inverse, column-major, in double: the CPU shading's way from a pixel's depth back to
 // the world.
-std::array<double, 16> inverse(const Mat4& m) {
+std::array<double, 16> inverse(const scene::Mat4& m) {
   Eigen::Matrix4d a;
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c) a(r, c) = m(r, c);
@@ -91,8 +91,8 @@ void DeferredTarget::begin(int width, int height, bool cpu, bool points) {
   glClearNamedFramebufferfi(f, GL_DEPTH_STENCIL, 0, 1.0f, 0);
 }
 
-void DeferredTarget::shadeOnCpu(const ExtraLights& lights, const Vec3& eye, const Mat4& projView,
-                                const std::uint8_t* background) {
+void DeferredTarget::shadeOnCpu(const ExtraLights& lights, const Vec3& eye,
+                                const scene::Mat4& projView, const std::uint8_t* background) {
   if (cpuLighting_.id() == 0) {
     cpuLighting_ = gl::buildProgram(shaders_,
                                     {{gl::ShaderStage::Vertex, "deferred_lighting.vert"},
@@ -142,7 +142,7 @@ void DeferredTarget::shadeOnCpu(const ExtraLights& lights, const Vec3& eye, cons
 }
 
 double DeferredTarget::light(const Output& out, const ExtraLights& lights, const Vec3& eye,
-                             const Mat4& projView) {
+                             const scene::Mat4& projView) {
   const auto start = std::chrono::steady_clock::now();
   const bool cpu = lights.shadesOnCpu();
   // The blit covers (0, 0, width, height) of the target: only where that is the viewport the pass

@@ -48,7 +48,8 @@ class DeferredTarget {
   // full-screen pass, no depth written (docs/lights.md, "Shading on the CPU"); only where the
   // viewport is the whole target (0, 0, width, height), else the pass runs. `projView`: the
   // frame's.
-  double light(const Output& out, const ExtraLights& lights, const Vec3& eye, const Mat4& projView);
+  double light(const Output& out, const ExtraLights& lights, const Vec3& eye,
+               const scene::Mat4& projView);
 
  private:
   const gl::ShaderLibrary& shaders_;
@@ -65,7 +66,7 @@ class DeferredTarget {
   std::vector<std::uint8_t> colours_;
   // Reads the G-buffer back, computes each pixel's colour on the CPU and uploads it into final_;
   // `background` (RGB, null: left 0) where no surface is.
-  void shadeOnCpu(const ExtraLights& lights, const Vec3& eye, const Mat4& projView,
+  void shadeOnCpu(const ExtraLights& lights, const Vec3& eye, const scene::Mat4& projView,
                   const std::uint8_t* background);
   int width_ = 0, height_ = 0;
   int drawsPosition_ = -1;  // this frame's draw buffers: 1 with the position target, 0 without

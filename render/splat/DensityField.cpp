@@ -13,7 +13,8 @@ namespace {
 // restrict pointers with the kernel's branch-free shape (sim/solver/Kernels.h) so they vectorise (as
 // lambdas over the members they compiled to scalar code: 2 ns per candidate).
 float poly6Range(const float* __restrict x, const float* __restrict y, const float* __restrict z,
-                 std::uint32_t b, std::uint32_t e, float px, float py, float pz, Poly6Shape poly6) {
+                 std::uint32_t b, std::uint32_t e, float px, float py, float pz,
+                 solver::Poly6Shape poly6) {
   float s = 0;
 #pragma omp simd reduction(+ : s)
   for (std::uint32_t j = b; j < e; ++j) {
@@ -29,7 +30,7 @@ struct GradientSums {
 
 void gradientRange(const float* __restrict x, const float* __restrict y, const float* __restrict z,
                    const float* __restrict inverseDensity, std::uint32_t b, std::uint32_t e,
-                   float px, float py, float pz, Poly6Shape poly6, GradientSums& out) {
+                   float px, float py, float pz, solver::Poly6Shape poly6, GradientSums& out) {
   float s = 0, ax = 0, ay = 0, az = 0, bx = 0, by = 0, bz = 0;
 #pragma omp simd reduction(+ : s, ax, ay, az, bx, by, bz)
   for (std::uint32_t j = b; j < e; ++j) {
@@ -51,10 +52,10 @@ void gradientRange(const float* __restrict x, const float* __restrict y, const f
 DensityField::DensityField(const float* x, const float* y, const float* z, std::size_t n,
                            float spacing, float radius, float restDensity)
     : kernels_(radius * spacing), spacing_(spacing), restDensity_(restDensity) {
-  const double bulk = latticeKernelSum(kernels_, DensityKernel::Poly6, spacing);
+  const double bulk = latticeKernelSum(kernels_, scene::DensityKernel::Poly6, spacing);
   massNorm_ = static_cast<float>(restDensity / bulk);
-  flatSurfaceFraction_ =
-      static_cast<float>(latticeKernelSum(kernels_, DensityKernel::Poly6, spacing, 0) / bulk);
+  flatSurfaceFraction_ = static_cast<float>(
+      latticeKernelSum(kernels_, scene::DensityKernel::Poly6, spacing, 0) / bulk);
   std::vector<std::uint32_t> order;
   grid_.build(x, y, z, n, kernels_.h, order);
   x_.resize(n), y_.resize(n), z_.resize(n);
@@ -71,7 +72,7 @@ DensityField::DensityField(const float* x, const float* y, const float* z, std::
 }
 
 float DensityField::density(const Vec3& p) const {
-  const Poly6Shape poly6{kernels_.h2};
+  const solver::Poly6Shape poly6{kernels_.h2};
   const float *x = x_.data(), *y = y_.data(), *z = z_.data();
   float sum = 0;
   grid_.forEachNeighbourRange(grid_.cellOf(p.x(), p.y(), p.z()),
@@ -84,7 +85,7 @@ float DensityField::density(const Vec3& p) const {
 void DensityField::densityAlongX(const float* xs, int count, float py, float pz, float* out) const {
   if (count <= 0) return;
   const float h2 = kernels_.h2, h = kernels_.h;
-  const Poly6Shape poly6{h2};
+  const solver::Poly6Shape poly6{h2};
   const auto [xmin, xmax] = std::minmax_element(xs, xs + count);
   const float lo[3] = {*xmin - h, py - h, pz - h}, hi[3] = {*xmax + h, py + h, pz + h};
   // Candidates within h of the line: their x and squared distance from it, appended without a
@@ -118,7 +119,7 @@ void DensityField::densityAlongX(const float* xs, int count, float py, float pz,
 
 void DensityField::densityAndGradients(const Vec3& p, float& density, Vec3& gradient,
                                        Vec3& densityGradient) const {
-  const Poly6Shape poly6{kernels_.h2};
+  const solver::Poly6Shape poly6{kernels_.h2};
   const float *x = x_.data(), *y = y_.data(), *z = z_.data(), *inv = inverseDensity_.data();
   GradientSums sums;
   grid_.forEachNeighbourRange(grid_.cellOf(p.x(), p.y(), p.z()),

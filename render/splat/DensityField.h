@@ -50,7 +50,7 @@ class DensityField {
   float flatSurfaceFraction() const { return flatSurfaceFraction_; }
 
   // The particles binned in cells of the kernel radius (sorted slots).
-  const NeighbourGrid& grid() const { return grid_; }
+  const grid::NeighbourGrid& grid() const { return grid_; }
 
   const std::vector<float>& sortedX() const { return x_; }
   const std::vector<float>& sortedY() const { return y_; }
@@ -58,9 +58,9 @@ class DensityField {
   const std::vector<float>& sortedDensity() const { return density_; }
 
  private:
-  Kernels kernels_;
+  solver::Kernels kernels_;
   float spacing_ = 0, restDensity_ = 0, massNorm_ = 0;  // D = massNorm * sum poly6
-  NeighbourGrid grid_;
+  grid::NeighbourGrid grid_;
   std::vector<float> x_, y_, z_, density_, inverseDensity_;
   float meanDensity_ = 0, flatSurfaceFraction_ = 0;
 };

@@ -15,11 +15,11 @@ class FrameLayer {
   virtual ~FrameLayer() = default;
   virtual Order order() const = 0;
   // Draws with the current framebuffer, viewport and depth buffer (a GL context is current).
-  virtual void draw(const CameraFrame& camera, const Lighting& lighting) = 0;
+  virtual void draw(const scene::CameraFrame& camera, const Lighting& lighting) = 0;
   // The deferred pipeline (ExtraLights::deferred(); render/splat/DeferredTarget.h): writes the
   // layer's opaque surfaces into the bound G-buffer (shaders/gbuffer_out.glsl) and returns true;
   // false: the layer cannot, and is drawn forward (draw()) after the lighting pass.
-  virtual bool drawGBuffer(const CameraFrame& /*camera*/, const Lighting& /*lighting*/) {
+  virtual bool drawGBuffer(const scene::CameraFrame& /*camera*/, const Lighting& /*lighting*/) {
     return false;
   }
 };

@@ -9,7 +9,7 @@
 
 namespace sph::render::splat {
 
-SplatParams splatParams(const RenderDesc& d) {
+SplatParams splatParams(const scene::RenderDesc& d) {
   SplatParams p;
   p.kernelRadius = d.kernelRadius;
   p.surfaceThreshold = d.surfaceThreshold;
@@ -21,24 +21,24 @@ SplatParams splatParams(const RenderDesc& d) {
   return p;
 }
 
-Lighting lighting(const RenderDesc& d) {
+Lighting lighting(const scene::RenderDesc& d) {
   Lighting l;
   l.environment = d.environment;
   l.alpha = d.alpha;
   return l;
 }
 
-CameraDesc framingCamera(const Particles& p, float aspect) {
+scene::CameraDesc framingCamera(const Particles& p, float aspect) {
   Vec3 lo = Vec3::Constant(std::numeric_limits<float>::max()), hi = -lo;
   for (std::size_t i = 0; i < p.size(); ++i)
     lo = lo.cwiseMin(p.position(i)), hi = hi.cwiseMax(p.position(i));
   if (p.empty()) lo = hi = Vec3::Zero();
-  CameraDesc c;
+  scene::CameraDesc c;
   c.target = 0.5f * (lo + hi);
   const float radius = std::max(0.5f * (hi - lo).norm(), 1e-3f);
   c.fovYDegrees = 40;
   const float fov =
-      std::min(c.fovYDegrees, c.fovYDegrees * aspect) * static_cast<float>(kPi) / 180.0f;
+      std::min(c.fovYDegrees, c.fovYDegrees * aspect) * static_cast<float>(solver::kPi) / 180.0f;
   const float distance = radius / std::sin(0.5f * fov) * 1.05f;
   c.position = c.target + distance * Vec3(0.55f, 0.45f, 0.7f).normalized();
   c.near = std::max(1e-4f, distance - 2 * radius);
@@ -46,7 +46,7 @@ CameraDesc framingCamera(const Particles& p, float aspect) {
   return c;
 }
 
-FrameRenderer::FrameRenderer(const RenderDesc& desc, float spacing, float restDensity,
+FrameRenderer::FrameRenderer(const scene::RenderDesc& desc, float spacing, float restDensity,
                              const gl::ShaderLibrary& shaders)
     : desc_(desc),
       spacing_(spacing),
@@ -69,12 +69,12 @@ void FrameRenderer::prepare(const Particles& p) {
   fieldSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-RenderedSplats FrameRenderer::render(SplatKind kind, const CameraDesc& camera) {
+RenderedSplats FrameRenderer::render(SplatKind kind, const scene::CameraDesc& camera) {
   const SplatFrame splats = build(kind, camera);
   return result(splats, renderer_.render(splats, kind, camera, lighting_));
 }
 
-RenderedSplats FrameRenderer::renderScored(SplatKind kind, const CameraDesc& camera) {
+RenderedSplats FrameRenderer::renderScored(SplatKind kind, const scene::CameraDesc& camera) {
   const SplatFrame splats = build(kind, camera);
   // The first draw of a program compiles llvmpipe's shader variants for it (5-15 ms, once per
   // run): not part of a frame's time, so the timed draw is the second.
@@ -86,8 +86,8 @@ RenderedSplats FrameRenderer::renderScored(SplatKind kind, const CameraDesc& cam
   return result(splats, std::move(scored));
 }
 
-SplatFrame FrameRenderer::build(SplatKind kind, const CameraDesc& camera) const {
-  const CameraFrame cf = cameraFrame(camera, static_cast<float>(desc_.width) / desc_.height);
+SplatFrame FrameRenderer::build(SplatKind kind, const scene::CameraDesc& camera) const {
+  const scene::CameraFrame cf = cameraFrame(camera, static_cast<float>(desc_.width) / desc_.height);
   return buildSplats(*field_, params_, kind, cf.projView, cf.eye);
 }
 
@@ -102,9 +102,10 @@ RenderedSplats FrameRenderer::result(const SplatFrame& splats, RenderImage image
   return out;
 }
 
-FrameTimings FrameRenderer::drawToScreen(SplatKind kind, const CameraDesc& camera, int width,
+FrameTimings FrameRenderer::drawToScreen(SplatKind kind, const scene::CameraDesc& camera, int width,
                                          int height) {
-  const CameraFrame cf = cameraFrame(camera, static_cast<float>(width) / std::max(height, 1));
+  const scene::CameraFrame cf =
+      cameraFrame(camera, static_cast<float>(width) / std::max(height, 1));
   const SplatFrame splats = buildSplats(*field_, params_, kind, cf.projView, cf.eye);
   FrameTimings t;
   t.field = fieldSeconds_;
@@ -116,13 +117,13 @@ FrameTimings FrameRenderer::drawToScreen(SplatKind kind, const CameraDesc& camer
 }
 
 // The solids, drawn by GL as in the pictures, are what the reference's rays end on.
-std::optional<Backdrop> FrameRenderer::backdrop(const CameraDesc& camera,
+std::optional<Backdrop> FrameRenderer::backdrop(const scene::CameraDesc& camera,
                                                 const Lighting& lighting) {
   if (!renderer_.hasLayers(FrameLayer::Order::BeforeSplats)) return std::nullopt;
   return renderer_.drawBackdrop(camera, lighting);
 }
 
-RenderImage FrameRenderer::reference(const CameraDesc& camera) {
+RenderImage FrameRenderer::reference(const scene::CameraDesc& camera) {
   Lighting opaque = lighting_;
   opaque.alpha = 1;
   const std::optional<Backdrop> b = backdrop(camera, opaque);
@@ -130,12 +131,12 @@ RenderImage FrameRenderer::reference(const CameraDesc& camera) {
                            desc_.width, desc_.height, opaque, b ? &*b : nullptr);
 }
 
-RenderImage FrameRenderer::referenceOfEveryParticle(const CameraDesc& camera) {
+RenderImage FrameRenderer::referenceOfEveryParticle(const scene::CameraDesc& camera) {
   Lighting opaque = lighting_;
   opaque.alpha = 1;
   const std::optional<Backdrop> b = backdrop(camera, opaque);
   // A ball of the particle's volume, spacing^3.
-  const float radius = std::cbrt(3.0f / (4.0f * static_cast<float>(kPi))) * spacing_;
+  const float radius = std::cbrt(3.0f / (4.0f * static_cast<float>(solver::kPi))) * spacing_;
   return raytraceParticleBalls(*field_, radius, camera, desc_.width, desc_.height, opaque,
                                b ? &*b : nullptr);
 }

@@ -17,12 +17,12 @@
 
 namespace sph::render::splat {
 
-SplatParams splatParams(const RenderDesc& desc);
-Lighting lighting(const RenderDesc& desc);
+SplatParams splatParams(const scene::RenderDesc& desc);
+Lighting lighting(const scene::RenderDesc& desc);
 
 // A camera that frames the particles' box from the front-right-above (for caches whose scene
 // has no camera).
-CameraDesc framingCamera(const Particles& particles, float aspect);
+scene::CameraDesc framingCamera(const Particles& particles, float aspect);
 
 struct FrameTimings {
   double field = 0;  // grid + particle densities (part of surface detection)
@@ -40,7 +40,7 @@ struct RenderedSplats {
 
 class FrameRenderer {
  public:
-  FrameRenderer(const RenderDesc& desc, float spacing, float restDensity,
+  FrameRenderer(const scene::RenderDesc& desc, float spacing, float restDensity,
                 const gl::ShaderLibrary& shaders = gl::ShaderLibrary::fromEnvironment());
 
   // Walls to show behind and around the fluid (boundary particle positions, m), translucent;
@@ -53,21 +53,21 @@ class FrameRenderer {
 
   // Splats of `kind` for the prepared particles, drawn offscreen and read back (colour only: the
   // pictures `render` and `run` write).
-  RenderedSplats render(SplatKind kind, const CameraDesc& camera);
+  RenderedSplats render(SplatKind kind, const scene::CameraDesc& camera);
   // The same frame for the error figures: the image with its normals and coverage, and the
   // timings of render() with a warm draw (the splats are built once and drawn three times: to
   // compile shaders, timed as a picture, and with the normal target, which is not part of making
   // a picture and would cost llvmpipe ~3 ms of the draw).
-  RenderedSplats renderScored(SplatKind kind, const CameraDesc& camera);
+  RenderedSplats renderScored(SplatKind kind, const scene::CameraDesc& camera);
   // The same into the current window's framebuffer.
-  FrameTimings drawToScreen(SplatKind kind, const CameraDesc& camera, int width, int height);
+  FrameTimings drawToScreen(SplatKind kind, const scene::CameraDesc& camera, int width, int height);
   // The reference ray-marched image of the same SD surface, with the solids (the layers drawn
   // before the splats) where the pictures have them.
-  RenderImage reference(const CameraDesc& camera);
+  RenderImage reference(const scene::CameraDesc& camera);
   // Every particle as a ball of its own volume (radius 0.62 spacings), ray-traced, with the same
   // solids: thin jets and lone drops whose D stays below SD, which the SD surface (and so the
   // reference) drops. For judging the splats' jets, not an error reference.
-  RenderImage referenceOfEveryParticle(const CameraDesc& camera);
+  RenderImage referenceOfEveryParticle(const scene::CameraDesc& camera);
 
   // Layers drawn in every picture with the splats (render/splat/FrameLayer.h), not owned.
   void setLayers(std::vector<FrameLayer*> layers) { renderer_.setLayers(std::move(layers)); }
@@ -78,16 +78,18 @@ class FrameRenderer {
   // The colour of empty pixels (linear RGB).
   void setBackground(const Vec3& colour) { lighting_.background = colour; }
   // The rain's spotlight lights the water and solids of every picture (Lighting::spotlight).
-  void setSpotlight(const std::optional<SpotlightDesc>& light) { lighting_.spotlight = light; }
+  void setSpotlight(const std::optional<scene::SpotlightDesc>& light) {
+    lighting_.spotlight = light;
+  }
 
-  const RenderDesc& desc() const { return desc_; }
+  const scene::RenderDesc& desc() const { return desc_; }
   float spacing() const { return spacing_; }  // m, the fluid's particle spacing
 
  private:
-  SplatFrame build(SplatKind kind, const CameraDesc& camera) const;
+  SplatFrame build(SplatKind kind, const scene::CameraDesc& camera) const;
   RenderedSplats result(const SplatFrame& splats, RenderImage image) const;
-  std::optional<Backdrop> backdrop(const CameraDesc& camera, const Lighting& lighting);
-  RenderDesc desc_;
+  std::optional<Backdrop> backdrop(const scene::CameraDesc& camera, const Lighting& lighting);
+  scene::RenderDesc desc_;
   float spacing_, restDensity_;
   SplatParams params_;
   Lighting lighting_;

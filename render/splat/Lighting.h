@@ -32,7 +32,7 @@ struct Lighting {
   // The rain's cone spotlight (seed 002 section 3.2), lighting water and solids in the GL frame
   // through shaders/extra_lights.glsl; not in shade() below (the reference ray-marcher and the
   // error figures never see it). None: no rain spotlight.
-  std::optional<SpotlightDesc> spotlight;
+  std::optional<scene::SpotlightDesc> spotlight;
 };
 
 // Colour of a surface point with outward unit normal n seen along unit `toEye`, in [0, 1].

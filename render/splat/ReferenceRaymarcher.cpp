@@ -15,8 +15,8 @@ namespace {
 // firstHit(eye, dir, t0, t1) returns (a distance along dir, or a negative number for none) with
 // the normal -gradC there, as the splats are shaded.
 template <class FirstHit>
-RenderImage castRays(const DensityField& field, float grow, const CameraDesc& camera, int width,
-                     int height, const Lighting& lighting, const Backdrop* backdrop,
+RenderImage castRays(const DensityField& field, float grow, const scene::CameraDesc& camera,
+                     int width, int height, const Lighting& lighting, const Backdrop* backdrop,
                      FirstHit&& firstHit) {
   const auto start = std::chrono::steady_clock::now();
   RenderImage image;
@@ -33,7 +33,8 @@ RenderImage castRays(const DensityField& field, float grow, const CameraDesc& ca
   const Vec3 forward = (camera.target - eye).normalized();
   const Vec3 right = forward.cross(camera.up).normalized();
   const Vec3 up = right.cross(forward);
-  const float tanHalf = std::tan(0.5f * camera.fovYDegrees * static_cast<float>(kPi) / 180.0f);
+  const float tanHalf =
+      std::tan(0.5f * camera.fovYDegrees * static_cast<float>(solver::kPi) / 180.0f);
   const float aspect = static_cast<float>(width) / height;
 
   parallelForDynamic(static_cast<std::size_t>(height), 1, [&](std::size_t row) {
@@ -77,7 +78,7 @@ RenderImage castRays(const DensityField& field, float grow, const CameraDesc& ca
 
 }  // namespace
 
-RenderImage raymarchReference(const DensityField& field, float SD, const CameraDesc& camera,
+RenderImage raymarchReference(const DensityField& field, float SD, const scene::CameraDesc& camera,
                               int width, int height, const Lighting& lighting,
                               const Backdrop* backdrop) {
   // The field is zero beyond the kernel radius of every particle.
@@ -103,9 +104,9 @@ RenderImage raymarchReference(const DensityField& field, float SD, const CameraD
   return castRays(field, R, camera, width, height, lighting, backdrop, crossing);
 }
 
-RenderImage raytraceParticleBalls(const DensityField& field, float radius, const CameraDesc& camera,
-                                  int width, int height, const Lighting& lighting,
-                                  const Backdrop* backdrop) {
+RenderImage raytraceParticleBalls(const DensityField& field, float radius,
+                                  const scene::CameraDesc& camera, int width, int height,
+                                  const Lighting& lighting, const Backdrop* backdrop) {
   // Segments of a grid cell's length; the balls whose entry point can lie in a segment have their
   // centres within `radius` of it, so in the cells of its box grown by `radius`.
   const float segment = field.grid().cellSize();

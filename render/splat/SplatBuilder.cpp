@@ -94,7 +94,7 @@ float surfaceDensity(const DensityField& field, float surfaceThreshold) {
 }
 
 SplatFrame buildSplats(const DensityField& field, const SplatParams& params, SplatKind kind,
-                       const Mat4& projView, const Vec3& eye) {
+                       const scene::Mat4& projView, const Vec3& eye) {
   SplatFrame frame;
   frame.particles = field.size();
   frame.ID = field.meanDensity();
@@ -104,7 +104,7 @@ SplatFrame buildSplats(const DensityField& field, const SplatParams& params, Spl
 
   // 1. Surface particles inside the frustum (sorted slots, in order: deterministic).
   auto t0 = Clock::now();
-  const Frustum frustum(projView);
+  const scene::Frustum frustum(projView);
   const auto& x = field.sortedX();
   const auto& y = field.sortedY();
   const auto& z = field.sortedZ();
@@ -173,7 +173,7 @@ SplatFrame buildSplats(const DensityField& field, const SplatParams& params, Spl
         float PD = sp.density;
         Vec3 g = sp.gradient, gD = sp.densityGradient;
         if (v > 0) {
-          const float angle = static_cast<float>(kPi) * (0.25f + 0.5f * (v - 1));
+          const float angle = static_cast<float>(solver::kPi) * (0.25f + 0.5f * (v - 1));
           q += frame.halfSize * (std::cos(angle) * t1 + std::sin(angle) * t2);
           field.densityAndGradients(q, PD, g, gD);
         }

@@ -36,7 +36,7 @@ struct SplatParams {
   // How far eq. (6) moves a vertex: `Equation6` assumes the density rises linearly from PD to ID
   // over the kernel radius (the paper); `Newton` takes one Newton step on the field itself,
   // (SD - PD) / |gradD| along the normal, clamped to the kernel radius (ours).
-  using Projection = SplatProjection;
+  using Projection = scene::SplatProjection;
   Projection projection = Projection::Newton;
   // The splats are blended (render.alpha < 1): the back of the water shows through, so keep the
   // back-facing splats and draw far to near. Opaque (false): drop them (unless cullBackFacing is
@@ -94,6 +94,6 @@ constexpr const char* nameOf(SplatKind v) {
 
 // Builds the splats of `kind` for the particles of `field`, seen through `projView`.
 SplatFrame buildSplats(const DensityField& field, const SplatParams& params, SplatKind kind,
-                       const Mat4& projView, const Vec3& eye);
+                       const scene::Mat4& projView, const Vec3& eye);
 
 }  // namespace sph::render::splat

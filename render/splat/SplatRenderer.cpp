@@ -119,7 +119,7 @@ void SplatRenderer::drawBoundary(bool offscreen) {
   if (offscreen) selectDrawBuffers(contents_);
 }
 
-void SplatRenderer::drawLayers(FrameLayer::Order order, const CameraFrame& camera,
+void SplatRenderer::drawLayers(FrameLayer::Order order, const scene::CameraFrame& camera,
                                const Lighting& lighting, bool offscreen) {
   // The error figures' frame has the opaque solids (its reference has them too, as a backdrop:
   // drawBackdrop) but nothing drawn after the water (rain): the reference has none.
@@ -139,7 +139,7 @@ bool SplatRenderer::hasLayers(FrameLayer::Order order) const {
   return false;
 }
 
-Backdrop SplatRenderer::drawBackdrop(const CameraDesc& camera, const Lighting& lighting) {
+Backdrop SplatRenderer::drawBackdrop(const scene::CameraDesc& camera, const Lighting& lighting) {
   contents_ = ImageContents::Colour;
   selectDrawBuffers(contents_);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
@@ -218,8 +218,9 @@ GLuint SplatRenderer::gbufferProgramFor(SplatKind kind) {
   return kind == SplatKind::Point ? gbufferPointProgram_.id() : gbufferQuadProgram_.id();
 }
 
-void SplatRenderer::drawSplats(const SplatFrame& frame, SplatKind kind, const CameraFrame& cam,
-                               const Lighting& lighting, GLuint program) {
+void SplatRenderer::drawSplats(const SplatFrame& frame, SplatKind kind,
+                               const scene::CameraFrame& cam, const Lighting& lighting,
+                               GLuint program) {
   setLighting(program, lighting);
   glProgramUniformMatrix4fv(program, glGetUniformLocation(program, "u_projView"), 1, GL_FALSE,
                             cam.projView.m.data());
@@ -258,8 +259,9 @@ void SplatRenderer::drawSplats(const SplatFrame& frame, SplatKind kind, const Ca
   glDisable(GL_BLEND);
 }
 
-void SplatRenderer::drawDeferred(const SplatFrame& frame, SplatKind kind, const CameraFrame& cam,
-                                 const Lighting& lighting, int w, int h, bool offscreen) {
+void SplatRenderer::drawDeferred(const SplatFrame& frame, SplatKind kind,
+                                 const scene::CameraFrame& cam, const Lighting& lighting, int w,
+                                 int h, bool offscreen) {
   using Clock = std::chrono::steady_clock;
   GLint target = 0;
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target);
@@ -306,10 +308,10 @@ void SplatRenderer::drawDeferred(const SplatFrame& frame, SplatKind kind, const 
   if (!opaque) drawSplats(frame, kind, cam, lighting, programFor(kind, true));
 }
 
-double SplatRenderer::draw(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
+double SplatRenderer::draw(const SplatFrame& frame, SplatKind kind, const scene::CameraDesc& camera,
                            const Lighting& lighting, int w, int h, bool offscreen) {
   const auto start = std::chrono::steady_clock::now();
-  const CameraFrame cam = cameraFrame(camera, static_cast<float>(w) / h);
+  const scene::CameraFrame cam = cameraFrame(camera, static_cast<float>(w) / h);
   glViewport(0, 0, w, h);
   passes_ = DrawPasses{};
   if (lighting.extra != nullptr && lighting.extra->deferred()) {
@@ -333,8 +335,9 @@ double SplatRenderer::draw(const SplatFrame& frame, SplatKind kind, const Camera
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-RenderImage SplatRenderer::render(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
-                                  const Lighting& lighting, ImageContents contents) {
+RenderImage SplatRenderer::render(const SplatFrame& frame, SplatKind kind,
+                                  const scene::CameraDesc& camera, const Lighting& lighting,
+                                  ImageContents contents) {
   const bool withNormals = contents == ImageContents::ColourAndNormals;
   contents_ = contents;
   selectDrawBuffers(contents);
@@ -375,8 +378,9 @@ RenderImage SplatRenderer::render(const SplatFrame& frame, SplatKind kind, const
   return image;
 }
 
-void SplatRenderer::drawToScreen(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
-                                 const Lighting& lighting, int viewportWidth, int viewportHeight) {
+void SplatRenderer::drawToScreen(const SplatFrame& frame, SplatKind kind,
+                                 const scene::CameraDesc& camera, const Lighting& lighting,
+                                 int viewportWidth, int viewportHeight) {
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   // Encoded like everything the shaders write (the window's framebuffer is not sRGB).
   glClearColor(toSrgb8(lighting.background.x()) / 255.0f, toSrgb8(lighting.background.y()) / 255.0f,

@@ -33,7 +33,7 @@ class SplatRenderer {
   // it back. `seconds` of the result: upload + draw until finished (not the read-back).
   // ColourAndNormals also draws the normal/coverage target the error figures need (it costs
   // llvmpipe ~3 ms a frame at 960x540, so pictures are drawn without it).
-  RenderImage render(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
+  RenderImage render(const SplatFrame& frame, SplatKind kind, const scene::CameraDesc& camera,
                      const Lighting& lighting, ImageContents contents = ImageContents::Colour);
   // The walls and containers, drawn after the fluid as translucent grey squares into the colour
   // only (the error figures see the fluid alone). Empty: none.
@@ -45,9 +45,9 @@ class SplatRenderer {
   bool hasLayers(FrameLayer::Order order) const;
   // The layers drawn before the splats (the solids) alone, with their depth: what the reference
   // ray-marcher shows behind and in front of the water.
-  Backdrop drawBackdrop(const CameraDesc& camera, const Lighting& lighting);
+  Backdrop drawBackdrop(const scene::CameraDesc& camera, const Lighting& lighting);
   // Draws into the default framebuffer of the current (window) context instead.
-  void drawToScreen(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
+  void drawToScreen(const SplatFrame& frame, SplatKind kind, const scene::CameraDesc& camera,
                     const Lighting& lighting, int viewportWidth, int viewportHeight);
 
   // The last draw's deferred passes (lights.pipeline "deferred"; zero when forward), seconds:
@@ -60,13 +60,13 @@ class SplatRenderer {
   const DrawPasses& lastPasses() const { return passes_; }
 
  private:
-  double draw(const SplatFrame& frame, SplatKind kind, const CameraDesc& camera,
+  double draw(const SplatFrame& frame, SplatKind kind, const scene::CameraDesc& camera,
               const Lighting& lighting, int w, int h, bool offscreen);
   GLuint programFor(SplatKind kind, bool particleLights);
   GLuint gbufferProgramFor(SplatKind kind);
-  void drawSplats(const SplatFrame& frame, SplatKind kind, const CameraFrame& cam,
+  void drawSplats(const SplatFrame& frame, SplatKind kind, const scene::CameraFrame& cam,
                   const Lighting& lighting, GLuint program);
-  void drawDeferred(const SplatFrame& frame, SplatKind kind, const CameraFrame& cam,
+  void drawDeferred(const SplatFrame& frame, SplatKind kind, const scene::CameraFrame& cam,
                     const Lighting& lighting, int w, int h, bool offscreen);
   int width_, height_;
   gl::ShaderLibrary shaders_;
@@ -88,8 +88,8 @@ class SplatRenderer {
   std::size_t boundaryCount_ = 0;
   float boundaryHalfSide_ = 0;
   void drawBoundary(bool offscreen);
-  void drawLayers(FrameLayer::Order order, const CameraFrame& camera, const Lighting& lighting,
-                  bool offscreen);
+  void drawLayers(FrameLayer::Order order, const scene::CameraFrame& camera,
+                  const Lighting& lighting, bool offscreen);
   std::vector<FrameLayer*> layers_;
   void selectDrawBuffers(ImageContents contents);
   ImageContents contents_ = ImageContents::ColourAndNormals;

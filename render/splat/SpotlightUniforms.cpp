@@ -4,7 +4,7 @@
 
 namespace sph::render::splat {
 
-void setSpotlightUniforms(GLuint p, const std::optional<SpotlightDesc>& light) {
+void setSpotlightUniforms(GLuint p, const std::optional<scene::SpotlightDesc>& light) {
   glProgramUniform1i(p, glGetUniformLocation(p, "u_spotOn"), light ? 1 : 0);
   if (!light) return;
   setVec3(p, "u_spotPosition", light->position);

@@ -10,6 +10,6 @@
 
 namespace sph::render::splat {
 
-void setSpotlightUniforms(GLuint program, const std::optional<SpotlightDesc>& light);
+void setSpotlightUniforms(GLuint program, const std::optional<scene::SpotlightDesc>& light);
 
 }  // namespace sph::render::splat

@@ -6,20 +6,20 @@
 
 namespace sph::cdt {
 
-CameraDesc collisionCamera(const CollisionDesc& collision,
-                           const std::optional<CameraDesc>& renderCamera) {
+scene::CameraDesc collisionCamera(const scene::CollisionDesc& collision,
+                                  const std::optional<scene::CameraDesc>& renderCamera) {
   switch (collision.camera) {
-    case CdtCameraMode::Fixed:
+    case scene::CdtCameraMode::Fixed:
       if (!collision.hasPose)
         throw std::invalid_argument("collision.camera \"fixed\" needs collision.pose");
       return collision.pose;
-    case CdtCameraMode::Render:
-    case CdtCameraMode::Offset: {
+    case scene::CdtCameraMode::Render:
+    case scene::CdtCameraMode::Offset: {
       if (!renderCamera)
         throw std::invalid_argument(
             "collision.camera \"render\"/\"offset\" needs the scene's camera");
-      CameraDesc c = *renderCamera;
-      if (collision.camera == CdtCameraMode::Offset) {
+      scene::CameraDesc c = *renderCamera;
+      if (collision.camera == scene::CdtCameraMode::Offset) {
         // Eq. 1 in the camera's frame: its z axis points from the target to the eye.
         const Vec3 back = (c.position - c.target).normalized();
         c.position += collision.offset * back;
@@ -31,13 +31,14 @@ CameraDesc collisionCamera(const CollisionDesc& collision,
   return *renderCamera;
 }
 
-View makeView(const CameraDesc& camera, const std::array<int, 2>& resolution) {
+View makeView(const scene::CameraDesc& camera, const std::array<int, 2>& resolution) {
   View v;
   v.width = resolution[0];
   v.height = resolution[1];
   const float aspect = static_cast<float>(v.width) / static_cast<float>(v.height);
-  const Mat4 projection = perspective(camera.fovYDegrees, aspect, camera.near, camera.far);
-  v.projView = multiply(projection, lookAt(camera.position, camera.target, camera.up));
+  const scene::Mat4 projection =
+      scene::perspective(camera.fovYDegrees, aspect, camera.near, camera.far);
+  v.projView = multiply(projection, scene::lookAt(camera.position, camera.target, camera.up));
   // A world length l at view depth w spans l * P00 / w NDC units in x, i.e. l * P00 * width / (2 w)
   // texels (same in y with P11 and height).
   v.texelScale = 0.5f * std::max(projection.m[0] * static_cast<float>(v.width),

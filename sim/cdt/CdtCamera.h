@@ -21,17 +21,17 @@ namespace sph::cdt {
 // C_CDC = C_RC + [0, 0, offset] in the camera's frame; +z points away from the target, so a
 // positive offset moves it back). Throws std::invalid_argument if the mode needs a camera that
 // the scene lacks (the loader refuses such scenes first).
-CameraDesc collisionCamera(const CollisionDesc& collision,
-                           const std::optional<CameraDesc>& renderCamera);
+scene::CameraDesc collisionCamera(const scene::CollisionDesc& collision,
+                                  const std::optional<scene::CameraDesc>& renderCamera);
 
 // A collision camera with its texture: projection * view, resolution, and texels per metre at
 // view depth 1 (for the adaptive texel range).
 struct View {
-  Mat4 projView;
+  scene::Mat4 projView;
   int width = 0, height = 0;  // texels
   float texelScale = 0;       // texels per metre at depth 1: max(P00 width, P11 height) / 2
 };
-View makeView(const CameraDesc& camera, const std::array<int, 2>& resolution);
+View makeView(const scene::CameraDesc& camera, const std::array<int, 2>& resolution);
 
 // Where a world position lands: its base texel and its depth in [0, 1] (NDC z / 2 + 1/2), or not
 // on the texture at all (behind the camera, outside the frustum).

@@ -26,7 +26,8 @@ std::uint64_t texelKey(float depth, std::uint32_t index) {
   return (static_cast<std::uint64_t>(floatBits(depth)) << 32) | index;
 }
 
-Settings makeSettings(const CollisionDesc& c, const std::optional<CameraDesc>& renderCamera) {
+Settings makeSettings(const scene::CollisionDesc& c,
+                      const std::optional<scene::CameraDesc>& renderCamera) {
   Settings s;
   s.view = makeView(collisionCamera(c, renderCamera), c.resolution);
   s.range = c.range;
@@ -35,10 +36,10 @@ Settings makeSettings(const CollisionDesc& c, const std::optional<CameraDesc>& r
   s.texelRange = c.texelRange;
   s.maxTexelRange = c.maxTexelRange;
   s.layers = c.layers;
-  if (c.positionSource == CdtPositionSource::Texel) s.flags |= kFlagTexelPosition;
+  if (c.positionSource == scene::CdtPositionSource::Texel) s.flags |= kFlagTexelPosition;
   if (c.adaptiveTexelRange) s.flags |= kFlagAdaptiveRange;
-  if (c.response == CollisionResponse::Paper) s.flags |= kFlagPaperResponse;
-  s.rasterWrite = c.textureWrite == CdtTextureWrite::Raster;
+  if (c.response == scene::CollisionResponse::Paper) s.flags |= kFlagPaperResponse;
+  s.rasterWrite = c.textureWrite == scene::CdtTextureWrite::Raster;
   return s;
 }
 

@@ -42,20 +42,20 @@ struct Settings {
   std::uint32_t flags = 0;   // kFlagTexelPosition | kFlagAdaptiveRange | kFlagPaperResponse
   bool rasterWrite = false;  // cdt-gl: fill the texture by rasterising points (else atomics)
 };
-Settings makeSettings(const CollisionDesc& collision,
-                      const std::optional<CameraDesc>& renderCamera);
+Settings makeSettings(const scene::CollisionDesc& collision,
+                      const std::optional<scene::CameraDesc>& renderCamera);
 
 // The CDT's one input limit: the texture stores particle ids as floats, exact below 2^24
 // (kMaxId). For a scene whose collision method is cdt-cpu or cdt-gl, throws InputError naming the
 // scene key to change when the scene could make more particles than that by its end time. The
 // scene loader calls it, and render::cdt::makeCollisionPass again once `run --end` is applied,
 // so a run never starts that would pass the limit.
-inline void requireIdsInRange(const Scene& scene) {
+inline void requireIdsInRange(const scene::Scene& scene) {
   if (!scene.collision) return;
-  const CollisionMethod m = scene.collision->method;
-  if (m != CollisionMethod::CdtCpu && m != CollisionMethod::CdtGl) return;
-  requireIdsBelow(scene, kMaxId, std::string("the ") + enumName(m) + " collision pass",
-                  "2^24: its texture stores them as floats");
+  const scene::CollisionMethod m = scene.collision->method;
+  if (m != scene::CollisionMethod::CdtCpu && m != scene::CollisionMethod::CdtGl) return;
+  solver::requireIdsBelow(scene, kMaxId, std::string("the ") + enumName(m) + " collision pass",
+                          "2^24: its texture stores them as floats");
 }
 
 // Per-particle record of one step, identical in cdt-cpu and cdt-gl (the GLSL output v_Diag).
@@ -124,7 +124,7 @@ class CdtCpu {
 class CdtCpuPass final : public CollisionPass {
  public:
   explicit CdtCpuPass(const Settings& settings) : cdt_(settings) {}
-  std::string name() const override { return enumName(CollisionMethod::CdtCpu); }
+  std::string name() const override { return enumName(scene::CollisionMethod::CdtCpu); }
   void apply(Particles& particles, const CollisionContext& context) override;
 
  private:

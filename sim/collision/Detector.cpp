@@ -4,7 +4,7 @@
 
 namespace sph::collision {
 
-DetectorPass::DetectorPass(std::unique_ptr<Detector> detector, const CollisionDesc& desc)
+DetectorPass::DetectorPass(std::unique_ptr<Detector> detector, const scene::CollisionDesc& desc)
     : detector_(std::move(detector)), desc_(desc) {}
 
 void DetectorPass::apply(Particles& p, const CollisionContext& context) {
@@ -22,7 +22,7 @@ void DetectorPass::apply(Particles& p, const CollisionContext& context) {
                     nullptr);
 
   ResponseParams r;
-  r.paper = desc_.response == CollisionResponse::Paper;
+  r.paper = desc_.response == scene::CollisionResponse::Paper;
   r.range = desc_.range;
   r.speedFactor = desc_.speedFactor;
   r.cooldown = desc_.cooldown;

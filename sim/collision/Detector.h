@@ -44,13 +44,13 @@ inline double distance2(float ax, float ay, float az, float bx, float by, float 
 // particles out of cooldown search, and responds like the CDT methods.
 class DetectorPass final : public CollisionPass {
  public:
-  DetectorPass(std::unique_ptr<Detector> detector, const CollisionDesc& desc);
+  DetectorPass(std::unique_ptr<Detector> detector, const scene::CollisionDesc& desc);
   std::string name() const override { return detector_->name(); }
   void apply(Particles& particles, const CollisionContext& context) override;
 
  private:
   std::unique_ptr<Detector> detector_;
-  CollisionDesc desc_;
+  scene::CollisionDesc desc_;
   std::vector<float> x0_, y0_, z0_;
   std::vector<std::uint8_t> searching_;
   std::vector<std::uint32_t> partner_;

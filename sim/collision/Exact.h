@@ -13,13 +13,13 @@ namespace sph::collision {
 
 class ExactDetector final : public Detector {
  public:
-  std::string name() const override { return enumName(CollisionMethod::Exact); }
+  std::string name() const override { return enumName(scene::CollisionMethod::Exact); }
   void detect(const float* x, const float* y, const float* z, std::size_t n, float range,
               const std::uint8_t* searching, std::vector<std::uint32_t>& partner,
               std::vector<IndexPair>* pairs) override;
 
  private:
-  NeighbourGrid grid_;
+  grid::NeighbourGrid grid_;
   std::vector<std::uint32_t> order_;
   std::vector<float> sx_, sy_, sz_;
 };

@@ -19,7 +19,7 @@ class OctreeDetector final : public Detector {
  public:
   // Root cube of edge `rootSize` (m) centred at `centre`, subdivided `depth` times.
   OctreeDetector(const Vec3& centre, float rootSize, int depth);
-  std::string name() const override { return enumName(CollisionMethod::Octree); }
+  std::string name() const override { return enumName(scene::CollisionMethod::Octree); }
   void detect(const float* x, const float* y, const float* z, std::size_t n, float range,
               const std::uint8_t* searching, std::vector<std::uint32_t>& partner,
               std::vector<IndexPair>* pairs) override;

@@ -24,7 +24,7 @@
 #include "sim/grid/NeighbourGrid.h"
 #include "sim/Parallel.h"
 
-namespace sph {
+namespace sph::grid {
 
 // Batch storage starts on a 64-byte boundary: vectorised loops peel a number of scalar
 // iterations that depends on the start address, and that would change the order of the simd
@@ -189,4 +189,4 @@ void forEachCellWithCandidates(const NeighbourGrid& grid, const std::array<const
   });
 }
 
-}  // namespace sph
+}  // namespace sph::grid

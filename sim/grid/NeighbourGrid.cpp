@@ -8,7 +8,7 @@
 #include "sim/Assert.h"
 #include "sim/Parallel.h"
 
-namespace sph {
+namespace sph::grid {
 
 void NeighbourGrid::build(const float* x, const float* y, const float* z, std::size_t n,
                           float cellSize, std::vector<std::uint32_t>& order, std::size_t maxCells) {
@@ -112,4 +112,4 @@ std::string NeighbourGrid::checkSorted(const float* x, const float* y, const flo
   return "";
 }
 
-}  // namespace sph
+}  // namespace sph::grid

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-namespace sph {
+namespace sph::grid {
 
 using CellCoord = std::array<int, 3>;
 
@@ -130,4 +130,4 @@ inline bool withinRadius(float dx, float dy, float dz, float h) {
   return r2 < static_cast<double>(h) * h;
 }
 
-}  // namespace sph
+}  // namespace sph::grid

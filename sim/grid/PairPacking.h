@@ -21,7 +21,7 @@
 
 #include "sim/grid/CellBatch.h"
 
-namespace sph {
+namespace sph::grid {
 
 struct PairRow {
   std::uint32_t* __restrict index;
@@ -80,4 +80,4 @@ inline std::uint32_t packPairs(std::size_t padded, const float* __restrict bits,
 #endif
 }
 
-}  // namespace sph
+}  // namespace sph::grid

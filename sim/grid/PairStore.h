@@ -19,7 +19,7 @@
 #include <new>
 #include <vector>
 
-namespace sph {
+namespace sph::grid {
 
 class PairStore {
  public:
@@ -153,4 +153,4 @@ class PairStore {
   std::vector<Arena> arenas_;
 };
 
-}  // namespace sph
+}  // namespace sph::grid

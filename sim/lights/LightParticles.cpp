@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdint>
 
-namespace sph {
+namespace sph::lights {
 namespace {
 
 // SplitMix64: a well-mixed 64-bit hash, so every light's numbers depend on (seed, index) alone.
@@ -27,7 +27,7 @@ LightParticle make(const Vec3& p, const Vec3& colour, float intensity) {
 
 }  // namespace
 
-Vec3 emitterLightPosition(const LightEmitterDesc& e, std::size_t i, double time) {
+Vec3 emitterLightPosition(const scene::LightEmitterDesc& e, std::size_t i, double time) {
   const std::uint64_t key = mix((static_cast<std::uint64_t>(e.seed) << 32) ^ i);
   std::uint64_t h = key;
   double u[5];
@@ -46,23 +46,23 @@ Vec3 emitterLightPosition(const LightEmitterDesc& e, std::size_t i, double time)
   return p;
 }
 
-std::vector<Solid> lightSolids(const Scene& scene) {
-  std::vector<Solid> solids;
-  const float thickness = deriveParams(scene).boundaryLayers * scene.solver.spacing;
-  for (const BoundaryShape& b : scene.boundaries) solids.emplace_back(b, thickness);
+std::vector<scene::Solid> lightSolids(const scene::Scene& scene) {
+  std::vector<scene::Solid> solids;
+  const float thickness = solver::deriveParams(scene).boundaryLayers * scene.solver.spacing;
+  for (const scene::BoundaryShape& b : scene.boundaries) solids.emplace_back(b, thickness);
   return solids;
 }
 
-std::vector<LightParticle> lightParticles(const LightsDesc& d, const Particles& fluid, double time,
-                                          const std::vector<Solid>& solids) {
+std::vector<LightParticle> lightParticles(const scene::LightsDesc& d, const Particles& fluid,
+                                          double time, const std::vector<scene::Solid>& solids) {
   std::vector<LightParticle> out;
   auto colourAt = [&](float speed) {
-    if (d.colouring == LightColouring::Constant) return d.colour;
+    if (d.colouring == scene::LightColouring::Constant) return d.colour;
     const float t = std::clamp(speed / d.fastSpeed, 0.0f, 1.0f);
     return Vec3((1 - t) * d.colour + t * d.fastColour);
   };
   switch (d.source) {
-    case LightSource::Fluid:
+    case scene::LightSource::Fluid:
       out.resize(fluid.size());
       for (std::size_t i = 0; i < fluid.size(); ++i) {
         const float speed = fluid.vx.empty()
@@ -72,12 +72,12 @@ std::vector<LightParticle> lightParticles(const LightsDesc& d, const Particles& 
         out[i] = make(fluid.position(i), colourAt(speed), d.intensity);
       }
       break;
-    case LightSource::Emitter:
+    case scene::LightSource::Emitter:
       out.reserve(d.emitter.count);
       for (std::size_t i = 0; i < d.emitter.count; ++i) {
         const Vec3 p = emitterLightPosition(d.emitter, i, time);
         bool inside = false;
-        for (const Solid& s : solids) inside = inside || s.distance(p) < 0;
+        for (const scene::Solid& s : solids) inside = inside || s.distance(p) < 0;
         if (!inside) out.push_back(make(p, colourAt(d.emitter.speed), d.intensity));
       }
       break;
@@ -85,4 +85,4 @@ std::vector<LightParticle> lightParticles(const LightsDesc& d, const Particles& 
   return out;
 }
 
-}  // namespace sph
+}  // namespace sph::lights

@@ -11,7 +11,7 @@
 #include "sim/scene/Scene.h"
 #include "sim/scene/Solid.h"
 
-namespace sph {
+namespace sph::lights {
 
 // Laid out as the GLSL struct LightParticle (shaders/lights_common.glsl): std430, 32 bytes.
 struct LightParticle {
@@ -24,21 +24,22 @@ static_assert(sizeof(LightParticle) == 32);
 // by desc (colour_by speed uses its velocity); source "emitter": desc.emitter's drifting points,
 // a pure function of (seed, index, time), less those inside any of `solids` (fireflies do not fly
 // through walls), `fluid` unused.
-std::vector<LightParticle> lightParticles(const LightsDesc& desc, const Particles& fluid,
-                                          double time, const std::vector<Solid>& solids = {});
+std::vector<LightParticle> lightParticles(const scene::LightsDesc& desc, const Particles& fluid,
+                                          double time,
+                                          const std::vector<scene::Solid>& solids = {});
 // The solids of `scene` as lights see them (its boundaries, walls as thick as the boundary
 // particles' layers).
-std::vector<Solid> lightSolids(const Scene& scene);
+std::vector<scene::Solid> lightSolids(const scene::Scene& scene);
 
 // Emitter light i's position at time t: uniform in the box from a hash of (seed, i), moving at
 // `speed` m/s in a direction from the same hash, wrapped periodically into the box.
-Vec3 emitterLightPosition(const LightEmitterDesc& e, std::size_t i, double time);
+Vec3 emitterLightPosition(const scene::LightEmitterDesc& e, std::size_t i, double time);
 
 // 1 / (c + l d + q d^2) for d <= range, else 0 (seed 004 eq. 1 with its parentheses).
-inline float lightAttenuation(const LightsDesc& d, float distance) {
+inline float lightAttenuation(const scene::LightsDesc& d, float distance) {
   if (distance > d.range) return 0.0f;
   return 1.0f /
          (d.attenuation[0] + d.attenuation[1] * distance + d.attenuation[2] * distance * distance);
 }
 
-}  // namespace sph
+}  // namespace sph::lights

@@ -56,12 +56,12 @@ class FreeSpace {
 
 }  // namespace
 
-std::unique_ptr<RainFeed> RainFeed::create(const Scene& scene) {
+std::unique_ptr<RainFeed> RainFeed::create(const scene::Scene& scene) {
   if (!scene.rain || !scene.rain->feedFluid || !scene.camera) return nullptr;
   return std::unique_ptr<RainFeed>(new RainFeed(scene));
 }
 
-RainFeed::RainFeed(const Scene& scene)
+RainFeed::RainFeed(const scene::Scene& scene)
     : stepper_(RainStepper::create(scene, RainStepper::sceneAspect(scene))),
       interval_(1.0 / scene.output.fps),
       particleVolume_(static_cast<double>(scene.solver.spacing) * scene.solver.spacing *

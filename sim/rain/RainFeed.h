@@ -29,7 +29,7 @@ class RainFeed {
  public:
   // Null unless the scene has a rain section with feed_fluid (and a camera). The drops start
   // as the rain of the scene starts at t = 0.
-  static std::unique_ptr<RainFeed> create(const Scene& scene);
+  static std::unique_ptr<RainFeed> create(const scene::Scene& scene);
 
   // The first tick after `time` (s).
   double nextTick(double time) const;
@@ -52,7 +52,7 @@ class RainFeed {
   double dropVolume() const { return dropVolume_; }
 
  private:
-  explicit RainFeed(const Scene& scene);
+  explicit RainFeed(const scene::Scene& scene);
   std::unique_ptr<RainStepper> stepper_;
   double interval_;
   double particleVolume_, dropVolume_;

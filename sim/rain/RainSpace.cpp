@@ -6,7 +6,7 @@
 
 namespace sph::rain {
 
-RainSpace RainSpace::build(const CameraDesc& camera, float aspect, float near, float far) {
+RainSpace RainSpace::build(const scene::CameraDesc& camera, float aspect, float near, float far) {
   RainSpace s;
   s.eye = camera.position;
   s.forward = (camera.target - camera.position).normalized();  // V of eq. (2)

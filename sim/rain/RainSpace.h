@@ -26,7 +26,7 @@ struct RainSpace {
 
   // The rain camera: `camera`'s pose and fov, the viewport's aspect (width / height), the rain's
   // own near and far distances.
-  static RainSpace build(const CameraDesc& camera, float aspect, float near, float far);
+  static RainSpace build(const scene::CameraDesc& camera, float aspect, float near, float far);
 
   // eq. (8)-(9): p - nbl against B and L, p - ntr against R and T; all >= 0 inside.
   bool insideSides(const Vec3& p) const {

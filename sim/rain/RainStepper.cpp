@@ -7,24 +7,24 @@
 
 namespace sph::rain {
 
-std::unique_ptr<RainStepper> RainStepper::create(const Scene& scene, float aspect) {
+std::unique_ptr<RainStepper> RainStepper::create(const scene::Scene& scene, float aspect) {
   if (!scene.rain || !scene.camera) return nullptr;
   return std::unique_ptr<RainStepper>(new RainStepper(scene, aspect));
 }
 
-float RainStepper::sceneAspect(const Scene& scene) {
-  const RenderDesc d = scene.render ? *scene.render : RenderDesc{};
+float RainStepper::sceneAspect(const scene::Scene& scene) {
+  const scene::RenderDesc d = scene.render ? *scene.render : scene::RenderDesc{};
   return static_cast<float>(d.width) / static_cast<float>(d.height);
 }
 
-RainStepper::RainStepper(const Scene& scene, float aspect)
+RainStepper::RainStepper(const scene::Scene& scene, float aspect)
     : camera_(*scene.camera),
       path_(scene.cameraPath),
       interval_(1.0 / scene.output.fps),
       waterCell_(waterCell(scene)),
       system_(*scene.rain, aspect) {
-  const float thickness = deriveParams(scene).boundaryLayers * scene.solver.spacing;
-  for (const BoundaryShape& b : scene.boundaries) solids_.emplace_back(b, thickness);
+  const float thickness = solver::deriveParams(scene).boundaryLayers * scene.solver.spacing;
+  for (const scene::BoundaryShape& b : scene.boundaries) solids_.emplace_back(b, thickness);
 }
 
 void RainStepper::advanceTo(double time, const Particles& fluid) {
@@ -53,7 +53,7 @@ void RainStepper::advanceTo(double time, const WaterCells& water) {
   }
 }
 
-void RainStepper::follow(const CameraDesc& camera) {
+void RainStepper::follow(const scene::CameraDesc& camera) {
   RainObstacles solidsOnly;
   solidsOnly.solids = &solids_;
   system_.update(camera, 0, solidsOnly);

@@ -22,9 +22,9 @@ class RainStepper {
  public:
   // Null if the scene has no rain section (or no camera): nothing is allocated then. `aspect`:
   // the rain camera's width / height (the pictures').
-  static std::unique_ptr<RainStepper> create(const Scene& scene, float aspect);
+  static std::unique_ptr<RainStepper> create(const scene::Scene& scene, float aspect);
   // The aspect of the scene's pictures (its render section, else the default picture size).
-  static float sceneAspect(const Scene& scene);
+  static float sceneAspect(const scene::Scene& scene);
 
   // Brings the drops to `time` (s): steps of the output frame interval from the last time (from
   // 0 after a reset, and again from 0 when `time` lies before it). `fluid` is the water at
@@ -35,9 +35,9 @@ class RainStepper {
   void advanceTo(double time, const WaterCells& water);
   // The edge (m) of the water cells that stop the drops of `scene`: two spacings, so the
   // particles of a body of water leave none of them empty.
-  static float waterCell(const Scene& scene) { return 2 * scene.solver.spacing; }
+  static float waterCell(const scene::Scene& scene) { return 2 * scene.solver.spacing; }
   // Keeps the drops where `camera` looks without moving them (an update of 0 s).
-  void follow(const CameraDesc& camera);
+  void follow(const scene::CameraDesc& camera);
   // Continues from a stored state (a resume): the drops at `time` as advanceTo left them.
   void restore(double time, const std::vector<Vec3>& positions,
                const std::vector<std::uint32_t>& generations);
@@ -46,12 +46,12 @@ class RainStepper {
   double time() const { return time_; }
 
  private:
-  RainStepper(const Scene& scene, float aspect);
-  CameraDesc camera_;
-  CameraPath path_;
+  RainStepper(const scene::Scene& scene, float aspect);
+  scene::CameraDesc camera_;
+  scene::CameraPath path_;
   double interval_;
   float waterCell_;
-  std::vector<Solid> solids_;
+  std::vector<scene::Solid> solids_;
   RainSystem system_;
   double time_ = -1;
 };

@@ -80,30 +80,30 @@ Vec3 paperBallPoint(const float u[5]) {
   return Vec3((2 * u[2] - 1) * dir.x(), (2 * u[3] - 1) * dir.y(), (2 * u[4] - 1) * dir.z());
 }
 
-RainSystem::RainSystem(const RainDesc& desc, float aspect) : desc_(desc), aspect_(aspect) {}
+RainSystem::RainSystem(const scene::RainDesc& desc, float aspect) : desc_(desc), aspect_(aspect) {}
 
-void RainSystem::setCamera(const CameraDesc& camera) {
+void RainSystem::setCamera(const scene::CameraDesc& camera) {
   const float oldFov = space_.radius > 0 ? lastFov_ : -1;
   space_ = RainSpace::build(camera, aspect_, desc_.near, desc_.far);
-  if (desc_.spawn == RainSpawn::Box && camera.fovYDegrees != oldFov)
+  if (desc_.spawn == scene::RainSpawn::Box && camera.fovYDegrees != oldFov)
     boxEdge_ = static_cast<float>(std::cbrt(space_.volume()));
   lastFov_ = camera.fovYDegrees;
 }
 
 bool RainSystem::inSpawnVolume(const Vec3& p) const {
   switch (desc_.spawn) {
-    case RainSpawn::View:
+    case scene::RainSpawn::View:
       return space_.contains(p);
-    case RainSpawn::Box:
+    case scene::RainSpawn::Box:
       return ((p - space_.eye).cwiseAbs().array() <= 0.5f * boxEdge_).all();
-    case RainSpawn::Region:
+    case scene::RainSpawn::Region:
       return desc_.region.contains(p);
   }
   return false;
 }
 
-bool insideSolid(const Vec3& p, const std::vector<Solid>& solids) {
-  for (const Solid& s : solids) {
+bool insideSolid(const Vec3& p, const std::vector<scene::Solid>& solids) {
+  for (const scene::Solid& s : solids) {
     if (s.distance(p) < 0) return true;
   }
   return false;
@@ -128,17 +128,18 @@ ViewSpawnCount RainSystem::spawn(std::size_t i, const RainObstacles& obstacles) 
   const DropRandom u(desc_.seed, i, generations_[i]);
   layers_[i] = layerFrom(u);
   ViewSpawnCount count;
-  const bool view = desc_.spawn == RainSpawn::View;
-  if (view && desc_.sampling == RainSampling::Uniform) {
+  const bool view = desc_.spawn == scene::RainSpawn::View;
+  if (view && desc_.sampling == scene::RainSampling::Uniform) {
     auto free = [&](const Vec3& p) { return !blocked(p, obstacles); };
     if (!spawnInView(space_, u, kMaxTries, free, positions_[i], count))
       positions_[i] = space_.centre;  // nowhere free: as the other models, below
     return count;
   }
-  const Vec3 lo = desc_.spawn == RainSpawn::Box ? Vec3(space_.eye - Vec3::Constant(0.5f * boxEdge_))
-                                                : desc_.region.lo;
-  const Vec3 size = desc_.spawn == RainSpawn::Box ? Vec3::Constant(boxEdge_)
-                                                  : Vec3(desc_.region.hi - desc_.region.lo);
+  const Vec3 lo = desc_.spawn == scene::RainSpawn::Box
+                      ? Vec3(space_.eye - Vec3::Constant(0.5f * boxEdge_))
+                      : desc_.region.lo;
+  const Vec3 size = desc_.spawn == scene::RainSpawn::Box ? Vec3::Constant(boxEdge_)
+                                                         : Vec3(desc_.region.hi - desc_.region.lo);
   for (int t = 0; t < kMaxTries; ++t) {
     const std::uint64_t d = 1 + static_cast<std::uint64_t>(t) * kDrawsPerTry;
     // Draws 3 and 4 only where eq. (7) uses them (numbers are per draw index: skipping some
@@ -165,7 +166,7 @@ ViewSpawnCount RainSystem::spawn(std::size_t i, const RainObstacles& obstacles) 
   return count;
 }
 
-void RainSystem::reset(const CameraDesc& camera, const RainObstacles& obstacles) {
+void RainSystem::reset(const scene::CameraDesc& camera, const RainObstacles& obstacles) {
   setCamera(camera);
   positions_.assign(desc_.count, Vec3::Zero());
   generations_.assign(desc_.count, 0);
@@ -184,7 +185,7 @@ void RainSystem::reset(const CameraDesc& camera, const RainObstacles& obstacles)
   counters_.accepted += desc_.count;
 }
 
-void RainSystem::restore(const CameraDesc& camera, const std::vector<Vec3>& positions,
+void RainSystem::restore(const scene::CameraDesc& camera, const std::vector<Vec3>& positions,
                          const std::vector<std::uint32_t>& generations) {
   setCamera(camera);
   positions_ = positions;
@@ -223,7 +224,7 @@ void RainSystem::moveAndTest(std::size_t begin, std::size_t end, const Vec3& ste
   Vec3* p = positions_.data() + begin;
   const std::size_t n = end - begin;
   const Vec3 move = step;
-  if (desc_.spawn == RainSpawn::View) {
+  if (desc_.spawn == scene::RainSpawn::View) {
     const RainSpace s = space_;
     for (std::size_t k = 0; k < n; ++k) {
       const Vec3 q = p[k] + move;
@@ -238,7 +239,7 @@ void RainSystem::moveAndTest(std::size_t begin, std::size_t end, const Vec3& ste
   }
 }
 
-void RainSystem::update(const CameraDesc& camera, float dt, const RainObstacles& obstacles) {
+void RainSystem::update(const scene::CameraDesc& camera, float dt, const RainObstacles& obstacles) {
   landings_.clear();
   if (positions_.empty()) return reset(camera, obstacles);
   setCamera(camera);

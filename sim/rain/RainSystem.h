@@ -44,7 +44,7 @@ class WaterCells {
 
 // What stops a drop besides leaving the rain space.
 struct RainObstacles {
-  const std::vector<Solid>* solids = nullptr;
+  const std::vector<scene::Solid>* solids = nullptr;
   const WaterCells* water = nullptr;
 };
 
@@ -54,7 +54,7 @@ struct RainObstacles {
 // "uniform", is sim/rain/ViewSampler.h.
 Vec3 paperBallPoint(const float u[5]);
 
-bool insideSolid(const Vec3& p, const std::vector<Solid>& solids);
+bool insideSolid(const Vec3& p, const std::vector<scene::Solid>& solids);
 
 struct RainCounters {
   std::uint64_t leftSpace = 0, hitSolid = 0, hitWater = 0;  // respawns by cause, cumulative
@@ -66,20 +66,20 @@ struct RainCounters {
 class RainSystem {
  public:
   // `aspect`: the viewport's width / height (the rain camera's frustum).
-  RainSystem(const RainDesc& desc, float aspect);
+  RainSystem(const scene::RainDesc& desc, float aspect);
 
   // Places every drop at random in the spawn volume of `camera` (the first frame).
-  void reset(const CameraDesc& camera, const RainObstacles& obstacles = {});
+  void reset(const scene::CameraDesc& camera, const RainObstacles& obstacles = {});
   // Moves the drops by dt (s) and respawns those that left the spawn volume of `camera` (which
   // may have moved since the last call) or hit an obstacle.
-  void update(const CameraDesc& camera, float dt, const RainObstacles& obstacles = {});
+  void update(const scene::CameraDesc& camera, float dt, const RainObstacles& obstacles = {});
   // Takes over drops as a run left them (a resume from the cache, io/cache/RainCache.h): positions and
   // respawn counts per drop (as many as the budget), the rain camera of that moment. Counters
   // start again from 0.
-  void restore(const CameraDesc& camera, const std::vector<Vec3>& positions,
+  void restore(const scene::CameraDesc& camera, const std::vector<Vec3>& positions,
                const std::vector<std::uint32_t>& generations);
 
-  const RainDesc& desc() const { return desc_; }
+  const scene::RainDesc& desc() const { return desc_; }
   const RainSpace& space() const { return space_; }
   std::size_t size() const { return positions_.size(); }
   const std::vector<Vec3>& positions() const { return positions_; }
@@ -100,7 +100,7 @@ class RainSystem {
   float boxEdge() const { return boxEdge_; }
 
  private:
-  void setCamera(const CameraDesc& camera);
+  void setCamera(const scene::CameraDesc& camera);
   // Draws drop i's position for its current generation, outside the obstacles; returns the
   // candidates it refused.
   ViewSpawnCount spawn(std::size_t i, const RainObstacles& obstacles);
@@ -115,7 +115,7 @@ class RainSystem {
   static bool entersWater(const Vec3& from, const Vec3& to, const RainObstacles& obstacles,
                           Vec3& entry);
 
-  RainDesc desc_;
+  scene::RainDesc desc_;
   float aspect_;
   RainSpace space_;
   float boxEdge_ = 0;

@@ -14,7 +14,7 @@ namespace sph::rain {
 // How much of the light reaches p, in [0, 1]: 1 inside the cone and 0 outside (the paper); with
 // softEdge > 0 it falls linearly to 0 over the outer softEdge fraction of the cone's radius, and
 // with falloff it is also scaled by 1 / (1 + (updown / height)^2).
-inline float spotlightWeight(const SpotlightDesc& l, const Vec3& p) {
+inline float spotlightWeight(const scene::SpotlightDesc& l, const Vec3& p) {
   const Vec3 ps = p - l.position;                        // eq. (10)
   const float updown = ps.dot(l.direction);              // eq. (10)
   if (updown < 0 || updown > l.height) return 0;         // above the light (3.2.1) or past the cone

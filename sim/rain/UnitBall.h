@@ -16,9 +16,9 @@ namespace sph::rain {
 // Point i of `seed`'s: `uniform` the next point of the cube (sim/rain/ViewSampler.h) inside the
 // ball, from the hashes of draws `draw`, `draw` + 1, ... of drop 0 (`draw` is advanced past the
 // ones taken); `paper` eq. (6)-(7) from draws 0-4 of drop i.
-inline Vec3 unitBallPoint(RainSampling sampling, std::uint64_t seed, std::uint64_t i,
+inline Vec3 unitBallPoint(scene::RainSampling sampling, std::uint64_t seed, std::uint64_t i,
                           std::uint64_t& draw) {
-  if (sampling == RainSampling::Uniform) {
+  if (sampling == scene::RainSampling::Uniform) {
     for (;;) {
       const Vec3 b = cubePoint(hash4(seed, 0, 0, draw++));
       if (b.squaredNorm() <= 1) return b;

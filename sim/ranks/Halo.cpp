@@ -180,7 +180,7 @@ float Halo::exchange(Particles& f, float h) {
   if (total == 0) return cellSize_ = h;
   const float blo[3] = {float(lo[0]), float(lo[1]), float(lo[2])};
   const float bhi[3] = {float(hi[0]), float(hi[1]), float(hi[2])};
-  const float cs = NeighbourGrid::cellSizeFor(blo, bhi, total, h);
+  const float cs = grid::NeighbourGrid::cellSizeFor(blo, bhi, total, h);
   const double inv = 1.0 / static_cast<double>(cs);
 
   // Re-cut the slabs: equal particle counts.
@@ -283,7 +283,8 @@ Halo::KeyLattice Halo::keyLattice() const {
   return l;
 }
 
-std::uint64_t Halo::globalKey(const KeyLattice& l, const CellCoord& cell, std::uint32_t within) {
+std::uint64_t Halo::globalKey(const KeyLattice& l, const grid::CellCoord& cell,
+                              std::uint32_t within) {
   long long c[3];
   for (int a = 0; a < 3; ++a) c[a] = std::clamp(cell[a] - l.origin[a], 0LL, l.dims[a] - 1);
   const std::uint64_t linear =
@@ -304,7 +305,7 @@ void Halo::permuted(const std::vector<std::uint32_t>& order) {
       for (std::uint32_t& i : list) i = to[i];
 }
 
-void Halo::sorted(const NeighbourGrid& grid, const std::vector<std::uint32_t>& order) {
+void Halo::sorted(const grid::NeighbourGrid& grid, const std::vector<std::uint32_t>& order) {
   permuted(order);
   keyed_ = true;
   keyedLattice_ = keyLattice();
@@ -313,7 +314,7 @@ void Halo::sorted(const NeighbourGrid& grid, const std::vector<std::uint32_t>& o
   parallelFor(grid.cellCount(), [&](std::size_t cell) {
     const std::uint32_t begin = grid.cellBegin(cell), end = grid.cellEnd(cell);
     if (begin == end || ghost_[begin]) return;
-    const CellCoord g = grid.globalOf(cell);
+    const grid::CellCoord g = grid.globalOf(cell);
     for (std::uint32_t s = begin; s < end; ++s) keys_[s] = globalKey(keyedLattice_, g, s - begin);
   });
 }

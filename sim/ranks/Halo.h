@@ -114,7 +114,7 @@ class Halo {
   float exchange(Particles& fluid, float h);
   // After the grid sort applied `order` (sorted[i] = old[order[i]]): the new keys of the owned
   // particles.
-  void sorted(const NeighbourGrid& grid, const std::vector<std::uint32_t>& order);
+  void sorted(const grid::NeighbourGrid& grid, const std::vector<std::uint32_t>& order);
   // 1 for a ghost, in the local order (valid from exchange() until dropGhosts()).
   const std::vector<std::uint8_t>& ghost() const { return ghost_; }
   // Sends the owned particles' `fields` again to the ranks that hold them as ghosts (this step's
@@ -167,7 +167,7 @@ class Halo {
     long long origin[3] = {0, 0, 0}, dims[3] = {1, 1, 1};
   };
   KeyLattice keyLattice() const;  // of cellSize_
-  static std::uint64_t globalKey(const KeyLattice& lattice, const CellCoord& cell,
+  static std::uint64_t globalKey(const KeyLattice& lattice, const grid::CellCoord& cell,
                                  std::uint32_t within);
   Particles merged(const Particles& fluid, bool everyRank, std::vector<std::uint32_t>* mine,
                    std::vector<std::vector<float>>* attached);

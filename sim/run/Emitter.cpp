@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-namespace sph {
+namespace sph::run {
 
-Emitter::Emitter(const EmitterDesc& desc, float spacing)
+Emitter::Emitter(const scene::EmitterDesc& desc, float spacing)
     : desc_(desc), spacing_(spacing), direction_(desc.direction.normalized()) {
   const Vec3 helper = std::abs(direction_.x()) < 0.9f ? Vec3::UnitX() : Vec3::UnitZ();
   const Vec3 t1 = direction_.cross(helper).normalized(), t2 = direction_.cross(t1);
@@ -47,4 +47,4 @@ std::size_t Emitter::emit(double time, double dt, Particles& fluid, std::uint32_
   return added;
 }
 
-}  // namespace sph
+}  // namespace sph::run

@@ -10,7 +10,7 @@
 #include "sim/Particles.h"
 #include "sim/scene/Scene.h"
 
-namespace sph {
+namespace sph::run {
 
 // What must be saved to resume an emitter exactly.
 struct EmitterState {
@@ -21,7 +21,7 @@ struct EmitterState {
 
 class Emitter {
  public:
-  Emitter(const EmitterDesc& desc, float spacing);
+  Emitter(const scene::EmitterDesc& desc, float spacing);
 
   // Releases the layers due over a step of `dt` that ends at `time` (s). New particles get ids
   // from `nextId` onward and are appended to `fluid`. Returns how many were added.
@@ -35,11 +35,11 @@ class Emitter {
   const std::vector<Vec3>& layer() const { return layer_; }
 
  private:
-  EmitterDesc desc_;
+  scene::EmitterDesc desc_;
   float spacing_;
   Vec3 direction_;
   std::vector<Vec3> layer_;
   EmitterState state_;
 };
 
-}  // namespace sph
+}  // namespace sph::run

@@ -9,7 +9,7 @@
 #include "sim/Parallel.h"
 #include "sim/solver/SceneSetup.h"
 
-namespace sph {
+namespace sph::run {
 namespace {
 
 // Resident bytes of a run, fitted to the peak resident memory of real runs on llvmpipe's machine
@@ -82,11 +82,11 @@ constexpr double kGlBytes = 100e6;
 
 }  // namespace
 
-MemoryEstimate estimateMemory(const Scene& scene, const RankShare& share) {
+MemoryEstimate estimateMemory(const scene::Scene& scene, const RankShare& share) {
   MemoryEstimate m;
   m.ranks = share.distributed ? std::max(1, share.ranks) : 1;
   // The counts the id limit uses too (sim/solver/SceneSetup.h): an upper bound from the description.
-  const ParticleBudget budget = particleBudget(scene);
+  const solver::ParticleBudget budget = solver::particleBudget(scene);
   m.fluidParticles = static_cast<double>(budget.blocks);
   double largestEmitter = 0;
   std::size_t largest = 0;
@@ -99,20 +99,22 @@ MemoryEstimate estimateMemory(const Scene& scene, const RankShare& share) {
   const int layers = scene.solver.boundaryLayers > 0
                          ? scene.solver.boundaryLayers
                          : std::max(1, static_cast<int>(std::ceil(scene.solver.support)));
-  for (const BoundaryShape& b : scene.boundaries)
-    m.boundaryParticles += countBoundarySamples(b, scene.domain, scene.solver.spacing, layers);
+  for (const scene::BoundaryShape& b : scene.boundaries)
+    m.boundaryParticles +=
+        solver::countBoundarySamples(b, scene.domain, scene.solver.spacing, layers);
   const bool gl =
-      scene.render || (scene.collision && scene.collision->method == CollisionMethod::CdtGl);
-  const bool dfsph =
-      scene.solver.model == SolverModel::Sph && scene.solver.pressure == PressureSolver::Dfsph;
-  const double pairBytes = static_cast<double>(PairStore::kBytesPerPair);
+      scene.render || (scene.collision && scene.collision->method == scene::CollisionMethod::CdtGl);
+  const bool dfsph = scene.solver.model == scene::SolverModel::Sph &&
+                     scene.solver.pressure == scene::PressureSolver::Dfsph;
+  const double pairBytes = static_cast<double>(grid::PairStore::kBytesPerPair);
   const double perFluidParticle =
       (share.distributed ? kBytesPerDistributedParticle : kBytesPerFluidParticle) +
       (dfsph ? kDfsphBytesPerParticleArrays +
                    kDfsphPairMargin * pairBytes * latticeNeighbours(scene.solver.support)
              : 0);
   const double pairChunks =
-      dfsph ? 2.0 * threadCount() * pairBytes * static_cast<double>(PairStore::kChunkPairs) : 0;
+      dfsph ? 2.0 * threadCount() * pairBytes * static_cast<double>(grid::PairStore::kChunkPairs)
+            : 0;
   double perDrop = kBytesPerRainDrop;
   if (scene.rain) {
     m.rainDrops = static_cast<double>(scene.rain->count);
@@ -125,8 +127,8 @@ MemoryEstimate estimateMemory(const Scene& scene, const RankShare& share) {
   double fluidShare = 1;
   if (m.ranks > 1) {
     const Vec3 extent = scene.domain.hi - scene.domain.lo;
-    const double planes =
-        std::max(1.0, std::floor(static_cast<double>(extent.maxCoeff()) / deriveParams(scene).h));
+    const double planes = std::max(
+        1.0, std::floor(static_cast<double>(extent.maxCoeff()) / solver::deriveParams(scene).h));
     fluidShare = std::min(1.0, kRankImbalance / m.ranks + 2.0 / planes);
   }
   // What rank 0 holds of the whole fluid: a gathered frame, or the water cells the drops meet.
@@ -151,4 +153,4 @@ MemoryEstimate estimateMemory(const Scene& scene, const RankShare& share) {
   return m;
 }
 
-}  // namespace sph
+}  // namespace sph::run

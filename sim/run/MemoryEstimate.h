@@ -10,7 +10,7 @@
 
 #include "sim/scene/Scene.h"
 
-namespace sph {
+namespace sph::run {
 
 struct MemoryEstimate {
   // Counts in double: a scene too big for any machine must still be described.
@@ -43,6 +43,6 @@ struct RankShare {
 };
 
 // Up to the scene's solver.end_time (the run's, after --end); one rank's under `share`.
-MemoryEstimate estimateMemory(const Scene& scene, const RankShare& share = {});
+MemoryEstimate estimateMemory(const scene::Scene& scene, const RankShare& share = {});
 
-}  // namespace sph
+}  // namespace sph::run

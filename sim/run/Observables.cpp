@@ -9,7 +9,7 @@
 #include "sim/solver/LatticeSums.h"
 #include "sim/grid/NeighbourGrid.h"
 
-namespace sph {
+namespace sph::run {
 
 float surgeFront(const Particles& fluid) {
   float front = -std::numeric_limits<float>::max();
@@ -42,13 +42,14 @@ double potentialEnergy(const Particles& fluid, double mass, const Vec3& gravity,
   return e;
 }
 
-double elasticEnergy(const Particles& fluid, const SolverParams& s, double mass, double stiffness) {
+double elasticEnergy(const Particles& fluid, const scene::SolverParams& s, double mass,
+                     double stiffness) {
   const double m = mass, rho0 = s.restDensity, B = stiffness;
   double e = 0;
   for (std::size_t i = 0; i < fluid.size(); ++i) {
     const double rho = fluid.rho[i];
     if (rho <= rho0 && s.clampNegativePressure) continue;  // p = 0 stores nothing
-    if (s.eos == EquationOfState::Tait) {
+    if (s.eos == scene::EquationOfState::Tait) {
       // p = B ((rho/rho0)^7 - 1): e = B ((rho^6 - rho0^6) / (6 rho0^7) + 1/rho - 1/rho0).
       e += m * B *
            ((std::pow(rho, 6) - std::pow(rho0, 6)) / (6 * std::pow(rho0, 7)) + 1 / rho - 1 / rho0);
@@ -70,11 +71,11 @@ LayerMean bottomLayer(const Particles& fluid, double top) {
   return m;
 }
 
-Vec3d wallLoad(const Particles& fluid, const BoundaryParticles& boundary,
+Vec3d wallLoad(const Particles& fluid, const solver::BoundaryParticles& boundary,
                const std::vector<float>& boundaryPressureTerm, const Aabb& sensor, double mass,
                double h, double gradientCorrection) {
   // |gradW_spiky| = 45 / (pi h^6) (h - r)^2.
-  const double scale = gradientCorrection * mass * mass * 45.0 / (kPi * std::pow(h, 6));
+  const double scale = gradientCorrection * mass * mass * 45.0 / (solver::kPi * std::pow(h, 6));
   // The fluid within reach of the sensor, binned in cells of side h (the simulation's grid).
   const float reachH = static_cast<float>(h);
   const Aabb reach{sensor.lo - Vec3::Constant(reachH), sensor.hi + Vec3::Constant(reachH)};
@@ -86,11 +87,11 @@ Vec3d wallLoad(const Particles& fluid, const BoundaryParticles& boundary,
     nx.push_back(fluid.x[i]), ny.push_back(fluid.y[i]), nz.push_back(fluid.z[i]);
   }
   if (near.empty()) return Vec3d::Zero();
-  NeighbourGrid grid;
+  grid::NeighbourGrid grid;
   std::vector<std::uint32_t> order;
   // Cells no smaller than h (float h may round below it): the 3x3x3 around b hold all within h.
   grid.build(nx.data(), ny.data(), nz.data(), near.size(), reachH * (1 + 1e-6f), order,
-             NeighbourGrid::kExactCellSize);
+             grid::NeighbourGrid::kExactCellSize);
   Vec3d force = Vec3d::Zero();
   for (std::size_t b = 0; b < boundary.size(); ++b) {
     const Vec3 xbf(boundary.x[b], boundary.y[b], boundary.z[b]);
@@ -131,8 +132,8 @@ DensityError densityError(const Particles& fluid, double rho0) {
 }
 
 double waterLevel(const Particles& fluid, const Aabb& columns, float h, float dx, int n) {
-  const Kernels k(h);
-  const double lattice = latticeKernelSum(k, DensityKernel::Poly6, dx);
+  const solver::Kernels k(h);
+  const double lattice = latticeKernelSum(k, scene::DensityKernel::Poly6, dx);
   double sum = 0;
   std::vector<Vec3> near;
   for (int a = 0; a < n; ++a) {
@@ -164,4 +165,4 @@ double waterLevel(const Particles& fluid, const Aabb& columns, float h, float dx
   return sum / (n * n);
 }
 
-}  // namespace sph
+}  // namespace sph::run

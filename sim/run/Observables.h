@@ -11,7 +11,7 @@
 #include "sim/scene/SolverParams.h"
 #include "sim/Types.h"
 
-namespace sph {
+namespace sph::run {
 
 // Largest x of the fluid (m): the surge front of a dam break whose column stands against a wall
 // at the low-x end (Martin & Moyce 1952; tests/test_dam_break.cpp, the sweeps' surge_front).
@@ -35,7 +35,7 @@ double potentialEnergy(const Particles& fluid, double mass, const Vec3& gravity,
 // rho0, with stiffness B (Tait, Pa) or k (linear, m^2/s^2), as DerivedParams::stiffness. Particles
 // below rest density store nothing when negative pressure is clamped. The solver scales its
 // pressure force by the gradient correction; the energy its forces conserve is this times that.
-double elasticEnergy(const Particles& fluid, const SolverParams& solver, double mass,
+double elasticEnergy(const Particles& fluid, const scene::SolverParams& solver, double mass,
                      double stiffness);
 
 // Mean pressure p (Pa) and height y (m) of the particles below height `top` (m): the bottom
@@ -57,7 +57,7 @@ LayerMean bottomLayer(const Particles& fluid, double top);
 // zeros for DFSPH, whose walls push with k_i alone, the p_i/rho_i^2 term of its output p;
 // Dfsph.cpp) and c the step's gradient correction (Simulation::gradientCorrection()). Read after a
 // step, the fluid has moved by dt v since its p was computed: at rest, a small part of a spacing.
-Vec3d wallLoad(const Particles& fluid, const BoundaryParticles& boundary,
+Vec3d wallLoad(const Particles& fluid, const solver::BoundaryParticles& boundary,
                const std::vector<float>& boundaryPressureTerm, const Aabb& sensor, double mass,
                double h, double gradientCorrection);
 
@@ -82,4 +82,4 @@ struct DensityError {
 // All zero for no particles.
 DensityError densityError(const Particles& fluid, double restDensity);
 
-}  // namespace sph
+}  // namespace sph::run

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace sph {
+namespace sph::run {
 
 RunOutcome runFrames(Simulation& sim, const RunPlan& plan, const std::vector<FrameSink*>& sinks) {
   RunOutcome outcome;
@@ -35,4 +35,4 @@ std::size_t plannedFrameCount(double endTime, double frameInterval) {
   return static_cast<std::size_t>(std::ceil(endTime / frameInterval)) + 1;
 }
 
-}  // namespace sph
+}  // namespace sph::run

@@ -13,7 +13,7 @@
 #include "sim/run/Simulation.h"
 #include "sim/StabilityError.h"
 
-namespace sph {
+namespace sph::run {
 
 // Receives each finished output frame (the simulation's state at that frame's time).
 class FrameSink {
@@ -45,4 +45,4 @@ RunOutcome runFrames(Simulation& sim, const RunPlan& plan, const std::vector<Fra
 // Output frames from t = 0 to `endTime` at `frameInterval`, the initial state included.
 std::size_t plannedFrameCount(double endTime, double frameInterval);
 
-}  // namespace sph
+}  // namespace sph::run

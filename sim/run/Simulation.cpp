@@ -11,19 +11,19 @@
 #include "sim/solver/Validate.h"
 #include "sim/run/StartSlab.h"
 
-namespace sph {
+namespace sph::run {
 
-Simulation::Simulation(const Scene& scene)
+Simulation::Simulation(const scene::Scene& scene)
     : scene_(scene),
-      derived_(deriveParams(scene)),
+      derived_(solver::deriveParams(scene)),
       boundary_(scene.boundaries, scene.domain, scene.solver.spacing, derived_.boundaryLayers,
                 derived_.h) {
   setUp(nullptr, Start::Slab);
 }
 
-Simulation::Simulation(const Scene& scene, ranks::Halo& start, Start what)
+Simulation::Simulation(const scene::Scene& scene, ranks::Halo& start, Start what)
     : scene_(scene),
-      derived_(deriveParams(scene)),
+      derived_(solver::deriveParams(scene)),
       boundary_(scene.boundaries, scene.domain, scene.solver.spacing, derived_.boundaryLayers,
                 derived_.h) {
   setUp(&start, what);
@@ -31,12 +31,12 @@ Simulation::Simulation(const Scene& scene, ranks::Halo& start, Start what)
 
 void Simulation::setUp(ranks::Halo* start, Start what) {
   gradientCorrection_ = derived_.gradientCorrection;
-  StepContext setup = context(0);
+  solver::StepContext setup = context(0);
   computeStaticBoundaryDensity(setup);
   if (start && what == Start::Empty) {
     // A resume: restore() brings the fluid, its ids and the run state.
   } else if (start) {
-    ranks::StartSlab slab = ranks::startSlab(*start, scene_, boundary_, scene_.solver.restDensity);
+    run::StartSlab slab = run::startSlab(*start, scene_, boundary_, scene_.solver.restDensity);
     fluid_ = std::move(slab.fluid);
     state_.nextId = static_cast<std::uint32_t>(slab.total);
     startKeys_.assign(fluid_.id.begin(), fluid_.id.end());
@@ -44,7 +44,8 @@ void Simulation::setUp(ranks::Halo* start, Start what) {
     fluid_ = initialFluid(scene_, boundary_, scene_.solver.restDensity);
     state_.nextId = static_cast<std::uint32_t>(fluid_.size());
   }
-  for (const EmitterDesc& e : scene_.emitters) emitters_.emplace_back(e, scene_.solver.spacing);
+  for (const scene::EmitterDesc& e : scene_.emitters)
+    emitters_.emplace_back(e, scene_.solver.spacing);
   state_.maxAcceleration = scene_.solver.gravity.norm();
   for (std::size_t i = 0; i < fluid_.size(); ++i) {
     state_.maxSpeed = std::max(state_.maxSpeed, fluid_.velocity(i).norm());
@@ -68,10 +69,10 @@ float Simulation::chooseTimeStep() const {
   return timeStep(scene_, derived_, state_.maxSpeed, state_.maxAcceleration);
 }
 
-StepContext Simulation::context(float dt) {
-  StepContext c{dt,         scene_.solver,   derived_, boundary_,           fluid_,
-                grid_,      boundaryFields_, scratch_, gradientCorrection_, state_.warmStart,
-                solveStats_};
+solver::StepContext Simulation::context(float dt) {
+  solver::StepContext c{
+      dt,       scene_.solver,       derived_,         boundary_,  fluid_, grid_, boundaryFields_,
+      scratch_, gradientCorrection_, state_.warmStart, solveStats_};
   if (halo_) c.ghost = &halo_->ghost(), c.ranks = &halo_->comm(), c.halo = halo_;
   return c;
 }
@@ -84,7 +85,8 @@ void Simulation::setHalo(ranks::Halo* halo) {
   halo_->adopt(fluid_, std::move(startKeys_));
   startKeys_.clear();
   // DFSPH's warm start is run state per particle: it moves with its particle (docs/scaling.md).
-  if (scene_.solver.model == SolverModel::Sph && scene_.solver.pressure == PressureSolver::Dfsph) {
+  if (scene_.solver.model == scene::SolverModel::Sph &&
+      scene_.solver.pressure == scene::PressureSolver::Dfsph) {
     halo_->attach(state_.warmStart.density);
     halo_->attach(state_.warmStart.divergence);
   }
@@ -99,72 +101,72 @@ void Simulation::step(double limit) {
   // Avoid a sliver step right before the limit: split the remainder into two equal steps.
   else if (state_.time + 1.5 * dt > limit)
     dt = 0.5 * (limit - state_.time);
-  StepContext c = context(static_cast<float>(dt));
-  auto timed = [&](Pass pass, auto&& run) {
-    PassTimer t(profile_, pass);
+  solver::StepContext c = context(static_cast<float>(dt));
+  auto timed = [&](solver::Pass pass, auto&& run) {
+    solver::PassTimer t(profile_, pass);
     run();
   };
-  timed(Pass::Emit, [&] { emitParticles(dt); });
+  timed(solver::Pass::Emit, [&] { emitParticles(dt); });
   // The paper's particle model has no neighbour passes, so nothing to sort for.
-  const bool sph = scene_.solver.model == SolverModel::Sph;
-  const bool dfsph = sph && scene_.solver.pressure == PressureSolver::Dfsph;
+  const bool sph = scene_.solver.model == scene::SolverModel::Sph;
+  const bool dfsph = sph && scene_.solver.pressure == scene::PressureSolver::Dfsph;
   if (sph) {
     if (halo_) {
       float cellSize = 0;
-      timed(Pass::Exchange, [&] { cellSize = halo_->exchange(fluid_, derived_.h); });
-      timed(Pass::Sort, [&] {
+      timed(solver::Pass::Exchange, [&] { cellSize = halo_->exchange(fluid_, derived_.h); });
+      timed(solver::Pass::Sort, [&] {
         grid_.build(fluid_.x.data(), fluid_.y.data(), fluid_.z.data(), fluid_.size(), cellSize,
-                    scratch_.order, NeighbourGrid::kExactCellSize);
+                    scratch_.order, grid::NeighbourGrid::kExactCellSize);
         fluid_.permute(scratch_.order, scratch_.permuteScratch);
         halo_->sorted(grid_, scratch_.order);
       });
     } else {
-      timed(Pass::Sort, [&] { sortParticles(c); });
+      timed(solver::Pass::Sort, [&] { sortParticles(c); });
     }
     // DFSPH's density comes with its factor and pairs, from one neighbour search.
     if (dfsph)
-      timed(Pass::Factor, [&] { computeDfsphDensityAndFactor(c); });
+      timed(solver::Pass::Factor, [&] { computeDfsphDensityAndFactor(c); });
     else
-      timed(Pass::Density, [&] { computeDensity(c); });
+      timed(solver::Pass::Density, [&] { computeDensity(c); });
     validate("the density pass",
              [&] { return checkDensity(fluid_, derived_, scene_.solver.densityKernel); });
   }
   if (dfsph) {  // sim/solver/Dfsph.cpp
-    timed(Pass::Divergence, [&] { solveDivergence(c); });
-    timed(Pass::Forces, [&] { computeDfsphViscosity(c), predictVelocity(c); });
-    timed(Pass::Pressure, [&] { solveDensity(c); });
-    if (halo_) timed(Pass::Exchange, [&] { halo_->dropGhosts(fluid_); });
+    timed(solver::Pass::Divergence, [&] { solveDivergence(c); });
+    timed(solver::Pass::Forces, [&] { computeDfsphViscosity(c), predictVelocity(c); });
+    timed(solver::Pass::Pressure, [&] { solveDensity(c); });
+    if (halo_) timed(solver::Pass::Exchange, [&] { halo_->dropGhosts(fluid_); });
   } else if (sph) {
-    timed(Pass::Pressure, [&] { computePressure(c); });
-    timed(Pass::Forces, [&] { computeForces(c); });
-    if (halo_) timed(Pass::Exchange, [&] { halo_->dropGhosts(fluid_); });
+    timed(solver::Pass::Pressure, [&] { computePressure(c); });
+    timed(solver::Pass::Forces, [&] { computeForces(c); });
+    if (halo_) timed(solver::Pass::Exchange, [&] { halo_->dropGhosts(fluid_); });
   } else {
     if (halo_) {  // migration only: no neighbour sums, no ghosts needed
-      timed(Pass::Exchange, [&] {
+      timed(solver::Pass::Exchange, [&] {
         halo_->exchange(fluid_, derived_.h);
         halo_->dropGhosts(fluid_);
       });
     }
-    timed(Pass::Forces, [&] { applyGravityOnly(c); });
+    timed(solver::Pass::Forces, [&] { applyGravityOnly(c); });
   }
-  timed(Pass::Integrate, [&] {
-    const MotionBounds bounds = dfsph ? integratePositions(c) : integrate(c);
+  timed(solver::Pass::Integrate, [&] {
+    const solver::MotionBounds bounds = dfsph ? integratePositions(c) : integrate(c);
     state_.maxSpeed = bounds.maxSpeed, state_.maxAcceleration = bounds.maxAcceleration;
     if (halo_) halo_->maxOverRanks(state_.maxSpeed, state_.maxAcceleration);
   });
   state_.time += dt;
   state_.step += 1;
   state_.lastDt = c.dt;
-  timed(Pass::Collide, [&] { collide(c.dt); });
-  timed(Pass::Boundaries, [&] { enforceBoundaries(c); });
-  timed(Pass::Guard, [&] {
+  timed(solver::Pass::Collide, [&] { collide(c.dt); });
+  timed(solver::Pass::Boundaries, [&] { enforceBoundaries(c); });
+  timed(solver::Pass::Guard, [&] {
     if (!halo_) {
       const std::uint64_t lost = checkStability(c, scene_.domain, state_.step, state_.time,
                                                 state_.lostParticles, derived_.maxLostParticles);
       state_.lostParticles += lost;
       if (lost == 0) return;
       // The next step's size follows the particles that stayed.
-      const MotionBounds bounds = motionBounds(fluid_);
+      const solver::MotionBounds bounds = solver::motionBounds(fluid_);
       state_.maxSpeed = bounds.maxSpeed, state_.maxAcceleration = bounds.maxAcceleration;
       return;
     }
@@ -194,12 +196,12 @@ void Simulation::step(double limit) {
     halo_->agreeOnStability(local);
     if (outsideAll == 0) return;
     state_.lostParticles += outsideAll;
-    const MotionBounds bounds = motionBounds(fluid_);
+    const solver::MotionBounds bounds = solver::motionBounds(fluid_);
     state_.maxSpeed = bounds.maxSpeed, state_.maxAcceleration = bounds.maxAcceleration;
     halo_->maxOverRanks(state_.maxSpeed, state_.maxAcceleration);
   });
-  if (state_.time >= rainTick) timed(Pass::Emit, [&] { feedRain(rainTick); });
-  validate("the step", [&] { return checkState(fluid_, state_.nextId); });
+  if (state_.time >= rainTick) timed(solver::Pass::Emit, [&] { feedRain(rainTick); });
+  validate("the step", [&] { return solver::checkState(fluid_, state_.nextId); });
   profile_.steps += 1;
   profile_.particleSteps += fluid_.size();
 }
@@ -242,7 +244,7 @@ void Simulation::collide(float dt) {
     collision_->apply(fluid_, context);
     return;
   }
-  if (scene_.collision->method != CollisionMethod::Exact) {
+  if (scene_.collision->method != scene::CollisionMethod::Exact) {
     // `octree` and `cdt-cpu` find pairs through structures of the whole fluid (an octree's
     // leaves, the CDT's depth images over the domain), which a rank's slab and ghosts would
     // build differently. So every rank gathers the whole fluid in the single-process order and
@@ -294,4 +296,4 @@ void Simulation::restore(const RunState& state, Particles fluid, std::vector<std
   state_.emitters.clear();
 }
 
-}  // namespace sph
+}  // namespace sph::run

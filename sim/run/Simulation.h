@@ -21,7 +21,7 @@
 #include "sim/ranks/Halo.h"
 #include "sim/rain/RainFeed.h"
 
-namespace sph {
+namespace sph::run {
 
 // Everything needed to continue a run exactly where it stopped (restart/resume).
 struct RunState {
@@ -34,13 +34,13 @@ struct RunState {
       0;  // removed for leaving the domain (SolverParams::maxLostParticles)
   std::vector<EmitterState> emitters;
   // DFSPH's warm start, in the order of the fluid it was saved with (empty for WCSPH).
-  PressureWarmStart warmStart;
+  solver::PressureWarmStart warmStart;
   rain::FeedState rain;  // rain.feed_fluid: the landed rain (all zero without)
 };
 
 class Simulation {
  public:
-  explicit Simulation(const Scene& scene);
+  explicit Simulation(const scene::Scene& scene);
   // What a rank of a distributed run starts with: its slab of the scene's starting fluid, or no
   // fluid (a resume, whose restore() brings the rank's part of the cache's frame).
   enum class Start { Slab, Empty };
@@ -48,7 +48,7 @@ class Simulation {
   // starting fluid, cut as `start`'s first exchange will cut it, or (Start::Empty) none
   // (collective: every rank constructs its own at the same point, with the same `what`).
   // setHalo(start) must follow before any step.
-  Simulation(const Scene& scene, ranks::Halo& start, Start what = Start::Slab);
+  Simulation(const scene::Scene& scene, ranks::Halo& start, Start what = Start::Slab);
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
@@ -67,12 +67,12 @@ class Simulation {
   // The step size the next step() will take (before shortening to a limit).
   float nextTimeStep() const;
 
-  const Scene& scene() const { return scene_; }
-  const DerivedParams& params() const { return derived_; }
+  const scene::Scene& scene() const { return scene_; }
+  const solver::DerivedParams& params() const { return derived_; }
   const Particles& fluid() const { return fluid_; }
   Particles& fluid() { return fluid_; }
-  const Boundary& boundary() const { return boundary_; }
-  const StepProfile& profile() const { return profile_; }
+  const solver::Boundary& boundary() const { return boundary_; }
+  const solver::StepProfile& profile() const { return profile_; }
   // Scale of the pressure force at the last step (1 / mean discrete gradient moment).
   float gradientCorrection() const { return gradientCorrection_; }
   // p_b / rho_b^2 (m^5 / (kg s^2)) of every boundary particle at the last step, in the order of
@@ -87,9 +87,9 @@ class Simulation {
                    const std::vector<std::uint32_t>& generations);
   // DFSPH's warm start, in the fluid's order (run state; a distributed run's frames swap in the
   // gathered one, app/DistributedRun.h).
-  PressureWarmStart& warmStart() { return state_.warmStart; }
+  solver::PressureWarmStart& warmStart() { return state_.warmStart; }
   // What the DFSPH solvers did (zeros for WCSPH).
-  const PressureSolveStats& solveStats() const { return solveStats_; }
+  const solver::PressureSolveStats& solveStats() const { return solveStats_; }
 
   void setCollisionPass(std::unique_ptr<CollisionPass> pass);
   const CollisionPass* collisionPass() const { return collision_.get(); }
@@ -111,25 +111,25 @@ class Simulation {
   void setUp(ranks::Halo* start, Start what);
   float chooseTimeStep() const;
   // The context the passes of a step of `dt` seconds work on.
-  StepContext context(float dt);
+  solver::StepContext context(float dt);
   void emitParticles(double dt);
   // At a rain tick: the drops that landed in the water join it (rain.feed_fluid).
   void feedRain(double tick);
   void collide(float dt);
 
-  Scene scene_;
-  DerivedParams derived_;
-  Boundary boundary_;
+  scene::Scene scene_;
+  solver::DerivedParams derived_;
+  solver::Boundary boundary_;
   Particles fluid_;
   std::vector<Emitter> emitters_;
-  NeighbourGrid grid_;
+  grid::NeighbourGrid grid_;
   std::unique_ptr<CollisionPass> collision_;
-  StepProfile profile_;
+  solver::StepProfile profile_;
   RunState state_;
-  BoundaryFields boundaryFields_;
-  StepScratch scratch_;
+  solver::BoundaryFields boundaryFields_;
+  solver::StepScratch scratch_;
   float gradientCorrection_ = 1;  // scale of the pressure force this step
-  PressureSolveStats solveStats_;
+  solver::PressureSolveStats solveStats_;
   ranks::Halo* halo_ = nullptr;  // a distributed run's decomposition; null alone
   // A distributed run's keys of the fluid (sim/ranks/Halo.h, adopt), handed to setHalo(): a slab
   // start's ids, a resumed slab's indices in the frame; empty when the fluid is whole (0, 1, ...).
@@ -138,4 +138,4 @@ class Simulation {
   std::unique_ptr<rain::RainFeed> rainFeed_;
 };
 
-}  // namespace sph
+}  // namespace sph::run

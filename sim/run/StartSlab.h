@@ -24,11 +24,11 @@
 #include "sim/scene/Scene.h"
 #include "sim/ranks/Halo.h"
 
-namespace sph {
+namespace sph::solver {
 class Boundary;
 }
 
-namespace sph::ranks {
+namespace sph::run {
 
 struct StartSlab {
   Particles fluid;          // this rank's particles, in the single-process order
@@ -37,6 +37,7 @@ struct StartSlab {
 
 // Collective. Sets `halo`'s first cut (Halo::startWith) and returns this rank's part of
 // initialFluid(scene, boundary, restDensity), ids as the single process gives them.
-StartSlab startSlab(Halo& halo, const Scene& scene, const Boundary& boundary, float restDensity);
+StartSlab startSlab(ranks::Halo& halo, const scene::Scene& scene, const solver::Boundary& boundary,
+                    float restDensity);
 
-}  // namespace sph::ranks
+}  // namespace sph::run

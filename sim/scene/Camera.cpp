@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace sph {
+namespace sph::scene {
 
 Mat4 identity() {
   Mat4 r;
@@ -101,4 +101,4 @@ Frustum::Frustum(const Mat4& m) {
   for (auto& p : planes) p /= p.head<3>().norm();
 }
 
-}  // namespace sph
+}  // namespace sph::scene

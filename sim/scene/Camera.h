@@ -9,7 +9,7 @@
 
 #include "sim/scene/CameraDesc.h"
 
-namespace sph {
+namespace sph::scene {
 
 // 4x4 float matrix, column-major like GLSL's mat4 and glUniformMatrix4fv(..., GL_FALSE, ...):
 // row r, column c is m[4 c + r].
@@ -57,4 +57,4 @@ struct Frustum {
   }
 };
 
-}  // namespace sph
+}  // namespace sph::scene

@@ -6,7 +6,7 @@
 
 #include "sim/Types.h"
 
-namespace sph {
+namespace sph::scene {
 
 struct CameraDesc {
   Vec3 position = Vec3(0, 0, 1);  // m
@@ -25,4 +25,4 @@ struct CameraKey {
 };
 using CameraPath = std::vector<CameraKey>;  // strictly increasing times
 
-}  // namespace sph
+}  // namespace sph::scene

@@ -9,7 +9,7 @@
 #include "sim/scene/CameraDesc.h"
 #include "sim/scene/EnumNames.h"
 
-namespace sph {
+namespace sph::scene {
 
 enum class CollisionMethod {
   None,    // section present, pass off (handy with --set collision.method=none)
@@ -120,4 +120,4 @@ struct CollisionDesc {
   float octreeRootSize = 0;  // m, edge of the cubic root; 0 = the domain's largest edge
 };
 
-}  // namespace sph
+}  // namespace sph::scene

@@ -24,7 +24,7 @@
 #include <string_view>
 #include <vector>
 
-namespace sph {
+namespace sph::scene {
 
 // Every enumerator of E, in declaration order.
 template <class E>
@@ -68,4 +68,4 @@ std::string enumNameList() {
   return text;
 }
 
-}  // namespace sph
+}  // namespace sph::scene

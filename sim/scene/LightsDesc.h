@@ -11,7 +11,7 @@
 #include "sim/scene/EnumNames.h"
 #include "sim/Types.h"
 
-namespace sph {
+namespace sph::scene {
 
 // Which particles glow (scene key lights.source).
 enum class LightSource {
@@ -178,4 +178,4 @@ struct LightsDesc {
   }
 };
 
-}  // namespace sph
+}  // namespace sph::scene

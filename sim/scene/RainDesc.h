@@ -10,7 +10,7 @@
 #include "sim/scene/EnumNames.h"
 #include "sim/Types.h"
 
-namespace sph {
+namespace sph::scene {
 
 // Where drops are placed (scene key rain.spawn; DESIGN.md, "View-dependent rain").
 enum class RainSpawn {
@@ -120,4 +120,4 @@ struct RainDesc {
   double dropVolume = 4.18879e-9;
 };
 
-}  // namespace sph
+}  // namespace sph::scene

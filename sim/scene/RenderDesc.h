@@ -7,7 +7,7 @@
 
 #include "sim/scene/EnumNames.h"
 
-namespace sph {
+namespace sph::scene {
 
 // Where a quad splat's vertices go (scene key render.projection; render/splat/SplatBuilder.h).
 enum class SplatProjection {
@@ -73,4 +73,4 @@ constexpr const char* nameOf(RenderDesc::Splat v) {
   return nullptr;
 }
 
-}  // namespace sph
+}  // namespace sph::scene

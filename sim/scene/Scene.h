@@ -15,7 +15,7 @@
 #include "sim/scene/SolverParams.h"
 #include "sim/Types.h"
 
-namespace sph {
+namespace sph::scene {
 
 // A block of fluid filled with particles on the lattice lo + (i + 1/2) spacing.
 struct FluidBlock {
@@ -86,4 +86,4 @@ struct Scene {
   std::optional<LightsDesc> lights;        // particles as lights (seed 004); none = no light code
 };
 
-}  // namespace sph
+}  // namespace sph::scene

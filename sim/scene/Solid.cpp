@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-namespace sph {
+namespace sph::scene {
 namespace {
 
 constexpr float kOpen = std::numeric_limits<float>::infinity();
@@ -155,4 +155,4 @@ PlanePatch planeOverDomain(const BoundaryShape& s, const Aabb& domain) {
   return p;
 }
 
-}  // namespace sph
+}  // namespace sph::scene

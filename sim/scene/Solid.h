@@ -7,7 +7,7 @@
 #include "sim/scene/Scene.h"
 #include "sim/Types.h"
 
-namespace sph {
+namespace sph::scene {
 
 class Solid {
  public:
@@ -43,4 +43,4 @@ struct PlanePatch {
 };
 PlanePatch planeOverDomain(const BoundaryShape& plane, const Aabb& domain);
 
-}  // namespace sph
+}  // namespace sph::scene

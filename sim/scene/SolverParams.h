@@ -5,7 +5,7 @@
 #include "sim/scene/EnumNames.h"
 #include "sim/Types.h"
 
-namespace sph {
+namespace sph::scene {
 
 enum class EquationOfState {
   Tait,    // p = B((rho/rho0)^7 - 1), B = rho0 c^2 / 7 (Monaghan 1994; Becker & Teschner 2007)
@@ -131,4 +131,4 @@ struct SolverParams {
   float supportRadius() const { return support * spacing; }  // h (m)
 };
 
-}  // namespace sph
+}  // namespace sph::scene

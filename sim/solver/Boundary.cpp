@@ -7,7 +7,7 @@
 #include "sim/solver/Kernels.h"
 #include "sim/scene/Solid.h"
 
-namespace sph {
+namespace sph::solver {
 namespace {
 
 // Number of lattice cells of about `spacing` that fit in [a, b], at least 1.
@@ -17,8 +17,8 @@ int cellsAlong(float a, float b, float spacing) {
 
 // Tank (fluid inside) or Block (fluid outside): lattice points of the box grown by `layers`
 // (Tank) or of the box itself (Block), keeping those within `layers` cells of a fluid-facing face.
-void sampleBox(const BoundaryShape& s, float spacing, int layers, std::vector<Vec3>& out) {
-  const bool tank = s.kind == BoundaryShape::Kind::Tank;
+void sampleBox(const scene::BoundaryShape& s, float spacing, int layers, std::vector<Vec3>& out) {
+  const bool tank = s.kind == scene::BoundaryShape::Kind::Tank;
   int n[3];
   float step[3];
   for (int a = 0; a < 3; ++a) {
@@ -51,7 +51,7 @@ void sampleBox(const BoundaryShape& s, float spacing, int layers, std::vector<Ve
 
 // Open-top cylinder: rings for the wall (also below the floor, to close the corner) and a square
 // lattice for the floor inside the inner radius.
-void sampleCup(const BoundaryShape& s, float spacing, int layers, std::vector<Vec3>& out) {
+void sampleCup(const scene::BoundaryShape& s, float spacing, int layers, std::vector<Vec3>& out) {
   const Vec3 c = s.centre;
   const int wallCells = cellsAlong(0, s.height, spacing);
   const float dy = s.height / wallCells;
@@ -80,9 +80,9 @@ void sampleCup(const BoundaryShape& s, float spacing, int layers, std::vector<Ve
 }
 
 // Infinite plane: a lattice in the plane over the domain's shadow, `layers` deep.
-void samplePlane(const BoundaryShape& s, const Aabb& domain, float spacing, int layers,
+void samplePlane(const scene::BoundaryShape& s, const Aabb& domain, float spacing, int layers,
                  std::vector<Vec3>& out) {
-  const PlanePatch patch = planeOverDomain(s, domain);
+  const scene::PlanePatch patch = planeOverDomain(s, domain);
   const Vec3 &n = patch.n, &t1 = patch.t1, &t2 = patch.t2;
   const int i0 = static_cast<int>(std::floor(patch.lo1 / spacing)) - 1;
   const int i1 = static_cast<int>(std::ceil(patch.hi1 / spacing)) + 1;
@@ -99,7 +99,8 @@ void samplePlane(const BoundaryShape& s, const Aabb& domain, float spacing, int 
 }
 
 // Solid sphere: Fibonacci-spiral shells inside the surface.
-void sampleSphere(const BoundaryShape& s, float spacing, int layers, std::vector<Vec3>& out) {
+void sampleSphere(const scene::BoundaryShape& s, float spacing, int layers,
+                  std::vector<Vec3>& out) {
   const double golden = kPi * (3.0 - std::sqrt(5.0));
   for (int layer = 0; layer < layers; ++layer) {
     const double r = s.radius - (layer + 0.5) * spacing;
@@ -119,35 +120,37 @@ void sampleSphere(const BoundaryShape& s, float spacing, int layers, std::vector
 
 }  // namespace
 
-std::vector<Vec3> sampleBoundaryShape(const BoundaryShape& shape, const Aabb& domain, float spacing,
-                                      int layers) {
+std::vector<Vec3> sampleBoundaryShape(const scene::BoundaryShape& shape, const Aabb& domain,
+                                      float spacing, int layers) {
   std::vector<Vec3> out;
   switch (shape.kind) {
-    case BoundaryShape::Kind::Tank:
-    case BoundaryShape::Kind::Block:
+    case scene::BoundaryShape::Kind::Tank:
+    case scene::BoundaryShape::Kind::Block:
       sampleBox(shape, spacing, layers, out);
       break;
-    case BoundaryShape::Kind::Cup:
+    case scene::BoundaryShape::Kind::Cup:
       sampleCup(shape, spacing, layers, out);
       break;
-    case BoundaryShape::Kind::Plane:
+    case scene::BoundaryShape::Kind::Plane:
       samplePlane(shape, domain, spacing, layers, out);
       break;
-    case BoundaryShape::Kind::Sphere:
+    case scene::BoundaryShape::Kind::Sphere:
       sampleSphere(shape, spacing, layers, out);
       break;
   }
   return out;
 }
 
-double countBoundarySamples(const BoundaryShape& s, const Aabb& domain, float spacing, int layers) {
+double countBoundarySamples(const scene::BoundaryShape& s, const Aabb& domain, float spacing,
+                            int layers) {
   switch (s.kind) {
-    case BoundaryShape::Kind::Tank:
-    case BoundaryShape::Kind::Block: {  // sampleBox(): the kept cells of its lattice, in closed
-                                        // form
+    case scene::BoundaryShape::Kind::Tank:
+    case scene::BoundaryShape::Kind::Block: {  // sampleBox(): the kept cells of its lattice, in
+                                               // closed
+                                               // form
       double n[3];
       for (int a = 0; a < 3; ++a) n[a] = cellsAlong(s.lo[a], s.hi[a], spacing);
-      if (s.kind == BoundaryShape::Kind::Block) {
+      if (s.kind == scene::BoundaryShape::Kind::Block) {
         double inner = 1;
         for (int a = 0; a < 3; ++a) inner *= std::max(0.0, n[a] - 2.0 * layers);
         return n[0] * n[1] * n[2] - inner;
@@ -156,7 +159,7 @@ double countBoundarySamples(const BoundaryShape& s, const Aabb& domain, float sp
       const double rows = s.openTop ? n[1] + g : n[1] + 2 * g;
       return (n[0] + 2 * g) * rows * (n[2] + 2 * g) - n[0] * n[1] * n[2];
     }
-    case BoundaryShape::Kind::Cup: {  // sampleCup(): rings, then the floor's disc
+    case scene::BoundaryShape::Kind::Cup: {  // sampleCup(): rings, then the floor's disc
       const double wallCells = cellsAlong(0, s.height, spacing);
       double count = 0;
       for (int layer = 0; layer < layers; ++layer) {
@@ -165,12 +168,12 @@ double countBoundarySamples(const BoundaryShape& s, const Aabb& domain, float sp
       }
       return count + layers * kPi * s.radius * s.radius / (double(spacing) * spacing);
     }
-    case BoundaryShape::Kind::Plane: {  // samplePlane(): the domain's shadow, `layers` deep
+    case scene::BoundaryShape::Kind::Plane: {  // samplePlane(): the domain's shadow, `layers` deep
       const Vec3 d = domain.hi - domain.lo;
       const double diagonal = d.norm() / spacing + 4;
       return layers * diagonal * diagonal;
     }
-    case BoundaryShape::Kind::Sphere: {  // sampleSphere(): one shell per layer
+    case scene::BoundaryShape::Kind::Sphere: {  // sampleSphere(): one shell per layer
       double count = 0;
       for (int layer = 0; layer < layers; ++layer) {
         const double r = s.radius - (layer + 0.5) * spacing;
@@ -183,14 +186,14 @@ double countBoundarySamples(const BoundaryShape& s, const Aabb& domain, float sp
   return 0;
 }
 
-Boundary::Boundary(const std::vector<BoundaryShape>& shapes, const Aabb& domain, float spacing,
-                   int layers, float supportRadius)
+Boundary::Boundary(const std::vector<scene::BoundaryShape>& shapes, const Aabb& domain,
+                   float spacing, int layers, float supportRadius)
     : spacing_(spacing), layers_(layers) {
   Aabb reach = domain;
   reach.lo -= Vec3::Constant(supportRadius);
   reach.hi += Vec3::Constant(supportRadius);
   std::vector<Vec3> samples;
-  for (const BoundaryShape& shape : shapes) {
+  for (const scene::BoundaryShape& shape : shapes) {
     solids_.emplace_back(shape, layers * spacing);
     for (const Vec3& p : sampleBoundaryShape(shape, domain, spacing, layers)) {
       if (reach.contains(p)) samples.push_back(p);
@@ -212,15 +215,15 @@ Boundary::Boundary(const std::vector<BoundaryShape>& shapes, const Aabb& domain,
 
 float Boundary::distance(const Vec3& p) const {
   float d = std::numeric_limits<float>::infinity();
-  for (const Solid& s : solids_) d = std::min(d, s.distance(p));
+  for (const scene::Solid& s : solids_) d = std::min(d, s.distance(p));
   return d;
 }
 
 bool Boundary::enforce(const Vec3& xOld, Vec3& xNew, Vec3& v) const {
   bool moved = false;
   const float step = 0.5f * std::max(1, layers_) * spacing_;
-  for (const Solid& s : solids_) moved |= keepOutside(s, xOld, xNew, v, step);
+  for (const scene::Solid& s : solids_) moved |= keepOutside(s, xOld, xNew, v, step);
   return moved;
 }
 
-}  // namespace sph
+}  // namespace sph::solver

@@ -17,7 +17,7 @@
 #include "sim/scene/Scene.h"
 #include "sim/scene/Solid.h"
 
-namespace sph {
+namespace sph::solver {
 
 struct BoundaryParticles {
   std::vector<float> x, y, z;  // m, sorted by cell of the boundary grid
@@ -29,12 +29,12 @@ class Boundary {
   Boundary() = default;
   // Samples every shape (clipped to the domain grown by the support radius, where nothing can
   // reach them), then bins the samples into a grid of cell size h once for the whole run.
-  Boundary(const std::vector<BoundaryShape>& shapes, const Aabb& domain, float spacing, int layers,
-           float supportRadius);
+  Boundary(const std::vector<scene::BoundaryShape>& shapes, const Aabb& domain, float spacing,
+           int layers, float supportRadius);
 
   const BoundaryParticles& particles() const { return particles_; }
-  const NeighbourGrid& grid() const { return grid_; }
-  const std::vector<Solid>& solids() const { return solids_; }
+  const grid::NeighbourGrid& grid() const { return grid_; }
+  const std::vector<scene::Solid>& solids() const { return solids_; }
 
   // Smallest signed distance from p to any solid (m); +inf without solids.
   float distance(const Vec3& p) const;
@@ -43,8 +43,8 @@ class Boundary {
 
  private:
   BoundaryParticles particles_;
-  NeighbourGrid grid_;
-  std::vector<Solid> solids_;
+  grid::NeighbourGrid grid_;
+  std::vector<scene::Solid> solids_;
   float spacing_ = 0;
   int layers_ = 0;
 };
@@ -52,10 +52,10 @@ class Boundary {
 // How many points sampleBoundaryShape() returns for these arguments (the plane: an upper bound),
 // computed without generating them: the memory estimate's count (sim/run/MemoryEstimate.h), in
 // double because a scene too big for the machine is exactly what it must describe.
-double countBoundarySamples(const BoundaryShape& shape, const Aabb& domain, float spacing,
+double countBoundarySamples(const scene::BoundaryShape& shape, const Aabb& domain, float spacing,
                             int layers);
 // Samples of one shape (exposed for tests): positions on the lattice continuation described above.
-std::vector<Vec3> sampleBoundaryShape(const BoundaryShape& shape, const Aabb& domain, float spacing,
-                                      int layers);
+std::vector<Vec3> sampleBoundaryShape(const scene::BoundaryShape& shape, const Aabb& domain,
+                                      float spacing, int layers);
 
-}  // namespace sph
+}  // namespace sph::solver

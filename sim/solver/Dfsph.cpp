@@ -47,7 +47,7 @@
 #include "sim/ranks/ExactSum.h"
 #include "sim/ranks/Halo.h"
 
-namespace sph {
+namespace sph::solver {
 namespace {
 
 bool owned(const StepContext& c, std::size_t i) {
@@ -213,4 +213,4 @@ void solveDensity(StepContext& c) {
   for (std::size_t i = 0; i < f.size(); ++i) f.p[i] = f.rho[i] * f.rho[i] * scale * (k[i] + kv[i]);
 }
 
-}  // namespace sph
+}  // namespace sph::solver

@@ -20,7 +20,7 @@
 #include "sim/grid/PairPacking.h"
 #include "sim/solver/SphPasses.h"
 
-namespace sph {
+namespace sph::solver {
 namespace {
 
 // The same 32 bits as another type (std::bit_cast, C++20).
@@ -58,7 +58,7 @@ struct FluidSums {
 FluidSums fluidCandidates(float xi, float yi, float zi, std::size_t padded,
                           const float* __restrict fx, const float* __restrict fy,
                           const float* __restrict fz, SpikyPairShape spiky, float g,
-                          CandidateBatch<4>& out) {
+                          grid::CandidateBatch<4>& out) {
   float* __restrict tx = out.field[0].data();
   float* __restrict ty = out.field[1].data();
   float* __restrict tz = out.field[2].data();
@@ -85,7 +85,7 @@ FluidSums fluidCandidates(float xi, float yi, float zi, std::size_t padded,
 struct BoundarySums {
   float gx, gy, gz, cubes, weight;
 };
-BoundarySums boundaryCandidates(float xi, float yi, float zi, const CandidateBatch<3>& bb,
+BoundarySums boundaryCandidates(float xi, float yi, float zi, const grid::CandidateBatch<3>& bb,
                                 SpikyPairShape spiky) {
   const float* __restrict bxs = bb.field[0].data();
   const float* __restrict bys = bb.field[1].data();
@@ -141,14 +141,14 @@ void computeDfsphDensityAndFactor(StepContext& c) {
   const float floor = 0.25f * latticeDenominator(c);
   // Per thread: each candidate's V gradW_ij and h - r (0 outside the support), before the
   // candidates inside the support are packed into the row.
-  std::vector<CandidateBatch<4>> gradients(threadCount());
-  forEachCellWithCandidates<4, 3>(
+  std::vector<grid::CandidateBatch<4>> gradients(threadCount());
+  grid::forEachCellWithCandidates<4, 3>(
       c.grid, {f.x.data(), f.y.data(), f.z.data(), s.indexBits.data()}, c.boundary.grid(),
       {b.x.data(), b.y.data(), b.z.data()}, h,
-      [&](std::size_t row, std::uint32_t begin, std::uint32_t end, const CandidateBatch<4>& fb,
-          const CandidateBatch<3>& bb) {
+      [&](std::size_t row, std::uint32_t begin, std::uint32_t end,
+          const grid::CandidateBatch<4>& fb, const grid::CandidateBatch<3>& bb) {
         const int thread = threadIndex();
-        CandidateBatch<4>& t = gradients[thread];
+        grid::CandidateBatch<4>& t = gradients[thread];
         t.resize(fb.padded);
         const float* fx = fb.field[0].data();
         const float* fy = fb.field[1].data();
@@ -159,7 +159,7 @@ void computeDfsphDensityAndFactor(StepContext& c) {
           float gx = sums.gx, gy = sums.gy, gz = sums.gz;
           const float squares = sums.squares, cubes = sums.cubes;
           // The pairs: the candidates inside the support.
-          const PairStore::Row to = s.pairs.room(row, thread, fb.padded);
+          const grid::PairStore::Row to = s.pairs.room(row, thread, fb.padded);
           const std::uint32_t count =
               packPairs(fb.padded, fb.field[3].data(), t, {to.index, to.gx, to.gy, to.gz, to.hr});
           s.pairs.add(row, thread, count);
@@ -212,4 +212,4 @@ void computeDfsphViscosity(StepContext& c) {
   });
 }
 
-}  // namespace sph
+}  // namespace sph::solver

@@ -9,7 +9,7 @@
 #include "sim/Parallel.h"
 #include "sim/solver/StepContext.h"
 
-namespace sph {
+namespace sph::solver {
 
 // V gradW_spiky(x_i - x_j) = gradientScale (h - r)^2 / r (x_i - x_j): the exact gradient of the
 // normalised density sum over rho0 (SphPasses.cpp, computeDensity()).
@@ -38,7 +38,7 @@ void forEachParticlePairs(const StepContext& c, Body&& body) {
   const StepScratch& s = c.scratch;
   parallelForDynamic(rowCount(c.grid), 4, [&](std::size_t row) {
     const auto [begin, end] = rowRange(c.grid, row);
-    const PairStore::Row r = s.pairs.row(row);
+    const grid::PairStore::Row r = s.pairs.row(row);
     std::size_t at = 0;
     for (std::uint32_t i = begin; i < end; ++i) {
       const std::uint32_t count = s.pairCount[i];
@@ -48,4 +48,4 @@ void forEachParticlePairs(const StepContext& c, Body&& body) {
   });
 }
 
-}  // namespace sph
+}  // namespace sph::solver

@@ -6,7 +6,7 @@
 #include "sim/Parallel.h"
 #include "sim/solver/SphPasses.h"
 
-namespace sph {
+namespace sph::solver {
 namespace {
 
 // Equation of state (DESIGN.md): Tait p = B((rho/rho0)^7 - 1) or linear p = k(rho - rho0),
@@ -38,8 +38,8 @@ void computePressure(StepContext& c) {
   BoundaryFields& bf = c.boundaryFields;
   pressureTerm.resize(n);
   inverseDensity.resize(n);
-  const Eos eos{c.solver.restDensity, c.derived.stiffness, c.solver.eos == EquationOfState::Tait,
-                c.solver.clampNegativePressure};
+  const Eos eos{c.solver.restDensity, c.derived.stiffness,
+                c.solver.eos == scene::EquationOfState::Tait, c.solver.clampNegativePressure};
   parallelFor(n, [&](std::size_t i) {
     const float p = eos(f.rho[i]);
     const float inv = 1.0f / f.rho[i];
@@ -53,4 +53,4 @@ void computePressure(StepContext& c) {
   });
 }
 
-}  // namespace sph
+}  // namespace sph::solver

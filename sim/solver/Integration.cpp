@@ -8,7 +8,7 @@
 #include "sim/solver/SphPasses.h"
 #include "sim/StabilityError.h"
 
-namespace sph {
+namespace sph::solver {
 
 // The paper's particles feel gravity only; they interact through the collision pass alone.
 void applyGravityOnly(StepContext& c) {
@@ -152,4 +152,4 @@ std::uint64_t checkStability(StepContext& c, const Aabb& d, std::uint64_t step, 
       f.id[worst], x, v, msg.str());
 }
 
-}  // namespace sph
+}  // namespace sph::solver

@@ -19,7 +19,7 @@
 
 #include "sim/scene/SolverParams.h"
 
-namespace sph {
+namespace sph::solver {
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -137,11 +137,11 @@ struct SpikyMomentShape {
 // Calls f(shape, factor) with the shape of the solver's density kernel and the factor that makes
 // it W (SolverParams.h: spiky by default, poly6 as in seed 003 eq. (3)).
 template <class F>
-void withDensityShape(DensityKernel kernel, const Kernels& k, F&& f) {
-  if (kernel == DensityKernel::Spiky)
+void withDensityShape(scene::DensityKernel kernel, const Kernels& k, F&& f) {
+  if (kernel == scene::DensityKernel::Spiky)
     f(SpikyShape{k.h}, k.spikyFactor);
   else
     f(Poly6Shape{k.h2}, k.poly6Factor);
 }
 
-}  // namespace sph
+}  // namespace sph::solver

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace sph {
+namespace sph::solver {
 namespace {
 
 // Sum of term(a, b, c) over the lattice offsets within the kernel's reach, layers b <= maxLayer,
@@ -20,10 +20,10 @@ double sumOverLattice(const Kernels& k, float dx, int maxLayer, Term&& term) {
 
 }  // namespace
 
-double latticeKernelSum(const Kernels& k, DensityKernel kernel, float dx, int maxLayer) {
+double latticeKernelSum(const Kernels& k, scene::DensityKernel kernel, float dx, int maxLayer) {
   return sumOverLattice(k, dx, maxLayer, [&](int a, int b, int c) {
     const float r2 = dx * dx * static_cast<float>(a * a + b * b + c * c);
-    return kernel == DensityKernel::Spiky ? k.spiky(std::sqrt(r2)) : k.poly6(r2);
+    return kernel == scene::DensityKernel::Spiky ? k.spiky(std::sqrt(r2)) : k.poly6(r2);
   });
 }
 
@@ -37,4 +37,4 @@ double latticeGradientMoment(const Kernels& k, float dx, double volume) {
   return -sum;
 }
 
-}  // namespace sph
+}  // namespace sph::solver

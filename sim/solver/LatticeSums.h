@@ -10,7 +10,7 @@
 #include "sim/solver/Kernels.h"
 #include "sim/scene/SolverParams.h"
 
-namespace sph {
+namespace sph::solver {
 
 // maxLayer of latticeKernelSum for the whole lattice.
 inline constexpr int kAllLayers = std::numeric_limits<int>::max();
@@ -19,7 +19,7 @@ inline constexpr int kAllLayers = std::numeric_limits<int>::max();
 // included), using Kernels' full functions in float, summed in double with a outermost and c
 // innermost. Only the layers b <= maxLayer count: kAllLayers is the bulk, 0 a particle in the top
 // layer of a flat free surface whose normal is +y.
-double latticeKernelSum(const Kernels& k, DensityKernel kernel, float dx,
+double latticeKernelSum(const Kernels& k, scene::DensityKernel kernel, float dx,
                         int maxLayer = kAllLayers);
 
 // First moment of the spiky gradient over the lattice, K = sum_j V (x_j - x_i)_x d/dx W(x_i - x_j)
@@ -27,4 +27,4 @@ double latticeKernelSum(const Kernels& k, DensityKernel kernel, float dx,
 // from the exact one on that lattice (1 for a perfect quadrature).
 double latticeGradientMoment(const Kernels& k, float dx, double volume);
 
-}  // namespace sph
+}  // namespace sph::solver

@@ -10,9 +10,9 @@
 #include "sim/InputError.h"
 #include "sim/solver/LatticeSums.h"
 
-namespace sph {
+namespace sph::solver {
 
-float expectedMaxSpeed(const Scene& scene) {
+float expectedMaxSpeed(const scene::Scene& scene) {
   const Vec3 g = scene.solver.gravity;
   const float gNorm = g.norm();
   const Vec3 down = gNorm > 0 ? Vec3(g / gNorm) : Vec3(-Vec3::UnitY());
@@ -25,15 +25,17 @@ float expectedMaxSpeed(const Scene& scene) {
     floor = std::min(floor, -p.dot(down));
   }
   float top = floor, speed = 0;
-  for (const FluidBlock& f : scene.fluids) {
-    const Vec3 hi =
-        f.shape == FluidBlock::Shape::Box ? Vec3(f.hi) : Vec3(f.centre + Vec3::Constant(f.radius));
-    const Vec3 lo =
-        f.shape == FluidBlock::Shape::Box ? Vec3(f.lo) : Vec3(f.centre - Vec3::Constant(f.radius));
+  for (const scene::FluidBlock& f : scene.fluids) {
+    const Vec3 hi = f.shape == scene::FluidBlock::Shape::Box
+                        ? Vec3(f.hi)
+                        : Vec3(f.centre + Vec3::Constant(f.radius));
+    const Vec3 lo = f.shape == scene::FluidBlock::Shape::Box
+                        ? Vec3(f.lo)
+                        : Vec3(f.centre - Vec3::Constant(f.radius));
     top = std::max({top, -hi.dot(down), -lo.dot(down)});
     speed = std::max(speed, f.velocity.norm());
   }
-  for (const EmitterDesc& e : scene.emitters) {
+  for (const scene::EmitterDesc& e : scene.emitters) {
     top = std::max(top, -e.position.dot(down));
     speed = std::max(speed, e.speed);
   }
@@ -44,8 +46,8 @@ float expectedMaxSpeed(const Scene& scene) {
   return std::max(std::sqrt(speed * speed + 2.0f * gNorm * std::max(0.0f, top - floor)), 0.1f);
 }
 
-DerivedParams deriveParams(const Scene& scene) {
-  const SolverParams& s = scene.solver;
+DerivedParams deriveParams(const scene::Scene& scene) {
+  const scene::SolverParams& s = scene.solver;
   DerivedParams d;
   d.h = s.supportRadius();
   d.kernels = Kernels(d.h);
@@ -55,16 +57,17 @@ DerivedParams deriveParams(const Scene& scene) {
       static_cast<float>(1.0 / (cell * latticeKernelSum(d.kernels, s.densityKernel, s.spacing)));
   d.gradientCorrection =
       static_cast<float>(1.0 / latticeGradientMoment(d.kernels, s.spacing, cell));
-  const float gamma = s.eos == EquationOfState::Tait ? 7.0f : 1.0f;
+  const float gamma = s.eos == scene::EquationOfState::Tait ? 7.0f : 1.0f;
   if (s.stiffness > 0) {
     d.stiffness = s.stiffness;
-    d.speedOfSound = s.eos == EquationOfState::Tait ? std::sqrt(gamma * s.stiffness / s.restDensity)
-                                                    : std::sqrt(s.stiffness);
+    d.speedOfSound = s.eos == scene::EquationOfState::Tait
+                         ? std::sqrt(gamma * s.stiffness / s.restDensity)
+                         : std::sqrt(s.stiffness);
   } else {
     d.speedOfSound =
         s.speedOfSound > 0 ? s.speedOfSound : s.soundSpeedFactor * expectedMaxSpeed(scene);
     const float c2 = d.speedOfSound * d.speedOfSound;
-    d.stiffness = s.eos == EquationOfState::Tait ? s.restDensity * c2 / gamma : c2;
+    d.stiffness = s.eos == scene::EquationOfState::Tait ? s.restDensity * c2 / gamma : c2;
   }
   d.viscosity = s.viscosity >= 0 ? s.viscosity : 0.002f * d.h * d.speedOfSound;
   d.boundaryLayers =
@@ -74,12 +77,13 @@ DerivedParams deriveParams(const Scene& scene) {
   return d;
 }
 
-float timeStep(const Scene& scene, const DerivedParams& d, float maxSpeed, float maxAcceleration) {
-  const SolverParams& s = scene.solver;
+float timeStep(const scene::Scene& scene, const DerivedParams& d, float maxSpeed,
+               float maxAcceleration) {
+  const scene::SolverParams& s = scene.solver;
   // The paper's particle system advances by a fixed tick (seed 000, pseudo-code g_tick).
-  if (s.model == SolverModel::Particles) return s.maxTimeStep;
+  if (s.model == scene::SolverModel::Particles) return s.maxTimeStep;
   float dt;
-  if (s.pressure == PressureSolver::Dfsph) {
+  if (s.pressure == scene::PressureSolver::Dfsph) {
     // DFSPH: the CFL condition on the flow speed only (Bender & Koschier 2017, sec. 4). Not on
     // the acceleration: the solvers' velocity corrections over dt read as accelerations ~ 1/dt,
     // and a bound on them would shrink the step without end.
@@ -99,23 +103,23 @@ float timeStep(const Scene& scene, const DerivedParams& d, float maxSpeed, float
   return std::min(dt, s.maxTimeStep);
 }
 
-Aabb defaultDomain(const Scene& scene) {
+Aabb defaultDomain(const scene::Scene& scene) {
   Aabb box;
   const float layers = std::max(1.0f, std::ceil(scene.solver.support));
   const float thickness = layers * scene.solver.spacing;
-  for (const FluidBlock& f : scene.fluids) {
-    if (f.shape == FluidBlock::Shape::Box) {
+  for (const scene::FluidBlock& f : scene.fluids) {
+    if (f.shape == scene::FluidBlock::Shape::Box) {
       box.grow(f.lo), box.grow(f.hi);
     } else {
       box.grow(f.centre - Vec3::Constant(f.radius)), box.grow(f.centre + Vec3::Constant(f.radius));
     }
   }
-  for (const EmitterDesc& e : scene.emitters) {
+  for (const scene::EmitterDesc& e : scene.emitters) {
     box.grow(e.position - Vec3::Constant(e.radius)),
         box.grow(e.position + Vec3::Constant(e.radius));
   }
-  for (const BoundaryShape& b : scene.boundaries) {
-    const Aabb sb = Solid(b, thickness).bounds();
+  for (const scene::BoundaryShape& b : scene.boundaries) {
+    const Aabb sb = scene::Solid(b, thickness).bounds();
     if (!sb.empty()) box.grow(sb);
   }
   if (box.empty()) box.grow(Vec3::Zero());
@@ -132,9 +136,9 @@ Aabb defaultDomain(const Scene& scene) {
   return box;
 }
 
-FluidLattice fluidLattice(const FluidBlock& f, float dx) {
+FluidLattice fluidLattice(const scene::FluidBlock& f, float dx) {
   Vec3 lo = f.lo, hi = f.hi;
-  if (f.shape == FluidBlock::Shape::Sphere) {
+  if (f.shape == scene::FluidBlock::Shape::Sphere) {
     lo = f.centre - Vec3::Constant(f.radius), hi = f.centre + Vec3::Constant(f.radius);
   }
   FluidLattice l;
@@ -148,16 +152,17 @@ __attribute__((noinline)) Vec3 latticePoint(const FluidLattice& l, float dx, int
   return l.lo + dx * Vec3(i + 0.5f, j + 0.5f, k + 0.5f);
 }
 
-bool keepsStartPoint(const FluidBlock& f, const Boundary& boundary, const Vec3& p, float dx) {
-  if (f.shape == FluidBlock::Shape::Sphere && (p - f.centre).norm() > f.radius) return false;
+bool keepsStartPoint(const scene::FluidBlock& f, const Boundary& boundary, const Vec3& p,
+                     float dx) {
+  if (f.shape == scene::FluidBlock::Shape::Sphere && (p - f.centre).norm() > f.radius) return false;
   return boundary.distance(p) >= 0.4f * dx;
 }
 
-Particles initialFluid(const Scene& scene, const Boundary& boundary, float restDensity) {
+Particles initialFluid(const scene::Scene& scene, const Boundary& boundary, float restDensity) {
   Particles fluid;
   const float dx = scene.solver.spacing;
   std::uint32_t nextId = 0;
-  for (const FluidBlock& f : scene.fluids) {
+  for (const scene::FluidBlock& f : scene.fluids) {
     const FluidLattice l = fluidLattice(f, dx);
     for (int k = 0; k < l.n[2]; ++k)
       for (int j = 0; j < l.n[1]; ++j)
@@ -194,20 +199,20 @@ std::uint64_t ParticleBudget::total() const {
   return n;
 }
 
-ParticleBudget particleBudget(const Scene& scene) {
+ParticleBudget particleBudget(const scene::Scene& scene) {
   ParticleBudget b;
   const double dx = scene.solver.spacing;
-  for (const FluidBlock& f : scene.fluids) {
+  for (const scene::FluidBlock& f : scene.fluids) {
     // initialFluid's lattice: round(extent / dx) points per axis over the block's box.
     Vec3 lo = f.lo, hi = f.hi;
-    if (f.shape == FluidBlock::Shape::Sphere)
+    if (f.shape == scene::FluidBlock::Shape::Sphere)
       lo = f.centre - Vec3::Constant(f.radius), hi = f.centre + Vec3::Constant(f.radius);
     std::uint64_t n = 1;
     for (int a = 0; a < 3; ++a)
       n *= static_cast<std::uint64_t>(std::max(0L, std::lround((hi[a] - lo[a]) / dx)));
     b.blocks += n;
   }
-  for (const EmitterDesc& e : scene.emitters) {
+  for (const scene::EmitterDesc& e : scene.emitters) {
     // Emitter::emit: a first layer at `start`, then one for every spacing the jet travels.
     const double active = std::max(0.0, std::min(e.stop, scene.solver.endTime) - e.start);
     const double layers = 2 + std::floor(active * e.speed / dx);
@@ -225,7 +230,7 @@ ParticleBudget particleBudget(const Scene& scene) {
   return b;
 }
 
-void requireIdsBelow(const Scene& scene, std::uint64_t limit, const std::string& who,
+void requireIdsBelow(const scene::Scene& scene, std::uint64_t limit, const std::string& who,
                      const std::string& reason) {
   const ParticleBudget b = particleBudget(scene);
   if (b.total() <= limit) return;
@@ -267,4 +272,4 @@ void requireIdsBelow(const Scene& scene, std::uint64_t limit, const std::string&
                    "earlier, end the run earlier, or choose another collision.method");
 }
 
-}  // namespace sph
+}  // namespace sph::solver

@@ -10,7 +10,7 @@
 #include "sim/Particles.h"
 #include "sim/scene/Scene.h"
 
-namespace sph {
+namespace sph::solver {
 
 struct DerivedParams {
   float h = 0;     // m, kernel support radius
@@ -38,23 +38,25 @@ struct DerivedParams {
 // nozzle to the domain floor.
 // Used for the automatic speed of sound (10x this keeps density variation near 1%, Monaghan
 // 1994).
-float expectedMaxSpeed(const Scene& scene);
+float expectedMaxSpeed(const scene::Scene& scene);
 
-DerivedParams deriveParams(const Scene& scene);
+DerivedParams deriveParams(const scene::Scene& scene);
 
 // Step size (DESIGN.md, "Time"): the CFL condition with the speed of sound, a force condition and
 // a viscous condition (Monaghan 1992), bounded by solver.max_time_step; the paper's particle
 // model takes max_time_step always. `maxSpeed` (m/s) and `maxAcceleration` (m/s^2) are the
 // fluid's now; with both 0 it is the step at rest, the largest the scene ever takes.
-float timeStep(const Scene& scene, const DerivedParams& d, float maxSpeed, float maxAcceleration);
+float timeStep(const scene::Scene& scene, const DerivedParams& d, float maxSpeed,
+               float maxAcceleration);
 
 // Box holding every fluid block, emitter and bounded solid, grown by 10% (at least 4 support
 // radii) on each side and by its own height against gravity, so splashes stay inside.
-Aabb defaultDomain(const Scene& scene);
+Aabb defaultDomain(const scene::Scene& scene);
 
 // Fills the fluid blocks on their lattices, skipping points closer than 0.4 spacing to a solid.
 // Ids start at 0 in block order.
-Particles initialFluid(const Scene& scene, const class Boundary& boundary, float restDensity);
+Particles initialFluid(const scene::Scene& scene, const class Boundary& boundary,
+                       float restDensity);
 
 // One fluid block's starting lattice as initialFluid walks it: n[a] points along axis a from the
 // corner lo, visited block by block, z slowest, x fastest (the particles' ids count that order).
@@ -63,14 +65,14 @@ struct FluidLattice {
   Vec3 lo = Vec3::Zero();
   int n[3] = {0, 0, 0};
 };
-FluidLattice fluidLattice(const FluidBlock& block, float spacing);
+FluidLattice fluidLattice(const scene::FluidBlock& block, float spacing);
 // Point (i, j, k) of a lattice. Out of line, so every caller gets the same bits from one compiled
 // instance (an inlined copy could contract the multiply-add differently: a point's cell plane
 // must not depend on who computed it).
 Vec3 latticePoint(const FluidLattice& lattice, float spacing, int i, int j, int k);
 // Whether initialFluid keeps lattice point p of `block` (inside a sphere block, not within 0.4
 // spacing of a solid).
-bool keepsStartPoint(const FluidBlock& block, const class Boundary& boundary, const Vec3& p,
+bool keepsStartPoint(const scene::FluidBlock& block, const class Boundary& boundary, const Vec3& p,
                      float spacing);
 
 // An upper bound of the fluid particles a scene makes by solver.end_time, from its description
@@ -87,13 +89,13 @@ struct ParticleBudget {
   std::uint64_t rain = 0;
   std::uint64_t total() const;
 };
-ParticleBudget particleBudget(const Scene& scene);
+ParticleBudget particleBudget(const scene::Scene& scene);
 
 // Throws InputError naming the scene key to change when the scene could make a particle id of
 // `limit` or more: solver.spacing when the fluid blocks alone reach it, else the largest
 // emitter's max_particles. `who` has the limit ("the cdt-cpu collision pass"), for a reason
 // ("2^24: its texture stores them as floats").
-void requireIdsBelow(const Scene& scene, std::uint64_t limit, const std::string& who,
+void requireIdsBelow(const scene::Scene& scene, std::uint64_t limit, const std::string& who,
                      const std::string& reason);
 
-}  // namespace sph
+}  // namespace sph::solver

@@ -22,12 +22,12 @@
 #include "sim/solver/SphPasses.h"
 #include "sim/ranks/ExactSum.h"
 
-namespace sph {
+namespace sph::solver {
 namespace {
 
 // Sum over the points of `grid` (coordinates px, py, pz) of shape(|x - p|^2).
 template <class Shape>
-float kernelSum(float xi, float yi, float zi, const NeighbourGrid& grid, const float* px,
+float kernelSum(float xi, float yi, float zi, const grid::NeighbourGrid& grid, const float* px,
                 const float* py, const float* pz, Shape shape) {
   float sum = 0;
   grid.forEachNeighbourRange(grid.cellOf(xi, yi, zi), [&](std::uint32_t begin, std::uint32_t end) {
@@ -45,7 +45,7 @@ float kernelSum(float xi, float yi, float zi, const NeighbourGrid& grid, const f
 // Density sum of a candidate batch and, alongside, its share of the particle's gradient moment:
 // sum (h - r)^2 r, the trace of sum_j (x_j - x_i) (x) gradW_spiky(x_i - x_j) up to -G.
 template <class Shape, int N>
-void batchDensityAndMoment(float xi, float yi, float zi, float h, const CandidateBatch<N>& c,
+void batchDensityAndMoment(float xi, float yi, float zi, float h, const grid::CandidateBatch<N>& c,
                            Shape shape, float& density, float& moment) {
   const float* px = c.field[0].data();
   const float* py = c.field[1].data();
@@ -90,7 +90,7 @@ void updateGradientCorrection(StepContext& c) {
 // Boundary-boundary part of each boundary particle's density: fixed, so computed once.
 void computeStaticBoundaryDensity(StepContext& c) {
   const BoundaryParticles& b = c.boundary.particles();
-  const NeighbourGrid& bgrid = c.boundary.grid();
+  const grid::NeighbourGrid& bgrid = c.boundary.grid();
   BoundaryFields& bf = c.boundaryFields;
   bf.staticDensity.resize(b.size());
   withDensityShape(c.solver.densityKernel, c.derived.kernels, [&](auto shape, float factor) {
@@ -125,8 +125,8 @@ void sortParticles(StepContext& c) {
 void computeDensity(StepContext& c) {
   Particles& f = c.fluid;
   const BoundaryParticles& b = c.boundary.particles();
-  const NeighbourGrid& bgrid = c.boundary.grid();
-  const NeighbourGrid& grid = c.grid;
+  const grid::NeighbourGrid& bgrid = c.boundary.grid();
+  const grid::NeighbourGrid& grid = c.grid;
   const DerivedParams& derived = c.derived;
   std::vector<float>& gradientMoment = c.scratch.gradientMoment;
   BoundaryFields& bf = c.boundaryFields;
@@ -138,11 +138,11 @@ void computeDensity(StepContext& c) {
   gradientMoment.resize(f.size());
   withDensityShape(c.solver.densityKernel, derived.kernels, [&](auto shape, float factor) {
     const float scale = factor * derived.mass * derived.densityNormalisation;
-    forEachCellWithCandidates<3, 3>(
+    grid::forEachCellWithCandidates<3, 3>(
         grid, {f.x.data(), f.y.data(), f.z.data()}, bgrid, {b.x.data(), b.y.data(), b.z.data()},
         derived.h,
-        [&](std::uint32_t begin, std::uint32_t end, const CandidateBatch<3>& fb,
-            const CandidateBatch<3>& bb) {
+        [&](std::uint32_t begin, std::uint32_t end, const grid::CandidateBatch<3>& fb,
+            const grid::CandidateBatch<3>& bb) {
           for (std::uint32_t i = begin; i < end; ++i) {
             float density = 0, moment = 0;
             batchDensityAndMoment(f.x[i], f.y[i], f.z[i], h, fb, shape, density, moment);
@@ -156,12 +156,12 @@ void computeDensity(StepContext& c) {
     // Boundary particles within reach of the fluid: the boundary cells overlapping the fluid
     // grid's box grown by one cell. The others keep their last values; no fluid particle is close
     // enough for those to matter (their kernel weight is exactly 0).
-    const CellCoord o = grid.origin(), n = grid.dims();
+    const grid::CellCoord o = grid.origin(), n = grid.dims();
     const float cs = grid.cellSize();
-    const CellCoord lo = bgrid.cellOf((o[0] - 1) * cs, (o[1] - 1) * cs, (o[2] - 1) * cs);
-    const CellCoord hi =
+    const grid::CellCoord lo = bgrid.cellOf((o[0] - 1) * cs, (o[1] - 1) * cs, (o[2] - 1) * cs);
+    const grid::CellCoord hi =
         bgrid.cellOf((o[0] + n[0] + 1) * cs, (o[1] + n[1] + 1) * cs, (o[2] + n[2] + 1) * cs);
-    const CellCoord bo = bgrid.origin(), bn = bgrid.dims();
+    const grid::CellCoord bo = bgrid.origin(), bn = bgrid.dims();
     int from[3], to[3];
     for (int a = 0; a < 3; ++a) {
       from[a] = std::max(lo[a] - bo[a], 0);
@@ -192,7 +192,7 @@ void computeDensity(StepContext& c) {
 void computeForces(StepContext& c) {
   Particles& f = c.fluid;
   const BoundaryParticles& b = c.boundary.particles();
-  const NeighbourGrid& bgrid = c.boundary.grid();
+  const grid::NeighbourGrid& bgrid = c.boundary.grid();
   const Kernels& kern = c.derived.kernels;
   const std::vector<float>& pressureTerm = c.scratch.pressureTerm;
   const std::vector<float>& inverseDensity = c.scratch.inverseDensity;
@@ -204,13 +204,13 @@ void computeForces(StepContext& c) {
   const Vec3 g = c.solver.gravity;
   const float noSlip = c.solver.noSlipWalls ? 1.0f / c.solver.restDensity : 0.0f;
 
-  forEachCellWithCandidates<8, 4>(
+  grid::forEachCellWithCandidates<8, 4>(
       c.grid,
       {f.x.data(), f.y.data(), f.z.data(), f.vx.data(), f.vy.data(), f.vz.data(),
        pressureTerm.data(), inverseDensity.data()},
       bgrid, {b.x.data(), b.y.data(), b.z.data(), c.boundaryFields.pressureTerm.data()}, h,
-      [&](std::uint32_t begin, std::uint32_t end, const CandidateBatch<8>& fb,
-          const CandidateBatch<4>& bb) {
+      [&](std::uint32_t begin, std::uint32_t end, const grid::CandidateBatch<8>& fb,
+          const grid::CandidateBatch<4>& bb) {
         const float* fx = fb.field[0].data();
         const float* fy = fb.field[1].data();
         const float* fz = fb.field[2].data();
@@ -261,4 +261,4 @@ void computeForces(StepContext& c) {
       });
 }
 
-}  // namespace sph
+}  // namespace sph::solver

@@ -9,7 +9,7 @@
 #include "sim/solver/StepContext.h"
 #include "sim/Types.h"
 
-namespace sph {
+namespace sph::solver {
 
 // Setup, once per run: the boundary-boundary part of each boundary particle's density.
 void computeStaticBoundaryDensity(StepContext& c);
@@ -58,4 +58,4 @@ void enforceBoundaries(StepContext& c);
 std::uint64_t checkStability(StepContext& c, const Aabb& domain, std::uint64_t step, double time,
                              std::uint64_t lostBefore, std::uint64_t maxLost);
 
-}  // namespace sph
+}  // namespace sph::solver

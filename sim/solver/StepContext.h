@@ -16,10 +16,11 @@
 #include "sim/scene/SolverParams.h"
 #include "sim/ranks/Communicator.h"
 
-namespace sph {
-namespace ranks {
+namespace sph::ranks {
 class Halo;
 }
+
+namespace sph::solver {
 
 // Per boundary particle (Boundary.h: dynamic boundary particles). The part of the density that
 // other boundary particles contribute is fixed and computed once; the fluid's part is added each
@@ -49,7 +50,7 @@ struct StepScratch {
   // (m, the viscosity's Laplacian, computeDfsphViscosity()); pairCount[i]
   // of them belong to particle i (i itself excluded). Rows start on a cache line, so a
   // particle's pairs have the same alignment whichever thread built or reads them (PairStore.h).
-  PairStore pairs;
+  grid::PairStore pairs;
   std::vector<std::uint32_t> pairCount;
   std::vector<float> indexBits;  // i's bits as a float: carries indices through the batches
 };
@@ -73,11 +74,11 @@ struct PressureSolveStats {
 
 struct StepContext {
   float dt = 0;  // s, this step's size
-  const SolverParams& solver;
+  const scene::SolverParams& solver;
   const DerivedParams& derived;
   const Boundary& boundary;
   Particles& fluid;
-  NeighbourGrid& grid;  // the fluid's, rebuilt by sortParticles()
+  grid::NeighbourGrid& grid;  // the fluid's, rebuilt by sortParticles()
   BoundaryFields& boundaryFields;
   StepScratch& scratch;
   // Scale of the pressure force this step (1 / mean discrete gradient moment); set by the
@@ -93,4 +94,4 @@ struct StepContext {
   ranks::Halo* halo = nullptr;
 };
 
-}  // namespace sph
+}  // namespace sph::solver

@@ -4,7 +4,7 @@
 #include <sstream>
 #include <vector>
 
-namespace sph {
+namespace sph::solver {
 
 std::size_t firstNonFinite(const Particles& fluid) {
   const std::size_t n = fluid.size();
@@ -52,7 +52,8 @@ std::string checkState(const Particles& fluid, std::uint32_t nextId) {
   return "";
 }
 
-std::string checkDensity(const Particles& fluid, const DerivedParams& d, DensityKernel kernel) {
+std::string checkDensity(const Particles& fluid, const DerivedParams& d,
+                         scene::DensityKernel kernel) {
   float self = 0;
   withDensityShape(kernel, d.kernels, [&](auto shape, float factor) {
     self = factor * d.mass * d.densityNormalisation * shape(0.0f);
@@ -70,4 +71,4 @@ std::string checkDensity(const Particles& fluid, const DerivedParams& d, Density
   return "";
 }
 
-}  // namespace sph
+}  // namespace sph::solver

@@ -11,7 +11,7 @@
 #include "sim/solver/SceneSetup.h"
 #include "sim/scene/SolverParams.h"
 
-namespace sph {
+namespace sph::solver {
 
 // Index of the first particle with a non-finite value in any field, or fluid.size() if none.
 std::size_t firstNonFinite(const Particles& fluid);
@@ -24,6 +24,6 @@ std::string checkState(const Particles& fluid, std::uint32_t nextId);
 // After the density pass: every density finite and at least the particle's own contribution
 // m W(0) (the sum includes the particle itself and every other term is >= 0).
 std::string checkDensity(const Particles& fluid, const DerivedParams& derived,
-                         DensityKernel kernel);
+                         scene::DensityKernel kernel);
 
-}  // namespace sph
+}  // namespace sph::solver
