@@ -9,6 +9,7 @@
 #include "io/UserFiles.h"
 #include "sim/scene/Camera.h"
 #include "sim/InputError.h"
+#include "sim/rain/RainFeed.h"
 
 namespace sph::app {
 

@@ -14,6 +14,7 @@
 #include "sim/run/Observables.h"
 #include "sim/solver/SceneSetup.h"
 #include "sim/run/Simulation.h"
+#include "sim/rain/RainFeed.h"
 #include "sim/rain/RainSystem.h"
 #include "tests/TestSupport.h"
 

@@ -14,6 +14,7 @@
 #include "io/UserFiles.h"
 #include "sim/HumanText.h"
 #include "sim/InputError.h"
+#include "sim/rain/RainFeed.h"
 
 namespace sph::io {
 namespace {

@@ -11,19 +11,11 @@
 #include <vector>
 
 #include "sim/Particles.h"
-#include "sim/scene/Scene.h"
+#include "sim/rain/FeedState.h"
 #include "sim/rain/RainStepper.h"
+#include "sim/scene/Scene.h"
 
 namespace sph::rain {
-
-// What a feeding rain has put into the fluid; part of the run's state (RunState::rain), so a
-// resume continues it exactly. Mass is conserved to round-off:
-// landedDrops * drop_volume == particles * spacing^3 + pending.
-struct FeedState {
-  std::uint64_t landedDrops = 0;  // drops that landed in the water, cumulative
-  std::uint64_t particles = 0;    // fluid particles made of them, cumulative
-  double pending = 0;  // m^3 of landed water not yet a particle: less than one particle's worth
-};
 
 class RainFeed {
  public:

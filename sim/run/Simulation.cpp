@@ -6,10 +6,11 @@
 #include <sstream>
 
 #include "sim/Assert.h"
-#include "sim/InputError.h"
+#include "sim/rain/RainFeed.h"
+#include "sim/ranks/Halo.h"
+#include "sim/run/StartSlab.h"
 #include "sim/solver/SphPasses.h"
 #include "sim/solver/Validate.h"
-#include "sim/run/StartSlab.h"
 
 namespace sph::run {
 
@@ -17,7 +18,9 @@ Simulation::Simulation(const scene::Scene& scene)
     : scene_(scene),
       derived_(solver::deriveParams(scene)),
       boundary_(scene.boundaries, scene.domain, scene.solver.spacing, derived_.boundaryLayers,
-                derived_.h) {
+                derived_.h),
+      model_(solver::makeFluidModel(scene.solver)),
+      decomposition_(wholeFluid()) {
   setUp(nullptr, Start::Slab);
 }
 
@@ -25,7 +28,9 @@ Simulation::Simulation(const scene::Scene& scene, ranks::Halo& start, Start what
     : scene_(scene),
       derived_(solver::deriveParams(scene)),
       boundary_(scene.boundaries, scene.domain, scene.solver.spacing, derived_.boundaryLayers,
-                derived_.h) {
+                derived_.h),
+      model_(solver::makeFluidModel(scene.solver)),
+      decomposition_(wholeFluid()) {
   setUp(&start, what);
 }
 
@@ -73,134 +78,57 @@ solver::StepContext Simulation::context(float dt) {
   solver::StepContext c{
       dt,       scene_.solver,       derived_,         boundary_,  fluid_, grid_, boundaryFields_,
       scratch_, gradientCorrection_, state_.warmStart, solveStats_};
-  if (halo_) c.ghost = &halo_->ghost(), c.ranks = &halo_->comm(), c.halo = halo_;
+  decomposition_->share(c);
   return c;
 }
 
 void Simulation::setHalo(ranks::Halo* halo) {
   halo_ = halo;
+  decomposition_ = halo ? haloSlab(*halo) : wholeFluid();
   if (!halo_) return;
   // The particles' places in the starting order (a slab start's ids, a resumed slab's indices in
   // the frame), or none: a whole fluid is in that order from 0.
   halo_->adopt(fluid_, std::move(startKeys_));
   startKeys_.clear();
-  // DFSPH's warm start is run state per particle: it moves with its particle (docs/scaling.md).
-  if (scene_.solver.model == scene::SolverModel::Sph &&
-      scene_.solver.pressure == scene::PressureSolver::Dfsph) {
-    halo_->attach(state_.warmStart.density);
-    halo_->attach(state_.warmStart.divergence);
-  }
+  // Run state per particle (DFSPH's warm start) moves with its particle (docs/scaling.md).
+  for (std::vector<float>* field : model_->particleState(state_.warmStart)) halo_->attach(*field);
 }
 
-void Simulation::step(double limit) {
-  // A feeding rain steps at its ticks: the step lands on the next one.
-  const double rainTick = rainFeed_ ? rainFeed_->nextTick(state_.time) : 1e300;
-  limit = std::min(limit, rainTick);
+double Simulation::stepSize(double limit) const {
   double dt = chooseTimeStep();
   if (state_.time + dt > limit) dt = limit - state_.time;
   // Avoid a sliver step right before the limit: split the remainder into two equal steps.
   else if (state_.time + 1.5 * dt > limit)
     dt = 0.5 * (limit - state_.time);
+  return dt;
+}
+
+void Simulation::step(double limit) {
+  // A feeding rain steps at its ticks: the step lands on the next one.
+  const double rainTick = rainFeed_ ? rainFeed_->nextTick(state_.time) : 1e300;
+  const double dt = stepSize(std::min(limit, rainTick));
   solver::StepContext c = context(static_cast<float>(dt));
-  auto timed = [&](solver::Pass pass, auto&& run) {
-    solver::PassTimer t(profile_, pass);
-    run();
-  };
-  timed(solver::Pass::Emit, [&] { emitParticles(dt); });
-  // The paper's particle model has no neighbour passes, so nothing to sort for.
-  const bool sph = scene_.solver.model == scene::SolverModel::Sph;
-  const bool dfsph = sph && scene_.solver.pressure == scene::PressureSolver::Dfsph;
-  if (sph) {
-    if (halo_) {
-      float cellSize = 0;
-      timed(solver::Pass::Exchange, [&] { cellSize = halo_->exchange(fluid_, derived_.h); });
-      timed(solver::Pass::Sort, [&] {
-        grid_.build(fluid_.x.data(), fluid_.y.data(), fluid_.z.data(), fluid_.size(), cellSize,
-                    scratch_.order, grid::NeighbourGrid::kExactCellSize);
-        fluid_.permute(scratch_.order, scratch_.permuteScratch);
-        halo_->sorted(grid_, scratch_.order);
-      });
-    } else {
-      timed(solver::Pass::Sort, [&] { sortParticles(c); });
-    }
-    // DFSPH's density comes with its factor and pairs, from one neighbour search.
-    if (dfsph)
-      timed(solver::Pass::Factor, [&] { computeDfsphDensityAndFactor(c); });
-    else
-      timed(solver::Pass::Density, [&] { computeDensity(c); });
-    validate("the density pass",
-             [&] { return checkDensity(fluid_, derived_, scene_.solver.densityKernel); });
-  }
-  if (dfsph) {  // sim/solver/Dfsph.cpp
-    timed(solver::Pass::Divergence, [&] { solveDivergence(c); });
-    timed(solver::Pass::Forces, [&] { computeDfsphViscosity(c), predictVelocity(c); });
-    timed(solver::Pass::Pressure, [&] { solveDensity(c); });
-    if (halo_) timed(solver::Pass::Exchange, [&] { halo_->dropGhosts(fluid_); });
-  } else if (sph) {
-    timed(solver::Pass::Pressure, [&] { computePressure(c); });
-    timed(solver::Pass::Forces, [&] { computeForces(c); });
-    if (halo_) timed(solver::Pass::Exchange, [&] { halo_->dropGhosts(fluid_); });
-  } else {
-    if (halo_) {  // migration only: no neighbour sums, no ghosts needed
-      timed(solver::Pass::Exchange, [&] {
-        halo_->exchange(fluid_, derived_.h);
-        halo_->dropGhosts(fluid_);
-      });
-    }
-    timed(solver::Pass::Forces, [&] { applyGravityOnly(c); });
-  }
-  timed(solver::Pass::Integrate, [&] {
-    const solver::MotionBounds bounds = dfsph ? integratePositions(c) : integrate(c);
+  const bool neighbours = model_->usesNeighbours();
+  using solver::Pass, solver::timed;
+
+  timed(profile_, Pass::Emit, [&] { emitParticles(dt); });
+  decomposition_->findNeighbours(c, profile_, neighbours);  // Sort (and Exchange)
+  model_->density(c, profile_);                             // Density or Factor
+  model_->forces(c, profile_);  // Pressure, Forces (and DFSPH's Divergence)
+  decomposition_->afterForces(fluid_, profile_, neighbours);  // Exchange
+  timed(profile_, Pass::Integrate, [&] {
+    const solver::MotionBounds bounds = model_->integrate(c);
     state_.maxSpeed = bounds.maxSpeed, state_.maxAcceleration = bounds.maxAcceleration;
-    if (halo_) halo_->maxOverRanks(state_.maxSpeed, state_.maxAcceleration);
+    decomposition_->agreeOnMotion(state_.maxSpeed, state_.maxAcceleration);
   });
   state_.time += dt;
   state_.step += 1;
   state_.lastDt = c.dt;
-  timed(solver::Pass::Collide, [&] { collide(c.dt); });
-  timed(solver::Pass::Boundaries, [&] { enforceBoundaries(c); });
-  timed(solver::Pass::Guard, [&] {
-    if (!halo_) {
-      const std::uint64_t lost = checkStability(c, scene_.domain, state_.step, state_.time,
-                                                state_.lostParticles, derived_.maxLostParticles);
-      state_.lostParticles += lost;
-      if (lost == 0) return;
-      // The next step's size follows the particles that stayed.
-      const solver::MotionBounds bounds = solver::motionBounds(fluid_);
-      state_.maxSpeed = bounds.maxSpeed, state_.maxAcceleration = bounds.maxAcceleration;
-      return;
-    }
-    // On K processes the same decision over all ranks: the particles outside the domain are
-    // counted over the ranks first, so each rank's check sees the count one process would (its
-    // own ones on top of everyone else's) and removes its own, or all stop with the single
-    // process's message (a non-finite state first, then the lowest particle id at fault).
-    const Aabb& d = scene_.domain;
-    std::vector<std::uint8_t> keep;
-    std::uint64_t outside = 0;
-    for (std::size_t i = 0; i < fluid_.size(); ++i) {
-      const Vec3 x = fluid_.position(i);
-      if (!x.allFinite() || !fluid_.velocity(i).allFinite() || d.contains(x)) continue;
-      if (keep.empty()) keep.assign(fluid_.size(), 1);
-      keep[i] = 0, ++outside;
-    }
-    const std::uint64_t outsideAll = halo_->globalCount(outside);
-    std::optional<StabilityError> local;
-    try {
-      const std::uint64_t lost =
-          checkStability(c, d, state_.step, state_.time,
-                         state_.lostParticles + outsideAll - outside, derived_.maxLostParticles);
-      if (lost > 0) halo_->removeLocal(keep);
-    } catch (const StabilityError& e) {
-      local = e;
-    }
-    halo_->agreeOnStability(local);
-    if (outsideAll == 0) return;
-    state_.lostParticles += outsideAll;
-    const solver::MotionBounds bounds = solver::motionBounds(fluid_);
-    state_.maxSpeed = bounds.maxSpeed, state_.maxAcceleration = bounds.maxAcceleration;
-    halo_->maxOverRanks(state_.maxSpeed, state_.maxAcceleration);
-  });
-  if (state_.time >= rainTick) timed(solver::Pass::Emit, [&] { feedRain(rainTick); });
+  timed(profile_, Pass::Collide, [&] { collide(c.dt); });
+  timed(profile_, Pass::Boundaries, [&] { enforceBoundaries(c); });
+  timed(profile_, Pass::Guard,
+        [&] { decomposition_->guard(c, scene_, derived_.maxLostParticles, state_); });
+  if (state_.time >= rainTick) timed(profile_, Pass::Emit, [&] { feedRain(rainTick); });
   validate("the step", [&] { return solver::checkState(fluid_, state_.nextId); });
   profile_.steps += 1;
   profile_.particleSteps += fluid_.size();
@@ -216,7 +144,7 @@ void Simulation::emitParticles(double dt) {
     // Distributed: the rank holding the nozzle releases the particles; the others advance the
     // emitter's state and the ids alike.
     Particles& into =
-        !halo_ || halo_->owns(scene_.emitters[e].position) ? fluid_ : emittedElsewhere_;
+        decomposition_->owns(scene_.emitters[e].position) ? fluid_ : emittedElsewhere_;
     emitters_[e].emit(end, dt, into, state_.nextId, scene_.solver.restDensity);
   }
   emittedElsewhere_.clear();
@@ -240,43 +168,7 @@ void Simulation::collide(float dt) {
   context.time = state_.time;
   context.dt = dt;
   context.step = state_.step;
-  if (!halo_) {
-    collision_->apply(fluid_, context);
-    return;
-  }
-  if (scene_.collision->method != scene::CollisionMethod::Exact) {
-    // `octree` and `cdt-cpu` find pairs through structures of the whole fluid (an octree's
-    // leaves, the CDT's depth images over the domain), which a rank's slab and ghosts would
-    // build differently. So every rank gathers the whole fluid in the single-process order and
-    // runs the pass on it, then keeps its own particles: the single process's result, bit for
-    // bit, at the cost of the pass on every rank (not divided by K) and an all-gather of the
-    // fluid each step (docs/scaling.md).
-    std::vector<std::uint32_t> mine;
-    Particles whole = halo_->allGather(fluid_, mine);
-    collision_->apply(whole, context);
-    fluid_.assignFrom(whole, mine);
-    return;
-  }
-  // `exact` (the only pass that runs distributed): a second exchange gives
-  // each rank the particles within two cell planes of its slab, which holds every partner of its
-  // particles: partners are closer than the range at the start of the step (x - v dt), so now
-  // closer than range + 2 max speed dt. The exact detector picks the nearest partner and, among
-  // equally near ones, the lowest index: the global order restricted to a rank keeps that choice,
-  // and the response is per particle, so the result is the single process's, bit for bit.
-  const float cs = halo_->exchange(fluid_, derived_.h);
-  const double reach =
-      static_cast<double>(scene_.collision->range) + 2.0 * double(state_.maxSpeed) * dt;
-  if (!(reach < ranks::kGhostPlanes * double(cs) * (1 - 1e-6))) {
-    std::ostringstream msg;
-    msg << scene_.sourcePath << ": collision.range " << scene_.collision->range
-        << " m plus twice the step's travel reaches " << reach << " m, beyond the "
-        << ranks::kGhostPlanes * cs
-        << " m of ghosts a process receives (docs/scaling.md); run without mpirun or use a "
-           "smaller range";
-    throw InputError(msg.str());
-  }
-  collision_->apply(fluid_, context);
-  halo_->dropGhosts(fluid_);
+  decomposition_->collide(*collision_, fluid_, context, scene_, derived_.h, state_.maxSpeed);
 }
 
 RunState Simulation::runState() const {

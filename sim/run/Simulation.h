@@ -1,7 +1,10 @@
-// One SPH run: the state and the step (DESIGN.md, "The SPH stage"). A step is the short list of
-// named, timed passes in step(); each pass is a function of an explicit StepContext
-// (sim/solver/SphPasses.h) and writes only its own particles' slots, so a run is bit-identical for a
-// given scene.
+// One SPH run: the state and the step (DESIGN.md, "The SPH stage"). A step is a fixed list of
+// named, timed stages in step(); what varies between runs is chosen once, when the simulation is
+// built: the fluid model (WCSPH, DFSPH or the particle model, sim/solver/FluidModel.h), the
+// decomposition (the whole fluid, or a rank's slab of a distributed run, sim/run/Decomposition.h),
+// the collision pass and the rain that feeds the fluid. Each pass is a function of an explicit
+// StepContext (sim/solver/SphPasses.h) and writes only its own particles' slots, so a run is
+// bit-identical for a given scene.
 #pragma once
 
 #include <cstdint>
@@ -9,17 +12,22 @@
 #include <memory>
 #include <vector>
 
-#include "sim/solver/Boundary.h"
 #include "sim/CollisionPass.h"
-#include "sim/run/Emitter.h"
-#include "sim/grid/NeighbourGrid.h"
 #include "sim/Particles.h"
+#include "sim/grid/NeighbourGrid.h"
+#include "sim/rain/FeedState.h"
+#include "sim/run/Decomposition.h"
+#include "sim/run/Emitter.h"
 #include "sim/scene/Scene.h"
+#include "sim/solver/Boundary.h"
+#include "sim/solver/FluidModel.h"
 #include "sim/solver/SceneSetup.h"
 #include "sim/solver/StepContext.h"
 #include "sim/solver/StepProfile.h"
-#include "sim/ranks/Halo.h"
-#include "sim/rain/RainFeed.h"
+
+namespace sph::rain {
+class RainFeed;
+}
 
 namespace sph::run {
 
@@ -110,6 +118,8 @@ class Simulation {
   // it with `start`) and the state that depends on it.
   void setUp(ranks::Halo* start, Start what);
   float chooseTimeStep() const;
+  // This step's size: the next one, shortened to land on `limit` without a sliver before it.
+  double stepSize(double limit) const;
   // The context the passes of a step of `dt` seconds work on.
   solver::StepContext context(float dt);
   void emitParticles(double dt);
@@ -130,7 +140,9 @@ class Simulation {
   solver::StepScratch scratch_;
   float gradientCorrection_ = 1;  // scale of the pressure force this step
   solver::PressureSolveStats solveStats_;
-  ranks::Halo* halo_ = nullptr;  // a distributed run's decomposition; null alone
+  std::unique_ptr<solver::FluidModel> model_;
+  std::unique_ptr<Decomposition> decomposition_;
+  ranks::Halo* halo_ = nullptr;  // a distributed run's halo; null alone
   // A distributed run's keys of the fluid (sim/ranks/Halo.h, adopt), handed to setHalo(): a slab
   // start's ids, a resumed slab's indices in the frame; empty when the fluid is whole (0, 1, ...).
   std::vector<std::uint64_t> startKeys_;

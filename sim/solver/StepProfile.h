@@ -6,7 +6,7 @@
 #include <chrono>
 #include <cstdint>
 
-namespace sph {
+namespace sph::solver {
 
 enum class Pass : int {
   Emit,
@@ -61,4 +61,11 @@ class PassTimer {
   std::chrono::steady_clock::time_point start_;
 };
 
-}  // namespace sph
+// Runs `pass` and adds its time to `pass`'s slot of `profile`.
+template <class Run>
+void timed(StepProfile& profile, Pass pass, Run&& run) {
+  PassTimer timer(profile, pass);
+  run();
+}
+
+}  // namespace sph::solver
