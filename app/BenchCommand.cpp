@@ -87,7 +87,7 @@ int bench(const BenchOptions& o) {
                 plot && plotError.empty() ? (", " + png).c_str() : "");
   }
   if (!plotError.empty()) std::fprintf(stderr, "sphsplat: plot: %s\n", plotError.c_str());
-  return kOk;
+  return job::kOk;
 }
 
 }  // namespace

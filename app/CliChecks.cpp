@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "app/DistributedRun.h"
+#include "job/distributed/DistributedRun.h"
 #include "io/MessageText.h"
 #include "sim/Parallel.h"
 
@@ -28,7 +28,7 @@ std::string got(const std::string& text) {
 // under mpirun, which binds each rank to its share of the cores, that is the rank's share.
 std::string coresText() {
   const std::string count = std::to_string(omp_get_num_procs()) + " cores";
-  if (world()) return "4 x the " + count + " mpirun binds this rank to";
+  if (job::distributed::world()) return "4 x the " + count + " mpirun binds this rank to";
   return "4 x the " + count + " here";
 }
 

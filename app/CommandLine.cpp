@@ -12,8 +12,8 @@
 
 #include "app/CliChecks.h"
 #include "app/Commands.h"
-#include "app/DistributedRun.h"
-#include "app/Version.h"
+#include "job/distributed/DistributedRun.h"
+#include "job/Version.h"
 #include "io/MessageText.h"
 #include "render/gl/GlError.h"
 #include "sim/InputError.h"
@@ -31,10 +31,10 @@ int runCommandLine(int argc, char** argv) {
     sph::ranks::mpi::noteStopping();
 #endif
     // One line whatever it quotes (a path or a scene's name with a newline or ESC in it).
-    if (isRootProcess() || inLockstep()) std::fprintf(stderr, format, io::oneLine(what).c_str());
+    if (job::distributed::isRootProcess() || job::distributed::inLockstep()) std::fprintf(stderr, format, io::oneLine(what).c_str());
 #ifdef SPHSPLAT_MPI
     // This rank alone failed while the others wait in a collective: end them all.
-    if (inLockstep()) {
+    if (job::distributed::inLockstep()) {
       std::fflush(stderr);
       sph::ranks::mpi::MpiSession::abortAll(2);
     }
@@ -65,10 +65,10 @@ int runCommandLine(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
     // --help, --version: every rank parses the same arguments, rank 0 alone prints.
-    return isRootProcess() ? app.exit(e) : 0;
+    return job::distributed::isRootProcess() ? app.exit(e) : 0;
   } catch (const CLI::ParseError& e) {
-    if (isRootProcess()) app.exit(e);
-    return kBadInput;
+    if (job::distributed::isRootProcess()) app.exit(e);
+    return job::kBadInput;
   }
   try {
     for (auto& command : commands) {
@@ -77,20 +77,20 @@ int runCommandLine(int argc, char** argv) {
     }
   } catch (const sph::InputError& e) {
     tell("sphsplat: %s\n", e.what());
-    return kBadInput;
+    return job::kBadInput;
   } catch (const sph::render::gl::GlError& e) {
     tell("sphsplat: %s\n", e.what());
-    return kNoGraphics;
+    return job::kNoGraphics;
   } catch (const std::bad_alloc&) {
     tell("sphsplat: %s\n",
          "out of memory: the job needs more memory than this process may use "
          "(run --verbose prints a scene's estimate; a larger solver.spacing needs less)");
-    return kBadInput;
+    return job::kBadInput;
   } catch (const std::exception& e) {
     tell("sphsplat: internal error: %s\n", e.what());
-    return kInternalError;
+    return job::kInternalError;
   }
-  return kInternalError;
+  return job::kInternalError;
 }
 
 }  // namespace sph::app

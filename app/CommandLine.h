@@ -5,7 +5,7 @@
 namespace sph::app {
 
 // Parses `argv` (argv[0] the program), runs the subcommand and returns the exit code
-// (app/ExitCode.h); every failure is one line on standard error. The process set-up (standard
+// (job/ExitCode.h); every failure is one line on standard error. The process set-up (standard
 // streams, HDF5, OpenMP, MPI) is app/main.cpp's.
 int runCommandLine(int argc, char** argv);
 

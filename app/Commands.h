@@ -1,10 +1,10 @@
 // The subcommands of `sphsplat`. Each registers its options on the CLI11 app and returns the exit
-// code of its run (app/ExitCode.h).
+// code of its run (job/ExitCode.h).
 #pragma once
 
 #include <functional>
 
-#include "app/ExitCode.h"
+#include "job/ExitCode.h"
 
 // Declared, not included: CLI11's header costs seconds in every file that includes it (it
 // constructs its validators in each), and the jobs that return an exit code need none of it.

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "app/CacheScene.h"
+#include "job/CacheScene.h"
 #include "app/Commands.h"
-#include "app/OutputNames.h"
+#include "job/OutputNames.h"
 #include "io/cache/CacheReader.h"
 #include "io/MessageText.h"
 #include "io/export/ParticleExport.h"
@@ -38,14 +38,14 @@ struct ExportOptions {
 
 std::string formatOf(const ExportOptions& o) {
   if (!o.format.empty()) return o.format;
-  const std::string ext = extensionOf(o.output);
+  const std::string ext = job::extensionOf(o.output);
   if (ext == "csv" || ext == "ply" || ext == "vtu") return ext;
   throw InputError("--format: expected csv, ply or vtu (the name " + io::printablePath(o.output) +
                    " does not say which)");
 }
 
 void writeFile(const std::string& path, const std::string& format, const io::ExportFrame& frame) {
-  writeOutput(path, "the export", [&](std::FILE* out) {
+  job::writeOutput(path, "the export", [&](std::FILE* out) {
     if (format == "csv")
       io::writeCsv(out, frame);
     else if (format == "ply")
@@ -69,10 +69,10 @@ int exportFrames(const ExportOptions& o) {
     if (o.framesOption && o.framesOption->count() > 0)
       throw InputError("--boundary exports the boundary, which has no frames; leave out --frames");
   } else {
-    frames = parseFrameRange(o.frames, reader.frameCount(), "--frames");
+    frames = job::parseFrameRange(o.frames, reader.frameCount(), "--frames");
   }
   const std::size_t files = o.boundary ? 1 : frames.size();
-  const OutputNames names(o.output, format, fileSafe(s.sceneName), files);
+  const job::OutputNames names(o.output, format, job::fileSafe(s.sceneName), files);
   const bool pvd = format == "vtu" && names.sequence() && !o.boundary;
 
   // Every output is checked before the first is written.
@@ -117,14 +117,14 @@ int exportFrames(const ExportOptions& o) {
     writeFile(path, format, frame);
     fewest = std::min(fewest, particles.size());
     most = std::max(most, particles.size());
-    if (pvd) collection.push_back({frame.time, baseName(path)});
+    if (pvd) collection.push_back({frame.time, job::baseName(path)});
   }
   if (pvd) {
     io::AtomicOutput out(names.pvd());
     io::writePvd(out.file(), collection);
     out.commit();
   }
-  if (o.output == "-") return exitAfterReading(s);
+  if (o.output == "-") return job::exitAfterReading(s);
   const std::string forParaView = pvd ? "; open " + names.pvd() + " in ParaView" : "";
   if (files == 1) {
     std::fprintf(stderr, "wrote %s: %zu %s, %s%s\n", names.file(o.boundary ? 0 : frames[0]).c_str(),
@@ -136,12 +136,12 @@ int exportFrames(const ExportOptions& o) {
                  "wrote %zu %s files %s .. %s: frames %zu-%zu (t = %s - %s s), %s "
                  "particles each%s\n",
                  files, format.c_str(), names.file(frames.front()).c_str(),
-                 baseName(names.file(frames.back())).c_str(), frames.front(), frames.back(),
+                 job::baseName(names.file(frames.back())).c_str(), frames.front(), frames.back(),
                  io::readableNumber(s.frames[frames.front()].time).c_str(),
                  io::readableNumber(s.frames[frames.back()].time).c_str(), counts.c_str(),
                  pvd ? (forParaView + " for the times").c_str() : "");
   }
-  return exitAfterReading(s);
+  return job::exitAfterReading(s);
 }
 
 }  // namespace

@@ -8,7 +8,7 @@
 #include <memory>
 #include <string>
 
-#include "app/CacheScene.h"
+#include "job/CacheScene.h"
 #include "app/Commands.h"
 #include "app/Progress.h"
 #include "io/cache/CacheReader.h"
@@ -128,18 +128,18 @@ int info(const InfoOptions& o) {
   // failed command, not a quiet success.
   if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
     std::fprintf(stderr, "sphsplat: cannot write to standard output (%s)\n", std::strerror(errno));
-    return kBadInput;
+    return job::kBadInput;
   }
-  if (!s.damagedFrame.empty()) return exitAfterReading(s);
+  if (!s.damagedFrame.empty()) return job::exitAfterReading(s);
   if (n == 0) {
     std::fflush(stdout);
     std::fprintf(stderr,
                  "sphsplat: %s: damaged cache: it has no complete frame (not even the initial "
                  "state, frame 0)\n",
                  io::printablePath(s.path).c_str());
-    return kBadInput;
+    return job::kBadInput;
   }
-  return kOk;
+  return job::kOk;
 }
 
 }  // namespace

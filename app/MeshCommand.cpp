@@ -2,7 +2,7 @@
 // frames as triangle meshes for Blender, Houdini and the like (docs/mesh.md): the SD iso-surface
 // of the renderer's density field (render/mesh/SurfaceMesh.h), with the scene's render settings
 // (kernel radius, surface threshold; --set edits them). Files are named as `export` names them
-// (app/OutputNames.h); nothing existing is replaced without --overwrite, and each file is written
+// (job/OutputNames.h); nothing existing is replaced without --overwrite, and each file is written
 // under a temporary name and renamed once complete (io/UserFiles.h).
 #include <algorithm>
 #include <chrono>
@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "app/CacheScene.h"
+#include "job/CacheScene.h"
 #include "app/CliChecks.h"
 #include "app/Commands.h"
-#include "app/OutputNames.h"
+#include "job/OutputNames.h"
 #include "io/cache/CacheReader.h"
 #include "io/export/MeshFiles.h"
 #include "io/MessageText.h"
@@ -50,17 +50,17 @@ std::string formatOf(const MeshOptions& o) {
   std::error_code unreadable;
   if (o.output.find('%') == std::string::npos && o.output.back() != '/' &&
       !std::filesystem::is_directory(o.output, unreadable)) {
-    const std::string ext = extensionOf(o.output);
+    const std::string ext = job::extensionOf(o.output);
     if (ext == "ply" || ext == "obj") return ext;
     throw InputError("--format: expected ply or obj (the name " + io::printablePath(o.output) +
                      " does not say which)");
   }
-  const std::string ext = extensionOf(o.output);
+  const std::string ext = job::extensionOf(o.output);
   return ext == "obj" ? "obj" : "ply";
 }
 
 void writeMesh(const std::string& path, const std::string& format, const io::MeshView& mesh) {
-  writeOutput(path, "the mesh", [&](std::FILE* out) {
+  job::writeOutput(path, "the mesh", [&](std::FILE* out) {
     if (format == "obj")
       io::writeMeshObj(out, mesh, path);
     else
@@ -73,11 +73,11 @@ int meshFrames(const MeshOptions& o) {
   const std::string format = formatOf(o);
   const io::CacheReader reader(o.cache);
   const io::CacheSummary& s = reader.summary();
-  const scene::Scene scene = sceneOfCache(s, o.overrides);
+  const scene::Scene scene = job::sceneOfCache(s, o.overrides);
   const scene::RenderDesc desc = scene.render ? *scene.render : scene::RenderDesc{};
   const std::vector<std::size_t> frames =
-      parseFrameRange(o.frames, reader.frameCount(), "--frames");
-  const OutputNames names(o.output, format, fileSafe(s.sceneName), frames.size(), "--out");
+      job::parseFrameRange(o.frames, reader.frameCount(), "--frames");
+  const job::OutputNames names(o.output, format, job::fileSafe(s.sceneName), frames.size(), "--out");
   const std::vector<io::ReadFile> reads = {
       {o.cache, "the cache being meshed"},
       {io::XdmfWriter::sidecarPath(o.cache), "the cache's XDMF sidecar"}};
@@ -102,7 +102,7 @@ int meshFrames(const MeshOptions& o) {
   for (std::size_t k = 0; k < frames.size(); ++k) {
     const std::size_t f = frames[k];
     const Particles p = reader.readFrame(f, xyz);
-    checkPositions(p.x, p.y, p.z, scene, "frame " + std::to_string(f), o.cache);
+    job::checkPositions(p.x, p.y, p.z, scene, "frame " + std::to_string(f), o.cache);
     const auto t0 = std::chrono::steady_clock::now();
     const render::splat::DensityField field(p.x.data(), p.y.data(), p.z.data(), p.size(), spacing,
                                             desc.kernelRadius, scene.solver.restDensity);
@@ -148,11 +148,11 @@ int meshFrames(const MeshOptions& o) {
   if (lines && frames.size() > 1) {
     std::fprintf(stderr, "wrote %zu %s files %s .. %s: %s-%s triangles each\n", frames.size(),
                  format.c_str(), names.file(frames.front()).c_str(),
-                 baseName(names.file(frames.back())).c_str(),
+                 job::baseName(names.file(frames.back())).c_str(),
                  humanCount(static_cast<double>(fewest)).c_str(),
                  humanCount(static_cast<double>(most)).c_str());
   }
-  return exitAfterReading(s);
+  return job::exitAfterReading(s);
 }
 
 }  // namespace

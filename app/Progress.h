@@ -6,16 +6,13 @@
 #include <cstdint>
 #include <string>
 
+#include "job/RunJob.h"
 #include "sim/HumanText.h"
 
 namespace sph::app {
 
-struct ProgressSample {
-  double time = 0, endTime = 0;  // s simulated
-  std::uint64_t steps = 0;
-  std::size_t particles = 0;
-  double particleStepsPerSecond = 0;
-};
+using ProgressSample = job::RunSample;
+
 
 class Progress {
  public:

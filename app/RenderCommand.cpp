@@ -1,18 +1,18 @@
 // `sphsplat render CACHE` and `sphsplat compare CACHE --frame N`: their flags; the work is
-// app/RenderJob.h and app/CompareJob.h.
+// job/RenderJob.h and job/CompareJob.h.
 #include <CLI/CLI.hpp>
 #include <memory>
 
 #include "app/Commands.h"
-#include "app/CompareJob.h"
-#include "app/RenderJob.h"
+#include "job/CompareJob.h"
+#include "job/RenderJob.h"
 #include "sim/scene/EnumNames.h"
 #include "sim/scene/RenderDesc.h"
 
 namespace sph::app {
 
 std::function<int()> addRenderCommand(CLI::App& app) {
-  auto o = std::make_shared<RenderRequest>();
+  auto o = std::make_shared<job::RenderRequest>();
   CLI::App* cmd = app.add_subcommand(
       "render", "Render frames of a cache with point or quad splats (no simulation)");
   cmd->add_option("cache", o->cache, "HDF5 cache written by `sphsplat run`")->required();
@@ -37,7 +37,7 @@ std::function<int()> addRenderCommand(CLI::App& app) {
 }
 
 std::function<int()> addCompareCommand(CLI::App& app) {
-  auto o = std::make_shared<CompareRequest>();
+  auto o = std::make_shared<job::CompareRequest>();
   CLI::App* cmd = app.add_subcommand(
       "compare",
       "Point vs quad splats vs the ray-marched reference, side by side with times and errors");

@@ -1,15 +1,16 @@
-// `sphsplat run SCENE`: simulate a scene, report progress and a summary (app/RunJob.h).
+// `sphsplat run SCENE`: simulate a scene, report progress and a summary (job/RunJob.h).
 #include <memory>
 
 #include "app/CliChecks.h"
 #include "app/Commands.h"
-#include "app/RunJob.h"
+#include "app/RunTerminal.h"
+#include "job/RunJob.h"
 #include "io/scene/SceneLoader.h"
 
 namespace sph::app {
 
 std::function<int()> addRunCommand(CLI::App& app) {
-  auto o = std::make_shared<RunRequest>();
+  auto o = std::make_shared<job::RunRequest>();
   CLI::App* cmd =
       app.add_subcommand("run", "Simulate a scene file (JSON, see docs/scene-format.md)");
   cmd->add_option("scene", o->scene, "Scene file, e.g. scenes/dam_break.json")->required();
@@ -42,7 +43,11 @@ std::function<int()> addRunCommand(CLI::App& app) {
       "On K processes (the release build has Open MPI): mpirun -np K\n"
       "sphsplat run SCENE ...; the cache is the same, bit for bit, with WCSPH or DFSPH\n"
       "(docs/scaling.md).");
-  return [o, cmd]() { return cmd->parsed() ? runJob(*o) : -1; };
+  return [o, cmd]() {
+    if (!cmd->parsed()) return -1;
+    RunTerminal terminal;
+    return job::runJob(*o, terminal);
+  };
 }
 
 }  // namespace sph::app

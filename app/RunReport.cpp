@@ -6,9 +6,9 @@
 #include <cstdlib>
 #include <string>
 
-#include "app/DistributedRun.h"
-#include "app/MachineMemory.h"
-#include "app/OpenMpSpinLimit.h"
+#include "job/distributed/DistributedRun.h"
+#include "job/MachineMemory.h"
+#include "job/OpenMpSpinLimit.h"
 #include "app/Progress.h"
 #include "io/cache/CacheFormat.h"
 #include "render/cdt/CollisionSetup.h"
@@ -57,9 +57,9 @@ void printPassSplit(const solver::StepProfile& profile) {
 
 // `sphsplat run SCENE [--set ...] [--end T] --threads N`: the run as the user asked for it, with
 // the end time `end` (0: the scene's own).
-std::string commandLine(const RunRequest& o, double end) {
+std::string commandLine(const job::RunRequest& o, double end) {
   std::string line = "sphsplat run " + shellQuote(o.scene);
-  if (world()) line = "mpirun -np " + std::to_string(world()->size()) + " " + line;
+  if (job::distributed::world()) line = "mpirun -np " + std::to_string(job::distributed::world()->size()) + " " + line;
   for (const std::string& s : o.overrides) line += " --set " + shellQuote(s);
   if (end > 0) line += " --end " + endTimeText(end);
   return line + " --threads " + std::to_string(threadCount());
@@ -69,7 +69,7 @@ std::string commandLine(const RunRequest& o, double end) {
 // before it are the same only if every step aims at the same frame time as the run did (the step
 // is shortened to land on frames and on the end), so the end is that frame's time, not the time
 // of the blow-up.
-std::string reproduceCommand(const RunRequest& o, const run::RunPlan& plan,
+std::string reproduceCommand(const job::RunRequest& o, const run::RunPlan& plan,
                              const run::RunOutcome& outcome) {
   const double frameEnd = static_cast<double>(outcome.nextFrame) * plan.frameInterval;
   return commandLine(o, std::min(plan.endTime, frameEnd));
@@ -77,23 +77,23 @@ std::string reproduceCommand(const RunRequest& o, const run::RunPlan& plan,
 
 // What the run is about to do: particles, the main derived numbers and, with --verbose, the
 // domain and every piece of work the scene skips (docs/benchmarks.md, "What a scene skips").
-void printHeader(const RunRequest& o, const scene::Scene& scene, const run::Simulation& sim,
+void printHeader(const job::RunRequest& o, const scene::Scene& scene, const run::Simulation& sim,
                  std::size_t fluidParticles, const io::CacheSession* cache, double setupSeconds,
                  const run::MemoryEstimate& memory) {
   const solver::DerivedParams& d = sim.params();
   const double frameInterval = 1.0 / scene.output.fps;
   std::printf("%s: %zu fluid particles, %zu boundary particles, %s%d thread%s\n",
               scene.name.c_str(), fluidParticles, sim.boundary().particles().size(),
-              world() ? (std::to_string(world()->size()) + " processes x ").c_str() : "",
+              job::distributed::world() ? (std::to_string(job::distributed::world()->size()) + " processes x ").c_str() : "",
               threadCount(), threadCount() == 1 ? "" : "s");
   std::printf(
       "  spacing %g m, support radius %g m, particle mass %.4g kg, speed of sound %.3g m/s, "
       "first dt %.3g s\n",
       scene.solver.spacing, d.h, d.mass, d.speedOfSound, sim.nextTimeStep());
   if (o.verbose) {
-    std::printf("  memory: %s\n", describeMemory(memory, machineMemory()).c_str());
+    std::printf("  memory: %s\n", job::describeMemory(memory, job::machineMemory()).c_str());
     std::printf("  OpenMP: %d thread%s, %s\n", threadCount(), threadCount() == 1 ? "" : "s",
-                describeOpenMpWaiting());
+                job::describeOpenMpWaiting());
     std::printf("  domain [%g, %g, %g] - [%g, %g, %g] m, %d boundary layer%s\n",
                 scene.domain.lo.x(), scene.domain.lo.y(), scene.domain.lo.z(), scene.domain.hi.x(),
                 scene.domain.hi.y(), scene.domain.hi.z(), d.boundaryLayers,

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "app/RunJob.h"
+#include "job/RunJob.h"
 #include "io/cache/CacheSession.h"
 #include "sim/run/MemoryEstimate.h"
 #include "sim/run/RunLoop.h"
@@ -14,16 +14,16 @@ namespace sph::app {
 
 // `sphsplat run SCENE [--set ...] [--end T] --threads N` (under mpirun with its -np): the run as
 // the user asked for it, with the end time `end` (0: the scene's own).
-std::string commandLine(const RunRequest& o, double end);
+std::string commandLine(const job::RunRequest& o, double end);
 // A POSIX shell word: as it is when it is safe, else in single quotes.
 std::string shellQuote(const std::string& word);
 // Runs to the blow-up and no further (see RunReport.cpp).
-std::string reproduceCommand(const RunRequest& o, const run::RunPlan& plan,
+std::string reproduceCommand(const job::RunRequest& o, const run::RunPlan& plan,
                              const run::RunOutcome& outcome);
 // What the run is about to do: particles (`fluidParticles`: on all ranks), the main derived
 // numbers and, with --verbose, the domain and every piece of work the scene skips
 // (docs/benchmarks.md, "What a scene skips").
-void printHeader(const RunRequest& o, const scene::Scene& scene, const run::Simulation& sim,
+void printHeader(const job::RunRequest& o, const scene::Scene& scene, const run::Simulation& sim,
                  std::size_t fluidParticles, const io::CacheSession* cache, double setupSeconds,
                  const run::MemoryEstimate& memory);
 // The share of the run's time in each pass (--verbose).

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "app/CacheRain.h"
-#include "app/CacheRendering.h"
-#include "app/CacheScene.h"
+#include "job/CacheRain.h"
+#include "job/CacheRendering.h"
+#include "job/CacheScene.h"
 #include "app/CliChecks.h"
 #include "app/Commands.h"
 #include "io/cache/CacheReader.h"
@@ -86,7 +86,7 @@ void saveScreenshot(const std::string& path, int width, int height) {
 
 int view(const ViewOptions& o) {
   io::CacheReader reader(o.cache);
-  const scene::Scene scene = sceneOfCache(reader.summary(), o.overrides);
+  const scene::Scene scene = job::sceneOfCache(reader.summary(), o.overrides);
   if (reader.frameCount() == 0)
     throw InputError(o.cache + ": the cache has no complete frame to show");
   scene::RenderDesc desc = scene.render ? *scene.render : scene::RenderDesc{};
@@ -97,21 +97,21 @@ int view(const ViewOptions& o) {
   render::splat::FrameRenderer renderer(desc, scene.solver.spacing, scene.solver.restDensity);
   const auto solids = render::solids::showSolids(scene, renderer, [&] {
     const auto b = reader.readBoundary();
-    checkPositions(b[0], b[1], b[2], scene, "the boundary", o.cache);
+    job::checkPositions(b[0], b[1], b[2], scene, "the boundary", o.cache);
     return std::array<std::vector<float>, 3>{b[0], b[1], b[2]};
   });
   const auto lights = render::lights::showLights(scene, renderer);
-  // Rain (a rain section): the drops the run stored, else regenerated (app/CacheRain.h), and kept
+  // Rain (a rain section): the drops the run stored, else regenerated (job/CacheRain.h), and kept
   // where the camera looks when the user flies it (render/rain/SceneRain.h).
   const auto rain = render::rain::showRain(scene, renderer, solids.get());
 
-  const io::cache::FieldSet xyz = fieldsToDraw(scene);
+  const io::cache::FieldSet xyz = job::fieldsToDraw(scene);
   ViewerState s;
   s.frames = reader.frameCount();
-  s.frame = parseOneFrame(o.frame, s.frames, "--frame");
+  s.frame = job::parseOneFrame(o.frame, s.frames, "--frame");
   s.kind = *scene::parseEnum<render::splat::SplatKind>(o.splat);
   const Particles first = reader.readFrame(s.frame, xyz);
-  checkPositions(first.x, first.y, first.z, scene, "frame " + std::to_string(s.frame), o.cache);
+  job::checkPositions(first.x, first.y, first.z, scene, "frame " + std::to_string(s.frame), o.cache);
   const scene::CameraDesc lens =
       scene.camera ? *scene.camera
                    : render::splat::framingCamera(first, static_cast<float>(o.width) / o.height);
@@ -210,10 +210,10 @@ int view(const ViewOptions& o) {
     const bool cullLights = lights && scene.lights->cull && !s.touched;
     if (s.frameChanged) {
       shown = reader.readFrame(s.frame, xyz);
-      checkPositions(shown.x, shown.y, shown.z, scene, "frame " + std::to_string(s.frame),
+      job::checkPositions(shown.x, shown.y, shown.z, scene, "frame " + std::to_string(s.frame),
                      o.cache);
       renderer.prepare(shown);
-      if (rain) showCachedRain(*rain, reader, s.frame, time, shown);
+      if (rain) job::showCachedRain(*rain, reader, s.frame, time, shown);
     }
     if (lights &&
         (s.frameChanged || (culledAspect != 0 && (!cullLights || aspect != culledAspect)))) {
@@ -251,7 +251,7 @@ int view(const ViewOptions& o) {
     window.swapBuffers();
     if (last) break;
   }
-  return kOk;
+  return job::kOk;
 }
 
 }  // namespace

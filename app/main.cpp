@@ -11,11 +11,11 @@
 #include <string>
 
 #include "app/CommandLine.h"
-#include "app/ExitCode.h"
-#include "app/DistributedRun.h"
+#include "job/ExitCode.h"
+#include "job/distributed/DistributedRun.h"
 #include "app/MpiStarter.h"
-#include "app/OpenMpSpinLimit.h"
-#include "app/StatusRecorder.h"
+#include "job/OpenMpSpinLimit.h"
+#include "job/distributed/StatusRecorder.h"
 #include "io/cache/Hdf5.h"
 #ifdef SPHSPLAT_MPI
 #include "sim/ranks/mpi/FileErrorWatch.h"
@@ -40,10 +40,10 @@ void openClosedStandardStreams() {
 int main(int argc, char** argv) {
   openClosedStandardStreams();
   sph::io::h5::startWithoutExitCleanup();
-  // A recorder that rank 0 of an MPI run started (app/StatusRecorder.h): nothing else of main.
-  if (argc == sph::app::kRecorderArgc && std::strcmp(argv[1], sph::app::kRecorderArgument) == 0)
-    return sph::app::runStatusRecorder(argv);
-  sph::app::relaunchWithOpenMpSpinLimit(argv);
+  // A recorder that rank 0 of an MPI run started (job/distributed/StatusRecorder.h): nothing else of main.
+  if (argc == sph::job::distributed::kRecorderArgc && std::strcmp(argv[1], sph::job::distributed::kRecorderArgument) == 0)
+    return sph::job::distributed::runStatusRecorder(argv);
+  sph::job::relaunchWithOpenMpSpinLimit(argv);
   const sph::app::MpiStarter starter = sph::app::mpiStarter();
 #ifdef SPHSPLAT_MPI
   // Under mpirun: the ranks of a distributed run (docs/scaling.md); a plain process otherwise.
@@ -54,12 +54,12 @@ int main(int argc, char** argv) {
     // it for the written ranges only, unless the user chose (mpirun --mca exports the setting).
     setenv("OMPI_MCA_fs_ufs_lock_algorithm", "3", 0);
     // ROMIO reports a write the disk refused; OMPIO 4.1 does not (sim/ranks/mpi/MpiIoChoice.h).
-    sph::app::setMpiIoChoice(sph::ranks::mpi::preferRomio());
-    sph::app::setWorld(mpi.emplace(&argc, &argv).world());
+    sph::job::distributed::setMpiIoChoice(sph::ranks::mpi::preferRomio());
+    sph::job::distributed::setWorld(mpi.emplace(&argc, &argv).world());
     // A rank stuck after its write of the cache failed ends the run after 3 s (a failure HDF5
     // returns has stopped every rank by then, with its own line).
-    sph::ranks::mpi::watchFileErrors(3.0, sph::app::kBadInput,
-                              [](const char* line) { sph::app::startStatusRecorder(line); });
+    sph::ranks::mpi::watchFileErrors(3.0, sph::job::kBadInput,
+                              [](const char* line) { sph::job::distributed::startStatusRecorder(line); });
   }
 #else
   if (const std::string refusal = sph::app::refusalWithoutMpi(starter); !refusal.empty()) {

@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "app/OpenMpSpinLimit.h"
+#include "job/OpenMpSpinLimit.h"
 #include "bench/Fig11Scene.h"
 #include "render/gl/GlContext.h"
 #include "render/lights/ExactLights.h"
@@ -316,7 +316,7 @@ void pipelines() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  app::relaunchWithOpenMpSpinLimit(argv);
+  job::relaunchWithOpenMpSpinLimit(argv);
   std::string what = argc > 1 ? argv[1] : "";
   for (int i = 2; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--max-lights")) maxLights = std::strtoull(argv[i + 1], nullptr, 10);

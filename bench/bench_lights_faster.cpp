@@ -45,7 +45,7 @@
 #include <utility>
 #include <vector>
 
-#include "app/OpenMpSpinLimit.h"
+#include "job/OpenMpSpinLimit.h"
 #include "bench/Fig11Scene.h"
 #include "io/export/Png.h"
 #include "io/scene/SceneLoader.h"
@@ -408,7 +408,7 @@ void cpuSide() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  app::relaunchWithOpenMpSpinLimit(argv);
+  job::relaunchWithOpenMpSpinLimit(argv);
   const std::string what = argc > 1 ? argv[1] : "";
   for (int i = 2; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--max-lights")) maxLights = std::strtoull(argv[i + 1], nullptr, 10);

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "app/OpenMpSpinLimit.h"
+#include "job/OpenMpSpinLimit.h"
 #include "render/gl/GlContext.h"
 #include "render/splat/FrameRenderer.h"
 #include "sim/Parallel.h"
@@ -62,7 +62,7 @@ double median(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  app::relaunchWithOpenMpSpinLimit(argv);
+  job::relaunchWithOpenMpSpinLimit(argv);
   std::vector<std::size_t> counts = {3555, 10962, 25503, 100000, 1000000};
   int width = 960, height = 540, repeat = 5;
   bool reference = true;

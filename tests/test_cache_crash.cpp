@@ -300,7 +300,7 @@ TEST_F(CacheCrash, RecordingAStopOfAKilledRunWritesOnlyOverItsOwnRunningStatus) 
   GTEST_SKIP() << "a preload library cannot come before the AddressSanitizer runtime";
 #endif
   // The recorder of an MPI run that stopped in a frame its ranks wrote together
-  // (app/StatusRecorder.h) records "stopped" over "running", and only over the state that run
+  // (job/distributed/StatusRecorder.h) records "stopped" over "running", and only over the state that run
   // left: not over a resume's status, nor over a cache with more frames than it could write.
   const std::string path = dir_ + "/record.h5";
   runShell(preload() + " SPHSPLAT_KILL_AT_WRITE=" + std::to_string(writes_ * 2 / 3) + " " +

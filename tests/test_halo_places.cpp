@@ -1,5 +1,5 @@
 // Halo::globalPlaces (sim/ranks/HaloPlaces.cpp): the places each rank writes its particles to when
-// the ranks write a cache frame together (app/CollectiveCacheSink.h), against the brute force
+// the ranks write a cache frame together (job/distributed/CollectiveCacheSink.h), against the brute force
 // they replace: every rank's particles gathered on every rank and sorted by key
 // (Halo::allGather's `mine`, the all-gather of every key that globalPlaces did before). K = 1..4
 // ranks as threads (tests/ThreadRanks.h), slabs across x, y and z, after each way a run reaches

@@ -12,7 +12,7 @@
 #include <regex>
 #include <string>
 
-#include "app/MachineMemory.h"
+#include "job/MachineMemory.h"
 #include "sim/solver/Boundary.h"
 #include "sim/run/MemoryEstimate.h"
 #include "tests/CacheTestSupport.h"
@@ -184,19 +184,19 @@ TEST(MemoryEstimate, ARankHoldsItsShareOfTheFluidAndAllOfTheBoundary) {
   EXPECT_NEAR(gathering.bytes - k2.bytes, gathering.rootOnlyBytes, 1.0);
 }
 
-// The check's decision (app/MachineMemory.h): a rank's share against what a process may use, and
+// The check's decision (job/MachineMemory.h): a rank's share against what a process may use, and
 // the ranks of one machine together against what it has free.
 TEST(MemoryEstimate, RanksThatFitAloneButNotTogetherAreRefusedNamingTheirSum) {
   scene::Scene scene = test::shippedScene("dam_break", {"solver.spacing=0.0021"});
   scene.sourcePath = "dam.json";
   const run::MemoryEstimate e = run::estimateMemory(scene, {4, true, false});
-  app::MachineMemory machine;
+  job::MachineMemory machine;
   machine.totalBytes = 64e9;
   machine.availableBytes = machine.sharedBytes = 1.5 * e.bytes;
-  EXPECT_FALSE(app::memoryRefusal(scene, e, machine, {1, true, true}))
+  EXPECT_FALSE(job::memoryRefusal(scene, e, machine, {1, true, true}))
       << "one rank on each machine fits";
   const std::optional<std::string> together =
-      app::memoryRefusal(scene, e, machine, {4, true, true});
+      job::memoryRefusal(scene, e, machine, {4, true, true});
   ASSERT_TRUE(together);
   EXPECT_EQ(together->rfind("dam.json: solver.spacing: this scene needs about ", 0), 0u)
       << *together;
@@ -208,7 +208,7 @@ TEST(MemoryEstimate, RanksThatFitAloneButNotTogetherAreRefusedNamingTheirSum) {
   // A process limit (ulimit -v) under one rank's share: more processes would each need less.
   machine.availableBytes = 0.5 * e.bytes, machine.limitedBy = "ulimit -v";
   machine.sharedBytes = 100 * e.bytes;
-  const std::optional<std::string> alone = app::memoryRefusal(scene, e, machine, {1, true, true});
+  const std::optional<std::string> alone = job::memoryRefusal(scene, e, machine, {1, true, true});
   ASSERT_TRUE(alone);
   EXPECT_NE(alone->find("of which ulimit -v leaves"), std::string::npos) << *alone;
   EXPECT_NE(alone->find("run on more processes"), std::string::npos) << *alone;
@@ -222,16 +222,16 @@ TEST(MemoryEstimate, RankZerosOwnPartIsAskedOfRankZeroAlone) {
   scene.sourcePath = "dam.json";
   const run::MemoryEstimate e = run::estimateMemory(scene, {4, true, true});
   ASSERT_GT(e.rootOnlyBytes, 0.3 * e.bytes);
-  app::MachineMemory machine;
+  job::MachineMemory machine;
   machine.totalBytes = 64e9;
   // Room for a rank without rank 0's part, not for rank 0.
   machine.availableBytes = machine.sharedBytes = e.bytes - 0.5 * e.rootOnlyBytes;
-  EXPECT_TRUE(app::memoryRefusal(scene, e, machine, {1, true, true})) << "rank 0";
-  EXPECT_FALSE(app::memoryRefusal(scene, e, machine, {1, false, false})) << "another rank";
+  EXPECT_TRUE(job::memoryRefusal(scene, e, machine, {1, true, true})) << "rank 0";
+  EXPECT_FALSE(job::memoryRefusal(scene, e, machine, {1, false, false})) << "another rank";
   // Two other ranks on a machine without rank 0 need twice a share, no gathered frame.
   machine.availableBytes = e.bytes, machine.sharedBytes = 2 * (e.bytes - e.rootOnlyBytes) + 1;
-  EXPECT_FALSE(app::memoryRefusal(scene, e, machine, {2, false, false}));
-  EXPECT_TRUE(app::memoryRefusal(scene, e, machine, {2, false, true})) << "rank 0 is there";
+  EXPECT_FALSE(job::memoryRefusal(scene, e, machine, {2, false, false}));
+  EXPECT_TRUE(job::memoryRefusal(scene, e, machine, {2, false, true})) << "rank 0 is there";
 }
 
 }  // namespace

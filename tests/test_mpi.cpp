@@ -50,7 +50,7 @@ TEST_F(Mpi, AResumeMayChangeTheNumberOfRanks) {
   auto b = runShell(ranks(3, scene_, "--resume '" + out + "'", ""));
   ASSERT_EQ(b.exitCode, 0) << b.output;
   test::expectSameCache(reference_, out);
-  // Each rank read only its slab of the last frame (app/DistributedResume.h): about a third.
+  // Each rank read only its slab of the last frame (job/distributed/DistributedResume.h): about a third.
   long long most = 0, all = 0;
   const std::size_t at = b.output.find("ranks read its slab of it: at most ");
   ASSERT_NE(at, std::string::npos) << b.output;

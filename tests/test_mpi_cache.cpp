@@ -320,7 +320,7 @@ TEST_F(Mpi, AFullDiskOnOneRankStopsTheRunWithOneLineAndRecordsIt) {
   // own frame 0, views and statuses too) or rank 1's: mpirun ends without hanging, the failing
   // rank says so in one line (no HDF5 error stack), the cache holds frames equal to the single
   // process's and its status says it stopped (recorded by rank 0, or by the recorder rank 0
-  // starts when it cannot, app/StatusRecorder.h). Through ROMIO, which returns the error on the
+  // starts when it cannot, job/distributed/StatusRecorder.h). Through ROMIO, which returns the error on the
   // failing rank, where the watch of sim/ranks/mpi/FileErrorWatch.h ends a rank left waiting in a
   // collective call after it; Open MPI's OMPIO 4.1.4 hangs inside some collective writes that
   // fail on one rank (docs/scaling.md), so the ranks ask for ROMIO themselves: the runs here
@@ -363,7 +363,7 @@ TEST_F(Mpi, AFullDiskOnOneRankStopsTheRunWithOneLineAndRecordsIt) {
       EXPECT_EQ(r.output.find("time = "), std::string::npos) << r.output;
       if (!test::fileExists(out)) continue;  // failed before frame 0 was in: no cache
       // Rank 0 records why, or the recorder it started does once the ranks have ended
-      // (app/StatusRecorder.h): a moment after mpirun returns.
+      // (job/distributed/StatusRecorder.h): a moment after mpirun returns.
       std::string status = "running";
       for (int wait = 0; wait < 100 && status.rfind("running", 0) == 0; ++wait) {
         if (wait > 0) usleep(200000);

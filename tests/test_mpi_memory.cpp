@@ -1,5 +1,5 @@
 // On K processes each rank checks its own share of the scene's memory (sim/run/MemoryEstimate.h,
-// RankShare; app/MachineMemory.h): the estimate a rank prints is held against the largest rank's
+// RankShare; job/MachineMemory.h): the estimate a rank prints is held against the largest rank's
 // peak resident memory, as tests/test_memory_estimate.cpp holds one process's.
 #include <gtest/gtest.h>
 

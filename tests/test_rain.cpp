@@ -156,7 +156,7 @@ TEST(RainSystem, ADropThatCrossesTheWaterOutOfTheRainSpaceLandsInIt) {
 
 TEST(RainSystem, TheUnionOfThePartsWaterCellsStopsTheDropsAsTheWholeFluidDoes) {
   // An MPI run's rank 0 steps the drops with the union of the cells its ranks' particles occupy
-  // (app/CollectiveCacheSink.h): cut across x off the cell grid, so cells straddle the cuts.
+  // (job/distributed/CollectiveCacheSink.h): cut across x off the cell grid, so cells straddle the cuts.
   const scene::CameraDesc c = lookingAlongZ();
   std::vector<Vec3> pool;
   std::vector<std::vector<Vec3>> parts(3);

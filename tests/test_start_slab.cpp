@@ -117,7 +117,7 @@ TEST(StartSlab, EachRankGeneratesItsSlabAndTogetherTheyHoldTheSingleProcesssFlui
 }
 
 TEST(StartSlab, AResumingRankGeneratesNoStart) {
-  // A distributed resume reads each rank's part of the cache's frame (app/DistributedResume.h):
+  // A distributed resume reads each rank's part of the cache's frame (job/distributed/DistributedResume.h):
   // its Simulation is built without the starting slab it would drop, the boundary as always.
   const scene::Scene s = io::parseScene(scene(0), "start_slab.json");
   std::vector<std::size_t> fluid(2, 1), boundary(2, 0);

@@ -114,7 +114,7 @@ void CacheWriter::writeFrame(const Particles& fluid, const run::RunState& state,
     }
   } catch (const h5::Error& e) {
     // Failed on this rank alone, mid-frame: closing would be collective and wait forever for the
-    // others; the run stops (every rank, app/DistributedRun.h) with what is committed.
+    // others; the run stops (every rank, job/distributed/DistributedRun.h) with what is committed.
     if (slice_) file_.release();
     slice_ = nullptr;
     throw InputError(path_ + ": cannot write frame " + std::to_string(frame) + " (" + e.what() +
@@ -148,7 +148,7 @@ void CacheWriter::joinFrame(const std::string& path, std::size_t frame, const Pa
     } catch (...) {
       // Failed on this rank alone: closing the MPI-IO file is collective and would wait forever
       // for the other ranks, which are in another collective call; the run stops every rank
-      // (app/DistributedRun.h) with what is committed.
+      // (job/distributed/DistributedRun.h) with what is committed.
       w.file_.release();
       w.slice_ = nullptr;
       throw;

@@ -301,7 +301,7 @@ void CacheSession::writeFrameTogether(const run::Simulation& sim, const Particle
                                       const rain::WaterCells* water) {
   // Rank 0 holds part of the fluid only: its drops must meet the cells of all of it, and a rain
   // that feeds the fluid is not shared out (refused on K processes before the run; failing here,
-  // on rank 0 alone, ends every rank: app/DistributedRun.h, setLockstep).
+  // on rank 0 alone, ends every rank: job/distributed/DistributedRun.h, setLockstep).
   if (rainShown_ != rain_.get() || (rain_ && !water))
     throw InputError(path_ +
                      ": its rain needs the whole fluid, which no rank holds (docs/scaling.md)");

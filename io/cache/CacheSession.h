@@ -39,7 +39,7 @@ class CacheSession final : public run::FrameSink {
   // Resume: checks that `sim`'s scene is the cache's, puts `sim` in the state of the cache's last
   // frame and opens the cache for appending. Returns the index of that frame.
   std::size_t restore(run::Simulation& sim, const CacheProvenance& provenance);
-  // restore() in three parts, for a resume on K processes (app/DistributedResume.h): rank 0
+  // restore() in three parts, for a resume on K processes (job/distributed/DistributedResume.h): rank 0
   // checks that `sim`'s scene is the cache's and gets the last frame's index; every rank reads
   // its part of that frame (rank 0 through reader()) and checks it (checkRecord); once every
   // rank has closed its reader, rank 0 opens the cache for appending (finishRestore).
@@ -67,7 +67,7 @@ class CacheSession final : public run::FrameSink {
   // The same, written by all ranks of an MPI run together (rank 0 calls this, the others
   // CacheWriter::joinFrame with path() and frameCount(); docs/scaling.md): `mine` is rank 0's
   // part of the frame, `state` the run's. A scene with rain passes `water`, the cells the whole
-  // fluid occupies (every rank's, app/CollectiveCacheSink.h): the drops are stepped with it and
+  // fluid occupies (every rank's, job/distributed/CollectiveCacheSink.h): the drops are stepped with it and
   // rank 0 writes them alone once the frame is committed, as one process does. Not for a rain
   // that feeds the fluid (refused on K processes).
   void writeFrameTogether(const run::Simulation& sim, const Particles& mine,
@@ -84,7 +84,7 @@ class CacheSession final : public run::FrameSink {
   // records it in the cache, closes it and returns the line that tells the user what is left.
   std::string stop(const std::string& reason);
   // The same for the cache at `path` of a run that has ended without recording it (an MPI run
-  // whose ranks stopped in a frame written together, app/StatusRecorder.h): opens it as a
+  // whose ranks stopped in a frame written together, job/StatusRecorder.h): opens it as a
   // resume would (a header torn by the end restored from the journal) and records the status,
   // if the cache still says "running" with at most `maxFrames` frames (else a resume has run).
   static void recordStop(const std::string& path, const std::string& reason, std::size_t maxFrames);

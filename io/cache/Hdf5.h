@@ -194,7 +194,7 @@ void readDataset(hid_t loc, const std::string& name, hid_t memType, void* out);
 // Index runs (first, count) of a 1-D dataset, ascending and disjoint.
 using Runs = std::vector<std::pair<std::uint64_t, std::uint64_t>>;
 // Reads the values of `runs`, in order, converted to `memType`; `out` holds their total count
-// (a resume on K processes: each rank reads its slab, app/DistributedResume.h).
+// (a resume on K processes: each rank reads its slab, job/distributed/DistributedResume.h).
 void readDatasetRuns(hid_t loc, const std::string& name, hid_t memType, const Runs& runs,
                      void* out);
 

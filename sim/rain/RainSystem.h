@@ -21,7 +21,7 @@ class WaterCells {
  public:
   WaterCells(const std::vector<Vec3>& fluid, float cell);
   // The cells of `keys` (keyOf's, with the same `cell`; repeats allowed): the union of the cells
-  // several parts of the fluid occupy (an MPI run's ranks, app/CollectiveCacheSink.h) is the set
+  // several parts of the fluid occupy (an MPI run's ranks, job/distributed/CollectiveCacheSink.h) is the set
   // the whole fluid gives.
   static WaterCells fromKeys(const std::vector<std::uint64_t>& keys, float cell);
   // The key of the cell that holds `p`.

@@ -94,7 +94,7 @@ class Simulation {
   void restoreRain(double time, const std::vector<Vec3>& positions,
                    const std::vector<std::uint32_t>& generations);
   // DFSPH's warm start, in the fluid's order (run state; a distributed run's frames swap in the
-  // gathered one, app/DistributedRun.h).
+  // gathered one, job/distributed/DistributedRun.h).
   solver::PressureWarmStart& warmStart() { return state_.warmStart; }
   // What the DFSPH solvers did (zeros for WCSPH).
   const solver::PressureSolveStats& solveStats() const { return solveStats_; }

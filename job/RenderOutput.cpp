@@ -1,0 +1,107 @@
+#include "job/RenderOutput.h"
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cstdio>
+
+#include "io/export/Png.h"
+#include "io/UserFiles.h"
+#include "sim/scene/Camera.h"
+#include "sim/InputError.h"
+#include "sim/rain/RainFeed.h"
+
+namespace sph::job {
+
+io::OutputLock lockDirectory(const std::string& dir) {
+  std::string parent = dir;
+  while (parent.size() > 1 && parent.back() == '/') parent.pop_back();
+  const std::size_t slash = parent.find_last_of('/');
+  parent = slash == std::string::npos ? "." : parent.substr(0, std::max<std::size_t>(slash, 1));
+  makeDirectory(parent);
+  return io::OutputLock::acquire(dir, "frames directory");
+}
+
+void makeDirectory(const std::string& dir) {
+  std::string partial;
+  for (std::size_t i = 0; i <= dir.size(); ++i) {
+    if ((i == dir.size() || dir[i] == '/') && !partial.empty()) ::mkdir(partial.c_str(), 0755);
+    if (i < dir.size()) partial += dir[i];
+  }
+  struct stat st {};
+  if (::stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) {
+    throw InputError(dir + ": cannot create the output directory");
+  }
+}
+
+std::string RenderOutput::directoryFor(const scene::Scene& scene, const std::string& cachePath) {
+  if (!scene.render->directory.empty()) return scene.render->directory;
+  if (cachePath.empty()) return "results/" + scene.name + "_frames";
+  const std::size_t dot = cachePath.rfind('.');
+  return io::siblingPath(dot == std::string::npos || cachePath.find('/', dot) != std::string::npos
+                             ? cachePath
+                             : cachePath.substr(0, dot),
+                         "", "_frames");
+}
+
+std::unique_ptr<RenderOutput> RenderOutput::prepare(const scene::Scene& scene,
+                                                    const solver::BoundaryParticles& boundary,
+                                                    io::CacheSession* cache) {
+  if (!scene.render) return nullptr;
+  const std::string dir = directoryFor(scene, cache ? cache->path() : "");
+  makeDirectory(dir);
+  std::unique_ptr<RenderOutput> out(new RenderOutput(scene, dir, cache));
+  out->solids_ = render::solids::showSolids(scene, out->renderer_, [&] {
+    return std::array<std::vector<float>, 3>{boundary.x, boundary.y, boundary.z};
+  });
+  out->lights_ = render::lights::showLights(scene, out->renderer_);
+  out->rain_ = render::rain::showRain(scene, out->renderer_, out->solids_.get());
+  return out;
+}
+
+RenderOutput::RenderOutput(const scene::Scene& scene, std::string directory,
+                           io::CacheSession* cache)
+    : context_(render::gl::GlContext::headless()),
+      renderer_(*scene.render, scene.solver.spacing, scene.solver.restDensity),
+      desc_(*scene.render),
+      camera_(*scene.camera),
+      cameraPath_(scene.cameraPath),
+      name_(scene.name),
+      directory_(std::move(directory)),
+      cache_(cache) {}
+
+void RenderOutput::frame(const run::Simulation& sim, std::size_t frame) {
+  // The rain: the drops the cache stores (its session steps them at every output frame, before
+  // this sink), else stepped here the same way, so `render` of the cache draws the same drops.
+  // A feeding rain is the simulation's own (rain.feed_fluid).
+  if (rain_) {
+    if (sim.rainFeed())
+      rain_->show(sim.rainFeed()->stepper().system());
+    else if (cache_ && cache_->rain())
+      rain_->show(cache_->rain()->system());
+    else
+      rain_->advanceTo(sim.time(), sim.fluid());
+  }
+  if (frame % static_cast<std::size_t>(desc_.every) != 0) return;
+  renderer_.prepare(sim.fluid());
+  const scene::CameraDesc camera = cameraAt(camera_, cameraPath_, sim.time());
+  if (lights_) lights_->update(sim.fluid(), sim.time(), &camera);
+  const bool both = desc_.splat == scene::RenderDesc::Splat::Both;
+  for (render::splat::SplatKind kind :
+       {render::splat::SplatKind::Point, render::splat::SplatKind::Quad}) {
+    const bool wanted = both || (kind == render::splat::SplatKind::Point) ==
+                                    (desc_.splat == scene::RenderDesc::Splat::Point);
+    if (!wanted) continue;
+    const char* kindName = scene::enumName(kind);
+    const render::splat::RenderedSplats r = renderer_.render(kind, camera);
+    seconds_ += r.timings.total();
+    io::writePng(directory_ + "/" + io::framePngName(name_ + "_" + kindName, frame), r.image.width,
+                 r.image.height, r.image.rgb.data());
+    if (cache_ && desc_.toCache)
+      cache_->writeRenderedFrame(kindName, frame, r.image.width, r.image.height,
+                                 r.image.rgb.data());
+    ++images_;
+  }
+}
+
+}  // namespace sph::job
