@@ -18,9 +18,10 @@ namespace sph::io {
 namespace {
 
 // Solver defaults of a `quality` preset (docs/scene-format.md, "quality"). The values come from
-// the dam-break sweep (bench/sweeps/dam_break.json, docs/benchmarks.md): "fast" is a point on its
-// Pareto front of wall time against surge-front error; "accurate" is DFSPH (issue 15). A preset
-// only changes defaults, so keys the scene gives explicitly still win.
+// the dam-break sweeps (docs/benchmarks.md): "fast" is a point on the Pareto front of wall time
+// against surge-front error (bench/sweeps/dam_break.json, "Run time vs error: simulation");
+// "accurate" is DFSPH, for the density it holds (below; "Pressure solvers: DFSPH against WCSPH").
+// A preset only changes defaults, so keys the scene gives explicitly still win.
 struct QualityPreset {
   double cfl;               // see SolverParams::cfl
   double soundSpeedFactor;  // see SolverParams::soundSpeedFactor
@@ -33,9 +34,10 @@ QualityPreset qualityPreset(Quality quality) {
     case Quality::Fast:
       return {0.8, 5.0};
     case Quality::Accurate:
-      // DFSPH (issue 15): at a / dx = 10-20 of the dam break it holds the mean compression to
-      // 0.02-0.05% (max 0.1-0.6%) with the surge front as close as the default's, where the
-      // stiffer Tait EOS this preset used to be ran the front further off (docs/benchmarks.md).
+      // DFSPH: at a / dx = 10-20 of the dam break it holds the mean compression to 0.02-0.05%
+      // (max 0.1-0.6%) with the surge front as close as the default's, where the stiffer Tait
+      // EOS this preset used to be ran the front further off (steps of up to 1 ms:
+      // docs/notes/2026-11-25-dfsph-against-wcsph.md; with today's steps: docs/benchmarks.md).
       // c stays the default's: the automatic viscosity derives from it.
       return {0.2, defaults.soundSpeedFactor, scene::PressureSolver::Dfsph};
     case Quality::Default:

@@ -1,9 +1,9 @@
-// How much memory a scene will need, from its description alone, before anything is allocated
-// (issue 12, item 6): a run too big for the machine is refused with one line instead of growing
-// until the kernel kills it. Counts follow the code that will fill the arrays (initial fluid
-// lattices, boundary samplers, emitter discs); the bytes per particle are what the arrays of a
-// step take, checked against the measured peak resident memory of real runs
-// (tests/test_memory_estimate.cpp: within 20% at three sizes).
+// How much memory a scene will need, from its description alone, before anything is allocated:
+// a run too big for the machine is refused with one line instead of growing until the kernel
+// kills it. Counts follow the code that will fill the arrays (initial fluid lattices, boundary
+// samplers, emitter discs); the bytes per particle are what the arrays of a step take, checked
+// against the measured peak resident memory of real runs (tests/test_memory_estimate.cpp: within
+// 20% at three sizes).
 #pragma once
 
 #include <string>
