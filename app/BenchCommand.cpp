@@ -114,8 +114,9 @@ std::function<int()> addBenchCommand(CLI::App& app) {
                   "The plot script (default: the source tree's scripts/plot_sweep.py)");
   cmd->footer(
       "A sweep file names a base scene, the axes and cases of scene edits, the metrics and the\n"
-      "thread count (docs/benchmarks.md, \"Sweep files\"). Variants that blow up are data: the\n"
-      "table says where the guard stopped them. Exit codes: 0 done, 2 bad sweep or scene.");
+      "thread count (docs/benchmarks.md, \"Run time vs error: simulation\"). Variants that blow\n"
+      "up are data: the table says where the guard stopped them. Exit codes: 0 done, 2 bad sweep\n"
+      "or scene.");
   return [o, cmd]() { return cmd->parsed() ? bench(*o) : -1; };
 }
 

@@ -1,4 +1,4 @@
-// Two ways to a faster particle-light frame, measured (docs/benchmarks.md, "Particle lights",
+// Two ways to a faster particle-light frame, measured (docs/notes/2026-11-27-lights-fig11.md,
 // "Frustum culling" and "Accumulating on the CPU"). A plain program printing tables, as
 // bench_lights.
 //   bench_lights_faster fig11      frustum culling (lights.cull) in Fig. 11's world

@@ -1,5 +1,6 @@
-// Files a user names on the command line, read and written without surprises (issue 12,
-// "Nothing lost, ever"):
+// Files a user names on the command line, read and written without surprises, so that nothing
+// is lost (docs/reliability.md, "Bad input is one line and exit 2" and "Nothing is overwritten
+// without --overwrite"):
 // - an input file (scene, sweep) must be a regular file of at most 64 MiB: a directory, a device
 //   such as /dev/zero or a FIFO is refused before anything is read, so nothing reads forever;
 // - an output file must be a regular file or not exist yet: a device node, a FIFO or a socket is

@@ -1,8 +1,8 @@
-// The memory this process may use, and the check that refuses a run that would not fit (issue
-// 12, item 6): the estimate (sim/run/MemoryEstimate.h) against what the machine has free, a cgroup's
-// memory.max and the process's address-space limit (ulimit -v), whichever is smallest. On K
-// processes each rank checks its own share, and the ranks on one machine their sum against what
-// that machine has free (issue 16).
+// The memory this process may use, and the check that refuses a run that would not fit: the
+// estimate (sim/run/MemoryEstimate.h) against what the machine has free, a cgroup's memory.max
+// and the process's address-space limit (ulimit -v), whichever is smallest. On K processes each
+// rank checks its own share, and the ranks on one machine their sum against what that machine
+// has free (docs/scaling.md, "Limits of this version": Memory).
 #pragma once
 
 #include <optional>

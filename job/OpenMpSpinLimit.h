@@ -3,7 +3,8 @@
 // program that also draws with llvmpipe, that spinning takes a core from the rasteriser threads
 // while they draw the frame the region just built: at 25,503 particles on 2 cores libgomp was 27%
 // of all CPU samples of bench_render, and the quad splats' draw took ~10 ms instead of ~8
-// (docs/benchmarks.md, "Splat renderer"). The SPH step measured the same either way (bench_sph).
+// (docs/notes/2026-11-23-splat-renderer.md, "Table 1: time per frame"). The SPH step measured
+// the same either way (bench_sph).
 //
 // libgomp reads GOMP_SPINCOUNT once, while it is loaded, before main() runs; setting it later has
 // no effect. (An ELF .preinit_array entry runs earlier, but libc's own initialiser then resets the

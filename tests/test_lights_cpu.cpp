@@ -143,7 +143,8 @@ TEST_F(LightsCpuGl, CulledToAViewItFillsTheSameBox) {
 // depend on the order), the same box and the same number kept, lights nudged across a cull
 // plane's margin and on voxel faces and range shells included. A wrong lane, plane or axis in the
 // vector code shows here; that its rounding is the scalar code's rests on the Fig. 11 lights'
-// sums, the same bits as before it (docs/benchmarks.md).
+// sums, the same bits as before it (docs/notes/2026-11-27-lights-fig11.md, "Fig. 11's CPU side
+// vectorised").
 TEST(CpuAccumulation, TheSumsDoNotDependOnTheLightsOrder) {
   const scene::LightsDesc d = volume(scene::LightAccumulate::Cpu);
   std::vector<sph::lights::LightParticle> lights = someLights();

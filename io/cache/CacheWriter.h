@@ -74,7 +74,8 @@ class CacheWriter {
 
   // Stores one rendered image of frame `frame` (which must already be written) for `renderer`
   // (letters, digits, '_' and '-'): `rgb` holds height rows of width RGB triplets, top row first.
-  // Lands in /Render/<renderer>/Frame#<frame> (docs/cache-format.md). For the renderer issue.
+  // Lands in /Render#<renderer>#<frame> (docs/cache-format.md, "Rendered frames"), for `render
+  // --to-cache` and runs whose scene stores its pictures.
   void writeRenderedFrame(const std::string& renderer, std::size_t frame, int width, int height,
                           const std::uint8_t* rgb);
 

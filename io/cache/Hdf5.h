@@ -32,7 +32,7 @@ class Error : public std::runtime_error {
 
 // Before HDF5 reads the variable-length string attribute `name` of `object`: checks, in the file
 // itself, that the global heap object it points to lies whole in its collection and has the
-// string's length (io/cache/Hdf5Checks.cpp), and throws Error(what is damaged) if not.
+// string's length (io/cache/Hdf5HeapCheck.cpp), and throws Error(what is damaged) if not.
 void checkHeapString(hid_t object, const std::string& name);
 
 // Turns off HDF5's automatic error printing for this process (idempotent).
@@ -171,9 +171,10 @@ void createColumnView(hid_t loc, const std::string& name, hid_t fileType, std::s
                       const std::vector<std::string>& columns);
 
 // Opens the dataset `name` of `loc` for reading once its headers (checkHeaders) and its
-// storage have been checked against the file (io/cache/Hdf5Checks.cpp): every chunk within the file, no chunk larger than the dataset, and no
-// more bytes than its stored ones can inflate to (a damaged shape or layout would otherwise make
-// the reader, or HDF5, allocate what the file never held). Throws Error if not.
+// storage have been checked against the file (io/cache/Hdf5StorageCheck.cpp): every chunk
+// within the file, no chunk larger than the dataset, and no more bytes than its stored ones can
+// inflate to (a damaged shape or layout would otherwise make the reader, or HDF5, allocate what
+// the file never held). Throws Error if not.
 Handle openCheckedDataset(hid_t loc, const std::string& name);
 
 // Checks, from the file's bytes, the object headers on the way to `name` (a path in `loc`) and

@@ -1,170 +1,29 @@
-// Checks of what a damaged file could make HDF5 1.10 do before it does it (Hdf5.h: checkHeapString,
-// openCheckedDataset). HDF5 trusts the sizes it reads: it copies a global heap object by the size
-// the heap records into a buffer sized by the length the attribute records, walks a heap
-// collection by its objects' sizes without bounds, and allocates a dataset's chunk by the
-// dimensions its layout records. Global heap collections carry no checksum (the object headers
-// around them do); a layout's fields pass their header's checksum when only they were changed
-// with it. The heap check reads the file here, by the HDF5 file format specification (version 2
-// object headers, version 3 attribute messages: what this project writes); a layout it does not
-// know is left to HDF5.
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
+// The checks of object headers before HDF5 decodes them (Hdf5.h: checkHeaders, openCheckedGroup,
+// checkRootHeader). HDF5 1.10 trusts the sizes and addresses it reads: it reads a block's header
+// at whatever address a message names before checking its signature, and sizes what it allocates
+// by the shapes and layouts the messages record. A header's checksum does not stop that when
+// only a message's fields were changed with it. Each header on the way to an object is read
+// here from the file (Hdf5FileBytes.h; version 2 object headers, what this project writes) and
+// every message HDF5 would follow or size something by is checked against the file; a header of
+// another version is left to HDF5.
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
-#include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
-#include "io/cache/Hdf5.h"
+#include "io/cache/Hdf5FileBytes.h"
 
 namespace sph::io::h5 {
 namespace {
 
-// A file read by offset, every read checked against its size.
-class RawFile {
- public:
-  explicit RawFile(const std::string& path) : fd_(::open(path.c_str(), O_RDONLY | O_CLOEXEC)) {
-    struct stat st {};
-    if (fd_ >= 0 && fstat(fd_, &st) == 0) size_ = static_cast<std::uint64_t>(st.st_size);
-  }
-  ~RawFile() {
-    if (fd_ >= 0) ::close(fd_);
-  }
-  RawFile(const RawFile&) = delete;
-  RawFile& operator=(const RawFile&) = delete;
-
-  bool open() const { return fd_ >= 0; }
-  std::uint64_t size() const { return size_; }
-  // The size again (a writer in this process may have grown the file since).
-  void refresh() {
-    struct stat st {};
-    if (fd_ >= 0 && fstat(fd_, &st) == 0) size_ = static_cast<std::uint64_t>(st.st_size);
-  }
-  // `length` bytes at `offset`, or nothing when they are not all in the file.
-  std::optional<std::vector<std::uint8_t>> read(std::uint64_t offset, std::uint64_t length) const {
-    if (offset > size_ || length > size_ - offset) return std::nullopt;
-    std::vector<std::uint8_t> bytes(length);
-    std::uint64_t done = 0;
-    while (done < length) {
-      const ssize_t r = pread(fd_, bytes.data() + done, length - done,
-                              static_cast<off_t>(offset + done));
-      if (r <= 0) return std::nullopt;
-      done += static_cast<std::uint64_t>(r);
-    }
-    return bytes;
-  }
-
- private:
-  int fd_ = -1;
-  std::uint64_t size_ = 0;
-};
-
-std::uint64_t little(const std::uint8_t* p, int bytes) {
-  std::uint64_t v = 0;
-  for (int i = bytes - 1; i >= 0; --i) v = (v << 8) | p[i];
-  return v;
-}
-
-struct Damage {
-  std::string what;
-};
-
-// One message of an object header: its type and its body's bytes.
-struct Message {
-  unsigned type = 0, flags = 0;
-  const std::uint8_t* body = nullptr;
-  std::size_t size = 0;
-};
-
-// The messages of the version 2 object header at `address` (an HDF5 address: past the user
-// block), its continuation chunks' too; nothing for a header of another version (HDF5 reads
-// those itself). Throws Damage when a chunk or a message does not lie in the file.
-class HeaderMessages {
- public:
-  HeaderMessages(const RawFile& file, std::uint64_t base, std::uint64_t address) {
-    const auto start = file.read(base + address, 16);
-    if (!start || std::memcmp(start->data(), "OHDR", 4) != 0 || (*start)[4] != 2) return;
-    const unsigned flags = (*start)[5];
-    std::size_t at = 6;
-    if (flags & 0x20) at += 16;  // access, modification, change and birth times
-    if (flags & 0x10) at += 4;   // attribute phase change values
-    const std::size_t sizeBytes = std::size_t{1} << (flags & 0x03);
-    const auto prefix = file.read(base + address, at + sizeBytes);
-    if (!prefix) throw Damage{"its object header runs past the end of the file"};
-    const std::uint64_t chunkSize = little(&(*prefix)[at], static_cast<int>(sizeBytes));
-    auto first = file.read(base + address, at + sizeBytes + chunkSize);
-    if (!first) throw Damage{"its object header runs past the end of the file"};
-    const std::size_t prefixBytes = (flags & 0x04) ? 6 : 4;  // with creation order, or not
-    chunks_.push_back(std::move(*first));
-    scan(chunks_.back(), at + sizeBytes, chunks_.back().size(), prefixBytes);
-    for (std::size_t i = 0; i < more_.size(); ++i) {
-      if (i == 1024) throw Damage{"its object header has over 1024 continuation chunks"};
-      auto next = file.read(base + more_[i].first, more_[i].second);
-      if (!next || next->size() < 8 || std::memcmp(next->data(), "OCHK", 4) != 0)
-        throw Damage{"a continuation of its object header lies outside the file"};
-      chunks_.push_back(std::move(*next));
-      scan(chunks_.back(), 4, chunks_.back().size() - 4, prefixBytes);
-    }
-  }
-  const std::vector<Message>& messages() const { return messages_; }
-
- private:
-  void scan(const std::vector<std::uint8_t>& chunk, std::size_t p, std::size_t end,
-            std::size_t prefixBytes) {
-    while (p + prefixBytes <= end) {
-      Message m;
-      m.type = chunk[p];
-      m.size = little(&chunk[p + 1], 2);
-      m.flags = chunk[p + 3];
-      const std::size_t body = p + prefixBytes;
-      if (body + m.size > end) throw Damage{"a message of its object header runs past its chunk"};
-      m.body = &chunk[body];
-      if (m.type == 0x10 && m.size >= 16)  // continuation: offset and length of the next chunk
-        more_.emplace_back(little(m.body, 8), little(m.body + 8, 8));
-      messages_.push_back(m);
-      p = body + m.size;
-    }
-  }
-
-  std::vector<std::vector<std::uint8_t>> chunks_;  // (a deque's worth: never reallocated into)
-  std::vector<std::pair<std::uint64_t, std::uint64_t>> more_;
-  std::vector<Message> messages_;
-};
-
-// Where a variable-length string attribute's value points: its length and heap object.
-struct HeapReference {
-  std::uint64_t length = 0, collection = 0;
-  std::uint32_t index = 0;
-};
-
-// The attribute `name` of the header's messages, if it is a variable-length string this project
-// writes (a version 2 or 3 attribute message without shared parts).
-std::optional<HeapReference> findReference(const HeaderMessages& header, const std::string& name) {
-  for (const Message& m : header.messages()) {
-    if (m.type != 0x0C || m.size < 8) continue;
-    const unsigned version = m.body[0], flags = m.body[1];
-    const std::size_t nameSize = little(m.body + 2, 2), typeSize = little(m.body + 4, 2);
-    const std::size_t spaceSize = little(m.body + 6, 2);
-    const std::size_t nameAt = version == 3 ? 9 : 8;
-    if (nameSize == 0 || nameAt + nameSize > m.size ||
-        std::string(reinterpret_cast<const char*>(m.body + nameAt), nameSize - 1) != name)
-      continue;
-    if (version < 2 || flags != 0) return std::nullopt;  // a layout this project does not write
-    const std::size_t typeAt = nameAt + nameSize, data = typeAt + typeSize + spaceSize;
-    if (typeSize < 2 || data + 16 > m.size) throw Damage{"its attribute message is cut short"};
-    // Not a variable-length string: nothing of the heap's is read.
-    if ((m.body[typeAt] & 0x0F) != 9 || (m.body[typeAt + 1] & 0x0F) != 1) return std::nullopt;
-    HeapReference r;
-    r.length = little(m.body + data, 4);
-    r.collection = little(m.body + data + 4, 8);
-    r.index = static_cast<std::uint32_t>(little(m.body + data + 12, 4));
-    return r;
-  }
-  return std::nullopt;
-}
+using detail::Damage;
+using detail::FileOf;
+using detail::fileOf;
+using detail::HeaderMessages;
+using detail::little;
+using detail::Message;
+using detail::RawFile;
 
 // A dataspace message's element count (a scalar has one, a null space none), its dimensions in
 // `dims`; `bytes` of it are the message.
@@ -359,73 +218,6 @@ void checkMessages(const RawFile& file, std::uint64_t base, const HeaderMessages
   }
 }
 
-// The file an object is in, opened for the checks, and where HDF5's addresses start in it (past
-// the user block). The last one stays open while the same file (by path, device and inode) is
-// checked again: a reader checks a header or two per frame, thousands per cache, and opening the
-// file and asking HDF5 for its properties each time cost more than the check.
-struct FileOf {
-  std::shared_ptr<RawFile> raw;
-  std::uint64_t base = 0;
-};
-
-FileOf fileOf(hid_t object) {
-  struct Kept {
-    std::string path;
-    dev_t device = 0;
-    ino_t inode = 0;
-    FileOf file;
-  };
-  thread_local Kept kept;
-  const ssize_t nameLength = H5Fget_name(object, nullptr, 0);
-  if (nameLength <= 0) return {};
-  std::string path(static_cast<std::size_t>(nameLength) + 1, '\0');
-  H5Fget_name(object, path.data(), path.size());
-  path.resize(static_cast<std::size_t>(nameLength));
-  struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) return {};
-  if (kept.file.raw && kept.path == path && kept.device == st.st_dev && kept.inode == st.st_ino) {
-    kept.file.raw->refresh();
-    return kept.file;
-  }
-  Handle file = checked(H5Iget_file_id(object), "find the object's file");
-  Handle fcpl = checked(H5Fget_create_plist(file.get()), "read the file creation properties");
-  hsize_t base = 0;
-  check(H5Pget_userblock(fcpl.get(), &base), "read the user block size");
-  kept.path = path, kept.device = st.st_dev, kept.inode = st.st_ino;
-  kept.file.raw = std::make_shared<RawFile>(path);
-  kept.file.base = base;
-  if (!kept.file.raw->open()) kept.file.raw.reset();
-  return kept.file;
-}
-
-// Walks the heap collection at `collection` as HDF5 loads it and checks the object `r` points to.
-void checkCollection(const RawFile& file, std::uint64_t base, const HeapReference& r) {
-  const auto head = file.read(base + r.collection, 16);
-  if (!head || std::memcmp(head->data(), "GCOL", 4) != 0 || (*head)[4] != 1)
-    throw Damage{"its global heap collection is missing or damaged"};
-  const std::uint64_t size = little(&(*head)[8], 8);
-  const auto heap = size >= 16 ? file.read(base + r.collection, size) : std::nullopt;
-  if (!heap) throw Damage{"its global heap collection runs past the end of the file"};
-  std::optional<std::uint64_t> objectSize;
-  std::uint64_t p = 16;
-  while (p < size) {
-    if (p + 16 > size) break;  // too small for an object: free space
-    const std::uint8_t* h = heap->data() + p;
-    const std::uint64_t index = little(h, 2), length = little(h + 8, 8);
-    std::uint64_t need = length;  // object 0 is the free space, its size all of it
-    if (index > 0) {
-      if (length > size) throw Damage{"an object of its global heap collection overruns it"};
-      need = 16 + ((length + 7) & ~std::uint64_t{7});
-      if (index == r.index) objectSize = length;
-    }
-    if (need == 0 || need > size - p)
-      throw Damage{"an object of its global heap collection overruns it"};
-    p += need;
-  }
-  if (!objectSize) throw Damage{"its text's global heap object is missing"};
-  if (*objectSize != r.length) throw Damage{"its length and its text's global heap object's differ"};
-}
-
 void checkObjectHeader(hid_t inFile, std::uint64_t address, const std::string& name) {
   const FileOf f = fileOf(inFile);
   if (!f.raw) return;
@@ -438,21 +230,6 @@ void checkObjectHeader(hid_t inFile, std::uint64_t address, const std::string& n
 }
 
 }  // namespace
-
-void checkHeapString(hid_t object, const std::string& name) {
-  H5O_info_t info;
-  if (H5Oget_info2(object, &info, H5O_INFO_BASIC) < 0) return;  // HDF5 says why, reading
-  const FileOf f = fileOf(object);
-  if (!f.raw) return;
-  const RawFile& raw = *f.raw;
-  try {
-    const std::optional<HeapReference> r =
-        findReference(HeaderMessages(raw, f.base, info.addr), name);
-    if (r && r->collection != 0) checkCollection(raw, f.base, *r);
-  } catch (const Damage& d) {
-    throw Error(d.what, "");
-  }
-}
 
 void checkRootHeader(const std::string& path) {
   const RawFile raw(path);
@@ -497,86 +274,6 @@ void checkHeaders(hid_t loc, const std::string& name) {
 Handle openCheckedGroup(hid_t loc, const std::string& name) {
   checkHeaders(loc, name);
   return checked(H5Gopen2(loc, name.c_str(), H5P_DEFAULT), "open the group '" + name + "'");
-}
-
-Handle openCheckedDataset(hid_t loc, const std::string& name) {
-  checkHeaders(loc, name);
-  Handle set = checked(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), "open dataset '" + name + "'");
-  auto damaged = [&](const std::string& what) {
-    return Error("dataset '" + name + "' is damaged", what);
-  };
-  Handle type = checked(H5Dget_type(set.get()), "read the type of dataset '" + name + "'");
-  Handle space = checked(H5Dget_space(set.get()), "read the shape of dataset '" + name + "'");
-  const int rank = H5Sget_simple_extent_ndims(space.get());
-  if (rank < 0 || rank > 8) throw damaged("a shape of " + std::to_string(rank) + " dimensions");
-  hsize_t dims[8] = {0};
-  H5Sget_simple_extent_dims(space.get(), dims, nullptr);
-  // Its bytes once read, overflow checked: what the caller allocates.
-  long double bytes = static_cast<long double>(H5Tget_size(type.get()));
-  for (int d = 0; d < rank; ++d) bytes *= static_cast<long double>(dims[d]);
-  if (bytes == 0) return set;
-  Handle file = checked(H5Iget_file_id(set.get()), "find the dataset's file");
-  hsize_t fileSize = 0;
-  check(H5Fget_filesize(file.get(), &fileSize), "read the file's size");
-  Handle dcpl = checked(H5Dget_create_plist(set.get()), "read the layout of '" + name + "'");
-  const H5D_layout_t layout = H5Pget_layout(dcpl.get());
-  // Deflate packs at most 1032 bytes into one (zlib's limit): no chunk of a file holds more.
-  constexpr long double kMostInflation = 1032;
-  if (layout == H5D_CONTIGUOUS) {
-    const haddr_t at = H5Dget_offset(set.get());
-    if (at == HADDR_UNDEF || static_cast<long double>(at) + bytes > fileSize)
-      throw damaged("its " + std::to_string(static_cast<unsigned long long>(bytes)) +
-                    " bytes are not in the file");
-  } else if (layout == H5D_CHUNKED) {
-    hsize_t chunk[8] = {0};
-    if (H5Pget_chunk(dcpl.get(), rank, chunk) != rank) throw damaged("its chunk has another shape");
-    long double chunkBytes = static_cast<long double>(H5Tget_size(type.get()));
-    for (int d = 0; d < rank; ++d) {
-      if (chunk[d] == 0 || chunk[d] > dims[d]) throw damaged("a chunk larger than the dataset");
-      chunkBytes *= static_cast<long double>(chunk[d]);
-    }
-    // The filters this project's caches use; without deflate a chunk is stored at its size.
-    bool inflates = false;
-    std::uint64_t checksumBytes = 0;
-    const int filters = H5Pget_nfilters(dcpl.get());
-    for (int f = 0; f < filters; ++f) {
-      unsigned flags = 0, config = 0;
-      std::size_t values = 0;
-      const H5Z_filter_t id = H5Pget_filter2(dcpl.get(), static_cast<unsigned>(f), &flags,
-                                             &values, nullptr, 0, nullptr, &config);
-      if (id == H5Z_FILTER_DEFLATE)
-        inflates = true;
-      else if (id == H5Z_FILTER_FLETCHER32)
-        checksumBytes = 4;
-      else if (id != H5Z_FILTER_SHUFFLE)
-        throw damaged("a filter no cache uses (" + std::to_string(id) + ")");
-    }
-    hsize_t chunks = 0;
-    check(H5Dget_num_chunks(set.get(), space.get(), &chunks), "count the chunks of '" + name + "'");
-    long double stored = 0;
-    for (hsize_t i = 0; i < chunks; ++i) {
-      hsize_t offset[8] = {0}, size = 0;
-      haddr_t at = HADDR_UNDEF;
-      unsigned mask = 0;
-      check(H5Dget_chunk_info(set.get(), space.get(), i, offset, &mask, &at, &size),
-            "read chunk " + std::to_string(i) + " of '" + name + "'");
-      if (at == HADDR_UNDEF || at > fileSize || size > fileSize - at ||
-          chunkBytes > kMostInflation * static_cast<long double>(size) + 64)
-        throw damaged("chunk " + std::to_string(i) + " is not in the file");
-      // Every filter applied (a skipped one leaves data HDF5 would read as filtered), and an
-      // uncompressed chunk exactly its size (HDF5 copies the chunk's size out of what it read).
-      if (mask != 0 || (!inflates && static_cast<long double>(size) != chunkBytes + checksumBytes))
-        throw damaged("chunk " + std::to_string(i) + " is not stored as its filters say");
-      stored += static_cast<long double>(size);
-    }
-    if (bytes > kMostInflation * stored + 64)
-      throw damaged("its " + std::to_string(static_cast<unsigned long long>(bytes)) +
-                    " bytes cannot come from the " +
-                    std::to_string(static_cast<unsigned long long>(stored)) + " it stores");
-  } else if (layout != H5D_COMPACT) {
-    throw damaged("a layout the cache does not use");
-  }
-  return set;
 }
 
 }  // namespace sph::io::h5

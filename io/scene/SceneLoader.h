@@ -13,7 +13,7 @@ namespace sph::io {
 // Longest simulated time a scene may ask for (s): solver.end_time and `run --end`.
 constexpr double kMaxEndTime = 1e6;
 // Scene key `quality`: presets of solver defaults (docs/scene-format.md, "quality"; the values are
-// in SceneLoader.cpp).
+// in io/scene/SimulationSections.cpp).
 enum class Quality { Default, Fast, Accurate };
 constexpr const char* nameOf(Quality v) {
   switch (v) {

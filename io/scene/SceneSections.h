@@ -1,10 +1,12 @@
-// The scene loader's parts (io/scene/SceneLoader.cpp reads the simulation's sections, io/scene/ViewSections.cpp
-// what is seen: camera, render, rain, lights) and the value checks they share. Internal to io/.
+// The scene loader's parts (io/scene/SimulationSections.cpp reads the simulation's sections,
+// io/scene/ViewSections.cpp what is seen: camera, render, rain, lights; io/scene/SceneLoader.cpp
+// the top level) and the value checks they share. Internal to io/.
 #pragma once
 
 #include <string>
 
 #include "io/scene/JsonReader.h"
+#include "io/scene/SceneLoader.h"
 #include "sim/scene/Scene.h"
 
 namespace sph::io {
@@ -13,6 +15,16 @@ std::string formatVec(const Vec3& v);  // "[x, y, z]" for messages
 bool integerIn(double v, double lo, double hi);
 // Fails at "max" unless lo < hi on every axis.
 void requireOrdered(JsonReader& r, const Vec3& lo, const Vec3& hi);
+
+// `solver` (its defaults those of the `quality` preset), `fluids[i]`, `boundaries[i]`,
+// `emitters[i]` (a nozzle at least half a particle `spacing` wide), `output`, `collision`
+// (docs/scene-format.md).
+scene::SolverParams readSolver(JsonReader r, Quality quality);
+scene::FluidBlock readFluid(JsonReader r);
+scene::BoundaryShape readBoundary(JsonReader r);
+scene::EmitterDesc readEmitter(JsonReader r, float spacing);
+scene::OutputDesc readOutput(JsonReader r);
+scene::CollisionDesc readCollision(JsonReader r, const scene::SolverParams& solver);
 
 // `camera` (and its key frames into *path when given), `render`, `rain`, `lights`
 // (docs/scene-format.md).

@@ -1,5 +1,5 @@
 // What is seen of a scene: the camera (and its path), render, rain and lights sections
-// (docs/scene-format.md). The simulation's sections are read in io/scene/SceneLoader.cpp.
+// (docs/scene-format.md). The simulation's sections are read in io/scene/SimulationSections.cpp.
 #include <cmath>
 #include <optional>
 

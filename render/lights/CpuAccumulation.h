@@ -29,8 +29,9 @@ struct VoxelSums {
   // Scratch of the binning, kept with the sums so that a frame allocates nothing: per light the
   // voxels it reaches, and per z slice the lights that reach it with their x and y voxel ranges.
   // Both as few bytes as the sums need (12 and 36, not 24 and 48): at 1M lights the binning is
-  // mostly moving them (docs/benchmarks.md, "the binning passes"). Voxels are counted from the
-  // box's lowest corner, in 16 bits (a box is at most 2048 voxels a side, LightsDesc).
+  // mostly moving them (docs/notes/2026-11-27-lights-fig11.md, "The binning passes made
+  // lighter"). Voxels are counted from the box's lowest corner, in 16 bits (a box is at most
+  // 2048 voxels a side, LightsDesc).
   struct Reach {
     std::array<std::uint16_t, 3> lo, hi;  // inclusive; lo[2] > hi[2] for a light that adds nothing
   };

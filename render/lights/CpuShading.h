@@ -4,7 +4,8 @@
 // 3D textures - for each pixel of the deferred G-buffer read back, added to the pixel's other
 // lighting and sRGB-encoded there, so the lighting pass only copies. On llvmpipe the lighting
 // pass's two trilinear 3D-texture fetches a pixel were ~60 CPU ms of Fig. 11's frame
-// (docs/benchmarks.md, issue 14); here the trilinear filter is four loads of a pair of texels
+// (docs/notes/2026-11-27-lights-fig11.md, "the draw profiled"); here the trilinear filter is four
+// loads of a pair of texels
 // along x from each texture, converted and weighted 16 floats at a time (AVX-512; 8 with AVX2),
 // and the Phong terms run over a row's lit pixels in SIMD lanes (docs/lights.md says how).
 // Filters nearest and trilinear, with oversampling; tricubic stays on the GL path.

@@ -1,4 +1,4 @@
-// The SD iso-surface of a frame's density field as a triangle mesh (issue 12, item 14): the
+// The SD iso-surface of a frame's density field as a triangle mesh: the
 // surface the splat renderer draws and the reference ray-marcher shows (docs/rendering.md),
 // for tools that want geometry (Blender, Houdini: docs/mesh.md).
 //

@@ -42,7 +42,9 @@ void composeOver(const std::vector<float>& layer, std::vector<std::uint8_t>& rgb
   const auto pixels = static_cast<std::ptrdiff_t>(rgba.size() / 4);
 #if defined(SPH_COMPOSE_LANES)
   // 4 pixels a vector (16 floats of the layer, 16 bytes of the frame); GCC left the loop above
-  // scalar (a tenth of the frame's time after the resolve, docs/benchmarks.md).
+  // scalar (a tenth of the frame's time after the resolve:
+  // docs/notes/2026-11-27-rain-respawn-and-sums.md, "The resolve's exp and the composite in
+  // AVX-512 lanes").
   const std::ptrdiff_t blocks = pixels / 4;
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t b = 0; b < blocks; ++b) {

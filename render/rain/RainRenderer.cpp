@@ -106,7 +106,8 @@ void RainRenderer::drawCpu(const scene::CameraFrame& camera, const splat::Lighti
   // streaks are composed over the colour here and the result copied back (a blit of the same
   // format, which llvmpipe does as a copy). Blending a float layer over the frame in a
   // full-screen pass cost 3-10 ms on llvmpipe, nearly all in fetching its texels
-  // (docs/benchmarks.md, "Cost per frame").
+  // (docs/notes/2026-11-27-rain-respawn-and-sums.md, "The sums' runs in strips and the composite
+  // on the CPU").
   GLint drawFramebuffer = 0, readFramebuffer = 0;
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &drawFramebuffer);
   glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readFramebuffer);

@@ -3,7 +3,8 @@
 // a streak's consecutive rows are at (nearly) the same x: in rows of the frame they are a layer
 // row (15 KB at 960 pixels) apart - a new cache line and, with 4 KiB pages, a new page every row,
 // which made the read-modify-write of the layer pixel the raster's hottest instruction
-// (docs/benchmarks.md, "Cost per frame"). Column by column, four rows of one column share a cache
+// (docs/notes/2026-11-26-rain-cpu-raster.md, "Toward the 50 ms target"). Column by column, four
+// rows of one column share a cache
 // line and a column of the band (1 KiB) a page. The pixels and their arithmetic are unchanged:
 // only where they are kept, so the layer is the same bit for bit.
 #pragma once

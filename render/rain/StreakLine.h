@@ -29,7 +29,8 @@ struct Line {
 
 // The lines of the level of detail (render/rain/StreakLine.h) of up to 16 drops at once, in SIMD
 // lanes: the set-up of a line is a dozen divisions and a square root, which one drop at a time
-// took as long as drawing its rows in lanes (docs/benchmarks.md, "Cost per frame"). A lane whose
+// took as long as drawing its rows in lanes (docs/notes/2026-11-26-rain-cpu-raster.md, "The
+// lines and their set-up in SIMD lanes"). A lane whose
 // streak is drawn exact (through the near or far plane, flat or short on the screen, or not
 // narrower than lod_width) is not `ok`.
 struct Lines {

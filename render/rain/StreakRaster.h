@@ -1,6 +1,7 @@
 // The rain's streaks rasterised on the CPU (OpenMP), for llvmpipe: it spends 1-2 us of setup on
 // every triangle however few pixels it covers, so 1,000,000 streaks of ~15 pixels took 2.1 s a
-// frame as triangles (docs/benchmarks.md, "Drawing: where the time goes"). This draws the same
+// frame as triangles (docs/notes/2026-11-26-rain-cpu-raster.md, "Drawing: where the time
+// goes"). This draws the same
 // streaks - a camera-facing quad from where the drop was one exposure ago to where it is, sampled
 // at the pixel centres inside it, its streak image filtered bilinearly at the perspective-correct
 // coordinates, depth tested against the frame - into a float layer that RainRenderer composes

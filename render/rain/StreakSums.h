@@ -19,7 +19,8 @@
 // The sums are integers (fixed point, 2^-18), so they do not depend on the order they are added in:
 // the layer is the same bit for bit for any thread count. A run is not added into a frame-sized
 // buffer where it falls - two scattered read-modify-writes of 16 bytes a drop into megabytes,
-// each a cache miss (docs/benchmarks.md, "The far tier as sums") - but written, in the order the
+// each a cache miss (docs/notes/2026-11-27-rain-respawn-and-sums.md, "The far tier as sums") -
+// but written, in the order the
 // thread sets it up, to a list per strip of 32 columns; resolve() then takes one strip at a time,
 // adds its runs into a strip-sized buffer that stays in the core's cache (16 bytes x 32 columns x
 // the rows), and takes the running sums down its columns. No frame per thread: the memory is the

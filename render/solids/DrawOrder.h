@@ -1,8 +1,9 @@
-// The order the solids are drawn in: nearest first (issue 14). llvmpipe tests the depth before it
+// The order the solids are drawn in: nearest first. llvmpipe tests the depth before it
 // runs a fragment's program and skips the blocks of pixels whose every fragment failed, so a
 // surface drawn behind one already there costs its triangles' set-up but not its shading. Fig.
-// 11's floor, drawn first, was shaded under every sphere and block as well (docs/benchmarks.md,
-// "Fig. 11's G-buffer and copy"). Only the cost changes: the depth test keeps the nearest surface
+// 11's floor, drawn first, was shaded under every sphere and block as well
+// (docs/notes/2026-11-27-lights-fig11.md, "Fig. 11's G-buffer and copy made lighter"). Only the
+// cost changes: the depth test keeps the nearest surface
 // whatever the order (but for exactly equal depths, where GL_LESS keeps the first drawn).
 #pragma once
 

@@ -2,7 +2,8 @@
 // bound on how far the mesh may lie from the true surface, in pixels (docs/lights.md,
 // "Solids tessellated for their size on screen"). On llvmpipe a triangle costs its set-up
 // whatever its size: Fig. 11's 36 spheres at a fixed 64 segments were 143,042 mostly pixel-sized
-// triangles and most of the deferred G-buffer pass (docs/benchmarks.md, issue 14).
+// triangles and most of the deferred G-buffer pass (docs/notes/2026-11-27-lights-fig11.md,
+// "the solids tessellated for their size on screen").
 //
 // The rule. A sphere of n segments around its equator (n / 2 rings) has flat faces of 2 pi / n
 // by 2 pi / n; the middle of an equator face lies r (1 - cos^2(pi / n)) = r sin^2(pi / n) inside

@@ -1,6 +1,6 @@
 // Triangle meshes of the scene's solids (tank, block, cup, sphere, plane: sim/scene/Scene.h's
-// BoundaryShape), for drawing them opaque and lit in the same frame as the water (issue 14: "so
-// there is something for the particles to light"; issue 12: the showcase's cup and tray). CPU
+// BoundaryShape), for drawing them opaque and lit in the same frame as the water: the particle
+// lights need surfaces to fall on, and the showcase's cup and tray (scenes/pour.json) are seen. CPU
 // only: positions and unit normals pointing out of the solid (into the fluid's side), triangles
 // wound counter-clockwise seen from that side, so back-face culling removes the faces turned
 // away from the eye: a tank is drawn as a cut-away (its inside and rim only), so seen from

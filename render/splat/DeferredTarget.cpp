@@ -158,7 +158,7 @@ double DeferredTarget::light(const Output& out, const ExtraLights& lights, const
   if (blit) {
     // Same size and format: llvmpipe copies the rows, where the pass below runs a fragment
     // program over every pixel to fetch the colour and the depth (5-6 ms of Fig. 11's 960 x 540,
-    // docs/benchmarks.md).
+    // docs/notes/2026-11-27-lights-fig11.md, "Fig. 11's G-buffer and copy made lighter").
     glBlitNamedFramebuffer(finalRead_.id(), out.framebuffer, 0, 0, width_, height_, 0, 0, width_,
                            height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     glBindFramebuffer(GL_FRAMEBUFFER, out.framebuffer);

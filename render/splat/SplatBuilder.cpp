@@ -43,7 +43,8 @@ struct SurfaceParticle {
 // that faces it) and sorts the rest near to far, so the depth test rejects hidden fragments
 // before they are shaded. On llvmpipe at 960x540 the two cut the draw of the 25,503-particle
 // pool from 18 to 11 ms with the same error figures; splashy simulation frames lose 0.2-0.5 dB
-// and a few outline pixels (docs/benchmarks.md), so render.cull_back_faces can keep them all
+// and a few outline pixels (docs/notes/2026-11-23-splat-renderer.md), so render.cull_back_faces
+// can keep them all
 // (`cull` false: near to far, nothing dropped). A splat is back-facing when its outward normal
 // is more than ~107 deg from the eye direction, not 90: the SPH normals are smoothed, and at the
 // outline a splat tilted slightly away still shows.

@@ -72,7 +72,7 @@ class SplatRenderer {
   gl::ShaderLibrary shaders_;
   // Without the particle lights' code (SPH_NO_PARTICLE_LIGHTS): llvmpipe runs a vertex shader's
   // 3D-texture sampling even behind a uniform switch that is off, +50% draw time at 100k
-  // particles (docs/benchmarks.md, "Splat renderer"). The lit ones are built for `lights` only.
+  // particles (docs/notes/2026-11-23-splat-renderer.md). The lit ones are built for `lights` only.
   gl::Program pointProgram_, quadProgram_;
   gl::Program litPointProgram_, litQuadProgram_;
   // The deferred pipeline's G-buffer programs and target, made on its first frame.

@@ -44,7 +44,7 @@ Settings makeSettings(const scene::CollisionDesc& c,
 }
 
 CdtCpu::CdtCpu(const Settings& settings) : settings_(settings) {
-  // Preconditions: the scene loader allows exactly these ranges (io/scene/SceneLoader.cpp).
+  // Preconditions: the scene loader allows exactly these ranges (io/scene/SimulationSections.cpp).
   if (settings.layers < 1 || settings.layers > kMaxLayers)
     throw std::invalid_argument("cdt: layers out of range");
   if (settings.texelRange < 0 || settings.texelRange > kMaxTexelRange ||

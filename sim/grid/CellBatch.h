@@ -69,7 +69,8 @@ struct CandidateBatch {
   // the candidates some particle of the cell can actually reach. At support 2 spacings this drops
   // the far corners of the 27-cell block, about a quarter of it. Without a branch: every
   // candidate is copied and the count advances past those kept, as a quarter of them mispredicted
-  // (this loop was 28% of DFSPH's density-and-factor pass, docs/benchmarks.md).
+  // (this loop was 28% of DFSPH's density-and-factor pass:
+  // docs/notes/2026-11-26-dfsph-peer-dam-break.md, "A cheaper density-and-factor pass").
   void appendNear(const std::array<const float*, N>& src, std::uint32_t begin, std::uint32_t end,
                   const float lo[3], const float hi[3], float reach2) {
     reserve(count + (end - begin) + kBatchLanes);

@@ -8,7 +8,8 @@
 // (tests/test_pair_packing.cpp holds them to it on this machine whichever one the build picks):
 // with AVX-512 each 8 lanes are compressed in a register and stored whole (the lanes past the
 // count are overwritten by the next particle's pairs), which took this loop from 42% to ~10% of
-// the pass (docs/benchmarks.md); the scalar one stores every lane and advances past those inside.
+// the pass (docs/notes/2026-11-26-dfsph-peer-dam-break.md, "A cheaper density-and-factor pass");
+// the scalar one stores every lane and advances past those inside.
 #pragma once
 
 #include <cstddef>

@@ -3,7 +3,8 @@
 // chunks. The memory follows the step's need: a chunk no row used in a pass is given back at its
 // end, so a run holds about its largest step's pairs plus a spare chunk a thread, where a vector
 // per row kept twice the largest need each row ever had: at the impact of the peer's dam break
-// at 1M particles that held 2.5x what MemoryEstimate counted (docs/benchmarks.md).
+// at 1M particles that held 2.5x what MemoryEstimate counted
+// (docs/notes/2026-11-26-dfsph-peer-dam-break.md, "Pairs that follow the need").
 //
 // Every row starts on a cache line of its chunk, so a particle's pairs have the same offset from
 // one whatever the thread count or the chunk a row falls in: the simd loops over them peel the

@@ -1,4 +1,4 @@
-// rain.feed_fluid (issue 13; docs/rain.md, "Rain that fills the pool"): the rain that lands in
+// rain.feed_fluid (docs/rain.md, "Rain that fills the pool"): the rain that lands in
 // the water joins the SPH fluid instead of vanishing (the paper). The drops are stepped at the
 // scene's output frame times ("ticks", k / output.fps, where `run` writes its frames) by their
 // own RainStepper, with the water of that moment; Simulation::step lands on every tick and hands

@@ -1,9 +1,9 @@
-// How much memory a scene will need, from its description alone, before anything is allocated
-// (issue 12, item 6): a run too big for the machine is refused with one line instead of growing
-// until the kernel kills it. Counts follow the code that will fill the arrays (initial fluid
-// lattices, boundary samplers, emitter discs); the bytes per particle are what the arrays of a
-// step take, checked against the measured peak resident memory of real runs
-// (tests/test_memory_estimate.cpp: within 20% at three sizes).
+// How much memory a scene will need, from its description alone, before anything is allocated:
+// a run too big for the machine is refused with one line instead of growing until the kernel
+// kills it. Counts follow the code that will fill the arrays (initial fluid lattices, boundary
+// samplers, emitter discs); the bytes per particle are what the arrays of a step take, checked
+// against the measured peak resident memory of real runs (tests/test_memory_estimate.cpp: within
+// 20% at three sizes).
 #pragma once
 
 #include <string>
@@ -32,8 +32,8 @@ struct MemoryEstimate {
 
 // How a run on K processes (docs/scaling.md) shares the scene (`distributed`: a run under mpirun,
 // K = 1 included). Each rank holds its slab of the fluid - a 1/K share, 10% more for the imbalance
-// the re-cut allows (max/mean 1.03 measured on the dam break, docs/benchmarks.md "Scale") and a
-// plane of ghosts of the support radius at each of its two faces - but all of the boundary
+// the re-cut allows (max/mean 1.03 measured on the dam break, docs/notes/2026-11-25-scale-mpi.md)
+// and a plane of ghosts of the support radius at each of its two faces - but all of the boundary
 // particles; rank 0 holds every fluid particle once more when the frames are gathered to it
 // (`gathersFrames`: no parallel HDF5).
 struct RankShare {

@@ -25,8 +25,9 @@
 //
 // The neighbours do not move within a step, so computeDfsphDensityAndFactor() (DfsphPairs.cpp)
 // stores every fluid pair with its V_j gradW_ij once (StepScratch::pairRows), and each Jacobi
-// pass is a gather over that list instead of a neighbour search with the kernel recomputed (3x
-// faster per pass on the peer's dam break, docs/benchmarks.md).
+// pass is a gather over that list instead of a neighbour search with the kernel recomputed (half
+// the time a pass on the peer's dam break: docs/notes/2026-11-25-dfsph-against-wcsph.md, "The
+// peer's dam break: time to solution, and the Jacobi passes over stored pairs").
 //
 // Built with -ffast-math like SphPasses.cpp (sim/CMakeLists.txt), under the same rules: every
 // per-particle computation runs in a cell-range loop of forEachCellWithCandidates (the same split

@@ -92,7 +92,8 @@ float timeStep(const scene::Scene& scene, const DerivedParams& d, float maxSpeed
     // constant-density solver must hold that within its mean error. With g dt^2 <= 0.0081 dx
     // (0.09 below) the narrowed still tank of tests/test_dfsph.cpp (dx = 0.01 m, 2.9 ms) settles;
     // at 3.5 ms (1.2%) its mean compression doubled past the threshold and at 4 ms (1.6%) it blew
-    // up (docs/benchmarks.md, "The peer's dam break"). 4.1 ms at the peer's dx = 0.02 m.
+    // up (docs/notes/2026-11-26-dfsph-peer-dam-break.md, "third session"). 4.1 ms at the peer's
+    // dx = 0.02 m.
     const float gravity = s.gravity.norm();
     if (gravity > 0) dt = std::min(dt, 0.09f * std::sqrt(s.spacing / gravity));
   } else {

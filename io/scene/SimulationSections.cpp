@@ -1,0 +1,292 @@
+// The simulation's sections of a scene: solver (with the defaults of its `quality` preset),
+// fluids, boundaries, emitters, output and collision (docs/scene-format.md). What is seen is read
+// in io/scene/ViewSections.cpp; the file as a whole, its --set edits and the checks that need the
+// whole scene in io/scene/SceneLoader.cpp.
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "io/cache/CacheFormat.h"
+#include "io/MessageText.h"
+#include "io/scene/SceneSections.h"
+#include "sim/cdt/CdtConstants.h"
+
+namespace sph::io {
+namespace {
+
+// Solver defaults of a `quality` preset (docs/scene-format.md, "quality"). The values come from
+// the dam-break sweeps (docs/benchmarks.md): "fast" is a point on the Pareto front of wall time
+// against surge-front error (bench/sweeps/dam_break.json, "Run time vs error: simulation");
+// "accurate" is DFSPH, for the density it holds (below; "Pressure solvers: DFSPH against WCSPH").
+// A preset only changes defaults, so keys the scene gives explicitly still win.
+struct QualityPreset {
+  double cfl;               // see SolverParams::cfl
+  double soundSpeedFactor;  // see SolverParams::soundSpeedFactor
+  scene::PressureSolver pressure = scene::PressureSolver::Wcsph;
+};
+
+QualityPreset qualityPreset(Quality quality) {
+  const scene::SolverParams defaults;
+  switch (quality) {
+    case Quality::Fast:
+      return {0.8, 5.0};
+    case Quality::Accurate:
+      // DFSPH: at a / dx = 10-20 of the dam break it holds the mean compression to 0.02-0.05%
+      // (max 0.1-0.6%) with the surge front as close as the default's, where the stiffer Tait
+      // EOS this preset used to be ran the front further off (steps of up to 1 ms:
+      // docs/notes/2026-11-25-dfsph-against-wcsph.md; with today's steps: docs/benchmarks.md).
+      // c stays the default's: the automatic viscosity derives from it.
+      return {0.2, defaults.soundSpeedFactor, scene::PressureSolver::Dfsph};
+    case Quality::Default:
+      break;
+  }
+  return {defaults.cfl, defaults.soundSpeedFactor};
+}
+
+}  // namespace
+
+scene::SolverParams readSolver(JsonReader r, Quality quality) {
+  scene::SolverParams s;
+  const QualityPreset preset = qualityPreset(quality);
+  s.spacing =
+      static_cast<float>(r.number("spacing", std::nullopt, "a positive number of at most 1000 (m)",
+                                  [](double v) { return v > 0 && v <= 1e3; }));
+  s.model = r.choice("model", std::optional(scene::SolverModel::Sph));
+  s.support = static_cast<float>(r.number("support", 2.0,
+                                          "a number in [1, 4] (kernel support radius / spacing)",
+                                          [](double v) { return v >= 1 && v <= 4; }));
+  s.restDensity =
+      static_cast<float>(r.number("rest_density", 1000.0, "a positive number (kg/m^3)", positive));
+  s.viscosity =
+      static_cast<float>(r.number("viscosity", -1.0, "a number >= 0 (m^2/s)", nonNegative));
+  s.noSlipWalls = r.choice("walls", std::optional(scene::Walls::NoSlip)) == scene::Walls::NoSlip;
+  s.eos = r.choice("eos", std::optional(scene::EquationOfState::Tait));
+  s.densityKernel = r.choice("density_kernel", std::optional(scene::DensityKernel::Spiky));
+  s.pressure = r.choice("pressure", std::optional(preset.pressure));
+  const bool dfsph = s.pressure == scene::PressureSolver::Dfsph;
+  for (const char* key : {"max_density_error", "max_divergence_error", "min_density_iterations",
+                          "max_density_iterations", "max_divergence_iterations"}) {
+    if (!dfsph && r.has(key)) r.fail(key, "only used with \"pressure\": \"dfsph\"");
+  }
+  if (dfsph) {
+    if (s.densityKernel != scene::DensityKernel::Spiky) {
+      r.fail("density_kernel",
+             "\"pressure\": \"dfsph\" needs \"spiky\" (its solvers use the exact gradient of the "
+             "density sum)");
+    }
+  }
+  auto percent = [&](const char* key, float fallback) {
+    return static_cast<float>(r.number(key, fallback, "a number in (0, 10] (%)",
+                                       [](double v) { return v > 0 && v <= 10; }));
+  };
+  auto iterations = [&](const char* key, int fallback) {
+    return static_cast<int>(r.number(key, fallback, "an integer in [1, 10000]",
+                                     [](double v) { return integerIn(v, 1, 10000); }));
+  };
+  s.maxDensityError = percent("max_density_error", s.maxDensityError);
+  s.maxDivergenceError = percent("max_divergence_error", s.maxDivergenceError);
+  s.minDensityIterations = iterations("min_density_iterations", s.minDensityIterations);
+  s.maxDensityIterations = iterations("max_density_iterations", s.maxDensityIterations);
+  s.maxDivergenceIterations = iterations("max_divergence_iterations", s.maxDivergenceIterations);
+  if (s.minDensityIterations > s.maxDensityIterations) {
+    r.fail("min_density_iterations", "expected at most max_density_iterations (" +
+                                         std::to_string(s.maxDensityIterations) + ")");
+  }
+  if (r.has("speed_of_sound") && r.has("stiffness")) {
+    r.fail("stiffness", "give either speed_of_sound or stiffness, not both");
+  }
+  if (r.has("speed_of_sound_factor") && (r.has("speed_of_sound") || r.has("stiffness"))) {
+    r.fail("speed_of_sound_factor",
+           std::string("only used when the speed of sound is automatic; the scene also gives ") +
+               (r.has("speed_of_sound") ? "speed_of_sound" : "stiffness"));
+  }
+  s.soundSpeedFactor = static_cast<float>(
+      r.number("speed_of_sound_factor", preset.soundSpeedFactor,
+               "a number >= 1 (automatic speed of sound / largest expected speed)",
+               [](double v) { return v >= 1; }));
+  s.speedOfSound =
+      static_cast<float>(r.number("speed_of_sound", 0.0, "a positive number (m/s)", positive));
+  s.stiffness = static_cast<float>(
+      r.number("stiffness", 0.0, "a positive number (Pa for tait, m^2/s^2 for linear)", positive));
+  s.clampNegativePressure = r.boolean("clamp_negative_pressure", true);
+  // DFSPH's step is bound by the flow speed alone: dt <= cfl h / v_max; 0.2 at h = 2 spacings is
+  // the 0.4 spacing / v_max of Bender & Koschier's examples (and SPlisHSPlasH's default).
+  constexpr double kDfsphCfl = 0.2;
+  // A preset's cfl is for its own solver; with the other one, that solver's default.
+  const double cfl = preset.pressure == s.pressure ? preset.cfl
+                     : dfsph                       ? kDfsphCfl
+                                                   : scene::SolverParams().cfl;
+  s.cfl = static_cast<float>(r.number("cfl", cfl, "a positive number", positive));
+  // DFSPH's step is bound by the flow speed and gravity (sim/solver/SceneSetup.cpp, timeStep()); its cap
+  // is the peer's (SPlisHSPlasH, ../shared/reference/peers.md).
+  s.maxTimeStep = static_cast<float>(r.number(
+      "max_time_step",
+      s.pressure == scene::PressureSolver::Dfsph ? scene::kDfsphMaxTimeStep : s.maxTimeStep,
+      "a positive number (s)", positive));
+  s.gravity = r.vec3("gravity", s.gravity, "3 numbers (m/s^2)");
+  s.endTime = r.number("end_time", 1.0, "a positive number of at most 1e6 (s)",
+                       [](double v) { return v > 0 && v <= kMaxEndTime; });
+  s.boundaryLayers =
+      static_cast<int>(r.number("boundary_layers", 0.0, "an integer in [0, 8] (0 = automatic)",
+                                [](double v) { return v >= 0 && v <= 8 && v == std::floor(v); }));
+  s.maxLostParticles =
+      static_cast<long long>(r.number("max_lost_particles", -1.0, "an integer in [0, 1e12]",
+                                      [](double v) { return integerIn(v, 0, 1e12); }));
+  r.finish();
+  return s;
+}
+
+scene::FluidBlock readFluid(JsonReader r) {
+  scene::FluidBlock f;
+  const std::string type = r.string("type", std::string("box"), {"box", "sphere"});
+  if (type == "box") {
+    f.shape = scene::FluidBlock::Shape::Box;
+    f.lo = r.vec3("min", std::nullopt, "3 numbers (m)");
+    f.hi = r.vec3("max", std::nullopt, "3 numbers (m)");
+    requireOrdered(r, f.lo, f.hi);
+  } else {
+    f.shape = scene::FluidBlock::Shape::Sphere;
+    f.centre = r.vec3("centre", std::nullopt, "3 numbers (m)");
+    f.radius =
+        static_cast<float>(r.number("radius", std::nullopt, "a positive number (m)", positive));
+  }
+  f.velocity = r.vec3("velocity", Vec3::Zero(), "3 numbers (m/s)");
+  r.finish();
+  return f;
+}
+
+scene::BoundaryShape readBoundary(JsonReader r) {
+  scene::BoundaryShape b;
+  const std::string type =
+      r.string("type", std::nullopt, {"tank", "block", "cup", "plane", "sphere"});
+  if (type == "tank" || type == "block") {
+    b.kind = type == "tank" ? scene::BoundaryShape::Kind::Tank : scene::BoundaryShape::Kind::Block;
+    b.lo = r.vec3("min", std::nullopt, "3 numbers (m)");
+    b.hi = r.vec3("max", std::nullopt, "3 numbers (m)");
+    requireOrdered(r, b.lo, b.hi);
+    if (type == "tank") b.openTop = r.boolean("open_top", true);
+  } else if (type == "cup") {
+    b.kind = scene::BoundaryShape::Kind::Cup;
+    b.centre = r.vec3("centre", std::nullopt, "3 numbers (m): the centre of the cup's inner floor");
+    b.radius = static_cast<float>(
+        r.number("radius", std::nullopt, "a positive number (m): inner radius", positive));
+    b.height = static_cast<float>(
+        r.number("height", std::nullopt, "a positive number (m): wall height", positive));
+  } else if (type == "plane") {
+    b.kind = scene::BoundaryShape::Kind::Plane;
+    b.point = r.vec3("point", Vec3::Zero(), "3 numbers (m)");
+    b.normal = r.vec3("normal", Vec3::UnitY(), "3 numbers, not all zero");
+    if (b.normal.norm() == 0) r.fail("normal", "expected a non-zero vector, got [0, 0, 0]");
+    b.normal.normalize();
+  } else {
+    b.kind = scene::BoundaryShape::Kind::Sphere;
+    b.centre = r.vec3("centre", std::nullopt, "3 numbers (m)");
+    b.radius =
+        static_cast<float>(r.number("radius", std::nullopt, "a positive number (m)", positive));
+  }
+  r.finish();
+  return b;
+}
+
+scene::EmitterDesc readEmitter(JsonReader r, float spacing) {
+  scene::EmitterDesc e;
+  r.string("type", std::string("nozzle"), {"nozzle"});
+  e.position = r.vec3("position", std::nullopt, "3 numbers (m)");
+  e.direction = r.vec3("direction", std::nullopt, "3 numbers, not all zero");
+  if (e.direction.norm() == 0) r.fail("direction", "expected a non-zero vector, got [0, 0, 0]");
+  e.direction.normalize();
+  e.radius =
+      static_cast<float>(r.number("radius", std::nullopt, "a positive number (m)", positive));
+  if (e.radius < 0.5f * spacing) {
+    std::ostringstream m;
+    m << "expected a nozzle radius of at least half the particle spacing (" << 0.5f * spacing
+      << " m) so it emits particles, got " << e.radius;
+    r.fail("radius", m.str());
+  }
+  e.speed =
+      static_cast<float>(r.number("speed", std::nullopt, "a positive number (m/s)", positive));
+  e.start = r.number("start", 0.0, "a number >= 0 (s)", nonNegative);
+  e.stop = r.number("stop", std::numeric_limits<double>::infinity(), "a number > start (s)");
+  if (r.has("stop") && e.stop <= e.start)
+    r.fail("stop", "expected a time after start (" + readableNumber(e.start) + " s)");
+  e.maxParticles = static_cast<std::size_t>(
+      r.number("max_particles", 0.0, "an integer >= 0 (0 = no limit)", nonNegative));
+  r.finish();
+  return e;
+}
+
+scene::OutputDesc readOutput(JsonReader r) {
+  scene::OutputDesc o;
+  o.fps = r.number("fps", o.fps, "a positive number (frames per simulated second)", positive);
+  o.path = r.string("path", std::string(""));
+  // The cache's per-frame datasets (docs/cache-format.md): names checked and put in canonical
+  // order.
+  const std::vector<std::string> names =
+      r.stringArray("fields", o.fields, "an array of field names, e.g. [\"x\", \"y\", \"z\"]");
+  std::string error;
+  const cache::FieldSet fields = cache::parseFields(names, error);
+  if (!error.empty()) r.fail("fields", printable(error, 240));
+  o.fields.clear();
+  for (std::size_t f = 0; f < cache::kFieldCount; ++f) {
+    if (fields[f]) o.fields.push_back(cache::fieldName(static_cast<cache::Field>(f)));
+  }
+  o.compression = static_cast<int>(
+      r.number("compression", o.compression, "an integer deflate level 0-9 (0 = none)",
+               [](double v) { return v >= 0 && v <= 9 && v == std::floor(v); }));
+  o.restart = r.boolean("restart", o.restart);
+  o.doublePositions = r.boolean("double_positions", o.doublePositions);
+  r.finish();
+  return o;
+}
+
+// The `collision` section (docs/scene-format.md, "collision"; DESIGN.md, "The CDT collision pass").
+scene::CollisionDesc readCollision(JsonReader r, const scene::SolverParams& solver) {
+  scene::CollisionDesc c;
+  c.method = r.choice<scene::CollisionMethod>("method", std::nullopt);
+  c.range = static_cast<float>(
+      r.number("range", 0.5 * solver.spacing, "a positive number (m)", positive));
+  c.response = r.choice("response", std::optional(scene::CollisionResponse::Separate));
+  const bool paper = c.response == scene::CollisionResponse::Paper;
+  c.speedFactor = static_cast<float>(r.number("speed_factor", 0.2, "a number in [0, 1]",
+                                              [](double v) { return v >= 0 && v <= 1; }));
+  c.cooldown = static_cast<float>(
+      r.number("cooldown", paper ? 0.05 : 0.0, "a number >= 0 (s)", nonNegative));
+  c.positionSource = r.choice(
+      "position_source",
+      std::optional(paper ? scene::CdtPositionSource::Texel : scene::CdtPositionSource::Particle));
+  const int resolution =
+      static_cast<int>(r.number("resolution", 500.0, "an integer in [16, 8192] (texels per side)",
+                                [](double v) { return integerIn(v, 16, 8192); }));
+  c.resolution = {resolution, resolution};
+  // The CDT's own limits (sim/cdt/CdtConstants.h), so that no scene reaches its bug checks.
+  const std::string texelRanges = "an integer in [0, " + std::to_string(cdt::kMaxTexelRange) + "]";
+  c.texelRange = static_cast<int>(r.number("texel_range", 1.0, texelRanges.c_str(), [](double v) {
+    return integerIn(v, 0, cdt::kMaxTexelRange);
+  }));
+  c.adaptiveTexelRange = r.boolean("adaptive_texel_range", false);
+  const std::string maxRanges = "an integer in [1, " + std::to_string(cdt::kMaxTexelRange) + "]";
+  c.maxTexelRange =
+      static_cast<int>(r.number("max_texel_range", 4.0, maxRanges.c_str(),
+                                [](double v) { return integerIn(v, 1, cdt::kMaxTexelRange); }));
+  const std::string layerCounts = "an integer in [1, " + std::to_string(cdt::kMaxLayers) + "]";
+  c.layers = static_cast<int>(r.number("layers", 1.0, layerCounts.c_str(),
+                                       [](double v) { return integerIn(v, 1, cdt::kMaxLayers); }));
+  c.camera = r.choice("camera", std::optional(scene::CdtCameraMode::Render));
+  c.offset = static_cast<float>(r.number("offset", 0.0, "a number (m, along the camera's z axis)"));
+  if (auto pose = r.optionalObject("pose")) c.pose = readCamera(*pose), c.hasPose = true;
+  if (c.camera == scene::CdtCameraMode::Fixed && !c.hasPose)
+    r.fail("pose", "missing; camera \"fixed\" needs its pose {position, target, ...}");
+  if (c.camera != scene::CdtCameraMode::Offset && r.has("offset"))
+    r.fail("offset", "only used with \"camera\": \"offset\"");
+  c.octreeDepth = static_cast<int>(r.number("octree_depth", 3.0, "an integer in [1, 6]",
+                                            [](double v) { return integerIn(v, 1, 6); }));
+  c.octreeRootSize =
+      static_cast<float>(r.number("octree_root", 0.0, "a positive number (m)", positive));
+  r.finish();
+  return c;
+}
+
+}  // namespace sph::io
