@@ -13,6 +13,7 @@
 #include "app/Commands.h"
 #include "bench/sweep/SweepReport.h"
 #include "bench/sweep/SweepRunner.h"
+#include "io/MessageText.h"
 #include "sim/InputError.h"
 
 namespace sph::app {
@@ -83,8 +84,7 @@ int bench(const BenchOptions& o) {
   sweep::writeMarkdown(result, sweep::currentReportContext(reproduceCommand(o, output)), md,
                        plot && plotError.empty() ? spec.name + ".png" : "");
   if (!o.quiet) {
-    std::printf("wrote %s, %s%s\n", csv.c_str(), md.c_str(),
-                plot && plotError.empty() ? (", " + png).c_str() : "");
+    io::sayWritten(csv + ", " + md + (plot && plotError.empty() ? ", " + png : ""));
   }
   if (!plotError.empty()) std::fprintf(stderr, "sphsplat: plot: %s\n", plotError.c_str());
   return job::kOk;

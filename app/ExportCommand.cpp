@@ -127,19 +127,17 @@ int exportFrames(const ExportOptions& o) {
   if (o.output == "-") return job::exitAfterReading(s);
   const std::string forParaView = pvd ? "; open " + names.pvd() + " in ParaView" : "";
   if (files == 1) {
-    std::fprintf(stderr, "wrote %s: %zu %s, %s%s\n", names.file(o.boundary ? 0 : frames[0]).c_str(),
-                 most, what.c_str(), format.c_str(), forParaView.c_str());
+    io::sayWritten(names.file(o.boundary ? 0 : frames[0]) + ": " + std::to_string(most) + " " +
+                   what + ", " + format + forParaView);
   } else {
     const std::string counts =
         fewest == most ? std::to_string(most) : std::to_string(fewest) + "-" + std::to_string(most);
-    std::fprintf(stderr,
-                 "wrote %zu %s files %s .. %s: frames %zu-%zu (t = %s - %s s), %s "
-                 "particles each%s\n",
-                 files, format.c_str(), names.file(frames.front()).c_str(),
-                 job::baseName(names.file(frames.back())).c_str(), frames.front(), frames.back(),
-                 io::readableNumber(s.frames[frames.front()].time).c_str(),
-                 io::readableNumber(s.frames[frames.back()].time).c_str(), counts.c_str(),
-                 pvd ? (forParaView + " for the times").c_str() : "");
+    io::sayWritten(std::to_string(files) + " " + format + " files " + names.file(frames.front()) +
+                   " .. " + job::baseName(names.file(frames.back())) + ": frames " +
+                   std::to_string(frames.front()) + "-" + std::to_string(frames.back()) +
+                   " (t = " + io::readableNumber(s.frames[frames.front()].time) + " - " +
+                   io::readableNumber(s.frames[frames.back()].time) + " s), " + counts +
+                   " particles each" + (pvd ? forParaView + " for the times" : ""));
   }
   return job::exitAfterReading(s);
 }

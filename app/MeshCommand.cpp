@@ -127,10 +127,10 @@ int meshFrames(const MeshOptions& o) {
     most = std::max(most, mesh.triangleCount());
     if (!lines) continue;
     if (frames.size() == 1) {
-      std::fprintf(stderr, "wrote %s: %s triangles, %s vertices of frame %zu (%zu particles), %s\n",
-                   path.c_str(), humanCount(static_cast<double>(mesh.triangleCount())).c_str(),
-                   humanCount(static_cast<double>(mesh.vertexCount())).c_str(), f, p.size(),
-                   humanSeconds(meshSeconds).c_str());
+      io::sayWritten(path + ": " + humanCount(static_cast<double>(mesh.triangleCount())) +
+                     " triangles, " + humanCount(static_cast<double>(mesh.vertexCount())) +
+                     " vertices of frame " + std::to_string(f) + " (" + std::to_string(p.size()) +
+                     " particles), " + humanSeconds(meshSeconds));
     } else if ((k + 1) * 10 / frames.size() != k * 10 / frames.size() || k + 1 == frames.size()) {
       // A line every tenth of the frames (and for the last one).
       const double elapsed =
@@ -146,11 +146,10 @@ int meshFrames(const MeshOptions& o) {
     }
   }
   if (lines && frames.size() > 1) {
-    std::fprintf(stderr, "wrote %zu %s files %s .. %s: %s-%s triangles each\n", frames.size(),
-                 format.c_str(), names.file(frames.front()).c_str(),
-                 job::baseName(names.file(frames.back())).c_str(),
-                 humanCount(static_cast<double>(fewest)).c_str(),
-                 humanCount(static_cast<double>(most)).c_str());
+    io::sayWritten(std::to_string(frames.size()) + " " + format + " files " +
+                   names.file(frames.front()) + " .. " + job::baseName(names.file(frames.back())) +
+                   ": " + humanCount(static_cast<double>(fewest)) + "-" +
+                   humanCount(static_cast<double>(most)) + " triangles each");
   }
   return job::exitAfterReading(s);
 }

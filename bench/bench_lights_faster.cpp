@@ -299,7 +299,7 @@ void fireflies() {
   d.accumulate = accumulate;
   const std::vector<sph::lights::LightParticle> lights =
       sph::lights::lightParticles(d, Particles{}, 0.2, sph::lights::lightSolids(scene));
-  const float thickness = solver::deriveParams(scene).boundaryLayers * scene.solver.spacing;
+  const float thickness = scene.solver.wallThickness();
   render::solids::SolidRenderer solids(scene.boundaries, scene.domain, thickness);
   scene::CameraDesc cup = *scene.camera;
   cup.position = Vec3(0.62f, 0.3f, 0.05f), cup.target = Vec3(0.35f, 0.07f, -0.25f);

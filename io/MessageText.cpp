@@ -104,4 +104,8 @@ std::string readableCount(double n) {
   return readableNumber(n, 2);
 }
 
+void sayWritten(std::string_view what) {
+  std::fprintf(stderr, "wrote %s\n", oneLine(what).c_str());
+}
+
 }  // namespace sph::io

@@ -26,6 +26,11 @@ std::string oneLine(std::string_view text);
 // Whether oneLine() would change `text`.
 bool hasControlBytes(std::string_view text);
 
+// "wrote WHAT" on stderr, WHAT made one line (oneLine): how every command says it wrote a file
+// (WHAT starts with its path, then what it holds). stderr, because stdout may carry the data
+// itself (`export -o -`) and the progress lines are there too.
+void sayWritten(std::string_view what);
+
 // A number as a person reads it, %g style with `digits` significant digits and a short exponent:
 // 0.25, 1500, 1e6, 1.79769e308, -3.5e-5, inf, nan. Never a 300-digit expansion.
 std::string readableNumber(double v, int digits = 6);

@@ -38,7 +38,7 @@ void compareParticleLights(CacheRendering& c, std::size_t f, const Particles& p,
       sph::lights::lightParticles(desc, p, c.frameTime(f), sph::lights::lightSolids(c.scene));
   volume.update(lights);  // the first dispatch compiles llvmpipe's shader variants
   const double accumulate = volume.update(lights);
-  const float thickness = solver::deriveParams(c.scene).boundaryLayers * c.scene.solver.spacing;
+  const float thickness = c.scene.solver.wallThickness();
   render::solids::SolidRenderer solids(c.scene.boundaries, c.scene.domain, thickness);
   const render::lights::SolidGBuffer g =
       render::lights::solidGBuffer(solids, c.camera, c.desc.width, c.desc.height);

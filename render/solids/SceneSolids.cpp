@@ -16,7 +16,7 @@ std::unique_ptr<SolidRenderer> showSolids(const scene::Scene& scene, splat::Fram
     }
     case scene::RenderSolids::Opaque: {
       // The walls as thick as the boundary particles' layers (sim/scene/Solid.h has them so).
-      const float thickness = solver::deriveParams(scene).boundaryLayers * scene.solver.spacing;
+      const float thickness = scene.solver.wallThickness();
       auto solids = std::make_unique<SolidRenderer>(scene.boundaries, scene.domain, thickness);
       renderer.setLayers({solids.get()});
       return solids;

@@ -48,7 +48,7 @@ Vec3 emitterLightPosition(const scene::LightEmitterDesc& e, std::size_t i, doubl
 
 std::vector<scene::Solid> lightSolids(const scene::Scene& scene) {
   std::vector<scene::Solid> solids;
-  const float thickness = solver::deriveParams(scene).boundaryLayers * scene.solver.spacing;
+  const float thickness = scene.solver.wallThickness();
   for (const scene::BoundaryShape& b : scene.boundaries) solids.emplace_back(b, thickness);
   return solids;
 }

@@ -23,7 +23,7 @@ RainStepper::RainStepper(const scene::Scene& scene, float aspect)
       interval_(1.0 / scene.output.fps),
       waterCell_(waterCell(scene)),
       system_(*scene.rain, aspect) {
-  const float thickness = solver::deriveParams(scene).boundaryLayers * scene.solver.spacing;
+  const float thickness = scene.solver.wallThickness();
   for (const scene::BoundaryShape& b : scene.boundaries) solids_.emplace_back(b, thickness);
 }
 

@@ -14,24 +14,19 @@
 
 namespace sph::run {
 
-Simulation::Simulation(const scene::Scene& scene)
-    : scene_(scene),
-      derived_(solver::deriveParams(scene)),
-      boundary_(scene.boundaries, scene.domain, scene.solver.spacing, derived_.boundaryLayers,
-                derived_.h),
-      model_(solver::makeFluidModel(scene.solver)),
-      decomposition_(wholeFluid()) {
-  setUp(nullptr, Start::Slab);
-}
+Simulation::Simulation(const scene::Scene& scene) : Simulation(scene, nullptr, Start::Slab) {}
 
 Simulation::Simulation(const scene::Scene& scene, ranks::Halo& start, Start what)
+    : Simulation(scene, &start, what) {}
+
+Simulation::Simulation(const scene::Scene& scene, ranks::Halo* start, Start what)
     : scene_(scene),
       derived_(solver::deriveParams(scene)),
       boundary_(scene.boundaries, scene.domain, scene.solver.spacing, derived_.boundaryLayers,
                 derived_.h),
       model_(solver::makeFluidModel(scene.solver)),
       decomposition_(wholeFluid()) {
-  setUp(&start, what);
+  setUp(start, what);
 }
 
 void Simulation::setUp(ranks::Halo* start, Start what) {

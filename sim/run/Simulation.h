@@ -114,6 +114,8 @@ class Simulation {
   void restore(const RunState& state, Particles fluid, std::vector<std::uint64_t> keys = {});
 
  private:
+  // Both public constructors: the scene's parameters, boundary and models; `start` null alone.
+  Simulation(const scene::Scene& scene, ranks::Halo* start, Start what);
   // The constructors' work: the boundary's densities, the starting fluid (this rank's slab of
   // it with `start`) and the state that depends on it.
   void setUp(ranks::Halo* start, Start what);

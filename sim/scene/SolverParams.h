@@ -2,6 +2,9 @@
 // (docs/scene-format.md) documents the same names and defaults.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+
 #include "sim/scene/EnumNames.h"
 #include "sim/Types.h"
 
@@ -129,6 +132,14 @@ struct SolverParams {
   long long maxLostParticles = -1;
 
   float supportRadius() const { return support * spacing; }  // h (m)
+  // Layers of boundary particles behind each wall: boundaryLayers, or enough to cover the support.
+  int wallLayers() const {
+    return boundaryLayers > 0 ? boundaryLayers
+                              : std::max(1, static_cast<int>(std::ceil(support)));
+  }
+  // m: how deep the boundary particles reach behind a wall's surface (solids are drawn and lights
+  // placed with it).
+  float wallThickness() const { return wallLayers() * spacing; }
 };
 
 }  // namespace sph::scene

@@ -70,8 +70,7 @@ DerivedParams deriveParams(const scene::Scene& scene) {
     d.stiffness = s.eos == scene::EquationOfState::Tait ? s.restDensity * c2 / gamma : c2;
   }
   d.viscosity = s.viscosity >= 0 ? s.viscosity : 0.002f * d.h * d.speedOfSound;
-  d.boundaryLayers =
-      s.boundaryLayers > 0 ? s.boundaryLayers : std::max(1, static_cast<int>(std::ceil(s.support)));
+  d.boundaryLayers = s.wallLayers();
   d.maxLostParticles = s.maxLostParticles >= 0 ? static_cast<std::uint64_t>(s.maxLostParticles)
                                                : particleBudget(scene).total() / 100;
   return d;
