@@ -6,7 +6,7 @@
 #include <chrono>
 #include <cstdint>
 
-namespace sph {
+namespace sph::solver {
 
 enum class Pass : int {
   Emit,
@@ -61,4 +61,4 @@ class PassTimer {
   std::chrono::steady_clock::time_point start_;
 };
 
-}  // namespace sph
+}  // namespace sph::solver
