@@ -83,7 +83,7 @@ std::array<std::vector<float>, 3> CacheRendering::boundary() {
 }
 
 void CacheRendering::store(const std::string& renderer, std::size_t frame,
-                           const render::splat::RenderImage& image) {
+                           const render::frame::RenderImage& image) {
   open.reset();
   std::unique_ptr<io::CacheWriter> writer = io::CacheWriter::append(path, frameCount());
   writer->writeRenderedFrame(renderer, frame, image.width, image.height, image.rgb.data());

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "io/cache/CacheReader.h"
-#include "render/splat/RenderImage.h"
+#include "render/frame/RenderImage.h"
 #include "render/splat/SplatBuilder.h"
 #include "sim/scene/CameraDesc.h"
 #include "sim/Particles.h"
@@ -46,7 +46,7 @@ struct CacheRendering {
   std::array<std::vector<float>, 3> boundary();
   // Stores an image in the cache as Render#<renderer>#<frame>.
   void store(const std::string& renderer, std::size_t frame,
-             const render::splat::RenderImage& image);
+             const render::frame::RenderImage& image);
 };
 
 }  // namespace sph::app

@@ -9,14 +9,14 @@
 #include "app/ExitCode.h"
 #include "app/RenderOutput.h"
 #include "io/export/Png.h"
+#include "render/frame/Annotate.h"
 #include "render/gl/GlContext.h"
 #include "render/lights/LightComparison.h"
 #include "render/solids/SceneSolids.h"
 #include "render/solids/SolidRenderer.h"
-#include "render/splat/Annotate.h"
 #include "render/splat/FrameRenderer.h"
-#include "sim/scene/EnumNames.h"
 #include "sim/lights/LightParticles.h"
+#include "sim/scene/EnumNames.h"
 #include "sim/solver/SceneSetup.h"
 
 namespace sph::app {
@@ -62,7 +62,7 @@ void compareParticleLights(CacheRendering& c, std::size_t f, const Particles& p,
               g.points.size());
   std::printf("  %-16s %9s | %8s %9s | %8s %9s | %8s %9s\n", "filter", "ms", "PSNR dB", "mean abs",
               "diff dB", "diff abs", "spec dB", "spec abs");
-  std::vector<render::splat::Panel> panels;
+  std::vector<render::frame::Panel> panels;
   for (const auto& r : results) {
     std::printf("  %-16s %9.1f | %8.2f %9.5f | %8.2f %9.5f | %8.2f %9.5f\n", r.name.c_str(),
                 1e3 * r.seconds, r.total.psnr, r.total.meanAbs, r.diffuse.psnr, r.diffuse.meanAbs,
@@ -74,7 +74,7 @@ void compareParticleLights(CacheRendering& c, std::size_t f, const Particles& p,
                             : fmt("psnr %.2f db", r.total.psnr),
           r.name == "exact" ? std::string("reference") : fmt("spec %.2f db", r.specular.psnr)}});
   }
-  const render::splat::RenderImage sheet = render::splat::composePanels(panels, 1);
+  const render::frame::RenderImage sheet = render::frame::composePanels(panels, 1);
   const std::string path = out + "/" + io::framePngName(c.scene.name + "_lights_compare", f);
   io::writePng(path, sheet.width, sheet.height, sheet.rgb.data());
   std::printf("wrote %s\n", path.c_str());
@@ -103,14 +103,14 @@ int compareJob(const CompareRequest& o) {
       renderer.renderScored(render::splat::SplatKind::Point, c.camera);
   const render::splat::RenderedSplats quad =
       renderer.renderScored(render::splat::SplatKind::Quad, c.camera);
-  const render::splat::RenderImage reference = renderer.reference(c.camera);
-  const render::splat::RenderImage everyParticle = renderer.referenceOfEveryParticle(c.camera);
-  const render::splat::ImageError ep = render::splat::compareImages(point.image, reference);
-  const render::splat::ImageError eq = render::splat::compareImages(quad.image, reference);
-  const render::splat::ThinCoverage tp =
-      render::splat::thinCoverage(point.image, reference, everyParticle);
-  const render::splat::ThinCoverage tq =
-      render::splat::thinCoverage(quad.image, reference, everyParticle);
+  const render::frame::RenderImage reference = renderer.reference(c.camera);
+  const render::frame::RenderImage everyParticle = renderer.referenceOfEveryParticle(c.camera);
+  const render::frame::ImageError ep = render::frame::compareImages(point.image, reference);
+  const render::frame::ImageError eq = render::frame::compareImages(quad.image, reference);
+  const render::frame::ThinCoverage tp =
+      render::frame::thinCoverage(point.image, reference, everyParticle);
+  const render::frame::ThinCoverage tq =
+      render::frame::thinCoverage(quad.image, reference, everyParticle);
 
   const double time = c.frameTime(f);
   std::printf(
@@ -122,7 +122,7 @@ int compareJob(const CompareRequest& o) {
   std::printf("  %-6s %9s %9s %9s %9s %9s | %8s %8s %11s\n", "splats", "field ms", "surf ms",
               "normal ms", "build ms", "draw ms", "PSNR dB", "holes %", "normal deg");
   auto row = [&](const char* name, const render::splat::RenderedSplats& r,
-                 const render::splat::ImageError& e) {
+                 const render::frame::ImageError& e) {
     std::printf("  %-6s %9.1f %9.1f %9.1f %9.1f %9.1f | %8.2f %8.2f %11.1f\n", name,
                 1e3 * r.timings.field, 1e3 * r.timings.splats.surface,
                 1e3 * r.timings.splats.normals, 1e3 * r.timings.splats.build, 1e3 * r.timings.draw,
@@ -140,7 +140,7 @@ int compareJob(const CompareRequest& o) {
 
   const std::string method =
       c.desc.projection == scene::SplatProjection::Newton ? "newton" : "eq. (6)";
-  std::vector<render::splat::Panel> panels = {
+  std::vector<render::frame::Panel> panels = {
       {&point.image,
        {"point splats", fmt("%.1f ms build + draw", 1e3 * point.timings.total()),
         fmt("psnr %.2f db  holes %.2f%%", ep.psnr, 100 * ep.holeFraction),
@@ -158,7 +158,7 @@ int compareJob(const CompareRequest& o) {
         fmt("beyond sd: %.0f px", static_cast<double>(tq.pixels)),
         fmt("point cover %.1f%%  quad %.1f%%", 100 * tp.fraction, 100 * tq.fraction)}},
   };
-  const render::splat::RenderImage sheet = render::splat::composePanels(panels, 2, 2);
+  const render::frame::RenderImage sheet = render::frame::composePanels(panels, 2, 2);
   const std::string path = o.out + "/" + io::framePngName(c.scene.name + "_compare", f);
   io::writePng(path, sheet.width, sheet.height, sheet.rgb.data());
   std::printf("wrote %s\n", path.c_str());

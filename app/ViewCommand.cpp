@@ -16,14 +16,14 @@
 #include "app/Commands.h"
 #include "io/cache/CacheReader.h"
 #include "io/export/Png.h"
+#include "render/frame/HudText.h"
 #include "render/gl/GlContext.h"
 #include "render/lights/SceneLights.h"
 #include "render/rain/SceneRain.h"
 #include "render/solids/SceneSolids.h"
 #include "render/splat/FrameRenderer.h"
-#include "render/splat/HudText.h"
-#include "sim/scene/Camera.h"
 #include "sim/InputError.h"
+#include "sim/scene/Camera.h"
 
 namespace sph::app {
 namespace {
@@ -186,7 +186,7 @@ int view(const ViewOptions& o) {
 
   const double frameSeconds =
       1.0 / (reader.summary().fps > 0 ? reader.summary().fps : 30.0) / o.speed;
-  render::splat::HudText hud;
+  render::frame::HudText hud;
   auto lastAdvance = std::chrono::steady_clock::now();
   int drawn = 0;
   // The particle lights (lights.cull): culled to the camera while it follows the scene's camera
@@ -210,8 +210,7 @@ int view(const ViewOptions& o) {
     const bool cullLights = lights && scene.lights->cull && !s.touched;
     if (s.frameChanged) {
       shown = reader.readFrame(s.frame, xyz);
-      checkPositions(shown.x, shown.y, shown.z, scene, "frame " + std::to_string(s.frame),
-                     o.cache);
+      checkPositions(shown.x, shown.y, shown.z, scene, "frame " + std::to_string(s.frame), o.cache);
       renderer.prepare(shown);
       if (rain) showCachedRain(*rain, reader, s.frame, time, shown);
     }

@@ -305,8 +305,8 @@ TEST(Mesh, SilhouetteAndNormalsMatchTheReferenceRaymarcher) {
   camera.position = camera.target + Vec3(0.25f, 0.2f, 0.35f);
   camera.fovYDegrees = 40;
   const int width = 160, height = 120;
-  const splat::RenderImage reference =
-      splat::raymarchReference(field, SD, camera, width, height, splat::Lighting{});
+  const frame::RenderImage reference =
+      splat::raymarchReference(field, SD, camera, width, height, frame::Lighting{});
   const Raster r = rasterise(m, camera, width, height);
   std::size_t both = 0, either = 0, refCovered = 0;
   for (std::size_t p = 0; p < r.depth.size(); ++p) {

@@ -4,8 +4,8 @@
 #include <chrono>
 #include <limits>
 
+#include "render/frame/Lighting.h"
 #include "render/gl/Shader.h"
-#include "render/splat/Lighting.h"
 #include "sim/scene/Camera.h"
 
 namespace sph::render::lights {
@@ -15,12 +15,12 @@ double since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-splat::RenderImage picture(const SolidGBuffer& g, const std::vector<Vec3>& colour) {
-  splat::RenderImage image;
+frame::RenderImage picture(const SolidGBuffer& g, const std::vector<Vec3>& colour) {
+  frame::RenderImage image;
   image.resize(g.width, g.height, false);
   for (std::size_t k = 0; k < g.pixels.size(); ++k)
     for (int a = 0; a < 3; ++a)
-      image.rgb[3 * g.pixels[k] + static_cast<std::size_t>(a)] = splat::toSrgb8(colour[k][a]);
+      image.rgb[3 * g.pixels[k] + static_cast<std::size_t>(a)] = frame::toSrgb8(colour[k][a]);
   return image;
 }
 

@@ -319,7 +319,7 @@ bool LightVolume::shadesOnCpu() const {
   return desc_.shade == scene::LightShade::Cpu && desc_.filter != scene::LightFilter::Tricubic;
 }
 
-void LightVolume::shadeOnCpu(const splat::GBufferPixels& g, const Vec3& eye,
+void LightVolume::shadeOnCpu(const frame::GBufferPixels& g, const Vec3& eye,
                              std::uint8_t* rgba) const {
   CpuShading(desc_, cpuSums_, terms).pixels(g, eye, rgba);
 }

@@ -8,7 +8,7 @@ SceneLights::SceneLights(const scene::Scene& scene, splat::FrameRenderer& render
     : volume_(*scene.lights), renderer_(renderer), solids_(sph::lights::lightSolids(scene)) {
   const scene::LightsDesc& desc = *scene.lights;
   renderer.setExtraLights(&volume_);
-  renderer.setBackground(desc.roomLight * splat::Lighting{}.background);
+  renderer.setBackground(desc.roomLight * frame::Lighting{}.background);
 }
 
 double SceneLights::update(const Particles& fluid, double time, const scene::CameraDesc* camera,

@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <vector>
 
+#include "render/frame/ProgramUniforms.h"
+#include "render/frame/SpotlightUniforms.h"
 #include "render/gl/Shader.h"
 #include "render/rain/ComposeOver.h"
 #include "render/rain/StreakImages.h"
-#include "render/splat/ProgramUniforms.h"
-#include "render/splat/SpotlightUniforms.h"
 
 namespace sph::render::rain {
 namespace {
@@ -88,7 +88,7 @@ void RainRenderer::setDrops(const sph::rain::RainSystem& rain) {
   }
 }
 
-void RainRenderer::draw(const scene::CameraFrame& camera, const splat::Lighting& lighting) {
+void RainRenderer::draw(const scene::CameraFrame& camera, const frame::Lighting& lighting) {
   if (count_ == 0) return;
   if (raster_) {
     drawCpu(camera, lighting);
@@ -97,7 +97,7 @@ void RainRenderer::draw(const scene::CameraFrame& camera, const splat::Lighting&
   }
 }
 
-void RainRenderer::drawCpu(const scene::CameraFrame& camera, const splat::Lighting& lighting) {
+void RainRenderer::drawCpu(const scene::CameraFrame& camera, const frame::Lighting& lighting) {
   GLint viewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_VIEWPORT, viewport);
   const int w = viewport[2], h = viewport[3];
@@ -152,17 +152,17 @@ void RainRenderer::drawCpu(const scene::CameraFrame& camera, const splat::Lighti
 }
 
 void RainRenderer::drawTriangles(const scene::CameraFrame& camera,
-                                 const splat::Lighting& lighting) {
+                                 const frame::Lighting& lighting) {
   const GLuint p = program_.id();
   glProgramUniformMatrix4fv(p, glGetUniformLocation(p, "u_projView"), 1, GL_FALSE,
                             camera.projView.m.data());
-  splat::setVec3(p, "u_eye", camera.eye);
-  splat::setVec3(p, "u_right", camera.right);
-  splat::setVec3(p, "u_velocity", velocity_);
-  splat::setFloat(p, "u_exposure", desc_.exposure);
-  splat::setFloat(p, "u_width", desc_.dropWidth);
-  splat::setVec3(p, "u_unlit", kUnlitTint * lighting.background);
-  splat::setSpotlightUniforms(p, desc_.spotlight);
+  frame::setVec3(p, "u_eye", camera.eye);
+  frame::setVec3(p, "u_right", camera.right);
+  frame::setVec3(p, "u_velocity", velocity_);
+  frame::setFloat(p, "u_exposure", desc_.exposure);
+  frame::setFloat(p, "u_width", desc_.dropWidth);
+  frame::setVec3(p, "u_unlit", kUnlitTint * lighting.background);
+  frame::setSpotlightUniforms(p, desc_.spotlight);
   glProgramUniform1i(p, glGetUniformLocation(p, "u_streaks"), 0);
   glBindTextureUnit(0, streaks_.id());
   glEnable(GL_DEPTH_TEST);

@@ -35,11 +35,11 @@ void SceneRain::follow(const scene::CameraDesc& camera) {
 }
 
 std::unique_ptr<SceneRain> showRain(const scene::Scene& scene, splat::FrameRenderer& renderer,
-                                    splat::FrameLayer* solids) {
+                                    frame::FrameLayer* solids) {
   const scene::RenderDesc& d = renderer.desc();
   auto rain = SceneRain::create(scene, static_cast<float>(d.width) / static_cast<float>(d.height));
   if (!rain) return nullptr;
-  std::vector<splat::FrameLayer*> layers;
+  std::vector<frame::FrameLayer*> layers;
   if (solids) layers.push_back(solids);
   layers.push_back(&rain->layer());
   renderer.setLayers(std::move(layers));

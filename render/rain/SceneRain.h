@@ -1,8 +1,8 @@
 // The rain of a scene in its pictures (`run` with a render section, `render`, `view`): the drops
 // of a sim/rain/RainStepper uploaded to a RainRenderer layer. `run` steps the rain beside the
-// fluid and stores its drops in the cache (io/cache/RainCache.h); `render` and `view` redraw the stored
-// drops (restore()), or, for a cache without them, regenerate them deterministically from the
-// scene and the frame times (advanceTo(); docs/rain.md, "Replay").
+// fluid and stores its drops in the cache (io/cache/RainCache.h); `render` and `view` redraw the
+// stored drops (restore()), or, for a cache without them, regenerate them deterministically from
+// the scene and the frame times (advanceTo(); docs/rain.md, "Replay").
 #pragma once
 
 #include <memory>
@@ -11,8 +11,8 @@
 #include "render/rain/RainRenderer.h"
 #include "render/splat/FrameRenderer.h"
 #include "sim/Particles.h"
-#include "sim/scene/Scene.h"
 #include "sim/rain/RainStepper.h"
+#include "sim/scene/Scene.h"
 
 namespace sph::render::rain {
 
@@ -49,6 +49,6 @@ class SceneRain {
 // its streaks as a layer after the splats, beside the opaque `solids` (null if not drawn), and
 // its spotlight on the water and solids. Keep the result alive while `renderer` draws.
 std::unique_ptr<SceneRain> showRain(const scene::Scene& scene, splat::FrameRenderer& renderer,
-                                    splat::FrameLayer* solids);
+                                    frame::FrameLayer* solids);
 
 }  // namespace sph::render::rain

@@ -12,10 +12,10 @@
 
 #include "render/gl/GlHandle.h"
 #include "render/gl/ShaderLibrary.h"
-#include "sim/scene/Camera.h"
 #include "sim/Types.h"
+#include "sim/scene/Camera.h"
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 
 class ExtraLights;
 
@@ -72,4 +72,4 @@ class DeferredTarget {
   int drawsPosition_ = -1;  // this frame's draw buffers: 1 with the position target, 0 without
 };
 
-}  // namespace sph::render::splat
+}  // namespace sph::render::frame

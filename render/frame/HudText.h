@@ -8,7 +8,7 @@
 
 #include "render/gl/GlHandle.h"
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 
 class HudText {
  public:
@@ -23,4 +23,4 @@ class HudText {
   int textureWidth_ = 0, textureHeight_ = 0;
 };
 
-}  // namespace sph::render::splat
+}  // namespace sph::render::frame

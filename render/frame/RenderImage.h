@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 
 // What a GL render reads back: the colour alone (pictures), or with the normal and coverage of
 // every pixel (the error figures).
@@ -50,4 +50,4 @@ struct ThinCoverage {
 ThinCoverage thinCoverage(const RenderImage& image, const RenderImage& reference,
                           const RenderImage& everyParticle);
 
-}  // namespace sph::render::splat
+}  // namespace sph::render::frame

@@ -1,16 +1,16 @@
-#include "render/splat/DeferredTarget.h"
+#include "render/frame/DeferredTarget.h"
 
 #include <Eigen/LU>
 #include <array>
 #include <chrono>
 #include <cstring>
 
+#include "render/frame/ExtraLights.h"
+#include "render/frame/ProgramUniforms.h"
 #include "render/gl/GlError.h"
 #include "render/gl/Shader.h"
-#include "render/splat/ExtraLights.h"
-#include "render/splat/ProgramUniforms.h"
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 namespace {
 
 // projView's inverse, column-major, in double: the CPU shading's way from a pixel's depth back to
@@ -188,4 +188,4 @@ double DeferredTarget::light(const Output& out, const ExtraLights& lights, const
   return seconds;
 }
 
-}  // namespace sph::render::splat
+}  // namespace sph::render::frame

@@ -1,10 +1,10 @@
-#include "render/splat/HudText.h"
+#include "render/frame/HudText.h"
 
 #include <algorithm>
 
-#include "render/splat/Annotate.h"
+#include "render/frame/Annotate.h"
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 
 namespace {
 constexpr std::uint8_t kBox[3] = {22, 26, 34};  // dark slate behind the text
@@ -48,4 +48,4 @@ void HudText::draw(const std::vector<std::string>& lines, int width, int height,
                          GL_NEAREST);
 }
 
-}  // namespace sph::render::splat
+}  // namespace sph::render::frame
