@@ -17,6 +17,7 @@
 #include "io/cache/CacheReader.h"
 #include "io/export/Png.h"
 #include "render/frame/HudText.h"
+#include "render/frame/ReadPicture.h"
 #include "render/gl/GlContext.h"
 #include "render/lights/SceneLights.h"
 #include "render/rain/SceneRain.h"
@@ -72,15 +73,8 @@ struct ViewerState {
 };
 
 void saveScreenshot(const std::string& path, int width, int height) {
-  std::vector<std::uint8_t> rgb(static_cast<std::size_t>(width) * height * 3), flipped(rgb.size());
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadBuffer(GL_BACK);
-  glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
-  for (int row = 0; row < height; ++row) {
-    std::copy_n(&rgb[static_cast<std::size_t>(height - 1 - row) * width * 3], width * 3,
-                &flipped[static_cast<std::size_t>(row) * width * 3]);
-  }
-  io::writePng(path, width, height, flipped.data());
+  const render::frame::RenderImage shot = render::frame::readWindow(width, height);
+  io::writePng(path, width, height, shot.rgb.data());
   std::printf("wrote %s\n", path.c_str());
 }
 
@@ -222,15 +216,9 @@ int view(const ViewOptions& o) {
     s.frameChanged = false;
     if (rain) rain->follow(camera);
     const render::splat::FrameTimings t = renderer.drawToScreen(s.kind, camera, size[0], size[1]);
-    // The timeline: a grey bar with the played part in blue (scissored clears, no shader).
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(0, 0, size[0], timeline);
-    glClearColor(0.75f, 0.77f, 0.8f, 1);
-    glClear(GL_COLOR_BUFFER_BIT);
-    glScissor(0, 0, static_cast<int>(size[0] * (s.frame + 1.0) / s.frames), timeline);
-    glClearColor(0.16f, 0.42f, 0.78f, 1);
-    glClear(GL_COLOR_BUFFER_BIT);
-    glDisable(GL_SCISSOR_TEST);
+    // The timeline: the played part up to and including this frame.
+    render::frame::drawTimeline(size[0], timeline,
+                                static_cast<int>(size[0] * (s.frame + 1.0) / s.frames));
     char status[128], timing[64];
     std::snprintf(status, sizeof status, "frame %zu/%zu  t = %.3f s%s", s.frame, s.frames - 1,
                   reader.summary().frames[s.frame].time, s.playing ? "" : "  paused");

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "render/gl/GlHandle.h"
+#include "render/gl/PixelTransfer.h"
 #include "render/gl/ShaderLibrary.h"
 #include "sim/Types.h"
 #include "sim/scene/Camera.h"
@@ -58,8 +59,7 @@ class DeferredTarget {
   gl::Framebuffer framebuffer_;
   gl::VertexArray vao_;
   gl::Texture lit_, albedo_, position_, normal_, depth_;
-  gl::Texture final_;          // lights.shade "cpu": each pixel's colour, RGBA8 sRGB-encoded
-  gl::Framebuffer finalRead_;  // final_ as a blit's source
+  gl::ImageBlit final_;  // lights.shade "cpu": each pixel's colour, RGBA8 sRGB-encoded
   // The G-buffer read back and the colours computed from it, kept between frames.
   std::vector<float> readDepth_, readPosition_, readNormal_, readLit_;
   std::vector<std::uint16_t> readAlbedo_;

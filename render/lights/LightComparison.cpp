@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "render/frame/Lighting.h"
+#include "render/gl/PixelTransfer.h"
 #include "render/gl/Shader.h"
 #include "sim/scene/Camera.h"
 
@@ -62,10 +63,8 @@ SolidGBuffer solidGBuffer(solids::SolidRenderer& solids, const scene::CameraDesc
   solids.drawWith(program.id(), cf);
   const std::size_t n = static_cast<std::size_t>(width) * height;
   std::vector<float> pos(4 * n), nrm(4 * n);
-  glGetTextureImage(position.id(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(pos.size() * 4),
-                    pos.data());
-  glGetTextureImage(normal.id(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(nrm.size() * 4),
-                    nrm.data());
+  gl::readTexture(position.id(), GL_RGBA, GL_FLOAT, pos.size() * 4, pos.data());
+  gl::readTexture(normal.id(), GL_RGBA, GL_FLOAT, nrm.size() * 4, nrm.data());
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   SolidGBuffer g;
   g.width = width, g.height = height;

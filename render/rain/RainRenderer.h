@@ -14,6 +14,7 @@
 
 #include "render/frame/FrameLayer.h"
 #include "render/gl/GlHandle.h"
+#include "render/gl/PixelTransfer.h"
 #include "render/gl/ShaderLibrary.h"
 #include "render/rain/StreakRaster.h"
 #include "sim/rain/RainSystem.h"
@@ -39,16 +40,14 @@ class RainRenderer final : public frame::FrameLayer {
   void drawTriangles(const scene::CameraFrame& camera, const frame::Lighting& lighting);
   void drawCpu(const scene::CameraFrame& camera, const frame::Lighting& lighting);
   scene::RainDesc desc_;
-  // "cpu": the rasteriser, the drops it draws, the frame's depth and colour, and the texture
-  // (with its framebuffer) the composed colour is copied back from.
+  // "cpu": the rasteriser, the drops it draws, the frame's depth and colour, and the composed
+  // colour put back on the frame.
   std::unique_ptr<StreakRaster> raster_;
   std::vector<Vec3> positions_;
   std::vector<std::uint8_t> layers_;
   std::vector<float> depth_;
   std::vector<std::uint8_t> colour_;  // RGBA8, row 0 at the bottom
-  gl::Texture layerTexture_;
-  gl::Framebuffer layerFramebuffer_;
-  int layerWidth_ = 0, layerHeight_ = 0;
+  gl::ImageBlit composed_;
   // "triangles":
   gl::Program program_;
   gl::Texture streaks_;

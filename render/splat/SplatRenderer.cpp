@@ -10,7 +10,9 @@
 #include "render/frame/DeferredTarget.h"
 #include "render/frame/ExtraLights.h"
 #include "render/frame/ProgramUniforms.h"
+#include "render/frame/ReadPicture.h"
 #include "render/gl/GlError.h"
+#include "render/gl/PixelTransfer.h"
 #include "render/gl/Shader.h"
 
 namespace sph::render::splat {
@@ -153,30 +155,22 @@ Backdrop SplatRenderer::drawBackdrop(const scene::CameraDesc& camera,
              cameraFrame(camera, static_cast<float>(width_) / height_), lighting, true);
   glFinish();
   const std::size_t n = static_cast<std::size_t>(width_) * height_;
-  std::vector<std::uint8_t> rgba(4 * n);
-  std::vector<float> depth(n);
-  glNamedFramebufferReadBuffer(framebuffer_.id(), GL_COLOR_ATTACHMENT0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-  glReadPixels(0, 0, width_, height_, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
   Backdrop b;
   b.width = width_, b.height = height_;
-  b.rgb.resize(3 * n);
+  b.rgb = frame::readPicture(framebuffer_.id(), GL_COLOR_ATTACHMENT0, width_, height_).rgb;
+  std::vector<float> depth(n);
+  gl::readPixels(framebuffer_.id(), GL_NONE, {0, 0, width_, height_}, GL_DEPTH_COMPONENT, GL_FLOAT,
+                 depth.data(), gl::RowOrder::TopFirst);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
   b.viewDepth.resize(n);
   // Window depth -> distance along the view axis, inverting gluPerspective's depth mapping.
   const double near = camera.near, far = camera.far;
-  for (int row = 0; row < height_; ++row) {
-    const std::size_t src = static_cast<std::size_t>(height_ - 1 - row) * width_;
-    const std::size_t dst = static_cast<std::size_t>(row) * width_;
-    for (int col = 0; col < width_; ++col) {
-      for (int k = 0; k < 3; ++k) b.rgb[3 * (dst + col) + k] = rgba[4 * (src + col) + k];
-      const double d = depth[src + col];
-      const double ndc = 2 * d - 1;
-      b.viewDepth[dst + col] =
-          d >= 1.0 ? std::numeric_limits<float>::infinity()
-                   : static_cast<float>(2 * near * far / (far + near - ndc * (far - near)));
-    }
+  for (std::size_t p = 0; p < n; ++p) {
+    const double d = depth[p];
+    const double ndc = 2 * d - 1;
+    b.viewDepth[p] = d >= 1.0
+                         ? std::numeric_limits<float>::infinity()
+                         : static_cast<float>(2 * near * far / (far + near - ndc * (far - near)));
   }
   return b;
 }
@@ -352,29 +346,20 @@ frame::RenderImage SplatRenderer::render(const SplatFrame& frame, SplatKind kind
   glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 0, bgEncoded);
   if (withNormals) glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 1, zero);
   glClearNamedFramebufferfi(framebuffer_.id(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
-  frame::RenderImage image;
-  image.resize(width_, height_, withNormals);
-  image.seconds = draw(frame, kind, camera, lighting, width_, height_, true);
-
-  // Read back, flipping rows (GL's row 0 is the bottom).
-  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(width_) * height_ * 4);
-  glNamedFramebufferReadBuffer(framebuffer_.id(), GL_COLOR_ATTACHMENT0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-  std::vector<float> normal;
+  const double seconds = draw(frame, kind, camera, lighting, width_, height_, true);
+  frame::RenderImage image =
+      frame::readPicture(framebuffer_.id(), GL_COLOR_ATTACHMENT0, width_, height_);
+  image.seconds = seconds;
   if (withNormals) {
-    normal.resize(static_cast<std::size_t>(width_) * height_ * 4);
-    glNamedFramebufferReadBuffer(framebuffer_.id(), GL_COLOR_ATTACHMENT1);
-    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, normal.data());
-  }
-  for (int row = 0; row < height_; ++row) {
-    const std::size_t src = static_cast<std::size_t>(height_ - 1 - row) * width_;
-    const std::size_t dst = static_cast<std::size_t>(row) * width_;
-    for (int col = 0; col < width_; ++col) {
-      for (int k = 0; k < 3; ++k) image.rgb[3 * (dst + col) + k] = rgba[4 * (src + col) + k];
-      if (!withNormals) continue;
-      for (int k = 0; k < 3; ++k) image.normal[3 * (dst + col) + k] = normal[4 * (src + col) + k];
-      image.covered[dst + col] = normal[4 * (src + col) + 3] > 0.5f ? 1 : 0;
+    const std::size_t n = static_cast<std::size_t>(width_) * height_;
+    std::vector<float> normal(4 * n);
+    gl::readPixels(framebuffer_.id(), GL_COLOR_ATTACHMENT1, {0, 0, width_, height_}, GL_RGBA,
+                   GL_FLOAT, normal.data(), gl::RowOrder::TopFirst);
+    image.normal.resize(3 * n);
+    image.covered.resize(n);
+    for (std::size_t p = 0; p < n; ++p) {
+      for (std::size_t k = 0; k < 3; ++k) image.normal[3 * p + k] = normal[4 * p + k];
+      image.covered[p] = normal[4 * p + 3] > 0.5f ? 1 : 0;
     }
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
