@@ -9,15 +9,13 @@
 #include "app/ExitCode.h"
 #include "app/RenderOutput.h"
 #include "io/export/Png.h"
+#include "render/compose/SceneFrame.h"
 #include "render/frame/Annotate.h"
 #include "render/gl/GlContext.h"
 #include "render/lights/LightComparison.h"
 #include "render/solids/SceneSolids.h"
-#include "render/solids/SolidRenderer.h"
-#include "render/splat/FrameRenderer.h"
 #include "sim/lights/LightParticles.h"
 #include "sim/scene/EnumNames.h"
-#include "sim/solver/SceneSetup.h"
 
 namespace sph::app {
 namespace {
@@ -38,10 +36,10 @@ void compareParticleLights(CacheRendering& c, std::size_t f, const Particles& p,
       sph::lights::lightParticles(desc, p, c.frameTime(f), sph::lights::lightSolids(c.scene));
   volume.update(lights);  // the first dispatch compiles llvmpipe's shader variants
   const double accumulate = volume.update(lights);
-  const float thickness = solver::deriveParams(c.scene).boundaryLayers * c.scene.solver.spacing;
-  render::solids::SolidRenderer solids(c.scene.boundaries, c.scene.domain, thickness);
+  const std::unique_ptr<render::solids::SolidRenderer> solids =
+      render::solids::sceneSolids(c.scene);
   const render::lights::SolidGBuffer g =
-      render::lights::solidGBuffer(solids, c.camera, c.desc.width, c.desc.height);
+      render::lights::solidGBuffer(*solids, c.camera, c.desc.width, c.desc.height);
   std::printf(
       "particle lights: %zu lights, %d x %d x %d voxels of %.3g m, %s accumulation %.1f ms\n",
       lights.size(), desc.voxels[0], desc.voxels[1], desc.voxels[2], desc.voxelSize,
@@ -57,7 +55,7 @@ void compareParticleLights(CacheRendering& c, std::size_t f, const Particles& p,
                                                {scene::LightFilter::Trilinear, 0, 2},
                                                {scene::LightFilter::Tricubic, 1, 2}};
   const std::vector<render::lights::LightComparison> results =
-      render::lights::compareLights(volume, lights, g, solids.material.colour, settings);
+      render::lights::compareLights(volume, lights, g, solids->material.colour, settings);
   std::printf("  light on the solids (%zu pixels) against the exact sum over the lights:\n",
               g.points.size());
   std::printf("  %-16s %9s | %8s %9s | %8s %9s | %8s %9s\n", "filter", "ms", "PSNR dB", "mean abs",
@@ -88,17 +86,17 @@ int compareJob(const CompareRequest& o) {
   const io::OutputLock directoryLock = lockDirectory(o.out);
   makeDirectory(o.out);
   render::gl::GlContext context = render::gl::GlContext::headless();
-  render::splat::FrameRenderer renderer(c.desc, c.scene.solver.spacing, c.scene.solver.restDensity);
-  const Particles p = c.positions(f);
-  if (!c.cameraFromScene)
-    c.camera = render::splat::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
   // Opaque solids are drawn in every panel, the reference's included (GL draws them for it: the
   // rays end on them). Boundary points are translucent: the reference could not have them, so
   // the panels show the water alone then.
-  std::unique_ptr<render::solids::SolidRenderer> solids;
-  if (c.desc.solids == scene::RenderSolids::Opaque)
-    solids = render::solids::showSolids(c.scene, renderer, [&] { return c.boundary(); });
-  renderer.prepare(p);
+  render::compose::SceneFrame sceneFrame(c.scene, c.desc, {},
+                                         render::compose::SceneParts::scored());
+  render::splat::FrameRenderer& renderer = sceneFrame.renderer();
+  const bool solids = c.desc.solids == scene::RenderSolids::Opaque;
+  const Particles p = c.positions(f);
+  if (!c.cameraFromScene)
+    c.camera = render::splat::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
+  sceneFrame.setWater(p);
   const render::splat::RenderedSplats point =
       renderer.renderScored(render::splat::SplatKind::Point, c.camera);
   const render::splat::RenderedSplats quad =

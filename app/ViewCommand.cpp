@@ -16,13 +16,10 @@
 #include "app/Commands.h"
 #include "io/cache/CacheReader.h"
 #include "io/export/Png.h"
+#include "render/compose/SceneFrame.h"
 #include "render/frame/HudText.h"
 #include "render/frame/ReadPicture.h"
 #include "render/gl/GlContext.h"
-#include "render/lights/SceneLights.h"
-#include "render/rain/SceneRain.h"
-#include "render/solids/SceneSolids.h"
-#include "render/splat/FrameRenderer.h"
 #include "sim/InputError.h"
 #include "sim/scene/Camera.h"
 
@@ -88,16 +85,15 @@ int view(const ViewOptions& o) {
   wo.width = o.width, wo.height = o.height;
   wo.title = "sphsplat view - " + scene.name;
   render::gl::GlContext window = render::gl::GlContext::window(wo);
-  render::splat::FrameRenderer renderer(desc, scene.solver.spacing, scene.solver.restDensity);
-  const auto solids = render::solids::showSolids(scene, renderer, [&] {
+  render::compose::SceneFrame sceneFrame(scene, desc, [&] {
     const auto b = reader.readBoundary();
     checkPositions(b[0], b[1], b[2], scene, "the boundary", o.cache);
     return std::array<std::vector<float>, 3>{b[0], b[1], b[2]};
   });
-  const auto lights = render::lights::showLights(scene, renderer);
+  render::lights::SceneLights* const lights = sceneFrame.lights();
   // Rain (a rain section): the drops the run stored, else regenerated (app/CacheRain.h), and kept
   // where the camera looks when the user flies it (render/rain/SceneRain.h).
-  const auto rain = render::rain::showRain(scene, renderer, solids.get());
+  render::rain::SceneRain* const rain = sceneFrame.rain();
 
   const io::cache::FieldSet xyz = fieldsToDraw(scene);
   ViewerState s;
@@ -205,17 +201,17 @@ int view(const ViewOptions& o) {
     if (s.frameChanged) {
       shown = reader.readFrame(s.frame, xyz);
       checkPositions(shown.x, shown.y, shown.z, scene, "frame " + std::to_string(s.frame), o.cache);
-      renderer.prepare(shown);
+      sceneFrame.setWater(shown);
       if (rain) showCachedRain(*rain, reader, s.frame, time, shown);
     }
     if (lights &&
         (s.frameChanged || (culledAspect != 0 && (!cullLights || aspect != culledAspect)))) {
-      lights->update(shown, time, cullLights ? &camera : nullptr, aspect);
+      sceneFrame.updateLights(shown, time, cullLights ? &camera : nullptr, aspect);
       culledAspect = cullLights ? aspect : 0;
     }
     s.frameChanged = false;
     if (rain) rain->follow(camera);
-    const render::splat::FrameTimings t = renderer.drawToScreen(s.kind, camera, size[0], size[1]);
+    const render::splat::FrameTimings t = sceneFrame.drawToScreen(s.kind, camera, size[0], size[1]);
     // The timeline: the played part up to and including this frame.
     render::frame::drawTimeline(size[0], timeline,
                                 static_cast<int>(size[0] * (s.frame + 1.0) / s.frames));

@@ -40,6 +40,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -53,12 +54,12 @@
 #include "render/lights/CpuShading.h"
 #include "render/lights/LightCulling.h"
 #include "render/lights/LightVolume.h"
+#include "render/solids/SceneSolids.h"
 #include "render/solids/SolidRenderer.h"
 #include "render/splat/SplatRenderer.h"
 #include "sim/Parallel.h"
 #include "sim/lights/LightParticles.h"
 #include "sim/scene/EnumNames.h"
-#include "sim/solver/SceneSetup.h"
 
 using namespace sph;
 using namespace sph::render::lights;
@@ -299,8 +300,7 @@ void fireflies() {
   d.accumulate = accumulate;
   const std::vector<sph::lights::LightParticle> lights =
       sph::lights::lightParticles(d, Particles{}, 0.2, sph::lights::lightSolids(scene));
-  const float thickness = solver::deriveParams(scene).boundaryLayers * scene.solver.spacing;
-  render::solids::SolidRenderer solids(scene.boundaries, scene.domain, thickness);
+  const std::unique_ptr<render::solids::SolidRenderer> solids = render::solids::sceneSolids(scene);
   scene::CameraDesc cup = *scene.camera;
   cup.position = Vec3(0.62f, 0.3f, 0.05f), cup.target = Vec3(0.35f, 0.07f, -0.25f);
   std::printf(
@@ -309,7 +309,7 @@ void fireflies() {
       d.voxels[0], d.voxels[1], d.voxels[2], d.voxelSize, d.range, nameOf(d.filter),
       nameOf(d.pipeline), nameOf(d.accumulate), repeat);
   header();
-  measure(d, lights, solids, scene.render ? scene.render->width : 640,
+  measure(d, lights, *solids, scene.render ? scene.render->width : 640,
           scene.render ? scene.render->height : 480, {{"scene", *scene.camera}, {"cup", cup}});
 }
 
