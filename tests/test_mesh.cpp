@@ -16,6 +16,7 @@
 #include "render/splat/ReferenceRaymarcher.h"
 #include "render/splat/SplatBuilder.h"
 #include "sim/Parallel.h"
+#include "sim/scene/Camera.h"
 
 namespace sph::render::mesh {
 namespace {
@@ -236,12 +237,9 @@ struct Raster {
   std::vector<Vec3> normal, position;  // interpolated from the nearest triangle
 };
 Raster rasterise(const SurfaceMesh& m, const scene::CameraDesc& camera, int width, int height) {
-  const Vec3 eye = camera.position;
-  const Vec3 forward = (camera.target - eye).normalized();
-  const Vec3 right = forward.cross(camera.up).normalized();
-  const Vec3 up = right.cross(forward);
-  const float tanHalf =
-      std::tan(0.5f * camera.fovYDegrees * static_cast<float>(solver::kPi) / 180.0f);
+  const scene::CameraBasis basis = scene::cameraBasis(camera);
+  const Vec3 &eye = basis.eye, &forward = basis.forward, &right = basis.right, &up = basis.up;
+  const float tanHalf = scene::tanHalfFovY(camera);
   const float aspect = static_cast<float>(width) / height;
   Raster r;
   r.depth.assign(static_cast<std::size_t>(width) * height, std::numeric_limits<float>::infinity());

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "sim/Parallel.h"
+#include "sim/scene/Camera.h"
 
 namespace sph::render::splat {
 namespace {
@@ -29,12 +30,9 @@ frame::RenderImage castRays(const DensityField& field, float grow, const scene::
   lo -= Vec3::Constant(grow), hi += Vec3::Constant(grow);
 
   // Camera basis (gluLookAt / gluPerspective, as the GL renderer's matrices).
-  const Vec3 eye = camera.position;
-  const Vec3 forward = (camera.target - eye).normalized();
-  const Vec3 right = forward.cross(camera.up).normalized();
-  const Vec3 up = right.cross(forward);
-  const float tanHalf =
-      std::tan(0.5f * camera.fovYDegrees * static_cast<float>(solver::kPi) / 180.0f);
+  const scene::CameraBasis basis = scene::cameraBasis(camera);
+  const Vec3 &eye = basis.eye, &forward = basis.forward, &right = basis.right, &up = basis.up;
+  const float tanHalf = scene::tanHalfFovY(camera);
   const float aspect = static_cast<float>(width) / height;
 
   parallelForDynamic(static_cast<std::size_t>(height), 1, [&](std::size_t row) {
