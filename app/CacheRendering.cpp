@@ -35,12 +35,6 @@ void applySize(const std::string& size, scene::RenderDesc& d) {
 
 }  // namespace
 
-std::vector<render::splat::SplatKind> kindsOf(scene::RenderDesc::Splat s) {
-  if (s == scene::RenderDesc::Splat::Point) return {render::splat::SplatKind::Point};
-  if (s == scene::RenderDesc::Splat::Quad) return {render::splat::SplatKind::Quad};
-  return {render::splat::SplatKind::Point, render::splat::SplatKind::Quad};
-}
-
 CacheRendering::CacheRendering(const std::string& path_, const std::vector<std::string>& overrides,
                                const std::string& splat, const std::string& size)
     : path(path_),

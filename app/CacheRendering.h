@@ -10,7 +10,6 @@
 
 #include "io/cache/CacheReader.h"
 #include "render/frame/RenderImage.h"
-#include "render/splat/SplatBuilder.h"
 #include "sim/scene/CameraDesc.h"
 #include "sim/Particles.h"
 #include "sim/scene/RenderDesc.h"
@@ -21,9 +20,6 @@ namespace sph::app {
 // The fields a frame of `scene` needs to be drawn: positions, and velocities for lights coloured
 // by speed.
 io::cache::FieldSet fieldsToDraw(const scene::Scene& scene);
-
-// The splat kinds a render.splat choice draws, in drawing order.
-std::vector<render::splat::SplatKind> kindsOf(scene::RenderDesc::Splat s);
 
 struct CacheRendering {
   std::string path;
