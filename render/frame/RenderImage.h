@@ -40,7 +40,7 @@ struct ImageError {
 };
 ImageError compareImages(const RenderImage& image, const RenderImage& reference);
 
-// How much of what only the every-particle picture shows (FrameRenderer::
+// How much of what only the every-particle picture shows (splat::FrameRenderer::
 // referenceOfEveryParticle: covered there, not by the SD reference: thin jets and lone drops)
 // `image` covers. All three need their coverage.
 struct ThinCoverage {
