@@ -33,7 +33,7 @@ struct SceneParts {
   static SceneParts scored() { return {false, false, false}; }
 };
 
-// A frame's pictures: one a splat kind that render.splat asks for, in drawing order.
+// A frame's pictures: one per splat kind render.splat asks for, in drawing order.
 struct Picture {
   splat::SplatKind kind;
   splat::RenderedSplats splats;
