@@ -14,16 +14,15 @@
 #include "job/CacheScene.h"
 #include "app/CliChecks.h"
 #include "app/Commands.h"
+#include "io/MessageText.h"
 #include "io/cache/CacheReader.h"
 #include "io/export/Png.h"
+#include "render/compose/SceneFrame.h"
+#include "render/frame/HudText.h"
+#include "render/frame/ReadPicture.h"
 #include "render/gl/GlContext.h"
-#include "render/lights/SceneLights.h"
-#include "render/rain/SceneRain.h"
-#include "render/solids/SceneSolids.h"
-#include "render/splat/FrameRenderer.h"
-#include "render/splat/HudText.h"
-#include "sim/scene/Camera.h"
 #include "sim/InputError.h"
+#include "sim/scene/Camera.h"
 
 namespace sph::app {
 namespace {
@@ -72,16 +71,9 @@ struct ViewerState {
 };
 
 void saveScreenshot(const std::string& path, int width, int height) {
-  std::vector<std::uint8_t> rgb(static_cast<std::size_t>(width) * height * 3), flipped(rgb.size());
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadBuffer(GL_BACK);
-  glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
-  for (int row = 0; row < height; ++row) {
-    std::copy_n(&rgb[static_cast<std::size_t>(height - 1 - row) * width * 3], width * 3,
-                &flipped[static_cast<std::size_t>(row) * width * 3]);
-  }
-  io::writePng(path, width, height, flipped.data());
-  std::printf("wrote %s\n", path.c_str());
+  const render::frame::RenderImage shot = render::frame::readWindow(width, height);
+  io::writePng(path, width, height, shot.rgb.data());
+  io::sayWritten(path);
 }
 
 int view(const ViewOptions& o) {
@@ -94,16 +86,15 @@ int view(const ViewOptions& o) {
   wo.width = o.width, wo.height = o.height;
   wo.title = "sphsplat view - " + scene.name;
   render::gl::GlContext window = render::gl::GlContext::window(wo);
-  render::splat::FrameRenderer renderer(desc, scene.solver.spacing, scene.solver.restDensity);
-  const auto solids = render::solids::showSolids(scene, renderer, [&] {
+  render::compose::SceneFrame sceneFrame(scene, desc, [&] {
     const auto b = reader.readBoundary();
     job::checkPositions(b[0], b[1], b[2], scene, "the boundary", o.cache);
     return std::array<std::vector<float>, 3>{b[0], b[1], b[2]};
   });
-  const auto lights = render::lights::showLights(scene, renderer);
+  render::lights::SceneLights* const lights = sceneFrame.lights();
   // Rain (a rain section): the drops the run stored, else regenerated (job/CacheRain.h), and kept
   // where the camera looks when the user flies it (render/rain/SceneRain.h).
-  const auto rain = render::rain::showRain(scene, renderer, solids.get());
+  render::rain::SceneRain* const rain = sceneFrame.rain();
 
   const io::cache::FieldSet xyz = job::fieldsToDraw(scene);
   ViewerState s;
@@ -186,7 +177,7 @@ int view(const ViewOptions& o) {
 
   const double frameSeconds =
       1.0 / (reader.summary().fps > 0 ? reader.summary().fps : 30.0) / o.speed;
-  render::splat::HudText hud;
+  render::frame::HudText hud;
   auto lastAdvance = std::chrono::steady_clock::now();
   int drawn = 0;
   // The particle lights (lights.cull): culled to the camera while it follows the scene's camera
@@ -210,28 +201,21 @@ int view(const ViewOptions& o) {
     const bool cullLights = lights && scene.lights->cull && !s.touched;
     if (s.frameChanged) {
       shown = reader.readFrame(s.frame, xyz);
-      job::checkPositions(shown.x, shown.y, shown.z, scene, "frame " + std::to_string(s.frame),
-                     o.cache);
-      renderer.prepare(shown);
+      job::checkPositions(shown.x, shown.y, shown.z, scene, "frame " + std::to_string(s.frame), o.cache);
+      sceneFrame.setWater(shown);
       if (rain) job::showCachedRain(*rain, reader, s.frame, time, shown);
     }
     if (lights &&
         (s.frameChanged || (culledAspect != 0 && (!cullLights || aspect != culledAspect)))) {
-      lights->update(shown, time, cullLights ? &camera : nullptr, aspect);
+      sceneFrame.updateLights(shown, time, cullLights ? &camera : nullptr, aspect);
       culledAspect = cullLights ? aspect : 0;
     }
     s.frameChanged = false;
     if (rain) rain->follow(camera);
-    const render::splat::FrameTimings t = renderer.drawToScreen(s.kind, camera, size[0], size[1]);
-    // The timeline: a grey bar with the played part in blue (scissored clears, no shader).
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(0, 0, size[0], timeline);
-    glClearColor(0.75f, 0.77f, 0.8f, 1);
-    glClear(GL_COLOR_BUFFER_BIT);
-    glScissor(0, 0, static_cast<int>(size[0] * (s.frame + 1.0) / s.frames), timeline);
-    glClearColor(0.16f, 0.42f, 0.78f, 1);
-    glClear(GL_COLOR_BUFFER_BIT);
-    glDisable(GL_SCISSOR_TEST);
+    const render::splat::FrameTimings t = sceneFrame.drawToScreen(s.kind, camera, size[0], size[1]);
+    // The timeline: the played part up to and including this frame.
+    render::frame::drawTimeline(size[0], timeline,
+                                static_cast<int>(size[0] * (s.frame + 1.0) / s.frames));
     char status[128], timing[64];
     std::snprintf(status, sizeof status, "frame %zu/%zu  t = %.3f s%s", s.frame, s.frames - 1,
                   reader.summary().frames[s.frame].time, s.playing ? "" : "  paused");

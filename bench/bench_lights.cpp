@@ -29,8 +29,8 @@
 #include "render/lights/LightVolume.h"
 #include "render/solids/SolidRenderer.h"
 #include "render/splat/SplatRenderer.h"
-#include "sim/scene/Camera.h"
 #include "sim/lights/LightParticles.h"
+#include "sim/scene/Camera.h"
 
 using namespace sph;
 using namespace sph::render::lights;
@@ -237,7 +237,7 @@ void solidsWithoutLights() {
                                        0.5f);
   render::splat::SplatRenderer renderer(960, 540);
   renderer.setLayers({&solids});
-  render::splat::Lighting lighting;
+  render::frame::Lighting lighting;
   double best = 1e30;
   for (int k = 0; k <= repeat; ++k) {
     const double t = renderer
@@ -277,12 +277,12 @@ void pipelines() {
     deferred.update(lights);
     std::vector<std::uint8_t> first;
     for (const LightVolume* v : {&forward, &deferred}) {
-      render::splat::Lighting lighting;
+      render::frame::Lighting lighting;
       lighting.extra = v;
       renderer.render(render::splat::SplatFrame{}, render::splat::SplatKind::Point, camera,
                       lighting);  // compiles llvmpipe's variants
       double draw = 1e30, gbuffer = 0, lit = 0;
-      render::splat::RenderImage image;
+      render::frame::RenderImage image;
       for (int k = 0; k < repeat; ++k) {
         image = renderer.render(render::splat::SplatFrame{}, render::splat::SplatKind::Point,
                                 camera, lighting);

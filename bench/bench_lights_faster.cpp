@@ -40,6 +40,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -53,12 +54,12 @@
 #include "render/lights/CpuShading.h"
 #include "render/lights/LightCulling.h"
 #include "render/lights/LightVolume.h"
+#include "render/solids/SceneSolids.h"
 #include "render/solids/SolidRenderer.h"
 #include "render/splat/SplatRenderer.h"
-#include "sim/scene/EnumNames.h"
-#include "sim/lights/LightParticles.h"
 #include "sim/Parallel.h"
-#include "sim/solver/SceneSetup.h"
+#include "sim/lights/LightParticles.h"
+#include "sim/scene/EnumNames.h"
 
 using namespace sph;
 using namespace sph::render::lights;
@@ -92,9 +93,9 @@ std::pair<double, double> pairedMin(LightVolume& a, const LightView* viewA, Ligh
   return {ta, tb};
 }
 
-render::splat::RenderImage draw(render::splat::SplatRenderer& r, const scene::CameraDesc& camera,
+render::frame::RenderImage draw(render::splat::SplatRenderer& r, const scene::CameraDesc& camera,
                                 const LightVolume& v) {
-  render::splat::Lighting lighting;
+  render::frame::Lighting lighting;
   lighting.extra = &v;
   return r.render(render::splat::SplatFrame{}, render::splat::SplatKind::Point, camera, lighting);
 }
@@ -114,7 +115,7 @@ void measure(const scene::LightsDesc& desc, const std::vector<sph::lights::Light
     const auto [tAll, tCulled] = pairedMin(all, nullptr, culled, &lv, lights);
     draw(renderer, v.camera, all);  // compiles llvmpipe's variants
     double drawAll = 1e30, drawCulled = 1e30;
-    render::splat::RenderImage a, c;
+    render::frame::RenderImage a, c;
     for (int k = 0; k < repeat; ++k) {
       a = draw(renderer, v.camera, all);
       drawAll = std::min(drawAll, a.seconds);
@@ -267,13 +268,13 @@ void frame() {
     double tAll = 1e30, tCulled = 1e30, gbuffer = 1e30, particles = 1e30, lighting = 1e30,
            drawn = 1e30;
     double cpuCulled = 1e30, cpuDraw = 1e30;
-    render::splat::RenderImage last;
+    render::frame::RenderImage last;
     for (int k = 0; k < repeat; ++k) {
       tAll = std::min(tAll, all.update(lights));
       const double c0 = cpuSeconds();
       tCulled = std::min(tCulled, culled.update(lights, &view));
       const double c1 = cpuSeconds();
-      render::splat::RenderImage image = draw(renderer, camera, culled);
+      render::frame::RenderImage image = draw(renderer, camera, culled);
       const double c2 = cpuSeconds();
       cpuCulled = std::min(cpuCulled, c1 - c0), cpuDraw = std::min(cpuDraw, c2 - c1);
       drawn = std::min(drawn, image.seconds);
@@ -299,8 +300,7 @@ void fireflies() {
   d.accumulate = accumulate;
   const std::vector<sph::lights::LightParticle> lights =
       sph::lights::lightParticles(d, Particles{}, 0.2, sph::lights::lightSolids(scene));
-  const float thickness = scene.solver.wallThickness();
-  render::solids::SolidRenderer solids(scene.boundaries, scene.domain, thickness);
+  const std::unique_ptr<render::solids::SolidRenderer> solids = render::solids::sceneSolids(scene);
   scene::CameraDesc cup = *scene.camera;
   cup.position = Vec3(0.62f, 0.3f, 0.05f), cup.target = Vec3(0.35f, 0.07f, -0.25f);
   std::printf(
@@ -309,18 +309,18 @@ void fireflies() {
       d.voxels[0], d.voxels[1], d.voxels[2], d.voxelSize, d.range, nameOf(d.filter),
       nameOf(d.pipeline), nameOf(d.accumulate), repeat);
   header();
-  measure(d, lights, solids, scene.render ? scene.render->width : 640,
+  measure(d, lights, *solids, scene.render ? scene.render->width : 640,
           scene.render ? scene.render->height : 480, {{"scene", *scene.camera}, {"cup", cup}});
 }
 
 // The frame's volume, with a copy of the G-buffer the CPU shading reads (cpuside).
-class GBufferCopy final : public render::splat::ExtraLights {
+class GBufferCopy final : public render::frame::ExtraLights {
  public:
   explicit GBufferCopy(const LightVolume& v) : volume_(v) {}
   void apply(GLuint program) const override { volume_.apply(program); }
   bool deferred() const override { return volume_.deferred(); }
   bool shadesOnCpu() const override { return volume_.shadesOnCpu(); }
-  void shadeOnCpu(const render::splat::GBufferPixels& g, const Vec3& from,
+  void shadeOnCpu(const render::frame::GBufferPixels& g, const Vec3& from,
                   std::uint8_t* rgba) const override {
     const std::size_t n = g.count();
     depth.assign(g.depth, g.depth + n), normal.assign(g.normal, g.normal + 4 * n);
@@ -331,7 +331,7 @@ class GBufferCopy final : public render::splat::ExtraLights {
     pixels.albedo = albedo.data(), pixels.position = g.position ? position.data() : nullptr;
     volume_.shadeOnCpu(g, from, rgba);
   }
-  mutable render::splat::GBufferPixels pixels;
+  mutable render::frame::GBufferPixels pixels;
   mutable Vec3 eye = Vec3::Zero();
 
  private:
@@ -368,7 +368,7 @@ void cpuSide() {
     LightVolume volume(d);
     volume.update(lights, &view);
     GBufferCopy frame(volume);
-    render::splat::Lighting lighting;
+    render::frame::Lighting lighting;
     lighting.extra = &frame;
     world.renderer.render(render::splat::SplatFrame{}, render::splat::SplatKind::Point,
                           world.camera, lighting);

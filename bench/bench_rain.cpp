@@ -24,8 +24,8 @@
 #include "render/rain/StreakRaster.h"
 #include "render/rain/StreakSums.h"
 #include "render/splat/SplatRenderer.h"
-#include "sim/scene/Camera.h"
 #include "sim/rain/RainSystem.h"
+#include "sim/scene/Camera.h"
 
 namespace sph {
 namespace {
@@ -78,10 +78,10 @@ struct RainFrameDraw {
     renderer.setLayers({&layer});
   }
   // Uploads the drops and draws them: upload + draw + read back.
-  render::splat::RenderImage draw(const scene::CameraDesc& camera) {
+  render::frame::RenderImage draw(const scene::CameraDesc& camera) {
     layer.setDrops(drops);
     return renderer.render(render::splat::SplatFrame{}, render::splat::SplatKind::Point, camera,
-                           render::splat::Lighting{});
+                           render::frame::Lighting{});
   }
   rain::RainSystem drops;
   render::rain::RainRenderer layer;

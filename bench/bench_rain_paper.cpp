@@ -42,13 +42,7 @@ scene::CameraDesc pathCamera(int path, int frame) {
   return c;
 }
 
-// The rain camera's frustum from the general camera maths (sim/scene/Camera.h, not the rain's own
-// test), and its volume near..far (a truncated pyramid), m^3.
-scene::Frustum rainFrustum(const scene::CameraDesc& camera, const scene::RainDesc& d) {
-  scene::CameraDesc c = camera;
-  c.near = d.near, c.far = d.far;
-  return scene::Frustum(cameraFrame(c, kAspect).projView);
-}
+// The rain camera's frustum's volume near..far (a truncated pyramid), m^3.
 double frustumVolume(const scene::CameraDesc& c, const scene::RainDesc& d) {
   const double t = std::tan(c.fovYDegrees * M_PI / 360);
   return 4.0 / 3.0 * t * t * kAspect * (std::pow(d.far, 3.0) - std::pow(d.near, 3.0));
@@ -67,7 +61,8 @@ void RainInView(benchmark::State& state) {
     for (int f = 1; f <= 30; ++f) {
       const scene::CameraDesc c = pathCamera(path, f);
       r.update(c, 1.0f / 30);
-      const scene::Frustum frustum = rainFrustum(c, d);
+      // From the general camera maths (sim/scene/Camera.h), not the rain's own test.
+      const scene::Frustum frustum = scene::viewFrustum(c, kAspect, d.near, d.far);
       std::size_t in = 0;
       for (const Vec3& p : r.positions()) {
         bool inside = true;

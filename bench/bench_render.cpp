@@ -114,7 +114,7 @@ int main(int argc, char** argv) {
       render::splat::FrameRenderer r(desc, spacing, 1000.0f);
       const scene::CameraDesc camera =
           render::splat::framingCamera(pool, static_cast<float>(width) / height);
-      render::splat::RenderImage ref;
+      render::frame::RenderImage ref;
       r.prepare(pool);
       if (reference) ref = r.reference(camera);
       for (render::splat::SplatKind kind :
@@ -132,8 +132,8 @@ int main(int argc, char** argv) {
           draw.push_back(last.timings.draw), total.push_back(last.timings.total());
         }
         // The error figures from the same frame drawn again with its normal target (untimed).
-        render::splat::ImageError e;
-        if (reference) e = render::splat::compareImages(r.renderScored(kind, camera).image, ref);
+        render::frame::ImageError e;
+        if (reference) e = render::frame::compareImages(r.renderScored(kind, camera).image, ref);
         const char* name = kind == render::splat::SplatKind::Point ? "point"
                            : newton                                ? "quad (newton)"
                                                                    : "quad (eq. 6)";

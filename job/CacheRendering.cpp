@@ -35,12 +35,6 @@ void applySize(const std::string& size, scene::RenderDesc& d) {
 
 }  // namespace
 
-std::vector<render::splat::SplatKind> kindsOf(scene::RenderDesc::Splat s) {
-  if (s == scene::RenderDesc::Splat::Point) return {render::splat::SplatKind::Point};
-  if (s == scene::RenderDesc::Splat::Quad) return {render::splat::SplatKind::Quad};
-  return {render::splat::SplatKind::Point, render::splat::SplatKind::Quad};
-}
-
 CacheRendering::CacheRendering(const std::string& path_, const std::vector<std::string>& overrides,
                                const std::string& splat, const std::string& size)
     : path(path_),
@@ -83,7 +77,7 @@ std::array<std::vector<float>, 3> CacheRendering::boundary() {
 }
 
 void CacheRendering::store(const std::string& renderer, std::size_t frame,
-                           const render::splat::RenderImage& image) {
+                           const render::frame::RenderImage& image) {
   open.reset();
   std::unique_ptr<io::CacheWriter> writer = io::CacheWriter::append(path, frameCount());
   writer->writeRenderedFrame(renderer, frame, image.width, image.height, image.rgb.data());

@@ -9,8 +9,7 @@
 #include <vector>
 
 #include "io/cache/CacheReader.h"
-#include "render/splat/RenderImage.h"
-#include "render/splat/SplatBuilder.h"
+#include "render/frame/RenderImage.h"
 #include "sim/scene/CameraDesc.h"
 #include "sim/Particles.h"
 #include "sim/scene/RenderDesc.h"
@@ -21,9 +20,6 @@ namespace sph::job {
 // The fields a frame of `scene` needs to be drawn: positions, and velocities for lights coloured
 // by speed.
 io::cache::FieldSet fieldsToDraw(const scene::Scene& scene);
-
-// The splat kinds a render.splat choice draws, in drawing order.
-std::vector<render::splat::SplatKind> kindsOf(scene::RenderDesc::Splat s);
 
 struct CacheRendering {
   std::string path;
@@ -46,7 +42,7 @@ struct CacheRendering {
   std::array<std::vector<float>, 3> boundary();
   // Stores an image in the cache as Render#<renderer>#<frame>.
   void store(const std::string& renderer, std::size_t frame,
-             const render::splat::RenderImage& image);
+             const render::frame::RenderImage& image);
 };
 
 }  // namespace sph::job

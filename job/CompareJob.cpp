@@ -8,16 +8,15 @@
 #include "job/CacheScene.h"
 #include "job/ExitCode.h"
 #include "job/RenderOutput.h"
+#include "io/MessageText.h"
 #include "io/export/Png.h"
+#include "render/compose/SceneFrame.h"
+#include "render/frame/Annotate.h"
 #include "render/gl/GlContext.h"
 #include "render/lights/LightComparison.h"
 #include "render/solids/SceneSolids.h"
-#include "render/solids/SolidRenderer.h"
-#include "render/splat/Annotate.h"
-#include "render/splat/FrameRenderer.h"
-#include "sim/scene/EnumNames.h"
 #include "sim/lights/LightParticles.h"
-#include "sim/solver/SceneSetup.h"
+#include "sim/scene/EnumNames.h"
 
 namespace sph::job {
 namespace {
@@ -38,10 +37,10 @@ void compareParticleLights(CacheRendering& c, std::size_t f, const Particles& p,
       sph::lights::lightParticles(desc, p, c.frameTime(f), sph::lights::lightSolids(c.scene));
   volume.update(lights);  // the first dispatch compiles llvmpipe's shader variants
   const double accumulate = volume.update(lights);
-  const float thickness = c.scene.solver.wallThickness();
-  render::solids::SolidRenderer solids(c.scene.boundaries, c.scene.domain, thickness);
+  const std::unique_ptr<render::solids::SolidRenderer> solids =
+      render::solids::sceneSolids(c.scene);
   const render::lights::SolidGBuffer g =
-      render::lights::solidGBuffer(solids, c.camera, c.desc.width, c.desc.height);
+      render::lights::solidGBuffer(*solids, c.camera, c.desc.width, c.desc.height);
   std::printf(
       "particle lights: %zu lights, %d x %d x %d voxels of %.3g m, %s accumulation %.1f ms\n",
       lights.size(), desc.voxels[0], desc.voxels[1], desc.voxels[2], desc.voxelSize,
@@ -57,12 +56,12 @@ void compareParticleLights(CacheRendering& c, std::size_t f, const Particles& p,
                                                {scene::LightFilter::Trilinear, 0, 2},
                                                {scene::LightFilter::Tricubic, 1, 2}};
   const std::vector<render::lights::LightComparison> results =
-      render::lights::compareLights(volume, lights, g, solids.material.colour, settings);
+      render::lights::compareLights(volume, lights, g, solids->material.colour, settings);
   std::printf("  light on the solids (%zu pixels) against the exact sum over the lights:\n",
               g.points.size());
   std::printf("  %-16s %9s | %8s %9s | %8s %9s | %8s %9s\n", "filter", "ms", "PSNR dB", "mean abs",
               "diff dB", "diff abs", "spec dB", "spec abs");
-  std::vector<render::splat::Panel> panels;
+  std::vector<render::frame::Panel> panels;
   for (const auto& r : results) {
     std::printf("  %-16s %9.1f | %8.2f %9.5f | %8.2f %9.5f | %8.2f %9.5f\n", r.name.c_str(),
                 1e3 * r.seconds, r.total.psnr, r.total.meanAbs, r.diffuse.psnr, r.diffuse.meanAbs,
@@ -74,10 +73,10 @@ void compareParticleLights(CacheRendering& c, std::size_t f, const Particles& p,
                             : fmt("psnr %.2f db", r.total.psnr),
           r.name == "exact" ? std::string("reference") : fmt("spec %.2f db", r.specular.psnr)}});
   }
-  const render::splat::RenderImage sheet = render::splat::composePanels(panels, 1);
+  const render::frame::RenderImage sheet = render::frame::composePanels(panels, 1);
   const std::string path = out + "/" + io::framePngName(c.scene.name + "_lights_compare", f);
   io::writePng(path, sheet.width, sheet.height, sheet.rgb.data());
-  std::printf("wrote %s\n", path.c_str());
+  io::sayWritten(path);
 }
 
 }  // namespace
@@ -88,29 +87,29 @@ int compareJob(const CompareRequest& o) {
   const io::OutputLock directoryLock = lockDirectory(o.out);
   makeDirectory(o.out);
   render::gl::GlContext context = render::gl::GlContext::headless();
-  render::splat::FrameRenderer renderer(c.desc, c.scene.solver.spacing, c.scene.solver.restDensity);
-  const Particles p = c.positions(f);
-  if (!c.cameraFromScene)
-    c.camera = render::splat::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
   // Opaque solids are drawn in every panel, the reference's included (GL draws them for it: the
   // rays end on them). Boundary points are translucent: the reference could not have them, so
   // the panels show the water alone then.
-  std::unique_ptr<render::solids::SolidRenderer> solids;
-  if (c.desc.solids == scene::RenderSolids::Opaque)
-    solids = render::solids::showSolids(c.scene, renderer, [&] { return c.boundary(); });
-  renderer.prepare(p);
+  render::compose::SceneFrame sceneFrame(c.scene, c.desc, {},
+                                         render::compose::SceneParts::scored());
+  render::splat::FrameRenderer& renderer = sceneFrame.renderer();
+  const bool solids = c.desc.solids == scene::RenderSolids::Opaque;
+  const Particles p = c.positions(f);
+  if (!c.cameraFromScene)
+    c.camera = render::splat::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
+  sceneFrame.setWater(p);
   const render::splat::RenderedSplats point =
       renderer.renderScored(render::splat::SplatKind::Point, c.camera);
   const render::splat::RenderedSplats quad =
       renderer.renderScored(render::splat::SplatKind::Quad, c.camera);
-  const render::splat::RenderImage reference = renderer.reference(c.camera);
-  const render::splat::RenderImage everyParticle = renderer.referenceOfEveryParticle(c.camera);
-  const render::splat::ImageError ep = render::splat::compareImages(point.image, reference);
-  const render::splat::ImageError eq = render::splat::compareImages(quad.image, reference);
-  const render::splat::ThinCoverage tp =
-      render::splat::thinCoverage(point.image, reference, everyParticle);
-  const render::splat::ThinCoverage tq =
-      render::splat::thinCoverage(quad.image, reference, everyParticle);
+  const render::frame::RenderImage reference = renderer.reference(c.camera);
+  const render::frame::RenderImage everyParticle = renderer.referenceOfEveryParticle(c.camera);
+  const render::frame::ImageError ep = render::frame::compareImages(point.image, reference);
+  const render::frame::ImageError eq = render::frame::compareImages(quad.image, reference);
+  const render::frame::ThinCoverage tp =
+      render::frame::thinCoverage(point.image, reference, everyParticle);
+  const render::frame::ThinCoverage tq =
+      render::frame::thinCoverage(quad.image, reference, everyParticle);
 
   const double time = c.frameTime(f);
   std::printf(
@@ -122,7 +121,7 @@ int compareJob(const CompareRequest& o) {
   std::printf("  %-6s %9s %9s %9s %9s %9s | %8s %8s %11s\n", "splats", "field ms", "surf ms",
               "normal ms", "build ms", "draw ms", "PSNR dB", "holes %", "normal deg");
   auto row = [&](const char* name, const render::splat::RenderedSplats& r,
-                 const render::splat::ImageError& e) {
+                 const render::frame::ImageError& e) {
     std::printf("  %-6s %9.1f %9.1f %9.1f %9.1f %9.1f | %8.2f %8.2f %11.1f\n", name,
                 1e3 * r.timings.field, 1e3 * r.timings.splats.surface,
                 1e3 * r.timings.splats.normals, 1e3 * r.timings.splats.build, 1e3 * r.timings.draw,
@@ -140,7 +139,7 @@ int compareJob(const CompareRequest& o) {
 
   const std::string method =
       c.desc.projection == scene::SplatProjection::Newton ? "newton" : "eq. (6)";
-  std::vector<render::splat::Panel> panels = {
+  std::vector<render::frame::Panel> panels = {
       {&point.image,
        {"point splats", fmt("%.1f ms build + draw", 1e3 * point.timings.total()),
         fmt("psnr %.2f db  holes %.2f%%", ep.psnr, 100 * ep.holeFraction),
@@ -158,10 +157,10 @@ int compareJob(const CompareRequest& o) {
         fmt("beyond sd: %.0f px", static_cast<double>(tq.pixels)),
         fmt("point cover %.1f%%  quad %.1f%%", 100 * tp.fraction, 100 * tq.fraction)}},
   };
-  const render::splat::RenderImage sheet = render::splat::composePanels(panels, 2, 2);
+  const render::frame::RenderImage sheet = render::frame::composePanels(panels, 2, 2);
   const std::string path = o.out + "/" + io::framePngName(c.scene.name + "_compare", f);
   io::writePng(path, sheet.width, sheet.height, sheet.rgb.data());
-  std::printf("wrote %s\n", path.c_str());
+  io::sayWritten(path);
   if (c.scene.lights) compareParticleLights(c, f, p, o.out);
   return exitAfterReading(c.reader().summary());
 }

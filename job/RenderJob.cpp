@@ -10,11 +10,8 @@
 #include "job/ExitCode.h"
 #include "job/RenderOutput.h"
 #include "io/export/Png.h"
+#include "render/compose/SceneFrame.h"
 #include "render/gl/GlContext.h"
-#include "render/lights/SceneLights.h"
-#include "render/rain/SceneRain.h"
-#include "render/solids/SceneSolids.h"
-#include "render/splat/FrameRenderer.h"
 #include "sim/scene/Camera.h"
 #include "sim/scene/EnumNames.h"
 
@@ -30,17 +27,14 @@ int renderJob(const RenderRequest& o) {
   if (o.toCache) cacheLock = io::OutputLock::acquire(o.cache, "cache");
   makeDirectory(o.out);
   render::gl::GlContext context = render::gl::GlContext::headless();
-  render::splat::FrameRenderer renderer(c.desc, c.scene.solver.spacing, c.scene.solver.restDensity);
-  const auto solids = render::solids::showSolids(c.scene, renderer, [&] { return c.boundary(); });
-  const auto lights = render::lights::showLights(c.scene, renderer);
-  // The rain: the drops the run stored, else regenerated (job/CacheRain.h).
-  const auto rain = render::rain::showRain(c.scene, renderer, solids.get());
+  render::compose::SceneFrame sceneFrame(c.scene, c.desc, [&] { return c.boundary(); });
+  render::lights::SceneLights* const lights = sceneFrame.lights();
   if (!o.quiet) {
     std::printf(
         "%s: rendering %zu frame%s of %s at %dx%d with %s splats on %s\n", c.scene.name.c_str(),
         frames.size(), frames.size() == 1 ? "" : "s", o.cache.c_str(), c.desc.width, c.desc.height,
         c.desc.splat == scene::RenderDesc::Splat::Both ? "point and quad"
-                                                       : scene::enumName(kindsOf(c.desc.splat)[0]),
+                                                       : scene::enumName(sceneFrame.kinds()[0]),
         context.info().renderer.c_str());
     if (lights)
       std::printf("  %s\n", render::lights::describeLights(lights->volume().desc()).c_str());
@@ -53,19 +47,20 @@ int renderJob(const RenderRequest& o) {
     const Particles p = c.positions(f);
     if (!c.cameraFromScene && k == 0)
       c.camera = render::splat::framingCamera(p, static_cast<float>(c.desc.width) / c.desc.height);
-    renderer.prepare(p);
     const double time = c.frameTime(f);
     const scene::CameraDesc camera =
         c.cameraFromScene ? cameraAt(c.camera, c.scene.cameraPath, time) : c.camera;
-    if (lights) seconds += lights->update(p, time, &camera);
-    if (rain) showCachedRain(*rain, c.reader(), f, time, p);
-    for (render::splat::SplatKind kind : kindsOf(c.desc.splat)) {
-      const render::splat::RenderedSplats r = renderer.render(kind, camera);
-      seconds += r.timings.total();
+    // The rain: the drops the run stored, else regenerated (job/CacheRain.h).
+    if (sceneFrame.rain()) showCachedRain(*sceneFrame.rain(), c.reader(), f, time, p);
+    const render::compose::Pictures drawn = sceneFrame.draw(p, time, camera);
+    seconds += drawn.lightSeconds;
+    for (const render::compose::Picture& picture : drawn.pictures) {
+      const render::frame::RenderImage& image = picture.splats.image;
+      seconds += picture.splats.timings.total();
       const std::string path =
-          o.out + "/" + io::framePngName(c.scene.name + "_" + scene::enumName(kind), f);
-      io::writePng(path, r.image.width, r.image.height, r.image.rgb.data());
-      if (o.toCache) c.store(scene::enumName(kind), f, r.image);
+          o.out + "/" + io::framePngName(c.scene.name + "_" + scene::enumName(picture.kind), f);
+      io::writePng(path, image.width, image.height, image.rgb.data());
+      if (o.toCache) c.store(scene::enumName(picture.kind), f, image);
       if (first.empty()) first = path;
       last = path;
       ++images;

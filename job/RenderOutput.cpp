@@ -50,19 +50,16 @@ std::unique_ptr<RenderOutput> RenderOutput::prepare(const scene::Scene& scene,
   if (!scene.render) return nullptr;
   const std::string dir = directoryFor(scene, cache ? cache->path() : "");
   makeDirectory(dir);
-  std::unique_ptr<RenderOutput> out(new RenderOutput(scene, dir, cache));
-  out->solids_ = render::solids::showSolids(scene, out->renderer_, [&] {
-    return std::array<std::vector<float>, 3>{boundary.x, boundary.y, boundary.z};
-  });
-  out->lights_ = render::lights::showLights(scene, out->renderer_);
-  out->rain_ = render::rain::showRain(scene, out->renderer_, out->solids_.get());
-  return out;
+  return std::unique_ptr<RenderOutput>(new RenderOutput(scene, boundary, dir, cache));
 }
 
-RenderOutput::RenderOutput(const scene::Scene& scene, std::string directory,
-                           io::CacheSession* cache)
+RenderOutput::RenderOutput(const scene::Scene& scene, const solver::BoundaryParticles& boundary,
+                           std::string directory, io::CacheSession* cache)
     : context_(render::gl::GlContext::headless()),
-      renderer_(*scene.render, scene.solver.spacing, scene.solver.restDensity),
+      frame_(scene, *scene.render,
+             [&] {
+               return std::array<std::vector<float>, 3>{boundary.x, boundary.y, boundary.z};
+             }),
       desc_(*scene.render),
       camera_(*scene.camera),
       cameraPath_(scene.cameraPath),
@@ -74,32 +71,24 @@ void RenderOutput::frame(const run::Simulation& sim, std::size_t frame) {
   // The rain: the drops the cache stores (its session steps them at every output frame, before
   // this sink), else stepped here the same way, so `render` of the cache draws the same drops.
   // A feeding rain is the simulation's own (rain.feed_fluid).
-  if (rain_) {
+  if (render::rain::SceneRain* rain = frame_.rain()) {
     if (sim.rainFeed())
-      rain_->show(sim.rainFeed()->stepper().system());
+      rain->show(sim.rainFeed()->stepper().system());
     else if (cache_ && cache_->rain())
-      rain_->show(cache_->rain()->system());
+      rain->show(cache_->rain()->system());
     else
-      rain_->advanceTo(sim.time(), sim.fluid());
+      rain->advanceTo(sim.time(), sim.fluid());
   }
   if (frame % static_cast<std::size_t>(desc_.every) != 0) return;
-  renderer_.prepare(sim.fluid());
   const scene::CameraDesc camera = cameraAt(camera_, cameraPath_, sim.time());
-  if (lights_) lights_->update(sim.fluid(), sim.time(), &camera);
-  const bool both = desc_.splat == scene::RenderDesc::Splat::Both;
-  for (render::splat::SplatKind kind :
-       {render::splat::SplatKind::Point, render::splat::SplatKind::Quad}) {
-    const bool wanted = both || (kind == render::splat::SplatKind::Point) ==
-                                    (desc_.splat == scene::RenderDesc::Splat::Point);
-    if (!wanted) continue;
-    const char* kindName = scene::enumName(kind);
-    const render::splat::RenderedSplats r = renderer_.render(kind, camera);
-    seconds_ += r.timings.total();
-    io::writePng(directory_ + "/" + io::framePngName(name_ + "_" + kindName, frame), r.image.width,
-                 r.image.height, r.image.rgb.data());
+  for (const render::compose::Picture& p : frame_.draw(sim.fluid(), sim.time(), camera).pictures) {
+    const char* kindName = scene::enumName(p.kind);
+    const render::frame::RenderImage& image = p.splats.image;
+    seconds_ += p.splats.timings.total();
+    io::writePng(directory_ + "/" + io::framePngName(name_ + "_" + kindName, frame), image.width,
+                 image.height, image.rgb.data());
     if (cache_ && desc_.toCache)
-      cache_->writeRenderedFrame(kindName, frame, r.image.width, r.image.height,
-                                 r.image.rgb.data());
+      cache_->writeRenderedFrame(kindName, frame, image.width, image.height, image.rgb.data());
     ++images_;
   }
 }

@@ -6,13 +6,10 @@
 #include <memory>
 #include <string>
 
-#include "io/cache/CacheSession.h"
 #include "io/OutputLock.h"
+#include "io/cache/CacheSession.h"
+#include "render/compose/SceneFrame.h"
 #include "render/gl/GlContext.h"
-#include "render/lights/SceneLights.h"
-#include "render/rain/SceneRain.h"
-#include "render/solids/SceneSolids.h"
-#include "render/splat/FrameRenderer.h"
 #include "sim/run/RunLoop.h"
 #include "sim/scene/Scene.h"
 
@@ -38,12 +35,10 @@ class RenderOutput final : public run::FrameSink {
   double seconds() const { return seconds_; }
 
  private:
-  RenderOutput(const scene::Scene& scene, std::string directory, io::CacheSession* cache);
+  RenderOutput(const scene::Scene& scene, const solver::BoundaryParticles& boundary,
+               std::string directory, io::CacheSession* cache);
   render::gl::GlContext context_;  // first: outlives the GL objects below
-  render::splat::FrameRenderer renderer_;
-  std::unique_ptr<render::solids::SolidRenderer> solids_;  // a layer of renderer_
-  std::unique_ptr<render::lights::SceneLights> lights_;    // renderer_'s extra lights, if any
-  std::unique_ptr<render::rain::SceneRain> rain_;          // a layer of renderer_ (rain section)
+  render::compose::SceneFrame frame_;
   scene::RenderDesc desc_;
   scene::CameraDesc camera_;
   scene::CameraPath cameraPath_;

@@ -1,6 +1,6 @@
 #version 450 core
 // The deferred pipeline's one full-screen lighting pass (lights.pipeline "deferred"; seed 004,
-// Fig. 11; render/splat/DeferredTarget.cpp): for each pixel the G-buffer holds a surface
+// Fig. 11; render/frame/DeferredTarget.cpp): for each pixel the G-buffer holds a surface
 // (shaders/gbuffer_out.glsl), the particle lights' Phong diffuse and specular at its world
 // position (extra_lights.glsl's particleLight, the forward shaders' very term) added to the rest of
 // its lighting, clamped and sRGB-encoded as the forward shaders write it; its depth restored so the

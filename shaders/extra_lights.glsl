@@ -90,7 +90,7 @@ float sceneLightScale() {
   return u_particleLights != 0 ? u_lightRoom : 1.0;
 }
 
-// ---- The rain's spotlight (seed 002 section 3.2; render/splat/SpotlightUniforms.h) ----
+// ---- The rain's spotlight (seed 002 section 3.2; render/frame/SpotlightUniforms.h) ----
 #include "rain_spotlight.glsl"
 
 vec3 extraLight(vec3 base, vec3 position, vec3 n, vec3 toEye) {
@@ -98,7 +98,7 @@ vec3 extraLight(vec3 base, vec3 position, vec3 n, vec3 toEye) {
 #ifndef SPH_NO_PARTICLE_LIGHTS
   if (u_particleLights != 0) c += particleLight(base, position, n, toEye);
 #endif
-  // The rain's cone spotlight (render/splat/SpotlightUniforms.h): Lambert diffuse inside the cone
+  // The rain's cone spotlight (render/frame/SpotlightUniforms.h): Lambert diffuse inside the cone
   // of eq. (10)-(12), the same membership test the drops take their colour from. SPH_NO_SPOTLIGHT:
   // a program for frames without one (llvmpipe runs a branch a uniform switches off, every pixel).
 #ifndef SPH_NO_SPOTLIGHT

@@ -1,5 +1,5 @@
 // The G-buffer of the deferred particle lights (lights.pipeline "deferred"; seed 004 Fig. 11;
-// render/splat/DeferredTarget.h): what a surface program built with SPH_GBUFFER writes instead of
+// render/frame/DeferredTarget.h): what a surface program built with SPH_GBUFFER writes instead of
 // its colour, and what shaders/deferred_lighting.frag reads back, one surface per pixel.
 layout(location = 0) out vec4 g_lit;       // linear colour lit by all but the particle lights;
                                            // alpha 1 where a surface was drawn

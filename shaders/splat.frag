@@ -1,6 +1,6 @@
 #version 450 core
 // Writes the interpolated colour (sRGB-encoded, as render/splat/ReferenceRaymarcher.cpp does) and the
-// normal with coverage, for the error figures (render/splat/RenderImage.h).
+// normal with coverage, for the error figures (render/frame/RenderImage.h).
 // SPH_GBUFFER (with SPH_NO_PARTICLE_LIGHTS): the deferred pipeline's G-buffer of the opaque water
 // instead (shaders/gbuffer_out.glsl): the per-vertex colour without the particle lights, and the
 // position and normal at which shaders/deferred_lighting.frag adds them per pixel.

@@ -1,4 +1,4 @@
-// The lighting model of render/splat/Lighting.h, per vertex (Gouraud) for the splat renderers. Keep the
+// The lighting model of render/frame/Lighting.h, per vertex (Gouraud) for the splat renderers. Keep the
 // two in step: tests/test_splat_gl.cpp renders a flat splat and compares with Lighting's shade().
 uniform vec3 u_toLight;
 uniform vec3 u_base;

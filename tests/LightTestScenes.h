@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "render/splat/SplatRenderer.h"
-#include "sim/scene/CameraDesc.h"
 #include "sim/lights/LightParticles.h"
+#include "sim/scene/CameraDesc.h"
 #include "sim/scene/Scene.h"
 
 namespace sph::test {
@@ -69,8 +69,8 @@ inline scene::CameraDesc sheetCamera() {
 struct Steps {
   int worst = 0, lit = 0;
 };
-inline Steps steps(const render::splat::RenderImage& a, const render::splat::RenderImage& b,
-                   const render::splat::RenderImage& unlit) {
+inline Steps steps(const render::frame::RenderImage& a, const render::frame::RenderImage& b,
+                   const render::frame::RenderImage& unlit) {
   Steps s;
   for (std::size_t i = 0; i < a.rgb.size(); ++i) {
     s.worst = std::max(s.worst, std::abs(int(a.rgb[i]) - int(b.rgb[i])));

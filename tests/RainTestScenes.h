@@ -30,13 +30,6 @@ inline scene::RainDesc rainDesc(scene::RainSpawn spawn, std::size_t count = 2000
   return d;
 }
 
-// The frustum of the rain camera, from the general camera maths (sim/scene/Camera.h, not RainSpace).
-inline scene::Frustum rainFrustum(const scene::CameraDesc& camera, const scene::RainDesc& d) {
-  scene::CameraDesc c = camera;
-  c.near = d.near, c.far = d.far;
-  return scene::Frustum(cameraFrame(c, kAspect).projView);
-}
-
 inline bool inFrustum(const scene::Frustum& f, const Vec3& p) {
   for (int k = 0; k < 6; ++k) {
     if (f.distance(k, p) < -1e-4f) return false;
@@ -45,7 +38,8 @@ inline bool inFrustum(const scene::Frustum& f, const Vec3& p) {
 }
 
 inline double fractionInView(const rain::RainSystem& r, const scene::CameraDesc& camera) {
-  const scene::Frustum f = rainFrustum(camera, r.desc());
+  // The rain camera's frustum from the general camera maths (sim/scene/Camera.h), not RainSpace.
+  const scene::Frustum f = scene::viewFrustum(camera, kAspect, r.desc().near, r.desc().far);
   std::size_t in = 0;
   for (const Vec3& p : r.positions()) in += inFrustum(f, p);
   return static_cast<double>(in) / static_cast<double>(r.size());

@@ -16,6 +16,7 @@
 #include "render/gl/GlContext.h"
 #include "render/gl/GlError.h"
 #include "render/gl/GlHandle.h"
+#include "render/gl/PixelTransfer.h"
 #include "render/gl/Shader.h"
 #include "tests/TestSupport.h"
 
@@ -124,7 +125,7 @@ TEST(GlContext, WindowThroughGlfw) {
   glClearColor(0.25f, 0.5f, 0.75f, 1.0f);
   glClear(GL_COLOR_BUFFER_BIT);
   unsigned char pixel[4] = {0, 0, 0, 0};
-  glReadPixels(10, 10, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, pixel);
+  readPixels(0, GL_BACK, {10, 10, 1, 1}, GL_RGBA, GL_UNSIGNED_BYTE, pixel);
   EXPECT_NEAR(pixel[2], 191, 1);
   window.swapBuffers();
   window.pollEvents();

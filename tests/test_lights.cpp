@@ -14,8 +14,8 @@
 #include "render/lights/LightVolume.h"
 #include "render/solids/SolidRenderer.h"
 #include "render/splat/SplatRenderer.h"
-#include "sim/scene/Camera.h"
 #include "sim/lights/LightParticles.h"
+#include "sim/scene/Camera.h"
 #include "tests/LightTestScenes.h"
 #include "tests/LightsGlTest.h"
 
@@ -48,9 +48,9 @@ TEST_F(LightsGl, ALightOverAPlaneLightsTheDrawnPlaneByTheFormula) {
   scene::CameraDesc top;
   top.position = Vec3(0.05f, 2, 0.05f), top.target = Vec3(0.05f, 0, 0.05f), top.up = Vec3(0, 0, -1);
   top.fovYDegrees = 30;
-  splat::Lighting lighting;
+  frame::Lighting lighting;
   lighting.extra = &volume;
-  const splat::RenderImage picture =
+  const frame::RenderImage picture =
       r.render(splat::SplatFrame{}, splat::SplatKind::Point, top, lighting);
   const scene::CameraFrame cf = cameraFrame(top, 1.0f);
   auto pixel = [&](const Vec3& w) {
@@ -100,14 +100,14 @@ TEST_F(LightsGl, WaterSplatsAreLitByTheVolumeToo) {
   scene::CameraDesc top;
   top.position = Vec3(0.05f, 2, 0.05f), top.target = Vec3(0.05f, 0, 0.05f), top.up = Vec3(0, 0, -1);
   top.fovYDegrees = 30;
-  splat::Lighting unlit;  // no scene light at all: only the particle light can colour the splat
+  frame::Lighting unlit;  // no scene light at all: only the particle light can colour the splat
   unlit.ambient = 0, unlit.diffuse = 0, unlit.specular = 0, unlit.environment = false;
   unlit.base = Vec3(0.8f, 0.6f, 0.4f);
-  splat::Lighting lit = unlit;
+  frame::Lighting lit = unlit;
   lit.extra = &volume;
   const std::size_t centre = static_cast<std::size_t>(size / 2 * size + size / 2);
-  const splat::RenderImage dark = r.render(frame, splat::SplatKind::Point, top, unlit);
-  const splat::RenderImage bright = r.render(frame, splat::SplatKind::Point, top, lit);
+  const frame::RenderImage dark = r.render(frame, splat::SplatKind::Point, top, unlit);
+  const frame::RenderImage bright = r.render(frame, splat::SplatKind::Point, top, lit);
   auto linear = [](std::uint8_t s8) {
     const float s = s8 / 255.0f;
     return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
@@ -149,25 +149,25 @@ TEST_F(LightsGl, DeferredGivesTheForwardImageToOneStep) {
   r.setLayers({&solids});
   const scene::CameraDesc camera = test::sheetCamera();
   for (float alpha : {1.0f, 0.5f}) {
-    splat::Lighting lighting;
+    frame::Lighting lighting;
     lighting.alpha = alpha;
     lighting.extra = &forward;
-    const splat::RenderImage f = r.render(water, splat::SplatKind::Point, camera, lighting);
+    const frame::RenderImage f = r.render(water, splat::SplatKind::Point, camera, lighting);
     EXPECT_EQ(r.lastPasses().lighting, 0.0);
     lighting.extra = &deferred;
-    const splat::RenderImage g = r.render(water, splat::SplatKind::Point, camera, lighting);
+    const frame::RenderImage g = r.render(water, splat::SplatKind::Point, camera, lighting);
     EXPECT_GT(r.lastPasses().lighting, 0.0) << "the lighting pass ran";
     lighting.extra = nullptr;
-    const splat::RenderImage unlit = r.render(water, splat::SplatKind::Point, camera, lighting);
+    const frame::RenderImage unlit = r.render(water, splat::SplatKind::Point, camera, lighting);
     const test::Steps diff = test::steps(f, g, unlit);
     EXPECT_LE(diff.worst, 1) << "alpha " << alpha;
     // The error figures' normal target: the water's coverage and normals, as forward draws them.
     lighting.extra = &forward;
-    const splat::RenderImage fs = r.render(water, splat::SplatKind::Point, camera, lighting,
-                                           splat::ImageContents::ColourAndNormals);
+    const frame::RenderImage fs = r.render(water, splat::SplatKind::Point, camera, lighting,
+                                           frame::ImageContents::ColourAndNormals);
     lighting.extra = &deferred;
-    const splat::RenderImage gs = r.render(water, splat::SplatKind::Point, camera, lighting,
-                                           splat::ImageContents::ColourAndNormals);
+    const frame::RenderImage gs = r.render(water, splat::SplatKind::Point, camera, lighting,
+                                           frame::ImageContents::ColourAndNormals);
     EXPECT_EQ(fs.covered, gs.covered) << "alpha " << alpha;
     float normalDiff = 0;
     for (std::size_t i = 0; i < fs.normal.size(); ++i)
@@ -197,15 +197,15 @@ TEST_F(LightsGl, ShadedOnTheCpuTheCopyKeepsTheBackgroundAndTheDepthThatIsDrawnAg
   splat::SplatRenderer r(width, height);
   r.setLayers({&solids});
   const scene::CameraDesc camera = test::sheetCamera();
-  splat::Lighting lighting;
+  frame::Lighting lighting;
   lighting.background = Vec3(0.3f, 0.5f, 0.7f);
   auto picture = [&](const LightVolume& v) {
     lighting.extra = &v;
     return r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera, lighting);
   };
-  const splat::RenderImage f = picture(forward), g = picture(cpu);
+  const frame::RenderImage f = picture(forward), g = picture(cpu);
   lighting.extra = nullptr;
-  const splat::RenderImage unlit =
+  const frame::RenderImage unlit =
       r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera, lighting);
   const test::Steps diff = test::steps(f, g, unlit);
   EXPECT_LE(diff.worst, 1);
@@ -213,7 +213,7 @@ TEST_F(LightsGl, ShadedOnTheCpuTheCopyKeepsTheBackgroundAndTheDepthThatIsDrawnAg
   std::size_t background = 0;
   for (std::size_t i = 0; i < g.rgb.size(); i += 3) {
     bool same = true;
-    for (int k = 0; k < 3; ++k) same &= g.rgb[i + k] == splat::toSrgb8(lighting.background[k]);
+    for (int k = 0; k < 3; ++k) same &= g.rgb[i + k] == frame::toSrgb8(lighting.background[k]);
     background += same;
   }
   EXPECT_GT(background, 500u) << "the sky beyond the floor";
@@ -224,12 +224,12 @@ TEST_F(LightsGl, ShadedOnTheCpuTheCopyKeepsTheBackgroundAndTheDepthThatIsDrawnAg
     r.setBoundary(
         {splat::SplatVertex{{at.x(), at.y(), at.z()}, {toCamera.x(), toCamera.y(), toCamera.z()}}},
         0.05f);
-    const splat::RenderImage a = picture(forward), b = picture(cpu);
+    const frame::RenderImage a = picture(forward), b = picture(cpu);
     EXPECT_LE(test::steps(a, b, a).worst, 1);
     return b;
   };
-  const splat::RenderImage behind = withWall(centre + 0.3f * ray);
-  const splat::RenderImage before = withWall(centre - 0.3f * ray);
+  const frame::RenderImage behind = withWall(centre + 0.3f * ray);
+  const frame::RenderImage before = withWall(centre - 0.3f * ray);
   EXPECT_LE(test::steps(behind, g, g).worst, 1) << "hidden by the sphere";
   EXPECT_GE(test::steps(before, g, g).worst, 3) << "in front of it: the walls' grey shows";
 }

@@ -155,14 +155,14 @@ solids::SolidRenderer floorSolids() {
       Aabb{Vec3(-2, -1, -2), Vec3(2, 1, 2)}, 0.02f);
 }
 
-splat::RenderImage draw(splat::SplatRenderer& r, const LightVolume& v) {
+frame::RenderImage draw(splat::SplatRenderer& r, const LightVolume& v) {
   splat::SplatFrame water;  // a few point splats in the middle of the view
   water.halfSize = 0.03f;
   for (int j = 0; j < 6; ++j)
     for (int i = 0; i < 6; ++i)
       water.points.push_back(
           splat::SplatVertex{{0.05f + 0.05f * i, 0.03f, 0.2f + 0.05f * j}, {0, 1, 0}});
-  splat::Lighting lighting;
+  frame::Lighting lighting;
   lighting.extra = &v;
   return r.render(water, splat::SplatKind::Point, cornerCamera(), lighting);
 }
@@ -206,14 +206,14 @@ TEST_F(LightsCullGl, TheCulledPictureIsTheUnculledOne) {
     EXPECT_EQ(all.lastLights(), lights.size());
     EXPECT_LT(culled.lastLights(), lights.size() / 3) << "most lights are out of view";
     EXPECT_LT(culled.lastBox().count(), d.voxelCount() * 2 / 5);
-    const splat::RenderImage a = draw(r, all), c = draw(r, culled);
+    const frame::RenderImage a = draw(r, all), c = draw(r, culled);
     ASSERT_EQ(a.rgb.size(), c.rgb.size());
     EXPECT_TRUE(a.rgb == c.rgb) << nameOf(s.filter) << " x" << s.oversampling << " "
                                 << nameOf(s.pipeline);
     // The lights just outside the view light it: without them the picture changes.
     LightVolume less(d);
     less.update(withoutEdge);
-    const splat::RenderImage e = draw(r, less);
+    const frame::RenderImage e = draw(r, less);
     int changed = 0;
     for (std::size_t i = 0; i < a.rgb.size(); ++i) changed += a.rgb[i] != e.rgb[i];
     EXPECT_GT(changed, 30) << nameOf(s.filter) << " " << nameOf(s.pipeline);

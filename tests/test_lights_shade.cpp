@@ -12,15 +12,15 @@
 #include <random>
 #include <string>
 
+#include "render/frame/Srgb8Table.h"
 #include "render/gl/GlContext.h"
 #include "render/lights/CpuShading.h"
 #include "render/lights/LightCulling.h"
 #include "render/lights/LightVolume.h"
 #include "render/solids/SolidRenderer.h"
 #include "render/splat/SplatRenderer.h"
-#include "render/splat/Srgb8Table.h"
-#include "sim/scene/Camera.h"
 #include "sim/InputError.h"
+#include "sim/scene/Camera.h"
 #include "tests/LightTestScenes.h"
 
 namespace sph::render::lights {
@@ -105,11 +105,11 @@ TEST_F(LightsShade, ThePixelLoopShadesEachPixelAsTheTermAtItsPoint) {
       albedo[4 * i + a] = toHalf(base[a]), lit[4 * i + a] = 0.2f * (u(rng) + 1.0f);
     }
   }
-  splat::GBufferPixels g;
+  frame::GBufferPixels g;
   g.width = width, g.height = height;
   g.depth = depth.data(), g.position = position.data(), g.normal = normal.data();
   g.albedo = albedo.data(), g.lit = lit.data();
-  const splat::Srgb8Table& encode = splat::srgb8Table();
+  const frame::Srgb8Table& encode = frame::srgb8Table();
   std::vector<std::uint8_t> rgba(4 * n);
   for (scene::LightFilter f : {scene::LightFilter::Nearest, scene::LightFilter::Trilinear}) {
     for (int over : {1, 2}) {
@@ -161,16 +161,16 @@ TEST_F(LightsShade, ShadedOnTheCpuTheDeferredFrameIsTheGlOneToOneStep) {
   for (const LightView* v : {static_cast<const LightView*>(nullptr), &view}) {
     gl.update(lights, v), cpu.update(lights, v);
     for (float alpha : {1.0f, 0.5f}) {
-      splat::Lighting lighting;
+      frame::Lighting lighting;
       lighting.alpha = alpha;
       lighting.extra = &gl;
-      const splat::RenderImage a = r.render(water, splat::SplatKind::Point, camera, lighting);
+      const frame::RenderImage a = r.render(water, splat::SplatKind::Point, camera, lighting);
       EXPECT_EQ(r.lastPasses().particles, 0.0);
       lighting.extra = &cpu;
-      const splat::RenderImage b = r.render(water, splat::SplatKind::Point, camera, lighting);
+      const frame::RenderImage b = r.render(water, splat::SplatKind::Point, camera, lighting);
       EXPECT_GT(r.lastPasses().particles, 0.0) << "the CPU pass ran";
       lighting.extra = nullptr;
-      const splat::RenderImage unlit = r.render(water, splat::SplatKind::Point, camera, lighting);
+      const frame::RenderImage unlit = r.render(water, splat::SplatKind::Point, camera, lighting);
       const test::Steps diff = test::steps(a, b, unlit);
       EXPECT_LE(diff.worst, 1) << "alpha " << alpha << (v ? ", culled" : "");
       EXPECT_GT(diff.lit, width * height / 4) << "alpha " << alpha << (v ? ", culled" : "");
@@ -179,12 +179,12 @@ TEST_F(LightsShade, ShadedOnTheCpuTheDeferredFrameIsTheGlOneToOneStep) {
   // Lights that move: the next frame's term, not the last one's.
   const std::vector<sph::lights::LightParticle> moved = test::sheetLights(15);
   gl.update(moved), cpu.update(moved);
-  splat::Lighting lighting;
+  frame::Lighting lighting;
   lighting.extra = &gl;
-  const splat::RenderImage a =
+  const frame::RenderImage a =
       r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera, lighting);
   lighting.extra = &cpu;
-  const splat::RenderImage b =
+  const frame::RenderImage b =
       r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera, lighting);
   EXPECT_LE(test::steps(a, b, a).worst, 1) << "moved lights";
 }

@@ -16,6 +16,7 @@
 #include "render/splat/ReferenceRaymarcher.h"
 #include "render/splat/SplatBuilder.h"
 #include "sim/Parallel.h"
+#include "sim/scene/Camera.h"
 
 namespace sph::render::mesh {
 namespace {
@@ -236,12 +237,9 @@ struct Raster {
   std::vector<Vec3> normal, position;  // interpolated from the nearest triangle
 };
 Raster rasterise(const SurfaceMesh& m, const scene::CameraDesc& camera, int width, int height) {
-  const Vec3 eye = camera.position;
-  const Vec3 forward = (camera.target - eye).normalized();
-  const Vec3 right = forward.cross(camera.up).normalized();
-  const Vec3 up = right.cross(forward);
-  const float tanHalf =
-      std::tan(0.5f * camera.fovYDegrees * static_cast<float>(solver::kPi) / 180.0f);
+  const scene::CameraBasis basis = scene::cameraBasis(camera);
+  const Vec3 &eye = basis.eye, &forward = basis.forward, &right = basis.right, &up = basis.up;
+  const float tanHalf = scene::tanHalfFovY(camera);
   const float aspect = static_cast<float>(width) / height;
   Raster r;
   r.depth.assign(static_cast<std::size_t>(width) * height, std::numeric_limits<float>::infinity());
@@ -305,8 +303,8 @@ TEST(Mesh, SilhouetteAndNormalsMatchTheReferenceRaymarcher) {
   camera.position = camera.target + Vec3(0.25f, 0.2f, 0.35f);
   camera.fovYDegrees = 40;
   const int width = 160, height = 120;
-  const splat::RenderImage reference =
-      splat::raymarchReference(field, SD, camera, width, height, splat::Lighting{});
+  const frame::RenderImage reference =
+      splat::raymarchReference(field, SD, camera, width, height, frame::Lighting{});
   const Raster r = rasterise(m, camera, width, height);
   std::size_t both = 0, either = 0, refCovered = 0;
   for (std::size_t p = 0; p < r.depth.size(); ++p) {

@@ -13,9 +13,9 @@
 #include "render/rain/StreakImages.h"
 #include "render/solids/SolidRenderer.h"
 #include "render/splat/SplatRenderer.h"
-#include "sim/scene/Camera.h"
 #include "sim/rain/RainSystem.h"
 #include "sim/rain/Spotlight.h"
+#include "sim/scene/Camera.h"
 
 namespace sph::render::rain {
 namespace {
@@ -80,20 +80,20 @@ std::pair<int, int> pixelOf(const Vec3& p) {
   return {static_cast<int>(x), static_cast<int>(y)};
 }
 
-splat::RenderImage frame(RainRenderer* layer) {
+frame::RenderImage frame(RainRenderer* layer) {
   splat::SplatRenderer r(kWidth, kHeight);
   if (layer) r.setLayers({layer});
-  return r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera(), splat::Lighting{});
+  return r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera(), frame::Lighting{});
 }
 
-int difference(const splat::RenderImage& a, const splat::RenderImage& b, std::size_t pixel) {
+int difference(const frame::RenderImage& a, const frame::RenderImage& b, std::size_t pixel) {
   int d = 0;
   for (int k = 0; k < 3; ++k) d += std::abs(int(a.rgb[3 * pixel + k]) - int(b.rgb[3 * pixel + k]));
   return d;
 }
 
 TEST_P(RainGl, StreakPixelsAreWhereTheDropsAreAndNoneWithoutDrops) {
-  const splat::RenderImage empty = frame(nullptr);
+  const frame::RenderImage empty = frame(nullptr);
   sph::rain::RainSystem none(desc(0, GetParam()), static_cast<float>(kWidth) / kHeight);
   none.reset(camera());
   RainRenderer noDrops(desc(0, GetParam()));
@@ -104,7 +104,7 @@ TEST_P(RainGl, StreakPixelsAreWhereTheDropsAreAndNoneWithoutDrops) {
   drops.reset(camera());
   RainRenderer layer(desc(200, GetParam()));
   layer.setDrops(drops);
-  const splat::RenderImage rain = frame(&layer);
+  const frame::RenderImage rain = frame(&layer);
   // Near each drop (its streak runs 0.3 m up from it) the picture changed.
   std::vector<char> nearDrop(kWidth * kHeight, 0);
   int dropsSeen = 0, dropsOnScreen = 0;
@@ -150,7 +150,7 @@ TEST_P(RainGl, AStreakLiesAlongTheProjectedVelocity) {
   one.reset(camera());
   RainRenderer layer(d);
   layer.setDrops(one);
-  const splat::RenderImage empty = frame(nullptr), rain = frame(&layer);
+  const frame::RenderImage empty = frame(nullptr), rain = frame(&layer);
   double sw = 0, sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
   for (int y = 0; y < kHeight; ++y)
     for (int x = 0; x < kWidth; ++x) {
@@ -189,7 +189,7 @@ TEST_P(RainGl, DropsInTheConeTakeTheLightsColourTheOthersDoNot) {
   drops.reset(camera());
   RainRenderer layer(d);
   layer.setDrops(drops);
-  const splat::RenderImage empty = frame(nullptr), rain = frame(&layer);
+  const frame::RenderImage empty = frame(nullptr), rain = frame(&layer);
   int redLit = 0, lit = 0, redUnlit = 0, unlit = 0;
   for (const Vec3& p : drops.positions()) {
     const auto [x, y] = pixelOf(p - 0.5f * drops.velocity() * d.exposure);
@@ -229,12 +229,12 @@ TEST_F(GlFrame, TheSpotlightLightsSolidsAndWaterInsideItsConeOnly) {
   l.position = Vec3(0.5f, 1, 0), l.direction = -Vec3::UnitY();
   l.height = 2, l.baseRadius = 0.6f;  // footprint radius 0.3 m on the floor around x = 0.5
   l.colour = Vec3(1, 0, 0), l.intensity = 1;
-  splat::Lighting plain, spot;
+  frame::Lighting plain, spot;
   spot.spotlight = l;
   splat::SplatRenderer r(kWidth, kHeight);
   r.setLayers({&solid});
-  const splat::RenderImage a = r.render(water, splat::SplatKind::Point, top, plain);
-  const splat::RenderImage b = r.render(water, splat::SplatKind::Point, top, spot);
+  const frame::RenderImage a = r.render(water, splat::SplatKind::Point, top, plain);
+  const frame::RenderImage b = r.render(water, splat::SplatKind::Point, top, spot);
   // Pixels of world points on the floor seen from above: x right, z down the picture.
   auto pixel = [&](float x, float z) {
     const scene::Mat4 m = cameraFrame(top, static_cast<float>(kWidth) / kHeight).projView;

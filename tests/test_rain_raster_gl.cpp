@@ -17,8 +17,8 @@
 #include "render/rain/RainRenderer.h"
 #include "render/solids/SolidRenderer.h"
 #include "render/splat/SplatRenderer.h"
-#include "sim/scene/Camera.h"
 #include "sim/rain/RainSystem.h"
+#include "sim/scene/Camera.h"
 #include "tests/RainRasterScenes.h"
 
 namespace sph::render::rain {
@@ -39,7 +39,7 @@ class RainRasterGl : public ::testing::Test {
 // The frame of `d`'s drops (none: count 0) over a light sky, with `solids` (may be empty), and
 // the fragments the rain drew (GL's count for the triangles, the rasteriser's for "cpu").
 struct Frame {
-  splat::RenderImage image;
+  frame::RenderImage image;
   std::uint64_t fragments = 0;
 };
 Frame drawFrame(const scene::RainDesc& d, const std::vector<scene::BoundaryShape>& solids) {
@@ -49,7 +49,7 @@ Frame drawFrame(const scene::RainDesc& d, const std::vector<scene::BoundaryShape
   layer.setDrops(drops);
   splat::SplatRenderer r(kWidth, kHeight);
   std::unique_ptr<solids::SolidRenderer> solid;
-  std::vector<splat::FrameLayer*> layers;
+  std::vector<frame::FrameLayer*> layers;
   if (!solids.empty()) {
     solid = std::make_unique<solids::SolidRenderer>(solids, Aabb{Vec3(-9, -9, -9), Vec3(9, 9, 9)},
                                                     0.01f);
@@ -60,7 +60,7 @@ Frame drawFrame(const scene::RainDesc& d, const std::vector<scene::BoundaryShape
   Frame f;
   auto query = gl::Query::create(GL_SAMPLES_PASSED);
   if (!layer.raster()) glBeginQuery(GL_SAMPLES_PASSED, query.id());
-  f.image = r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera(), splat::Lighting{});
+  f.image = r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera(), frame::Lighting{});
   if (layer.raster()) {
     f.fragments = layer.raster()->fragments();
   } else {
@@ -126,10 +126,10 @@ TEST_P(RainBehindASolid, IsHiddenWhereTheSolidIsAndShowsBesideIt) {
     d.region.lo = Vec3(-2, -0.5f, zLo), d.region.hi = Vec3(2, 2.5f, zHi);
     return d;
   };
-  const splat::RenderImage solidOnly = drawFrame(desc(0, GetParam()), {wall}).image;
-  const splat::RenderImage sky = drawFrame(desc(0, GetParam()), {}).image;
-  const splat::RenderImage behind = drawFrame(rain(0, 1.5f), {wall}).image;
-  const splat::RenderImage inFront = drawFrame(rain(2.3f, 3), {wall}).image;
+  const frame::RenderImage solidOnly = drawFrame(desc(0, GetParam()), {wall}).image;
+  const frame::RenderImage sky = drawFrame(desc(0, GetParam()), {}).image;
+  const frame::RenderImage behind = drawFrame(rain(0, 1.5f), {wall}).image;
+  const frame::RenderImage inFront = drawFrame(rain(2.3f, 3), {wall}).image;
   int wallPixels = 0, changedOnWall = 0, changedBeside = 0, inFrontOnWall = 0;
   for (std::size_t p = 0; p < static_cast<std::size_t>(kWidth) * kHeight; ++p) {
     bool onWall = false, b = false, f = false;

@@ -29,7 +29,6 @@ using test::inFrustum;
 using test::kAspect;
 using test::lookingAlongZ;
 using test::rainDesc;
-using test::rainFrustum;
 
 TEST(RainSpace, SphereOfEquation5TouchesNearAndFarAndSidesAgreeWithTheFrustum) {
   const scene::CameraDesc c = lookingAlongZ();
@@ -39,7 +38,7 @@ TEST(RainSpace, SphereOfEquation5TouchesNearAndFarAndSidesAgreeWithTheFrustum) {
   // The four side planes against Gribb-Hartmann's planes of the same camera on 10^6 points of
   // the sphere's bounding box: they must disagree only within a hair of a plane.
   scene::RainDesc d;
-  const scene::Frustum f = rainFrustum(c, d);
+  const scene::Frustum f = scene::viewFrustum(c, kAspect, d.near, d.far);
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> u(-1, 1);
   int disagree = 0, inside = 0;
@@ -64,7 +63,7 @@ TEST(RainSystem, ViewSpawnsAMillionDropsAllInsideFrustumAndSphere) {
     d.sampling = sampling;
     RainSystem r(d, kAspect);
     r.reset(lookingAlongZ());
-    const scene::Frustum f = rainFrustum(lookingAlongZ(), d);
+    const scene::Frustum f = scene::viewFrustum(lookingAlongZ(), kAspect, d.near, d.far);
     std::size_t outFrustum = 0, outSphere = 0;
     for (const Vec3& p : r.positions()) {
       outFrustum += !inFrustum(f, p);

@@ -9,11 +9,11 @@
 #include <map>
 #include <tuple>
 
+#include "render/frame/ExtraLights.h"
 #include "render/gl/GlContext.h"
 #include "render/solids/DrawOrder.h"
 #include "render/solids/SolidMesh.h"
 #include "render/solids/SolidRenderer.h"
-#include "render/splat/ExtraLights.h"
 #include "render/splat/ReferenceRaymarcher.h"
 #include "render/splat/SplatBuilder.h"
 #include "render/splat/SplatRenderer.h"
@@ -167,13 +167,13 @@ TEST_F(SolidsGl, AnOpaqueSolidHidesTheWaterBehindIt) {
   SolidRenderer solids({block}, kDomain, 0.01f);
   solids.material.colour = Vec3(0.9f, 0.1f, 0.1f);
   r.setLayers({&solids});
-  splat::Lighting light;
-  const splat::RenderImage picture = r.render(water, splat::SplatKind::Point, top, light);
+  frame::Lighting light;
+  const frame::RenderImage picture = r.render(water, splat::SplatKind::Point, top, light);
   const std::size_t centre = 16 * 32 + 16, edge = 16 * 32 + 24;
   EXPECT_GT(picture.rgb[3 * centre], picture.rgb[3 * centre + 2] + 60) << "the red block in front";
   EXPECT_GT(picture.rgb[3 * edge + 2], picture.rgb[3 * edge]) << "blue water around it";
-  const splat::RenderImage scored =
-      r.render(water, splat::SplatKind::Point, top, light, splat::ImageContents::ColourAndNormals);
+  const frame::RenderImage scored =
+      r.render(water, splat::SplatKind::Point, top, light, frame::ImageContents::ColourAndNormals);
   EXPECT_FALSE(scored.covered[centre]) << "the block hides the water";
   EXPECT_EQ(scored.rgb[3 * centre], picture.rgb[3 * centre]) << "the block, as in the picture";
 }
@@ -201,18 +201,18 @@ TEST_F(SolidsGl, TheReferenceEndsItsRaysOnTheSolids) {
   SolidRenderer solids({block}, kDomain, 0.01f);
   solids.material.colour = Vec3(0.9f, 0.1f, 0.1f);
   r.setLayers({&solids});
-  const splat::Lighting light;
+  const frame::Lighting light;
   const float SD = splat::surfaceThresholdAuto(field) * field.meanDensity();
   const splat::Backdrop backdrop = r.drawBackdrop(top, light);
-  const splat::RenderImage ref =
+  const frame::RenderImage ref =
       splat::raymarchReference(field, SD, top, size, size, light, &backdrop);
   const scene::CameraFrame cf = cameraFrame(top, 1.0f);
   splat::SplatParams newton;
   newton.projection = splat::SplatParams::Projection::Newton;
   const splat::SplatFrame quads =
       splat::buildSplats(field, newton, splat::SplatKind::Quad, cf.projView, cf.eye);
-  const splat::RenderImage scored =
-      r.render(quads, splat::SplatKind::Quad, top, light, splat::ImageContents::ColourAndNormals);
+  const frame::RenderImage scored =
+      r.render(quads, splat::SplatKind::Quad, top, light, frame::ImageContents::ColourAndNormals);
   const std::size_t centre = (size / 2) * size + size / 2, pool = (size / 2) * size + 20;
   EXPECT_TRUE(std::isfinite(backdrop.viewDepth[centre]));
   EXPECT_NEAR(backdrop.viewDepth[centre], 0.6f - 0.12f, 1e-3f) << "the block's top, 0.48 m away";
@@ -223,16 +223,16 @@ TEST_F(SolidsGl, TheReferenceEndsItsRaysOnTheSolids) {
   EXPECT_GT(ref.rgb[3 * centre], ref.rgb[3 * centre + 2] + 60) << "red block";
   EXPECT_TRUE(ref.covered[pool]);
   EXPECT_TRUE(scored.covered[pool]);
-  const splat::ImageError e = splat::compareImages(scored, ref);
+  const frame::ImageError e = frame::compareImages(scored, ref);
   EXPECT_LT(e.holeFraction, 0.05);
   EXPECT_GT(e.psnr, 25.0);
 }
 
 // A deferred pipeline with no lights of its own: the frame goes through the G-buffer and the
 // lighting pass, which add nothing (the hook's switches off).
-class DeferredWithoutLights : public splat::ExtraLights {
+class DeferredWithoutLights : public frame::ExtraLights {
  public:
-  void apply(GLuint program) const override { splat::applyExtraLights(program, splat::Lighting{}); }
+  void apply(GLuint program) const override { frame::applyExtraLights(program, frame::Lighting{}); }
   bool deferred() const override { return true; }
 };
 
@@ -265,14 +265,14 @@ TEST_F(SolidsGl, DrawnNearestFirstThePictureIsTheSame) {
   const DeferredWithoutLights deferredPipeline;
   for (bool deferred : {false, true}) {
     SCOPED_TRACE(deferred ? "deferred" : "forward");
-    splat::Lighting lighting;
+    frame::Lighting lighting;
     if (deferred) lighting.extra = &deferredPipeline;
     solids.frontToBack = true;
-    const splat::RenderImage a =
+    const frame::RenderImage a =
         r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera, lighting);
     EXPECT_EQ(r.lastPasses().gbuffer > 0, deferred) << "the G-buffer pass ran";
     solids.frontToBack = false;
-    const splat::RenderImage b =
+    const frame::RenderImage b =
         r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera, lighting);
     std::size_t spheres = 0;
     for (std::size_t i = 0; i < a.rgb.size(); i += 3) spheres += a.rgb[i] != a.rgb[0];
@@ -295,8 +295,8 @@ TEST_F(SolidsGl, ATankIsACutAwayFromOutside) {
   tank.lo = Vec3(0, 0, 0), tank.hi = Vec3(0.4f, 0.3f, 0.2f);
   SolidRenderer solids({tank}, kDomain, 0.02f);
   r.setLayers({&solids});
-  const splat::RenderImage picture =
-      r.render(water, splat::SplatKind::Point, side, splat::Lighting{});
+  const frame::RenderImage picture =
+      r.render(water, splat::SplatKind::Point, side, frame::Lighting{});
   const std::size_t centre = 16 * 32 + 16;
   EXPECT_GT(picture.rgb[3 * centre + 2], picture.rgb[3 * centre] + 40) << "blue water shows";
 }

@@ -80,8 +80,8 @@ scene::CameraDesc lookingAt(const Vec3& eye, const Vec3& target) {
   return c;
 }
 
-splat::RenderImage picture(splat::SplatRenderer& r, const scene::CameraDesc& camera) {
-  return r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera, splat::Lighting{});
+frame::RenderImage picture(splat::SplatRenderer& r, const scene::CameraDesc& camera) {
+  return r.render(splat::SplatFrame{}, splat::SplatKind::Point, camera, frame::Lighting{});
 }
 
 // One sphere of 1 m seen from 40, 10 and 1.3 m: fewer segments far, more than the fixed 64
@@ -157,11 +157,11 @@ TEST_F(TessellationGl, ThePictureIsTheFixedTessellationsWithinTheBound) {
   splat::SplatRenderer r(w, h);
   SolidRenderer adaptive(shapes, kDomain, 0.05f);
   r.setLayers({&adaptive});
-  const splat::RenderImage a = picture(r, camera);
+  const frame::RenderImage a = picture(r, camera);
   SolidRenderer fixed(shapes, kDomain, 0.05f);
   fixed.tessellation.floor = fixed.tessellation.cap = 64;
   r.setLayers({&fixed});
-  const splat::RenderImage b = picture(r, camera);
+  const frame::RenderImage b = picture(r, camera);
   EXPECT_LT(adaptive.triangles(), fixed.triangles() / 2) << "the point of it";
   std::size_t differing = 0, beyondFew = 0;
   int worstInside = 0;

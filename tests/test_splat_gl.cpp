@@ -1,5 +1,5 @@
 // The GL splat renderer on a real context (llvmpipe in CI): it draws what the CPU built, shades
-// as render/splat/Lighting.h says, and the quad splats score against the reference ray-marcher.
+// as render/frame/Lighting.h says, and the quad splats score against the reference ray-marcher.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -50,15 +50,16 @@ TEST_F(SplatGl, ShadersLightASplatExactlyAsTheLightingModel) {
                 SplatVertex{{0, 0, -1}, {0, 1, 0}}};
   quad.indices = {0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1};
   for (bool environment : {false, true}) {
-    Lighting light;
+    frame::Lighting light;
     light.environment = environment;
-    const Vec3 expected = shade(light, Vec3::UnitY(), Vec3::UnitY());
+    const Vec3 expected = frame::shade(light, Vec3::UnitY(), Vec3::UnitY());
     for (SplatKind kind : {SplatKind::Point, SplatKind::Quad}) {
-      const RenderImage img = r.render(kind == SplatKind::Point ? point : quad, kind, top, light,
-                                       ImageContents::ColourAndNormals);
+      const frame::RenderImage img = r.render(kind == SplatKind::Point ? point : quad, kind, top,
+                                              light, frame::ImageContents::ColourAndNormals);
       const std::size_t centre = 4 * 8 + 4;
       ASSERT_TRUE(img.covered[centre]);
-      for (int k = 0; k < 3; ++k) EXPECT_NEAR(img.rgb[3 * centre + k], toSrgb8(expected[k]), 1);
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(img.rgb[3 * centre + k], frame::toSrgb8(expected[k]), 1);
       EXPECT_NEAR(img.normal[3 * centre + 1], 1.0f, 1e-5f);
     }
   }
@@ -79,17 +80,18 @@ TEST_F(SplatGl, TranslucentWaterShowsItsBackLitFromTheSideTheEyeSees) {
     return point;
   };
   const std::size_t centre = 4 * 8 + 4;
-  Lighting translucent;
+  frame::Lighting translucent;
   translucent.alpha = 0.5f;
-  const RenderImage facing = r.render(splat(1), SplatKind::Point, top, translucent);
-  const RenderImage away = r.render(splat(-1), SplatKind::Point, top, translucent);
+  const frame::RenderImage facing = r.render(splat(1), SplatKind::Point, top, translucent);
+  const frame::RenderImage away = r.render(splat(-1), SplatKind::Point, top, translucent);
   for (int k = 0; k < 3; ++k)
     EXPECT_NEAR(away.rgb[3 * centre + k], facing.rgb[3 * centre + k], 1) << "channel " << k;
   // Opaque: the away-facing splat is shaded with its own normal (grazing, the sky colour).
-  const Lighting opaque;
-  const RenderImage opaqueAway = r.render(splat(-1), SplatKind::Point, top, opaque);
-  const Vec3 grazing = shade(opaque, -Vec3::UnitY(), Vec3::UnitY());
-  for (int k = 0; k < 3; ++k) EXPECT_NEAR(opaqueAway.rgb[3 * centre + k], toSrgb8(grazing[k]), 1);
+  const frame::Lighting opaque;
+  const frame::RenderImage opaqueAway = r.render(splat(-1), SplatKind::Point, top, opaque);
+  const Vec3 grazing = frame::shade(opaque, -Vec3::UnitY(), Vec3::UnitY());
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(opaqueAway.rgb[3 * centre + k], frame::toSrgb8(grazing[k]), 1);
   EXPECT_GT(std::abs(int(opaqueAway.rgb[3 * centre]) - int(facing.rgb[3 * centre])) +
                 std::abs(int(opaqueAway.rgb[3 * centre + 2]) - int(facing.rgb[3 * centre + 2])),
             10);
@@ -102,17 +104,17 @@ TEST_F(SplatGl, BlockSeenFromAboveScoresAgainstTheReference) {
   const scene::CameraDesc cam = topView();
   SplatRenderer r(96, 96);
   const scene::CameraFrame cf = cameraFrame(cam, 1.0f);
-  const Lighting light;
-  const RenderImage ref =
+  const frame::Lighting light;
+  const frame::RenderImage ref =
       raymarchReference(f, surfaceThresholdAuto(f) * f.meanDensity(), cam, 96, 96, light);
   SplatParams newton;
   newton.projection = SplatParams::Projection::Newton;
   const SplatFrame points = buildSplats(f, SplatParams{}, SplatKind::Point, cf.projView, cf.eye);
   const SplatFrame quads = buildSplats(f, newton, SplatKind::Quad, cf.projView, cf.eye);
-  const ImageError ep = compareImages(
-      r.render(points, SplatKind::Point, cam, light, ImageContents::ColourAndNormals), ref);
-  const ImageError eq = compareImages(
-      r.render(quads, SplatKind::Quad, cam, light, ImageContents::ColourAndNormals), ref);
+  const frame::ImageError ep = frame::compareImages(
+      r.render(points, SplatKind::Point, cam, light, frame::ImageContents::ColourAndNormals), ref);
+  const frame::ImageError eq = frame::compareImages(
+      r.render(quads, SplatKind::Quad, cam, light, frame::ImageContents::ColourAndNormals), ref);
   std::printf(
       "block from above: point PSNR %.2f holes %.4f normal %.2f deg; quad PSNR %.2f holes %.4f "
       "normal %.2f deg\n",
@@ -143,17 +145,18 @@ TEST_F(SplatGl, AJetBelowTheSurfaceDensityIsDrawnAtItsWidth) {
   side.fovYDegrees = 25;
   const int size = 128;
   SplatRenderer r(size, size);
-  const Lighting light;
+  const frame::Lighting light;
   const float SD = surfaceThresholdAuto(f) * f.meanDensity();
-  const RenderImage ref = raymarchReference(f, SD, side, size, size, light);
+  const frame::RenderImage ref = raymarchReference(f, SD, side, size, size, light);
   const float radius = std::cbrt(3.0f / (4.0f * static_cast<float>(solver::kPi))) * dx;
-  const RenderImage balls = raytraceParticleBalls(f, radius, side, size, size, light);
+  const frame::RenderImage balls = raytraceParticleBalls(f, radius, side, size, size, light);
   SplatParams newton;
   newton.projection = SplatParams::Projection::Newton;
   const scene::CameraFrame cf = cameraFrame(side, 1.0f);
-  const RenderImage quads = r.render(buildSplats(f, newton, SplatKind::Quad, cf.projView, cf.eye),
-                                     SplatKind::Quad, side, light, ImageContents::ColourAndNormals);
-  const ThinCoverage jet = thinCoverage(quads, ref, balls);
+  const frame::RenderImage quads =
+      r.render(buildSplats(f, newton, SplatKind::Quad, cf.projView, cf.eye), SplatKind::Quad, side,
+               light, frame::ImageContents::ColourAndNormals);
+  const frame::ThinCoverage jet = frame::thinCoverage(quads, ref, balls);
   std::printf("jet: %zu pixels of balls beyond SD, quads cover %.1f%%\n", jet.pixels,
               100 * jet.fraction);
   // A pixel column through the jet, well above the pool: balls and quads, no SD surface.
@@ -171,15 +174,15 @@ TEST_F(SplatGl, AJetBelowTheSurfaceDensityIsDrawnAtItsWidth) {
 // hit. The SD reference used to march an unbounded box against a NaN SD and covered every pixel.
 TEST_F(SplatGl, ReferencesOfAnEmptyFrameCoverNothing) {
   const DensityField f(nullptr, nullptr, nullptr, 0, 0.01f, 2.5f);
-  const Lighting light;
+  const frame::Lighting light;
   const scene::CameraDesc cam = topView();
   const float SD = surfaceThresholdAuto(f) * f.meanDensity();
-  for (const RenderImage& image : {raymarchReference(f, SD, cam, 32, 32, light),
-                                   raytraceParticleBalls(f, 0.006f, cam, 32, 32, light)}) {
+  for (const frame::RenderImage& image : {raymarchReference(f, SD, cam, 32, 32, light),
+                                          raytraceParticleBalls(f, 0.006f, cam, 32, 32, light)}) {
     std::size_t covered = 0;
     for (std::uint8_t c : image.covered) covered += c;
     EXPECT_EQ(covered, 0u);
-    EXPECT_EQ(image.rgb[0], toSrgb8(light.background[0]));
+    EXPECT_EQ(image.rgb[0], frame::toSrgb8(light.background[0]));
   }
 }
 
@@ -192,22 +195,23 @@ TEST_F(SplatGl, PicturesSkipTheNormalTargetAndKeepTheSameColours) {
   const SplatFrame quads = buildSplats(f, SplatParams{}, SplatKind::Quad, cf.projView, cf.eye);
   ASSERT_GT(quads.splats(), 0u);
   SplatRenderer r(64, 64);
-  const RenderImage scored =
-      r.render(quads, SplatKind::Quad, cam, Lighting{}, ImageContents::ColourAndNormals);
-  const RenderImage picture = r.render(quads, SplatKind::Quad, cam, Lighting{});
+  const frame::RenderImage scored = r.render(quads, SplatKind::Quad, cam, frame::Lighting{},
+                                             frame::ImageContents::ColourAndNormals);
+  const frame::RenderImage picture = r.render(quads, SplatKind::Quad, cam, frame::Lighting{});
   EXPECT_TRUE(scored.hasNormals());
   EXPECT_FALSE(picture.hasNormals());
   EXPECT_EQ(picture.rgb, scored.rgb);
   EXPECT_GT(std::count(scored.covered.begin(), scored.covered.end(), 1), 100);
-  EXPECT_THROW(compareImages(picture, scored), std::invalid_argument);
+  EXPECT_THROW(frame::compareImages(picture, scored), std::invalid_argument);
 }
 
 TEST_F(SplatGl, EmptyFrameDrawsOnlyBackground) {
   SplatRenderer r(16, 16);
-  const RenderImage img = r.render(SplatFrame{}, SplatKind::Quad, topView(), Lighting{},
-                                   ImageContents::ColourAndNormals);
+  const frame::RenderImage img =
+      r.render(SplatFrame{}, SplatKind::Quad, topView(), frame::Lighting{},
+               frame::ImageContents::ColourAndNormals);
   for (std::uint8_t c : img.covered) EXPECT_EQ(c, 0);
-  EXPECT_EQ(img.rgb[0], toSrgb8(Lighting{}.background.x()));
+  EXPECT_EQ(img.rgb[0], frame::toSrgb8(frame::Lighting{}.background.x()));
 }
 
 }  // namespace

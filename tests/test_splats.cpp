@@ -157,24 +157,24 @@ TEST(ReferenceRaymarcher, CoversTheBlockAndShadesTheTopFaceLikeTheLightingModel)
   top.target = Vec3(0.05f, 0.0f, 0.05f);
   top.up = Vec3(0, 0, -1);
   top.fovYDegrees = 20;
-  const Lighting light;
+  const frame::Lighting light;
   const float SD = surfaceThresholdAuto(f) * f.meanDensity();
-  const RenderImage img = raymarchReference(f, SD, top, 64, 64, light);
+  const frame::RenderImage img = raymarchReference(f, SD, top, 64, 64, light);
   // The centre pixel sees the top face: normal up, colour = shade(up).
   const std::size_t centre = 32 * 64 + 32;
   ASSERT_TRUE(img.covered[centre]);
   EXPECT_GT(img.normal[3 * centre + 1], 0.98f);
   const Vec3 n(img.normal[3 * centre], img.normal[3 * centre + 1], img.normal[3 * centre + 2]);
   const Vec3 toEye = (top.position - Vec3(0.05f, 0.1f, 0.05f)).normalized();
-  const Vec3 expected = shade(light, n, toEye);
-  for (int k = 0; k < 3; ++k) EXPECT_NEAR(img.rgb[3 * centre + k], toSrgb8(expected[k]), 2);
+  const Vec3 expected = frame::shade(light, n, toEye);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(img.rgb[3 * centre + k], frame::toSrgb8(expected[k]), 2);
   // The corners see the background.
   EXPECT_FALSE(img.covered[0]);
-  EXPECT_EQ(img.rgb[0], toSrgb8(light.background.x()));
+  EXPECT_EQ(img.rgb[0], frame::toSrgb8(light.background.x()));
 }
 
 TEST(RenderImage, ErrorFiguresOfKnownImages) {
-  RenderImage a, b;
+  frame::RenderImage a, b;
   a.resize(4, 1), b.resize(4, 1);
   for (int p = 0; p < 4; ++p) {
     b.covered[p] = 1;
@@ -182,12 +182,12 @@ TEST(RenderImage, ErrorFiguresOfKnownImages) {
   }
   a.covered = {1, 1, 0, 0};
   a.normal = {0, 1, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0};  // pixel 1 is 90 degrees off
-  const ImageError e = compareImages(a, b);
+  const frame::ImageError e = frame::compareImages(a, b);
   EXPECT_DOUBLE_EQ(e.holeFraction, 0.5);
   EXPECT_NEAR(e.normalErrorDegrees, 45.0, 1e-9);
   EXPECT_EQ(e.psnr, 99.0);  // identical colours
   a.rgb[0] = 255;           // one channel of one pixel off by 255: MSE = 255^2 / 12
-  EXPECT_NEAR(compareImages(a, b).psnr, 10 * std::log10(12.0), 1e-9);
+  EXPECT_NEAR(frame::compareImages(a, b).psnr, 10 * std::log10(12.0), 1e-9);
 }
 
 }  // namespace

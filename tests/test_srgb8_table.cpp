@@ -1,4 +1,4 @@
-// render/splat/Srgb8Table: the 8-bit sRGB code by table is toSrgb8's (Lighting.h: clamp, encode,
+// render/frame/Srgb8Table: the 8-bit sRGB code by table is toSrgb8's (Lighting.h: clamp, encode,
 // round), but where a value lies within float rounding of a code's threshold - and there one step
 // apart at most, as GL's own pow() may land either side.
 #include <gtest/gtest.h>
@@ -7,10 +7,10 @@
 #include <limits>
 #include <random>
 
-#include "render/splat/Lighting.h"
-#include "render/splat/Srgb8Table.h"
+#include "render/frame/Lighting.h"
+#include "render/frame/Srgb8Table.h"
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 namespace {
 
 TEST(Srgb8Table, IsTheEncodingOfToSrgb8) {
@@ -41,4 +41,4 @@ TEST(Srgb8Table, IsTheEncodingOfToSrgb8) {
 }
 
 }  // namespace
-}  // namespace sph::render::splat
+}  // namespace sph::render::frame

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "render/gl/GlError.h"
+#include "render/gl/PixelTransfer.h"
 #include "render/gl/Shader.h"
 #include "sim/cdt/CdtConstants.h"
 
@@ -334,12 +335,12 @@ sph::cdt::Texture CdtGl::readTexture() const {
   t.keys.resize(plane * t.layers);
   std::vector<std::uint32_t> depth(plane), index(plane);
   for (int l = 0; l < t.layers; ++l) {
-    glGetTextureSubImage(colour_[current_].id(), 0, 0, 0, l, t.width, t.height, 1, GL_RGBA,
-                         GL_FLOAT, static_cast<GLsizei>(plane * 16), t.texels.data() + l * plane);
-    glGetTextureImage(depthKey_[current_][l].id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT,
-                      static_cast<GLsizei>(plane * 4), depth.data());
-    glGetTextureImage(indexKey_[current_][l].id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT,
-                      static_cast<GLsizei>(plane * 4), index.data());
+    gl::readTextureLayer(colour_[current_].id(), l, t.width, t.height, GL_RGBA, GL_FLOAT,
+                         plane * 16, t.texels.data() + l * plane);
+    gl::readTexture(depthKey_[current_][l].id(), GL_RED_INTEGER, GL_UNSIGNED_INT, plane * 4,
+                    depth.data());
+    gl::readTexture(indexKey_[current_][l].id(), GL_RED_INTEGER, GL_UNSIGNED_INT, plane * 4,
+                    index.data());
     for (std::size_t i = 0; i < plane; ++i)
       t.keys[l * plane + i] = (static_cast<std::uint64_t>(depth[i]) << 32) | index[i];
   }

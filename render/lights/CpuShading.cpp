@@ -7,7 +7,7 @@
 #include <immintrin.h>
 #endif
 
-#include "render/splat/Srgb8Table.h"
+#include "render/frame/Srgb8Table.h"
 #include "sim/Parallel.h"
 
 namespace sph::render::lights {
@@ -313,8 +313,8 @@ Vec3 CpuShading::at(const Vec3& position, const Vec3& n, const Vec3& toEye,
   return Vec3(f[Run::Br][0], f[Run::Bg][0], f[Run::Bb][0]);
 }
 
-void CpuShading::pixels(const splat::GBufferPixels& g, const Vec3& eye, std::uint8_t* rgba) const {
-  const splat::Srgb8Table& encode = splat::srgb8Table();
+void CpuShading::pixels(const frame::GBufferPixels& g, const Vec3& eye, std::uint8_t* rgba) const {
+  const frame::Srgb8Table& encode = frame::srgb8Table();
   // NDC -> world in float: a pixel's position within ~1e-5 of its distance of the double
   // product's (the depth's own float steps are of that order), far below a voxel.
   std::array<float, 16> m{};

@@ -20,10 +20,10 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "render/frame/ExtraLights.h"
 #include "render/lights/CpuAccumulation.h"
-#include "render/splat/ExtraLights.h"
-#include "sim/scene/LightsDesc.h"
 #include "sim/Types.h"
+#include "sim/scene/LightsDesc.h"
 
 namespace sph::render::lights {
 
@@ -39,7 +39,7 @@ class CpuShading {
   // float, unless g.position is given), the lit colour plus the term seen from `eye` (the vector
   // to it as toEye() gives it), clamped and sRGB-encoded (Srgb8Table.h) into `rgba` (RGBA8, alpha
   // 255; all zero where no surface was drawn). OpenMP over rows.
-  void pixels(const splat::GBufferPixels& g, const Vec3& eye, std::uint8_t* rgba) const;
+  void pixels(const frame::GBufferPixels& g, const Vec3& eye, std::uint8_t* rgba) const;
   // The unit vector from `position` to `eye` as pixels() finds it (tests compare with at()).
   static Vec3 toEye(const Vec3& eye, const Vec3& position);
 

@@ -4,8 +4,9 @@
 #include <chrono>
 #include <limits>
 
+#include "render/frame/Lighting.h"
+#include "render/gl/PixelTransfer.h"
 #include "render/gl/Shader.h"
-#include "render/splat/Lighting.h"
 #include "sim/scene/Camera.h"
 
 namespace sph::render::lights {
@@ -15,12 +16,12 @@ double since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-splat::RenderImage picture(const SolidGBuffer& g, const std::vector<Vec3>& colour) {
-  splat::RenderImage image;
+frame::RenderImage picture(const SolidGBuffer& g, const std::vector<Vec3>& colour) {
+  frame::RenderImage image;
   image.resize(g.width, g.height, false);
   for (std::size_t k = 0; k < g.pixels.size(); ++k)
     for (int a = 0; a < 3; ++a)
-      image.rgb[3 * g.pixels[k] + static_cast<std::size_t>(a)] = splat::toSrgb8(colour[k][a]);
+      image.rgb[3 * g.pixels[k] + static_cast<std::size_t>(a)] = frame::toSrgb8(colour[k][a]);
   return image;
 }
 
@@ -62,10 +63,8 @@ SolidGBuffer solidGBuffer(solids::SolidRenderer& solids, const scene::CameraDesc
   solids.drawWith(program.id(), cf);
   const std::size_t n = static_cast<std::size_t>(width) * height;
   std::vector<float> pos(4 * n), nrm(4 * n);
-  glGetTextureImage(position.id(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(pos.size() * 4),
-                    pos.data());
-  glGetTextureImage(normal.id(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(nrm.size() * 4),
-                    nrm.data());
+  gl::readTexture(position.id(), GL_RGBA, GL_FLOAT, pos.size() * 4, pos.data());
+  gl::readTexture(normal.id(), GL_RGBA, GL_FLOAT, nrm.size() * 4, nrm.data());
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   SolidGBuffer g;
   g.width = width, g.height = height;

@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "render/frame/RenderImage.h"
 #include "render/lights/ExactLights.h"
 #include "render/lights/LightVolume.h"
 #include "render/solids/SolidRenderer.h"
-#include "render/splat/RenderImage.h"
 
 namespace sph::render::lights {
 
@@ -30,7 +30,7 @@ SolidGBuffer solidGBuffer(solids::SolidRenderer& solids, const scene::CameraDesc
 // elsewhere), and its error figures against the exact sum.
 struct LightComparison {
   std::string name;  // "nearest", ..., "exact"
-  splat::RenderImage image;
+  frame::RenderImage image;
   LightError total, diffuse, specular;
   double seconds = 0;  // evaluating the points (GPU probe, CPU shading or CPU sum)
 };

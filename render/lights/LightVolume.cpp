@@ -6,6 +6,7 @@
 #include <string>
 
 #include "render/gl/GlError.h"
+#include "render/gl/PixelTransfer.h"
 #include "render/gl/Shader.h"
 #include "render/lights/CpuAccumulation.h"
 #include "render/lights/CpuShading.h"
@@ -319,7 +320,7 @@ bool LightVolume::shadesOnCpu() const {
   return desc_.shade == scene::LightShade::Cpu && desc_.filter != scene::LightFilter::Tricubic;
 }
 
-void LightVolume::shadeOnCpu(const splat::GBufferPixels& g, const Vec3& eye,
+void LightVolume::shadeOnCpu(const frame::GBufferPixels& g, const Vec3& eye,
                              std::uint8_t* rgba) const {
   CpuShading(desc_, cpuSums_, terms).pixels(g, eye, rgba);
 }
@@ -400,7 +401,7 @@ std::vector<Vec3> LightVolume::probe(const std::vector<ProbePoint>& points,
 namespace {
 std::vector<std::array<float, 4>> readTexture(GLuint t, std::size_t voxels) {
   std::vector<std::array<float, 4>> out(voxels);
-  glGetTextureImage(t, 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(voxels * 16), out.data());
+  gl::readTexture(t, GL_RGBA, GL_FLOAT, voxels * 16, out.data());
   return out;
 }
 }  // namespace

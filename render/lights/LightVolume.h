@@ -10,11 +10,11 @@
 #include <array>
 #include <vector>
 
+#include "render/frame/ExtraLights.h"
 #include "render/gl/GlHandle.h"
 #include "render/gl/ShaderLibrary.h"
 #include "render/lights/CpuAccumulation.h"
 #include "render/lights/LightCulling.h"
-#include "render/splat/ExtraLights.h"
 #include "sim/lights/LightParticles.h"
 #include "sim/scene/LightsDesc.h"
 
@@ -37,7 +37,7 @@ struct ProbePoint {
   Vec3 position, normal, toEye;
 };
 
-class LightVolume final : public splat::ExtraLights {
+class LightVolume final : public frame::ExtraLights {
  public:
   // Allocates the textures (and the atomic path's six int32 images). A volume GL cannot hold
   // (larger than GL_MAX_3D_TEXTURE_SIZE, or GL_OUT_OF_MEMORY) throws InputError naming its size
@@ -61,7 +61,7 @@ class LightVolume final : public splat::ExtraLights {
   // the lighting pass's term computed on the CPU from the last update's sums. A filter set to
   // tricubic since (compare's) goes back to the GL path.
   bool shadesOnCpu() const override;
-  void shadeOnCpu(const splat::GBufferPixels& g, const Vec3& eye,
+  void shadeOnCpu(const frame::GBufferPixels& g, const Vec3& eye,
                   std::uint8_t* rgba) const override;
 
   // Which Phong terms apply() switches on (bit 0 diffuse, bit 1 specular; the error figures).

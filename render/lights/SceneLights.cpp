@@ -2,33 +2,29 @@
 
 #include <cstdio>
 
+#include "render/frame/Lighting.h"
+
 namespace sph::render::lights {
 
-SceneLights::SceneLights(const scene::Scene& scene, splat::FrameRenderer& renderer)
-    : volume_(*scene.lights), renderer_(renderer), solids_(sph::lights::lightSolids(scene)) {
-  const scene::LightsDesc& desc = *scene.lights;
-  renderer.setExtraLights(&volume_);
-  renderer.setBackground(desc.roomLight * splat::Lighting{}.background);
-}
+SceneLights::SceneLights(const scene::Scene& scene, const scene::RenderDesc& render)
+    : volume_(*scene.lights),
+      render_(render),
+      spacing_(scene.solver.spacing),
+      background_(scene.lights->roomLight * frame::Lighting{}.background),
+      solids_(sph::lights::lightSolids(scene)) {}
 
 double SceneLights::update(const Particles& fluid, double time, const scene::CameraDesc* camera,
                            float aspect) {
   lights_ = sph::lights::lightParticles(volume_.desc(), fluid, time, solids_);
   if (camera && volume_.desc().cull) {
-    const scene::RenderDesc& r = renderer_.desc();
+    const scene::RenderDesc& r = render_;
     if (aspect <= 0) aspect = static_cast<float>(r.width) / static_cast<float>(r.height);
-    const LightView view =
-        lightView(*camera, aspect, r.splatSize, r.kernelRadius, renderer_.spacing());
+    const LightView view = lightView(*camera, aspect, r.splatSize, r.kernelRadius, spacing_);
     seconds_ = volume_.update(lights_, &view);
   } else {
     seconds_ = volume_.update(lights_);
   }
   return seconds_;
-}
-
-std::unique_ptr<SceneLights> showLights(const scene::Scene& scene, splat::FrameRenderer& renderer) {
-  if (!scene.lights) return nullptr;
-  return std::make_unique<SceneLights>(scene, renderer);
 }
 
 std::string describeLights(const scene::LightsDesc& d) {

@@ -3,11 +3,12 @@
 #include <algorithm>
 #include <vector>
 
+#include "render/frame/ProgramUniforms.h"
+#include "render/frame/SpotlightUniforms.h"
+#include "render/gl/PixelTransfer.h"
 #include "render/gl/Shader.h"
 #include "render/rain/ComposeOver.h"
 #include "render/rain/StreakImages.h"
-#include "render/splat/ProgramUniforms.h"
-#include "render/splat/SpotlightUniforms.h"
 
 namespace sph::render::rain {
 namespace {
@@ -88,7 +89,7 @@ void RainRenderer::setDrops(const sph::rain::RainSystem& rain) {
   }
 }
 
-void RainRenderer::draw(const scene::CameraFrame& camera, const splat::Lighting& lighting) {
+void RainRenderer::draw(const scene::CameraFrame& camera, const frame::Lighting& lighting) {
   if (count_ == 0) return;
   if (raster_) {
     drawCpu(camera, lighting);
@@ -97,7 +98,7 @@ void RainRenderer::draw(const scene::CameraFrame& camera, const splat::Lighting&
   }
 }
 
-void RainRenderer::drawCpu(const scene::CameraFrame& camera, const splat::Lighting& lighting) {
+void RainRenderer::drawCpu(const scene::CameraFrame& camera, const frame::Lighting& lighting) {
   GLint viewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_VIEWPORT, viewport);
   const int w = viewport[2], h = viewport[3];
@@ -108,62 +109,41 @@ void RainRenderer::drawCpu(const scene::CameraFrame& camera, const splat::Lighti
   // full-screen pass cost 3-10 ms on llvmpipe, nearly all in fetching its texels
   // (docs/notes/2026-11-27-rain-respawn-and-sums.md, "The sums' runs in strips and the composite
   // on the CPU").
-  GLint drawFramebuffer = 0, readFramebuffer = 0;
+  GLint drawFramebuffer = 0, drawBuffer = GL_NONE;
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &drawFramebuffer);
-  glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readFramebuffer);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(drawFramebuffer));
+  glGetIntegerv(GL_DRAW_BUFFER0, &drawBuffer);  // the colour the streaks are drawn into
+  const GLuint target = static_cast<GLuint>(drawFramebuffer);
+  const gl::PixelRect rect{viewport[0], viewport[1], w, h};
   const std::size_t pixels = static_cast<std::size_t>(w) * h;
   depth_.resize(pixels);
   colour_.resize(4 * pixels);
-  GLint packAlignment = 4, unpackAlignment = 4;  // restored: others read and write with theirs
-  glGetIntegerv(GL_PACK_ALIGNMENT, &packAlignment);
-  glGetIntegerv(GL_UNPACK_ALIGNMENT, &unpackAlignment);
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glReadPixels(viewport[0], viewport[1], w, h, GL_DEPTH_COMPONENT, GL_FLOAT, depth_.data());
-  // The colour the streaks are drawn into: the frame's first draw buffer.
-  GLint readBuffer = GL_NONE, drawBuffer = GL_NONE;
-  glGetIntegerv(GL_READ_BUFFER, &readBuffer);
-  glGetIntegerv(GL_DRAW_BUFFER0, &drawBuffer);
-  glReadBuffer(static_cast<GLenum>(drawBuffer));
-  glReadPixels(viewport[0], viewport[1], w, h, GL_RGBA, GL_UNSIGNED_BYTE, colour_.data());
-  glReadBuffer(static_cast<GLenum>(readBuffer));
-  glPixelStorei(GL_PACK_ALIGNMENT, packAlignment);
+  gl::readPixels(target, GL_NONE, rect, GL_DEPTH_COMPONENT, GL_FLOAT, depth_.data());
+  gl::readPixels(target, static_cast<GLenum>(drawBuffer), rect, GL_RGBA, GL_UNSIGNED_BYTE,
+                 colour_.data());
 
   raster_->draw(StreakView{camera, w, h}, StreakDrops{&positions_, &layers_, velocity_},
                 kUnlitTint * lighting.background, depth_.data());
   composeOver(raster_->layer(), colour_);
 
-  if (w != layerWidth_ || h != layerHeight_) {
-    layerTexture_ = gl::Texture::create(GL_TEXTURE_2D);
-    glTextureStorage2D(layerTexture_.id(), 1, GL_RGBA8, w, h);
-    layerFramebuffer_ = gl::Framebuffer::create();
-    glNamedFramebufferTexture(layerFramebuffer_.id(), GL_COLOR_ATTACHMENT0, layerTexture_.id(), 0);
-    layerWidth_ = w, layerHeight_ = h;
-  }
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glTextureSubImage2D(layerTexture_.id(), 0, 0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, colour_.data());
-  glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment);
   // Into every draw buffer of the frame: the frame draws into its colour only while its layers
-  // draw (render/splat/SplatRenderer.cpp, drawLayers). A blit ignores blending and depth; the
-  // scissor test would clip it, and nothing draws the rain with one.
-  glBlitNamedFramebuffer(layerFramebuffer_.id(), static_cast<GLuint>(drawFramebuffer), 0, 0, w, h,
-                         viewport[0], viewport[1], viewport[0] + w, viewport[1] + h,
-                         GL_COLOR_BUFFER_BIT, GL_NEAREST);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(readFramebuffer));
+  // draw (render/splat/SplatRenderer.cpp, drawLayers). Nothing draws the rain with a scissor test,
+  // which would clip the blit.
+  composed_.upload(w, h, GL_RGBA, colour_.data());
+  composed_.blit(target, viewport[0], viewport[1]);
 }
 
 void RainRenderer::drawTriangles(const scene::CameraFrame& camera,
-                                 const splat::Lighting& lighting) {
+                                 const frame::Lighting& lighting) {
   const GLuint p = program_.id();
   glProgramUniformMatrix4fv(p, glGetUniformLocation(p, "u_projView"), 1, GL_FALSE,
                             camera.projView.m.data());
-  splat::setVec3(p, "u_eye", camera.eye);
-  splat::setVec3(p, "u_right", camera.right);
-  splat::setVec3(p, "u_velocity", velocity_);
-  splat::setFloat(p, "u_exposure", desc_.exposure);
-  splat::setFloat(p, "u_width", desc_.dropWidth);
-  splat::setVec3(p, "u_unlit", kUnlitTint * lighting.background);
-  splat::setSpotlightUniforms(p, desc_.spotlight);
+  frame::setVec3(p, "u_eye", camera.eye);
+  frame::setVec3(p, "u_right", camera.right);
+  frame::setVec3(p, "u_velocity", velocity_);
+  frame::setFloat(p, "u_exposure", desc_.exposure);
+  frame::setFloat(p, "u_width", desc_.dropWidth);
+  frame::setVec3(p, "u_unlit", kUnlitTint * lighting.background);
+  frame::setSpotlightUniforms(p, desc_.spotlight);
   glProgramUniform1i(p, glGetUniformLocation(p, "u_streaks"), 0);
   glBindTextureUnit(0, streaks_.id());
   glEnable(GL_DEPTH_TEST);

@@ -2,7 +2,7 @@
 // each drop a quad from where it was one exposure ago to where it is, so it lies along the drop's
 // projected velocity, textured by one layer (picked at random per drop) of an array texture of
 // streak images (render/rain/StreakImages.h), coloured by the spotlight of eq. (10)-(13) and
-// alpha-blended into the splat frame after the water (render/splat/FrameLayer.h): depth tested
+// alpha-blended into the splat frame after the water (render/frame/FrameLayer.h): depth tested
 // against the water and solids, not written. rain.draw picks how: "cpu" (default) rasterises the
 // quads on the CPU (render/rain/StreakRaster.h) against the frame's depth, read back once with its
 // colour, composes the result over that colour and copies it back; "triangles" draws two GL
@@ -12,16 +12,17 @@
 #include <memory>
 #include <vector>
 
+#include "render/frame/FrameLayer.h"
 #include "render/gl/GlHandle.h"
+#include "render/gl/PixelTransfer.h"
 #include "render/gl/ShaderLibrary.h"
 #include "render/rain/StreakRaster.h"
-#include "render/splat/FrameLayer.h"
-#include "sim/scene/RainDesc.h"
 #include "sim/rain/RainSystem.h"
+#include "sim/scene/RainDesc.h"
 
 namespace sph::render::rain {
 
-class RainRenderer final : public splat::FrameLayer {
+class RainRenderer final : public frame::FrameLayer {
  public:
   // Builds the program and the streak array texture. Needs a current context.
   explicit RainRenderer(const scene::RainDesc& desc,
@@ -29,26 +30,24 @@ class RainRenderer final : public splat::FrameLayer {
   Order order() const override { return Order::AfterSplats; }
   // Uploads the drops to draw (their positions, streak layers and the common velocity).
   void setDrops(const sph::rain::RainSystem& rain);
-  void draw(const scene::CameraFrame& camera, const splat::Lighting& lighting) override;
+  void draw(const scene::CameraFrame& camera, const frame::Lighting& lighting) override;
 
   std::size_t drops() const { return count_; }
   // "cpu": the fragments of the last draw that passed the depth test; null for "triangles".
   const StreakRaster* raster() const { return raster_.get(); }
 
  private:
-  void drawTriangles(const scene::CameraFrame& camera, const splat::Lighting& lighting);
-  void drawCpu(const scene::CameraFrame& camera, const splat::Lighting& lighting);
+  void drawTriangles(const scene::CameraFrame& camera, const frame::Lighting& lighting);
+  void drawCpu(const scene::CameraFrame& camera, const frame::Lighting& lighting);
   scene::RainDesc desc_;
-  // "cpu": the rasteriser, the drops it draws, the frame's depth and colour, and the texture
-  // (with its framebuffer) the composed colour is copied back from.
+  // "cpu": the rasteriser, the drops it draws, the frame's depth and colour, and the composed
+  // colour put back on the frame.
   std::unique_ptr<StreakRaster> raster_;
   std::vector<Vec3> positions_;
   std::vector<std::uint8_t> layers_;
   std::vector<float> depth_;
   std::vector<std::uint8_t> colour_;  // RGBA8, row 0 at the bottom
-  gl::Texture layerTexture_;
-  gl::Framebuffer layerFramebuffer_;
-  int layerWidth_ = 0, layerHeight_ = 0;
+  gl::ImageBlit composed_;
   // "triangles":
   gl::Program program_;
   gl::Texture streaks_;

@@ -34,17 +34,4 @@ void SceneRain::follow(const scene::CameraDesc& camera) {
   renderer_.setDrops(stepper_->system());
 }
 
-std::unique_ptr<SceneRain> showRain(const scene::Scene& scene, splat::FrameRenderer& renderer,
-                                    splat::FrameLayer* solids) {
-  const scene::RenderDesc& d = renderer.desc();
-  auto rain = SceneRain::create(scene, static_cast<float>(d.width) / static_cast<float>(d.height));
-  if (!rain) return nullptr;
-  std::vector<splat::FrameLayer*> layers;
-  if (solids) layers.push_back(solids);
-  layers.push_back(&rain->layer());
-  renderer.setLayers(std::move(layers));
-  renderer.setSpotlight(scene.rain->spotlight);
-  return rain;
-}
-
 }  // namespace sph::render::rain

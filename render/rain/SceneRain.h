@@ -1,18 +1,19 @@
 // The rain of a scene in its pictures (`run` with a render section, `render`, `view`): the drops
 // of a sim/rain/RainStepper uploaded to a RainRenderer layer. `run` steps the rain beside the
-// fluid and stores its drops in the cache (io/cache/RainCache.h); `render` and `view` redraw the stored
-// drops (restore()), or, for a cache without them, regenerate them deterministically from the
-// scene and the frame times (advanceTo(); docs/rain.md, "Replay").
+// fluid and stores its drops in the cache (io/cache/RainCache.h); `render` and `view` redraw the
+// stored drops (restore()), or, for a cache without them, regenerate them deterministically from
+// the scene and the frame times (advanceTo(); docs/rain.md, "Replay"). A scene's frame
+// (render/compose/SceneFrame.h) draws its layer after the water and lights the water and solids
+// with its spotlight.
 #pragma once
 
 #include <memory>
 #include <vector>
 
 #include "render/rain/RainRenderer.h"
-#include "render/splat/FrameRenderer.h"
 #include "sim/Particles.h"
-#include "sim/scene/Scene.h"
 #include "sim/rain/RainStepper.h"
+#include "sim/scene/Scene.h"
 
 namespace sph::render::rain {
 
@@ -44,11 +45,5 @@ class SceneRain {
   RainRenderer renderer_;
   double updateSeconds_ = 0;
 };
-
-// Sets up `renderer` to draw the rain of `scene` (null and nothing done without a rain section):
-// its streaks as a layer after the splats, beside the opaque `solids` (null if not drawn), and
-// its spotlight on the water and solids. Keep the result alive while `renderer` draws.
-std::unique_ptr<SceneRain> showRain(const scene::Scene& scene, splat::FrameRenderer& renderer,
-                                    splat::FrameLayer* solids);
 
 }  // namespace sph::render::rain

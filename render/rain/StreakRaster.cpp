@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "render/frame/Lighting.h"
 #include "render/rain/StreakFrame.h"
 #include "render/rain/StreakLine.h"
-#include "render/splat/Lighting.h"
 #include "sim/rain/Spotlight.h"
 
 namespace sph::render::rain {
@@ -20,7 +20,7 @@ using detail::Vec4f;
 
 // GLSL's toSrgb of shaders/rain.vert, component-wise.
 Vec3 toSrgb(const Vec3& c) {
-  return Vec3(splat::toSrgb(c.x()), splat::toSrgb(c.y()), splat::toSrgb(c.z()));
+  return Vec3(frame::toSrgb(c.x()), frame::toSrgb(c.y()), frame::toSrgb(c.z()));
 }
 
 Frame frameOf(const StreakView& view, const scene::RainDesc& desc, const Vec3& velocity) {

@@ -5,11 +5,11 @@
 #include <string>
 #include <vector>
 
+#include "render/frame/ExtraLights.h"
+#include "render/frame/ProgramUniforms.h"
+#include "render/frame/SpotlightUniforms.h"
 #include "render/gl/Shader.h"
 #include "render/solids/DrawOrder.h"
-#include "render/splat/ExtraLights.h"
-#include "render/splat/ProgramUniforms.h"
-#include "render/splat/SpotlightUniforms.h"
 
 namespace sph::render::solids {
 
@@ -65,24 +65,24 @@ void SolidRenderer::fit(const scene::Mat4& projView) {
 }
 
 void SolidRenderer::setLighting(GLuint p, const scene::CameraFrame& camera,
-                                const splat::Lighting& lighting) const {
-  splat::setVec3(p, "u_eye", camera.eye);
+                                const frame::Lighting& lighting) const {
+  frame::setVec3(p, "u_eye", camera.eye);
   // The scene's light, the solids' own material; no sky reflection (they are not water).
-  splat::setVec3(p, "u_toLight", lighting.toLight.normalized());
-  splat::setVec3(p, "u_base", material.colour);
-  splat::setFloat(p, "u_ambient", material.ambient);
-  splat::setFloat(p, "u_diffuse", material.diffuse);
-  splat::setFloat(p, "u_specular", material.specular);
-  splat::setFloat(p, "u_shininess", material.shininess);
-  splat::setInt(p, "u_environment", 0);
-  splat::setVec3(p, "u_horizon", lighting.horizon);
-  splat::setVec3(p, "u_zenith", lighting.zenith);
-  splat::setFloat(p, "u_fresnelMin", lighting.fresnelMin);
-  splat::applyExtraLights(p, lighting);
-  splat::setSpotlightUniforms(p, lighting.spotlight);
+  frame::setVec3(p, "u_toLight", lighting.toLight.normalized());
+  frame::setVec3(p, "u_base", material.colour);
+  frame::setFloat(p, "u_ambient", material.ambient);
+  frame::setFloat(p, "u_diffuse", material.diffuse);
+  frame::setFloat(p, "u_specular", material.specular);
+  frame::setFloat(p, "u_shininess", material.shininess);
+  frame::setInt(p, "u_environment", 0);
+  frame::setVec3(p, "u_horizon", lighting.horizon);
+  frame::setVec3(p, "u_zenith", lighting.zenith);
+  frame::setFloat(p, "u_fresnelMin", lighting.fresnelMin);
+  frame::applyExtraLights(p, lighting);
+  frame::setSpotlightUniforms(p, lighting.spotlight);
 }
 
-GLuint SolidRenderer::program(Pass pass, const splat::Lighting& lighting) {
+GLuint SolidRenderer::program(Pass pass, const frame::Lighting& lighting) {
   const bool spotlight = lighting.spotlight.has_value();
   gl::Program& p = programs_[static_cast<int>(pass)][spotlight ? 1 : 0];
   if (p.id() != 0) return p.id();
@@ -102,14 +102,14 @@ GLuint SolidRenderer::program(Pass pass, const splat::Lighting& lighting) {
   return p.id();
 }
 
-void SolidRenderer::draw(const scene::CameraFrame& camera, const splat::Lighting& lighting) {
+void SolidRenderer::draw(const scene::CameraFrame& camera, const frame::Lighting& lighting) {
   if (shapes_.empty()) return;
   const GLuint p = program(lighting.extra != nullptr ? Pass::Lit : Pass::Plain, lighting);
   setLighting(p, camera, lighting);
   drawWith(p, camera);
 }
 
-bool SolidRenderer::drawGBuffer(const scene::CameraFrame& camera, const splat::Lighting& lighting) {
+bool SolidRenderer::drawGBuffer(const scene::CameraFrame& camera, const frame::Lighting& lighting) {
   if (shapes_.empty()) return true;
   const GLuint p = program(Pass::GBuffer, lighting);
   setLighting(p, camera, lighting);

@@ -1,17 +1,17 @@
 // Draws the scene's solids (render/solids/SolidMesh.h) opaque and lit, per pixel, with the
-// renderers' one lighting model (render/splat/Lighting.h, shaders/splat_shading.glsl) and a
-// material of their own, as a layer of the splat frame (render/splat/FrameLayer.h): depth
+// renderers' one lighting model (render/frame/Lighting.h, shaders/splat_shading.glsl) and a
+// material of their own, as a layer of the splat frame (render/frame/FrameLayer.h): depth
 // tested and written before the splats, so water in a cup is hidden by its near wall and the
 // floor of a tank is behind the water.
 #pragma once
 
 #include <vector>
 
+#include "render/frame/FrameLayer.h"
 #include "render/gl/GlHandle.h"
 #include "render/gl/ShaderLibrary.h"
 #include "render/solids/ScreenTessellation.h"
 #include "render/solids/SolidMesh.h"
-#include "render/splat/FrameLayer.h"
 #include "sim/scene/Scene.h"
 
 namespace sph::render::solids {
@@ -21,7 +21,7 @@ struct SolidMaterial {
   float ambient = 0.35f, diffuse = 0.65f, specular = 0.15f, shininess = 24.0f;
 };
 
-class SolidRenderer final : public splat::FrameLayer {
+class SolidRenderer final : public frame::FrameLayer {
  public:
   // Keeps `shapes` (walls `thickness` m thick) to tessellate for each draw's camera and viewport
   // (`tessellation`). Needs a current context.
@@ -29,10 +29,10 @@ class SolidRenderer final : public splat::FrameLayer {
                 float thickness,
                 const gl::ShaderLibrary& shaders = gl::ShaderLibrary::fromEnvironment());
   Order order() const override { return Order::BeforeSplats; }
-  void draw(const scene::CameraFrame& camera, const splat::Lighting& lighting) override;
+  void draw(const scene::CameraFrame& camera, const frame::Lighting& lighting) override;
   // The deferred pipeline's G-buffer (lights.pipeline "deferred"): the same lighting less the
   // particle lights, with albedo, position and normal per pixel; its program is built on first use.
-  bool drawGBuffer(const scene::CameraFrame& camera, const splat::Lighting& lighting) override;
+  bool drawGBuffer(const scene::CameraFrame& camera, const frame::Lighting& lighting) override;
 
   // The same triangles with `program` (its vertex stage solid.vert: u_projView), depth tested,
   // into the current framebuffer and viewport: G-buffers (render/lights/LightComparison.h).
@@ -55,7 +55,7 @@ class SolidRenderer final : public splat::FrameLayer {
 
  private:
   void setLighting(GLuint program, const scene::CameraFrame& camera,
-                   const splat::Lighting& lighting) const;
+                   const frame::Lighting& lighting) const;
   // Tessellates the shapes for `projView` in the current viewport where a shape's segments
   // change, and uploads the mesh; nothing (no allocation) while they stay.
   void fit(const scene::Mat4& projView);
@@ -70,7 +70,7 @@ class SolidRenderer final : public splat::FrameLayer {
   // Code behind a switch that is off is left out (SPH_NO_PARTICLE_LIGHTS but for Lit, as the
   // splats' programs; SPH_NO_ENVIRONMENT; SPH_NO_SPOTLIGHT): llvmpipe pays for it otherwise
   // (docs/benchmarks.md, "Particle lights").
-  GLuint program(Pass pass, const splat::Lighting& lighting);
+  GLuint program(Pass pass, const frame::Lighting& lighting);
   gl::Program programs_[3][2];  // [pass][spotlight]
   gl::Buffer vertices_, indices_;
   gl::VertexArray vao_;

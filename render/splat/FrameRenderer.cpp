@@ -21,8 +21,8 @@ SplatParams splatParams(const scene::RenderDesc& d) {
   return p;
 }
 
-Lighting lighting(const scene::RenderDesc& d) {
-  Lighting l;
+frame::Lighting lighting(const scene::RenderDesc& d) {
+  frame::Lighting l;
   l.environment = d.environment;
   l.alpha = d.alpha;
   return l;
@@ -80,8 +80,8 @@ RenderedSplats FrameRenderer::renderScored(SplatKind kind, const scene::CameraDe
   // run): not part of a frame's time, so the timed draw is the second.
   renderer_.render(splats, kind, camera, lighting_);
   const double drawSeconds = renderer_.render(splats, kind, camera, lighting_).seconds;
-  RenderImage scored =
-      renderer_.render(splats, kind, camera, lighting_, ImageContents::ColourAndNormals);
+  frame::RenderImage scored =
+      renderer_.render(splats, kind, camera, lighting_, frame::ImageContents::ColourAndNormals);
   scored.seconds = drawSeconds;
   return result(splats, std::move(scored));
 }
@@ -91,7 +91,7 @@ SplatFrame FrameRenderer::build(SplatKind kind, const scene::CameraDesc& camera)
   return buildSplats(*field_, params_, kind, cf.projView, cf.eye);
 }
 
-RenderedSplats FrameRenderer::result(const SplatFrame& splats, RenderImage image) const {
+RenderedSplats FrameRenderer::result(const SplatFrame& splats, frame::RenderImage image) const {
   RenderedSplats out;
   out.image = std::move(image);
   out.timings.field = fieldSeconds_;
@@ -118,21 +118,21 @@ FrameTimings FrameRenderer::drawToScreen(SplatKind kind, const scene::CameraDesc
 
 // The solids, drawn by GL as in the pictures, are what the reference's rays end on.
 std::optional<Backdrop> FrameRenderer::backdrop(const scene::CameraDesc& camera,
-                                                const Lighting& lighting) {
-  if (!renderer_.hasLayers(FrameLayer::Order::BeforeSplats)) return std::nullopt;
+                                                const frame::Lighting& lighting) {
+  if (!renderer_.hasLayers(frame::FrameLayer::Order::BeforeSplats)) return std::nullopt;
   return renderer_.drawBackdrop(camera, lighting);
 }
 
-RenderImage FrameRenderer::reference(const scene::CameraDesc& camera) {
-  Lighting opaque = lighting_;
+frame::RenderImage FrameRenderer::reference(const scene::CameraDesc& camera) {
+  frame::Lighting opaque = lighting_;
   opaque.alpha = 1;
   const std::optional<Backdrop> b = backdrop(camera, opaque);
   return raymarchReference(*field_, surfaceDensity(*field_, params_.surfaceThreshold), camera,
                            desc_.width, desc_.height, opaque, b ? &*b : nullptr);
 }
 
-RenderImage FrameRenderer::referenceOfEveryParticle(const scene::CameraDesc& camera) {
-  Lighting opaque = lighting_;
+frame::RenderImage FrameRenderer::referenceOfEveryParticle(const scene::CameraDesc& camera) {
+  frame::Lighting opaque = lighting_;
   opaque.alpha = 1;
   const std::optional<Backdrop> b = backdrop(camera, opaque);
   // A ball of the particle's volume, spacing^3.

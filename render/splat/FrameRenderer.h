@@ -6,19 +6,19 @@
 
 #include <optional>
 
+#include "render/frame/Lighting.h"
+#include "render/frame/RenderImage.h"
 #include "render/splat/DensityField.h"
-#include "render/splat/Lighting.h"
-#include "render/splat/RenderImage.h"
 #include "render/splat/SplatBuilder.h"
 #include "render/splat/SplatRenderer.h"
-#include "sim/scene/CameraDesc.h"
 #include "sim/Particles.h"
+#include "sim/scene/CameraDesc.h"
 #include "sim/scene/RenderDesc.h"
 
 namespace sph::render::splat {
 
 SplatParams splatParams(const scene::RenderDesc& desc);
-Lighting lighting(const scene::RenderDesc& desc);
+frame::Lighting lighting(const scene::RenderDesc& desc);
 
 // A camera that frames the particles' box from the front-right-above (for caches whose scene
 // has no camera).
@@ -32,7 +32,7 @@ struct FrameTimings {
 };
 
 struct RenderedSplats {
-  RenderImage image;
+  frame::RenderImage image;
   FrameTimings timings;
   std::size_t particles = 0, surface = 0, splats = 0;  // splats drawn (SplatFrame::splats())
   float SD = 0, ID = 0;
@@ -63,18 +63,18 @@ class FrameRenderer {
   FrameTimings drawToScreen(SplatKind kind, const scene::CameraDesc& camera, int width, int height);
   // The reference ray-marched image of the same SD surface, with the solids (the layers drawn
   // before the splats) where the pictures have them.
-  RenderImage reference(const scene::CameraDesc& camera);
+  frame::RenderImage reference(const scene::CameraDesc& camera);
   // Every particle as a ball of its own volume (radius 0.62 spacings), ray-traced, with the same
   // solids: thin jets and lone drops whose D stays below SD, which the SD surface (and so the
   // reference) drops. For judging the splats' jets, not an error reference.
-  RenderImage referenceOfEveryParticle(const scene::CameraDesc& camera);
+  frame::RenderImage referenceOfEveryParticle(const scene::CameraDesc& camera);
 
-  // Layers drawn in every picture with the splats (render/splat/FrameLayer.h), not owned.
-  void setLayers(std::vector<FrameLayer*> layers) { renderer_.setLayers(std::move(layers)); }
+  // Layers drawn in every picture with the splats (render/frame/FrameLayer.h), not owned.
+  void setLayers(std::vector<frame::FrameLayer*> layers) { renderer_.setLayers(std::move(layers)); }
 
-  // Position-dependent lights for every surface drawn (render/splat/ExtraLights.h), not owned;
+  // Position-dependent lights for every surface drawn (render/frame/ExtraLights.h), not owned;
   // null: none.
-  void setExtraLights(const ExtraLights* extra) { lighting_.extra = extra; }
+  void setExtraLights(const frame::ExtraLights* extra) { lighting_.extra = extra; }
   // The colour of empty pixels (linear RGB).
   void setBackground(const Vec3& colour) { lighting_.background = colour; }
   // The rain's spotlight lights the water and solids of every picture (Lighting::spotlight).
@@ -87,12 +87,13 @@ class FrameRenderer {
 
  private:
   SplatFrame build(SplatKind kind, const scene::CameraDesc& camera) const;
-  RenderedSplats result(const SplatFrame& splats, RenderImage image) const;
-  std::optional<Backdrop> backdrop(const scene::CameraDesc& camera, const Lighting& lighting);
+  RenderedSplats result(const SplatFrame& splats, frame::RenderImage image) const;
+  std::optional<Backdrop> backdrop(const scene::CameraDesc& camera,
+                                   const frame::Lighting& lighting);
   scene::RenderDesc desc_;
   float spacing_, restDensity_;
   SplatParams params_;
-  Lighting lighting_;
+  frame::Lighting lighting_;
   SplatRenderer renderer_;
   std::optional<DensityField> field_;
   double fieldSeconds_ = 0;

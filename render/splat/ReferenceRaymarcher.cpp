@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "sim/Parallel.h"
+#include "sim/scene/Camera.h"
 
 namespace sph::render::splat {
 namespace {
@@ -15,11 +16,11 @@ namespace {
 // firstHit(eye, dir, t0, t1) returns (a distance along dir, or a negative number for none) with
 // the normal -gradC there, as the splats are shaded.
 template <class FirstHit>
-RenderImage castRays(const DensityField& field, float grow, const scene::CameraDesc& camera,
-                     int width, int height, const Lighting& lighting, const Backdrop* backdrop,
-                     FirstHit&& firstHit) {
+frame::RenderImage castRays(const DensityField& field, float grow, const scene::CameraDesc& camera,
+                            int width, int height, const frame::Lighting& lighting,
+                            const Backdrop* backdrop, FirstHit&& firstHit) {
   const auto start = std::chrono::steady_clock::now();
-  RenderImage image;
+  frame::RenderImage image;
   image.resize(width, height);
   Vec3 lo = Vec3::Constant(std::numeric_limits<float>::max()), hi = -lo;
   for (std::size_t s = 0; s < field.size(); ++s) {
@@ -29,12 +30,9 @@ RenderImage castRays(const DensityField& field, float grow, const scene::CameraD
   lo -= Vec3::Constant(grow), hi += Vec3::Constant(grow);
 
   // Camera basis (gluLookAt / gluPerspective, as the GL renderer's matrices).
-  const Vec3 eye = camera.position;
-  const Vec3 forward = (camera.target - eye).normalized();
-  const Vec3 right = forward.cross(camera.up).normalized();
-  const Vec3 up = right.cross(forward);
-  const float tanHalf =
-      std::tan(0.5f * camera.fovYDegrees * static_cast<float>(solver::kPi) / 180.0f);
+  const scene::CameraBasis basis = scene::cameraBasis(camera);
+  const Vec3 &eye = basis.eye, &forward = basis.forward, &right = basis.right, &up = basis.up;
+  const float tanHalf = scene::tanHalfFovY(camera);
   const float aspect = static_cast<float>(width) / height;
 
   parallelForDynamic(static_cast<std::size_t>(height), 1, [&](std::size_t row) {
@@ -58,17 +56,17 @@ RenderImage castRays(const DensityField& field, float grow, const scene::CameraD
       if (t < 0) {
         for (int k = 0; k < 3; ++k) {
           image.rgb[3 * pixel + k] =
-              backdrop ? backdrop->rgb[3 * pixel + k] : toSrgb8(lighting.background[k]);
+              backdrop ? backdrop->rgb[3 * pixel + k] : frame::toSrgb8(lighting.background[k]);
         }
         continue;
       }
       const Vec3 g = field.gradient(eye + t * dir);
       const Vec3 n = g.norm() > 0 ? Vec3(-g.normalized()) : Vec3(-dir);
-      const Vec3 colour = shade(lighting, n, -dir);
+      const Vec3 colour = frame::shade(lighting, n, -dir);
       image.covered[pixel] = 1;
       for (int k = 0; k < 3; ++k) {
         image.normal[3 * pixel + k] = n[k];
-        image.rgb[3 * pixel + k] = toSrgb8(colour[k]);
+        image.rgb[3 * pixel + k] = frame::toSrgb8(colour[k]);
       }
     }
   });
@@ -78,9 +76,9 @@ RenderImage castRays(const DensityField& field, float grow, const scene::CameraD
 
 }  // namespace
 
-RenderImage raymarchReference(const DensityField& field, float SD, const scene::CameraDesc& camera,
-                              int width, int height, const Lighting& lighting,
-                              const Backdrop* backdrop) {
+frame::RenderImage raymarchReference(const DensityField& field, float SD,
+                                     const scene::CameraDesc& camera, int width, int height,
+                                     const frame::Lighting& lighting, const Backdrop* backdrop) {
   // The field is zero beyond the kernel radius of every particle.
   const float R = field.kernelRadius();
   const float step = 0.25f * R;
@@ -104,9 +102,10 @@ RenderImage raymarchReference(const DensityField& field, float SD, const scene::
   return castRays(field, R, camera, width, height, lighting, backdrop, crossing);
 }
 
-RenderImage raytraceParticleBalls(const DensityField& field, float radius,
-                                  const scene::CameraDesc& camera, int width, int height,
-                                  const Lighting& lighting, const Backdrop* backdrop) {
+frame::RenderImage raytraceParticleBalls(const DensityField& field, float radius,
+                                         const scene::CameraDesc& camera, int width, int height,
+                                         const frame::Lighting& lighting,
+                                         const Backdrop* backdrop) {
   // Segments of a grid cell's length; the balls whose entry point can lie in a segment have their
   // centres within `radius` of it, so in the cells of its box grown by `radius`.
   const float segment = field.grid().cellSize();

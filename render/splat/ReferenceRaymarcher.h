@@ -8,9 +8,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "render/frame/Lighting.h"
+#include "render/frame/RenderImage.h"
 #include "render/splat/DensityField.h"
-#include "render/splat/Lighting.h"
-#include "render/splat/RenderImage.h"
 #include "sim/scene/CameraDesc.h"
 
 namespace sph::render::splat {
@@ -27,15 +27,17 @@ struct Backdrop {
 // The iso-surface D = SD. With a backdrop (same size as the image), each ray stops at the solid
 // it hits first: the solid's pixel shows where no water is in front of it, and a solid in front
 // of the water hides it (not covered), as in the GL picture.
-RenderImage raymarchReference(const DensityField& field, float SD, const scene::CameraDesc& camera,
-                              int width, int height, const Lighting& lighting,
-                              const Backdrop* backdrop = nullptr);
+frame::RenderImage raymarchReference(const DensityField& field, float SD,
+                                     const scene::CameraDesc& camera, int width, int height,
+                                     const frame::Lighting& lighting,
+                                     const Backdrop* backdrop = nullptr);
 
 // Every particle as a ball of `radius` (m), ray-traced exactly, shaded with -gradC like the rest:
 // what the particles are, thin jets and lone drops included, which the SD surface drops where
 // their D stays below SD. A picture to judge the splats' jets by, not an error reference.
-RenderImage raytraceParticleBalls(const DensityField& field, float radius,
-                                  const scene::CameraDesc& camera, int width, int height,
-                                  const Lighting& lighting, const Backdrop* backdrop = nullptr);
+frame::RenderImage raytraceParticleBalls(const DensityField& field, float radius,
+                                         const scene::CameraDesc& camera, int width, int height,
+                                         const frame::Lighting& lighting,
+                                         const Backdrop* backdrop = nullptr);
 
 }  // namespace sph::render::splat

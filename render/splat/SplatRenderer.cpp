@@ -1,36 +1,38 @@
 #include "render/splat/SplatRenderer.h"
 
-#include "render/splat/SpotlightUniforms.h"
+#include "render/frame/SpotlightUniforms.h"
 
 #include <chrono>
 #include <cmath>
 #include <cstring>
 #include <limits>
 
+#include "render/frame/DeferredTarget.h"
+#include "render/frame/ExtraLights.h"
+#include "render/frame/ProgramUniforms.h"
+#include "render/frame/ReadPicture.h"
 #include "render/gl/GlError.h"
+#include "render/gl/PixelTransfer.h"
 #include "render/gl/Shader.h"
-#include "render/splat/DeferredTarget.h"
-#include "render/splat/ExtraLights.h"
-#include "render/splat/ProgramUniforms.h"
 
 namespace sph::render::splat {
 namespace {
 
-void setLighting(GLuint p, const Lighting& l) {
-  setVec3(p, "u_toLight", l.toLight.normalized());
-  setVec3(p, "u_base", l.base);
-  setFloat(p, "u_ambient", l.ambient);
-  setFloat(p, "u_diffuse", l.diffuse);
-  setFloat(p, "u_specular", l.specular);
-  setFloat(p, "u_shininess", l.shininess);
+void setLighting(GLuint p, const frame::Lighting& l) {
+  frame::setVec3(p, "u_toLight", l.toLight.normalized());
+  frame::setVec3(p, "u_base", l.base);
+  frame::setFloat(p, "u_ambient", l.ambient);
+  frame::setFloat(p, "u_diffuse", l.diffuse);
+  frame::setFloat(p, "u_specular", l.specular);
+  frame::setFloat(p, "u_shininess", l.shininess);
   glProgramUniform1i(p, glGetUniformLocation(p, "u_environment"), l.environment ? 1 : 0);
-  setVec3(p, "u_horizon", l.horizon);
-  setVec3(p, "u_zenith", l.zenith);
-  setFloat(p, "u_fresnelMin", l.fresnelMin);
-  setFloat(p, "u_alpha", l.alpha);
+  frame::setVec3(p, "u_horizon", l.horizon);
+  frame::setVec3(p, "u_zenith", l.zenith);
+  frame::setFloat(p, "u_fresnelMin", l.fresnelMin);
+  frame::setFloat(p, "u_alpha", l.alpha);
   glProgramUniform1i(p, glGetUniformLocation(p, "u_twoSided"), l.alpha < 1.0f ? 1 : 0);
-  applyExtraLights(p, l);
-  setSpotlightUniforms(p, l.spotlight);
+  frame::applyExtraLights(p, l);
+  frame::setSpotlightUniforms(p, l.spotlight);
 }
 
 // Position (location 0) and normal (location 1) of SplatVertex from binding 0.
@@ -75,7 +77,7 @@ SplatRenderer::SplatRenderer(int width, int height, const gl::ShaderLibrary& sha
   glNamedFramebufferTexture(framebuffer_.id(), GL_COLOR_ATTACHMENT1, normal_.id(), 0);
   glNamedFramebufferRenderbuffer(framebuffer_.id(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
                                  depth_.id());
-  selectDrawBuffers(ImageContents::ColourAndNormals);
+  selectDrawBuffers(frame::ImageContents::ColourAndNormals);
   if (glCheckNamedFramebufferStatus(framebuffer_.id(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
     throw gl::GlError(
         "the splat framebuffer (RGBA8 + RGBA32F + depth) is incomplete on this driver");
@@ -99,17 +101,17 @@ void SplatRenderer::setBoundary(std::vector<SplatVertex> points, float halfSide)
 void SplatRenderer::drawBoundary(bool offscreen) {
   if (boundaryCount_ == 0) return;
   // Flat grey, lit from the viewer: the points carry their normal towards the camera anyway.
-  Lighting wall;
+  frame::Lighting wall;
   wall.base = Vec3(0.55f, 0.56f, 0.6f);
   wall.ambient = 1.0f, wall.diffuse = 0.0f, wall.specular = 0.0f, wall.environment = false;
   wall.alpha = 0.09f;
   const GLuint p = pointProgram_.id();
   setLighting(p, wall);
-  setFloat(p, "u_halfSide", boundaryHalfSide_);
+  frame::setFloat(p, "u_halfSide", boundaryHalfSide_);
   glEnable(GL_BLEND);
   glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
   glDepthMask(GL_FALSE);
-  if (offscreen) selectDrawBuffers(ImageContents::Colour);
+  if (offscreen) selectDrawBuffers(frame::ImageContents::Colour);
   glUseProgram(p);
   glBindVertexArray(boundaryVao_.id());
   glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(boundaryCount_));
@@ -119,70 +121,63 @@ void SplatRenderer::drawBoundary(bool offscreen) {
   if (offscreen) selectDrawBuffers(contents_);
 }
 
-void SplatRenderer::drawLayers(FrameLayer::Order order, const scene::CameraFrame& camera,
-                               const Lighting& lighting, bool offscreen) {
+void SplatRenderer::drawLayers(frame::FrameLayer::Order order, const scene::CameraFrame& camera,
+                               const frame::Lighting& lighting, bool offscreen) {
   // The error figures' frame has the opaque solids (its reference has them too, as a backdrop:
   // drawBackdrop) but nothing drawn after the water (rain): the reference has none.
-  const bool scored = offscreen && contents_ == ImageContents::ColourAndNormals;
-  if (scored && order == FrameLayer::Order::AfterSplats) return;
+  const bool scored = offscreen && contents_ == frame::ImageContents::ColourAndNormals;
+  if (scored && order == frame::FrameLayer::Order::AfterSplats) return;
   // Layers write colour only: the normal target is the water's.
-  if (scored) selectDrawBuffers(ImageContents::Colour);
-  for (FrameLayer* layer : layers_) {
+  if (scored) selectDrawBuffers(frame::ImageContents::Colour);
+  for (frame::FrameLayer* layer : layers_) {
     if (layer->order() == order) layer->draw(camera, lighting);
   }
   if (scored) selectDrawBuffers(contents_);
 }
 
-bool SplatRenderer::hasLayers(FrameLayer::Order order) const {
-  for (const FrameLayer* layer : layers_)
+bool SplatRenderer::hasLayers(frame::FrameLayer::Order order) const {
+  for (const frame::FrameLayer* layer : layers_)
     if (layer->order() == order) return true;
   return false;
 }
 
-Backdrop SplatRenderer::drawBackdrop(const scene::CameraDesc& camera, const Lighting& lighting) {
-  contents_ = ImageContents::Colour;
+Backdrop SplatRenderer::drawBackdrop(const scene::CameraDesc& camera,
+                                     const frame::Lighting& lighting) {
+  contents_ = frame::ImageContents::Colour;
   selectDrawBuffers(contents_);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   float bgEncoded[4] = {0, 0, 0, 1};
-  for (int k = 0; k < 3; ++k) bgEncoded[k] = toSrgb8(lighting.background[k]) / 255.0f;
+  for (int k = 0; k < 3; ++k) bgEncoded[k] = frame::toSrgb8(lighting.background[k]) / 255.0f;
   glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 0, bgEncoded);
   glClearNamedFramebufferfi(framebuffer_.id(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
   glViewport(0, 0, width_, height_);
-  drawLayers(FrameLayer::Order::BeforeSplats,
+  drawLayers(frame::FrameLayer::Order::BeforeSplats,
              cameraFrame(camera, static_cast<float>(width_) / height_), lighting, true);
   glFinish();
   const std::size_t n = static_cast<std::size_t>(width_) * height_;
-  std::vector<std::uint8_t> rgba(4 * n);
-  std::vector<float> depth(n);
-  glNamedFramebufferReadBuffer(framebuffer_.id(), GL_COLOR_ATTACHMENT0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-  glReadPixels(0, 0, width_, height_, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
   Backdrop b;
   b.width = width_, b.height = height_;
-  b.rgb.resize(3 * n);
+  b.rgb = frame::readPicture(framebuffer_.id(), GL_COLOR_ATTACHMENT0, width_, height_).rgb;
+  std::vector<float> depth(n);
+  gl::readPixels(framebuffer_.id(), GL_NONE, {0, 0, width_, height_}, GL_DEPTH_COMPONENT, GL_FLOAT,
+                 depth.data(), gl::RowOrder::TopFirst);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
   b.viewDepth.resize(n);
   // Window depth -> distance along the view axis, inverting gluPerspective's depth mapping.
   const double near = camera.near, far = camera.far;
-  for (int row = 0; row < height_; ++row) {
-    const std::size_t src = static_cast<std::size_t>(height_ - 1 - row) * width_;
-    const std::size_t dst = static_cast<std::size_t>(row) * width_;
-    for (int col = 0; col < width_; ++col) {
-      for (int k = 0; k < 3; ++k) b.rgb[3 * (dst + col) + k] = rgba[4 * (src + col) + k];
-      const double d = depth[src + col];
-      const double ndc = 2 * d - 1;
-      b.viewDepth[dst + col] =
-          d >= 1.0 ? std::numeric_limits<float>::infinity()
-                   : static_cast<float>(2 * near * far / (far + near - ndc * (far - near)));
-    }
+  for (std::size_t p = 0; p < n; ++p) {
+    const double d = depth[p];
+    const double ndc = 2 * d - 1;
+    b.viewDepth[p] = d >= 1.0
+                         ? std::numeric_limits<float>::infinity()
+                         : static_cast<float>(2 * near * far / (far + near - ndc * (far - near)));
   }
   return b;
 }
 
-void SplatRenderer::selectDrawBuffers(ImageContents contents) {
+void SplatRenderer::selectDrawBuffers(frame::ImageContents contents) {
   const GLenum attachments[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-  glNamedFramebufferDrawBuffers(framebuffer_.id(), contents == ImageContents::Colour ? 1 : 2,
+  glNamedFramebufferDrawBuffers(framebuffer_.id(), contents == frame::ImageContents::Colour ? 1 : 2,
                                 attachments);
 }
 
@@ -219,12 +214,12 @@ GLuint SplatRenderer::gbufferProgramFor(SplatKind kind) {
 }
 
 void SplatRenderer::drawSplats(const SplatFrame& frame, SplatKind kind,
-                               const scene::CameraFrame& cam, const Lighting& lighting,
+                               const scene::CameraFrame& cam, const frame::Lighting& lighting,
                                GLuint program) {
   setLighting(program, lighting);
   glProgramUniformMatrix4fv(program, glGetUniformLocation(program, "u_projView"), 1, GL_FALSE,
                             cam.projView.m.data());
-  setVec3(program, "u_eye", cam.eye);
+  frame::setVec3(program, "u_eye", cam.eye);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDisable(GL_CULL_FACE);  // splats are seen from both sides
@@ -236,10 +231,10 @@ void SplatRenderer::drawSplats(const SplatFrame& frame, SplatKind kind,
   }
   glUseProgram(program);
   if (kind == SplatKind::Point) {
-    setVec3(program, "u_cameraRight", cam.right);
-    setVec3(program, "u_cameraUp", cam.up);
+    frame::setVec3(program, "u_cameraRight", cam.right);
+    frame::setVec3(program, "u_cameraUp", cam.up);
     // Same area as a quad splat of the same size (a square with half-diagonal halfSize).
-    setFloat(program, "u_halfSide", frame.halfSize / std::sqrt(2.0f));
+    frame::setFloat(program, "u_halfSide", frame.halfSize / std::sqrt(2.0f));
     upload(pointBuffer_, frame.points.data(), frame.points.size() * sizeof(SplatVertex));
     describeVertices(pointVao_.id(), pointBuffer_.id(), true);
     glBindVertexArray(pointVao_.id());
@@ -260,12 +255,12 @@ void SplatRenderer::drawSplats(const SplatFrame& frame, SplatKind kind,
 }
 
 void SplatRenderer::drawDeferred(const SplatFrame& frame, SplatKind kind,
-                                 const scene::CameraFrame& cam, const Lighting& lighting, int w,
-                                 int h, bool offscreen) {
+                                 const scene::CameraFrame& cam, const frame::Lighting& lighting,
+                                 int w, int h, bool offscreen) {
   using Clock = std::chrono::steady_clock;
   GLint target = 0;
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target);
-  if (!deferred_) deferred_ = std::make_unique<DeferredTarget>(shaders_);
+  if (!deferred_) deferred_ = std::make_unique<frame::DeferredTarget>(shaders_);
   const auto start = Clock::now();
   // 1. The G-buffer: the opaque layers (solids) and the water when it is opaque.
   const bool opaque = lighting.alpha >= 1.0f;
@@ -274,9 +269,10 @@ void SplatRenderer::drawDeferred(const SplatFrame& frame, SplatKind kind,
   glViewport(0, 0, w, h);
   // The error figures' frame has the solids too (drawLayers); the lighting pass keeps them out of
   // its normal target.
-  std::vector<FrameLayer*> forward;
-  for (FrameLayer* layer : layers_) {
-    if (layer->order() == FrameLayer::Order::BeforeSplats && !layer->drawGBuffer(cam, lighting))
+  std::vector<frame::FrameLayer*> forward;
+  for (frame::FrameLayer* layer : layers_) {
+    if (layer->order() == frame::FrameLayer::Order::BeforeSplats &&
+        !layer->drawGBuffer(cam, lighting))
       forward.push_back(layer);
   }
   if (opaque) drawSplats(frame, kind, cam, lighting, gbufferProgramFor(kind));
@@ -285,16 +281,16 @@ void SplatRenderer::drawDeferred(const SplatFrame& frame, SplatKind kind,
   // 2. One full-screen pass adds the particle lights where the G-buffer holds a surface. With
   // lights.shade "cpu" each pixel's colour is computed on the CPU first (passes_.particles) and
   // copied: by that pass, or by a blit where nothing drawn after needs the depth.
-  DeferredTarget::Output out;
+  frame::DeferredTarget::Output out;
   out.framebuffer = static_cast<GLuint>(target);
-  out.normals = offscreen && contents_ == ImageContents::ColourAndNormals;
+  out.normals = offscreen && contents_ == frame::ImageContents::ColourAndNormals;
   // The frame's depth is wanted only by what is drawn after this pass (each depth tested):
   // forward layers, translucent water, the walls' points, the layers after the water.
   const bool water = kind == SplatKind::Point ? !frame.points.empty() : !frame.indices.empty();
   out.depth = !forward.empty() || (!opaque && water) || boundaryCount_ > 0 ||
-              hasLayers(FrameLayer::Order::AfterSplats);
+              hasLayers(frame::FrameLayer::Order::AfterSplats);
   for (int k = 0; k < 3; ++k)
-    out.background[static_cast<std::size_t>(k)] = toSrgb8(lighting.background[k]);
+    out.background[static_cast<std::size_t>(k)] = frame::toSrgb8(lighting.background[k]);
   passes_.particles = deferred_->light(out, *lighting.extra, cam.eye, cam.projView);
   glFinish();
   passes_.gbuffer = std::chrono::duration<double>(gbuffer - start).count();
@@ -302,14 +298,14 @@ void SplatRenderer::drawDeferred(const SplatFrame& frame, SplatKind kind,
       std::chrono::duration<double>(Clock::now() - gbuffer).count() - passes_.particles;
   // 3. Forward on top, depth tested against the lit frame: layers without a G-buffer program and
   // translucent water, which a G-buffer of one surface per pixel cannot blend (docs/lights.md).
-  if (out.normals) selectDrawBuffers(ImageContents::Colour);
-  for (FrameLayer* layer : forward) layer->draw(cam, lighting);
+  if (out.normals) selectDrawBuffers(frame::ImageContents::Colour);
+  for (frame::FrameLayer* layer : forward) layer->draw(cam, lighting);
   if (out.normals) selectDrawBuffers(contents_);
   if (!opaque) drawSplats(frame, kind, cam, lighting, programFor(kind, true));
 }
 
 double SplatRenderer::draw(const SplatFrame& frame, SplatKind kind, const scene::CameraDesc& camera,
-                           const Lighting& lighting, int w, int h, bool offscreen) {
+                           const frame::Lighting& lighting, int w, int h, bool offscreen) {
   const auto start = std::chrono::steady_clock::now();
   const scene::CameraFrame cam = cameraFrame(camera, static_cast<float>(w) / h);
   glViewport(0, 0, w, h);
@@ -317,7 +313,7 @@ double SplatRenderer::draw(const SplatFrame& frame, SplatKind kind, const scene:
   if (lighting.extra != nullptr && lighting.extra->deferred()) {
     drawDeferred(frame, kind, cam, lighting, w, h, offscreen);
   } else {
-    drawLayers(FrameLayer::Order::BeforeSplats, cam, lighting, offscreen);
+    drawLayers(frame::FrameLayer::Order::BeforeSplats, cam, lighting, offscreen);
     drawSplats(frame, kind, cam, lighting, programFor(kind, lighting.extra != nullptr));
   }
   if (boundaryCount_) {
@@ -325,53 +321,45 @@ double SplatRenderer::draw(const SplatFrame& frame, SplatKind kind, const scene:
     const GLuint p = pointProgram_.id();
     glProgramUniformMatrix4fv(p, glGetUniformLocation(p, "u_projView"), 1, GL_FALSE,
                               cam.projView.m.data());
-    setVec3(p, "u_eye", cam.eye);
-    setVec3(p, "u_cameraRight", cam.right);
-    setVec3(p, "u_cameraUp", cam.up);
+    frame::setVec3(p, "u_eye", cam.eye);
+    frame::setVec3(p, "u_cameraRight", cam.right);
+    frame::setVec3(p, "u_cameraUp", cam.up);
     drawBoundary(offscreen);
   }
-  drawLayers(FrameLayer::Order::AfterSplats, cam, lighting, offscreen);
+  drawLayers(frame::FrameLayer::Order::AfterSplats, cam, lighting, offscreen);
   glFinish();
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-RenderImage SplatRenderer::render(const SplatFrame& frame, SplatKind kind,
-                                  const scene::CameraDesc& camera, const Lighting& lighting,
-                                  ImageContents contents) {
-  const bool withNormals = contents == ImageContents::ColourAndNormals;
+frame::RenderImage SplatRenderer::render(const SplatFrame& frame, SplatKind kind,
+                                         const scene::CameraDesc& camera,
+                                         const frame::Lighting& lighting,
+                                         frame::ImageContents contents) {
+  const bool withNormals = contents == frame::ImageContents::ColourAndNormals;
   contents_ = contents;
   selectDrawBuffers(contents);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   // The background in the same sRGB encoding the shaders write.
   float bgEncoded[4] = {0, 0, 0, 1};
-  for (int k = 0; k < 3; ++k) bgEncoded[k] = toSrgb8(lighting.background[k]) / 255.0f;
+  for (int k = 0; k < 3; ++k) bgEncoded[k] = frame::toSrgb8(lighting.background[k]) / 255.0f;
   const float zero[4] = {0, 0, 0, 0};
   glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 0, bgEncoded);
   if (withNormals) glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 1, zero);
   glClearNamedFramebufferfi(framebuffer_.id(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
-  RenderImage image;
-  image.resize(width_, height_, withNormals);
-  image.seconds = draw(frame, kind, camera, lighting, width_, height_, true);
-
-  // Read back, flipping rows (GL's row 0 is the bottom).
-  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(width_) * height_ * 4);
-  glNamedFramebufferReadBuffer(framebuffer_.id(), GL_COLOR_ATTACHMENT0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-  std::vector<float> normal;
+  const double seconds = draw(frame, kind, camera, lighting, width_, height_, true);
+  frame::RenderImage image =
+      frame::readPicture(framebuffer_.id(), GL_COLOR_ATTACHMENT0, width_, height_);
+  image.seconds = seconds;
   if (withNormals) {
-    normal.resize(static_cast<std::size_t>(width_) * height_ * 4);
-    glNamedFramebufferReadBuffer(framebuffer_.id(), GL_COLOR_ATTACHMENT1);
-    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, normal.data());
-  }
-  for (int row = 0; row < height_; ++row) {
-    const std::size_t src = static_cast<std::size_t>(height_ - 1 - row) * width_;
-    const std::size_t dst = static_cast<std::size_t>(row) * width_;
-    for (int col = 0; col < width_; ++col) {
-      for (int k = 0; k < 3; ++k) image.rgb[3 * (dst + col) + k] = rgba[4 * (src + col) + k];
-      if (!withNormals) continue;
-      for (int k = 0; k < 3; ++k) image.normal[3 * (dst + col) + k] = normal[4 * (src + col) + k];
-      image.covered[dst + col] = normal[4 * (src + col) + 3] > 0.5f ? 1 : 0;
+    const std::size_t n = static_cast<std::size_t>(width_) * height_;
+    std::vector<float> normal(4 * n);
+    gl::readPixels(framebuffer_.id(), GL_COLOR_ATTACHMENT1, {0, 0, width_, height_}, GL_RGBA,
+                   GL_FLOAT, normal.data(), gl::RowOrder::TopFirst);
+    image.normal.resize(3 * n);
+    image.covered.resize(n);
+    for (std::size_t p = 0; p < n; ++p) {
+      for (std::size_t k = 0; k < 3; ++k) image.normal[3 * p + k] = normal[4 * p + k];
+      image.covered[p] = normal[4 * p + 3] > 0.5f ? 1 : 0;
     }
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -379,12 +367,13 @@ RenderImage SplatRenderer::render(const SplatFrame& frame, SplatKind kind,
 }
 
 void SplatRenderer::drawToScreen(const SplatFrame& frame, SplatKind kind,
-                                 const scene::CameraDesc& camera, const Lighting& lighting,
+                                 const scene::CameraDesc& camera, const frame::Lighting& lighting,
                                  int viewportWidth, int viewportHeight) {
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   // Encoded like everything the shaders write (the window's framebuffer is not sRGB).
-  glClearColor(toSrgb8(lighting.background.x()) / 255.0f, toSrgb8(lighting.background.y()) / 255.0f,
-               toSrgb8(lighting.background.z()) / 255.0f, 1.0f);
+  glClearColor(frame::toSrgb8(lighting.background.x()) / 255.0f,
+               frame::toSrgb8(lighting.background.y()) / 255.0f,
+               frame::toSrgb8(lighting.background.z()) / 255.0f, 1.0f);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   draw(frame, kind, camera, lighting, viewportWidth, viewportHeight, false);
 }

@@ -7,18 +7,20 @@
 #include <memory>
 #include <vector>
 
+#include "render/frame/FrameLayer.h"
+#include "render/frame/Lighting.h"
+#include "render/frame/RenderImage.h"
 #include "render/gl/GlHandle.h"
 #include "render/gl/ShaderLibrary.h"
-#include "render/splat/FrameLayer.h"
-#include "render/splat/Lighting.h"
 #include "render/splat/ReferenceRaymarcher.h"
-#include "render/splat/RenderImage.h"
 #include "render/splat/SplatBuilder.h"
 #include "sim/scene/Camera.h"
 
-namespace sph::render::splat {
-
+namespace sph::render::frame {
 class DeferredTarget;
+}  // namespace sph::render::frame
+
+namespace sph::render::splat {
 
 class SplatRenderer {
  public:
@@ -33,22 +35,23 @@ class SplatRenderer {
   // it back. `seconds` of the result: upload + draw until finished (not the read-back).
   // ColourAndNormals also draws the normal/coverage target the error figures need (it costs
   // llvmpipe ~3 ms a frame at 960x540, so pictures are drawn without it).
-  RenderImage render(const SplatFrame& frame, SplatKind kind, const scene::CameraDesc& camera,
-                     const Lighting& lighting, ImageContents contents = ImageContents::Colour);
+  frame::RenderImage render(const SplatFrame& frame, SplatKind kind,
+                            const scene::CameraDesc& camera, const frame::Lighting& lighting,
+                            frame::ImageContents contents = frame::ImageContents::Colour);
   // The walls and containers, drawn after the fluid as translucent grey squares into the colour
   // only (the error figures see the fluid alone). Empty: none.
   void setBoundary(std::vector<SplatVertex> points, float halfSide);
   // Layers drawn in the same pictures: solids before the splats, rain after them. The error
   // figures' frame (ColourAndNormals) has the solids in its colour, hiding what they hide, and
   // no rain; its normal target is the water's alone. Not owned; they must outlive their use.
-  void setLayers(std::vector<FrameLayer*> layers) { layers_ = std::move(layers); }
-  bool hasLayers(FrameLayer::Order order) const;
+  void setLayers(std::vector<frame::FrameLayer*> layers) { layers_ = std::move(layers); }
+  bool hasLayers(frame::FrameLayer::Order order) const;
   // The layers drawn before the splats (the solids) alone, with their depth: what the reference
   // ray-marcher shows behind and in front of the water.
-  Backdrop drawBackdrop(const scene::CameraDesc& camera, const Lighting& lighting);
+  Backdrop drawBackdrop(const scene::CameraDesc& camera, const frame::Lighting& lighting);
   // Draws into the default framebuffer of the current (window) context instead.
   void drawToScreen(const SplatFrame& frame, SplatKind kind, const scene::CameraDesc& camera,
-                    const Lighting& lighting, int viewportWidth, int viewportHeight);
+                    const frame::Lighting& lighting, int viewportWidth, int viewportHeight);
 
   // The last draw's deferred passes (lights.pipeline "deferred"; zero when forward), seconds:
   // the G-buffer of the opaque surfaces, each pixel's colour on the CPU (lights.shade "cpu":
@@ -61,13 +64,13 @@ class SplatRenderer {
 
  private:
   double draw(const SplatFrame& frame, SplatKind kind, const scene::CameraDesc& camera,
-              const Lighting& lighting, int w, int h, bool offscreen);
+              const frame::Lighting& lighting, int w, int h, bool offscreen);
   GLuint programFor(SplatKind kind, bool particleLights);
   GLuint gbufferProgramFor(SplatKind kind);
   void drawSplats(const SplatFrame& frame, SplatKind kind, const scene::CameraFrame& cam,
-                  const Lighting& lighting, GLuint program);
+                  const frame::Lighting& lighting, GLuint program);
   void drawDeferred(const SplatFrame& frame, SplatKind kind, const scene::CameraFrame& cam,
-                    const Lighting& lighting, int w, int h, bool offscreen);
+                    const frame::Lighting& lighting, int w, int h, bool offscreen);
   int width_, height_;
   gl::ShaderLibrary shaders_;
   // Without the particle lights' code (SPH_NO_PARTICLE_LIGHTS): llvmpipe runs a vertex shader's
@@ -77,7 +80,7 @@ class SplatRenderer {
   gl::Program litPointProgram_, litQuadProgram_;
   // The deferred pipeline's G-buffer programs and target, made on its first frame.
   gl::Program gbufferPointProgram_, gbufferQuadProgram_;
-  std::unique_ptr<DeferredTarget> deferred_;
+  std::unique_ptr<frame::DeferredTarget> deferred_;
   DrawPasses passes_;
   gl::Framebuffer framebuffer_;
   gl::Texture colour_, normal_;
@@ -88,11 +91,11 @@ class SplatRenderer {
   std::size_t boundaryCount_ = 0;
   float boundaryHalfSide_ = 0;
   void drawBoundary(bool offscreen);
-  void drawLayers(FrameLayer::Order order, const scene::CameraFrame& camera,
-                  const Lighting& lighting, bool offscreen);
-  std::vector<FrameLayer*> layers_;
-  void selectDrawBuffers(ImageContents contents);
-  ImageContents contents_ = ImageContents::ColourAndNormals;
+  void drawLayers(frame::FrameLayer::Order order, const scene::CameraFrame& camera,
+                  const frame::Lighting& lighting, bool offscreen);
+  std::vector<frame::FrameLayer*> layers_;
+  void selectDrawBuffers(frame::ImageContents contents);
+  frame::ImageContents contents_ = frame::ImageContents::ColourAndNormals;
 };
 
 }  // namespace sph::render::splat

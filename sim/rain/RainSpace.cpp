@@ -3,18 +3,18 @@
 #include <cmath>
 
 #include "sim/rain/RainRandom.h"
+#include "sim/scene/Camera.h"
 
 namespace sph::rain {
 
 RainSpace RainSpace::build(const scene::CameraDesc& camera, float aspect, float near, float far) {
   RainSpace s;
-  s.eye = camera.position;
-  s.forward = (camera.target - camera.position).normalized();  // V of eq. (2)
-  s.right = s.forward.cross(camera.up).normalized();           // RIGHT = V x UP (normalised)
-  s.up = s.right.cross(s.forward);
+  // V of eq. (2) is the basis's forward, RIGHT = V x UP (normalised) its right.
+  const scene::CameraBasis basis = scene::cameraBasis(camera);
+  s.eye = basis.eye, s.forward = basis.forward, s.right = basis.right, s.up = basis.up;
   s.near = near, s.far = far;
   // eq. (1)
-  const float t = std::tan(0.5f * camera.fovYDegrees * static_cast<float>(M_PI) / 180.0f);
+  const float t = scene::tanHalfFovY(camera);
   const float hFar = 2 * t * far, wFar = hFar * aspect;
   const float hNear = 2 * t * near, wNear = hNear * aspect;
   // eq. (2)

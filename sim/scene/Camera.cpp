@@ -52,12 +52,9 @@ Mat4 perspective(float fovYDegrees, float aspect, float near, float far) {
 
 CameraFrame cameraFrame(const CameraDesc& camera, float aspect) {
   CameraFrame f;
+  static_cast<CameraBasis&>(f) = cameraBasis(camera);
   f.projView = multiply(perspective(camera.fovYDegrees, aspect, camera.near, camera.far),
                         lookAt(camera.position, camera.target, camera.up));
-  f.eye = camera.position;
-  const Vec3 forward = (camera.target - camera.position).normalized();
-  f.right = forward.cross(camera.up).normalized();
-  f.up = f.right.cross(forward);
   return f;
 }
 
@@ -99,6 +96,12 @@ Frustum::Frustum(const Mat4& m) {
   const Eigen::Vector4f r0 = row(0), r1 = row(1), r2 = row(2), r3 = row(3);
   planes = {r3 + r0, r3 - r0, r3 + r1, r3 - r1, r3 + r2, r3 - r2};
   for (auto& p : planes) p /= p.head<3>().norm();
+}
+
+Frustum viewFrustum(const CameraDesc& camera, float aspect, float near, float far) {
+  CameraDesc c = camera;
+  c.near = near, c.far = far;
+  return Frustum(cameraFrame(c, aspect).projView);
 }
 
 }  // namespace sph::scene

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 
 #include "sim/scene/CameraDesc.h"
 
@@ -27,10 +28,31 @@ Mat4 multiply(const Mat4& a, const Mat4& b);
 Mat4 lookAt(const Vec3& eye, const Vec3& target, const Vec3& up);
 Mat4 perspective(float fovYDegrees, float aspect, float near, float far);
 
+// The orthonormal basis of a camera, as gluLookAt builds it: `forward` along the view direction,
+// `right` = forward x the desc's up hint, `up` perpendicular to both (not the hint).
+struct CameraBasis {
+  Vec3 eye, forward, right, up;
+};
+// Inline, so that it rounds as the file that calls it is built: Camera.cpp without FMA
+// contraction (cameraFrame's matrices feed the CDT's texel addressing), the rain space and the
+// reference ray-marcher with their own files' flags (their drops and pixels are pinned with them).
+inline CameraBasis cameraBasis(const CameraDesc& camera) {
+  CameraBasis b;
+  b.eye = camera.position;
+  b.forward = (camera.target - camera.position).normalized();
+  b.right = b.forward.cross(camera.up).normalized();
+  b.up = b.right.cross(b.forward);
+  return b;
+}
+// tan of half the vertical field of view: a point at distance z along `forward` is in the picture
+// where its offset along `up` is within z tanHalfFovY, along `right` within aspect times that.
+inline float tanHalfFovY(const CameraDesc& camera) {
+  return std::tan(0.5f * camera.fovYDegrees * static_cast<float>(M_PI) / 180.0f);
+}
+
 // The matrices and orthonormal basis of a camera for a viewport aspect ratio (width / height).
-struct CameraFrame {
+struct CameraFrame : CameraBasis {
   Mat4 projView;
-  Vec3 eye, right, up;  // up: perpendicular to the view direction (not the desc's up hint)
 };
 CameraFrame cameraFrame(const CameraDesc& camera, float aspect);
 
@@ -56,5 +78,9 @@ struct Frustum {
     return true;
   }
 };
+
+// The frustum of `camera` over a viewport of `aspect`, cut at distances near and far instead of
+// the camera's own (the rain's: its near and far).
+Frustum viewFrustum(const CameraDesc& camera, float aspect, float near, float far);
 
 }  // namespace sph::scene

@@ -1,5 +1,5 @@
 // The scene's `render` section (docs/scene-format.md): how frames are drawn by the splat renderer
-// (render/splat/SplatBuilder.h, render/splat/Lighting.h). Plain data; render/ turns it into its
+// (render/splat/SplatBuilder.h, render/frame/Lighting.h). Plain data; render/ turns it into its
 // parameters.
 #pragma once
 
@@ -24,7 +24,7 @@ constexpr const char* nameOf(SplatProjection v) {
   return nullptr;
 }
 
-// How the walls and containers are drawn (scene key render.solids; render/solids/SceneSolids.h).
+// How the walls and containers are drawn (scene key render.solids; render/compose/SceneFrame.cpp).
 enum class RenderSolids {
   Points,  // their boundary particles, translucent grey squares (the default)
   Opaque,  // lit surfaces: a tank as a cut-away, cup, block, sphere, plane closed and opaque

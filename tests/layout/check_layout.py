@@ -37,12 +37,15 @@ ALLOWED.update({
     'io/scene': ALL_SIM | {'io', 'io/cache'},
     'io/export': ALL_SIM | {'io', 'io/cache'},
     'render/gl': set(),
-    'render/splat': ALL_SIM | {'render/gl'},
-    'render/mesh': ALL_SIM | {'render/splat'},
-    'render/solids': ALL_SIM | {'render/gl', 'render/splat'},
+    'render/frame': ALL_SIM | {'render/gl'},
+    'render/splat': ALL_SIM | {'render/gl', 'render/frame'},
+    'render/mesh': ALL_SIM | {'render/frame', 'render/splat'},
+    'render/solids': ALL_SIM | {'render/gl', 'render/frame'},
     'render/cdt': ALL_SIM | {'render/gl'},
-    'render/rain': ALL_SIM | {'render/gl', 'render/splat'},
-    'render/lights': ALL_SIM | {'render/gl', 'render/splat', 'render/solids'},
+    'render/rain': ALL_SIM | {'render/gl', 'render/frame'},
+    'render/lights': ALL_SIM | {'render/gl', 'render/frame', 'render/solids'},
+    'render/compose': ALL_SIM | {'render/gl', 'render/frame', 'render/splat', 'render/solids',
+                                 'render/rain', 'render/lights'},
 })
 ALL_IO = {'io', 'io/cache', 'io/scene', 'io/export'}
 ALL_RENDER = {f for f in ALLOWED if f.startswith('render/')}
@@ -65,7 +68,7 @@ def main(root):
     except (OSError, subprocess.CalledProcessError):  # a source tree without git: every file
         files = [os.path.relpath(os.path.join(d, f)) for d, dirs, names in os.walk('.')
                  for f in names if not d.startswith(('./build', './.git'))]
-    files = [f for f in files if f and os.path.isfile(f)]
+    files = sorted({f for f in files if f and os.path.isfile(f)})  # (a merge lists some twice)
     breaches = []
     include = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
     for f in files:

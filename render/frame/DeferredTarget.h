@@ -11,11 +11,12 @@
 #include <vector>
 
 #include "render/gl/GlHandle.h"
+#include "render/gl/PixelTransfer.h"
 #include "render/gl/ShaderLibrary.h"
-#include "sim/scene/Camera.h"
 #include "sim/Types.h"
+#include "sim/scene/Camera.h"
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 
 class ExtraLights;
 
@@ -58,8 +59,7 @@ class DeferredTarget {
   gl::Framebuffer framebuffer_;
   gl::VertexArray vao_;
   gl::Texture lit_, albedo_, position_, normal_, depth_;
-  gl::Texture final_;          // lights.shade "cpu": each pixel's colour, RGBA8 sRGB-encoded
-  gl::Framebuffer finalRead_;  // final_ as a blit's source
+  gl::ImageBlit final_;  // lights.shade "cpu": each pixel's colour, RGBA8 sRGB-encoded
   // The G-buffer read back and the colours computed from it, kept between frames.
   std::vector<float> readDepth_, readPosition_, readNormal_, readLit_;
   std::vector<std::uint16_t> readAlbedo_;
@@ -72,4 +72,4 @@ class DeferredTarget {
   int drawsPosition_ = -1;  // this frame's draw buffers: 1 with the position target, 0 without
 };
 
-}  // namespace sph::render::splat
+}  // namespace sph::render::frame

@@ -8,8 +8,8 @@
 #include <glad/gl.h>
 #include "sim/scene/RainDesc.h"
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 
 void setSpotlightUniforms(GLuint program, const std::optional<scene::SpotlightDesc>& light);
 
-}  // namespace sph::render::splat
+}  // namespace sph::render::frame

@@ -6,7 +6,7 @@
 #include "render/gl/GlHandle.h"
 #include "sim/Types.h"
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 
 inline void setVec3(GLuint program, const char* name, const Vec3& v) {
   glProgramUniform3f(program, glGetUniformLocation(program, name), v.x(), v.y(), v.z());
@@ -18,4 +18,4 @@ inline void setInt(GLuint program, const char* name, int v) {
   glProgramUniform1i(program, glGetUniformLocation(program, name), v);
 }
 
-}  // namespace sph::render::splat
+}  // namespace sph::render::frame

@@ -11,7 +11,7 @@
 #include <array>
 #include <cstdint>
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 
 class Srgb8Table {
  public:
@@ -34,4 +34,4 @@ class Srgb8Table {
 // One table for the process (made on first use; const after).
 const Srgb8Table& srgb8Table();
 
-}  // namespace sph::render::splat
+}  // namespace sph::render::frame

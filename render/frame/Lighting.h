@@ -10,10 +10,10 @@
 #include <cstdint>
 #include <optional>
 
-#include "sim/scene/RainDesc.h"
 #include "sim/Types.h"
+#include "sim/scene/RainDesc.h"
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 
 class ExtraLights;
 
@@ -26,7 +26,7 @@ struct Lighting {
   Vec3 horizon = Vec3(0.85f, 0.88f, 0.92f), zenith = Vec3(0.35f, 0.55f, 0.85f);
   float fresnelMin = 0.06f;  // reflectance at normal incidence
   float alpha = 1.0f;        // < 1: blend splats (the paper's transparent water); metrics use 1
-  // Position-dependent lights of the GL shaders (render/splat/ExtraLights.h), not owned; null:
+  // Position-dependent lights of the GL shaders (render/frame/ExtraLights.h), not owned; null:
   // none. shade() below never has them (the reference ray-marcher is lit by the scene's light).
   const ExtraLights* extra = nullptr;
   // The rain's cone spotlight (seed 002 section 3.2), lighting water and solids in the GL frame
@@ -63,4 +63,4 @@ inline std::uint8_t toSrgb8(float c) {
   return static_cast<std::uint8_t>(std::lround(255.0f * toSrgb(c)));
 }
 
-}  // namespace sph::render::splat
+}  // namespace sph::render::frame

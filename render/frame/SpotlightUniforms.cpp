@@ -1,8 +1,8 @@
-#include "render/splat/SpotlightUniforms.h"
+#include "render/frame/SpotlightUniforms.h"
 
-#include "render/splat/ProgramUniforms.h"
+#include "render/frame/ProgramUniforms.h"
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 
 void setSpotlightUniforms(GLuint p, const std::optional<scene::SpotlightDesc>& light) {
   glProgramUniform1i(p, glGetUniformLocation(p, "u_spotOn"), light ? 1 : 0);
@@ -17,4 +17,4 @@ void setSpotlightUniforms(GLuint p, const std::optional<scene::SpotlightDesc>& l
   glProgramUniform1i(p, glGetUniformLocation(p, "u_spotFalloff"), light->falloff ? 1 : 0);
 }
 
-}  // namespace sph::render::splat
+}  // namespace sph::render::frame

@@ -1,16 +1,17 @@
-#include "render/splat/DeferredTarget.h"
+#include "render/frame/DeferredTarget.h"
 
 #include <Eigen/LU>
 #include <array>
 #include <chrono>
 #include <cstring>
 
+#include "render/frame/ExtraLights.h"
+#include "render/frame/ProgramUniforms.h"
 #include "render/gl/GlError.h"
+#include "render/gl/PixelTransfer.h"
 #include "render/gl/Shader.h"
-#include "render/splat/ExtraLights.h"
-#include "render/splat/ProgramUniforms.h"
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 namespace {
 
 // projView's inverse, column-major, in double: the CPU shading's way from a pixel's depth back to
@@ -58,7 +59,6 @@ void DeferredTarget::begin(int width, int height, bool cpu, bool points) {
     position_ = texture(GL_RGBA32F);
     normal_ = texture(GL_RGBA16_SNORM);
     depth_ = texture(GL_DEPTH_COMPONENT32F);
-    final_ = gl::Texture{};  // made for lights.shade "cpu" only
     framebuffer_ = gl::Framebuffer::create();
     const GLuint f = framebuffer_.id();
     glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT0, lit_.id(), 0);
@@ -100,20 +100,13 @@ void DeferredTarget::shadeOnCpu(const ExtraLights& lights, const Vec3& eye,
                                     "deferred lighting, the colours shaded on the CPU",
                                     {"SPH_CPU_PARTICLE_LIGHTS"});
   }
-  if (final_.id() == 0) {
-    final_ = gl::Texture::create(GL_TEXTURE_2D);
-    glTextureStorage2D(final_.id(), 1, GL_RGBA8, width_, height_);
-    finalRead_ = gl::Framebuffer::create();
-    glNamedFramebufferTexture(finalRead_.id(), GL_COLOR_ATTACHMENT0, final_.id(), 0);
-    glNamedFramebufferReadBuffer(finalRead_.id(), GL_COLOR_ATTACHMENT0);
-  }
   const std::size_t n = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
   readDepth_.resize(n), readNormal_.resize(4 * n), readAlbedo_.resize(4 * n),
       readLit_.resize(4 * n);
   colours_.resize(4 * n);
   // In the targets' own formats: on llvmpipe a copy without conversion.
   auto read = [](const gl::Texture& t, GLenum format, GLenum type, std::size_t bytes, void* to) {
-    glGetTextureImage(t.id(), 0, format, type, static_cast<GLsizei>(bytes), to);
+    gl::readTexture(t.id(), format, type, bytes, to);
   };
   read(depth_, GL_DEPTH_COMPONENT, GL_FLOAT, n * sizeof(float), readDepth_.data());
   read(normal_, GL_RGBA, GL_FLOAT, 4 * n * sizeof(float), readNormal_.data());
@@ -137,8 +130,7 @@ void DeferredTarget::shadeOnCpu(const ExtraLights& lights, const Vec3& eye,
     for (std::size_t i = 0; i < n; ++i)
       if (pixel[i] == 0) pixel[i] = fill;
   }
-  glTextureSubImage2D(final_.id(), 0, 0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE,
-                      colours_.data());
+  final_.upload(width_, height_, GL_RGBA, colours_.data());
 }
 
 double DeferredTarget::light(const Output& out, const ExtraLights& lights, const Vec3& eye,
@@ -159,8 +151,7 @@ double DeferredTarget::light(const Output& out, const ExtraLights& lights, const
     // Same size and format: llvmpipe copies the rows, where the pass below runs a fragment
     // program over every pixel to fetch the colour and the depth (5-6 ms of Fig. 11's 960 x 540,
     // docs/notes/2026-11-27-lights-fig11.md, "Fig. 11's G-buffer and copy made lighter").
-    glBlitNamedFramebuffer(finalRead_.id(), out.framebuffer, 0, 0, width_, height_, 0, 0, width_,
-                           height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    final_.blit(out.framebuffer, 0, 0);
     glBindFramebuffer(GL_FRAMEBUFFER, out.framebuffer);
     return seconds;
   }
@@ -172,7 +163,7 @@ double DeferredTarget::light(const Output& out, const ExtraLights& lights, const
   GLuint unit = 0;
   for (const gl::Texture* t : {&lit_, &albedo_, &position_, &normal_, &depth_})
     glBindTextureUnit(unit++, t->id());
-  if (cpu) glBindTextureUnit(5, final_.id());
+  if (cpu) glBindTextureUnit(5, final_.texture());
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_ALWAYS);  // the G-buffer's depth is the frame's: written as it is
   glDepthMask(GL_TRUE);
@@ -188,4 +179,4 @@ double DeferredTarget::light(const Output& out, const ExtraLights& lights, const
   return seconds;
 }
 
-}  // namespace sph::render::splat
+}  // namespace sph::render::frame

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 
 // What a GL render reads back: the colour alone (pictures), or with the normal and coverage of
 // every pixel (the error figures).
@@ -40,7 +40,7 @@ struct ImageError {
 };
 ImageError compareImages(const RenderImage& image, const RenderImage& reference);
 
-// How much of what only the every-particle picture shows (FrameRenderer::
+// How much of what only the every-particle picture shows (splat::FrameRenderer::
 // referenceOfEveryParticle: covered there, not by the SD reference: thin jets and lone drops)
 // `image` covers. All three need their coverage.
 struct ThinCoverage {
@@ -50,4 +50,4 @@ struct ThinCoverage {
 ThinCoverage thinCoverage(const RenderImage& image, const RenderImage& reference,
                           const RenderImage& everyParticle);
 
-}  // namespace sph::render::splat
+}  // namespace sph::render::frame

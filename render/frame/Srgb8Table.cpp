@@ -1,8 +1,8 @@
-#include "render/splat/Srgb8Table.h"
+#include "render/frame/Srgb8Table.h"
 
 #include <cmath>
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 namespace {
 
 // The linear value whose encoding is e (the inverse of toSrgb, Lighting.h), in double.
@@ -30,4 +30,4 @@ const Srgb8Table& srgb8Table() {
   return table;
 }
 
-}  // namespace sph::render::splat
+}  // namespace sph::render::frame

@@ -1,10 +1,10 @@
-#include "render/splat/RenderImage.h"
+#include "render/frame/RenderImage.h"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 
 ImageError compareImages(const RenderImage& image, const RenderImage& reference) {
   if (image.width != reference.width || image.height != reference.height) {
@@ -61,4 +61,4 @@ ThinCoverage thinCoverage(const RenderImage& image, const RenderImage& reference
   return t;
 }
 
-}  // namespace sph::render::splat
+}  // namespace sph::render::frame

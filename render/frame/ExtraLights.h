@@ -10,11 +10,11 @@
 #include "render/gl/GlHandle.h"
 #include "sim/Types.h"
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 
 struct Lighting;
 
-// The deferred G-buffer read back for the CPU shading (render/splat/DeferredTarget.cpp), width x
+// The deferred G-buffer read back for the CPU shading (render/frame/DeferredTarget.cpp), width x
 // height pixels in GL's row order (row 0 at the bottom): the window depth (1 where nothing was
 // drawn), and RGBA each the unit normal, the albedo (IEEE half floats, the target's own format)
 // and the colour lit by all but these lights (linear). A pixel's world position is `position`'s
@@ -39,7 +39,7 @@ class ExtraLights {
   // Sets the hook's uniforms on `program` and binds what it samples (a GL context is current).
   virtual void apply(GLuint program) const = 0;
   // True: the lights are added in one full-screen pass over a G-buffer of the opaque surfaces
-  // (render/splat/DeferredTarget.h) instead of in each surface's shader (lights.pipeline).
+  // (render/frame/DeferredTarget.h) instead of in each surface's shader (lights.pipeline).
   virtual bool deferred() const { return false; }
   // Deferred only. True: each pixel's whole colour is computed on the CPU by shadeOnCpu from the
   // G-buffer read back, and the lighting pass copies it from a 2D texture instead of calling the
@@ -56,4 +56,4 @@ class ExtraLights {
 // switches of shaders/extra_lights.glsl off.
 void applyExtraLights(GLuint program, const Lighting& l);
 
-}  // namespace sph::render::splat
+}  // namespace sph::render::frame

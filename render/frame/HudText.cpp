@@ -1,17 +1,15 @@
-#include "render/splat/HudText.h"
+#include "render/frame/HudText.h"
 
 #include <algorithm>
 
-#include "render/splat/Annotate.h"
+#include "render/frame/Annotate.h"
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 
 namespace {
 constexpr std::uint8_t kBox[3] = {22, 26, 34};  // dark slate behind the text
 constexpr int kMargin = 6;                      // pixels around the text, and from the corner
 }  // namespace
-
-HudText::HudText() : framebuffer_(gl::Framebuffer::create()) {}
 
 void HudText::draw(const std::vector<std::string>& lines, int width, int height, int scale) {
   if (lines.empty()) return;
@@ -28,24 +26,21 @@ void HudText::draw(const std::vector<std::string>& lines, int width, int height,
   for (std::size_t k = 0; k < lines.size(); ++k)
     drawText(image, kMargin, kMargin + static_cast<int>(k) * lineHeight, lines[k], scale, 245, 246,
              248);
-  // GL's rows run bottom to top.
-  std::vector<std::uint8_t> rows(image.rgb.size());
-  for (int row = 0; row < h; ++row)
-    std::copy_n(&image.rgb[static_cast<std::size_t>(h - 1 - row) * w * 3], w * 3,
-                &rows[static_cast<std::size_t>(row) * w * 3]);
-  if (w != textureWidth_ || h != textureHeight_) {
-    texture_ = gl::Texture::create(GL_TEXTURE_2D);
-    glTextureStorage2D(texture_.id(), 1, GL_RGBA8, w, h);
-    glNamedFramebufferTexture(framebuffer_.id(), GL_COLOR_ATTACHMENT0, texture_.id(), 0);
-    textureWidth_ = w, textureHeight_ = h;
-  }
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTextureSubImage2D(texture_.id(), 0, 0, 0, w, h, GL_RGB, GL_UNSIGNED_BYTE, rows.data());
+  image_.upload(w, h, GL_RGB, image.rgb.data(), gl::RowOrder::TopFirst);
   GLint target = 0;
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target);
-  glBlitNamedFramebuffer(framebuffer_.id(), static_cast<GLuint>(target), 0, 0, w, h, kMargin,
-                         height - kMargin - h, kMargin + w, height - kMargin, GL_COLOR_BUFFER_BIT,
-                         GL_NEAREST);
+  image_.blit(static_cast<GLuint>(target), kMargin, height - kMargin - h);
 }
 
-}  // namespace sph::render::splat
+void drawTimeline(int width, int height, int played) {
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(0, 0, width, height);
+  glClearColor(0.75f, 0.77f, 0.8f, 1);
+  glClear(GL_COLOR_BUFFER_BIT);
+  glScissor(0, 0, played, height);
+  glClearColor(0.16f, 0.42f, 0.78f, 1);
+  glClear(GL_COLOR_BUFFER_BIT);
+  glDisable(GL_SCISSOR_TEST);
+}
+
+}  // namespace sph::render::frame

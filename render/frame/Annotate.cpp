@@ -1,10 +1,10 @@
-#include "render/splat/Annotate.h"
+#include "render/frame/Annotate.h"
 
 #include <algorithm>
 #include <array>
 #include <cctype>
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 namespace {
 
 constexpr int kGlyphW = 5, kGlyphH = 7, kAdvance = 6, kLine = 10;
@@ -147,4 +147,4 @@ RenderImage composePanels(const std::vector<Panel>& panels, int scale, std::size
   return sheet;
 }
 
-}  // namespace sph::render::splat
+}  // namespace sph::render::frame

@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "render/splat/RenderImage.h"
+#include "render/frame/RenderImage.h"
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 
 struct Panel {
   const RenderImage* image;
@@ -26,4 +26,4 @@ void drawText(RenderImage& image, int x, int y, const std::string& text, int sca
 // Width in pixels of `text` drawn at `scale`.
 int textWidth(const std::string& text, int scale);
 
-}  // namespace sph::render::splat
+}  // namespace sph::render::frame

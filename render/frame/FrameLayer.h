@@ -4,10 +4,10 @@
 // alone, as the reference ray-marcher's is.
 #pragma once
 
-#include "render/splat/Lighting.h"
+#include "render/frame/Lighting.h"
 #include "sim/scene/Camera.h"
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 
 class FrameLayer {
  public:
@@ -16,7 +16,7 @@ class FrameLayer {
   virtual Order order() const = 0;
   // Draws with the current framebuffer, viewport and depth buffer (a GL context is current).
   virtual void draw(const scene::CameraFrame& camera, const Lighting& lighting) = 0;
-  // The deferred pipeline (ExtraLights::deferred(); render/splat/DeferredTarget.h): writes the
+  // The deferred pipeline (ExtraLights::deferred(); render/frame/DeferredTarget.h): writes the
   // layer's opaque surfaces into the bound G-buffer (shaders/gbuffer_out.glsl) and returns true;
   // false: the layer cannot, and is drawn forward (draw()) after the lighting pass.
   virtual bool drawGBuffer(const scene::CameraFrame& /*camera*/, const Lighting& /*lighting*/) {
@@ -24,4 +24,4 @@ class FrameLayer {
   }
 };
 
-}  // namespace sph::render::splat
+}  // namespace sph::render::frame

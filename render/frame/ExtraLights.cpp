@@ -1,8 +1,8 @@
-#include "render/splat/ExtraLights.h"
+#include "render/frame/ExtraLights.h"
 
-#include "render/splat/Lighting.h"
+#include "render/frame/Lighting.h"
 
-namespace sph::render::splat {
+namespace sph::render::frame {
 
 void applyExtraLights(GLuint program, const Lighting& l) {
   if (l.extra != nullptr) {
@@ -12,4 +12,4 @@ void applyExtraLights(GLuint program, const Lighting& l) {
   glProgramUniform1i(program, glGetUniformLocation(program, "u_particleLights"), 0);
 }
 
-}  // namespace sph::render::splat
+}  // namespace sph::render::frame
