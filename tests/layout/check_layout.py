@@ -55,7 +55,7 @@ ALLOWED.update({
     'bench/sweep': None,  # a library of the benches and of `sphsplat bench`: anything but app/
     'app': None,          # the top: anything
 })
-PRODUCT = ('sim', 'io', 'render', 'app', 'shaders')
+PRODUCT = ('sim', 'io', 'render', 'job', 'app', 'shaders')
 MAX_LINES = 500
 MAX_SIM_ROOT = 11
 
