@@ -1,8 +1,8 @@
 // `sphsplat export CACHE --frames F --format csv|ply|vtu -o OUT`: frames of a cache as files for
-// tools that read neither HDF5 nor XDMF (io/export/ParticleExport.h). One frame goes to OUT; a sequence
-// goes to numbered files, OUT being a name with %05d (or %d) where the frame number goes, or a
-// directory. Nothing existing is replaced without --overwrite, the cache itself never, and each
-// file is written under a temporary name and renamed once complete (io/UserFiles.h).
+// tools that read neither HDF5 nor XDMF (io/export/ParticleExport.h). One frame goes to OUT; a
+// sequence goes to numbered files, OUT being a name with %05d (or %d) where the frame number goes,
+// or a directory. Nothing existing is replaced without --overwrite, the cache itself never, and
+// each file is written under a temporary name and renamed once complete (io/UserFiles.h).
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
@@ -10,14 +10,14 @@
 #include <string>
 #include <vector>
 
-#include "job/CacheScene.h"
 #include "app/Commands.h"
-#include "job/OutputNames.h"
-#include "io/cache/CacheReader.h"
 #include "io/MessageText.h"
-#include "io/export/ParticleExport.h"
 #include "io/UserFiles.h"
+#include "io/cache/CacheReader.h"
 #include "io/cache/XdmfWriter.h"
+#include "io/export/ParticleExport.h"
+#include "job/CacheScene.h"
+#include "job/OutputNames.h"
 #include "sim/InputError.h"
 
 namespace sph::app {

@@ -12,15 +12,15 @@
 #include <string>
 #include <vector>
 
-#include "job/CacheScene.h"
 #include "app/CliChecks.h"
 #include "app/Commands.h"
-#include "job/OutputNames.h"
-#include "io/cache/CacheReader.h"
-#include "io/export/MeshFiles.h"
 #include "io/MessageText.h"
 #include "io/UserFiles.h"
+#include "io/cache/CacheReader.h"
 #include "io/cache/XdmfWriter.h"
+#include "io/export/MeshFiles.h"
+#include "job/CacheScene.h"
+#include "job/OutputNames.h"
 #include "render/mesh/SurfaceMesh.h"
 #include "render/splat/SplatBuilder.h"
 #include "sim/HumanText.h"
@@ -77,7 +77,8 @@ int meshFrames(const MeshOptions& o) {
   const scene::RenderDesc desc = scene.render ? *scene.render : scene::RenderDesc{};
   const std::vector<std::size_t> frames =
       job::parseFrameRange(o.frames, reader.frameCount(), "--frames");
-  const job::OutputNames names(o.output, format, job::fileSafe(s.sceneName), frames.size(), "--out");
+  const job::OutputNames names(o.output, format, job::fileSafe(s.sceneName), frames.size(),
+                               "--out");
   const std::vector<io::ReadFile> reads = {
       {o.cache, "the cache being meshed"},
       {io::XdmfWriter::sidecarPath(o.cache), "the cache's XDMF sidecar"}};

@@ -93,14 +93,14 @@ void RunTerminal::finished(const job::RunRequest& o, const job::RunSummary& s) {
                 static_cast<double>(ds.totalDensityIterations) / ds.steps,
                 static_cast<double>(ds.totalDivergenceIterations) / ds.steps);
   }
-  std::printf("  wall time %s, %s particle-steps/s, %.3g ms per step\n",
-              humanSeconds(wall).c_str(), humanCount(wall > 0 ? s.particleSteps / wall : 0).c_str(),
+  std::printf("  wall time %s, %s particle-steps/s, %.3g ms per step\n", humanSeconds(wall).c_str(),
+              humanCount(wall > 0 ? s.particleSteps / wall : 0).c_str(),
               prof.steps ? 1e3 * wall / prof.steps : 0.0);
   if (o.verbose) printPassSplit(prof);
   if (!s.cacheSummary.empty()) std::printf("  %s\n", io::oneLine(s.cacheSummary).c_str());
   if (s.framesTogether)
-    std::printf("  frames written by all %d ranks together (parallel HDF5, MPI-IO: %s)\n",
-                s.ranks, s.mpiIo.c_str());
+    std::printf("  frames written by all %d ranks together (parallel HDF5, MPI-IO: %s)\n", s.ranks,
+                s.mpiIo.c_str());
   if (!o.verbose || s.frameSeconds < 0) return;
   std::printf("  frames: %.3g s on rank 0 to %s\n", s.frameSeconds,
               s.framesTogether ? "write them together" : "gather and write them");

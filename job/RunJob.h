@@ -44,7 +44,7 @@ struct RunStart {
   const RunRequest& request;
   const scene::Scene& scene;
   const run::Simulation& sim;
-  std::size_t fluidParticles;  // on all ranks
+  std::size_t fluidParticles;     // on all ranks
   const io::CacheSession* cache;  // null without a cache (or on a rank other than 0)
   double setupSeconds;
   const run::MemoryEstimate& memory;
@@ -53,9 +53,9 @@ struct RunStart {
 // A resume from a cache's frame.
 struct RunResume {
   std::string cachePath;
-  std::uint64_t frame = 0;  // the frame it continues from
-  double time = 0;          // s
-  std::string note;         // CacheSession::resumeNote()
+  std::uint64_t frame = 0;   // the frame it continues from
+  double time = 0;           // s
+  std::string note;          // CacheSession::resumeNote()
   bool distributed = false;  // on K processes, each read its slab of the frame:
   int ranks = 1;
   long long mostRead = 0, totalRead = 0;
@@ -65,15 +65,15 @@ struct RunResume {
 struct RunSummary {
   explicit RunSummary(const run::Simulation& s) : sim(s) {}
   const run::Simulation& sim;
-  std::size_t endParticles = 0;       // on all ranks
-  std::uint64_t particleSteps = 0;    // on all ranks
+  std::size_t endParticles = 0;     // on all ranks
+  std::uint64_t particleSteps = 0;  // on all ranks
   double wallSeconds = 0;
-  std::string cacheSummary;           // "" without a cache
+  std::string cacheSummary;  // "" without a cache
   int ranks = 1;
-  bool framesTogether = false;        // written by all ranks together (parallel HDF5)
-  std::string mpiIo;                  // with framesTogether: the MPI-IO component
-  double frameSeconds = -1;           // K processes: rank 0's time handing frames out
-  std::string exchanges;              // K processes: what the halo exchanged
+  bool framesTogether = false;  // written by all ranks together (parallel HDF5)
+  std::string mpiIo;            // with framesTogether: the MPI-IO component
+  double frameSeconds = -1;     // K processes: rank 0's time handing frames out
+  std::string exchanges;        // K processes: what the halo exchanged
   const ranks::HaloStats* haloStats = nullptr;
   double rainCellBytesPerFrame = -1;  // frames written together with rain
 };

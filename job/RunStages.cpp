@@ -60,7 +60,8 @@ StageResult openCache(RunContext& c) {
   } else {
     // Rank 0's checks stop every rank; prepare() may change the scene (a resume's frame rate),
     // and every rank must run the same scene.
-    onRootAgreeing(*c.ranks, [&] { c.cache = io::CacheSession::prepare(c.request.cache, c.scene); });
+    onRootAgreeing(*c.ranks,
+                   [&] { c.cache = io::CacheSession::prepare(c.request.cache, c.scene); });
     ranks::Bytes fps(sizeof(double));
     std::memcpy(fps.data(), &c.scene.output.fps, sizeof(double));
     c.ranks->broadcastFromRoot(fps);
@@ -138,9 +139,9 @@ StageResult startSimulation(RunContext& c) {
     c.halo = std::make_unique<ranks::Halo>(*c.ranks, scene.domain, solver::deriveParams(scene).h);
   const auto setupStart = std::chrono::steady_clock::now();
   // Samples the boundaries, once for the whole run.
-  c.sim = c.halo ? std::make_unique<run::Simulation>(scene, *c.halo,
-                                                      c.resumed ? run::Simulation::Start::Empty
-                                                                : run::Simulation::Start::Slab)
+  c.sim = c.halo ? std::make_unique<run::Simulation>(
+                       scene, *c.halo,
+                       c.resumed ? run::Simulation::Start::Empty : run::Simulation::Start::Slab)
                  : std::make_unique<run::Simulation>(scene);
   run::Simulation& sim = *c.sim;
   const double setupSeconds =
@@ -219,7 +220,8 @@ void setUpDistributedOutputs(RunContext& c) {
     // publishes it as PATH once the frame is committed.
     onRootAgreeing(*c.ranks, [&] {
       if (c.cache)
-        c.cache->create(sim, c.provenance, run::plannedFrameCount(c.plan.endTime, c.plan.frameInterval));
+        c.cache->create(sim, c.provenance,
+                        run::plannedFrameCount(c.plan.endTime, c.plan.frameInterval));
     });
     c.distributedSink->frame(sim, 0);
   }
@@ -263,7 +265,8 @@ StageResult runTheFrames(RunContext& c) {
   c.plan.stopRequested = [] { return interruptSignal() != 0; };
   // Every rank stops at the same step when any of them is told to.
   if (c.halo) c.plan.stopRequested = [&c] { return c.halo->any(interruptSignal() != 0); };
-  if (!c.request.quiet) c.plan.afterStep = [&](const run::Simulation&) { c.observer.progress(sample(c)); };
+  if (!c.request.quiet)
+    c.plan.afterStep = [&](const run::Simulation&) { c.observer.progress(sample(c)); };
   run::RunOutcome outcome;
   try {
     outcome = runFrames(sim, c.plan, c.sinks);

@@ -53,7 +53,7 @@ def parse_run(output):
     m = re.search(r"([\d.]+) ms per step", output)
     r["ms_per_step"] = float(m.group(1)) if m else float("nan")
     # "cache: PATH (+ SIDECAR for ParaView): 16 frames, 3.21 MB; frame datasets 23.3 bytes per
-    # particle per frame; writing took 100.2 ms = 0.57% of the run" (app/CacheOutput.cpp)
+    # particle per frame; writing took 100.2 ms = 0.57% of the run" (io/cache/CacheSession.cpp)
     m = re.search(r"cache: .*: (\d+) frames, ([\d.e+]+) MB.*?writing took ([\d.]+) (us|ms|s) ", output)
     if m:
         r["frames"] = int(m.group(1))

@@ -58,7 +58,7 @@ inline std::string ranks(int k, const std::string& sceneFile, const std::string&
          "' --threads 1 " + mode + " " + args;
 }
 
-// Waits (at most 70 s) until no status recorder for the cache `path` runs (job/StatusRecorder.h):
+// Waits (at most 70 s) until no status recorder for the cache `path` runs (job/distributed/StatusRecorder.h):
 // rank 0 of a run stopped in a frame its ranks wrote together starts one, which records the
 // status a moment after mpirun returns, holding the cache's lock while it writes.
 inline void waitForStatusRecorder(const std::string& path) {

@@ -84,7 +84,7 @@ class CacheSession final : public run::FrameSink {
   // records it in the cache, closes it and returns the line that tells the user what is left.
   std::string stop(const std::string& reason);
   // The same for the cache at `path` of a run that has ended without recording it (an MPI run
-  // whose ranks stopped in a frame written together, job/StatusRecorder.h): opens it as a
+  // whose ranks stopped in a frame written together, job/distributed/StatusRecorder.h): opens it as a
   // resume would (a header torn by the end restored from the journal) and records the status,
   // if the cache still says "running" with at most `maxFrames` frames (else a resume has run).
   static void recordStop(const std::string& path, const std::string& reason, std::size_t maxFrames);

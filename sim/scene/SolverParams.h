@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sim/scene/EnumNames.h"
 #include "sim/Types.h"
+#include "sim/scene/EnumNames.h"
 
 namespace sph::scene {
 
@@ -134,8 +134,7 @@ struct SolverParams {
   float supportRadius() const { return support * spacing; }  // h (m)
   // Layers of boundary particles behind each wall: boundaryLayers, or enough to cover the support.
   int wallLayers() const {
-    return boundaryLayers > 0 ? boundaryLayers
-                              : std::max(1, static_cast<int>(std::ceil(support)));
+    return boundaryLayers > 0 ? boundaryLayers : std::max(1, static_cast<int>(std::ceil(support)));
   }
   // m: how deep the boundary particles reach behind a wall's surface (solids are drawn and lights
   // placed with it).
