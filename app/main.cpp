@@ -11,12 +11,12 @@
 #include <string>
 
 #include "app/CommandLine.h"
-#include "job/ExitCode.h"
-#include "job/distributed/DistributedRun.h"
 #include "app/MpiStarter.h"
-#include "job/OpenMpSpinLimit.h"
-#include "job/distributed/StatusRecorder.h"
 #include "io/cache/Hdf5.h"
+#include "job/ExitCode.h"
+#include "job/OpenMpSpinLimit.h"
+#include "job/distributed/DistributedRun.h"
+#include "job/distributed/StatusRecorder.h"
 #ifdef SPHSPLAT_MPI
 #include "sim/ranks/mpi/FileErrorWatch.h"
 #include "sim/ranks/mpi/MpiCommunicator.h"
@@ -40,8 +40,10 @@ void openClosedStandardStreams() {
 int main(int argc, char** argv) {
   openClosedStandardStreams();
   sph::io::h5::startWithoutExitCleanup();
-  // A recorder that rank 0 of an MPI run started (job/distributed/StatusRecorder.h): nothing else of main.
-  if (argc == sph::job::distributed::kRecorderArgc && std::strcmp(argv[1], sph::job::distributed::kRecorderArgument) == 0)
+  // A recorder that rank 0 of an MPI run started (job/distributed/StatusRecorder.h): nothing else
+  // of main.
+  if (argc == sph::job::distributed::kRecorderArgc &&
+      std::strcmp(argv[1], sph::job::distributed::kRecorderArgument) == 0)
     return sph::job::distributed::runStatusRecorder(argv);
   sph::job::relaunchWithOpenMpSpinLimit(argv);
   const sph::app::MpiStarter starter = sph::app::mpiStarter();
@@ -50,21 +52,22 @@ int main(int argc, char** argv) {
   std::optional<sph::ranks::mpi::MpiSession> mpi;
   if (starter.launched) {
     // Open MPI's OMPIO locks the whole file around each write on NFS (its automatic choice),
-    // which would wait for ever on the run's own lock of the cache (io/cache/CacheFileLock.cpp): ask
-    // it for the written ranges only, unless the user chose (mpirun --mca exports the setting).
+    // which would wait for ever on the run's own lock of the cache (io/cache/CacheFileLock.cpp):
+    // ask it for the written ranges only, unless the user chose (mpirun --mca exports the setting).
     setenv("OMPI_MCA_fs_ufs_lock_algorithm", "3", 0);
     // ROMIO reports a write the disk refused; OMPIO 4.1 does not (sim/ranks/mpi/MpiIoChoice.h).
     sph::job::distributed::setMpiIoChoice(sph::ranks::mpi::preferRomio());
     sph::job::distributed::setWorld(mpi.emplace(&argc, &argv).world());
     // A rank stuck after its write of the cache failed ends the run after 3 s (a failure HDF5
     // returns has stopped every rank by then, with its own line).
-    sph::ranks::mpi::watchFileErrors(3.0, sph::job::kBadInput,
-                              [](const char* line) { sph::job::distributed::startStatusRecorder(line); });
+    sph::ranks::mpi::watchFileErrors(3.0, sph::job::kBadInput, [](const char* line) {
+      sph::job::distributed::startStatusRecorder(line);
+    });
   }
 #else
   if (const std::string refusal = sph::app::refusalWithoutMpi(starter); !refusal.empty()) {
     if (starter.rank == 0) std::fprintf(stderr, "sphsplat: %s\n", refusal.c_str());
-    return sph::app::kBadInput;
+    return sph::job::kBadInput;
   }
 #endif
   return sph::app::runCommandLine(argc, argv);
