@@ -51,7 +51,7 @@ void Simulation::setUp(ranks::Halo* start, Start what) {
     state_.maxSpeed = std::max(state_.maxSpeed, fluid_.velocity(i).norm());
   }
   if (start) start->maxOverRanks(state_.maxSpeed, state_.maxAcceleration);  // exact maxima
-  rainFeed_ = rain::RainFeed::create(scene_);
+  feed_ = fluidFeed(scene_);
 }
 
 Simulation::~Simulation() = default;
@@ -99,9 +99,9 @@ double Simulation::stepSize(double limit) const {
 }
 
 void Simulation::step(double limit) {
-  // A feeding rain steps at its ticks: the step lands on the next one.
-  const double rainTick = rainFeed_ ? rainFeed_->nextTick(state_.time) : 1e300;
-  const double dt = stepSize(std::min(limit, rainTick));
+  // A feed (the rain that lands in the water) acts at its ticks: the step lands on the next one.
+  const double tick = feed_->nextTick(state_.time);
+  const double dt = stepSize(std::min(limit, tick));
   solver::StepContext c = context(static_cast<float>(dt));
   const bool neighbours = model_->usesNeighbours();
   using solver::Pass, solver::timed;
@@ -123,7 +123,7 @@ void Simulation::step(double limit) {
   timed(profile_, Pass::Boundaries, [&] { enforceBoundaries(c); });
   timed(profile_, Pass::Guard,
         [&] { decomposition_->guard(c, scene_, derived_.maxLostParticles, state_); });
-  if (state_.time >= rainTick) timed(profile_, Pass::Emit, [&] { feedRain(rainTick); });
+  if (state_.time >= tick) timed(profile_, Pass::Emit, [&] { feed_->feed(tick, fluid_, state_); });
   validate("the step", [&] { return solver::checkState(fluid_, state_.nextId); });
   profile_.steps += 1;
   profile_.particleSteps += fluid_.size();
@@ -145,16 +145,9 @@ void Simulation::emitParticles(double dt) {
   emittedElsewhere_.clear();
 }
 
-void Simulation::feedRain(double tick) {
-  const std::vector<Vec3>& landings = rainFeed_->advanceTo(tick, fluid_);
-  if (rainFeed_->addLandings(landings, state_.rain, fluid_, state_.nextId) == 0) return;
-  // The next step's size follows the new particles (they enter at the rain's speed).
-  state_.maxSpeed = std::max(state_.maxSpeed, rainFeed_->stepper().system().velocity().norm());
-}
-
 void Simulation::restoreRain(double time, const std::vector<Vec3>& positions,
                              const std::vector<std::uint32_t>& generations) {
-  if (rainFeed_) rainFeed_->restore(time, positions, generations);
+  if (rain::RainFeed* rain = feed_->rain()) rain->restore(time, positions, generations);
 }
 
 void Simulation::collide(float dt) {

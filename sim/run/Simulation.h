@@ -18,6 +18,7 @@
 #include "sim/rain/FeedState.h"
 #include "sim/run/Decomposition.h"
 #include "sim/run/Emitter.h"
+#include "sim/run/FluidFeed.h"
 #include "sim/scene/Scene.h"
 #include "sim/solver/Boundary.h"
 #include "sim/solver/FluidModel.h"
@@ -90,7 +91,7 @@ class Simulation {
   // rain.feed_fluid: the rain whose landed water joins the fluid at every tick (null without;
   // sim/rain/RainFeed.h). Its drops are part of the state: restore() leaves them as they are,
   // restoreRain() sets them.
-  const rain::RainFeed* rainFeed() const { return rainFeed_.get(); }
+  const rain::RainFeed* rainFeed() const { return feed_->rain(); }
   void restoreRain(double time, const std::vector<Vec3>& positions,
                    const std::vector<std::uint32_t>& generations);
   // DFSPH's warm start, in the fluid's order (run state; a distributed run's frames swap in the
@@ -125,8 +126,6 @@ class Simulation {
   // The context the passes of a step of `dt` seconds work on.
   solver::StepContext context(float dt);
   void emitParticles(double dt);
-  // At a rain tick: the drops that landed in the water join it (rain.feed_fluid).
-  void feedRain(double tick);
   void collide(float dt);
 
   scene::Scene scene_;
@@ -149,7 +148,7 @@ class Simulation {
   // start's ids, a resumed slab's indices in the frame; empty when the fluid is whole (0, 1, ...).
   std::vector<std::uint64_t> startKeys_;
   Particles emittedElsewhere_;  // what another rank's emitters released (discarded)
-  std::unique_ptr<rain::RainFeed> rainFeed_;
+  std::unique_ptr<FluidFeed> feed_;  // what joins the fluid at its ticks
 };
 
 }  // namespace sph::run
