@@ -3,18 +3,21 @@
 // them carries more than its share, so the centre reads low by an amount that shrinks as the
 // tank widens). The sensor is the tests' (tests/StillTankFloor.h).
 //
-//   still_tank_floor WIDTH [SOLVER [SETTLE END]]   e.g. still_tank_floor 0.4 dfsph 0.3 0.9
+//   still_tank_floor WIDTH [SOLVER [SETTLE END [KEY=VALUE...]]]
+//   e.g. still_tank_floor 0.4 dfsph 0.3 0.9 solver.wall_pressure=none
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "io/scene/SceneLoader.h"
 #include "sim/run/Simulation.h"
 #include "tests/StillTankFloor.h"
 
 int main(int argc, char** argv) {
-  if (argc < 2 || argc > 5 || argc == 4) {
-    std::fprintf(stderr, "usage: %s WIDTH [wcsph|dfsph [SETTLE END]]  (m, s)\n", argv[0]);
+  if (argc < 2 || argc == 4) {
+    std::fprintf(stderr, "usage: %s WIDTH [wcsph|dfsph [SETTLE END [KEY=VALUE...]]]  (m, s)\n",
+                 argv[0]);
     return 2;
   }
   const double width = std::atof(argv[1]);
@@ -28,10 +31,12 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string w = std::to_string(width);
-  const sph::scene::Scene scene = sph::io::loadScene(
-      SPHSPLAT_SOURCE_DIR "/scenes/still_tank.json",
-      {"fluids[0].max=[" + w + ",0.3," + w + "]", "boundaries[0].max=[" + w + ",0.4," + w + "]",
-       "solver.pressure=" + solver});
+  std::vector<std::string> set = {"fluids[0].max=[" + w + ",0.3," + w + "]",
+                                  "boundaries[0].max=[" + w + ",0.4," + w + "]",
+                                  "solver.pressure=" + solver};
+  for (int a = 5; a < argc; ++a) set.emplace_back(argv[a]);
+  const sph::scene::Scene scene =
+      sph::io::loadScene(SPHSPLAT_SOURCE_DIR "/scenes/still_tank.json", set);
   sph::run::Simulation sim(scene);
   const double dx = scene.solver.spacing, rho0 = scene.solver.restDensity;
   // The depth of the water at rest density: its volume over the floor.

@@ -9,7 +9,7 @@
 namespace sph::test {
 
 void StillTankFloor::advanceTo(run::Simulation& sim, double t) {
-  const float w = static_cast<float>(width_), below = -1.0f, above = 1e3f;
+  const float below = -1.0f, above = 1e3f;
   // Boundary particles stand at the centres of lattice cells: a box whose sides lie on cell
   // faces holds those of a floor area (its side)^2 (a quarter of a side that is not a whole
   // number of cells would cut through a row of them and count it or not).
@@ -17,7 +17,10 @@ void StillTankFloor::advanceTo(run::Simulation& sim, double t) {
   const double side = std::round((width_ - 2 * margin) / spacing_) * spacing_;
   const float lo = static_cast<float>(margin), hi = static_cast<float>(margin + side);
   const Aabb centre{Vec3(lo, below, lo), Vec3(hi, 0, hi)};
-  const Aabb floor{Vec3(0, below, 0), Vec3(w, 0, w)};
+  // The whole floor: every boundary particle below its surface, the side walls' feet included,
+  // since the particles in the corner under a wall carry the floor's load there as much as the
+  // wall's (over the floor's area under the water).
+  const Aabb floor{Vec3(-above, below, -above), Vec3(above, 0, above)};
   const Aabb all{Vec3::Constant(-above), Vec3::Constant(above)};
   while (sim.time() < t) {
     sim.step(t);
@@ -29,7 +32,9 @@ void StillTankFloor::advanceTo(run::Simulation& sim, double t) {
     };
     const double weight =
         static_cast<double>(p.size()) * d.mass * sim.scene().solver.gravity.norm();
-    centre_ += -load(centre).y() / (side * side);
+    const double reading = -load(centre).y() / (side * side);
+    centre_ += reading;
+    centreReadings_.push_back(reading);
     floor_ += -load(floor).y() / (width_ * width_);
     total_ += load(all).dot(sim.scene().solver.gravity.cast<double>()) /
               (weight * sim.scene().solver.gravity.norm());
@@ -39,6 +44,33 @@ void StillTankFloor::advanceTo(run::Simulation& sim, double t) {
     bottomHeight_ += bottom.height;
     ++steps_;
   }
+}
+
+namespace {
+
+// The standard deviation of `v` around their mean.
+double spread(const std::vector<double>& v) {
+  if (v.size() < 2) return 0;
+  double mean = 0, squares = 0;
+  for (double x : v) mean += x;
+  mean /= static_cast<double>(v.size());
+  for (double x : v) squares += (x - mean) * (x - mean);
+  return std::sqrt(squares / static_cast<double>(v.size() - 1));
+}
+
+}  // namespace
+
+double StillTankFloor::centreStepSpread() const { return spread(centreReadings_); }
+
+double StillTankFloor::centreMeanError() const {
+  constexpr std::size_t kBlock = 10;
+  std::vector<double> blocks;
+  for (std::size_t at = 0; at + kBlock <= centreReadings_.size(); at += kBlock) {
+    double sum = 0;
+    for (std::size_t k = at; k < at + kBlock; ++k) sum += centreReadings_[k];
+    blocks.push_back(sum / kBlock);
+  }
+  return blocks.size() < 2 ? 0 : spread(blocks) / std::sqrt(static_cast<double>(blocks.size()));
 }
 
 void StillTankFloor::readProfile(const Particles& p, double mass, double g) {
@@ -72,22 +104,26 @@ void StillTankFloor::readProfile(const Particles& p, double mass, double g) {
     if (midDepth && centre) add(kCentreColumns);
   }
   lastTop_ = topCount ? topSum / topCount : 0;
+  depth_ = depth;
   if (steps_ == 0) firstTop_ = lastTop_;
 }
 
 void StillTankFloor::print(const char* solver, double expected, bool profile) const {
   std::printf(
-      "%s floor sensor: centre %.1f Pa, whole floor %.1f Pa, rho0 g d %.1f Pa (%+.2f%%, %+.2f%%); "
-      "walls' load / weight %.4f (%d steps)\n",
-      solver, centrePressure(), floorPressure(), expected, 100 * (centrePressure() / expected - 1),
+      "%s floor sensor: centre %.1f Pa (+-%.1f Pa; a step's reading: sd %.1f Pa), whole floor %.1f "
+      "Pa, rho0 g d %.1f Pa (%+.2f%%, %+.2f%%); walls' load / weight %.4f (%d steps)\n",
+      solver, centrePressure(), centreMeanError(), centreStepSpread(), floorPressure(), expected,
+      100 * (centrePressure() / expected - 1),
       100 * (floorPressure() / expected - 1), loadOverWeight(), steps());
   if (!profile) return;
   std::printf(
       "%s p against the weight above: floor layer centre %+.2f%%, rim %+.2f%%; beside the side "
-      "walls %+.2f%%, centre columns %+.2f%% (20-80%% of the depth); top speed %.4f m/s; top "
-      "layer %.4f -> %.4f m\n",
+      "walls %+.2f%%, centre columns %+.2f%% (20-80%% of the depth); bottom layer against rho0 g "
+      "(d - its height) %+.2f%%; top speed %.4f m/s; top layer %.4f -> %.4f m\n",
       solver, 100 * pressureError(kFloorLayerCentre), 100 * pressureError(kFloorLayerRim),
-      100 * pressureError(kBesideSideWalls), 100 * pressureError(kCentreColumns), maxSpeed(),
+      100 * pressureError(kBesideSideWalls), 100 * pressureError(kCentreColumns),
+      100 * (bottomLayerPressure() / (expected / depth_ * (depth_ - bottomLayerHeight())) - 1),
+      maxSpeed(),
       firstTopHeight(), lastTopHeight());
 }
 

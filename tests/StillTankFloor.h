@@ -22,8 +22,14 @@ class StillTankFloor {
   void advanceTo(run::Simulation& sim, double t);
 
   // Mean downward force over area (Pa) on the centre of the floor (the middle half of each side,
-  // to whole lattice cells, away from the side walls), and on all of the floor under the water.
+  // to whole lattice cells, away from the side walls), and on all of the floor (the side walls'
+  // feet included) over the area under the water.
   double centrePressure() const { return centre_ / steps_; }
+  // How far the centre's reading strays (Pa): the standard deviation of one step's reading
+  // (DFSPH's stiffness alternates from step to step), and the standard error of the mean, from
+  // the spread of the means of blocks of 10 steps (consecutive steps are not independent).
+  double centreStepSpread() const;
+  double centreMeanError() const;
   double floorPressure() const { return floor_ / steps_; }
   // Mean upward force of every boundary particle on the fluid over the fluid's weight: 1 for a
   // fluid at rest whose p is the pressure its solver applied.
@@ -57,8 +63,9 @@ class StillTankFloor {
   double width_, spacing_;
   double centre_ = 0, floor_ = 0, total_ = 0, bottomPressure_ = 0, bottomHeight_ = 0;
   double pressure_[kRegions] = {}, expected_[kRegions] = {};
-  double maxSpeed_ = 0, firstTop_ = 0, lastTop_ = 0;
+  double maxSpeed_ = 0, firstTop_ = 0, lastTop_ = 0, depth_ = 0;
   int steps_ = 0;
+  std::vector<double> centreReadings_;  // every step's
   std::vector<std::uint32_t> order_;  // the fluid by height, highest first (readProfile())
 };
 

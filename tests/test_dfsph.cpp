@@ -49,49 +49,50 @@ TEST(Dfsph, StillTankHoldsDensityAtALargeStep) {
   const scene::Scene wcsph = test::shippedScene("still_tank", narrow);
   const float wcsphStep = solver::timeStep(wcsph, solver::deriveParams(wcsph), 0, 0);
 
-  sim.advanceTo(0.3);  // settle
+  // Settle: the initial lattice is unloaded and falls into place; until ~0.6 s the walls still
+  // carry more than the weight (load / weight 1.014 over 0.3-0.6 s, 1.001 over 0.6-0.9 s).
+  sim.advanceTo(0.6);
   const std::uint64_t steps0 = sim.stepCount();
-  double pressure = 0, expected = 0, compression = 0, maxCompression = 0;
+  const double t0 = sim.time();
+  double compression = 0, maxCompression = 0;
   int frames = 0;
   test::StillTankFloor floor(0.12, dx);
-  for (double t = 0.35; t <= 0.6 + 1e-9; t += 0.05, ++frames) {
+  for (double t = 0.65; t <= 1.2 + 1e-9; t += 0.05, ++frames) {
     floor.advanceTo(sim, t);
-    const Particles& p = sim.fluid();
-    const run::LayerMean bottom = run::bottomLayer(p, dx);
-    ASSERT_GT(bottom.count, 100u);
-    pressure += bottom.pressure;
-    expected += rho0 * g * (surface - bottom.height);
-    const run::DensityError e = run::densityError(p, rho0);
+    const run::DensityError e = run::densityError(sim.fluid(), rho0);
     compression += e.meanCompression;
     maxCompression = std::max(maxCompression, e.maxCompression);
   }
-  pressure /= frames, expected /= frames, compression /= frames;
-  const double meanDt = 0.3 / static_cast<double>(sim.stepCount() - steps0);
+  compression /= frames;
+  const double meanDt = (sim.time() - t0) / static_cast<double>(sim.stepCount() - steps0);
   const solver::PressureSolveStats& s = sim.solveStats();
   std::printf(
       "dfsph still tank: mean dt %.3g s (wcsph at rest %.3g s); mean compression %.4f%%, max "
-      "%.3f%%; bottom %.1f Pa vs rho0 g d %.1f Pa (%+.2f%%); iterations/step density %.2f, "
-      "divergence %.2f\n",
-      meanDt, wcsphStep, 100 * compression, 100 * maxCompression, pressure, expected,
-      100 * (pressure - expected) / expected,
+      "%.3f%%; iterations/step density %.2f, divergence %.2f\n",
+      meanDt, wcsphStep, 100 * compression, 100 * maxCompression,
       static_cast<double>(s.totalDensityIterations) / static_cast<double>(s.steps),
       static_cast<double>(s.totalDivergenceIterations) / static_cast<double>(s.steps));
-  EXPECT_GT(meanDt, 3.0 * wcsphStep);
-  // The solver's threshold (0.05% mean predicted compression), measured on the state itself.
-  EXPECT_LT(compression, 0.0005);
-  EXPECT_LT(maxCompression, 0.01);
-  // The floor read as in test_still_tank.cpp (tests/StillTankFloor.h), every step to 0.9 s. The
-  // walls hold the weight exactly as the solver's p says (the divergence solver's share in it),
-  // but not evenly: DFSPH's walls push with k_i alone, as if they held no pressure (Dfsph.cpp), so
-  // near every wall its k is not the physical pressure. The bottom layer's p reads ~2x rho0 g d
-  // (not asserted: not a pressure), the floor's edge carries more than its share and the centre
-  // reads ~2% low, where WCSPH reads within 1% (docs/benchmarks.md, "Bottom pressure of DFSPH").
-  floor.advanceTo(sim, 0.9);
   const double floorExpected = rho0 * g * surface;
-  floor.print("dfsph", floorExpected);
+  floor.print("dfsph", floorExpected, true);
+  EXPECT_GT(meanDt, 3.0 * wcsphStep);
+  // The solver's threshold, 0.05% mean compression: it stops on its first-order prediction of
+  // the density after the move, and the state read after the move differs from it by the
+  // prediction's error (0.0498% with the walls of solver.wall_pressure "none", 0.0500% with
+  // "extrapolated", over 0.35-0.6 s).
+  EXPECT_LT(compression, 1.05 * 0.0005);
+  EXPECT_LT(maxCompression, 0.01);
+  // The floor read as in test_still_tank.cpp (tests/StillTankFloor.h), every step. The walls hold
+  // the water's weight, all of it on the floor, and the floor's centre carries rho0 g d, its
+  // reading averaged over every step (its spread is printed).
   EXPECT_NEAR(floor.loadOverWeight(), 1.0, 0.005);
-  EXPECT_NEAR(floor.centrePressure(), floorExpected, 0.03 * floorExpected);
-  EXPECT_NEAR(floor.floorPressure(), floorExpected, 0.03 * floorExpected);
+  EXPECT_NEAR(floor.centrePressure(), floorExpected, 0.01 * floorExpected);
+  EXPECT_NEAR(floor.floorPressure(), floorExpected, 0.01 * floorExpected);
+  // The walls hold pressure (DfsphWalls.cpp), so p is the weight of the water above everywhere:
+  // in the floor's layer, beside the side walls and in the middle. With walls that hold none the
+  // floor's layer reads +70% in the middle and +101% along the walls, beside the side walls +30%.
+  for (auto region : {test::StillTankFloor::kFloorLayerCentre, test::StillTankFloor::kFloorLayerRim,
+                      test::StillTankFloor::kBesideSideWalls, test::StillTankFloor::kCentreColumns})
+    EXPECT_NEAR(floor.pressureError(region), 0.0, 0.03) << "region " << region;
   const Particles& p = sim.fluid();
   ASSERT_EQ(p.size(), count);
   EXPECT_LT(run::maxSpeed(p), 0.2f);

@@ -24,7 +24,8 @@ using AllChoices = ::testing::Types<
     scene::LightSource, scene::LightColouring, scene::LightFilter, scene::LightPipeline,
     scene::LightAccumulate, scene::LightShade, scene::CollisionMethod, scene::CollisionResponse,
     scene::CdtCameraMode, scene::CdtPositionSource, scene::EquationOfState, scene::DensityKernel,
-    scene::SolverModel, scene::Walls, scene::PressureSolver, scene::SplatProjection,
+    scene::SolverModel, scene::Walls, scene::PressureSolver, scene::WallPressure,
+    scene::SplatProjection,
     scene::RenderDesc::Splat, render::splat::SplatKind, io::Quality, sweep::RunStatus,
     scene::RainSpawn, scene::RainSampling, scene::RainDraw, scene::RainFarTier>;
 TYPED_TEST_SUITE(EnumNamesTest, AllChoices);

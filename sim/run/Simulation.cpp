@@ -71,8 +71,8 @@ float Simulation::chooseTimeStep() const {
 
 solver::StepContext Simulation::context(float dt) {
   solver::StepContext c{
-      dt,       scene_.solver,       derived_,         boundary_,  fluid_, grid_, boundaryFields_,
-      scratch_, gradientCorrection_, state_.warmStart, solveStats_};
+      dt,      scene_.solver,       derived_,         boundary_,  fluid_, grid_, boundaryFields_,
+      scratch_, walls_, gradientCorrection_, state_.warmStart, solveStats_};
   decomposition_->share(c);
   return c;
 }

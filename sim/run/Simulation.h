@@ -139,6 +139,7 @@ class Simulation {
   RunState state_;
   solver::BoundaryFields boundaryFields_;
   solver::StepScratch scratch_;
+  solver::WallStiffness walls_;
   float gradientCorrection_ = 1;  // scale of the pressure force this step
   solver::PressureSolveStats solveStats_;
   std::unique_ptr<solver::FluidModel> model_;

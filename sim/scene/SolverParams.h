@@ -90,6 +90,23 @@ constexpr const char* nameOf(PressureSolver v) {
   return nullptr;
 }
 
+// Scene key solver.wall_pressure (DFSPH): the pressure a wall's boundary particles push back with.
+enum class WallPressure {
+  Extrapolated,  // each boundary particle takes the pressure the fluid around it extrapolates to
+                 // it, with the hydrostatic term (Adami et al. 2012; sim/solver/DfsphWalls.cpp)
+  None,          // none of its own: a wall pair pushes with the fluid particle's stiffness alone
+                 // (Akinci et al. 2012's boundary particles as the DFSPH papers use them)
+};
+constexpr const char* nameOf(WallPressure v) {
+  switch (v) {
+    case WallPressure::Extrapolated:
+      return "extrapolated";
+    case WallPressure::None:
+      return "none";
+  }
+  return nullptr;
+}
+
 // The default max_time_step of "dfsph" (s): SPlisHSPlasH's; the flow speed and gravity bound the
 // step below it (sim/solver/SceneSetup.cpp, timeStep()).
 constexpr float kDfsphMaxTimeStep = 5e-3f;
@@ -106,6 +123,7 @@ struct SolverParams {
   int minDensityIterations = 2;     // the constant-density solver's lower bound
   int maxDensityIterations = 100;   // caps: a step that hits one goes on with the error it has
   int maxDivergenceIterations = 100;
+  WallPressure wallPressure = WallPressure::Extrapolated;
   float spacing = 0.01f;        // m, particle spacing dx of the initial lattice
   float support = 2.0f;         // kernel support radius h as a multiple of spacing (h = support dx)
   float restDensity = 1000.0f;  // kg/m^3, rho0

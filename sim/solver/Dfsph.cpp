@@ -7,14 +7,16 @@
 //   alpha_i = 1 / (|G_i|^2 + sum_{fluid j} |V_j gradW_ij|^2)                        (2017, eq. 9)
 //
 // A pressure-like stiffness k_i (m^2/s^2) accelerates particle i by
-//   a_i = - sum_{fluid j} V_j (k_i + k_j) gradW_ij - sum_{boundary b} V_b k_i gradW_ib
-//       = - k_i G_i - sum_{fluid j} V_j k_j gradW_ij
-// (boundary particles mirror the fluid particle's own stiffness, as Akinci et al. 2012 boundary
-// particles do in the papers), and the rate of change of s_i for velocities v is
+//   a_i = - sum_{fluid j} V_j (k_i + k_j) gradW_ij - sum_{boundary b} V_b (k_i + k_b) gradW_ib
+//       = - k_i G_i - sum_{fluid j} V_j k_j gradW_ij - sum_b V_b k_b gradW_ib
+// where k_b is the stiffness the wall particle takes from the fluid around it (DfsphWalls.cpp;
+// solver.wall_pressure "extrapolated"), or 0 (walls that hold no pressure of their own, as the
+// papers' Akinci et al. 2012 boundary particles: "none"), and the rate of change of s_i for
+// velocities v is
 //   Ds_i/Dt = sum_{fluid j} V_j (v_i - v_j) . gradW_ij + sum_b V_b v_i . gradW_ib
 //           = v_i . G_i - sum_{fluid j} V_j v_j . gradW_ij                       (walls at rest).
 // So G_i, computed once per step with the factor, carries the boundary: the solver iterations
-// loop over fluid neighbours only.
+// loop over fluid neighbours, and over the wall pairs only for k_b.
 //
 // Divergence-free solver (2017, Algorithm 2): k_i = alpha_i max(Ds_i/Dt, 0) / dt, until the mean
 // dt Ds/Dt is at most max_divergence_error. Constant-density solver (Algorithm 3): with the
@@ -44,12 +46,17 @@
 #include <cmath>
 
 #include "sim/solver/DfsphPairs.h"
+#include "sim/solver/DfsphWalls.h"
 #include "sim/solver/SphPasses.h"
 #include "sim/ranks/ExactSum.h"
 #include "sim/ranks/Halo.h"
 
 namespace sph::solver {
 namespace {
+
+bool wallsHoldPressure(const StepContext& c) {
+  return c.solver.wallPressure == scene::WallPressure::Extrapolated;
+}
 
 bool owned(const StepContext& c, std::size_t i) {
   return !c.ghost || !(*c.ghost)[i];
@@ -105,19 +112,15 @@ void sourcePass(StepContext& c, Source&& source) {
 }
 
 // One velocity pass: v_i -= dt (k_i G_i + sum_j V_j k_j gradW_ij), the stiffness of the last
-// source pass; adds it to `warm` (and, with `acceleration`, the pressure acceleration to a).
+// source pass, and with walls that hold pressure, - dt sum_b V_b k_b gradW_ib for the change of
+// the wall's stiffness (DfsphWalls.cpp); adds k_i to `warm` (and, with `acceleration`, the
+// pressure acceleration to a).
 void velocityPass(StepContext& c, std::vector<float>& warm, bool acceleration) {
   Particles& f = c.fluid;
   const StepScratch& s = c.scratch;
   const float* k = s.stiffness.data();
   const float dt = c.dt;
-  forEachParticlePairs(c, [&](std::uint32_t i, const PairSpan& p) {
-    float ax = 0, ay = 0, az = 0;
-#pragma omp simd reduction(+ : ax, ay, az)
-    for (std::uint32_t q = 0; q < p.count; ++q) {
-      const float kj = k[p.index[q]];
-      ax += kj * p.gx[q], ay += kj * p.gy[q], az += kj * p.gz[q];
-    }
+  auto apply = [&](std::uint32_t i, float ax, float ay, float az) {
     const float ki = k[i];
     const float px = -(ki * s.gradientSumX[i] + ax);
     const float py = -(ki * s.gradientSumY[i] + ay);
@@ -125,7 +128,40 @@ void velocityPass(StepContext& c, std::vector<float>& warm, bool acceleration) {
     f.vx[i] += dt * px, f.vy[i] += dt * py, f.vz[i] += dt * pz;
     if (acceleration) f.ax[i] += px, f.ay[i] += py, f.az[i] += pz;
     warm[i] += ki;
+  };
+  auto fluidSum = [&](const PairSpan& p, float& ax, float& ay, float& az) {
+#pragma omp simd reduction(+ : ax, ay, az)
+    for (std::uint32_t q = 0; q < p.count; ++q) {
+      const float kj = k[p.index[q]];
+      ax += kj * p.gx[q], ay += kj * p.gy[q], az += kj * p.gz[q];
+    }
+  };
+  if (!wallsHoldPressure(c)) {
+    forEachParticlePairs(c, [&](std::uint32_t i, const PairSpan& p) {
+      float ax = 0, ay = 0, az = 0;
+      fluidSum(p, ax, ay, az);
+      apply(i, ax, ay, az);
+    });
+    return;
+  }
+  const float* kb = c.walls.change.data();
+  forEachParticlePairsAndWalls(c, [&](std::uint32_t i, const PairSpan& p, const PairSpan& w) {
+    float ax = 0, ay = 0, az = 0;
+    fluidSum(p, ax, ay, az);
+    for (std::uint32_t q = 0; q < w.count; ++q) {
+      const float kw = kb[w.index[q]];
+      ax += kw * w.gx[q], ay += kw * w.gy[q], az += kw * w.gz[q];
+    }
+    apply(i, ax, ay, az);
   });
+}
+
+// The wall particles' stiffness for the iteration about to move the velocities (DfsphWalls.cpp).
+void changeWalls(StepContext& c, std::vector<float>& warm, bool hydrostatic) {
+  if (!wallsHoldPressure(c)) return;
+  // The ghosts' stiffness as their owners have it (a wall particle reaches 2h into the ghosts).
+  if (c.halo) c.halo->refreshGhosts({&warm, &c.scratch.stiffness});
+  changeWallStiffness(c, warm, c.scratch.stiffness, hydrostatic);
 }
 
 // A Jacobi solve: warm start from `warm` (which then collects this step's sum), then iterations
@@ -136,6 +172,9 @@ template <class Rate>
 std::pair<int, double> jacobiSolve(StepContext& c, std::vector<float>& warm, double tolerance,
                                    int minIterations, int maxIterations, bool acceleration,
                                    Rate&& rate) {
+  // The density solver is the one that holds the fluid up: the walls' hydrostatic term is its.
+  const bool hydrostatic = acceleration;
+  if (wallsHoldPressure(c)) startWallSolve(c);
   const std::size_t n = c.fluid.size();
   StepScratch& s = c.scratch;
   s.source.resize(n);
@@ -146,6 +185,7 @@ std::pair<int, double> jacobiSolve(StepContext& c, std::vector<float>& warm, dou
     // is corrected), so a full warm start could only grow from step to step, never relax.
     std::transform(warm.begin(), warm.end(), s.stiffness.begin(), [](float k) { return 0.5f * k; });
     std::fill(warm.begin(), warm.end(), 0.0f);
+    changeWalls(c, warm, hydrostatic);
     velocityPass(c, warm, acceleration);
   } else {
     std::fill(warm.begin(), warm.end(), 0.0f);
@@ -158,9 +198,11 @@ std::pair<int, double> jacobiSolve(StepContext& c, std::vector<float>& warm, dou
     sourcePass(c, rate);
     error = meanOverFluid(c, s.source);
     if ((error <= tolerance && iterations >= minIterations) || iterations >= maxIterations) break;
+    changeWalls(c, warm, hydrostatic);
     velocityPass(c, warm, acceleration);
     ++iterations;
   }
+  if (wallsHoldPressure(c)) finishWallSolve(c);
   return {iterations, error};
 }
 
@@ -202,16 +244,18 @@ void solveDensity(StepContext& c) {
   c.solveStats.densityError = static_cast<float>(100 * error);
   c.solveStats.totalDensityIterations += static_cast<std::uint64_t>(iterations);
   c.solveStats.steps += 1;
-  // The WCSPH force is c sum m (p_i/rho_i^2 + p_j/rho_j^2) gradW_spiky (c the lattice gradient
-  // correction); DFSPH's is sum (m/rho0) n (k_i + k_j) gradW_spiky (n the density normalisation):
-  // the same force for p_i = rho_i^2 / rho0 (n / c) k_i. k_i is all this step applied: the
-  // divergence solver's sum with the constant-density solver's (each warm start included). Near
-  // a wall p_i is not the physical pressure: the walls push with k_i alone, as if they held no
-  // pressure (docs/benchmarks.md, "Bottom pressure of DFSPH").
-  const float scale = invRho0 * c.derived.densityNormalisation / c.derived.gradientCorrection;
+  // The WCSPH force is c sum m (p_i/rho_i^2 + p_j/rho_j^2) gradW_spiky (c the gradient
+  // correction of the particles' arrangement this step, computeDfsphDensityAndFactor()); DFSPH's
+  // is sum (m/rho0) n (k_i + k_j) gradW_spiky (n the density normalisation): the same force for
+  // p_i = rho_i^2 / rho0 (n / c) k_i. k_i is all this step applied: the divergence solver's sum
+  // with the constant-density solver's (each warm start included). With solver.wall_pressure
+  // "none" p_i is not the physical pressure near a wall: the walls push with k_i alone, as if
+  // they held none (DfsphWalls.cpp).
+  const float scale = invRho0 * c.derived.densityNormalisation / c.gradientCorrection;
   const std::vector<float>& k = c.warmStart.density;
   const std::vector<float>& kv = c.warmStart.divergence;
   for (std::size_t i = 0; i < f.size(); ++i) f.p[i] = f.rho[i] * f.rho[i] * scale * (k[i] + kv[i]);
+  if (wallsHoldPressure(c)) storeWallPressure(c);
 }
 
 }  // namespace sph::solver

@@ -53,7 +53,7 @@ float latticeDenominator(const StepContext& c) {
 // and h - r into `out` (fields x, y, z, h - r). A plain function with unaliased pointers: as a
 // loop inside the pass's lambda, GCC 12 left it scalar.
 struct FluidSums {
-  float gx, gy, gz, squares, cubes;
+  float gx, gy, gz, squares, cubes, moment;
 };
 FluidSums fluidCandidates(float xi, float yi, float zi, std::size_t padded,
                           const float* __restrict fx, const float* __restrict fy,
@@ -63,8 +63,8 @@ FluidSums fluidCandidates(float xi, float yi, float zi, std::size_t padded,
   float* __restrict ty = out.field[1].data();
   float* __restrict tz = out.field[2].data();
   float* __restrict th = out.field[3].data();
-  float gx = 0, gy = 0, gz = 0, squares = 0, cubes = 0;
-#pragma omp simd reduction(+ : gx, gy, gz, squares, cubes)
+  float gx = 0, gy = 0, gz = 0, squares = 0, cubes = 0, moment = 0;
+#pragma omp simd reduction(+ : gx, gy, gz, squares, cubes, moment)
   for (std::size_t j = 0; j < padded; ++j) {
     const float dx = xi - fx[j], dy = yi - fy[j], dz = zi - fz[j];
     const float r2 = dx * dx + dy * dy + dz * dz;
@@ -76,22 +76,29 @@ FluidSums fluidCandidates(float xi, float yi, float zi, std::size_t padded,
     gx += wj * dx, gy += wj * dy, gz += wj * dz;
     squares += wj * wj * r2;
     cubes += hr * hr * hr;
+    moment += wj * r2;  // (h - r)^2 r
   }
-  return {gx, gy, gz, squares, cubes};
+  return {gx, gy, gz, squares, cubes, moment};
 }
 
-// The same over the boundary candidates: sum (h - r)^2 / r (x_i - x_b), sum (h - r)^3 and sum
-// (h - r).
+// The same over the boundary candidates: sum (h - r)^2 / r (x_i - x_b), sum (h - r)^3, sum
+// (h - r) and sum (h - r)^2 r; with kStorePairs, each candidate's V gradW and h - r into `out` as fluidCandidates()
+// does (the wall pairs of DfsphWalls.cpp).
 struct BoundarySums {
-  float gx, gy, gz, cubes, weight;
+  float gx, gy, gz, cubes, weight, moment;
 };
-BoundarySums boundaryCandidates(float xi, float yi, float zi, const grid::CandidateBatch<3>& bb,
-                                SpikyPairShape spiky) {
+template <bool kStorePairs>
+BoundarySums boundaryCandidates(float xi, float yi, float zi, const grid::CandidateBatch<4>& bb,
+                                SpikyPairShape spiky, float g, grid::CandidateBatch<4>& out) {
   const float* __restrict bxs = bb.field[0].data();
   const float* __restrict bys = bb.field[1].data();
   const float* __restrict bzs = bb.field[2].data();
-  float gx = 0, gy = 0, gz = 0, cubes = 0, weight = 0;
-#pragma omp simd reduction(+ : gx, gy, gz, cubes, weight)
+  float* __restrict tx = out.field[0].data();
+  float* __restrict ty = out.field[1].data();
+  float* __restrict tz = out.field[2].data();
+  float* __restrict th = out.field[3].data();
+  float gx = 0, gy = 0, gz = 0, cubes = 0, weight = 0, moment = 0;
+#pragma omp simd reduction(+ : gx, gy, gz, cubes, weight, moment)
   for (std::size_t j = 0; j < bb.padded; ++j) {
     const float dx = xi - bxs[j], dy = yi - bys[j], dz = zi - bzs[j];
     const float r2 = dx * dx + dy * dy + dz * dz;
@@ -101,8 +108,13 @@ BoundarySums boundaryCandidates(float xi, float yi, float zi, const grid::Candid
     gx += wb * dx, gy += wb * dy, gz += wb * dz;
     cubes += hr * hr * hr;
     weight += hr;
+    moment += wb * r2;
+    if constexpr (kStorePairs) {
+      th[j] = hr;
+      tx[j] = g * wb * dx, ty[j] = g * wb * dy, tz[j] = g * wb * dz;
+    }
   }
-  return {gx, gy, gz, cubes, weight};
+  return {gx, gy, gz, cubes, weight, moment};
 }
 
 }  // namespace
@@ -117,6 +129,7 @@ void computeDfsphDensityAndFactor(StepContext& c) {
   s.pairCount.resize(n);
   s.inverseDensity.resize(n);
   s.wallWeight.resize(n);
+  s.gradientMoment.resize(n);
   if (s.indexBits.size() < n) {  // the bits of i: unchanged by the sort, so set once
     const std::size_t from = s.indexBits.size();
     s.indexBits.resize(n);
@@ -124,6 +137,17 @@ void computeDfsphDensityAndFactor(StepContext& c) {
       s.indexBits[i] = bitsAs<float>(static_cast<std::uint32_t>(i));
   }
   s.pairs.begin(rowCount(c.grid), threadCount());
+  const bool wallPairs = c.solver.wallPressure == scene::WallPressure::Extrapolated;
+  std::vector<float>& boundaryBits = c.walls.indexBits;
+  if (boundaryBits.size() != b.size()) {  // the boundary never changes: set once
+    boundaryBits.resize(b.size());
+    for (std::size_t q = 0; q < b.size(); ++q)
+      boundaryBits[q] = bitsAs<float>(static_cast<std::uint32_t>(q));
+  }
+  if (wallPairs) {
+    s.wallPairCount.resize(n);
+    s.wallPairs.begin(rowCount(c.grid), threadCount());
+  }
   const float h = c.derived.h;
   const SpikyPairShape spiky{h, h * h};
   const float g = dfsphGradientScale(c);
@@ -139,17 +163,23 @@ void computeDfsphDensityAndFactor(StepContext& c) {
   // neighbourhood's value leaves every particle with half a neighbourhood or more (the free
   // surface) untouched and under-corrects only spray.
   const float floor = 0.25f * latticeDenominator(c);
+  // The gradient moment K_i (SphPasses.cpp, computeDensity()): not used by the solvers, but it
+  // turns their stiffness into a pressure (solveDensity()) as WCSPH's force is scaled.
+  const float momentScale = -c.derived.kernels.spikyGradFactor * c.derived.mass /
+                            c.solver.restDensity / 3;
   // Per thread: each candidate's V gradW_ij and h - r (0 outside the support), before the
   // candidates inside the support are packed into the row.
-  std::vector<grid::CandidateBatch<4>> gradients(threadCount());
-  grid::forEachCellWithCandidates<4, 3>(
+  std::vector<grid::CandidateBatch<4>> gradients(threadCount()), wallGradients(threadCount());
+  grid::forEachCellWithCandidates<4, 4>(
       c.grid, {f.x.data(), f.y.data(), f.z.data(), s.indexBits.data()}, c.boundary.grid(),
-      {b.x.data(), b.y.data(), b.z.data()}, h,
+      {b.x.data(), b.y.data(), b.z.data(), boundaryBits.data()}, h,
       [&](std::size_t row, std::uint32_t begin, std::uint32_t end,
-          const grid::CandidateBatch<4>& fb, const grid::CandidateBatch<3>& bb) {
+          const grid::CandidateBatch<4>& fb, const grid::CandidateBatch<4>& bb) {
         const int thread = threadIndex();
         grid::CandidateBatch<4>& t = gradients[thread];
         t.resize(fb.padded);
+        grid::CandidateBatch<4>& tw = wallGradients[thread];
+        if (wallPairs) tw.resize(bb.padded);
         const float* fx = fb.field[0].data();
         const float* fy = fb.field[1].data();
         const float* fz = fb.field[2].data();
@@ -164,13 +194,23 @@ void computeDfsphDensityAndFactor(StepContext& c) {
               packPairs(fb.padded, fb.field[3].data(), t, {to.index, to.gx, to.gy, to.gz, to.hr});
           s.pairs.add(row, thread, count);
           s.pairCount[i] = count;
-          const BoundarySums wall = boundaryCandidates(xi, yi, zi, bb, spiky);
+          const BoundarySums wall =
+              wallPairs ? boundaryCandidates<true>(xi, yi, zi, bb, spiky, g, tw)
+                        : boundaryCandidates<false>(xi, yi, zi, bb, spiky, g, tw);
+          if (wallPairs) {
+            const grid::PairStore::Row wto = s.wallPairs.room(row, thread, bb.padded);
+            const std::uint32_t walls = packPairs(bb.padded, bb.field[3].data(), tw,
+                                                  {wto.index, wto.gx, wto.gy, wto.gz, wto.hr});
+            s.wallPairs.add(row, thread, walls);
+            s.wallPairCount[i] = walls;
+          }
           const float bx = wall.gx, by = wall.gy, bz = wall.gz, bcubes = wall.cubes,
                       bweight = wall.weight;
           const float rho = densityScale * (self + cubes + bcubes);
           f.rho[i] = rho;
           s.inverseDensity[i] = 1.0f / rho;
           s.wallWeight[i] = bweight;
+          s.gradientMoment[i] = momentScale * (sums.moment + wall.moment);
           gx = g * (gx + bx), gy = g * (gy + by), gz = g * (gz + bz);
           s.gradientSumX[i] = gx, s.gradientSumY[i] = gy, s.gradientSumZ[i] = gz;
           const float denominator = gx * gx + gy * gy + gz * gz + g * g * squares;
@@ -178,6 +218,8 @@ void computeDfsphDensityAndFactor(StepContext& c) {
         }
       });
   s.pairs.end();
+  if (wallPairs) s.wallPairs.end();
+  updateGradientCorrection(c);
 }
 
 // a_i = nu (rho0 / rho_i) [sum_j m / rho_j (v_j - v_i) lapW_visc - (no-slip) sum_b m / rho0 v_i

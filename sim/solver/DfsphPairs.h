@@ -48,4 +48,23 @@ void forEachParticlePairs(const StepContext& c, Body&& body) {
   });
 }
 
+// The same with each particle's wall pairs too (StepScratch::wallPairs, DfsphWalls.cpp).
+template <class Body>
+void forEachParticlePairsAndWalls(const StepContext& c, Body&& body) {
+  const StepScratch& s = c.scratch;
+  parallelForDynamic(rowCount(c.grid), 4, [&](std::size_t row) {
+    const auto [begin, end] = rowRange(c.grid, row);
+    const grid::PairStore::Row r = s.pairs.row(row);
+    const grid::PairStore::Row w = s.wallPairs.row(row);
+    std::size_t at = 0, atWall = 0;
+    for (std::uint32_t i = begin; i < end; ++i) {
+      const std::uint32_t count = s.pairCount[i], walls = s.wallPairCount[i];
+      body(i, PairSpan{r.index + at, r.gx + at, r.gy + at, r.gz + at, r.hr + at, count},
+           PairSpan{w.index + atWall, w.gx + atWall, w.gy + atWall, w.gz + atWall,
+                    w.hr + atWall, walls});
+      at += count, atWall += walls;
+    }
+  });
+}
+
 }  // namespace sph::solver

@@ -1,6 +1,7 @@
 #include "sim/solver/FluidModel.h"
 
 #include "sim/Assert.h"
+#include "sim/solver/DfsphWalls.h"
 #include "sim/solver/Validate.h"
 
 namespace sph::solver {
@@ -32,7 +33,10 @@ class Dfsph final : public FluidModel {
  public:
   bool usesNeighbours() const override { return true; }
   void density(StepContext& c, StepProfile& profile) override {
-    timed(profile, Pass::Factor, [&] { computeDfsphDensityAndFactor(c); });
+    timed(profile, Pass::Factor, [&] {
+      computeDfsphDensityAndFactor(c);
+      if (c.solver.wallPressure == scene::WallPressure::Extrapolated) findWallNeighbours(c);
+    });
     checkDensityPass(c);
   }
   void forces(StepContext& c, StepProfile& profile) override {

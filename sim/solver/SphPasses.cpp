@@ -61,6 +61,8 @@ void batchDensityAndMoment(float xi, float yi, float zi, float h, const grid::Ca
   density += s, moment += t;
 }
 
+}  // namespace
+
 // The pressure force's scale c = 1 / mean K over the particles with a full neighbourhood (at
 // least rest density): the lattice value (SceneSetup.h) corrected for how the particles are
 // actually arranged. One factor for all pairs keeps momentum conserved; it drifts slowly, so
@@ -85,7 +87,6 @@ void updateGradientCorrection(StepContext& c) {
                              : c.derived.gradientCorrection;
 }
 
-}  // namespace
 
 // Boundary-boundary part of each boundary particle's density: fixed, so computed once.
 void computeStaticBoundaryDensity(StepContext& c) {

@@ -19,6 +19,9 @@ void sortParticles(StepContext& c);
 // rho_i = sum_j m W(x_i - x_j) over fluid and boundary neighbours (seed 003, eq. (1)), the
 // boundary particles' densities, and the gradient correction of the force pass.
 void computeDensity(StepContext& c);
+// c.gradientCorrection from the particles' gradient moments (scratch.gradientMoment), after a
+// density pass that computed them.
+void updateGradientCorrection(StepContext& c);
 // Equation of state for fluid and boundary particles, and the force pass's per-particle factors.
 void computePressure(StepContext& c);
 // Pressure (spiky gradient), viscosity (Müller 2003), no-slip walls and gravity.

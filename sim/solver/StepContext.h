@@ -53,6 +53,27 @@ struct StepScratch {
   grid::PairStore pairs;
   std::vector<std::uint32_t> pairCount;
   std::vector<float> indexBits;  // i's bits as a float: carries indices through the batches
+  // DFSPH's walls that hold pressure (sim/solver/DfsphWalls.cpp): each fluid particle's boundary
+  // pairs, stored as the fluid pairs are (index b, V_b gradW_ib, h - r), wallPairCount[i] of
+  // them; empty with solver.wall_pressure "none".
+  grid::PairStore wallPairs;
+  std::vector<std::uint32_t> wallPairCount;
+};
+
+// DFSPH's boundary particles within reach of the fluid this step and the pressure they carry
+// (sim/solver/DfsphWalls.cpp): each takes the Shepard average of its fluid neighbours' stiffness
+// and the hydrostatic term.
+struct WallStiffness {
+  std::vector<float> indexBits;            // per boundary particle: b's bits as a float
+  std::vector<std::uint8_t> reached;       // per boundary particle: in some fluid pair this step
+  std::vector<std::uint32_t> active;       // the boundary particles reached, ascending
+  std::vector<std::uint32_t> start;        // per active particle: its neighbours' first index
+  std::vector<std::uint32_t> neighbour;    // fluid neighbours of the active particles
+  std::vector<float> weight;               // W_bf / sum_f W_bf
+  std::vector<float> hydrostatic;          // per active: g . sum_f w_bf (x_b - x_f) (m^2/s^2)
+  std::vector<float> applied;              // per active: stiffness the running solve applied
+  std::vector<float> total;                // per active: both solves' stiffness this step
+  std::vector<float> change;               // per boundary particle: this iteration's change
 };
 
 // Per fluid particle, in the fluid's order: the DFSPH solvers' warm start (Bender & Koschier
@@ -81,6 +102,7 @@ struct StepContext {
   grid::NeighbourGrid& grid;  // the fluid's, rebuilt by sortParticles()
   BoundaryFields& boundaryFields;
   StepScratch& scratch;
+  WallStiffness& walls;  // DFSPH with solver.wall_pressure "extrapolated"
   // Scale of the pressure force this step (1 / mean discrete gradient moment); set by the
   // density pass, read by the force pass.
   float& gradientCorrection;
