@@ -62,11 +62,11 @@ void GlContextHeadless(benchmark::State& state) {
 
 void BoundarySample(benchmark::State& state) {
   const sph::scene::Scene scene = damBreak();
-  const sph::solver::DerivedParams d = sph::solver::deriveParams(scene);
+  const sph::scene::SolverParams& s = scene.solver;
   std::size_t n = 0;
   for (auto _ : state) {
-    sph::solver::Boundary b(scene.boundaries, scene.domain, scene.solver.spacing, d.boundaryLayers,
-                            d.h);
+    sph::solver::Boundary b(scene.boundaries, scene.domain, s.spacing, s.wallLayers(),
+                            s.supportRadius());
     n = b.particles().size();
     benchmark::DoNotOptimize(&b);
   }

@@ -136,7 +136,7 @@ StageResult startSimulation(RunContext& c) {
   // without fluid.
   const scene::Scene& scene = c.scene;
   if (c.ranks)
-    c.halo = std::make_unique<ranks::Halo>(*c.ranks, scene.domain, solver::deriveParams(scene).h);
+    c.halo = std::make_unique<ranks::Halo>(*c.ranks, scene.domain, scene.solver.supportRadius());
   const auto setupStart = std::chrono::steady_clock::now();
   // Samples the boundaries, once for the whole run.
   c.sim = c.halo ? std::make_unique<run::Simulation>(

@@ -1,10 +1,12 @@
-// sim/run/RunLoop.h and io/cache/CacheSession.h driven in-process, the way `sphsplat run` drives them:
-// frames at the planned times, a stop between steps, a run that dies mid-way and is resumed from
-// its cache, and a blow-up reported as an outcome. (tests/test_cache_crash.cpp kills real
-// processes with SIGKILL; these check the library's own contract without a process boundary.)
+// sim/run/RunLoop.h and io/cache/CacheSession.h driven in-process, the way `sphsplat run` drives
+// them: frames at the planned times or at the stops a plan names, a stop between steps, a run
+// that dies mid-way and is resumed from its cache, and a blow-up reported as an outcome.
+// (tests/test_cache_crash.cpp kills real processes with SIGKILL; these check the library's own
+// contract without a process boundary.)
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -59,6 +61,26 @@ TEST(RunLoop, HandsOverEveryFrameAtItsExactTime) {
   }
   EXPECT_EQ(outcome.nextFrame, 6u);
   EXPECT_EQ(run::plannedFrameCount(0.05, 0.01), 6u);
+}
+
+// A sweep's stops (bench/sweep/SweepRunner.cpp): its own times, frames at k / fps and metric
+// samples between them, each landed on exactly; every step between a before and an after call.
+TEST(RunLoop, APlanLandsOnTheStopTimesItNames) {
+  const scene::Scene scene = tinyScene(0.05);
+  run::Simulation sim(scene);
+  RecordingSink sink;
+  run::RunPlan plan = planFor(scene);
+  const std::vector<double> stops = {1.0 / 300, 0.01, 0.0137, 2.0 / 75, 0.04};
+  plan.stopTime = [&](std::size_t k) { return k <= stops.size() ? stops[k - 1] : 1.0; };
+  int before = 0, after = 0;
+  plan.beforeStep = [&](const run::Simulation&) { EXPECT_EQ(before++, after); };
+  plan.afterStep = [&](const run::Simulation&) { EXPECT_EQ(++after, before); };
+  const run::RunOutcome outcome = runFrames(sim, plan, {&sink});
+  EXPECT_EQ(outcome.end, run::RunOutcome::End::Finished);
+  ASSERT_EQ(sink.times.size(), stops.size() + 1);  // and the end time, 0.05
+  for (std::size_t k = 0; k < stops.size(); ++k) EXPECT_EQ(sink.times[k], stops[k]);
+  EXPECT_EQ(sink.times.back(), 0.05);
+  EXPECT_EQ(static_cast<std::uint64_t>(after), sim.stepCount());
 }
 
 TEST(RunLoop, AStopRequestEndsBetweenStepsWithoutAPartialFrame) {

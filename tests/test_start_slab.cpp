@@ -58,7 +58,7 @@ TEST(StartSlab, EachRankGeneratesItsSlabAndTogetherTheyHoldTheSingleProcesssFlui
       test::ThreadRanks threads(k);
       threads.run([&](Communicator& comm) {
         const int me = comm.rank();
-        Halo halo(comm, s.domain, solver::deriveParams(s).h);
+        Halo halo(comm, s.domain, s.solver.supportRadius());
         run::Simulation sim(s, halo);
         sim.setHalo(&halo);
         parts[me] = sim.fluid();
@@ -124,7 +124,7 @@ TEST(StartSlab, AResumingRankGeneratesNoStart) {
   std::vector<std::uint32_t> nextId(2, 1);
   test::ThreadRanks threads(2);
   threads.run([&](Communicator& comm) {
-    Halo halo(comm, s.domain, solver::deriveParams(s).h);
+    Halo halo(comm, s.domain, s.solver.supportRadius());
     const run::Simulation sim(s, halo, run::Simulation::Start::Empty);
     fluid[comm.rank()] = sim.fluid().size();
     boundary[comm.rank()] = sim.boundary().particles().size();

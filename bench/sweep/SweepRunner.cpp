@@ -14,9 +14,9 @@
 #include "io/scene/SceneLoader.h"
 #include "render/cdt/CollisionSetup.h"
 #include "sim/Parallel.h"
-#include "sim/solver/SceneSetup.h"
+#include "sim/run/RunLoop.h"
 #include "sim/run/Simulation.h"
-#include "sim/StabilityError.h"
+#include "sim/solver/SceneSetup.h"
 
 namespace sph::sweep {
 namespace {
@@ -72,8 +72,49 @@ std::vector<double> observationTimes(const SweepMetric& m, double end, double fp
   return t;
 }
 
-// One run of one variant. Metrics are restarted; the run lands exactly on every output frame
-// (like `sphsplat run`) and on every metric sample time.
+// Where the run must land, sorted: the output frames at k / fps, the end, and every metric's
+// observation times, times within 1e-12 s of each other as one (the first). The sweeps' figures
+// were measured on these stops; `sphsplat run`'s frames at k * (1 / fps) differ in the last bit
+// for some k.
+std::vector<double> landingTimes(const std::vector<std::vector<double>>& observations, double end,
+                                 double fps) {
+  std::vector<double> targets;
+  for (std::uint64_t k = 1; static_cast<double>(k) / fps < end; ++k)
+    targets.push_back(static_cast<double>(k) / fps);
+  targets.push_back(end);
+  for (const std::vector<double>& times : observations)
+    targets.insert(targets.end(), times.begin(), times.end());
+  std::sort(targets.begin(), targets.end());
+  targets.erase(std::unique(targets.begin(), targets.end(),
+                            [](double a, double b) { return std::abs(a - b) < 1e-12; }),
+                targets.end());
+  return targets;
+}
+
+// At each stop the run lands on, the metrics that asked for that time observe the state.
+class MetricSampler final : public run::FrameSink {
+ public:
+  MetricSampler(std::vector<std::unique_ptr<SweepMetric>>& metrics,
+                std::vector<std::vector<double>> times)
+      : metrics_(metrics), times_(std::move(times)), cursor_(metrics.size(), 0) {}
+
+  void frame(const run::Simulation& sim, std::size_t) override {
+    for (std::size_t m = 0; m < metrics_.size(); ++m) {
+      while (cursor_[m] < times_[m].size() && times_[m][cursor_[m]] <= sim.time() + 1e-12) {
+        if (std::abs(times_[m][cursor_[m]] - sim.time()) < 1e-9) metrics_[m]->observe(sim);
+        ++cursor_[m];
+      }
+    }
+  }
+
+ private:
+  std::vector<std::unique_ptr<SweepMetric>>& metrics_;
+  std::vector<std::vector<double>> times_;
+  std::vector<std::size_t> cursor_;
+};
+
+// One run of one variant, through the run loop `sphsplat run` uses (sim/run/RunLoop.h). Metrics
+// are restarted; the run lands exactly on every output frame and on every metric sample time.
 VariantResult runOnce(const SweepSpec& spec, const SweepVariant& v, const scene::Scene& scene,
                       std::vector<std::unique_ptr<SweepMetric>>& metrics,
                       const MetricContext& context) {
@@ -91,63 +132,49 @@ VariantResult runOnce(const SweepSpec& spec, const SweepVariant& v, const scene:
   r.speedBound = solver::expectedMaxSpeed(scene);
 
   const double end = scene.solver.endTime, fps = scene.output.fps;
-  std::vector<double> targets;  // where the run must land: frames, samples, the end
   std::vector<std::vector<double>> times(metrics.size());
-  std::vector<std::size_t> cursor(metrics.size(), 0);
-  for (std::uint64_t k = 1; static_cast<double>(k) / fps < end; ++k)
-    targets.push_back(static_cast<double>(k) / fps);
-  targets.push_back(end);
   for (std::size_t m = 0; m < metrics.size(); ++m) {
     metrics[m]->start(sim, context);
     times[m] = observationTimes(*metrics[m], end, fps);
-    targets.insert(targets.end(), times[m].begin(), times[m].end());
   }
-  std::sort(targets.begin(), targets.end());
-  targets.erase(std::unique(targets.begin(), targets.end(),
-                            [](double a, double b) { return std::abs(a - b) < 1e-12; }),
-                targets.end());
+  const std::vector<double> stops = landingTimes(times, end, fps);
+  MetricSampler sampler(metrics, std::move(times));
 
-  double wall = 0, cpu = 0;
-  bool stop = false;
-  try {
-    for (std::size_t k = 0; k < targets.size() && !stop; ++k) {
-      const double target = targets[k];
-      while (sim.time() < target) {
-        if (spec.maxSteps > 0 && sim.stepCount() >= spec.maxSteps) {
-          stop = true;
-          break;
-        }
-        if (spec.maxWallSeconds > 0 && wall > spec.maxWallSeconds) {
-          r.status = RunStatus::Timeout;
-          stop = true;
-          break;
-        }
-        const Clock::time_point t0 = Clock::now();
-        const double c0 = processCpuSeconds();
-        sim.step(target);
-        cpu += processCpuSeconds() - c0;
-        wall += seconds(t0, Clock::now());
-        r.maxSpeed = std::max(r.maxSpeed, static_cast<double>(sim.runState().maxSpeed));
-        for (auto& m : metrics) {
-          if (m->stepInterval() > 0 && sim.stepCount() % m->stepInterval() == 0) m->observe(sim);
-        }
-      }
-      if (stop) break;
-      for (std::size_t m = 0; m < metrics.size(); ++m) {
-        while (cursor[m] < times[m].size() && times[m][cursor[m]] <= sim.time() + 1e-12) {
-          if (std::abs(times[m][cursor[m]] - sim.time()) < 1e-9) metrics[m]->observe(sim);
-          ++cursor[m];
-        }
-      }
+  run::RunPlan plan;
+  plan.endTime = stops.back();  // the end time, unless a sample within 1e-12 s before it stood in
+  plan.stopTime = [&stops](std::size_t k) { return stops[std::min(k, stops.size()) - 1]; };
+  // The steps alone are timed: not the metrics' sampling, nor the loop around them.
+  Clock::time_point stepStart;
+  double cpuStart = 0, wall = 0, cpu = 0;
+  bool timedOut = false;
+  // max_steps ends a run as finished (a stable row); max_wall_s as a timeout.
+  plan.stopRequested = [&] {
+    if (spec.maxSteps > 0 && sim.stepCount() >= spec.maxSteps) return true;
+    timedOut = spec.maxWallSeconds > 0 && wall > spec.maxWallSeconds;
+    return timedOut;
+  };
+  plan.beforeStep = [&](const run::Simulation&) {
+    stepStart = Clock::now();
+    cpuStart = processCpuSeconds();
+  };
+  plan.afterStep = [&](const run::Simulation& s) {
+    cpu += processCpuSeconds() - cpuStart;
+    wall += seconds(stepStart, Clock::now());
+    r.maxSpeed = std::max(r.maxSpeed, static_cast<double>(s.runState().maxSpeed));
+    for (auto& m : metrics) {
+      if (m->stepInterval() > 0 && s.stepCount() % m->stepInterval() == 0) m->observe(s);
     }
-    if (r.status == RunStatus::Stable) {
-      for (auto& m : metrics) m->finish(sim);
-    }
-  } catch (const StabilityError& e) {
+  };
+  const run::RunOutcome outcome = run::runFrames(sim, plan, {&sampler});
+  if (outcome.blowUp) {
     r.status = RunStatus::Guard;
-    r.guardStep = e.step;
-    r.guardTime = e.time;
-    r.message = e.what();
+    r.guardStep = outcome.blowUp->step;
+    r.guardTime = outcome.blowUp->time;
+    r.message = outcome.blowUp->what();
+  } else if (timedOut) {
+    r.status = RunStatus::Timeout;
+  } else {
+    for (auto& m : metrics) m->finish(sim);
   }
   r.wallSeconds = wall;
   r.cpuSeconds = cpu;

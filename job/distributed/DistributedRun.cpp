@@ -72,16 +72,16 @@ void refuseUnsupported(const scene::Scene& scene, int ranks) {
   }
   // Slabs are whole planes of support-radius cells along the longest axis; fewer than 4 per
   // rank leaves ranks that hold mostly ghosts.
-  const solver::DerivedParams d = solver::deriveParams(scene);
+  const float h = scene.solver.supportRadius();
   const Vec3 extent = scene.domain.hi - scene.domain.lo;
-  const double planes = std::floor(extent.maxCoeff() / d.h);
+  const double planes = std::floor(extent.maxCoeff() / h);
   if (planes < 4.0 * ranks) {
     char text[320];
     std::snprintf(text, sizeof text,
                   "%s: domain is too small for %d processes: its longest side holds %.0f cells "
                   "of the support radius (%g m), 4 per process are needed; use at most %d "
                   "processes",
-                  where.c_str(), ranks, planes, d.h, std::max(1, static_cast<int>(planes / 4)));
+                  where.c_str(), ranks, planes, h, std::max(1, static_cast<int>(planes / 4)));
     throw InputError(text);
   }
 }

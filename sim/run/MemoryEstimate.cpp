@@ -96,12 +96,9 @@ MemoryEstimate estimateMemory(const scene::Scene& scene, const RankShare& share)
     if (n > largestEmitter) largestEmitter = n, largest = k;
   }
   m.rainParticles = static_cast<double>(budget.rain);
-  const int layers = scene.solver.boundaryLayers > 0
-                         ? scene.solver.boundaryLayers
-                         : std::max(1, static_cast<int>(std::ceil(scene.solver.support)));
   for (const scene::BoundaryShape& b : scene.boundaries)
-    m.boundaryParticles +=
-        solver::countBoundarySamples(b, scene.domain, scene.solver.spacing, layers);
+    m.boundaryParticles += solver::countBoundarySamples(b, scene.domain, scene.solver.spacing,
+                                                        scene.solver.wallLayers());
   const bool gl =
       scene.render || (scene.collision && scene.collision->method == scene::CollisionMethod::CdtGl);
   const bool dfsph = scene.solver.model == scene::SolverModel::Sph &&
@@ -128,7 +125,7 @@ MemoryEstimate estimateMemory(const scene::Scene& scene, const RankShare& share)
   if (m.ranks > 1) {
     const Vec3 extent = scene.domain.hi - scene.domain.lo;
     const double planes = std::max(
-        1.0, std::floor(static_cast<double>(extent.maxCoeff()) / solver::deriveParams(scene).h));
+        1.0, std::floor(static_cast<double>(extent.maxCoeff()) / scene.solver.supportRadius()));
     fluidShare = std::min(1.0, kRankImbalance / m.ranks + 2.0 / planes);
   }
   // What rank 0 holds of the whole fluid: a gathered frame, or the water cells the drops meet.

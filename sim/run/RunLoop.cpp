@@ -9,11 +9,14 @@ RunOutcome runFrames(Simulation& sim, const RunPlan& plan, const std::vector<Fra
   RunOutcome outcome;
   std::size_t frame = plan.nextFrame;
   auto stop = [&] { return plan.stopRequested && plan.stopRequested(); };
+  auto stopTime = [&](std::size_t k) {
+    return plan.stopTime ? plan.stopTime(k) : static_cast<double>(k) * plan.frameInterval;
+  };
   try {
     while (sim.time() < plan.endTime && !stop()) {
-      const double nextTime =
-          std::min(plan.endTime, static_cast<double>(frame) * plan.frameInterval);
+      const double nextTime = std::min(plan.endTime, stopTime(frame));
       while (sim.time() < nextTime && !stop()) {
+        if (plan.beforeStep) plan.beforeStep(sim);
         sim.step(nextTime);
         if (plan.afterStep) plan.afterStep(sim);
       }

@@ -40,6 +40,9 @@ struct DerivedParams {
 // 1994).
 float expectedMaxSpeed(const scene::Scene& scene);
 
+// Once per run: a Simulation derives them when it is built and holds them (Simulation::params()).
+// Not free (lattice sums; with the automatic max_lost_particles, the particle budget walks the
+// scene), and h and the wall layers need none of it: SolverParams::supportRadius(), wallLayers().
 DerivedParams deriveParams(const scene::Scene& scene);
 
 // Step size (DESIGN.md, "Time"): the CFL condition with the speed of sound, a force condition and
