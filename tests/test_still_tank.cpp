@@ -41,9 +41,10 @@ TEST(StillTank, HydrostaticPressureAndDensityAfterSettling) {
   // density over 15 frames. The bottom layer's reading depends on how the particles packed along
   // the floor, which the arithmetic's last bits decide: -0.82% in the native build (AVX-512),
   // -0.55% for x86-64-v3, -1.44% for x86-64-v2, where this test fails; the floor sensor reads
-  // -0.71%, -0.75% and -0.89%. The walls push with the fluid's pressure alone and carry none of
-  // their own (docs/benchmarks.md, "Bottom pressure of DFSPH"): a wall that holds pressure is the
-  // cure, not a wider bound.
+  // -0.71%, -0.75% and -0.89%. WCSPH's walls push with the pressure of their own summation
+  // density, which is not the water's at their depth (docs/benchmarks.md, "Walls that hold
+  // pressure"): a wall that holds the hydrostatic pressure is the cure, as DFSPH's, not a wider
+  // bound.
   double densityDeviation = 0;
   int frames = 0;
   test::StillTankFloor floor(0.12, dx);
