@@ -26,45 +26,50 @@ struct PairSpan {
   std::uint32_t count;
 };
 
-// Calls body(i, pairs) for every fluid particle, in parallel by rows of cells, with its pairs of
-// this step. Each particle's pairs start at the same offset from a cache line whatever the thread
-// count, so the simd loops over them peel the same way and the sums keep their bits. On K
-// processes with slabs across x a row holds only the rank's part, so the offsets differ from the
-// single process's; the release build's loops do not peel (with every row shifted by 5 floats a
-// run kept its bits, 2026-11-26), and tests/test_mpi.cpp (MpiDfsph, slabs across x) would see it
-// if a compiler or -march did.
-template <class Body>
-void forEachParticlePairs(const StepContext& c, Body&& body) {
+// forEachParticlePairs() calls body(i, pairs) for every fluid particle, in parallel by rows of
+// cells, with its pairs of this step. Each particle's pairs start at the same offset from a cache
+// line whatever the thread count, so the simd loops over them peel the same way and the sums keep
+// their bits. On K processes with slabs across x a row holds only the rank's part, so the offsets
+// differ from the single process's; the release build's loops do not peel (with every row shifted
+// by 5 floats a run kept its bits, 2026-11-26), and tests/test_mpi.cpp (MpiDfsph, slabs across x)
+// would see it if a compiler or -march did.
+template <bool kWalls, class Body>
+void forEachParticlePairRows(const StepContext& c, Body& body) {
   const StepScratch& s = c.scratch;
   parallelForDynamic(rowCount(c.grid), 4, [&](std::size_t row) {
     const auto [begin, end] = rowRange(c.grid, row);
     const grid::PairStore::Row r = s.pairs.row(row);
     std::size_t at = 0;
+    [[maybe_unused]] grid::PairStore::Row w;
+    [[maybe_unused]] std::size_t atWall = 0;
+    if constexpr (kWalls) w = s.wallPairs.row(row);
     for (std::uint32_t i = begin; i < end; ++i) {
       const std::uint32_t count = s.pairCount[i];
-      body(i, PairSpan{r.index + at, r.gx + at, r.gy + at, r.gz + at, r.hr + at, count});
+      const PairSpan pairs{r.index + at, r.gx + at, r.gy + at, r.gz + at, r.hr + at, count};
       at += count;
+      if constexpr (kWalls) {
+        const std::uint32_t walls = s.wallPairCount[i];
+        body(i, pairs,
+             PairSpan{w.index + atWall, w.gx + atWall, w.gy + atWall, w.gz + atWall, w.hr + atWall,
+                      walls});
+        atWall += walls;
+      } else {
+        body(i, pairs);
+      }
     }
   });
 }
 
-// The same with each particle's wall pairs too (StepScratch::wallPairs, DfsphWalls.cpp).
+template <class Body>
+void forEachParticlePairs(const StepContext& c, Body&& body) {
+  forEachParticlePairRows<false>(c, body);
+}
+
+// The same with each particle's wall pairs too (StepScratch::wallPairs, DfsphWalls.cpp):
+// body(i, pairs, wallPairs).
 template <class Body>
 void forEachParticlePairsAndWalls(const StepContext& c, Body&& body) {
-  const StepScratch& s = c.scratch;
-  parallelForDynamic(rowCount(c.grid), 4, [&](std::size_t row) {
-    const auto [begin, end] = rowRange(c.grid, row);
-    const grid::PairStore::Row r = s.pairs.row(row);
-    const grid::PairStore::Row w = s.wallPairs.row(row);
-    std::size_t at = 0, atWall = 0;
-    for (std::uint32_t i = begin; i < end; ++i) {
-      const std::uint32_t count = s.pairCount[i], walls = s.wallPairCount[i];
-      body(i, PairSpan{r.index + at, r.gx + at, r.gy + at, r.gz + at, r.hr + at, count},
-           PairSpan{w.index + atWall, w.gx + atWall, w.gy + atWall, w.gz + atWall,
-                    w.hr + atWall, walls});
-      at += count, atWall += walls;
-    }
-  });
+  forEachParticlePairRows<true>(c, body);
 }
 
 }  // namespace sph::solver

@@ -22,77 +22,73 @@
 // need to be relative. On K processes a wall particle beside the slab's face has fluid
 // neighbours up to 2h from the rank's particles, in the second plane of ghosts, whose stiffness
 // is not computed here: their owners send it before every wall pass (Dfsph.cpp), and the sums run
-// over the neighbours in the single process's order (the grid's ranges), so they keep their bits.
+// over the neighbours in the single process's order, so they keep their bits.
 #include "sim/solver/DfsphWalls.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "sim/Parallel.h"
+#include "sim/grid/CellBatch.h"
 
 namespace sph::solver {
-namespace {
 
-// Calls visit(f, (h - r)^3, x_f - x_b...) for every fluid particle within h of x_b, in the
-// grid's order.
-template <class Visit>
-void forEachFluidNeighbour(const StepContext& c, float bx, float by, float bz, Visit&& visit) {
-  const Particles& f = c.fluid;
-  const float h = c.derived.h, h2 = h * h;
-  const float lo[3] = {bx - h, by - h, bz - h}, hi[3] = {bx + h, by + h, bz + h};
-  c.grid.forEachRangeInBox(lo, hi, [&](std::uint32_t begin, std::uint32_t end) {
-    for (std::uint32_t q = begin; q < end; ++q) {
-      const float dx = f.x[q] - bx, dy = f.y[q] - by, dz = f.z[q] - bz;
-      const float r2 = dx * dx + dy * dy + dz * dz;
-      if (!(r2 < h2)) continue;
-      const float hr = h - std::sqrt(r2);
-      visit(q, hr * hr * hr, dx, dy, dz);
-    }
-  });
-}
-
-}  // namespace
-
+// A wall particle's fluid neighbours are its wall pairs seen from the other side: a counting sort
+// of the step's wall pairs by boundary particle. Walked in the fluid's order (rows, then the
+// particles of a row), each wall particle's list comes out in ascending fluid order, which on K
+// processes is the single process's order restricted to the rank (sim/ranks/Halo.h), so the
+// sums over it keep their bits. Sequential: it touches each pair twice, a small part of the step.
 void findWallNeighbours(StepContext& c) {
   WallStiffness& w = c.walls;
   const StepScratch& s = c.scratch;
+  const Particles& f = c.fluid;
   const BoundaryParticles& b = c.boundary.particles();
-  w.reached.assign(b.size(), 0);
-  for (std::size_t row = 0; row < rowCount(c.grid); ++row) {
-    const grid::PairStore::Row r = s.wallPairs.row(row);
-    for (std::size_t q = 0; q < r.used; ++q) w.reached[r.index[q]] = 1;
-  }
+  const std::size_t rows = rowCount(c.grid);
+  // Walks every wall pair: visit(fluid particle, boundary particle, h - r).
+  auto forEachWallPair = [&](auto&& visit) {
+    for (std::size_t row = 0; row < rows; ++row) {
+      const auto [begin, end] = rowRange(c.grid, row);
+      const grid::PairStore::Row r = s.wallPairs.row(row);
+      std::size_t at = 0;
+      for (std::uint32_t i = begin; i < end; ++i) {
+        for (std::uint32_t q = 0; q < s.wallPairCount[i]; ++q, ++at) visit(i, r.index[at], r.hr[at]);
+      }
+    }
+  };
+  std::vector<std::uint32_t>& cursor = w.cursor;  // per boundary particle
+  cursor.assign(b.size(), 0);
+  forEachWallPair([&](std::uint32_t, std::uint32_t q, float) { ++cursor[q]; });
   w.active.clear();
+  w.start.assign(1, 0);
   for (std::size_t q = 0; q < b.size(); ++q) {
-    if (w.reached[q]) w.active.push_back(static_cast<std::uint32_t>(q));
+    if (cursor[q] == 0) continue;
+    w.active.push_back(static_cast<std::uint32_t>(q));
+    const std::uint32_t from = w.start.back();
+    w.start.push_back(from + cursor[q]);
+    cursor[q] = from;
   }
   const std::size_t n = w.active.size();
-  w.start.assign(n + 1, 0);
-  parallelFor(n, [&](std::size_t a) {
-    const std::uint32_t q = w.active[a];
-    std::uint32_t count = 0;
-    forEachFluidNeighbour(c, b.x[q], b.y[q], b.z[q], [&](std::uint32_t, float, float, float,
-                                                         float) { ++count; });
-    w.start[a + 1] = count;
-  });
-  for (std::size_t a = 0; a < n; ++a) w.start[a + 1] += w.start[a];
   w.neighbour.resize(w.start[n]);
   w.weight.resize(w.start[n]);
+  forEachWallPair([&](std::uint32_t i, std::uint32_t q, float hr) {
+    const std::uint32_t at = cursor[q]++;
+    w.neighbour[at] = i, w.weight[at] = hr * hr * hr;
+  });
   w.hydrostatic.resize(n);
   w.total.assign(n, 0.0f);
   w.change.resize(b.size());
   const Vec3 g = c.solver.gravity;
   parallelFor(n, [&](std::size_t a) {
     const std::uint32_t q = w.active[a];
-    std::uint32_t at = w.start[a];
     float sum = 0, sx = 0, sy = 0, sz = 0;  // sum W and sum W (x_b - x_f)
-    forEachFluidNeighbour(c, b.x[q], b.y[q], b.z[q],
-                          [&](std::uint32_t fi, float wf, float dx, float dy, float dz) {
-                            w.neighbour[at] = fi, w.weight[at] = wf, ++at;
-                            sum += wf, sx -= wf * dx, sy -= wf * dy, sz -= wf * dz;
-                          });
+    for (std::uint32_t k = w.start[a]; k < w.start[a + 1]; ++k) {
+      const std::uint32_t fi = w.neighbour[k];
+      const float wf = w.weight[k];
+      sum += wf, sx += wf * (b.x[q] - f.x[fi]), sy += wf * (b.y[q] - f.y[fi]),
+          sz += wf * (b.z[q] - f.z[fi]);
+    }
     const float inv = sum > 0 ? 1.0f / sum : 0.0f;
-    for (std::uint32_t k = w.start[a]; k < at; ++k) w.weight[k] *= inv;
+    for (std::uint32_t k = w.start[a]; k < w.start[a + 1]; ++k) w.weight[k] *= inv;
     w.hydrostatic[a] = inv * (g.x() * sx + g.y() * sy + g.z() * sz);
   });
 }

@@ -65,7 +65,7 @@ struct StepScratch {
 // and the hydrostatic term.
 struct WallStiffness {
   std::vector<float> indexBits;            // per boundary particle: b's bits as a float
-  std::vector<std::uint8_t> reached;       // per boundary particle: in some fluid pair this step
+  std::vector<std::uint32_t> cursor;       // per boundary particle: findWallNeighbours()'s sort
   std::vector<std::uint32_t> active;       // the boundary particles reached, ascending
   std::vector<std::uint32_t> start;        // per active particle: its neighbours' first index
   std::vector<std::uint32_t> neighbour;    // fluid neighbours of the active particles
