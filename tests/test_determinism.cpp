@@ -232,12 +232,13 @@ const std::vector<PinnedRun>& pinnedRuns() {
       {"dfsph_dam_break",
        pinnedDfsphDamBreak,
        {{"avx512/znver3/gcc12/release/AuthenticAMD", 0x37fa5e2a4771fc30ull},
-        {"avx2/other/gcc12/release/AuthenticAMD", 0x948a2f5b230a8234ull},
-        {"sse4.2/other/gcc12/release/AuthenticAMD", 0xd83fd157e170ebc1ull},
-        {"sse2/other/gcc12/asan/AuthenticAMD", 0x07eac052a43ac048ull}},
+        {"avx2/other/gcc12/release/AuthenticAMD", 0x0d669a1905bcbd35ull},
+        {"sse4.2/other/gcc12/release/AuthenticAMD", 0xc69bf75de09d1eebull},
+        {"sse2/other/gcc12/asan/AuthenticAMD", 0x0b587e8ade5793d0ull}},
        {0.0993767788, 0.101431389, 0.029199389, 0.679966611},
-       6e-4,  // measured: 4.1e-4 (x86-64-v2), 4.3e-4 (x86-64-v3), 3.5e-4 (sanitize): the
-              // solver's iterations stop on a threshold, which the last bits can move by one
+       8e-4,  // measured: 6.0e-4 (x86-64-v2), 1.2e-4 (x86-64-v3), 2.8e-4 (sanitize): the
+              // solver's iterations stop on a threshold, which the last bits can move by one;
+              // the probe below moves it by 9.7e-3
        // (its step is bounded by max_time_step, not by the CFL number)
        "solver.gravity=[0,-9.52,0]"},
   };
