@@ -55,6 +55,9 @@ struct RainObstacles {
 Vec3 paperBallPoint(const float u[5]);
 
 bool insideSolid(const Vec3& p, const std::vector<scene::Solid>& solids);
+// The first point of the segment from a to b inside one of the solids: its share of the way
+// (Solid::segmentEntry), > 1 when there is none.
+float firstSolidEntry(const Vec3& a, const Vec3& b, const std::vector<scene::Solid>& solids);
 
 struct RainCounters {
   std::uint64_t leftSpace = 0, hitSolid = 0, hitWater = 0;  // respawns by cause, cumulative
@@ -109,11 +112,12 @@ class RainSystem {
   static bool blocked(const Vec3& p, const RainObstacles& obstacles);
   std::uint8_t layerOf(std::size_t i) const;
   std::uint8_t layerFrom(const DropRandom& u) const;  // layerOf with the drop's numbers
-  // Whether the path from `from` to `to` enters a water cell outside the solids, and where it
-  // first does (`entry`): sampled every quarter cell, `to` last. Over a frame interval a drop
-  // falls further than a thin sheet of water is deep: testing `to` alone let it through.
-  static bool entersWater(const Vec3& from, const Vec3& to, const RainObstacles& obstacles,
-                          Vec3& entry);
+  // Whether the path from `from` to `to` enters a water cell outside the solids before the share
+  // `upTo` of the way (where it enters a solid: it goes no further), and where it first does
+  // (`entry`): sampled every quarter cell, `to` last. Over a frame interval a drop falls further
+  // than a thin sheet of water is deep: testing `to` alone let it through.
+  static bool entersWater(const Vec3& from, const Vec3& to, float upTo,
+                          const RainObstacles& obstacles, Vec3& entry);
 
   scene::RainDesc desc_;
   float aspect_;
