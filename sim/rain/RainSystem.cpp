@@ -9,10 +9,14 @@
 namespace sph::rain {
 namespace {
 
-// Candidates before a drop gives up and takes the sphere's centre (inside the frustum). `view`
-// with `uniform` sampling accepts pi/6 of its cube's candidates times the side planes' share: at
-// fov 10 degrees and aspect 1 ~1.9%, and 512 candidates miss with 5e-5 (`paper`'s sphere samples:
-// ~1%, 0.6%).
+// Candidates before a drop gives up and is parked at the sphere's centre (inside the frustum),
+// counted in RainCounters::parked. `view` with `uniform` sampling draws from the sphere's cube or
+// the frustum's pyramid, whichever holds more of the rain space (sim/rain/ViewSampler.h): it
+// accepts at least ~1/4 of its candidates at any field of view (docs/rain.md), so 512 miss only
+// where the solids and the water fill nearly all the rain space. `paper`'s eq. (7) samples of
+// the whole sphere pile up at its centre, on the camera's axis, so a narrow frustum catches more
+// of them than of uniform ones, but not enough at the narrowest: 15% of drops parked at fov 1
+// degree, 0.3% at 2, none from 3 (16:9).
 constexpr int kMaxTries = 512;
 // Draws per try in the counter space (see unitRandom's `draw`) for `box`, `region` and `paper`.
 constexpr std::uint64_t kDrawsPerTry = 8;
@@ -138,7 +142,7 @@ ViewSpawnCount RainSystem::spawn(std::size_t i, const RainObstacles& obstacles) 
   if (view && desc_.sampling == scene::RainSampling::Uniform) {
     auto free = [&](const Vec3& p) { return !blocked(p, obstacles); };
     if (!spawnInView(space_, u, kMaxTries, free, positions_[i], count))
-      positions_[i] = space_.centre;  // nowhere free: as the other models, below
+      positions_[i] = space_.centre, count.parked = 1;  // nowhere free: as the other models, below
     return count;
   }
   const Vec3 lo = desc_.spawn == scene::RainSpawn::Box
@@ -169,6 +173,7 @@ ViewSpawnCount RainSystem::spawn(std::size_t i, const RainObstacles& obstacles) 
   // Nowhere free found (the space is nearly all solid or unlucky): park the drop at the
   // space's centre, where the next update tries again.
   positions_[i] = view ? space_.centre : Vec3(lo + 0.5f * size);
+  count.parked = 1;
   return count;
 }
 
@@ -179,15 +184,16 @@ void RainSystem::reset(const scene::CameraDesc& camera, const RainObstacles& obs
   layers_.assign(desc_.count, 0);
   counters_ = {};
   landings_.clear();
-  std::uint64_t rejected = 0, outside = 0;
+  std::uint64_t rejected = 0, outside = 0, parked = 0;
   const auto n = static_cast<std::ptrdiff_t>(desc_.count);
-#pragma omp parallel for reduction(+ : rejected, outside) schedule(static)
+#pragma omp parallel for reduction(+ : rejected, outside, parked) schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     const ViewSpawnCount c = spawn(static_cast<std::size_t>(i), obstacles);
-    rejected += c.rejected, outside += c.outsideSphere;
+    rejected += c.rejected, outside += c.outsideSphere, parked += c.parked;
   }
   counters_.rejected += rejected;
   counters_.outsideSphere += outside;
+  counters_.parked += parked;
   counters_.accepted += desc_.count;
 }
 
@@ -256,13 +262,14 @@ void RainSystem::update(const scene::CameraDesc& camera, float dt, const RainObs
   const bool feed = desc_.feedFluid && obstacles.water;
   if (feed) hit_.assign(positions_.size(), 0), entries_.resize(positions_.size());
   const bool anyObstacle = obstacles.water || obstacles.solids;
-  std::uint64_t left = 0, solid = 0, water = 0, rejected = 0, outside = 0;
+  std::uint64_t left = 0, solid = 0, water = 0, rejected = 0, outside = 0, parked = 0;
   // Chunks of drops: first all of a chunk moved and tested in lanes, then the few that left
   // respawned (~17% a frame in a 90-degree-a-second pan), while the chunk is in the cache.
   constexpr std::size_t kChunk = 1024;
   const std::size_t size = positions_.size();
   const auto chunks = static_cast<std::ptrdiff_t>((size + kChunk - 1) / kChunk);
-#pragma omp parallel for reduction(+ : left, solid, water, rejected, outside) schedule(static)
+#pragma omp parallel for reduction(+ : left, solid, water, rejected, outside, parked) \
+    schedule(static)
   for (std::ptrdiff_t c = 0; c < chunks; ++c) {
     const std::size_t begin = static_cast<std::size_t>(c) * kChunk;
     const std::size_t end = std::min(size, begin + kChunk);
@@ -299,12 +306,13 @@ void RainSystem::update(const scene::CameraDesc& camera, float dt, const RainObs
       }
       ++generations_[i];
       const ViewSpawnCount s = spawn(i, obstacles);
-      rejected += s.rejected, outside += s.outsideSphere;
+      rejected += s.rejected, outside += s.outsideSphere, parked += s.parked;
     }
   }
   counters_.leftSpace += left, counters_.hitSolid += solid, counters_.hitWater += water;
   counters_.rejected += rejected;
   counters_.outsideSphere += outside;
+  counters_.parked += parked;
   counters_.accepted += left + solid + water;
   if (feed) {
     for (std::size_t i = 0; i < hit_.size(); ++i)

@@ -64,6 +64,13 @@ struct RainCounters {
   std::uint64_t rejected = 0;       // sphere samples the side planes refused (eq. (8)-(9))
   std::uint64_t outsideSphere = 0;  // sampling "uniform": candidates of the cube outside the sphere
   std::uint64_t accepted = 0;       // spawns
+  // Spawns that found no free place in kMaxTries candidates (RainSystem.cpp) and parked the drop
+  // at the centre of the space (the box, the region), where it falls until it leaves or hits
+  // something: many drops on one point, which the share in view cannot see. `uniform` view
+  // drops draw from the cube or the pyramid, whichever holds the rain space best, so this stays
+  // 0 at any field of view unless the obstacles fill nearly all of it; `paper` sampling (eq. (7)
+  // from the whole sphere) still parks at 1-2 degrees.
+  std::uint64_t parked = 0;
 };
 
 class RainSystem {
