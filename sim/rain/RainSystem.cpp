@@ -134,16 +134,15 @@ std::uint8_t RainSystem::layerFrom(const DropRandom& u) const {
       static_cast<int>(u0 * static_cast<float>(desc_.streakLayers)), desc_.streakLayers - 1));
 }
 
-ViewSpawnCount RainSystem::spawn(std::size_t i, const RainObstacles& obstacles) {
+void RainSystem::spawn(std::size_t i, const RainObstacles& obstacles, ViewSpawnCount& count) {
   const DropRandom u(desc_.seed, i, generations_[i]);
   layers_[i] = layerFrom(u);
-  ViewSpawnCount count;
   const bool view = desc_.spawn == scene::RainSpawn::View;
   if (view && desc_.sampling == scene::RainSampling::Uniform) {
     auto free = [&](const Vec3& p) { return !blocked(p, obstacles); };
     if (!spawnInView(space_, u, kMaxTries, free, positions_[i], count))
-      positions_[i] = space_.centre, count.parked = 1;  // nowhere free: as the other models, below
-    return count;
+      positions_[i] = space_.centre, ++count.parked;  // nowhere free: as the other models, below
+    return;
   }
   const Vec3 lo = desc_.spawn == scene::RainSpawn::Box
                       ? Vec3(space_.eye - Vec3::Constant(0.5f * boxEdge_))
@@ -168,13 +167,12 @@ ViewSpawnCount RainSystem::spawn(std::size_t i, const RainObstacles& obstacles) 
     }
     if (blocked(p, obstacles)) continue;
     positions_[i] = p;
-    return count;
+    return;
   }
   // Nowhere free found (the space is nearly all solid or unlucky): park the drop at the
   // space's centre, where the next update tries again.
   positions_[i] = view ? space_.centre : Vec3(lo + 0.5f * size);
-  count.parked = 1;
-  return count;
+  ++count.parked;
 }
 
 void RainSystem::reset(const scene::CameraDesc& camera, const RainObstacles& obstacles) {
@@ -188,7 +186,8 @@ void RainSystem::reset(const scene::CameraDesc& camera, const RainObstacles& obs
   const auto n = static_cast<std::ptrdiff_t>(desc_.count);
 #pragma omp parallel for reduction(+ : rejected, outside, parked) schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
-    const ViewSpawnCount c = spawn(static_cast<std::size_t>(i), obstacles);
+    ViewSpawnCount c;
+    spawn(static_cast<std::size_t>(i), obstacles, c);
     rejected += c.rejected, outside += c.outsideSphere, parked += c.parked;
   }
   counters_.rejected += rejected;
@@ -283,6 +282,7 @@ void RainSystem::update(const scene::CameraDesc& camera, float dt, const RainObs
       look[count] = static_cast<std::uint16_t>(k);
       count += anyObstacle | out[k];
     }
+    ViewSpawnCount spawned;  // the chunk's spawns' candidates
     for (std::size_t j = 0; j < count; ++j) {
       const std::size_t i = begin + look[j];
       const bool outOfSpace = out[look[j]] != 0;
@@ -305,9 +305,9 @@ void RainSystem::update(const scene::CameraDesc& camera, float dt, const RainObs
         continue;
       }
       ++generations_[i];
-      const ViewSpawnCount s = spawn(i, obstacles);
-      rejected += s.rejected, outside += s.outsideSphere, parked += s.parked;
+      spawn(i, obstacles, spawned);
     }
+    rejected += spawned.rejected, outside += spawned.outsideSphere, parked += spawned.parked;
   }
   counters_.leftSpace += left, counters_.hitSolid += solid, counters_.hitWater += water;
   counters_.rejected += rejected;

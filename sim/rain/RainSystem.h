@@ -111,9 +111,9 @@ class RainSystem {
 
  private:
   void setCamera(const scene::CameraDesc& camera);
-  // Draws drop i's position for its current generation, outside the obstacles; returns the
-  // candidates it refused.
-  ViewSpawnCount spawn(std::size_t i, const RainObstacles& obstacles);
+  // Draws drop i's position for its current generation, outside the obstacles; adds the
+  // candidates it refused, and whether it parked, to `count`.
+  void spawn(std::size_t i, const RainObstacles& obstacles, ViewSpawnCount& count);
   // Moves drops begin..end-1 by `step`; out[k] = 1 where drop begin + k left the spawn volume.
   void moveAndTest(std::size_t begin, std::size_t end, const Vec3& step, std::uint8_t* out);
   static bool blocked(const Vec3& p, const RainObstacles& obstacles);

@@ -85,7 +85,8 @@ inline ViewCandidate pyramidCandidate(const RainSpace& s, std::uint64_t depth,
 }
 
 // The candidates of draws first .. first + 15 of a drop's numbers: bit k of the masks is
-// candidate k (draw first + k).
+// candidate k (draw first + k). Aligned to a cache line so that each 64-byte store of the lanes
+// writes one line wherever the caller's frame puts it.
 struct ViewCandidates16 {
   float x[16], y[16], z[16];
   std::uint32_t inSphere = 0, inside = 0;
@@ -100,30 +101,36 @@ void viewCandidates16(const RainSpace& s, const DropRandom& u, std::uint64_t fir
 struct ViewSpawnCount {
   std::uint64_t rejected = 0;       // in the sphere, refused by the side planes (eq. (8)-(9))
   std::uint64_t outsideSphere = 0;  // in the cube (or the pyramid), outside the sphere
-  std::uint64_t parked = 0;         // 1 when none was free: the drop was parked (RainSystem)
+  std::uint64_t parked = 0;         // spawns that found none free and parked (RainSystem)
 };
 
 // Places a drop: the first of `tries` candidates inside the rain space for which `free(p)` holds
 // (outside the obstacles); false when none is. Draw 0 of `u` is the drop's streak image; the
 // cube's candidate t is draw 1 + t, the pyramid's draws 1 + 2t and 2 + 2t.
+// spawnInView's candidates of the pyramid, out of line: the cube's path, which wide fields of view
+// take, keeps the code it had without it.
+template <class Free>
+[[gnu::noinline]] bool spawnInPyramid(const RainSpace& s, const DropRandom& u, int tries,
+                                      const Free& free, Vec3& p, ViewSpawnCount& count) {
+  for (int t = 0; t < tries; ++t) {
+    const std::uint64_t draw = 1 + 2 * static_cast<std::uint64_t>(t);
+    const ViewCandidate c = pyramidCandidate(s, u.bits(draw), u.bits(draw + 1));
+    if (!c.inSphere) {
+      ++count.outsideSphere;
+    } else if (!c.inside) {
+      ++count.rejected;
+    } else if (free(c.p)) {
+      p = c.p;
+      return true;
+    }
+  }
+  return false;
+}
+
 template <class Free>
 bool spawnInView(const RainSpace& s, const DropRandom& u, int tries, const Free& free, Vec3& p,
                  ViewSpawnCount& count) {
-  if (s.drawsFromPyramid()) {
-    for (int t = 0; t < tries; ++t) {
-      const std::uint64_t draw = 1 + 2 * static_cast<std::uint64_t>(t);
-      const ViewCandidate c = pyramidCandidate(s, u.bits(draw), u.bits(draw + 1));
-      if (!c.inSphere) {
-        ++count.outsideSphere;
-      } else if (!c.inside) {
-        ++count.rejected;
-      } else if (free(c.p)) {
-        p = c.p;
-        return true;
-      }
-    }
-    return false;
-  }
+  if (s.drawsFromPyramid()) return spawnInPyramid(s, u, tries, free, p, count);
   if constexpr (kViewCandidatesInLanes) {
     ViewCandidates16 c;
     for (int first = 0; first < tries; first += 16) {
