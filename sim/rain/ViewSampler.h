@@ -107,14 +107,13 @@ struct ViewSpawnCount {
 // Places a drop: the first of `tries` candidates inside the rain space for which `free(p)` holds
 // (outside the obstacles); false when none is. Draw 0 of `u` is the drop's streak image; the
 // cube's candidate t is draw 1 + t, the pyramid's draws 1 + 2t and 2 + 2t.
-// spawnInView's candidates of the pyramid, out of line: the cube's path, which wide fields of view
-// take, keeps the code it had without it.
-template <class Free>
-[[gnu::noinline]] bool spawnInPyramid(const RainSpace& s, const DropRandom& u, int tries,
-                                      const Free& free, Vec3& p, ViewSpawnCount& count) {
+// The first of `tries` candidates (`candidate(t)`, t = 0, 1, ...) inside the rain space and free,
+// one at a time, counting those refused before it.
+template <class Candidate, class Free>
+bool firstFreeCandidate(int tries, const Candidate& candidate, const Free& free, Vec3& p,
+                        ViewSpawnCount& count) {
   for (int t = 0; t < tries; ++t) {
-    const std::uint64_t draw = 1 + 2 * static_cast<std::uint64_t>(t);
-    const ViewCandidate c = pyramidCandidate(s, u.bits(draw), u.bits(draw + 1));
+    const ViewCandidate c = candidate(static_cast<std::uint64_t>(t));
     if (!c.inSphere) {
       ++count.outsideSphere;
     } else if (!c.inside) {
@@ -125,6 +124,17 @@ template <class Free>
     }
   }
   return false;
+}
+
+// spawnInView's candidates of the pyramid, out of line: the cube's path, which wide fields of view
+// take, keeps the code it had without it.
+template <class Free>
+[[gnu::noinline]] bool spawnInPyramid(const RainSpace& s, const DropRandom& u, int tries,
+                                      const Free& free, Vec3& p, ViewSpawnCount& count) {
+  auto candidate = [&](std::uint64_t t) {
+    return pyramidCandidate(s, u.bits(1 + 2 * t), u.bits(2 + 2 * t));
+  };
+  return firstFreeCandidate(tries, candidate, free, p, count);
 }
 
 template <class Free>
@@ -151,18 +161,8 @@ bool spawnInView(const RainSpace& s, const DropRandom& u, int tries, const Free&
     }
     return false;
   } else {
-    for (int t = 0; t < tries; ++t) {
-      const ViewCandidate c = viewCandidate(s, u.bits(1 + static_cast<std::uint64_t>(t)));
-      if (!c.inSphere) {
-        ++count.outsideSphere;
-      } else if (!c.inside) {
-        ++count.rejected;
-      } else if (free(c.p)) {
-        p = c.p;
-        return true;
-      }
-    }
-    return false;
+    auto candidate = [&](std::uint64_t t) { return viewCandidate(s, u.bits(1 + t)); };
+    return firstFreeCandidate(tries, candidate, free, p, count);
   }
 }
 
