@@ -6,9 +6,11 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "sim/scene/Camera.h"
 #include "sim/scene/RainDesc.h"
+#include "sim/scene/Solid.h"
 
 namespace sph::bench {
 
@@ -23,6 +25,18 @@ inline scene::CameraDesc cameraAtFrame(int frame) {
       c.position + Vec3(static_cast<float>(-std::sin(a)), 0, static_cast<float>(-std::cos(a)));
   c.fovYDegrees = 45;
   return c;
+}
+
+// A tray and a cup under the rain (RainUpdateSolids): a 10 x 10 m open tank 0.3 m deep around
+// the camera's feet and a cup 1 m across 2 m ahead, walls and floors 1 cm thick as in
+// scenes/rain_pour.json, so that drops falling 0.2 m a frame cross them.
+inline std::vector<scene::Solid> solids() {
+  scene::BoundaryShape tray, cup;
+  tray.kind = scene::BoundaryShape::Kind::Tank;
+  tray.lo = Vec3(-5, 0, -5), tray.hi = Vec3(5, 0.3f, 5), tray.openTop = true;
+  cup.kind = scene::BoundaryShape::Kind::Cup;
+  cup.centre = Vec3(0, 0, 2), cup.radius = 0.5f, cup.height = 0.6f;
+  return {scene::Solid(tray, 0.01f), scene::Solid(cup, 0.01f)};
 }
 
 inline scene::RainDesc desc(std::int64_t count, std::int64_t spawn) {

@@ -1,7 +1,8 @@
 // View-dependent rain (seed 002; docs/benchmarks.md, "View-dependent rain"): the cost per frame of
 // the drops' update (move + respawn, CPU, OpenMP), of drawing their streaks (rain.draw "cpu" and
 // "triangles", llvmpipe, 960x540, no water) for 10k, 100k and 1M drops, of the spotlight's hard
-// and soft cone edge, and of whole frames (update + draw) for 1k to 1M drops and each spawn model.
+// and soft cone edge, and of whole frames (update + draw) for 1k to 1M drops and each spawn model;
+// the update also with a tray and a cup in the way.
 // The camera pans 90 degrees a second at 30 fps, so drops leave the view and are respawned as in a
 // real path. The paper's claims measured (the budget in view along camera paths, Table 1's random
 // number methods) are bench_rain_paper.cpp, built into the same program.
@@ -61,6 +62,22 @@ void RainUpdate(benchmark::State& state) {
 BENCHMARK(RainUpdate)
     ->ArgsProduct({{10000, 100000, 1000000}, {0, 1, 2}})
     ->Unit(benchmark::kMillisecond);
+
+// args: drops. The `view` update of RainUpdate with bench::solids() in the way: what testing each
+// drop's move against the solids costs. Counter: drops that hit a solid per frame.
+void RainUpdateSolids(benchmark::State& state) {
+  rain::RainSystem r(desc(state.range(0), 0), kAspect);
+  const std::vector<scene::Solid> solids = bench::solids();
+  rain::RainObstacles obstacles;
+  obstacles.solids = &solids;
+  r.reset(cameraAtFrame(0), obstacles);
+  int frame = 0;
+  const std::uint64_t before = r.counters().hitSolid;
+  for (auto _ : state) r.update(cameraAtFrame(++frame), 1.0f / 30, obstacles);
+  state.counters["hits/frame"] =
+      static_cast<double>(r.counters().hitSolid - before) / static_cast<double>(state.iterations());
+}
+BENCHMARK(RainUpdateSolids)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond);
 
 std::unique_ptr<render::gl::GlContext> context;
 

@@ -5,11 +5,13 @@
 // planes: `uniform` the cube's points inside the ball as sim/rain/ViewSampler.h takes them, `paper`
 // eq. (6)-(7); in sphere radii, the uniform ball is 3 r^2), and the density of the depth (distance
 // from the camera along its axis, in units of `far`) of the 10^6 drops the shipped RainSystem
-// spawns in the rain space of a still camera. With the argument `fov` (docs/benchmarks.md, "The
-// frustum test's rejections against the field of view"): per vertical field of view, the share of
-// sphere samples the side planes reject (eq. (8)-(9)) when 10^6 drops are spawned, the share the
-// volumes predict (1 - volume(frustum and sphere) / volume(sphere), RainSpace::volume, an
-// independent Monte Carlo estimate) and the wall time of the spawn.
+// spawns in the rain space of a still camera. With the argument `fov` (docs/rain.md, "How
+// `uniform` places a drop"): per vertical field of view from 1 to 150 degrees, when 10^6 drops are
+// spawned, the region the candidates came from (the sphere's cube or the frustum's pyramid),
+// candidates per drop, the share accepted, the share the volumes predict (volume(frustum and
+// sphere) / volume(region), RainSpace::volume, an independent Monte Carlo estimate), the share
+// parked (RainCounters::parked), the wall time of the spawn, and the share `paper` sampling
+// (eq. (7) from the whole sphere) parks, of 10^5 drops.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -42,19 +44,31 @@ scene::RainDesc viewRain(scene::RainSampling sampling) {
   return d;
 }
 
-void rejectionAgainstFov() {
-  std::printf("fov_deg,rejected_share,predicted_share,spawn_ms\n");
-  for (const float fov : {10.f, 20.f, 30.f, 45.f, 60.f, 75.f, 90.f, 105.f, 120.f, 150.f}) {
+void acceptanceAgainstFov() {
+  std::printf(
+      "fov_deg,region,candidates_per_drop,accepted_share,predicted_share,parked_share,spawn_ms,"
+      "paper_parked_share\n");
+  for (const float fov : {1.f, 2.f, 3.f, 5.f, 8.f, 10.f, 20.f, 30.f, 35.f, 40.f, 45.f, 60.f, 75.f,
+                          90.f, 105.f, 120.f, 150.f}) {
     rain::RainSystem rain(viewRain(scene::RainSampling::Uniform), kAspect);
     const auto start = std::chrono::steady_clock::now();
     rain.reset(stillCamera(fov));
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     const rain::RainCounters& c = rain.counters();
-    const double rejected = double(c.rejected) / double(c.rejected + c.accepted);
+    const double candidates = double(c.rejected + c.outsideSphere + c.accepted);
     const rain::RainSpace& s = rain.space();
-    const double sphere = 4.0 / 3.0 * M_PI * std::pow(double(s.radius), 3.0);
-    std::printf("%g,%.5f,%.5f,%.1f\n", fov, rejected, 1 - s.volume() / sphere, ms);
+    const bool pyramid = s.drawsFromPyramid();
+    const double region = pyramid ? s.pyramidVolume() : 8.0 * std::pow(double(s.radius), 3.0);
+    // eq. (7) from the whole sphere, as the paper places them: a tenth of the drops.
+    scene::RainDesc paperDesc = viewRain(scene::RainSampling::Paper);
+    paperDesc.count = kDrops / 10;
+    rain::RainSystem paper(paperDesc, kAspect);
+    paper.reset(stillCamera(fov));
+    std::printf("%g,%s,%.4f,%.5f,%.5f,%.6f,%.1f,%.5f\n", fov, pyramid ? "pyramid" : "cube",
+                candidates / double(kDrops), double(c.accepted) / candidates, s.volume() / region,
+                double(c.parked) / double(kDrops), ms,
+                double(paper.counters().parked) / double(paperDesc.count));
   }
 }
 
@@ -62,7 +76,7 @@ void rejectionAgainstFov() {
 
 int main(int argc, char** argv) {
   if (argc == 2 && std::string(argv[1]) == "fov") {
-    rejectionAgainstFov();
+    acceptanceAgainstFov();
     return 0;
   }
   if (argc != 1) {

@@ -2,6 +2,7 @@
 // crosses a wall however fast it moves.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <random>
 
 #include "sim/solver/Boundary.h"
@@ -44,6 +45,61 @@ TEST(Solid, SignedDistancesOfEachShape) {
   plane.kind = scene::BoundaryShape::Kind::Plane;
   plane.point = Vec3(0, 0.1f, 0), plane.normal = Vec3(0, 2, 0);
   EXPECT_NEAR(scene::Solid(plane, 0.01f).distance(Vec3(3, 0.05f, -2)), -0.05f, 1e-6f);
+}
+
+// Solid::segmentEntry against the distance marched along the segment in 2,000 steps, for
+// random segments of up to 30 cm through and around each shape (walls of 1 cm; half of them
+// from within 12 cm of the small shapes): where the march
+// finds the segment inside, the entry is within a step of its first inside sample; where the
+// march finds nothing, only a graze shorter than a step may be found.
+TEST(Solid, SegmentEntryIsTheFirstPointInsideForEachShape) {
+  scene::BoundaryShape closed = tank(), block, sphere, plane;
+  closed.openTop = false;
+  block.kind = scene::BoundaryShape::Kind::Block;
+  block.lo = Vec3(0.2f, 0.1f, 0.1f), block.hi = Vec3(0.6f, 0.11f, 0.3f);  // a 1 cm slab
+  sphere.kind = scene::BoundaryShape::Kind::Sphere;
+  sphere.centre = Vec3(0.3f, 0.2f, 0.2f), sphere.radius = 0.1f;
+  plane.kind = scene::BoundaryShape::Kind::Plane;
+  plane.point = Vec3(0, 0.1f, 0), plane.normal = Vec3(0.1f, 1, 0);
+  scene::BoundaryShape shifted = cup();
+  shifted.centre = Vec3(0.3f, 0.05f, 0.2f);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> where(-0.15f, 1.15f), move(-0.3f, 0.3f);
+  constexpr int kSteps = 2000;
+  for (const scene::BoundaryShape& shape : {tank(), closed, shifted, block, sphere, plane}) {
+    const scene::Solid solid(shape, 0.01f);
+    int hits = 0, wrong = 0, grazes = 0;
+    for (int n = 0; n < 4000; ++n) {
+      Vec3 a(where(rng), 0.5f * where(rng), 0.4f * where(rng));
+      if (n % 2) a = Vec3(0.3f, 0.1f, 0.2f) + 0.4f * Vec3(move(rng), move(rng), move(rng));
+      const Vec3 b = a + Vec3(move(rng), move(rng), move(rng)) * (n % 3 ? 1.0f : 0.1f);
+      int first = -1;
+      for (int k = 0; k <= kSteps && first < 0; ++k)
+        if (solid.distance(a + (float(k) / kSteps) * (b - a)) < 0) first = k;
+      const float t = solid.segmentEntry(a, b);
+      if (first < 0) {
+        if (t <= 1) ++grazes;
+        continue;
+      }
+      ++hits;
+      // The entry lies between the last sample outside and the first inside (or is 0).
+      wrong += t > float(first) / kSteps + 1e-5f || t < float(first - 1) / kSteps - 1e-5f;
+    }
+    std::printf("shape %d: %d of 4000 segments enter, %d grazes found between the steps\n",
+                int(shape.kind), hits, grazes);
+    EXPECT_EQ(wrong, 0) << int(shape.kind) << " of " << hits << " segments that enter";
+    EXPECT_GT(hits, 200) << int(shape.kind);
+    EXPECT_LT(grazes, 10) << int(shape.kind);
+  }
+  // A segment ending inside is found even when it grazes nothing else; one that ends exactly on
+  // the floor's top face (distance 0) is not inside.
+  const scene::Solid t(tank(), 0.02f);
+  EXPECT_LE(t.segmentEntry(Vec3(0.5f, 0.1f, 0.2f), Vec3(0.5f, -0.01f, 0.2f)), 1.0f);
+  EXPECT_GT(t.segmentEntry(Vec3(0.5f, 0.1f, 0.2f), Vec3(0.5f, 0, 0.2f)), 1.0f);
+  // Through the floor and out below it within one segment: entered at the floor's top.
+  EXPECT_NEAR(t.segmentEntry(Vec3(0.5f, 0.1f, 0.2f), Vec3(0.5f, -0.1f, 0.2f)), 0.5f, 1e-6f);
+  // Falling into the open top and out through nothing: no entry.
+  EXPECT_GT(t.segmentEntry(Vec3(0.5f, 0.9f, 0.2f), Vec3(0.5f, 0.3f, 0.2f)), 1.0f);
 }
 
 TEST(Boundary, TankSamplesContinueTheFluidLattice) {

@@ -189,32 +189,48 @@ TEST(RainSampling, CandidatesInSimdLanesAreTheOnesOneAtATime) {
   EXPECT_LT(inside, inSphere);
 }
 
-// A `uniform` view drop is the first candidate (draws 1, 2, ... of its numbers) inside the rain
-// space, whichever way the build computes them, and the counters count the candidates before it.
+// A `uniform` view drop is the first candidate inside the rain space, whichever way the build
+// computes them, and the counters count the candidates before it: at 45 degrees the cube's
+// (draws 1, 2, ...), at 10 degrees the pyramid's (draws 1 + 2t and 2 + 2t).
 TEST(RainSampling, AUniformViewDropIsTheFirstCandidateInsideTheRainSpace) {
-  scene::RainDesc d = rainDesc(scene::RainSpawn::View, 20000);
-  d.seed = 99;
-  RainSystem r(d, kAspect);
-  r.reset(lookingAlongZ());
-  std::uint64_t before = 0;
-  for (std::size_t i = 0; i < r.size(); ++i) {
-    const rain::DropRandom u(d.seed, i, 0);
-    for (std::uint64_t t = 0;; ++t) {
-      const rain::ViewCandidate c = rain::viewCandidate(r.space(), u.bits(1 + t));
-      if (!c.inside) continue;
-      ASSERT_EQ(std::memcmp(c.p.data(), r.positions()[i].data(), sizeof(Vec3)), 0) << i;
-      before += t;
-      break;
+  for (float fov : {45.0f, 10.0f}) {
+    scene::RainDesc d = rainDesc(scene::RainSpawn::View, 20000);
+    d.seed = 99;
+    scene::CameraDesc camera = lookingAlongZ();
+    camera.fovYDegrees = fov;
+    RainSystem r(d, kAspect);
+    r.reset(camera);
+    ASSERT_EQ(r.space().drawsFromPyramid(), fov < 30) << fov;
+    std::uint64_t before = 0;
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      const rain::DropRandom u(d.seed, i, 0);
+      for (std::uint64_t t = 0;; ++t) {
+        const rain::ViewCandidate c =
+            r.space().drawsFromPyramid()
+                ? rain::pyramidCandidate(r.space(), u.bits(1 + 2 * t), u.bits(2 + 2 * t))
+                : rain::viewCandidate(r.space(), u.bits(1 + t));
+        ASSERT_EQ(c.inside, r.space().contains(c.p));
+        if (!c.inside) continue;
+        ASSERT_EQ(std::memcmp(c.p.data(), r.positions()[i].data(), sizeof(Vec3)), 0) << i;
+        before += t;
+        break;
+      }
     }
+    const rain::RainCounters& c = r.counters();
+    EXPECT_EQ(c.rejected + c.outsideSphere, before);
+    EXPECT_EQ(c.parked, 0u);
+    const double perDrop = static_cast<double>(before + r.size()) / static_cast<double>(r.size());
+    std::printf("fov %g: candidates per drop %.3f, of them in the sphere %.3f\n", fov, perDrop,
+                static_cast<double>(c.rejected + r.size()) / static_cast<double>(r.size()));
+    // At 45 degrees, 16:9: the sphere holds pi/6 of the cube and the rain space 0.48 of the
+    // sphere (RainSystem.ViewKeepsTheWholeBudgetInViewTheBaselinesDoNot): ~4 candidates a drop.
+    // At 10 degrees the rain space is nearly all the pyramid from 0.1 m to 5 m: the sphere cuts
+    // the far corners.
+    const double expected = r.space().drawsFromPyramid()
+                                ? r.space().pyramidVolume() / r.space().volume()
+                                : 1 / (M_PI / 6 * 0.478);
+    EXPECT_NEAR(perDrop, expected, 0.1) << fov;
   }
-  const rain::RainCounters& c = r.counters();
-  EXPECT_EQ(c.rejected + c.outsideSphere, before);
-  // At 45 degrees, 16:9: the sphere holds pi/6 of the cube and the rain space 0.48 of the sphere
-  // (RainSystem.ViewKeepsTheWholeBudgetInViewTheBaselinesDoNot): ~4 candidates a drop.
-  const double perDrop = static_cast<double>(before + r.size()) / static_cast<double>(r.size());
-  std::printf("candidates per drop %.3f, of them in the sphere %.3f\n", perDrop,
-              static_cast<double>(c.rejected + r.size()) / static_cast<double>(r.size()));
-  EXPECT_NEAR(perDrop, 1 / (M_PI / 6 * 0.478), 0.1);
 }
 
 // eq. (10)-(13) against the plain angle test: inside the cone when the angle between p - apex and

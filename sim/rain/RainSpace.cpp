@@ -15,6 +15,7 @@ RainSpace RainSpace::build(const scene::CameraDesc& camera, float aspect, float 
   s.near = near, s.far = far;
   // eq. (1)
   const float t = scene::tanHalfFovY(camera);
+  s.tanUp = t, s.tanRight = t * aspect;
   const float hFar = 2 * t * far, wFar = hFar * aspect;
   const float hNear = 2 * t * near, wNear = hNear * aspect;
   // eq. (2)
@@ -37,20 +38,30 @@ RainSpace RainSpace::build(const scene::CameraDesc& camera, float aspect, float 
   s.L = inward((s.nbl - s.fbl).cross(s.nbl - s.ntl), s.nbl);
   s.B = inward((s.nbl - s.nbr).cross(s.nbl - s.fbl), s.nbl);
   s.T = inward((s.ntl - s.ftl).cross(s.ntl - s.ntr), s.ntl);
+  s.fromPyramid = kPyramidCandidateCost * s.pyramidVolume() < 8.0 * std::pow(double(s.radius), 3.0);
   return s;
 }
 
 double RainSpace::volume() const {
   constexpr int kSamples = 1 << 18;
+  const double cube = 8.0 * std::pow(static_cast<double>(radius), 3.0);
+  const bool pyramid = drawsFromPyramid();
   int inside = 0;
   for (int i = 0; i < kSamples; ++i) {
     const Vec3 q(2 * unitRandom(0x5eed, i, 0, 0) - 1, 2 * unitRandom(0x5eed, i, 0, 1) - 1,
                  2 * unitRandom(0x5eed, i, 0, 2) - 1);
-    if (q.squaredNorm() > 1) continue;
-    if (insideSides(centre + radius * q)) ++inside;
+    if (pyramid) {
+      // The pyramid's points uniformly: depth far cbrt(u), whose density grows as depth^2 as
+      // the cross-section does, and the offsets uniform across it.
+      const float z = far * std::cbrt(0.5f * (q.z() + 1));
+      const Vec3 p = eye + z * forward + (z * tanRight * q.x()) * right + (z * tanUp * q.y()) * up;
+      inside += insideSphere(p) && insideSides(p);
+    } else {
+      if (q.squaredNorm() > 1) continue;
+      if (insideSides(centre + radius * q)) ++inside;
+    }
   }
-  const double cube = 8.0 * std::pow(static_cast<double>(radius), 3.0);
-  return cube * inside / kSamples;
+  return (pyramid ? pyramidVolume() : cube) * inside / kSamples;
 }
 
 }  // namespace sph::rain

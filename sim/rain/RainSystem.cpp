@@ -9,10 +9,14 @@
 namespace sph::rain {
 namespace {
 
-// Candidates before a drop gives up and takes the sphere's centre (inside the frustum). `view`
-// with `uniform` sampling accepts pi/6 of its cube's candidates times the side planes' share: at
-// fov 10 degrees and aspect 1 ~1.9%, and 512 candidates miss with 5e-5 (`paper`'s sphere samples:
-// ~1%, 0.6%).
+// Candidates before a drop gives up and is parked at the sphere's centre (inside the frustum),
+// counted in RainCounters::parked. `view` with `uniform` sampling draws from the sphere's cube or
+// the frustum's pyramid, whichever holds more of the rain space (sim/rain/ViewSampler.h): it
+// accepts at least ~1/4 of its candidates at any field of view (docs/rain.md), so 512 miss only
+// where the solids and the water fill nearly all the rain space. `paper`'s eq. (7) samples of
+// the whole sphere pile up at its centre, on the camera's axis, so a narrow frustum catches more
+// of them than of uniform ones, but not enough at the narrowest: 15% of drops parked at fov 1
+// degree, 0.3% at 2, none from 3 (16:9).
 constexpr int kMaxTries = 512;
 // Draws per try in the counter space (see unitRandom's `draw`) for `box`, `region` and `paper`.
 constexpr std::uint64_t kDrawsPerTry = 8;
@@ -109,6 +113,12 @@ bool insideSolid(const Vec3& p, const std::vector<scene::Solid>& solids) {
   return false;
 }
 
+float firstSolidEntry(const Vec3& a, const Vec3& b, const std::vector<scene::Solid>& solids) {
+  float first = 2;
+  for (const scene::Solid& s : solids) first = std::min(first, s.segmentEntry(a, b));
+  return first;
+}
+
 bool RainSystem::blocked(const Vec3& p, const RainObstacles& obstacles) {
   return (obstacles.solids && insideSolid(p, *obstacles.solids)) ||
          (obstacles.water && obstacles.water->contains(p));
@@ -124,16 +134,15 @@ std::uint8_t RainSystem::layerFrom(const DropRandom& u) const {
       static_cast<int>(u0 * static_cast<float>(desc_.streakLayers)), desc_.streakLayers - 1));
 }
 
-ViewSpawnCount RainSystem::spawn(std::size_t i, const RainObstacles& obstacles) {
+void RainSystem::spawn(std::size_t i, const RainObstacles& obstacles, ViewSpawnCount& count) {
   const DropRandom u(desc_.seed, i, generations_[i]);
   layers_[i] = layerFrom(u);
-  ViewSpawnCount count;
   const bool view = desc_.spawn == scene::RainSpawn::View;
   if (view && desc_.sampling == scene::RainSampling::Uniform) {
     auto free = [&](const Vec3& p) { return !blocked(p, obstacles); };
     if (!spawnInView(space_, u, kMaxTries, free, positions_[i], count))
-      positions_[i] = space_.centre;  // nowhere free: as the other models, below
-    return count;
+      positions_[i] = space_.centre, ++count.parked;  // nowhere free: as the other models, below
+    return;
   }
   const Vec3 lo = desc_.spawn == scene::RainSpawn::Box
                       ? Vec3(space_.eye - Vec3::Constant(0.5f * boxEdge_))
@@ -158,12 +167,12 @@ ViewSpawnCount RainSystem::spawn(std::size_t i, const RainObstacles& obstacles) 
     }
     if (blocked(p, obstacles)) continue;
     positions_[i] = p;
-    return count;
+    return;
   }
   // Nowhere free found (the space is nearly all solid or unlucky): park the drop at the
   // space's centre, where the next update tries again.
   positions_[i] = view ? space_.centre : Vec3(lo + 0.5f * size);
-  return count;
+  ++count.parked;
 }
 
 void RainSystem::reset(const scene::CameraDesc& camera, const RainObstacles& obstacles) {
@@ -173,15 +182,17 @@ void RainSystem::reset(const scene::CameraDesc& camera, const RainObstacles& obs
   layers_.assign(desc_.count, 0);
   counters_ = {};
   landings_.clear();
-  std::uint64_t rejected = 0, outside = 0;
+  std::uint64_t rejected = 0, outside = 0, parked = 0;
   const auto n = static_cast<std::ptrdiff_t>(desc_.count);
-#pragma omp parallel for reduction(+ : rejected, outside) schedule(static)
+#pragma omp parallel for reduction(+ : rejected, outside, parked) schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
-    const ViewSpawnCount c = spawn(static_cast<std::size_t>(i), obstacles);
-    rejected += c.rejected, outside += c.outsideSphere;
+    ViewSpawnCount c;
+    spawn(static_cast<std::size_t>(i), obstacles, c);
+    rejected += c.rejected, outside += c.outsideSphere, parked += c.parked;
   }
   counters_.rejected += rejected;
   counters_.outsideSphere += outside;
+  counters_.parked += parked;
   counters_.accepted += desc_.count;
 }
 
@@ -196,17 +207,19 @@ void RainSystem::restore(const scene::CameraDesc& camera, const std::vector<Vec3
   landings_.clear();
 }
 
-bool RainSystem::entersWater(const Vec3& from, const Vec3& to, const RainObstacles& obstacles,
-                             Vec3& entry) {
+bool RainSystem::entersWater(const Vec3& from, const Vec3& to, float upTo,
+                             const RainObstacles& obstacles, Vec3& entry) {
   const WaterCells& water = *obstacles.water;
   if (!water.near(from, to)) return false;
   const float quarter = 0.25f * water.cell();
   const int samples = std::max(1, static_cast<int>(std::ceil((to - from).norm() / quarter)));
   for (int k = 1; k <= samples; ++k) {
-    const Vec3 p =
-        k == samples
-            ? to
-            : Vec3(from + (static_cast<float>(k) / static_cast<float>(samples)) * (to - from));
+    const float t = static_cast<float>(k) / static_cast<float>(samples);
+    // The samples of the whole path, not of the part up to the solid, so that a drop that meets
+    // the water before any solid finds it at the same point either way (a feeding rain places
+    // its particle there).
+    if (t > upTo) return false;
+    const Vec3 p = k == samples ? to : Vec3(from + t * (to - from));
     if (water.contains(p) && !(obstacles.solids && insideSolid(p, *obstacles.solids))) {
       entry = p;
       return true;
@@ -248,13 +261,14 @@ void RainSystem::update(const scene::CameraDesc& camera, float dt, const RainObs
   const bool feed = desc_.feedFluid && obstacles.water;
   if (feed) hit_.assign(positions_.size(), 0), entries_.resize(positions_.size());
   const bool anyObstacle = obstacles.water || obstacles.solids;
-  std::uint64_t left = 0, solid = 0, water = 0, rejected = 0, outside = 0;
+  std::uint64_t left = 0, solid = 0, water = 0, rejected = 0, outside = 0, parked = 0;
   // Chunks of drops: first all of a chunk moved and tested in lanes, then the few that left
   // respawned (~17% a frame in a 90-degree-a-second pan), while the chunk is in the cache.
   constexpr std::size_t kChunk = 1024;
   const std::size_t size = positions_.size();
   const auto chunks = static_cast<std::ptrdiff_t>((size + kChunk - 1) / kChunk);
-#pragma omp parallel for reduction(+ : left, solid, water, rejected, outside) schedule(static)
+#pragma omp parallel for reduction(+ : left, solid, water, rejected, outside, parked) \
+    schedule(static)
   for (std::ptrdiff_t c = 0; c < chunks; ++c) {
     const std::size_t begin = static_cast<std::size_t>(c) * kChunk;
     const std::size_t end = std::min(size, begin + kChunk);
@@ -268,31 +282,37 @@ void RainSystem::update(const scene::CameraDesc& camera, float dt, const RainObs
       look[count] = static_cast<std::uint16_t>(k);
       count += anyObstacle | out[k];
     }
+    ViewSpawnCount spawned;  // the chunk's spawns' candidates
     for (std::size_t j = 0; j < count; ++j) {
       const std::size_t i = begin + look[j];
       const bool outOfSpace = out[look[j]] != 0;
       const Vec3& p = positions_[i];
+      const Vec3 from = p - step;
+      // The whole path over the step against the solids, not its end: a drop falls ~10 cm a
+      // frame, through a 1 cm floor (docs/rain.md, "Replay"). It stops where it first enters one.
+      const float inSolid = obstacles.solids ? firstSolidEntry(from, p, *obstacles.solids) : 2;
       Vec3 entry;
-      // The water first: a drop whose path over the step entered it landed there, also when it
-      // went on into the floor or out of the sheet of water (docs/rain.md, "Replay").
-      if (obstacles.water && entersWater(p - step, p, obstacles, entry)) {
+      // The water along the path up to there: a drop that entered it landed, also when it went on
+      // into the floor or out of the sheet of water; one that met a solid first did not reach it.
+      if (obstacles.water && entersWater(from, p, inSolid, obstacles, entry)) {
         ++water;
         if (feed) hit_[i] = 1, entries_[i] = entry;
+      } else if (inSolid <= 1) {
+        ++solid;
       } else if (outOfSpace) {
         ++left;
-      } else if (obstacles.solids && insideSolid(p, *obstacles.solids)) {
-        ++solid;
       } else {
         continue;
       }
       ++generations_[i];
-      const ViewSpawnCount s = spawn(i, obstacles);
-      rejected += s.rejected, outside += s.outsideSphere;
+      spawn(i, obstacles, spawned);
     }
+    rejected += spawned.rejected, outside += spawned.outsideSphere, parked += spawned.parked;
   }
   counters_.leftSpace += left, counters_.hitSolid += solid, counters_.hitWater += water;
   counters_.rejected += rejected;
   counters_.outsideSphere += outside;
+  counters_.parked += parked;
   counters_.accepted += left + solid + water;
   if (feed) {
     for (std::size_t i = 0; i < hit_.size(); ++i)

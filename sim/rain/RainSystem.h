@@ -55,12 +55,22 @@ struct RainObstacles {
 Vec3 paperBallPoint(const float u[5]);
 
 bool insideSolid(const Vec3& p, const std::vector<scene::Solid>& solids);
+// The first point of the segment from a to b inside one of the solids: its share of the way
+// (Solid::segmentEntry), > 1 when there is none.
+float firstSolidEntry(const Vec3& a, const Vec3& b, const std::vector<scene::Solid>& solids);
 
 struct RainCounters {
   std::uint64_t leftSpace = 0, hitSolid = 0, hitWater = 0;  // respawns by cause, cumulative
   std::uint64_t rejected = 0;       // sphere samples the side planes refused (eq. (8)-(9))
   std::uint64_t outsideSphere = 0;  // sampling "uniform": candidates of the cube outside the sphere
   std::uint64_t accepted = 0;       // spawns
+  // Spawns that found no free place in kMaxTries candidates (RainSystem.cpp) and parked the drop
+  // at the centre of the space (the box, the region), where it falls until it leaves or hits
+  // something: many drops on one point, which the share in view cannot see. `uniform` view
+  // drops draw from the cube or the pyramid, whichever holds the rain space best, so this stays
+  // 0 at any field of view unless the obstacles fill nearly all of it; `paper` sampling (eq. (7)
+  // from the whole sphere) still parks at 1-2 degrees.
+  std::uint64_t parked = 0;
 };
 
 class RainSystem {
@@ -101,19 +111,20 @@ class RainSystem {
 
  private:
   void setCamera(const scene::CameraDesc& camera);
-  // Draws drop i's position for its current generation, outside the obstacles; returns the
-  // candidates it refused.
-  ViewSpawnCount spawn(std::size_t i, const RainObstacles& obstacles);
+  // Draws drop i's position for its current generation, outside the obstacles; adds the
+  // candidates it refused, and whether it parked, to `count`.
+  void spawn(std::size_t i, const RainObstacles& obstacles, ViewSpawnCount& count);
   // Moves drops begin..end-1 by `step`; out[k] = 1 where drop begin + k left the spawn volume.
   void moveAndTest(std::size_t begin, std::size_t end, const Vec3& step, std::uint8_t* out);
   static bool blocked(const Vec3& p, const RainObstacles& obstacles);
   std::uint8_t layerOf(std::size_t i) const;
   std::uint8_t layerFrom(const DropRandom& u) const;  // layerOf with the drop's numbers
-  // Whether the path from `from` to `to` enters a water cell outside the solids, and where it
-  // first does (`entry`): sampled every quarter cell, `to` last. Over a frame interval a drop
-  // falls further than a thin sheet of water is deep: testing `to` alone let it through.
-  static bool entersWater(const Vec3& from, const Vec3& to, const RainObstacles& obstacles,
-                          Vec3& entry);
+  // Whether the path from `from` to `to` enters a water cell outside the solids before the share
+  // `upTo` of the way (where it enters a solid: it goes no further), and where it first does
+  // (`entry`): sampled every quarter cell, `to` last. Over a frame interval a drop falls further
+  // than a thin sheet of water is deep: testing `to` alone let it through.
+  static bool entersWater(const Vec3& from, const Vec3& to, float upTo,
+                          const RainObstacles& obstacles, Vec3& entry);
 
   scene::RainDesc desc_;
   float aspect_;

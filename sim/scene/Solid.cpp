@@ -26,10 +26,67 @@ float cylinderDistance(const Vec3& p, const Vec3& c, float r, float yLo, float y
   return std::sqrt(ox * ox + oy * oy) + std::min(std::max(dr, dy), 0.0f);
 }
 
+// The part of a segment a + t d, t in [0, 1], inside a convex piece of a shape: a closed range
+// of t, empty when lo > hi.
+struct Span {
+  float lo = 1, hi = 0;
+  bool empty() const { return lo > hi; }
+};
+
+Span intersect(const Span& x, const Span& y) {
+  return {std::max(x.lo, y.lo), std::min(x.hi, y.hi)};
+}
+
+// Along axis k, where lo[k] <= a[k] + t d[k] <= hi[k] (a bound at infinity is open).
+Span slabSpan(const Vec3& a, const Vec3& d, const Vec3& lo, const Vec3& hi, int k) {
+  if (d[k] == 0) return a[k] >= lo[k] && a[k] <= hi[k] ? Span{0, 1} : Span{};
+  float t0 = (lo[k] - a[k]) / d[k], t1 = (hi[k] - a[k]) / d[k];
+  if (t0 > t1) std::swap(t0, t1);
+  return {std::max(t0, 0.0f), std::min(t1, 1.0f)};
+}
+
+// The slab test of the box [lo, hi].
+Span boxSpan(const Vec3& a, const Vec3& d, const Vec3& lo, const Vec3& hi) {
+  return intersect(intersect(slabSpan(a, d, lo, hi, 0), slabSpan(a, d, lo, hi, 1)),
+                   slabSpan(a, d, lo, hi, 2));
+}
+
+// Where A t^2 + B t + C <= 0 (A >= 0; a point within a radius), in double: the stable pair of
+// roots, so a short segment far from the centre keeps its digits.
+Span quadraticSpan(double A, double B, double C) {
+  if (A == 0) return C <= 0 ? Span{0, 1} : Span{};  // moving along the axis: B is 0 too
+  const double disc = B * B - 4 * A * C;
+  if (disc < 0) return {};
+  const double q = -0.5 * (B + std::copysign(std::sqrt(disc), B));
+  double t0 = q / A, t1 = q != 0 ? C / q : t0;
+  if (t0 > t1) std::swap(t0, t1);
+  return {static_cast<float>(std::max(t0, 0.0)), static_cast<float>(std::min(t1, 1.0))};
+}
+
+// The y-axis cylinder of radius r around (c.x, c.z), y in [yLo, yHi] (yHi may be infinite).
+Span cylinderSpan(const Vec3& a, const Vec3& d, const Vec3& c, float r, float yLo, float yHi) {
+  const double ax = a.x() - c.x(), az = a.z() - c.z(), dx = d.x(), dz = d.z();
+  const Span round =
+      quadraticSpan(dx * dx + dz * dz, 2 * (ax * dx + az * dz), ax * ax + az * az - double(r) * r);
+  return intersect(round, slabSpan(a, d, Vec3(0, yLo, 0), Vec3(0, yHi, 0), 1));
+}
+
+// The first t in `outer` and not in `hollow` (a container's wall, the outer shape minus its
+// hollow), or kNoEntry.
+constexpr float kNoEntry = 2;
+float firstInWall(const Span& outer, const Span& hollow) {
+  if (outer.empty()) return kNoEntry;
+  if (hollow.empty() || outer.lo < hollow.lo) return outer.lo;  // reaches the wall from outside
+  // Out of the hollow into the wall (the hollow may reach beyond the outer shape: open tops).
+  if (outer.hi > hollow.hi) return std::max(outer.lo, hollow.hi);
+  return kNoEntry;
+}
+
 }  // namespace
 
 Solid::Solid(const BoundaryShape& shape, float thickness) : shape_(shape), thickness_(thickness) {
   if (shape_.kind == BoundaryShape::Kind::Plane) shape_.normal.normalize();
+  bounds_ = boundsOf();
 }
 
 float Solid::distance(const Vec3& p) const {
@@ -69,7 +126,7 @@ Vec3 Solid::normal(const Vec3& p, float eps) const {
   return n > 0 ? Vec3(g / n) : Vec3::UnitY();
 }
 
-Aabb Solid::bounds() const {
+Aabb Solid::boundsOf() const {
   Aabb b;
   const float t = thickness_;
   switch (shape_.kind) {
@@ -95,6 +152,56 @@ Aabb Solid::bounds() const {
       break;
   }
   return b;
+}
+
+float Solid::segmentEntry(const Vec3& a, const Vec3& b) const {
+  // Most segments are nowhere near the solid: their box misses its box.
+  if (!bounds_.empty() && ((a.cwiseMax(b).array() < bounds_.lo.array()).any() ||
+                           (a.cwiseMin(b).array() > bounds_.hi.array()).any()))
+    return kNoEntry;
+  const Vec3 d = b - a;
+  const float t = thickness_;
+  float entry = kNoEntry;
+  switch (shape_.kind) {
+    case BoundaryShape::Kind::Tank: {  // the shells of distance(), as spans
+      Vec3 outerHi = shape_.hi + Vec3::Constant(t), innerHi = shape_.hi;
+      if (shape_.openTop) outerHi.y() = shape_.hi.y(), innerHi.y() = kOpen;
+      entry = firstInWall(boxSpan(a, d, shape_.lo - Vec3::Constant(t), outerHi),
+                          boxSpan(a, d, shape_.lo, innerHi));
+      break;
+    }
+    case BoundaryShape::Kind::Block: {
+      const Span s = boxSpan(a, d, shape_.lo, shape_.hi);
+      entry = s.empty() ? kNoEntry : s.lo;
+      break;
+    }
+    case BoundaryShape::Kind::Cup: {
+      const float floorY = shape_.centre.y(), rimY = floorY + shape_.height;
+      entry = firstInWall(cylinderSpan(a, d, shape_.centre, shape_.radius + t, floorY - t, rimY),
+                          cylinderSpan(a, d, shape_.centre, shape_.radius, floorY, kOpen));
+      break;
+    }
+    case BoundaryShape::Kind::Plane: {
+      const float from = (a - shape_.point).dot(shape_.normal), rate = d.dot(shape_.normal);
+      // Inside from the start, or going in and crossing the plane within the segment.
+      const float cross = rate < 0 ? -from / rate : kNoEntry;
+      entry = from <= 0 ? 0.0f : cross <= 1 ? cross : kNoEntry;
+      break;
+    }
+    case BoundaryShape::Kind::Sphere: {
+      const Vec3 o = a - shape_.centre;
+      const double r = shape_.radius;
+      const Span s = quadraticSpan(double(d.squaredNorm()), 2 * double(o.dot(d)),
+                                   double(o.squaredNorm()) - r * r);
+      entry = s.empty() ? kNoEntry : s.lo;
+      break;
+    }
+  }
+  if (entry <= 1) return entry;
+  // The cuts and distance() round differently within a hair of the surface: where they disagree
+  // at the end, distance() decides, as it does for every other test of a point.
+  if (!bounds_.empty() && !bounds_.contains(b)) return kNoEntry;
+  return distance(b) < 0 ? 1.0f : kNoEntry;
 }
 
 bool keepOutside(const Solid& solid, const Vec3& xOld, Vec3& xNew, Vec3& v, float step) {

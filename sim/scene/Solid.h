@@ -20,11 +20,19 @@ class Solid {
   // Unit outward normal at p (central differences of distance()).
   Vec3 normal(const Vec3& p, float eps) const;
   // Box bounding the solid (planes: unbounded, returns an empty box).
-  Aabb bounds() const;
+  const Aabb& bounds() const { return bounds_; }
+  // The first point of the segment a + t (b - a), t in [0, 1], inside the solid: its t, or a
+  // value > 1 when the whole segment is outside. Exact, not sampled: the segment is cut against
+  // the shape's boxes, cylinders, sphere or plane, so a wall thinner than the segment is long is
+  // not jumped over (a rain drop falls ~10 cm a frame onto a 1 cm floor). Agrees with distance()
+  // at the end: when distance(b) < 0 the result is at most 1.
+  float segmentEntry(const Vec3& a, const Vec3& b) const;
 
  private:
+  Aabb boundsOf() const;
   BoundaryShape shape_;
   float thickness_;
+  Aabb bounds_;  // boundsOf(), once: segmentEntry's first test
 };
 
 // Moves a particle that went from xOld to xNew into a solid back to where it entered, and
