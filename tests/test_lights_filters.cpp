@@ -166,6 +166,34 @@ TEST(ExactLights, OneLightOverAPointByHand) {
             0);
 }
 
+// A scene far wider than 1024 ranges: lights every 4 cm along 100 m of x, range 5 cm (2,000
+// ranges). At points along the whole line the sum equals that of a reference built from the
+// lights within 1 m of the point alone (a scene a few ranges wide); a lookup that stopped at 1024
+// cells of `range` read 0 past 51.2 m.
+TEST(ExactLights, RightOverAHundredMetreScene) {
+  scene::LightsDesc d = smallVolume();
+  d.range = 0.05f;
+  d.attenuation = {1.0f, 0.0f, 100.0f};
+  std::vector<sph::lights::LightParticle> lights;
+  for (int i = 0; i <= 2500; ++i)
+    lights.push_back(light(Vec3(0.04f * i, 0.02f, 0.0f), Vec3(1.0f, 0.8f, 0.5f), 1.0f));
+  const ExactLights exact(d, lights);
+  for (float x : {0.01f, 10.0f, 51.3f, 75.55f, 99.99f}) {
+    std::vector<sph::lights::LightParticle> near;
+    for (const auto& l : lights) {
+      if (std::abs(l.position[0] - x) < 1.0f) near.push_back(l);
+    }
+    const ExactLights local(d, near);
+    const Vec3 p(x, 0.0f, 0.0f), eye = Vec3(0.2f, 1.0f, 0.1f).normalized();
+    const LightTerms want = local.at(p, Vec3::UnitY(), eye, Vec3::Ones());
+    const LightTerms got = exact.at(p, Vec3::UnitY(), eye, Vec3::Ones());
+    ASSERT_GT(want.diffuse.x(), 0.0f) << "x = " << x;
+    EXPECT_NEAR(got.diffuse.x(), want.diffuse.x(), 1e-6f * want.diffuse.x()) << "x = " << x;
+    EXPECT_NEAR(got.specular.y(), want.specular.y(), 1e-6f * want.specular.y() + 1e-12f)
+        << "x = " << x;
+  }
+}
+
 // Against the exact sum over many lights above a floor, trilinear beats nearest and tricubic is
 // no worse than nearest (diffuse term, PSNR over 4096 floor points).
 TEST_F(LightsGl, TrilinearBeatsNearestAgainstTheExactReference) {

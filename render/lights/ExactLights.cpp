@@ -6,15 +6,22 @@
 
 namespace sph::render::lights {
 
-int ExactLights::cellOf(const Vec3& p, int a) const {
-  const int c = static_cast<int>(std::floor((p[a] - lo_[a]) / cellSize_));
-  return std::clamp(c, 0, cells_[static_cast<std::size_t>(a)] - 1);
+namespace {
+
+// Cells per axis a key can name (21 bits each): the cell is grown past `range` only for a scene
+// more than 2^21 ranges wide.
+constexpr std::int64_t kAxisCells = std::int64_t{1} << 21;
+
+}  // namespace
+
+std::uint64_t ExactLights::keyOf(std::int64_t cx, std::int64_t cy, std::int64_t cz) const {
+  return (static_cast<std::uint64_t>(cz) << 42) | (static_cast<std::uint64_t>(cy) << 21) |
+         static_cast<std::uint64_t>(cx);
 }
 
 ExactLights::ExactLights(const scene::LightsDesc& desc,
                          const std::vector<sph::lights::LightParticle>& lights)
     : desc_(desc) {
-  cellSize_ = std::max(desc.range, 1e-6f);
   Vec3 lo = Vec3::Constant(std::numeric_limits<float>::max()), hi = -lo;
   for (const sph::lights::LightParticle& l : lights) {
     const Vec3 p(l.position[0], l.position[1], l.position[2]);
@@ -22,43 +29,49 @@ ExactLights::ExactLights(const scene::LightsDesc& desc,
   }
   if (lights.empty()) lo = hi = Vec3::Zero();
   lo_ = lo;
-  for (int a = 0; a < 3; ++a) {
-    cells_[static_cast<std::size_t>(a)] =
-        std::clamp(static_cast<int>(std::floor((hi[a] - lo[a]) / cellSize_)) + 1, 1, 1024);
-  }
-  const std::size_t n = static_cast<std::size_t>(cells_[0]) * cells_[1] * cells_[2];
-  auto index = [&](const sph::lights::LightParticle& l) {
-    const Vec3 p(l.position[0], l.position[1], l.position[2]);
-    return (static_cast<std::size_t>(cellOf(p, 2)) * cells_[1] + cellOf(p, 1)) * cells_[0] +
-           cellOf(p, 0);
+  const float extent = (hi - lo).maxCoeff();
+  cellSize_ = std::max({desc.range, 1e-6f, extent / static_cast<float>(kAxisCells - 2)});
+  auto cell = [&](float v, int a) {
+    return std::clamp(static_cast<std::int64_t>(std::floor((v - lo_[a]) / cellSize_)),
+                      std::int64_t{0}, kAxisCells - 1);
   };
-  cellStart_.assign(n + 1, 0);
-  for (const sph::lights::LightParticle& l : lights) ++cellStart_[index(l) + 1];
-  for (std::size_t c = 0; c < n; ++c) cellStart_[c + 1] += cellStart_[c];
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> order(lights.size());
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    const auto& p = lights[i].position;
+    order[i] = {keyOf(cell(p[0], 0), cell(p[1], 1), cell(p[2], 2)), static_cast<std::uint32_t>(i)};
+  }
+  std::sort(order.begin(), order.end());
   lights_.resize(lights.size());
-  std::vector<std::size_t> next(cellStart_.begin(), cellStart_.end() - 1);
-  for (const sph::lights::LightParticle& l : lights) lights_[next[index(l)]++] = l;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    lights_[i] = lights[order[i].second];
+    if (i == 0 || order[i].first != order[i - 1].first) {
+      keys_.push_back(order[i].first);
+      cellStart_.push_back(i);
+    }
+  }
+  cellStart_.push_back(lights_.size());
 }
 
 LightTerms ExactLights::at(const Vec3& x, const Vec3& n, const Vec3& toEye,
                            const Vec3& base) const {
   LightTerms t;
   if (lights_.empty()) return t;
-  int lo[3], hi[3];
+  std::int64_t lo[3], hi[3];
   for (int a = 0; a < 3; ++a) {
     // Cells overlapping [x - range, x + range]; points far outside the lights' box see none.
     const float r = desc_.range;
-    const float cLo = std::floor((x[a] - r - lo_[a]) / cellSize_);
-    const float cHi = std::floor((x[a] + r - lo_[a]) / cellSize_);
-    lo[a] = static_cast<int>(std::max(cLo, 0.0f));
-    hi[a] = static_cast<int>(
-        std::min(cHi, static_cast<float>(cells_[static_cast<std::size_t>(a)] - 1)));
-    if (lo[a] > hi[a]) return t;
+    const double cLo = std::floor((static_cast<double>(x[a]) - r - lo_[a]) / cellSize_);
+    const double cHi = std::floor((static_cast<double>(x[a]) + r - lo_[a]) / cellSize_);
+    if (cHi < 0 || cLo > static_cast<double>(kAxisCells - 1)) return t;
+    lo[a] = static_cast<std::int64_t>(std::max(cLo, 0.0));
+    hi[a] = static_cast<std::int64_t>(std::min(cHi, static_cast<double>(kAxisCells - 1)));
   }
-  for (int cz = lo[2]; cz <= hi[2]; ++cz) {
-    for (int cy = lo[1]; cy <= hi[1]; ++cy) {
-      for (int cx = lo[0]; cx <= hi[0]; ++cx) {
-        const std::size_t c = (static_cast<std::size_t>(cz) * cells_[1] + cy) * cells_[0] + cx;
+  for (std::int64_t cz = lo[2]; cz <= hi[2]; ++cz) {
+    for (std::int64_t cy = lo[1]; cy <= hi[1]; ++cy) {
+      for (std::int64_t cx = lo[0]; cx <= hi[0]; ++cx) {
+        const auto found = std::lower_bound(keys_.begin(), keys_.end(), keyOf(cx, cy, cz));
+        if (found == keys_.end() || *found != keyOf(cx, cy, cz)) continue;
+        const std::size_t c = static_cast<std::size_t>(found - keys_.begin());
         for (std::size_t k = cellStart_[c]; k < cellStart_[c + 1]; ++k) {
           const sph::lights::LightParticle& l = lights_[k];
           const Vec3 toLight = Vec3(l.position[0], l.position[1], l.position[2]) - x;

@@ -1,10 +1,13 @@
 // The exact particle lighting the volume approximates (docs/lights.md, "Error figures"): at a
 // point, the sum over every light within `range` of its own attenuated Phong diffuse and
-// specular, with the light vector to that light - no voxels, no filter. CPU, lights binned in a
-// uniform grid of cells `range` wide so a point visits its 27 cells only. The seed has no ground
-// truth; this one turns each filter / oversampling / voxel size into an error figure.
+// specular, with the light vector to that light - no voxels, no filter. CPU, lights binned in
+// cells `range` wide so a point visits its 27 cells only; only the cells that hold lights are
+// kept (sorted keys), so a scene of any extent costs memory by its lights, not its volume. The
+// seed has no ground truth; this one turns each filter / oversampling / voxel size into an error
+// figure.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "sim/lights/LightParticles.h"
@@ -25,12 +28,12 @@ class ExactLights {
 
  private:
   scene::LightsDesc desc_;
-  std::vector<sph::lights::LightParticle> lights_;  // sorted by cell
-  std::vector<std::size_t> cellStart_;  // lights of cell c: [cellStart_[c], cellStart_[c + 1])
-  Vec3 lo_;
-  std::array<int, 3> cells_{};
+  std::vector<sph::lights::LightParticle> lights_;  // sorted by cell key
+  std::vector<std::uint64_t> keys_;      // the cells that hold lights, ascending
+  std::vector<std::size_t> cellStart_;   // lights of keys_[k]: [cellStart_[k], cellStart_[k + 1])
+  Vec3 lo_ = Vec3::Zero();
   float cellSize_ = 1;
-  int cellOf(const Vec3& p, int axis) const;
+  std::uint64_t keyOf(std::int64_t cx, std::int64_t cy, std::int64_t cz) const;
 };
 
 // Error figures of an approximation against the exact values, over the same points: colours in
