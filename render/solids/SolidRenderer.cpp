@@ -5,9 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "render/frame/ExtraLights.h"
+#include "render/frame/LightingUniforms.h"
 #include "render/frame/ProgramUniforms.h"
-#include "render/frame/SpotlightUniforms.h"
 #include "render/gl/Shader.h"
 #include "render/solids/DrawOrder.h"
 
@@ -68,18 +67,12 @@ void SolidRenderer::setLighting(GLuint p, const scene::CameraFrame& camera,
                                 const frame::Lighting& lighting) const {
   frame::setVec3(p, "u_eye", camera.eye);
   // The scene's light, the solids' own material; no sky reflection (they are not water).
-  frame::setVec3(p, "u_toLight", lighting.toLight.normalized());
-  frame::setVec3(p, "u_base", material.colour);
-  frame::setFloat(p, "u_ambient", material.ambient);
-  frame::setFloat(p, "u_diffuse", material.diffuse);
-  frame::setFloat(p, "u_specular", material.specular);
-  frame::setFloat(p, "u_shininess", material.shininess);
-  frame::setInt(p, "u_environment", 0);
-  frame::setVec3(p, "u_horizon", lighting.horizon);
-  frame::setVec3(p, "u_zenith", lighting.zenith);
-  frame::setFloat(p, "u_fresnelMin", lighting.fresnelMin);
-  frame::applyExtraLights(p, lighting);
-  frame::setSpotlightUniforms(p, lighting.spotlight);
+  frame::Lighting solid = lighting;
+  solid.base = material.colour;
+  solid.ambient = material.ambient, solid.diffuse = material.diffuse;
+  solid.specular = material.specular, solid.shininess = material.shininess;
+  solid.environment = false;
+  frame::setLightingUniforms(p, solid);
 }
 
 GLuint SolidRenderer::program(Pass pass, const frame::Lighting& lighting) {

@@ -1,7 +1,5 @@
 #include "render/splat/SplatRenderer.h"
 
-#include "render/frame/SpotlightUniforms.h"
-
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -9,6 +7,7 @@
 
 #include "render/frame/DeferredTarget.h"
 #include "render/frame/ExtraLights.h"
+#include "render/frame/LightingUniforms.h"
 #include "render/frame/ProgramUniforms.h"
 #include "render/frame/ReadPicture.h"
 #include "render/gl/GlError.h"
@@ -19,20 +18,9 @@ namespace sph::render::splat {
 namespace {
 
 void setLighting(GLuint p, const frame::Lighting& l) {
-  frame::setVec3(p, "u_toLight", l.toLight.normalized());
-  frame::setVec3(p, "u_base", l.base);
-  frame::setFloat(p, "u_ambient", l.ambient);
-  frame::setFloat(p, "u_diffuse", l.diffuse);
-  frame::setFloat(p, "u_specular", l.specular);
-  frame::setFloat(p, "u_shininess", l.shininess);
-  glProgramUniform1i(p, glGetUniformLocation(p, "u_environment"), l.environment ? 1 : 0);
-  frame::setVec3(p, "u_horizon", l.horizon);
-  frame::setVec3(p, "u_zenith", l.zenith);
-  frame::setFloat(p, "u_fresnelMin", l.fresnelMin);
+  frame::setLightingUniforms(p, l);
   frame::setFloat(p, "u_alpha", l.alpha);
-  glProgramUniform1i(p, glGetUniformLocation(p, "u_twoSided"), l.alpha < 1.0f ? 1 : 0);
-  frame::applyExtraLights(p, l);
-  frame::setSpotlightUniforms(p, l.spotlight);
+  frame::setInt(p, "u_twoSided", l.alpha < 1.0f ? 1 : 0);
 }
 
 // Position (location 0) and normal (location 1) of SplatVertex from binding 0.
