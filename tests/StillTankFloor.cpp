@@ -60,7 +60,9 @@ double spread(const std::vector<double>& v) {
 
 }  // namespace
 
-double StillTankFloor::centreStepSpread() const { return spread(centreReadings_); }
+double StillTankFloor::centreStepSpread() const {
+  return spread(centreReadings_);
+}
 
 double StillTankFloor::centreMeanError() const {
   constexpr std::size_t kBlock = 10;
@@ -113,8 +115,8 @@ void StillTankFloor::print(const char* solver, double expected, bool profile) co
       "%s floor sensor: centre %.1f Pa (+-%.1f Pa; a step's reading: sd %.1f Pa), whole floor %.1f "
       "Pa, rho0 g d %.1f Pa (%+.2f%%, %+.2f%%); walls' load / weight %.4f (%d steps)\n",
       solver, centrePressure(), centreMeanError(), centreStepSpread(), floorPressure(), expected,
-      100 * (centrePressure() / expected - 1),
-      100 * (floorPressure() / expected - 1), loadOverWeight(), steps());
+      100 * (centrePressure() / expected - 1), 100 * (floorPressure() / expected - 1),
+      loadOverWeight(), steps());
   if (!profile) return;
   std::printf(
       "%s p against the weight above: floor layer centre %+.2f%%, rim %+.2f%%; beside the side "
@@ -123,8 +125,7 @@ void StillTankFloor::print(const char* solver, double expected, bool profile) co
       solver, 100 * pressureError(kFloorLayerCentre), 100 * pressureError(kFloorLayerRim),
       100 * pressureError(kBesideSideWalls), 100 * pressureError(kCentreColumns),
       100 * (bottomLayerPressure() / (expected / depth_ * (depth_ - bottomLayerHeight())) - 1),
-      maxSpeed(),
-      firstTopHeight(), lastTopHeight());
+      maxSpeed(), firstTopHeight(), lastTopHeight());
 }
 
 }  // namespace sph::test

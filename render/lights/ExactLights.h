@@ -29,8 +29,8 @@ class ExactLights {
  private:
   scene::LightsDesc desc_;
   std::vector<sph::lights::LightParticle> lights_;  // sorted by cell key
-  std::vector<std::uint64_t> keys_;      // the cells that hold lights, ascending
-  std::vector<std::size_t> cellStart_;   // lights of keys_[k]: [cellStart_[k], cellStart_[k + 1])
+  std::vector<std::uint64_t> keys_;                 // the cells that hold lights, ascending
+  std::vector<std::size_t> cellStart_;  // lights of keys_[k]: [cellStart_[k], cellStart_[k + 1])
   Vec3 lo_ = Vec3::Zero();
   float cellSize_ = 1;
   std::uint64_t keyOf(std::int64_t cx, std::int64_t cy, std::int64_t cz) const;

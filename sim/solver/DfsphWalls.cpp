@@ -51,7 +51,8 @@ void findWallNeighbours(StepContext& c) {
       const grid::PairStore::Row r = s.wallPairs.row(row);
       std::size_t at = 0;
       for (std::uint32_t i = begin; i < end; ++i) {
-        for (std::uint32_t q = 0; q < s.wallPairCount[i]; ++q, ++at) visit(i, r.index[at], r.hr[at]);
+        for (std::uint32_t q = 0; q < s.wallPairCount[i]; ++q, ++at)
+          visit(i, r.index[at], r.hr[at]);
       }
     }
   };
@@ -93,7 +94,9 @@ void findWallNeighbours(StepContext& c) {
   });
 }
 
-void startWallSolve(StepContext& c) { c.walls.applied.assign(c.walls.active.size(), 0.0f); }
+void startWallSolve(StepContext& c) {
+  c.walls.applied.assign(c.walls.active.size(), 0.0f);
+}
 
 void changeWallStiffness(StepContext& c, const std::vector<float>& applied,
                          const std::vector<float>& stiffness, bool hydrostatic) {
