@@ -7,6 +7,7 @@
 //   e.g. still_tank_floor 0.4 dfsph 0.3 0.9 solver.wall_pressure=none
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <string>
 #include <vector>
 
@@ -35,8 +36,13 @@ int main(int argc, char** argv) {
                                   "boundaries[0].max=[" + w + ",0.4," + w + "]",
                                   "solver.pressure=" + solver};
   for (int a = 5; a < argc; ++a) set.emplace_back(argv[a]);
-  const sph::scene::Scene scene =
-      sph::io::loadScene(SPHSPLAT_SOURCE_DIR "/scenes/still_tank.json", set);
+  sph::scene::Scene scene;
+  try {
+    scene = sph::io::loadScene(SPHSPLAT_SOURCE_DIR "/scenes/still_tank.json", set);
+  } catch (const std::exception& e) {  // a bad KEY=VALUE: the loader's one line
+    std::fprintf(stderr, "%s: %s\n", argv[0], e.what());
+    return 2;
+  }
   sph::run::Simulation sim(scene);
   const double dx = scene.solver.spacing, rho0 = scene.solver.restDensity;
   // The depth of the water at rest density: its volume over the floor.
