@@ -40,8 +40,11 @@ inline std::string scene(double end) {
 inline std::string rainScene(double end) {
   std::string s = scene(end);
   const std::string output = R"("output": )";
+  // The paper's placement ("occlusion": "none"): the camera faces the tank's front wall, which
+  // hides the water, so drops kept only where the eye sees them would never reach it, and the
+  // water cells rank 0 is sent would stop none.
   s.insert(s.find(output), R"("rain": {"count": 3000, "near": 0.05, "far": 0.8, "fall_speed": 3,
-           "seed": 7},
+           "seed": 7, "occlusion": "none"},
   )");
   return s;
 }
@@ -58,9 +61,10 @@ inline std::string ranks(int k, const std::string& sceneFile, const std::string&
          "' --threads 1 " + mode + " " + args;
 }
 
-// Waits (at most 70 s) until no status recorder for the cache `path` runs (job/distributed/StatusRecorder.h):
-// rank 0 of a run stopped in a frame its ranks wrote together starts one, which records the
-// status a moment after mpirun returns, holding the cache's lock while it writes.
+// Waits (at most 70 s) until no status recorder for the cache `path` runs
+// (job/distributed/StatusRecorder.h): rank 0 of a run stopped in a frame its ranks wrote together
+// starts one, which records the status a moment after mpirun returns, holding the cache's lock
+// while it writes.
 inline void waitForStatusRecorder(const std::string& path) {
   const std::string argument = std::string("--record-stopped-run") + '\0' + path + '\0';
   const auto runs = [&] {

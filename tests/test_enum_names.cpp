@@ -1,5 +1,5 @@
-// The name tables of the user-visible choices (sim/scene/EnumNames.h): every enumerator has a name, the
-// names are unique, and parsing a name gives its enumerator back; the scene loader's messages
+// The name tables of the user-visible choices (sim/scene/EnumNames.h): every enumerator has a name,
+// the names are unique, and parsing a name gives its enumerator back; the scene loader's messages
 // list exactly the table.
 #include <gtest/gtest.h>
 
@@ -20,14 +20,15 @@ namespace {
 
 template <class E>
 class EnumNamesTest : public ::testing::Test {};
-using AllChoices = ::testing::Types<
-    scene::LightSource, scene::LightColouring, scene::LightFilter, scene::LightPipeline,
-    scene::LightAccumulate, scene::LightShade, scene::CollisionMethod, scene::CollisionResponse,
-    scene::CdtCameraMode, scene::CdtPositionSource, scene::EquationOfState, scene::DensityKernel,
-    scene::SolverModel, scene::Walls, scene::PressureSolver, scene::WallPressure,
-    scene::SplatProjection,
-    scene::RenderDesc::Splat, render::splat::SplatKind, io::Quality, sweep::RunStatus,
-    scene::RainSpawn, scene::RainSampling, scene::RainDraw, scene::RainFarTier>;
+using AllChoices =
+    ::testing::Types<scene::LightSource, scene::LightColouring, scene::LightFilter,
+                     scene::LightPipeline, scene::LightAccumulate, scene::LightShade,
+                     scene::CollisionMethod, scene::CollisionResponse, scene::CdtCameraMode,
+                     scene::CdtPositionSource, scene::EquationOfState, scene::DensityKernel,
+                     scene::SolverModel, scene::Walls, scene::PressureSolver, scene::WallPressure,
+                     scene::SplatProjection, scene::RenderDesc::Splat, render::splat::SplatKind,
+                     io::Quality, sweep::RunStatus, scene::RainSpawn, scene::RainSampling,
+                     scene::RainOcclusion, scene::RainDraw, scene::RainFarTier>;
 TYPED_TEST_SUITE(EnumNamesTest, AllChoices);
 
 TYPED_TEST(EnumNamesTest, EveryEnumeratorHasAUniqueNameThatParsesBack) {

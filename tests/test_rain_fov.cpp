@@ -12,10 +12,13 @@
 #include <cstdio>
 #include <vector>
 
+#include "sim/rain/EyeDepth.h"
+#include "sim/rain/RainRandom.h"
 #include "sim/rain/RainStepper.h"
 #include "sim/rain/RainSystem.h"
 #include "sim/scene/Camera.h"
 #include "sim/scene/Solid.h"
+#include "tests/RainSight.h"
 #include "tests/RainTestScenes.h"
 #include "tests/TestSupport.h"
 
@@ -118,6 +121,91 @@ Uniformity uniformity(const FrustumCube& f, const std::vector<Vec3>& placed,
   return r;
 }
 
+// The drops `placed` against the volume of the part of the rain space that the rain's depth image
+// (sim/rain/EyeDepth.h) calls visible: a ray through the frustum is kept from where it enters the
+// sphere (or near) to the first of where it leaves it and the image's depth at its pixel, exactly,
+// since the image is one depth a pixel; 2,048 / rows rays a pixel each way weigh the pixels
+// exactly and the direction bins to 1/2,048 of the field of view (1/1,024 put chi-square 130-140
+// on the direction of drops that fit 1/2,048's 95-110). How far that region is from what the
+// geometry lets the eye see is `imageAgainstGeometry`. Depth bins: 10 over the w the image sees to.
+Uniformity imageUniformity(const FrustumCube& f, const std::vector<Vec3>& placed,
+                           const rain::EyeDepth& image) {
+  const rain::RainSpace& s = f.s;
+  const double n3 = std::pow(double(s.near), 3), f3 = std::pow(double(s.far), 3);
+  auto wOf = [&](double z) { return (z * z * z - n3) / (f3 - n3); };
+  const int cols = image.cols(), rows = image.rows(), sub = 2048 / rows;
+  struct Stretch {
+    double w0, w1;
+    int bin;
+  };
+  std::vector<Stretch> stretches;
+  double wTop = 0;
+  const Vec3 oc = s.eye - s.centre;
+  for (int j = 0; j < rows * sub; ++j)
+    for (int i = 0; i < cols * sub; ++i) {
+      const double u = (i + 0.5) / (cols * sub) * 2 - 1, v = (j + 0.5) / (rows * sub) * 2 - 1;
+      const Vec3 dir = s.forward + float(u * f.tx) * s.right + float(v * f.ty) * s.up;  // z = 1
+      // The sphere along the ray: |eye + z dir - centre|^2 <= r^2.
+      const double a = dir.squaredNorm(), b = 2 * oc.dot(dir);
+      const double disc = b * b - 4 * a * (oc.squaredNorm() - double(s.radius) * s.radius);
+      if (disc <= 0) continue;
+      const double z0 = std::max<double>(s.near, (-b - std::sqrt(disc)) / (2 * a));
+      const double z1 = std::min<double>((-b + std::sqrt(disc)) / (2 * a),
+                                         image.depths()[std::size_t(j / sub) * cols + i / sub]);
+      if (z1 <= z0) continue;
+      stretches.push_back({wOf(z0), wOf(z1), directionBin(u, v)});
+      wTop = std::max(wTop, wOf(z1));
+    }
+  std::vector<double> depthE(10, 0), dirE(100, 0), depthO(10, 0), dirO(100, 0);
+  double volume = 0;
+  for (const Stretch& t : stretches) {
+    dirE[t.bin] += t.w1 - t.w0, volume += t.w1 - t.w0;
+    for (int b = 0; b < 10; ++b) {
+      const double lo = std::max(t.w0, wTop * b / 10), hi = std::min(t.w1, wTop * (b + 1) / 10);
+      if (hi > lo) depthE[b] += hi - lo;
+    }
+  }
+  for (double& e : depthE) e /= volume;
+  for (double& e : dirE) e /= volume;
+  for (const Vec3& p : placed) {
+    double w, u, v;
+    f.coordinates(p, w, u, v);
+    depthO[std::clamp(static_cast<int>(w / wTop * 10), 0, 9)] += 1, dirO[directionBin(u, v)] += 1;
+  }
+  Uniformity r;
+  int dofDepth, dofDirection;
+  r.chiDepth = chiSquare(depthO, depthE, dofDepth);
+  r.chiDirection = chiSquare(dirO, dirE, dofDirection);
+  r.limitDepth = chiSquare999(dofDepth), r.limitDirection = chiSquare999(dofDirection);
+  return r;
+}
+
+// The depth image's visible region against the geometry's (tests/RainSight.h), by 100,000 points
+// uniform in the rain space outside the solids and the water cells: the share of the points the
+// geometry sees that the image hides (the price of its being on the side of hiding), and of those
+// the image sees that the geometry hides.
+struct ImageAgainstGeometry {
+  double hiddenButSeen = 0, seenButHidden = 0;
+};
+ImageAgainstGeometry imageAgainstGeometry(const rain::RainSpace& s, const rain::EyeDepth& image,
+                                          const test::EyeSight& sight,
+                                          const rain::RainObstacles& obstacles) {
+  std::size_t seen = 0, imageSeen = 0, hiddenButSeen = 0, seenButHidden = 0;
+  for (std::uint64_t i = 0, n = 0; n < 100000; ++i) {
+    const Vec3 p = s.centre + s.radius * Vec3(2 * rain::unitRandom(7, i, 0, 0) - 1,
+                                              2 * rain::unitRandom(7, i, 0, 1) - 1,
+                                              2 * rain::unitRandom(7, i, 0, 2) - 1);
+    if (!s.contains(p) || rain::insideSolid(p, *obstacles.solids) || obstacles.water->contains(p))
+      continue;
+    ++n;
+    const bool truth = sight.visible(s.eye, p), byImage = image.visible(p);
+    seen += truth, imageSeen += byImage;
+    hiddenButSeen += truth && !byImage, seenButHidden += byImage && !truth;
+  }
+  return {double(hiddenButSeen) / double(std::max<std::size_t>(seen, 1)),
+          double(seenButHidden) / double(std::max<std::size_t>(imageSeen, 1))};
+}
+
 // Drops exactly at the rain space's centre: where a spawn that found no free place parks one.
 std::size_t atCentre(const RainSystem& r) {
   return static_cast<std::size_t>(
@@ -130,6 +218,8 @@ struct Placed {
   std::vector<Vec3> drops;
   std::size_t mostParked = 0, count = 0;
   std::uint64_t parked = 0;  // RainCounters::parked
+  rain::EyeDepth image;      // of the camera (still), when the rain keeps what the eye sees
+  rain::RainSpace space;
 };
 Placed placeDrops(const scene::RainDesc& d, const scene::CameraDesc& camera,
                   const rain::RainObstacles& obstacles) {
@@ -147,6 +237,8 @@ Placed placeDrops(const scene::RainDesc& d, const scene::CameraDesc& camera,
     out.mostParked = std::max(out.mostParked, atCentre(r));
   }
   out.parked = r.counters().parked;
+  out.image = r.eyeDepth();
+  out.space = r.space();
   return out;
 }
 
@@ -170,8 +262,12 @@ TEST(RainPlacement, FacingEmptySkyAtNarrowFieldsOfViewNoDropIsParkedAndTheyAreUn
   }
 }
 
-// rain_pour's rain, cup and tray, the cup full of water to 8 cm, the camera aimed at the cup.
-TEST(RainPlacement, AimedAtACupOfWaterAtNarrowFieldsOfViewNoDropIsParkedAndTheyAreUniform) {
+// rain_pour's rain, cup and tray, the cup full of water to 8 cm, the camera aimed at the cup, at
+// narrow fields of view and rain_pour's own 40 degrees: the drops are kept where the eye sees
+// them (rain.occlusion "depth_map"), so they are uniform in the part of the rain space outside
+// the solids and the water that the eye sees, the water taken as its particles' spheres of one
+// spacing.
+TEST(RainPlacement, AimedAtACupOfWaterNoDropIsParkedAndTheyAreUniformWhereTheEyeSees) {
   const scene::Scene scene = test::shippedScene("rain_pour");
   std::vector<scene::Solid> solids;
   for (const scene::BoundaryShape& b : scene.boundaries)
@@ -185,24 +281,33 @@ TEST(RainPlacement, AimedAtACupOfWaterAtNarrowFieldsOfViewNoDropIsParkedAndTheyA
   const rain::WaterCells water(fluid, rain::RainStepper::waterCell(scene));
   rain::RainObstacles obstacles;
   obstacles.solids = &solids, obstacles.water = &water;
-  for (float fov : {3.0f, 5.0f, 8.0f}) {
+  const test::EyeSight sight(solids, fluid, h);
+  for (float fov : {3.0f, 5.0f, 8.0f, 40.0f}) {
     scene::CameraDesc c = *scene.camera;
     c.fovYDegrees = fov;
     scene::RainDesc d = *scene.rain;
     d.count = 100000;
     const Placed p = placeDrops(d, c, obstacles);
+    ASSERT_TRUE(p.image.active());
     const Uniformity u =
-        uniformity(FrustumCube(c, test::kAspect, d.near, d.far), p.drops, obstacles);
-    std::size_t blocked = 0;
-    for (const Vec3& q : p.drops) blocked += rain::insideSolid(q, solids) || water.contains(q);
+        imageUniformity(FrustumCube(c, test::kAspect, d.near, d.far), p.drops, p.image);
+    const ImageAgainstGeometry g = imageAgainstGeometry(p.space, p.image, sight, obstacles);
+    std::size_t blocked = 0, hidden = 0;
+    for (const Vec3& q : p.drops) {
+      blocked += rain::insideSolid(q, solids) || water.contains(q);
+      hidden += !sight.visible(c.position, q);
+    }
     std::printf(
         "cup, fov %g: at most %.4f of the budget parked; %zu drops placed, %zu in a solid or the "
-        "water, chi2 depth %.1f (limit %.1f), direction %.1f (limit %.1f)\n",
-        fov, double(p.mostParked) / double(p.count), p.drops.size(), blocked, u.chiDepth,
-        u.limitDepth, u.chiDirection, u.limitDirection);
+        "water, %zu hidden; chi2 depth %.1f (limit %.1f), direction %.1f (limit %.1f); the image "
+        "hides %.4f of what the geometry sees, sees %.4f of what it hides\n",
+        fov, double(p.mostParked) / double(p.count), p.drops.size(), blocked, hidden, u.chiDepth,
+        u.limitDepth, u.chiDirection, u.limitDirection, g.hiddenButSeen, g.seenButHidden);
     EXPECT_EQ(p.mostParked, 0u) << "fov " << fov;
     EXPECT_EQ(p.parked, 0u) << "fov " << fov;
     EXPECT_EQ(blocked, 0u) << "fov " << fov;
+    EXPECT_LT(static_cast<double>(hidden), 0.05 * static_cast<double>(p.drops.size()));
+    EXPECT_LT(g.seenButHidden, 0.05) << "fov " << fov;
     EXPECT_LT(u.chiDepth, u.limitDepth) << "fov " << fov;
     EXPECT_LT(u.chiDirection, u.limitDirection) << "fov " << fov;
   }

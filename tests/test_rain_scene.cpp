@@ -67,6 +67,7 @@ TEST(RainScene, KeysAreReadAndBadValuesRefusedWithOneLine) {
   EXPECT_EQ(s.rain->far, 8.0f);
   EXPECT_EQ(s.rain->spawn, scene::RainSpawn::Region);
   EXPECT_EQ(s.rain->sampling, scene::RainSampling::Paper);
+  EXPECT_EQ(s.rain->occlusion, scene::RainOcclusion::DepthMap);  // the default
   EXPECT_EQ(s.rain->seed, 9u);
   EXPECT_EQ(s.rain->lodWidth, 0.5f);
   EXPECT_EQ(s.rain->farTier, scene::RainFarTier::Sums);
@@ -75,6 +76,12 @@ TEST(RainScene, KeysAreReadAndBadValuesRefusedWithOneLine) {
   ASSERT_EQ(s.cameraPath.size(), 2u);
   EXPECT_EQ(s.cameraPath[0].position, Vec3(0, 0, 1));  // keys default to the camera's pose
   EXPECT_EQ(s.cameraPath[1].fovYDegrees, 30.0f);
+  EXPECT_EQ(io::parseScene(R"({"solver": {"spacing": 0.01},
+    "fluids": [{"min": [0, 0, 0], "max": [0.05, 0.05, 0.05]}],
+    "camera": {"position": [0, 0, 1], "target": [0, 0, 0]}, "rain": {"occlusion": "none"}})",
+                           "r.json")
+                .rain->occlusion,
+            scene::RainOcclusion::None);
   EXPECT_FALSE(io::parseScene(R"({"solver": {"spacing": 0.01},
     "fluids": [{"min": [0, 0, 0], "max": [0.05, 0.05, 0.05]}]})",
                               "r.json")
@@ -90,6 +97,10 @@ TEST(RainScene, KeysAreReadAndBadValuesRefusedWithOneLine) {
            {R"({"count": 1e12})", "r.json: rain.count: expected an integer in [1, 1e8]"},
            {R"({"spawn": "sky"})", "r.json: rain.spawn:"},
            {R"({"sampling": "gauss"})", "r.json: rain.sampling:"},
+           {R"({"occlusion": "rays"})",
+            "r.json: rain.occlusion: expected one of \"depth_map\", \"none\", got the string "
+            "\"rays\""},
+           {R"({"occlusion": "none", "spawn": "box"})", "r.json: rain.occlusion: only used with"},
            {R"({"spawn": "region"})", "r.json: rain.region: missing"},
            {R"({"region": {"min": [0,0,0], "max": [1,1,1]}})", "r.json: rain.region: only used"},
            {R"({"fall_speed": -1})", "r.json: rain.fall_speed:"},

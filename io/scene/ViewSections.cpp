@@ -154,6 +154,10 @@ scene::RainDesc readRain(JsonReader r) {
                                           [](double v) { return integerIn(v, 0, 4294967295.0); }));
   d.spawn = r.choice("spawn", std::optional(scene::RainSpawn::View));
   d.sampling = r.choice("sampling", std::optional(scene::RainSampling::Uniform));
+  d.occlusion = r.choice("occlusion", std::optional(scene::RainOcclusion::DepthMap));
+  // The baselines are the paper's comparisons, kept as it ran them.
+  if (d.spawn != scene::RainSpawn::View && r.has("occlusion"))
+    r.fail("occlusion", "only used with \"spawn\": \"view\"");
   if (auto g = r.optionalObject("region")) {
     d.region.lo = g->vec3("min", std::nullopt, "3 numbers (m)");
     d.region.hi = g->vec3("max", std::nullopt, "3 numbers (m)");

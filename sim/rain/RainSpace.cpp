@@ -38,8 +38,15 @@ RainSpace RainSpace::build(const scene::CameraDesc& camera, float aspect, float 
   s.L = inward((s.nbl - s.fbl).cross(s.nbl - s.ntl), s.nbl);
   s.B = inward((s.nbl - s.nbr).cross(s.nbl - s.fbl), s.nbl);
   s.T = inward((s.ntl - s.ftl).cross(s.ntl - s.ntr), s.ntl);
+  s.drawDepth = far;
   s.fromPyramid = kPyramidCandidateCost * s.pyramidVolume() < 8.0 * std::pow(double(s.radius), 3.0);
   return s;
+}
+
+void RainSpace::limitDraws(float depth) {
+  if (!(depth < far)) return;
+  drawDepth = depth;
+  fromPyramid = kPyramidCandidateCost * pyramidVolume() < 8.0 * std::pow(double(radius), 3.0);
 }
 
 double RainSpace::volume() const {
@@ -61,7 +68,7 @@ double RainSpace::volume() const {
       if (insideSides(centre + radius * q)) ++inside;
     }
   }
-  return (pyramid ? pyramidVolume() : cube) * inside / kSamples;
+  return (pyramid ? pyramidVolume(far) : cube) * inside / kSamples;
 }
 
 }  // namespace sph::rain

@@ -8,8 +8,8 @@
 #include <array>
 #include <cmath>
 
-#include "sim/scene/CameraDesc.h"
 #include "sim/Types.h"
+#include "sim/scene/CameraDesc.h"
 
 namespace sph::rain {
 
@@ -50,10 +50,20 @@ struct RainSpace {
   static float along(const Vec3& p, const Vec3& o, const Vec3& n) {
     return std::fma(p.x() - o.x(), n.x(), std::fma(p.y() - o.y(), n.y(), (p.z() - o.z()) * n.z()));
   }
-  // Volume (m^3) of the pyramid from the eye to the far plane (the frustum extended to the eye).
-  double pyramidVolume() const {
-    return 4.0 / 3.0 * double(tanUp) * double(tanRight) * std::pow(double(far), 3.0);
+  // The depth (m) the pyramid's candidates are drawn to: far, or less where nothing beyond is
+  // seen (limitDraws).
+  float drawDepth = 0;
+  // Volume (m^3) of the pyramid from the eye to depth `depth` (the frustum extended to the eye):
+  // by default to drawDepth.
+  double pyramidVolume(float depth) const {
+    return 4.0 / 3.0 * double(tanUp) * double(tanRight) * std::pow(double(depth), 3.0);
   }
+  double pyramidVolume() const { return pyramidVolume(drawDepth); }
+  // Draws candidates no deeper than `depth` (m) where that is less than far: a spawn that keeps
+  // only what the eye sees (sim/rain/EyeDepth.h) wastes none beyond the deepest pixel. Points
+  // uniform in the shallower pyramid and kept where they are seen are still uniform there. The
+  // choice of the pyramid or the cube is made again for it.
+  void limitDraws(float depth);
   // Whether points uniform in the rain space are drawn from that pyramid rather than from the
   // sphere's bounding cube (sim/rain/ViewSampler.h): at a narrow field of view the rain space is
   // a needle holding a tiny share of the cube (0.17% at 3 degrees, 16:9) but most of the

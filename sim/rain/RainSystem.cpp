@@ -43,16 +43,20 @@ WaterCells WaterCells::fromKeys(const std::vector<std::uint64_t>& keys, float ce
   WaterCells w(cell);
   w.cells_.reserve(keys.size());
   w.cells_.insert(keys.begin(), keys.end());
-  // The bounds `near` tests, as the constructor grows them: a cell's corner is its index times
-  // the cell (keyOf's inverse), the same float as floor(p / cell) * cell.
-  auto index = [](std::uint64_t k, int shift) {
-    return static_cast<float>(static_cast<std::int64_t>((k >> shift) & 0x1fffff) - (1 << 20));
-  };
+  // The bounds `near` tests, as the constructor grows them.
   for (std::uint64_t k : w.cells_) {
-    const Vec3 corner = Vec3(index(k, 0), index(k, 21), index(k, 42)) * cell;
+    const Vec3 corner = cornerOf(k, cell);
     w.bounds_.grow(corner), w.bounds_.grow(Vec3(corner + Vec3::Constant(cell)));
   }
   return w;
+}
+
+Vec3 WaterCells::cornerOf(std::uint64_t key, float cell) {
+  // The cell's index times the cell: the same float as floor(p / cell) * cell.
+  auto index = [&](int shift) {
+    return static_cast<float>(static_cast<std::int64_t>((key >> shift) & 0x1fffff) - (1 << 20));
+  };
+  return Vec3(index(0), index(21), index(42)) * cell;
 }
 
 std::vector<std::uint64_t> WaterCells::keys() const {
@@ -86,12 +90,19 @@ Vec3 paperBallPoint(const float u[5]) {
 
 RainSystem::RainSystem(const scene::RainDesc& desc, float aspect) : desc_(desc), aspect_(aspect) {}
 
-void RainSystem::setCamera(const scene::CameraDesc& camera) {
+void RainSystem::setCamera(const scene::CameraDesc& camera, const RainObstacles& obstacles) {
   const float oldFov = space_.radius > 0 ? lastFov_ : -1;
   space_ = RainSpace::build(camera, aspect_, desc_.near, desc_.far);
   if (desc_.spawn == scene::RainSpawn::Box && camera.fovYDegrees != oldFov)
     boxEdge_ = static_cast<float>(std::cbrt(space_.volume()));
   lastFov_ = camera.fovYDegrees;
+  if (desc_.spawn == scene::RainSpawn::View && desc_.occlusion == scene::RainOcclusion::DepthMap) {
+    eyeDepth_.build(space_, obstacles.solids, obstacles.water);
+    // A wall across the view: no drop is seen beyond it, so none is drawn there.
+    if (eyeDepth_.active()) space_.limitDraws(eyeDepth_.maxDepth());
+  } else {
+    eyeDepth_.clear();
+  }
 }
 
 bool RainSystem::inSpawnVolume(const Vec3& p) const {
@@ -139,8 +150,8 @@ void RainSystem::spawn(std::size_t i, const RainObstacles& obstacles, ViewSpawnC
   layers_[i] = layerFrom(u);
   const bool view = desc_.spawn == scene::RainSpawn::View;
   if (view && desc_.sampling == scene::RainSampling::Uniform) {
-    auto free = [&](const Vec3& p) { return !blocked(p, obstacles); };
-    if (!spawnInView(space_, u, kMaxTries, free, positions_[i], count))
+    auto freeHere = [&](const Vec3& p) { return placeable(p, obstacles); };
+    if (!spawnInView(space_, u, kMaxTries, freeHere, positions_[i], count))
       positions_[i] = space_.centre, ++count.parked;  // nowhere free: as the other models, below
     return;
   }
@@ -165,7 +176,7 @@ void RainSystem::spawn(std::size_t i, const RainObstacles& obstacles, ViewSpawnC
     } else {
       p = lo + Vec3(draws[0], draws[1], draws[2]).cwiseProduct(size);
     }
-    if (blocked(p, obstacles)) continue;
+    if (!placeable(p, obstacles)) continue;
     positions_[i] = p;
     return;
   }
@@ -176,7 +187,7 @@ void RainSystem::spawn(std::size_t i, const RainObstacles& obstacles, ViewSpawnC
 }
 
 void RainSystem::reset(const scene::CameraDesc& camera, const RainObstacles& obstacles) {
-  setCamera(camera);
+  setCamera(camera, obstacles);
   positions_.assign(desc_.count, Vec3::Zero());
   generations_.assign(desc_.count, 0);
   layers_.assign(desc_.count, 0);
@@ -198,7 +209,7 @@ void RainSystem::reset(const scene::CameraDesc& camera, const RainObstacles& obs
 
 void RainSystem::restore(const scene::CameraDesc& camera, const std::vector<Vec3>& positions,
                          const std::vector<std::uint32_t>& generations) {
-  setCamera(camera);
+  setCamera(camera, {});
   positions_ = positions;
   generations_ = generations;
   layers_.resize(positions_.size());
@@ -255,19 +266,19 @@ void RainSystem::moveAndTest(std::size_t begin, std::size_t end, const Vec3& ste
 void RainSystem::update(const scene::CameraDesc& camera, float dt, const RainObstacles& obstacles) {
   landings_.clear();
   if (positions_.empty()) return reset(camera, obstacles);
-  setCamera(camera);
+  setCamera(camera, obstacles);
   const Vec3 step = velocity() * dt;
   // Only a feeding rain records where drops landed: nothing of it otherwise.
   const bool feed = desc_.feedFluid && obstacles.water;
   if (feed) hit_.assign(positions_.size(), 0), entries_.resize(positions_.size());
   const bool anyObstacle = obstacles.water || obstacles.solids;
-  std::uint64_t left = 0, solid = 0, water = 0, rejected = 0, outside = 0, parked = 0;
+  std::uint64_t left = 0, solid = 0, water = 0, hidden = 0, rejected = 0, outside = 0, parked = 0;
   // Chunks of drops: first all of a chunk moved and tested in lanes, then the few that left
   // respawned (~17% a frame in a 90-degree-a-second pan), while the chunk is in the cache.
   constexpr std::size_t kChunk = 1024;
   const std::size_t size = positions_.size();
   const auto chunks = static_cast<std::ptrdiff_t>((size + kChunk - 1) / kChunk);
-#pragma omp parallel for reduction(+ : left, solid, water, rejected, outside, parked) \
+#pragma omp parallel for reduction(+ : left, solid, water, hidden, rejected, outside, parked) \
     schedule(static)
   for (std::ptrdiff_t c = 0; c < chunks; ++c) {
     const std::size_t begin = static_cast<std::size_t>(c) * kChunk;
@@ -301,6 +312,8 @@ void RainSystem::update(const scene::CameraDesc& camera, float dt, const RainObs
         ++solid;
       } else if (outOfSpace) {
         ++left;
+      } else if (!eyeDepth_.visible(p)) {  // fell or turned out of the eye's sight
+        ++hidden;
       } else {
         continue;
       }
@@ -310,10 +323,11 @@ void RainSystem::update(const scene::CameraDesc& camera, float dt, const RainObs
     rejected += spawned.rejected, outside += spawned.outsideSphere, parked += spawned.parked;
   }
   counters_.leftSpace += left, counters_.hitSolid += solid, counters_.hitWater += water;
+  counters_.hidden += hidden;
   counters_.rejected += rejected;
   counters_.outsideSphere += outside;
   counters_.parked += parked;
-  counters_.accepted += left + solid + water;
+  counters_.accepted += left + solid + water + hidden;
   if (feed) {
     for (std::size_t i = 0; i < hit_.size(); ++i)
       if (hit_[i]) landings_.push_back(entries_[i]);

@@ -8,11 +8,12 @@
 #include <unordered_set>
 #include <vector>
 
-#include "sim/scene/RainDesc.h"
-#include "sim/scene/Solid.h"
+#include "sim/rain/EyeDepth.h"
 #include "sim/rain/RainRandom.h"
 #include "sim/rain/RainSpace.h"
 #include "sim/rain/ViewSampler.h"
+#include "sim/scene/RainDesc.h"
+#include "sim/scene/Solid.h"
 
 namespace sph::rain {
 
@@ -21,8 +22,8 @@ class WaterCells {
  public:
   WaterCells(const std::vector<Vec3>& fluid, float cell);
   // The cells of `keys` (keyOf's, with the same `cell`; repeats allowed): the union of the cells
-  // several parts of the fluid occupy (an MPI run's ranks, job/distributed/CollectiveCacheSink.h) is the set
-  // the whole fluid gives.
+  // several parts of the fluid occupy (an MPI run's ranks, job/distributed/CollectiveCacheSink.h)
+  // is the set the whole fluid gives.
   static WaterCells fromKeys(const std::vector<std::uint64_t>& keys, float cell);
   // The key of the cell that holds `p`.
   static std::uint64_t keyOf(const Vec3& p, float cell);
@@ -33,6 +34,13 @@ class WaterCells {
   std::size_t size() const { return cells_.size(); }
   // The occupied cells' keys, ascending.
   std::vector<std::uint64_t> keys() const;
+  // Calls f(corner) with the lowest corner of every occupied cell, in no particular order.
+  template <class F>
+  void forEachCorner(F f) const {
+    for (std::uint64_t k : cells_) f(cornerOf(k, cell_));
+  }
+  // The lowest corner of the cell of key `k` (keyOf's inverse).
+  static Vec3 cornerOf(std::uint64_t k, float cell);
 
  private:
   explicit WaterCells(float cell) : cell_(cell) {}
@@ -61,6 +69,9 @@ float firstSolidEntry(const Vec3& a, const Vec3& b, const std::vector<scene::Sol
 
 struct RainCounters {
   std::uint64_t leftSpace = 0, hitSolid = 0, hitWater = 0;  // respawns by cause, cumulative
+  // Respawns of drops still in the rain space that a solid or the water hides from the eye
+  // (rain.occlusion "depth_map": sim/rain/EyeDepth.h), counted after the causes above.
+  std::uint64_t hidden = 0;
   std::uint64_t rejected = 0;       // sphere samples the side planes refused (eq. (8)-(9))
   std::uint64_t outsideSphere = 0;  // sampling "uniform": candidates of the cube outside the sphere
   std::uint64_t accepted = 0;       // spawns
@@ -83,8 +94,8 @@ class RainSystem {
   // Moves the drops by dt (s) and respawns those that left the spawn volume of `camera` (which
   // may have moved since the last call) or hit an obstacle.
   void update(const scene::CameraDesc& camera, float dt, const RainObstacles& obstacles = {});
-  // Takes over drops as a run left them (a resume from the cache, io/cache/RainCache.h): positions and
-  // respawn counts per drop (as many as the budget), the rain camera of that moment. Counters
+  // Takes over drops as a run left them (a resume from the cache, io/cache/RainCache.h): positions
+  // and respawn counts per drop (as many as the budget), the rain camera of that moment. Counters
   // start again from 0.
   void restore(const scene::CameraDesc& camera, const std::vector<Vec3>& positions,
                const std::vector<std::uint32_t>& generations);
@@ -106,11 +117,20 @@ class RainSystem {
   const std::vector<Vec3>& landings() const { return landings_; }
   // Whether p is where this spawn model keeps drops (rain space, camera box or region).
   bool inSpawnVolume(const Vec3& p) const;
+  // The depth image of the solids and the water from the rain camera of the last reset or
+  // update (spawn "view" with rain.occlusion "depth_map" and obstacles given; else inactive).
+  const EyeDepth& eyeDepth() const { return eyeDepth_; }
   // Edge (m) of the camera-following cube of spawn "box": the rain space's volume.
   float boxEdge() const { return boxEdge_; }
 
  private:
-  void setCamera(const scene::CameraDesc& camera);
+  // The rain camera of `camera`, and the depth image of `obstacles` from it where drops are kept
+  // only where the eye sees them.
+  void setCamera(const scene::CameraDesc& camera, const RainObstacles& obstacles);
+  // Whether a drop at p may be placed or kept there: outside the obstacles and seen by the eye.
+  bool placeable(const Vec3& p, const RainObstacles& obstacles) const {
+    return eyeDepth_.visible(p) && !blocked(p, obstacles);
+  }
   // Draws drop i's position for its current generation, outside the obstacles; adds the
   // candidates it refused, and whether it parked, to `count`.
   void spawn(std::size_t i, const RainObstacles& obstacles, ViewSpawnCount& count);
@@ -129,6 +149,7 @@ class RainSystem {
   scene::RainDesc desc_;
   float aspect_;
   RainSpace space_;
+  EyeDepth eyeDepth_;
   float boxEdge_ = 0;
   float lastFov_ = -1;
   std::vector<Vec3> positions_;

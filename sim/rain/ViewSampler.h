@@ -64,17 +64,17 @@ inline ViewCandidate viewCandidate(const RainSpace& s, std::uint64_t hash) {
   return {p, sphere, sphere && s.insideSides(p)};
 }
 
-// A candidate of the pyramid from the eye to the far plane, uniform in its volume, from two
-// hashes: the depth is far times the largest of three numbers of `depth` (its density 3 m^2
-// grows as the pyramid's cross-section, z^2), the offsets along right and up uniform across that
-// depth's rectangle from `across`. Points nearer than `near` are outside the sphere, which
-// touches the near plane: the test of the sphere refuses them. Every sum rounded as written.
+// A candidate of the pyramid from the eye to the far plane (to drawDepth), uniform in its volume,
+// from two hashes: the depth is drawDepth times the largest of three numbers of `depth` (its
+// density 3 m^2 grows as the pyramid's cross-section, z^2), the offsets along right and up uniform
+// across that depth's rectangle from `across`. Points nearer than `near` are outside the sphere,
+// which touches the near plane: the test of the sphere refuses them. Every sum rounded as written.
 inline ViewCandidate pyramidCandidate(const RainSpace& s, std::uint64_t depth,
                                       std::uint64_t across) {
   const float m =
       std::max({unitCoordinate(depth & 0x1fffff), unitCoordinate((depth >> 21) & 0x1fffff),
                 unitCoordinate((depth >> 42) & 0x1fffff)});
-  const float z = s.far * m;
+  const float z = s.drawDepth * m;
   const float x = z * s.tanRight * cubeCoordinate(across & 0x1fffff);
   const float y = z * s.tanUp * cubeCoordinate((across >> 21) & 0x1fffff);
   Vec3 p;

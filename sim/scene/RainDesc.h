@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <optional>
 
-#include "sim/scene/EnumNames.h"
 #include "sim/Types.h"
+#include "sim/scene/EnumNames.h"
 
 namespace sph::scene {
 
@@ -41,6 +41,23 @@ constexpr const char* nameOf(RainSampling v) {
       return "uniform";
     case RainSampling::Paper:
       return "paper";
+  }
+  return nullptr;
+}
+
+// What keeps a drop of spawn "view" besides the rain space (scene key rain.occlusion; docs/rain.md,
+// "The visible budget").
+enum class RainOcclusion {
+  DepthMap,  // placed and kept only where the eye sees it: in front of the solids and the water of
+             // a depth image from the rain camera (sim/rain/EyeDepth.h)
+  None,      // the paper: anywhere in the rain space, also behind a solid or the water
+};
+constexpr const char* nameOf(RainOcclusion v) {
+  switch (v) {
+    case RainOcclusion::DepthMap:
+      return "depth_map";
+    case RainOcclusion::None:
+      return "none";
   }
   return nullptr;
 }
@@ -103,7 +120,8 @@ struct RainDesc {
   std::uint64_t seed = 1;      // drops are a pure function of (seed, drop, respawn count)
   RainSpawn spawn = RainSpawn::View;
   RainSampling sampling = RainSampling::Uniform;
-  Aabb region;           // m, the fixed rain box of spawn "region"
+  RainOcclusion occlusion = RainOcclusion::DepthMap;  // spawn "view" only
+  Aabb region;                                        // m, the fixed rain box of spawn "region"
   int streakLayers = 8;  // procedurally generated streak images in the array texture
   RainDraw draw = RainDraw::Cpu;
   // rain.lod_width (docs/rain.md, "Level of detail"): with draw "cpu", streaks narrower than this
