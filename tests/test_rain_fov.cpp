@@ -89,6 +89,21 @@ struct Uniformity {
   double chiDepth, chiDirection, limitDepth, limitDirection;
 };
 
+// The chi-square of the drops in the depth and direction bins (`depthO`, `dirO`) against the
+// volumes the bins hold (`depthE`, `dirE`, summing to `volume` each).
+Uniformity againstVolumes(const std::vector<double>& depthO, std::vector<double> depthE,
+                          const std::vector<double>& dirO, std::vector<double> dirE,
+                          double volume) {
+  for (double& e : depthE) e /= volume;
+  for (double& e : dirE) e /= volume;
+  Uniformity r;
+  int dofDepth, dofDirection;
+  r.chiDepth = chiSquare(depthO, depthE, dofDepth);
+  r.chiDirection = chiSquare(dirO, dirE, dofDirection);
+  r.limitDepth = chiSquare999(dofDepth), r.limitDirection = chiSquare999(dofDirection);
+  return r;
+}
+
 // The drops `placed` against the volume of the rain space outside the obstacles, by a midpoint
 // rule of 200 x 100 x 100 points of the frustum cube.
 Uniformity uniformity(const FrustumCube& f, const std::vector<Vec3>& placed,
@@ -106,19 +121,12 @@ Uniformity uniformity(const FrustumCube& f, const std::vector<Vec3>& placed,
         if (obstacles.water && obstacles.water->contains(p)) continue;
         depthE[depthBin(w)] += 1, dirE[directionBin(u, v)] += 1, volume += 1;
       }
-  for (double& e : depthE) e /= volume;
-  for (double& e : dirE) e /= volume;
   for (const Vec3& p : placed) {
     double w, u, v;
     f.coordinates(p, w, u, v);
     depthO[depthBin(w)] += 1, dirO[directionBin(u, v)] += 1;
   }
-  Uniformity r;
-  int dofDepth, dofDirection;
-  r.chiDepth = chiSquare(depthO, depthE, dofDepth);
-  r.chiDirection = chiSquare(dirO, dirE, dofDirection);
-  r.limitDepth = chiSquare999(dofDepth), r.limitDirection = chiSquare999(dofDirection);
-  return r;
+  return againstVolumes(depthO, depthE, dirO, dirE, volume);
 }
 
 // The drops `placed` against the volume of the part of the rain space that the rain's depth image
@@ -165,19 +173,12 @@ Uniformity imageUniformity(const FrustumCube& f, const std::vector<Vec3>& placed
       if (hi > lo) depthE[b] += hi - lo;
     }
   }
-  for (double& e : depthE) e /= volume;
-  for (double& e : dirE) e /= volume;
   for (const Vec3& p : placed) {
     double w, u, v;
     f.coordinates(p, w, u, v);
     depthO[std::clamp(static_cast<int>(w / wTop * 10), 0, 9)] += 1, dirO[directionBin(u, v)] += 1;
   }
-  Uniformity r;
-  int dofDepth, dofDirection;
-  r.chiDepth = chiSquare(depthO, depthE, dofDepth);
-  r.chiDirection = chiSquare(dirO, dirE, dofDirection);
-  r.limitDepth = chiSquare999(dofDepth), r.limitDirection = chiSquare999(dofDirection);
-  return r;
+  return againstVolumes(depthO, depthE, dirO, dirE, volume);
 }
 
 // The depth image's visible region against the geometry's (tests/RainSight.h), by 100,000 points
