@@ -11,7 +11,7 @@
 //   corners. Over a pixel a plane's depth lies between its corners' (1/z is affine across the
 //   image), so the nearest corner never puts a point of a flat surface's pixel in front of it;
 //   a silhouette that crosses a pixel without reaching a corner is missed (edges thinner than a
-//   pixel: a 1 cm wall is 2-7 pixels in rain_pour).
+//   pixel: a 1 cm wall is 1-3 pixels in rain_pour).
 // - the water, as its occupied cells (WaterCells, two particle spacings): each cell's box grown by
 //   half a cell (a particle's sphere of one spacing anywhere in the cell lies inside it) covers
 //   the pixels its eight corners span, at the depth of its nearest corner. Coarse and on the side
