@@ -39,7 +39,7 @@ void openClosedStandardStreams() {
 
 int main(int argc, char** argv) {
   openClosedStandardStreams();
-  sph::io::h5::startWithoutExitCleanup();
+  sph::io::cache::h5::startWithoutExitCleanup();
   // A recorder that rank 0 of an MPI run started (job/distributed/StatusRecorder.h): nothing else
   // of main.
   if (argc == sph::job::distributed::kRecorderArgc &&

@@ -39,8 +39,8 @@ TEST_F(Mpi, AKilledRankLeavesEveryFinishedFrameReadable) {
   test::mpi::waitForStatusRecorder(out);
   EXPECT_NE(r.output.find("mpirun-exit"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("mpirun-exit 0"), std::string::npos) << r.output;
-  const io::CacheReader killed(out);
-  const io::CacheReader reference(reference_);
+  const io::cache::CacheReader killed(out);
+  const io::cache::CacheReader reference(reference_);
   ASSERT_GE(killed.frameCount(), 1u);
   for (std::size_t k = 0; k < killed.frameCount() && k < reference.frameCount(); ++k)
     EXPECT_TRUE(test::sameBits(reference.readFrame(k), killed.readFrame(k))) << "frame " << k;
@@ -56,8 +56,8 @@ TEST_F(Mpi, AKilledRankZeroLeavesACacheThatResumesOnOtherRanks) {
   std::size_t kept = 0;
   double lastTime = 0;
   {
-    const io::CacheReader killed(out);
-    const io::CacheReader reference(reference_);
+    const io::cache::CacheReader killed(out);
+    const io::cache::CacheReader reference(reference_);
     kept = killed.frameCount();
     ASSERT_GE(kept, 1u);
     lastTime = killed.summary().frames.back().time;
@@ -73,7 +73,7 @@ TEST_F(Mpi, AKilledRankZeroLeavesACacheThatResumesOnOtherRanks) {
   auto resumed =
       runShell(ranks(3, scene_, std::string("--end ") + end + " --resume '" + out + "'"));
   ASSERT_EQ(resumed.exitCode, 0) << resumed.output;
-  const io::CacheReader after(out);
+  const io::cache::CacheReader after(out);
   EXPECT_GE(after.frameCount(), kept + 1);
   for (std::size_t k = 0; k < after.frameCount(); ++k) EXPECT_GT(after.readFrame(k).size(), 0u);
 }
@@ -89,7 +89,7 @@ TEST_F(Mpi, AKilledRankOfARainSceneLeavesItsFramesAndDropsReadable) {
   auto r = runShell(killOneRankMidRun(out, "tail -1"));
   test::mpi::waitForStatusRecorder(out);
   EXPECT_EQ(r.output.find("mpirun-exit 0"), std::string::npos) << r.output;
-  const io::CacheReader killed(out), one(reference);
+  const io::cache::CacheReader killed(out), one(reference);
   // How many frames a loaded machine wrote before the kill varies.
   ASSERT_GE(killed.frameCount(), 1u);
   for (std::size_t k = 0; k < killed.frameCount(); ++k) {
@@ -99,12 +99,13 @@ TEST_F(Mpi, AKilledRankOfARainSceneLeavesItsFramesAndDropsReadable) {
       EXPECT_EQ(drops, 3000u) << "frame " << k;
     }
     if (drops > 0) {
-      EXPECT_EQ(io::readRainFrame(killed, k).positions.size(), drops) << k;
+      EXPECT_EQ(io::cache::readRainFrame(killed, k).positions.size(), drops) << k;
     }
     if (k >= one.frameCount()) continue;
     EXPECT_TRUE(test::sameBits(one.readFrame(k), frame)) << "frame " << k;
     if (drops == 0) continue;
-    EXPECT_EQ(io::readRainFrame(one, k).generations, io::readRainFrame(killed, k).generations)
+    EXPECT_EQ(io::cache::readRainFrame(one, k).generations,
+              io::cache::readRainFrame(killed, k).generations)
         << "rain " << k;
   }
 }
@@ -133,8 +134,8 @@ TEST_F(Mpi, ARankKilledAtAnyWriteOfTheCacheLeavesItReadableAndResumable) {
       test::mpi::waitForStatusRecorder(out);  // a resume now would meet it: it holds the lock
       if (!test::fileExists(out)) continue;   // killed before frame 0 was in: no cache
       {
-        const io::CacheReader killed(out);
-        const io::CacheReader reference(reference_);
+        const io::cache::CacheReader killed(out);
+        const io::cache::CacheReader reference(reference_);
         for (std::size_t k = 0; k < killed.frameCount(); ++k)
           EXPECT_TRUE(test::sameBits(reference.readFrame(k), killed.readFrame(k))) << "frame " << k;
       }
@@ -219,7 +220,7 @@ TEST_F(Mpi, ReadersDuringFramesWrittenTogetherNeverFail) {
       }
       try {
         ++opens;
-        const io::CacheReader reader(out);
+        const io::cache::CacheReader reader(out);
         const std::size_t n = reader.frameCount();
         if (n < lastFrames)
           failures.push_back("frames went from " + std::to_string(lastFrames) + " to " +
@@ -237,7 +238,7 @@ TEST_F(Mpi, ReadersDuringFramesWrittenTogetherNeverFail) {
       if (!plain.empty()) ++plainFailures[plain];
     }
     ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "the run failed";
-    const io::CacheReader done(out);
+    const io::cache::CacheReader done(out);
     ASSERT_EQ(done.frameCount(), 21u);
     for (auto& [k, reads] : seen) {
       for (const Particles& p : reads)
@@ -367,12 +368,12 @@ TEST_F(Mpi, AFullDiskOnOneRankStopsTheRunWithOneLineAndRecordsIt) {
       std::string status = "running";
       for (int wait = 0; wait < 100 && status.rfind("running", 0) == 0; ++wait) {
         if (wait > 0) usleep(200000);
-        status = io::CacheReader(out).summary().status;
+        status = io::cache::CacheReader(out).summary().status;
       }
       EXPECT_EQ(status.rfind("stopped: ", 0), 0u) << status;
       EXPECT_NE(status.find("; last good frame "), std::string::npos) << status;
-      const io::CacheReader cache(out);
-      const io::CacheReader reference(reference_);
+      const io::cache::CacheReader cache(out);
+      const io::cache::CacheReader reference(reference_);
       for (std::size_t k = 0; k < cache.frameCount(); ++k)
         EXPECT_TRUE(test::sameBits(reference.readFrame(k), cache.readFrame(k))) << "frame " << k;
     }

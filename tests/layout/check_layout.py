@@ -35,7 +35,7 @@ ALLOWED.update({
     'io': SIM,
     'io/cache': ALL_SIM | {'io'},
     'io/scene': ALL_SIM | {'io', 'io/cache'},
-    'io/export': ALL_SIM | {'io', 'io/cache'},
+    'io/exports': ALL_SIM | {'io', 'io/cache'},
     'render/gl': set(),
     'render/frame': ALL_SIM | {'render/gl'},
     'render/splat': ALL_SIM | {'render/gl', 'render/frame'},
@@ -47,7 +47,7 @@ ALLOWED.update({
     'render/compose': ALL_SIM | {'render/gl', 'render/frame', 'render/splat', 'render/solids',
                                  'render/rain', 'render/lights'},
 })
-ALL_IO = {'io', 'io/cache', 'io/scene', 'io/export'}
+ALL_IO = {'io', 'io/cache', 'io/scene', 'io/exports'}
 ALL_RENDER = {f for f in ALLOWED if f.startswith('render/')}
 ALLOWED.update({
     'job/distributed': ALL_SIM | ALL_IO | {'sim/ranks/mpi'},
