@@ -17,7 +17,7 @@
 
 #include "io/cache/CacheReader.h"
 #include "io/cache/RainCache.h"
-#include "sim/ranks/mpi/MpiIoChoice.h"
+#include "job/distributed/mpi/MpiIoChoice.h"
 #include "sim/InputError.h"
 #include "tests/CacheTestSupport.h"
 #include "tests/MpiTestSupport.h"
@@ -259,31 +259,35 @@ TEST_F(Mpi, ReadersDuringFramesWrittenTogetherNeverFail) {
 }
 
 TEST(MpiIo, TheRanksWriteThroughRomioUnlessTheUserChose) {
-  // OMPIO 4.1 hides a write the disk refused, ROMIO reports it (sim/ranks/mpi/MpiIoChoice.h): the ranks ask
-  // for ROMIO when a plug-in of it is installed, and leave a choice the user made alone.
+  // OMPIO 4.1 hides a write the disk refused, ROMIO reports it (job/distributed/mpi/MpiIoChoice.h):
+  // the ranks ask for ROMIO when a plug-in of it is installed, and leave a choice the user made
+  // alone.
   const std::string dir = test::makeTempDir();
   for (const char* name : {"mca_io_ompio.so", "mca_io_romio321.so", "mca_io_romio341.so",
                            "mca_fs_romio999.so", "mca_io_romio.txt"})
     std::ofstream(dir + "/" + name) << "";
-  EXPECT_EQ(ranks::mpi::findRomioComponent({"/nonexistent", dir}), "romio341");
-  EXPECT_EQ(ranks::mpi::findRomioComponent({"/nonexistent"}), "");
+  EXPECT_EQ(job::distributed::mpi::findRomioComponent({"/nonexistent", dir}), "romio341");
+  EXPECT_EQ(job::distributed::mpi::findRomioComponent({"/nonexistent"}), "");
   std::remove((dir + "/mca_io_romio321.so").c_str());
   std::remove((dir + "/mca_io_romio341.so").c_str());
-  EXPECT_EQ(ranks::mpi::findRomioComponent({dir}), "");
+  EXPECT_EQ(job::distributed::mpi::findRomioComponent({dir}), "");
 
   const std::string installed = romioComponent();  // what ompi_info lists
-  EXPECT_EQ(ranks::mpi::findRomioComponent(ranks::mpi::componentDirectories()), installed);
+  EXPECT_EQ(
+      job::distributed::mpi::findRomioComponent(job::distributed::mpi::componentDirectories()),
+      installed);
   const char* users = std::getenv("OMPI_MCA_io");  // put back at the end
   const std::string before = users ? users : "";
   setenv("OMPI_MCA_io", "ompio", 1);
-  EXPECT_EQ(ranks::mpi::preferRomio(), "as OMPI_MCA_io says (ompio)");
+  EXPECT_EQ(job::distributed::mpi::preferRomio(), "as OMPI_MCA_io says (ompio)");
   EXPECT_STREQ(std::getenv("OMPI_MCA_io"), "ompio");
   unsetenv("OMPI_MCA_io");
   if (installed.empty()) {
-    EXPECT_EQ(ranks::mpi::preferRomio(), "OMPIO (this Open MPI has no ROMIO component that loads)");
+    EXPECT_EQ(job::distributed::mpi::preferRomio(),
+              "OMPIO (this Open MPI has no ROMIO component that loads)");
     EXPECT_EQ(std::getenv("OMPI_MCA_io"), nullptr);
   } else {
-    EXPECT_EQ(ranks::mpi::preferRomio(), "ROMIO (" + installed + ")");
+    EXPECT_EQ(job::distributed::mpi::preferRomio(), "ROMIO (" + installed + ")");
     EXPECT_EQ(std::getenv("OMPI_MCA_io"), installed);
   }
   if (users)
@@ -321,11 +325,11 @@ TEST_F(Mpi, AFullDiskOnOneRankStopsTheRunWithOneLineAndRecordsIt) {
   // own frame 0, views and statuses too) or rank 1's: mpirun ends without hanging, the failing
   // rank says so in one line (no HDF5 error stack), the cache holds frames equal to the single
   // process's and its status says it stopped (recorded by rank 0, or by the recorder rank 0
-  // starts when it cannot, job/distributed/StatusRecorder.h). Through ROMIO, which returns the error on the
-  // failing rank, where the watch of sim/ranks/mpi/FileErrorWatch.h ends a rank left waiting in a
-  // collective call after it; Open MPI's OMPIO 4.1.4 hangs inside some collective writes that
-  // fail on one rank (docs/scaling.md), so the ranks ask for ROMIO themselves: the runs here
-  // leave OMPI_MCA_io unset, as a user's would be.
+  // starts when it cannot, job/distributed/StatusRecorder.h). Through ROMIO, which returns the
+  // error on the failing rank, where the watch of job/distributed/mpi/FileErrorWatch.h ends a rank
+  // left waiting in a collective call after it; Open MPI's OMPIO 4.1.4 hangs inside some collective
+  // writes that fail on one rank (docs/scaling.md), so the ranks ask for ROMIO themselves: the runs
+  // here leave OMPI_MCA_io unset, as a user's would be.
   if (romioComponent().empty()) GTEST_SKIP() << "this Open MPI has no ROMIO component";
   const std::string before = "timeout 60";
   long counts[2] = {0, 0};

@@ -22,7 +22,6 @@ ALLOWED = {
     'sim/scene': SIM,
     'sim/grid': SIM,
     'sim/ranks': SIM | {'sim/grid'},
-    'sim/ranks/mpi': SIM | {'sim/ranks'},
     'sim/solver': SIM | {'sim/scene', 'sim/grid', 'sim/ranks'},
     'sim/collision': SIM | {'sim/scene', 'sim/grid'},
     'sim/cdt': SIM | {'sim/scene', 'sim/grid', 'sim/solver', 'sim/collision'},
@@ -50,7 +49,8 @@ ALLOWED.update({
 ALL_IO = {'io', 'io/cache', 'io/scene', 'io/exports'}
 ALL_RENDER = {f for f in ALLOWED if f.startswith('render/')}
 ALLOWED.update({
-    'job/distributed': ALL_SIM | ALL_IO | {'sim/ranks/mpi'},
+    'job/distributed/mpi': SIM | {'sim/ranks'},
+    'job/distributed': ALL_SIM | ALL_IO | {'job/distributed/mpi'},
     'job': ALL_SIM | ALL_IO | ALL_RENDER | {'job/distributed'},
     'bench/sweep': None,  # a library of the benches and of `sphsplat bench`: anything but app/
     'app': None,          # the top: anything
