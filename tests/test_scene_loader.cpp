@@ -25,7 +25,8 @@ std::string errorOf(const std::string& text, const std::vector<std::string>& ove
 }
 
 TEST(SceneLoader, LoadsEveryShippedScene) {
-  for (const char* name : {"dam_break", "still_tank", "pour", "rain_pour", "rain_fill"}) {
+  for (const char* name :
+       {"dam_break", "still_tank", "pour", "jug_pour", "rain_pour", "rain_fill"}) {
     const scene::Scene s = test::shippedScene(name);
     EXPECT_EQ(s.name, name);
     EXPECT_GT(s.solver.spacing, 0.0f);
