@@ -12,33 +12,27 @@
 
 #include "app/CliChecks.h"
 #include "app/Commands.h"
-#include "job/distributed/DistributedRun.h"
-#include "job/Version.h"
 #include "io/MessageText.h"
+#include "job/Version.h"
+#include "job/distributed/DistributedRun.h"
+#include "job/distributed/Launch.h"
 #include "render/gl/GlError.h"
 #include "sim/InputError.h"
-#ifdef SPHSPLAT_MPI
-#include "sim/ranks/mpi/FileErrorWatch.h"
-#include "sim/ranks/mpi/MpiCommunicator.h"
-#endif
 
 namespace sph::app {
 
 int runCommandLine(int argc, char** argv) {
   // Errors are told once: by the only process, or by rank 0 (every rank meets the same ones).
   const auto tell = [](const char* format, const char* what) {
-#ifdef SPHSPLAT_MPI
-    sph::ranks::mpi::noteStopping();
-#endif
+    job::distributed::noteStopping();
     // One line whatever it quotes (a path or a scene's name with a newline or ESC in it).
-    if (job::distributed::isRootProcess() || job::distributed::inLockstep()) std::fprintf(stderr, format, io::oneLine(what).c_str());
-#ifdef SPHSPLAT_MPI
+    if (job::distributed::isRootProcess() || job::distributed::inLockstep())
+      std::fprintf(stderr, format, io::oneLine(what).c_str());
     // This rank alone failed while the others wait in a collective: end them all.
     if (job::distributed::inLockstep()) {
       std::fflush(stderr);
-      sph::ranks::mpi::MpiSession::abortAll(2);
+      job::distributed::abortAllRanks(2);
     }
-#endif
   };
   CLI::App app{"sphsplat " SPHSPLAT_VERSION_STRING
                ": SPH fluid simulation with an image-based collision pass and splat rendering.\n"

@@ -1,5 +1,5 @@
 // `sphsplat export CACHE --frames F --format csv|ply|vtu -o OUT`: frames of a cache as files for
-// tools that read neither HDF5 nor XDMF (io/export/ParticleExport.h). One frame goes to OUT; a
+// tools that read neither HDF5 nor XDMF (io/exports/ParticleExport.h). One frame goes to OUT; a
 // sequence goes to numbered files, OUT being a name with %05d (or %d) where the frame number goes,
 // or a directory. Nothing existing is replaced without --overwrite, the cache itself never, and
 // each file is written under a temporary name and renamed once complete (io/UserFiles.h).
@@ -15,7 +15,7 @@
 #include "io/UserFiles.h"
 #include "io/cache/CacheReader.h"
 #include "io/cache/XdmfWriter.h"
-#include "io/export/ParticleExport.h"
+#include "io/exports/ParticleExport.h"
 #include "job/CacheScene.h"
 #include "job/OutputNames.h"
 #include "sim/InputError.h"
@@ -44,25 +44,26 @@ std::string formatOf(const ExportOptions& o) {
                    " does not say which)");
 }
 
-void writeFile(const std::string& path, const std::string& format, const io::ExportFrame& frame) {
+void writeFile(const std::string& path, const std::string& format,
+               const io::exports::ExportFrame& frame) {
   job::writeOutput(path, "the export", [&](std::FILE* out) {
     if (format == "csv")
-      io::writeCsv(out, frame);
+      io::exports::writeCsv(out, frame);
     else if (format == "ply")
-      io::writePly(out, frame);
+      io::exports::writePly(out, frame);
     else
-      io::writeVtu(out, frame);
+      io::exports::writeVtu(out, frame);
   });
 }
 
 int exportFrames(const ExportOptions& o) {
   const std::string format = formatOf(o);
-  const io::CacheReader reader(o.cache);
-  const io::CacheSummary& s = reader.summary();
+  const io::cache::CacheReader reader(o.cache);
+  const io::cache::CacheSummary& s = reader.summary();
   // Files the export reads, which no output may replace whatever path names them.
   const std::vector<io::ReadFile> reads = {
       {o.cache, "the cache being exported"},
-      {io::XdmfWriter::sidecarPath(o.cache), "the cache's XDMF sidecar"}};
+      {io::cache::XdmfWriter::sidecarPath(o.cache), "the cache's XDMF sidecar"}};
 
   std::vector<std::size_t> frames;
   if (o.boundary) {
@@ -90,12 +91,12 @@ int exportFrames(const ExportOptions& o) {
     if (!error.empty()) throw InputError("--fields: " + io::printable(error, 240));
   }
 
-  std::vector<io::PvdEntry> collection;
+  std::vector<io::exports::PvdEntry> collection;
   std::size_t fewest = static_cast<std::size_t>(-1), most = 0;
   std::string what;
   for (std::size_t k = 0; k < files; ++k) {
     Particles particles;
-    io::ExportFrame frame;
+    io::exports::ExportFrame frame;
     frame.particles = &particles;
     if (o.boundary) {
       std::vector<std::vector<float>> b = reader.readBoundary();
@@ -121,7 +122,7 @@ int exportFrames(const ExportOptions& o) {
   }
   if (pvd) {
     io::AtomicOutput out(names.pvd());
-    io::writePvd(out.file(), collection);
+    io::exports::writePvd(out.file(), collection);
     out.commit();
   }
   if (o.output == "-") return job::exitAfterReading(s);

@@ -25,11 +25,11 @@ struct InfoOptions {
   bool listFrames = false;
 };
 
-std::string describeStatus(const io::CacheSummary& s) {
+std::string describeStatus(const io::cache::CacheSummary& s) {
   if (s.status.rfind("running", 0) != 0) return s.status;
   const std::string last =
       s.frames.empty() ? std::string("no frame") : "frame " + std::to_string(s.frames.size() - 1);
-  if (io::cacheIsLocked(s.path) || io::OutputLock::isHeld(s.path))
+  if (io::cache::cacheIsLocked(s.path) || io::OutputLock::isHeld(s.path))
     return "running: a sphsplat run is writing it now (" + last + " so far)";
   return "unfinished: its run was killed or crashed after " + last +
          " (every frame listed is complete; continue with sphsplat run SCENE --resume " + s.path +
@@ -37,8 +37,8 @@ std::string describeStatus(const io::CacheSummary& s) {
 }
 
 int info(const InfoOptions& o) {
-  const io::CacheReader reader(o.cache);
-  const io::CacheSummary& s = reader.summary();
+  const io::cache::CacheReader reader(o.cache);
+  const io::cache::CacheSummary& s = reader.summary();
   const std::size_t n = s.frames.size();
   std::printf("%s: sphsplat cache (format %lld, written by sphsplat %s, created %s)\n",
               s.path.c_str(), static_cast<long long>(s.formatVersion), s.programVersion.c_str(),
@@ -53,7 +53,7 @@ int info(const InfoOptions& o) {
                 s.frames.front().time, s.frames.back().time, s.fps);
     std::size_t lo = s.frames[0].particles, hi = lo;
     double total = 0;
-    for (const io::CacheFrame& f : s.frames) {
+    for (const io::cache::CacheFrame& f : s.frames) {
       lo = std::min(lo, f.particles), hi = std::max(hi, f.particles);
       total += static_cast<double>(f.particles);
     }
@@ -75,7 +75,7 @@ int info(const InfoOptions& o) {
       s.compression > 0 ? ("deflate " + std::to_string(s.compression) + " + shuffle").c_str()
                         : "uncompressed");
   const auto resumable = std::count_if(s.frames.begin(), s.frames.end(),
-                                       [](const io::CacheFrame& f) { return f.hasRestart; });
+                                       [](const io::cache::CacheFrame& f) { return f.hasRestart; });
   std::printf("  resume     %s\n",
               s.restart ? (std::to_string(resumable) + " frames have a resume record").c_str()
                         : "no resume records (output.restart = false)");
@@ -92,11 +92,11 @@ int info(const InfoOptions& o) {
               static_cast<long long>(s.threads), s.threads == 1 ? "" : "s");
   std::string rendered;
   for (const auto& [name, frames] : s.renderers)
-    rendered += (rendered.empty() ? "" : "; ") + name + " " + io::describeFrames(frames);
+    rendered += (rendered.empty() ? "" : "; ") + name + " " + io::cache::describeFrames(frames);
   std::printf("  rendered   %s\n", rendered.empty() ? "none" : rendered.c_str());
   // The rain's drops beside the frames (io/cache/RainCache.h); nothing is printed for a cache without.
   std::size_t rainFrames = 0, rainDrops = 0;
-  for (const io::CacheFrame& f : s.frames) {
+  for (const io::cache::CacheFrame& f : s.frames) {
     if (f.rainDrops > 0) ++rainFrames, rainDrops = f.rainDrops;
   }
   if (rainFrames > 0)
@@ -114,10 +114,10 @@ int info(const InfoOptions& o) {
   if (!s.damagedFrame.empty())
     std::printf("  damaged    %s (frames after it are not listed)\n", s.damagedFrame.c_str());
   std::printf("  ParaView   paraview %s   (or open %s with the H5Part reader)\n",
-              io::XdmfWriter::sidecarPath(s.path).c_str(), s.path.c_str());
+              io::cache::XdmfWriter::sidecarPath(s.path).c_str(), s.path.c_str());
   if (o.listFrames) {
     std::printf("  frame        time (s)   particles       steps  resume\n");
-    for (const io::CacheFrame& f : s.frames) {
+    for (const io::cache::CacheFrame& f : s.frames) {
       std::printf("  %5zu %15.9g %11zu %11llu  %s\n", f.index, f.time, f.particles,
                   static_cast<unsigned long long>(f.step), f.hasRestart ? "yes" : "no");
     }

@@ -18,7 +18,7 @@
 #include "io/UserFiles.h"
 #include "io/cache/CacheReader.h"
 #include "io/cache/XdmfWriter.h"
-#include "io/export/MeshFiles.h"
+#include "io/exports/MeshFiles.h"
 #include "job/CacheScene.h"
 #include "job/OutputNames.h"
 #include "render/mesh/SurfaceMesh.h"
@@ -59,20 +59,21 @@ std::string formatOf(const MeshOptions& o) {
   return ext == "obj" ? "obj" : "ply";
 }
 
-void writeMesh(const std::string& path, const std::string& format, const io::MeshView& mesh) {
+void writeMesh(const std::string& path, const std::string& format,
+               const io::exports::MeshView& mesh) {
   job::writeOutput(path, "the mesh", [&](std::FILE* out) {
     if (format == "obj")
-      io::writeMeshObj(out, mesh, path);
+      io::exports::writeMeshObj(out, mesh, path);
     else
-      io::writeMeshPly(out, mesh, path);
+      io::exports::writeMeshPly(out, mesh, path);
   });
 }
 
 int meshFrames(const MeshOptions& o) {
   setThreadCount(o.threads);
   const std::string format = formatOf(o);
-  const io::CacheReader reader(o.cache);
-  const io::CacheSummary& s = reader.summary();
+  const io::cache::CacheReader reader(o.cache);
+  const io::cache::CacheSummary& s = reader.summary();
   const scene::Scene scene = job::sceneOfCache(s, o.overrides);
   const scene::RenderDesc desc = scene.render ? *scene.render : scene::RenderDesc{};
   const std::vector<std::size_t> frames =
@@ -81,7 +82,7 @@ int meshFrames(const MeshOptions& o) {
                                "--out");
   const std::vector<io::ReadFile> reads = {
       {o.cache, "the cache being meshed"},
-      {io::XdmfWriter::sidecarPath(o.cache), "the cache's XDMF sidecar"}};
+      {io::cache::XdmfWriter::sidecarPath(o.cache), "the cache's XDMF sidecar"}};
   // Every output is checked before the first is written.
   std::vector<std::string> paths;
   for (const std::size_t f : frames) paths.push_back(names.file(f));
@@ -110,7 +111,7 @@ int meshFrames(const MeshOptions& o) {
     const float SD = render::splat::surfaceDensity(field, desc.surfaceThreshold);
     const render::mesh::SurfaceMesh mesh = render::mesh::extractSurface(field, SD, cellSize);
     meshSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    io::MeshView view;
+    io::exports::MeshView view;
     view.positions = mesh.positions.data(), view.normals = mesh.normals.data();
     view.vertices = mesh.vertexCount();
     view.triangles = mesh.triangles.data(), view.triangleCount = mesh.triangleCount();

@@ -19,7 +19,7 @@ std::function<int()> addRunCommand(CLI::App& app) {
       ->check(threadsCheck());
   cmd->add_option("--end", o->end,
                   "Simulated end time in seconds, up to 1e6 (overrides solver.end_time)")
-      ->check(positiveUpTo(io::kMaxEndTime, "seconds"));
+      ->check(positiveUpTo(io::scene::kMaxEndTime, "seconds"));
   cmd->add_option("--set", o->overrides,
                   "Override a scene key before validation, KEY.PATH=VALUE, repeatable\n"
                   "(e.g. --set solver.spacing=0.01 --set fluids[0].velocity=[1,0,0])");

@@ -78,8 +78,8 @@ std::string reproduceCommand(const job::RunRequest& o, const run::RunPlan& plan,
 // What the run is about to do: particles, the main derived numbers and, with --verbose, the
 // domain and every piece of work the scene skips (docs/benchmarks.md, "What a scene skips").
 void printHeader(const job::RunRequest& o, const scene::Scene& scene, const run::Simulation& sim,
-                 std::size_t fluidParticles, const io::CacheSession* cache, double setupSeconds,
-                 const run::MemoryEstimate& memory) {
+                 std::size_t fluidParticles, const io::cache::CacheSession* cache,
+                 double setupSeconds, const run::MemoryEstimate& memory) {
   const solver::DerivedParams& d = sim.params();
   const double frameInterval = 1.0 / scene.output.fps;
   std::printf("%s: %zu fluid particles, %zu boundary particles, %s%d thread%s\n",

@@ -24,8 +24,8 @@ std::string reproduceCommand(const job::RunRequest& o, const run::RunPlan& plan,
 // numbers and, with --verbose, the domain and every piece of work the scene skips
 // (docs/benchmarks.md, "What a scene skips").
 void printHeader(const job::RunRequest& o, const scene::Scene& scene, const run::Simulation& sim,
-                 std::size_t fluidParticles, const io::CacheSession* cache, double setupSeconds,
-                 const run::MemoryEstimate& memory);
+                 std::size_t fluidParticles, const io::cache::CacheSession* cache,
+                 double setupSeconds, const run::MemoryEstimate& memory);
 // The share of the run's time in each pass (--verbose).
 void printPassSplit(const solver::StepProfile& profile);
 

@@ -9,14 +9,14 @@
 #include <string>
 #include <vector>
 
-#include "job/CacheRain.h"
-#include "job/CacheRendering.h"
-#include "job/CacheScene.h"
 #include "app/CliChecks.h"
 #include "app/Commands.h"
 #include "io/MessageText.h"
 #include "io/cache/CacheReader.h"
-#include "io/export/Png.h"
+#include "io/exports/Png.h"
+#include "job/CacheRain.h"
+#include "job/CacheRendering.h"
+#include "job/CacheScene.h"
 #include "render/compose/SceneFrame.h"
 #include "render/frame/HudText.h"
 #include "render/frame/ReadPicture.h"
@@ -72,12 +72,12 @@ struct ViewerState {
 
 void saveScreenshot(const std::string& path, int width, int height) {
   const render::frame::RenderImage shot = render::frame::readWindow(width, height);
-  io::writePng(path, width, height, shot.rgb.data());
+  io::exports::writePng(path, width, height, shot.rgb.data());
   io::sayWritten(path);
 }
 
 int view(const ViewOptions& o) {
-  io::CacheReader reader(o.cache);
+  io::cache::CacheReader reader(o.cache);
   const scene::Scene scene = job::sceneOfCache(reader.summary(), o.overrides);
   if (reader.frameCount() == 0)
     throw InputError(o.cache + ": the cache has no complete frame to show");
@@ -228,8 +228,8 @@ int view(const ViewOptions& o) {
     const bool last = o.exitAfter > 0 && drawn >= o.exitAfter;
     if (s.screenshot || (last && !o.screenshot.empty())) {
       saveScreenshot(
-          o.screenshot.empty() ? io::framePngName("sphsplat_view", s.frame) : o.screenshot, size[0],
-          size[1]);
+          o.screenshot.empty() ? io::exports::framePngName("sphsplat_view", s.frame) : o.screenshot,
+          size[0], size[1]);
       s.screenshot = false;
     }
     window.swapBuffers();

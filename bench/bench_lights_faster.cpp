@@ -46,10 +46,10 @@
 #include <utility>
 #include <vector>
 
-#include "job/OpenMpSpinLimit.h"
 #include "bench/Fig11Scene.h"
-#include "io/export/Png.h"
+#include "io/exports/Png.h"
 #include "io/scene/SceneLoader.h"
+#include "job/OpenMpSpinLimit.h"
 #include "render/gl/GlContext.h"
 #include "render/lights/CpuShading.h"
 #include "render/lights/LightCulling.h"
@@ -205,7 +205,7 @@ void cpu() {
   }
   // The fireflies' frame (range 2.5 voxels: the shader visits 7^3 voxels a light).
   const scene::Scene scene =
-      io::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/fireflies.json");
+      io::scene::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/fireflies.json");
   scene::LightsDesc d = *scene.lights;
   const std::vector<sph::lights::LightParticle> lights =
       sph::lights::lightParticles(d, Particles{}, 0.2, sph::lights::lightSolids(scene));
@@ -284,8 +284,8 @@ void frame() {
       last = std::move(image);
     }
     if (!png.empty())
-      io::writePng(png + "-" + std::to_string(n) + ".png", last.width, last.height,
-                   last.rgb.data());
+      io::exports::writePng(png + "-" + std::to_string(n) + ".png", last.width, last.height,
+                            last.rgb.data());
     std::printf("%-8zu %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9zu\n", n, 1e3 * tAll,
                 1e3 * tCulled, 1e3 * gbuffer, 1e3 * particles, 1e3 * lighting, 1e3 * drawn,
                 1e3 * (tCulled + drawn), 1e3 * cpuCulled, 1e3 * cpuDraw, world.solids.triangles());
@@ -295,7 +295,7 @@ void frame() {
 
 void fireflies() {
   const scene::Scene scene =
-      io::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/fireflies.json");
+      io::scene::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/fireflies.json");
   scene::LightsDesc d = *scene.lights;
   d.accumulate = accumulate;
   const std::vector<sph::lights::LightParticle> lights =

@@ -24,7 +24,7 @@ namespace {
 
 const scene::Scene& rainPour() {
   static const scene::Scene s =
-      io::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/rain_pour.json");
+      io::scene::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/rain_pour.json");
   return s;
 }
 

@@ -32,8 +32,8 @@ namespace {
 
 // The dam break at a / dx = 20 (6400 fluid, ~24k boundary particles), as in docs/benchmarks.md.
 sph::scene::Scene damBreak() {
-  return sph::io::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/dam_break.json",
-                            {"solver.spacing=0.0073"});
+  return sph::io::scene::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/dam_break.json",
+                                   {"solver.spacing=0.0073"});
 }
 
 double residentMb() {

@@ -22,8 +22,8 @@ std::string spacingFor(double n) {
 }
 
 sph::scene::Scene damBreak(double n) {
-  return sph::io::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/dam_break.json",
-                            {spacingFor(n)});
+  return sph::io::scene::loadScene(std::string(SPHSPLAT_SOURCE_DIR) + "/scenes/dam_break.json",
+                                   {spacingFor(n)});
 }
 
 void NeighbourGridBuild(benchmark::State& state) {

@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   const scene::Scene scene =
-      io::loadScene(argv[1], std::vector<std::string>(argv + 3, argv + argc));
+      io::scene::loadScene(argv[1], std::vector<std::string>(argv + 3, argv + argc));
   if (!scene.rain || !scene.camera) {
     std::fprintf(stderr, "%s: no rain or no camera\n", argv[1]);
     return 2;
@@ -32,7 +32,7 @@ int main(int argc, char** argv) {
   for (const scene::BoundaryShape& b : scene.boundaries)
     solids.emplace_back(b, scene.solver.wallThickness());
   const float aspect = rain::RainStepper::sceneAspect(scene);
-  const io::CacheReader reader(argv[2]);
+  const io::cache::CacheReader reader(argv[2]);
   double least = 1, mean = 0;
   std::printf("frame,time,visible,in_view\n");
   for (std::size_t k = 0; k < reader.frameCount(); ++k) {

@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
   for (int a = 5; a < argc; ++a) set.emplace_back(argv[a]);
   sph::scene::Scene scene;
   try {
-    scene = sph::io::loadScene(SPHSPLAT_SOURCE_DIR "/scenes/still_tank.json", set);
+    scene = sph::io::scene::loadScene(SPHSPLAT_SOURCE_DIR "/scenes/still_tank.json", set);
   } catch (const std::exception& e) {  // a bad KEY=VALUE: the loader's one line
     std::fprintf(stderr, "%s: %s\n", argv[0], e.what());
     return 2;

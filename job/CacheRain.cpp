@@ -4,11 +4,11 @@
 
 namespace sph::job {
 
-void showCachedRain(render::rain::SceneRain& rain, const io::CacheReader& reader, std::size_t frame,
-                    double time, const Particles& fluid) {
-  const io::CacheSummary& s = reader.summary();
+void showCachedRain(render::rain::SceneRain& rain, const io::cache::CacheReader& reader,
+                    std::size_t frame, double time, const Particles& fluid) {
+  const io::cache::CacheSummary& s = reader.summary();
   if (frame < s.frames.size() && s.frames[frame].rainDrops == rain.system().desc().count) {
-    const io::RainFrame drops = io::readRainFrame(reader, frame);
+    const io::cache::RainFrame drops = io::cache::readRainFrame(reader, frame);
     rain.restore(drops.time, drops.positions, drops.generations);
     return;
   }

@@ -11,7 +11,7 @@
 
 namespace sph::job {
 
-void showCachedRain(render::rain::SceneRain& rain, const io::CacheReader& reader, std::size_t frame,
-                    double time, const Particles& fluid);
+void showCachedRain(render::rain::SceneRain& rain, const io::cache::CacheReader& reader,
+                    std::size_t frame, double time, const Particles& fluid);
 
 }  // namespace sph::job

@@ -38,7 +38,7 @@ void applySize(const std::string& size, scene::RenderDesc& d) {
 CacheRendering::CacheRendering(const std::string& path_, const std::vector<std::string>& overrides,
                                const std::string& splat, const std::string& size)
     : path(path_),
-      open(std::make_unique<io::CacheReader>(path_)),
+      open(std::make_unique<io::cache::CacheReader>(path_)),
       summary(open->summary()),
       scene(sceneOfCache(summary, overrides)) {
   desc = scene.render ? *scene.render : scene::RenderDesc{};
@@ -48,8 +48,8 @@ CacheRendering::CacheRendering(const std::string& path_, const std::vector<std::
   if (cameraFromScene) camera = *scene.camera;
 }
 
-io::CacheReader& CacheRendering::reader() {
-  if (!open) open = std::make_unique<io::CacheReader>(path);
+io::cache::CacheReader& CacheRendering::reader() {
+  if (!open) open = std::make_unique<io::cache::CacheReader>(path);
   return *open;
 }
 
@@ -79,7 +79,8 @@ std::array<std::vector<float>, 3> CacheRendering::boundary() {
 void CacheRendering::store(const std::string& renderer, std::size_t frame,
                            const render::frame::RenderImage& image) {
   open.reset();
-  std::unique_ptr<io::CacheWriter> writer = io::CacheWriter::append(path, frameCount());
+  std::unique_ptr<io::cache::CacheWriter> writer =
+      io::cache::CacheWriter::append(path, frameCount());
   writer->writeRenderedFrame(renderer, frame, image.width, image.height, image.rgb.data());
   writer->close();
 }

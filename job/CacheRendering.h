@@ -23,8 +23,8 @@ io::cache::FieldSet fieldsToDraw(const scene::Scene& scene);
 
 struct CacheRendering {
   std::string path;
-  std::unique_ptr<io::CacheReader> open;  // null while the cache is written
-  io::CacheSummary summary;
+  std::unique_ptr<io::cache::CacheReader> open;  // null while the cache is written
+  io::cache::CacheSummary summary;
   scene::Scene scene;
   scene::RenderDesc desc;
   scene::CameraDesc camera;
@@ -33,7 +33,7 @@ struct CacheRendering {
   // `splat`: a render.splat name or empty (the scene's); `size`: WIDTHxHEIGHT or empty.
   CacheRendering(const std::string& path, const std::vector<std::string>& overrides,
                  const std::string& splat, const std::string& size);
-  io::CacheReader& reader();
+  io::cache::CacheReader& reader();
   std::size_t frameCount() const { return summary.frames.size(); }
   double frameTime(std::size_t frame) const { return summary.frames[frame].time; }
   // Positions of `frame` (and velocities where the scene's lights are coloured by speed).

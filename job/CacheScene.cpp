@@ -37,7 +37,7 @@ void checkPositions(const std::vector<float>& x, const std::vector<float>& y,
   }
 }
 
-scene::Scene sceneOfCache(const io::CacheSummary& summary,
+scene::Scene sceneOfCache(const io::cache::CacheSummary& summary,
                           const std::vector<std::string>& extraEdits) {
   std::vector<std::string> edits;
   std::istringstream lines(summary.sceneOverrides);
@@ -46,7 +46,7 @@ scene::Scene sceneOfCache(const io::CacheSummary& summary,
   }
   edits.insert(edits.end(), extraEdits.begin(), extraEdits.end());
   try {
-    return io::parseScene(summary.sceneText, summary.scenePath, edits);
+    return io::scene::parseScene(summary.sceneText, summary.scenePath, edits);
   } catch (const InputError& e) {
     throw InputError(summary.path + ": the scene recorded in the cache: " + e.what());
   }
@@ -109,7 +109,7 @@ std::size_t parseOneFrame(const std::string& text, std::size_t frames, const std
   return range.front();
 }
 
-std::string damageLine(const io::CacheSummary& summary) {
+std::string damageLine(const io::cache::CacheSummary& summary) {
   if (summary.damagedFrame.empty()) return "";
   const std::size_t n = summary.frames.size();
   return "sphsplat: " + io::printablePath(summary.path) + ": damaged cache: frame " +
@@ -117,7 +117,7 @@ std::string damageLine(const io::CacheSummary& summary) {
          ")" + (n ? "; frames 0-" + std::to_string(n - 1) + " are complete" : "");
 }
 
-int exitAfterReading(const io::CacheSummary& summary) {
+int exitAfterReading(const io::cache::CacheSummary& summary) {
   const std::string line = damageLine(summary);
   if (line.empty()) return kOk;
   std::fflush(stdout);

@@ -10,7 +10,7 @@
 
 namespace sph::job {
 
-scene::Scene sceneOfCache(const io::CacheSummary& summary,
+scene::Scene sceneOfCache(const io::cache::CacheSummary& summary,
                           const std::vector<std::string>& extraEdits);
 
 // Positions read from the cache at `path` (frame `frame`'s particles, or its boundary when
@@ -32,9 +32,9 @@ std::size_t parseOneFrame(const std::string& text, std::size_t frames, const std
 // A cache whose frames stop at one that does not read back: "PATH: damaged cache: frame N does
 // not read back (WHAT); frames 0-M are complete" ("" when none does). Its frames are the complete
 // ones, so "all" and "last" mean those: a command that read it says so after its work.
-std::string damageLine(const io::CacheSummary& summary);
+std::string damageLine(const io::cache::CacheSummary& summary);
 // Prints damageLine() to stderr and returns the exit code of a command that has done what the
 // complete frames let it: 2 (bad input) for a damaged cache, else 0.
-int exitAfterReading(const io::CacheSummary& summary);
+int exitAfterReading(const io::cache::CacheSummary& summary);
 
 }  // namespace sph::job

@@ -4,12 +4,12 @@
 #include <string>
 #include <vector>
 
+#include "io/MessageText.h"
+#include "io/exports/Png.h"
 #include "job/CacheRendering.h"
 #include "job/CacheScene.h"
 #include "job/ExitCode.h"
 #include "job/RenderOutput.h"
-#include "io/MessageText.h"
-#include "io/export/Png.h"
 #include "render/compose/SceneFrame.h"
 #include "render/frame/Annotate.h"
 #include "render/gl/GlContext.h"
@@ -74,8 +74,9 @@ void compareParticleLights(CacheRendering& c, std::size_t f, const Particles& p,
           r.name == "exact" ? std::string("reference") : fmt("spec %.2f db", r.specular.psnr)}});
   }
   const render::frame::RenderImage sheet = render::frame::composePanels(panels, 1);
-  const std::string path = out + "/" + io::framePngName(c.scene.name + "_lights_compare", f);
-  io::writePng(path, sheet.width, sheet.height, sheet.rgb.data());
+  const std::string path =
+      out + "/" + io::exports::framePngName(c.scene.name + "_lights_compare", f);
+  io::exports::writePng(path, sheet.width, sheet.height, sheet.rgb.data());
   io::sayWritten(path);
 }
 
@@ -158,8 +159,8 @@ int compareJob(const CompareRequest& o) {
         fmt("point cover %.1f%%  quad %.1f%%", 100 * tp.fraction, 100 * tq.fraction)}},
   };
   const render::frame::RenderImage sheet = render::frame::composePanels(panels, 2, 2);
-  const std::string path = o.out + "/" + io::framePngName(c.scene.name + "_compare", f);
-  io::writePng(path, sheet.width, sheet.height, sheet.rgb.data());
+  const std::string path = o.out + "/" + io::exports::framePngName(c.scene.name + "_compare", f);
+  io::exports::writePng(path, sheet.width, sheet.height, sheet.rgb.data());
   io::sayWritten(path);
   if (c.scene.lights) compareParticleLights(c, f, p, o.out);
   return exitAfterReading(c.reader().summary());

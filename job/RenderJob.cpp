@@ -4,12 +4,12 @@
 #include <string>
 #include <vector>
 
+#include "io/exports/Png.h"
 #include "job/CacheRain.h"
 #include "job/CacheRendering.h"
 #include "job/CacheScene.h"
 #include "job/ExitCode.h"
 #include "job/RenderOutput.h"
-#include "io/export/Png.h"
 #include "render/compose/SceneFrame.h"
 #include "render/gl/GlContext.h"
 #include "sim/scene/Camera.h"
@@ -58,8 +58,9 @@ int renderJob(const RenderRequest& o) {
       const render::frame::RenderImage& image = picture.splats.image;
       seconds += picture.splats.timings.total();
       const std::string path =
-          o.out + "/" + io::framePngName(c.scene.name + "_" + scene::enumName(picture.kind), f);
-      io::writePng(path, image.width, image.height, image.rgb.data());
+          o.out + "/" +
+          io::exports::framePngName(c.scene.name + "_" + scene::enumName(picture.kind), f);
+      io::exports::writePng(path, image.width, image.height, image.rgb.data());
       if (o.toCache) c.store(scene::enumName(picture.kind), f, image);
       if (first.empty()) first = path;
       last = path;

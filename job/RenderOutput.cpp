@@ -5,11 +5,11 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "io/export/Png.h"
 #include "io/UserFiles.h"
-#include "sim/scene/Camera.h"
+#include "io/exports/Png.h"
 #include "sim/InputError.h"
 #include "sim/rain/RainFeed.h"
+#include "sim/scene/Camera.h"
 
 namespace sph::job {
 
@@ -46,7 +46,7 @@ std::string RenderOutput::directoryFor(const scene::Scene& scene, const std::str
 
 std::unique_ptr<RenderOutput> RenderOutput::prepare(const scene::Scene& scene,
                                                     const solver::BoundaryParticles& boundary,
-                                                    io::CacheSession* cache) {
+                                                    io::cache::CacheSession* cache) {
   if (!scene.render) return nullptr;
   const std::string dir = directoryFor(scene, cache ? cache->path() : "");
   makeDirectory(dir);
@@ -54,7 +54,7 @@ std::unique_ptr<RenderOutput> RenderOutput::prepare(const scene::Scene& scene,
 }
 
 RenderOutput::RenderOutput(const scene::Scene& scene, const solver::BoundaryParticles& boundary,
-                           std::string directory, io::CacheSession* cache)
+                           std::string directory, io::cache::CacheSession* cache)
     : context_(render::gl::GlContext::headless()),
       frame_(scene, *scene.render,
              [&] {
@@ -85,8 +85,9 @@ void RenderOutput::frame(const run::Simulation& sim, std::size_t frame) {
     const char* kindName = scene::enumName(p.kind);
     const render::frame::RenderImage& image = p.splats.image;
     seconds_ += p.splats.timings.total();
-    io::writePng(directory_ + "/" + io::framePngName(name_ + "_" + kindName, frame), image.width,
-                 image.height, image.rgb.data());
+    io::exports::writePng(
+        directory_ + "/" + io::exports::framePngName(name_ + "_" + kindName, frame), image.width,
+        image.height, image.rgb.data());
     if (cache_ && desc_.toCache)
       cache_->writeRenderedFrame(kindName, frame, image.width, image.height, image.rgb.data());
     ++images_;

@@ -25,7 +25,7 @@ class RenderOutput final : public run::FrameSink {
   // With a cache, pictures also go into it (render.to_cache).
   static std::unique_ptr<RenderOutput> prepare(const scene::Scene& scene,
                                                const solver::BoundaryParticles& boundary,
-                                               io::CacheSession* cache);
+                                               io::cache::CacheSession* cache);
 
   // Draws output frame `index` of the run (the current state of `sim`).
   void frame(const run::Simulation& sim, std::size_t index) override;
@@ -36,14 +36,14 @@ class RenderOutput final : public run::FrameSink {
 
  private:
   RenderOutput(const scene::Scene& scene, const solver::BoundaryParticles& boundary,
-               std::string directory, io::CacheSession* cache);
+               std::string directory, io::cache::CacheSession* cache);
   render::gl::GlContext context_;  // first: outlives the GL objects below
   render::compose::SceneFrame frame_;
   scene::RenderDesc desc_;
   scene::CameraDesc camera_;
   scene::CameraPath cameraPath_;
   std::string name_, directory_;
-  io::CacheSession* cache_;
+  io::cache::CacheSession* cache_;
   std::size_t images_ = 0;
   double seconds_ = 0;
 };

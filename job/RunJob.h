@@ -28,7 +28,7 @@ struct RunRequest {
   bool verbose = false;
   bool check = false;                  // --check: validate the scene and stop
   std::vector<std::string> overrides;  // --set KEY=VALUE
-  io::CacheSessionOptions cache;
+  io::cache::CacheSessionOptions cache;
 };
 
 // Where a run is, after a step.
@@ -45,7 +45,7 @@ struct RunStart {
   const scene::Scene& scene;
   const run::Simulation& sim;
   std::size_t fluidParticles;     // on all ranks
-  const io::CacheSession* cache;  // null without a cache (or on a rank other than 0)
+  const io::cache::CacheSession* cache;  // null without a cache (or on a rank other than 0)
   double setupSeconds;
   const run::MemoryEstimate& memory;
 };

@@ -39,7 +39,7 @@ void loadScene(RunContext& c) {
   c.ranks = distributed::world();
   c.root = distributed::isRootProcess();
   if (!c.root) c.request.quiet = true, c.request.verbose = false;
-  c.scene = io::loadScene(c.request.scene, c.request.overrides);
+  c.scene = io::scene::loadScene(c.request.scene, c.request.overrides);
   if (c.request.end > 0) c.scene.solver.endTime = c.request.end;
   if (c.ranks) distributed::refuseUnsupported(c.scene, c.ranks->size());
 }
@@ -56,12 +56,12 @@ StageResult checkMachine(RunContext& c) {
 
 StageResult openCache(RunContext& c) {
   if (!c.ranks) {
-    c.cache = io::CacheSession::prepare(c.request.cache, c.scene);
+    c.cache = io::cache::CacheSession::prepare(c.request.cache, c.scene);
   } else {
     // Rank 0's checks stop every rank; prepare() may change the scene (a resume's frame rate),
     // and every rank must run the same scene.
     onRootAgreeing(*c.ranks,
-                   [&] { c.cache = io::CacheSession::prepare(c.request.cache, c.scene); });
+                   [&] { c.cache = io::cache::CacheSession::prepare(c.request.cache, c.scene); });
     ranks::Bytes fps(sizeof(double));
     std::memcpy(fps.data(), &c.scene.output.fps, sizeof(double));
     c.ranks->broadcastFromRoot(fps);
@@ -102,12 +102,13 @@ void resumeOnRanks(RunContext& c) {
   if (c.root) path.assign(c.cache->path().begin(), c.cache->path().end());
   ranks.broadcastFromRoot(path);
   {
-    std::unique_ptr<io::CacheReader> own;
-    if (!c.root) own = std::make_unique<io::CacheReader>(std::string(path.begin(), path.end()));
+    std::unique_ptr<io::cache::CacheReader> own;
+    if (!c.root)
+      own = std::make_unique<io::cache::CacheReader>(std::string(path.begin(), path.end()));
     distributed::ResumePart part =
         distributed::readResumePart(*c.halo, c.root ? c.cache->reader() : *own,
                                     static_cast<std::size_t>(frame[0]), sim.params().h);
-    io::CacheSession::checkRecord(std::string(path.begin(), path.end()), part.state, sim);
+    io::cache::CacheSession::checkRecord(std::string(path.begin(), path.end()), part.state, sim);
     sim.restore(part.state, std::move(part.fluid), std::move(part.keys));
   }
   // Every rank's count (its reader is closed once it is in): the most any rank read.

@@ -34,13 +34,13 @@ struct RunContext {
   bool root = true;
   scene::Scene scene;
   run::MemoryEstimate memory;
-  std::unique_ptr<io::CacheSession> cache;
+  std::unique_ptr<io::cache::CacheSession> cache;
   io::OutputLock framesLock;
   bool resumed = false;  // every rank knows
   std::unique_ptr<ranks::Halo> halo;
   std::unique_ptr<run::Simulation> sim;
   std::uint64_t nextFrame = 1;  // the initial state is frame 0
-  io::CacheProvenance provenance;
+  io::cache::CacheProvenance provenance;
   std::chrono::steady_clock::time_point start;  // of the stepping
   std::unique_ptr<RenderOutput> pictures;
   std::vector<run::FrameSink*> sinks;

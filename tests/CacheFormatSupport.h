@@ -28,11 +28,12 @@ inline WrittenRun writeRun(const std::string& path, std::size_t frames,
                            const std::string& extraOutput = "", std::size_t expectedFrames = 0) {
   setThreadCount(1);  // a unit suite: it must not compete with others for the cores
   WrittenRun run;
-  run.scene = io::parseScene(tinyCacheScene(1.0, 100, extraOutput), path + ".json");
+  run.scene = io::scene::parseScene(tinyCacheScene(1.0, 100, extraOutput), path + ".json");
   run::Simulation sim(run.scene);
-  auto writer = io::CacheWriter::create(path, run.scene, sim.params(), sim.boundary().particles(),
-                                        io::CacheProvenance{"test", 1, {"solver.cfl=0.4"}},
-                                        expectedFrames ? expectedFrames : frames);
+  auto writer =
+      io::cache::CacheWriter::create(path, run.scene, sim.params(), sim.boundary().particles(),
+                                     io::cache::CacheProvenance{"test", 1, {"solver.cfl=0.4"}},
+                                     expectedFrames ? expectedFrames : frames);
   for (std::size_t k = 0; k < frames; ++k) {
     if (k > 0) sim.advanceTo(0.01 * static_cast<double>(k));
     writer->writeFrame(sim.fluid(), sim.runState());

@@ -103,7 +103,7 @@ bool fileExists(const std::string& path) {
 }
 
 void expectSameCache(const std::string& a, const std::string& b) {
-  const io::CacheReader ra(a), rb(b);
+  const io::cache::CacheReader ra(a), rb(b);
   ASSERT_EQ(ra.frameCount(), rb.frameCount());
   for (std::size_t k = 0; k < ra.frameCount(); ++k) {
     EXPECT_EQ(ra.summary().frames[k].time, rb.summary().frames[k].time) << "frame " << k;
@@ -130,7 +130,8 @@ void expectSameCache(const std::string& a, const std::string& b) {
     // The rain's drops stored beside the frame (/Rain#N), bit for bit.
     ASSERT_EQ(ra.summary().frames[k].rainDrops, rb.summary().frames[k].rainDrops) << k;
     if (ra.summary().frames[k].rainDrops == 0) continue;
-    const io::RainFrame da = io::readRainFrame(ra, k), db = io::readRainFrame(rb, k);
+    const io::cache::RainFrame da = io::cache::readRainFrame(ra, k),
+                               db = io::cache::readRainFrame(rb, k);
     EXPECT_EQ(da.time, db.time) << "rain " << k;
     ASSERT_EQ(da.positions.size(), db.positions.size()) << "rain " << k;
     EXPECT_EQ(0, std::memcmp(da.positions.data(), db.positions.data(),

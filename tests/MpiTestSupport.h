@@ -97,7 +97,7 @@ class Mpi : public ::testing::Test {
     reference_ = dir_ + "/plain.h5";
     auto r = runShell(plain(scene_, "-o '" + reference_ + "'"));
     ASSERT_EQ(r.exitCode, 0) << r.output;
-    ASSERT_GT(io::CacheReader(reference_).summary().frames.back().particles, 800u);
+    ASSERT_GT(io::cache::CacheReader(reference_).summary().frames.back().particles, 800u);
   }
   // A shell script: a 2-rank run to 5 s, one rank of it (`pick` of mpirun's children: "head -1"
   // or "tail -1") killed with SIGKILL 3 s after the cache appears; prints "mpirun-exit CODE".

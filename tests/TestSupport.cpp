@@ -24,7 +24,7 @@ std::string sourcePath(const std::string& relative) {
 }
 
 scene::Scene shippedScene(const std::string& name, const std::vector<std::string>& overrides) {
-  return io::loadScene(sourcePath("scenes/" + name + ".json"), overrides);
+  return io::scene::loadScene(sourcePath("scenes/" + name + ".json"), overrides);
 }
 
 std::vector<SurgePoint> martinMoyce() {

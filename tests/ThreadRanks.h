@@ -1,8 +1,8 @@
 // K ranks of sim/ranks in one process, one thread each: a ranks::Communicator whose collectives
 // meet at a barrier and read each other's contributions (the same semantics as
-// sim/ranks/mpi/MpiCommunicator.cpp, no MPI). For the unit tests of sim/ranks that need several ranks
-// (ghost sets, migration) in the default suite; the MPI transport itself is tested through
-// mpirun by tests/test_mpi.cpp.
+// job/distributed/mpi/MpiCommunicator.cpp, no MPI). For the unit tests of sim/ranks that need
+// several ranks (ghost sets, migration) in the default suite; the MPI transport itself is tested
+// through mpirun by tests/test_mpi.cpp.
 #pragma once
 
 #include <algorithm>

@@ -101,7 +101,7 @@ TEST_F(CacheCli, BlowUpKeepsTheFinishedFramesAndNamesTheLastGoodOne) {
   const std::string cache = dir_ + "/fling.h5";
   const auto r = runShell(sphsplat("run '" + scene + "' --threads 1 --quiet -o '" + cache + "'"));
   ASSERT_EQ(r.exitCode, 3) << r.output;
-  const io::CacheReader reader(cache);
+  const io::cache::CacheReader reader(cache);
   const std::size_t frames = reader.frameCount();
   ASSERT_GT(frames, 10u);
   const std::string last = std::to_string(frames - 1);
@@ -147,15 +147,15 @@ TEST_F(CacheCli, InterruptStopsBetweenStepsAndTheRunResumes) {
   const std::string continueWith =
       "continue with: sphsplat run " + scene + " --end 2.5 --threads 1 --resume " + cache;
   EXPECT_NE(log.find(continueWith), std::string::npos) << log;
-  const std::size_t frames = io::CacheReader(cache).frameCount();
+  const std::size_t frames = io::cache::CacheReader(cache).frameCount();
   EXPECT_GT(frames, 0u);
   EXPECT_LT(frames, 251u) << "the run should have been stopped before its end";
-  EXPECT_NE(io::CacheReader(cache).summary().status.find("interrupted by SIGINT"),
+  EXPECT_NE(io::cache::CacheReader(cache).summary().status.find("interrupted by SIGINT"),
             std::string::npos);
   const auto resumed = runShell(
       sphsplat(continueWith.substr(std::string("continue with: sphsplat ").size()) + " --quiet"));
   EXPECT_EQ(resumed.exitCode, 0) << resumed.output;
-  EXPECT_EQ(io::CacheReader(cache).frameCount(), 251u);
+  EXPECT_EQ(io::cache::CacheReader(cache).frameCount(), 251u);
 }
 
 // A full disk (here a file size limit, which fails writes the same way) stops the run with one line
@@ -175,7 +175,7 @@ TEST_F(CacheCli, AFullDiskStopsTheRunWithItsFramesKeptAndSaid) {
       << r.output;
   EXPECT_EQ(lineCount(r.output), 1u) << r.output;
   {  // closed before the resume (HDF5 shares one open file per process)
-    const io::CacheReader reader(cache);
+    const io::cache::CacheReader reader(cache);
     EXPECT_GT(reader.frameCount(), 1u);
     EXPECT_EQ(reader.summary().status.rfind("stopped: writing failed: ", 0), 0u)
         << reader.summary().status;
@@ -185,7 +185,7 @@ TEST_F(CacheCli, AFullDiskStopsTheRunWithItsFramesKeptAndSaid) {
   const auto resumed =
       runShell(sphsplat("run '" + scene + "' --threads 1 --quiet --resume '" + cache + "'"));
   EXPECT_EQ(resumed.exitCode, 0) << resumed.output;
-  EXPECT_EQ(io::CacheReader(cache).frameCount(), 201u);
+  EXPECT_EQ(io::cache::CacheReader(cache).frameCount(), 201u);
   // Full before frame 0 was in: no cache and no partial file at all.
   const std::string none = dir_ + "/none.h5";
   const auto early =

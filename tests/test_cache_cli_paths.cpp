@@ -76,7 +76,7 @@ TEST_F(CacheCli, RefusesToOverwriteUnlessAsked) {
   std::ofstream(copy) << "old contents";
   r = runShell(sphsplat("run '" + scene_ + "' --threads 1 --quiet --overwrite -o '" + copy + "'"));
   EXPECT_EQ(r.exitCode, 0) << r.output;
-  EXPECT_EQ(io::CacheReader(copy).frameCount(), 11u);
+  EXPECT_EQ(io::cache::CacheReader(copy).frameCount(), 11u);
   r = runShell(sphsplat("run '" + scene_ + "' -o '" + dir_ + "/no/such/dir/c.h5'"));
   EXPECT_EQ(r.exitCode, 2);
   EXPECT_EQ(r.output, "sphsplat: " + dir_ + "/no/such/dir/c.h5: cannot create the cache in " +
@@ -92,8 +92,8 @@ TEST_F(CacheCli, NamesNearTheLimitGetTheirLockTemporaryAndSidecar) {
     const auto r = runShell(sphsplat("run '" + scene_ + "' --threads 1 --quiet --end 0.02 -o '" +
                                      cache + "'"));
     EXPECT_EQ(r.exitCode, 0) << bytes << " bytes: " << r.output;
-    EXPECT_EQ(io::CacheReader(cache).frameCount(), 3u) << bytes;
-    const std::string sidecar = io::XdmfWriter::sidecarPath(cache);
+    EXPECT_EQ(io::cache::CacheReader(cache).frameCount(), 3u) << bytes;
+    const std::string sidecar = io::cache::XdmfWriter::sidecarPath(cache);
     EXPECT_TRUE(test::fileExists(sidecar)) << sidecar;
     EXPECT_LE(sidecar.size() - dir_.size() - 1, 255u);
     EXPECT_NE(readFile(sidecar).find(name), std::string::npos) << "the sidecar names the cache";

@@ -71,7 +71,7 @@ class RawReader {
     if (r.error_.empty() && everything) {
       if (H5Ovisit2(file, H5_INDEX_NAME, H5_ITER_NATIVE, visit, &r, H5O_INFO_BASIC) < 0 &&
           r.error_.empty())
-        r.error_ = "visit: " + io::h5::errorText();
+        r.error_ = "visit: " + io::cache::h5::errorText();
     } else if (r.error_.empty()) {
       hsize_t at = 0;
       H5Literate(file, H5_INDEX_NAME, H5_ITER_NATIVE, &at, link, &r);
@@ -90,14 +90,14 @@ class RawReader {
     if (!error_.empty()) return;
     const hid_t set = H5Dopen2(loc, name.c_str(), H5P_DEFAULT);
     if (set < 0) {
-      error_ = name + ": " + io::h5::errorText();
+      error_ = name + ": " + io::cache::h5::errorText();
       return;
     }
     const hid_t type = H5Dget_type(set), space = H5Dget_space(set);
     const hssize_t n = H5Sget_simple_extent_npoints(space);
     std::vector<unsigned char> buffer(static_cast<std::size_t>(n) * H5Tget_size(type) + 1);
     if (n > 0 && H5Dread(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()) < 0)
-      error_ = name + ": " + io::h5::errorText();
+      error_ = name + ": " + io::cache::h5::errorText();
     H5Sclose(space), H5Tclose(type), H5Dclose(set);
   }
   static herr_t attribute(hid_t loc, const char* name, const H5A_info_t*, void* data) {
@@ -108,7 +108,7 @@ class RawReader {
     char* text = nullptr;
     std::vector<unsigned char> buffer(H5Tget_size(type) * 8 + 8);
     if (H5Aread(attr, type, variable ? static_cast<void*>(&text) : buffer.data()) < 0)
-      r->error_ = std::string("attribute ") + name + ": " + io::h5::errorText();
+      r->error_ = std::string("attribute ") + name + ": " + io::cache::h5::errorText();
     if (variable) H5free_memory(text);
     H5Tclose(type), H5Aclose(attr);
     return r->error_.empty() ? 0 : -1;
@@ -156,7 +156,7 @@ TEST_F(CacheConcurrent, EveryMomentOfARenderingRunIsAStateReadersCanOpen) {
   // A resume appends in the same way (the cache opened for writing rather than created).
   const auto resumed = runShell(watched + "--resume '" + cache + "' --end 0.3");
   ASSERT_EQ(resumed.exitCode, 0) << resumed.output;
-  const io::CacheReader reader(cache);
+  const io::cache::CacheReader reader(cache);
   ASSERT_EQ(reader.frameCount(), 31u);
   ASSERT_EQ(reader.summary().renderers.size(), 1u) << "the run stores its pictures";
   EXPECT_EQ(reader.summary().renderers[0].second.size(), 31u);
@@ -176,7 +176,7 @@ struct ReadTally {
 void readRound(const std::string& cache, bool everything, std::size_t& lastFrames, ReadTally& t) {
   // sphsplat's own reader (info, export, render, view).
   try {
-    const io::CacheReader reader(cache);
+    const io::cache::CacheReader reader(cache);
     ++t.opens;
     const std::size_t n = reader.frameCount();
     if (n < lastFrames)
@@ -236,7 +236,7 @@ TEST_F(CacheConcurrent, ReadersReopeningInATightLoopWhileARunWritesNeverFail) {
       readRound(cache, round % 25 == 0, lastFrames, t);
     }
     ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "the run failed";
-    const io::CacheReader done(cache);
+    const io::cache::CacheReader done(cache);
     EXPECT_EQ(done.frameCount(), frames);
     EXPECT_EQ(done.summary().renderers.at(0).second.size(), frames);
   }

@@ -34,7 +34,7 @@ using test::readFile;
 using test::runShell;
 
 std::vector<Particles> readAllFrames(const std::string& path) {
-  io::CacheReader reader(path);
+  io::cache::CacheReader reader(path);
   std::vector<Particles> frames;
   for (std::size_t k = 0; k < reader.frameCount(); ++k) frames.push_back(reader.readFrame(k));
   return frames;
@@ -48,7 +48,7 @@ std::size_t checkKilledCache(const std::string& path, const std::vector<Particle
   if (!fileExists(path)) return 0;  // killed before frame 0 was in: only PATH.partial exists
   std::size_t frames = 0;
   try {
-    io::CacheReader reader(path);
+    io::cache::CacheReader reader(path);
     frames = reader.frameCount();
     if (repaired) *repaired = reader.summary().repaired;
     EXPECT_GE(frames, 1u) << label << ": a published cache holds frame 0";
@@ -221,7 +221,7 @@ TEST_F(CacheCrash, KilledBeforeEveryWriteOfAResumeThatRewritesAnOffGridFrame) {
   ASSERT_EQ(first.exitCode, 0) << first.output;
   std::vector<Particles> offGrid = readAllFrames(cut);
   ASSERT_EQ(offGrid.size(), 4u);
-  ASSERT_EQ(io::CacheReader(cut).summary().frames[3].time, 0.025);
+  ASSERT_EQ(io::cache::CacheReader(cut).summary().frames[3].time, 0.025);
   const std::string resume = "OMP_WAIT_POLICY=PASSIVE " + test::sphsplatBinary() + " run '" +
                              scene_ + "' --threads 1 --quiet --resume ";
   const std::string copy = dir_ + "/resumed.h5";
@@ -239,7 +239,7 @@ TEST_F(CacheCrash, KilledBeforeEveryWriteOfAResumeThatRewritesAnOffGridFrame) {
     const auto r = runShell(fresh + preload() + " SPHSPLAT_KILL_AT_WRITE=" + std::to_string(n) +
                             " " + resume + "'" + copy + "'");
     ASSERT_EQ(r.exitCode, 128 + SIGKILL) << label << "\n" << r.output;
-    const io::CacheSummary s = io::CacheReader(copy).summary();
+    const io::cache::CacheSummary s = io::cache::CacheReader(copy).summary();
     const bool old = s.frames.size() == 4 && s.frames[3].time == 0.025;
     checkKilledCache(copy, old ? offGrid : reference_, label);
     seen[old ? "the off-grid frame" : std::to_string(s.frames.size()) + " frames"]++;
@@ -282,7 +282,7 @@ TEST_F(CacheCrash, AWriteRefusedAtAnyMomentEndsTheRunWithOneLineAndKeepsWhatWasC
       continue;
     }
     const std::size_t frames = checkKilledCache(path, reference_, label);
-    const std::string status = io::CacheReader(path).summary().status;
+    const std::string status = io::cache::CacheReader(path).summary().status;
     const bool finished = status.rfind("finished", 0) == 0;
     EXPECT_TRUE(status.rfind("stopped: writing failed: ", 0) == 0 || finished) << label << status;
     EXPECT_NE(r.output.find(" keeps frames 0-" + std::to_string(frames - 1)), std::string::npos)
@@ -306,17 +306,17 @@ TEST_F(CacheCrash, RecordingAStopOfAKilledRunWritesOnlyOverItsOwnRunningStatus) 
   runShell(preload() + " SPHSPLAT_KILL_AT_WRITE=" + std::to_string(writes_ * 2 / 3) + " " +
            run("record.h5"));
   ASSERT_TRUE(fileExists(path));
-  const auto status = [&] { return io::CacheReader(path).summary().status; };
+  const auto status = [&] { return io::cache::CacheReader(path).summary().status; };
   ASSERT_EQ(status().rfind("running", 0), 0u) << status();
-  const std::size_t frames = io::CacheReader(path).frameCount();
+  const std::size_t frames = io::cache::CacheReader(path).frameCount();
   ASSERT_GE(frames, 2u);
-  io::CacheSession::recordStop(path, "the test's reason", frames - 1);
+  io::cache::CacheSession::recordStop(path, "the test's reason", frames - 1);
   EXPECT_EQ(status().rfind("running", 0), 0u) << "more frames than the run wrote: " << status();
-  io::CacheSession::recordStop(path, "the test's reason", frames);
+  io::cache::CacheSession::recordStop(path, "the test's reason", frames);
   const std::string recorded =
       "stopped: the test's reason; last good frame " + std::to_string(frames - 1) + " (t = ";
   EXPECT_EQ(status().rfind(recorded, 0), 0u) << status();
-  io::CacheSession::recordStop(path, "another reason", frames);
+  io::cache::CacheSession::recordStop(path, "another reason", frames);
   EXPECT_EQ(status().find("another reason"), std::string::npos) << status();
   const std::vector<Particles> kept = readAllFrames(path);
   ASSERT_EQ(kept.size(), frames);

@@ -45,7 +45,7 @@ class CacheFormat : public ::testing::Test {
 TEST_F(CacheFormat, FramesAndResumeRecordsReadBackBitForBit) {
   const std::string path = dir_ + "/roundtrip.h5";
   const WrittenRun run = writeRun(path, 8);
-  const io::CacheReader reader(path);
+  const io::cache::CacheReader reader(path);
   ASSERT_EQ(reader.frameCount(), 8u);
   EXPECT_EQ(reader.summary().status, "finished");
   EXPECT_EQ(reader.summary().sceneName, "tiny");
@@ -182,7 +182,7 @@ TEST_F(CacheFormat, EveryParticlesArrayIsADatasetThatReadsBackBitForBit) {
   const WrittenRun run = writeRun(
       path, 3,
       R"("fields": ["position", "velocity", "acceleration", "rho", "p", "collide_time", "id"])");
-  const io::CacheReader reader(path);
+  const io::cache::CacheReader reader(path);
   EXPECT_EQ(reader.summary().fields.count(), cache::kFieldCount);
   const Particles read = reader.readFrame(2);
   const Particles& written = run.frames[2];
@@ -219,7 +219,7 @@ TEST_F(CacheFormat, OnlyTheFieldsAskedForAreWritten) {
   // Without a collision pass every cooldown stays at its initial value: one attribute.
   EXPECT_EQ(H5Lexists(r, "collide_time", H5P_DEFAULT), 0);
   EXPECT_GT(H5Aexists(r, "collide_time_constant"), 0);
-  const io::CacheReader reader(path);
+  const io::cache::CacheReader reader(path);
   const auto [state, fluid] = reader.readRestart(2);
   EXPECT_EQ(fluid.vx, run.frames[2].vx);
   EXPECT_EQ(fluid.x, run.frames[2].x);
@@ -230,7 +230,7 @@ TEST_F(CacheFormat, OnlyTheFieldsAskedForAreWritten) {
   Id bareFile(openRaw(bare));
   EXPECT_EQ(H5Lexists(bareFile, "Restart#0", H5P_DEFAULT), 0);
   try {
-    io::CacheReader(bare).readRestart(2);
+    io::cache::CacheReader(bare).readRestart(2);
     ADD_FAILURE() << "a cache without resume records was resumed";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("output.restart = false"), std::string::npos) << e.what();
@@ -241,16 +241,16 @@ TEST_F(CacheFormat, VaryingCollisionCooldownsAreRecordedForResume) {
   // With a collision pass the cooldowns differ between particles: the resume record keeps them.
   setThreadCount(1);
   const std::string path = dir_ + "/cooldown.h5";
-  const scene::Scene scene = io::parseScene(test::tinyCacheScene(1.0, 100), path + ".json");
+  const scene::Scene scene = io::scene::parseScene(test::tinyCacheScene(1.0, 100), path + ".json");
   run::Simulation sim(scene);
   Particles fluid = sim.fluid();
   for (std::size_t i = 0; i < fluid.size(); ++i)
     fluid.collideTime[i] = 0.001f * static_cast<float>(i % 7) - 0.002f;
-  auto writer = io::CacheWriter::create(path, scene, sim.params(), sim.boundary().particles(),
-                                        {"test", 1, {}}, 1);
+  auto writer = io::cache::CacheWriter::create(path, scene, sim.params(),
+                                               sim.boundary().particles(), {"test", 1, {}}, 1);
   writer->writeFrame(fluid, sim.runState());
   writer->close();
-  const auto [state, back] = io::CacheReader(path).readRestart(0);
+  const auto [state, back] = io::cache::CacheReader(path).readRestart(0);
   EXPECT_EQ(back.collideTime, fluid.collideTime);
 }
 
@@ -264,25 +264,25 @@ TEST_F(CacheFormat, CompressionOffAndDoublePositions) {
   Id dcpl(H5Dget_create_plist(x));
   EXPECT_EQ(H5Pget_nfilters(dcpl), 0);
   EXPECT_EQ(H5Pget_layout(dcpl), H5D_CONTIGUOUS);
-  const io::CacheReader reader(path);
+  const io::cache::CacheReader reader(path);
   EXPECT_TRUE(test::sameBits(run.frames[1], reader.readFrame(1)));
 }
 
 TEST_F(CacheFormat, XdmfSidecarIsWellFormedAndPointsAtExistingDatasets) {
   const std::string path = dir_ + "/side.h5";
   writeRun(path, 5);
-  const io::CacheReader reader(path);
-  const io::CacheSummary& s = reader.summary();
-  const std::string xdmfPath = io::XdmfWriter::sidecarPath(path);
+  const io::cache::CacheReader reader(path);
+  const io::cache::CacheSummary& s = reader.summary();
+  const std::string xdmfPath = io::cache::XdmfWriter::sidecarPath(path);
   EXPECT_EQ(xdmfPath, dir_ + "/side.xdmf");
   {
     // Written with two frames, then three appended one by one, as a run does.
-    std::vector<io::CacheFrame> first(s.frames.begin(), s.frames.begin() + 2);
-    io::XdmfWriter xdmf(xdmfPath, "side.h5", s.fields, false, s.boundaryParticles, first);
+    std::vector<io::cache::CacheFrame> first(s.frames.begin(), s.frames.begin() + 2);
+    io::cache::XdmfWriter xdmf(xdmfPath, "side.h5", s.fields, false, s.boundaryParticles, first);
     for (std::size_t k = 2; k < 5; ++k) xdmf.append(s.frames[k]);
   }
-  io::XdmfWriter whole(dir_ + "/whole.xdmf", "side.h5", s.fields, false, s.boundaryParticles,
-                       s.frames);
+  io::cache::XdmfWriter whole(dir_ + "/whole.xdmf", "side.h5", s.fields, false, s.boundaryParticles,
+                              s.frames);
   EXPECT_EQ(test::readFile(xdmfPath), test::readFile(dir_ + "/whole.xdmf"))
       << "appending equals writing at once";
   // Python's XML parser lists every time and every HDF5 reference with its length.
@@ -339,7 +339,7 @@ TEST_F(CacheFormat, RenderedFramesRoundTripUnderTheirRenderer) {
   std::vector<std::uint8_t> image(w * h * 3);
   for (std::size_t i = 0; i < image.size(); ++i) image[i] = static_cast<std::uint8_t>(i * 7);
   {
-    auto writer = io::CacheWriter::append(path, 2);
+    auto writer = io::cache::CacheWriter::append(path, 2);
     writer->writeRenderedFrame("point", 1, w, h, image.data());
     writer->writeRenderedFrame("pyramid", 0, w, h, image.data());
     EXPECT_THROW(writer->writeRenderedFrame("point", 1, w, h, image.data()), InputError)
@@ -350,14 +350,14 @@ TEST_F(CacheFormat, RenderedFramesRoundTripUnderTheirRenderer) {
         << "no such frame";
     writer->close();
   }
-  const io::CacheReader reader(path);
+  const io::cache::CacheReader reader(path);
   ASSERT_EQ(reader.summary().renderers.size(), 2u);
   EXPECT_EQ(reader.summary().renderers[0].first, "point");
   EXPECT_EQ(reader.summary().renderers[0].second, std::vector<std::size_t>{1})
       << "a picture of frame 1 alone counts (render.every pictures skip frames)";
   EXPECT_EQ(reader.summary().renderers[1].second, std::vector<std::size_t>{0});
   EXPECT_THROW(reader.readRenderedFrame("point", 0), InputError) << "no picture of frame 0";
-  const io::RenderedFrame back = reader.readRenderedFrame("pyramid", 0);
+  const io::cache::RenderedFrame back = reader.readRenderedFrame("pyramid", 0);
   EXPECT_EQ(back.width, w);
   EXPECT_EQ(back.height, h);
   EXPECT_EQ(back.rgb, image);
@@ -373,12 +373,12 @@ TEST_F(CacheFormat, RenderedFramesRoundTripUnderTheirRenderer) {
 
 TEST(CacheReader, DescribesTheFramesARendererHasPicturesOf) {
   using V = std::vector<std::size_t>;
-  EXPECT_EQ(sph::io::describeFrames(V{}), "no frame");
-  EXPECT_EQ(sph::io::describeFrames(V{5}), "1 frame (5)");
-  EXPECT_EQ(sph::io::describeFrames(V{0, 1}), "2 frames (0, 1)");
-  EXPECT_EQ(sph::io::describeFrames(V{0, 1, 2, 3}), "4 frames (0-3)");
-  EXPECT_EQ(sph::io::describeFrames(V{0, 10, 20, 30}), "4 frames (0-30, every 10 frames)");
-  EXPECT_EQ(sph::io::describeFrames(V{1, 4, 9}), "3 frames (1, 4, 9)");
-  EXPECT_EQ(sph::io::describeFrames(V{0, 1, 2, 3, 4, 5, 6, 7, 9, 11}),
+  EXPECT_EQ(sph::io::cache::describeFrames(V{}), "no frame");
+  EXPECT_EQ(sph::io::cache::describeFrames(V{5}), "1 frame (5)");
+  EXPECT_EQ(sph::io::cache::describeFrames(V{0, 1}), "2 frames (0, 1)");
+  EXPECT_EQ(sph::io::cache::describeFrames(V{0, 1, 2, 3}), "4 frames (0-3)");
+  EXPECT_EQ(sph::io::cache::describeFrames(V{0, 10, 20, 30}), "4 frames (0-30, every 10 frames)");
+  EXPECT_EQ(sph::io::cache::describeFrames(V{1, 4, 9}), "3 frames (1, 4, 9)");
+  EXPECT_EQ(sph::io::cache::describeFrames(V{0, 1, 2, 3, 4, 5, 6, 7, 9, 11}),
             "10 frames (0, 1, 2, 3, 4, 5, 6, 7, ... 11)");
 }

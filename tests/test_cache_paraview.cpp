@@ -285,7 +285,7 @@ void expectWhatTheCacheHolds(const json& readers, const std::string& cachePath,
                              const std::vector<std::string>& names = {
                                  "Xdmf3ReaderS", "Xdmf3ReaderT", "XDMFReader", "H5PartReader",
                                  "PVDReader"}) {
-  const io::CacheReader cache(cachePath);
+  const io::cache::CacheReader cache(cachePath);
   const std::vector<std::vector<float>> boundary = cache.readBoundary();
   for (const std::string& name : names) {
     SCOPED_TRACE(name);
@@ -352,7 +352,7 @@ TEST_F(CacheParaView, AnEmptyFirstFrameShowsTheBoundaryAlone) {
   scene.erase(fluids, scene.find('\n', fluids) + 1 - fluids);
   const json readers = readWithParaView(scene, "pour");
   expectWhatAUserSees(readers);
-  ASSERT_EQ(io::CacheReader(dir_ + "/pour.h5").readFrame(0).size(), 0u);
+  ASSERT_EQ(io::cache::CacheReader(dir_ + "/pour.h5").readFrame(0).size(), 0u);
   expectWhatTheCacheHolds(readers, dir_ + "/pour.h5");
 }
 
@@ -367,7 +367,7 @@ TEST_F(CacheParaView, RainDropsShowAsAThirdPointSetBesideFluidAndBoundary) {
 )");
   const json readers = readWithParaView(scene, "rain");
   expectWhatAUserSees(readers);
-  const io::CacheReader cache(dir_ + "/rain.h5");
+  const io::cache::CacheReader cache(dir_ + "/rain.h5");
   const std::vector<std::vector<float>> boundary = cache.readBoundary();
   for (const char* name : {"Xdmf3ReaderS", "Xdmf3ReaderT", "XDMFReader"}) {
     SCOPED_TRACE(name);
@@ -375,7 +375,7 @@ TEST_F(CacheParaView, RainDropsShowAsAThirdPointSetBesideFluidAndBoundary) {
     ASSERT_EQ(r.at("times").size(), cache.frameCount());
     for (std::size_t k = 0; k < cache.frameCount(); ++k) {
       SCOPED_TRACE("frame " + std::to_string(k));
-      const io::RainFrame rain = io::readRainFrame(cache, k);
+      const io::cache::RainFrame rain = io::cache::readRainFrame(cache, k);
       ASSERT_EQ(rain.positions.size(), 50u);
       std::vector<float> x, y, z;
       for (const Vec3& p : rain.positions)

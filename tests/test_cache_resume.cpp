@@ -33,12 +33,12 @@ void checkResumeEqualsStraightRun(const std::string& dir, const std::string& sce
   ASSERT_EQ(a.exitCode, 0) << a.output;
   auto b = runShell(run(scene, set + " --end " + half + " -o '" + resumed + "'"));
   ASSERT_EQ(b.exitCode, 0) << b.output;
-  EXPECT_NE(io::CacheReader(resumed).summary().status.find("finished"), std::string::npos);
+  EXPECT_NE(io::cache::CacheReader(resumed).summary().status.find("finished"), std::string::npos);
   auto c = runShell(run(scene, set + " --end " + whole + " --resume '" + resumed + "'"));
   ASSERT_EQ(c.exitCode, 0) << c.output;
   test::expectSameCache(straight, resumed);
-  EXPECT_GT(io::CacheReader(resumed).summary().frames.back().particles, 0u);
-  EXPECT_NE(io::CacheReader(resumed).summary().status.find("finished"), std::string::npos);
+  EXPECT_GT(io::cache::CacheReader(resumed).summary().frames.back().particles, 0u);
+  EXPECT_NE(io::cache::CacheReader(resumed).summary().status.find("finished"), std::string::npos);
   // The sidecar lists every frame, the resumed ones too.
   auto grids = [](const std::string& text) {
     std::size_t n = 0;
@@ -47,7 +47,8 @@ void checkResumeEqualsStraightRun(const std::string& dir, const std::string& sce
       ++n;
     return n;
   };
-  EXPECT_EQ(grids(test::readFile(dir + "/resumed.xdmf")), io::CacheReader(resumed).frameCount());
+  EXPECT_EQ(grids(test::readFile(dir + "/resumed.xdmf")),
+            io::cache::CacheReader(resumed).frameCount());
   // Resuming a cache that already reaches the end does nothing.
   auto d = runShell(run(scene, set + " --end " + whole + " --resume '" + resumed + "'"));
   EXPECT_EQ(d.exitCode, 0) << d.output;
@@ -88,7 +89,7 @@ TEST(CacheResume, ARenderingRunThatEndedBetweenFrameTimesGetsThatFramesImageAgai
   const std::string scene = dir + "/render.json";
   std::ofstream(scene) << test::tinyRenderingScene(0.2, 20);
   checkResumeEqualsStraightRun(dir, scene, "", "0.12", "0.2");
-  const io::CacheReader straight(dir + "/straight.h5"), resumed(dir + "/resumed.h5");
+  const io::cache::CacheReader straight(dir + "/straight.h5"), resumed(dir + "/resumed.h5");
   ASSERT_EQ(resumed.frameCount(), 5u);
   for (std::size_t k = 0; k < 5; ++k) {
     const auto a = straight.readRenderedFrame("quad", k), b = resumed.readRenderedFrame("quad", k);
@@ -112,7 +113,7 @@ TEST(CacheResume, DfsphPourSceneResumesExactly) {
   checkResumeEqualsStraightRun(dir, test::sourcePath("scenes/pour.json"),
                                "--set solver.spacing=0.01 --set solver.pressure=dfsph", "0.2",
                                "0.4");
-  const auto [state, fluid] = io::CacheReader(dir + "/resumed.h5").readRestart(5);
+  const auto [state, fluid] = io::cache::CacheReader(dir + "/resumed.h5").readRestart(5);
   ASSERT_EQ(state.warmStart.density.size(), fluid.size());
   ASSERT_EQ(state.warmStart.divergence.size(), fluid.size());
 }
@@ -185,7 +186,8 @@ TEST(CacheResume, RefusesAnotherScene) {
                                "them, solver.speed_of_sound is "),
             std::string::npos)
       << taller.output;
-  EXPECT_EQ(io::CacheReader(cache).frameCount(), 11u) << "a refused resume leaves the cache alone";
+  EXPECT_EQ(io::cache::CacheReader(cache).frameCount(), 11u)
+      << "a refused resume leaves the cache alone";
 }
 
 // The sidecar cannot be written (here its temporary name is taken by a directory; on a user's
@@ -197,19 +199,19 @@ TEST(CacheResume, ASidecarThatCannotBeWrittenLeavesTheCache) {
   std::ofstream(scene) << test::tinyCacheScene(0.2, 30);
   const std::string cache = dir + "/r.h5";
   ASSERT_EQ(runShell(run(scene, "--end 0.1 -o '" + cache + "'")).exitCode, 0);
-  const std::size_t frames = io::CacheReader(cache).frameCount();
+  const std::size_t frames = io::cache::CacheReader(cache).frameCount();
   ASSERT_EQ(frames, 4u);
   ASSERT_EQ(::mkdir((dir + "/r.xdmf.tmp").c_str(), 0755), 0);
   const auto resumed = runShell(run(scene, "--resume '" + cache + "'"));
   EXPECT_EQ(resumed.exitCode, 2) << resumed.output;
   EXPECT_NE(resumed.output.find("r.xdmf"), std::string::npos) << resumed.output;
   ASSERT_TRUE(test::fileExists(cache)) << "the resume deleted the cache: " << resumed.output;
-  EXPECT_GE(io::CacheReader(cache).frameCount(), frames);
+  EXPECT_GE(io::cache::CacheReader(cache).frameCount(), frames);
 
   const auto replaced = runShell(run(scene, "--end 0.1 --overwrite -o '" + cache + "'"));
   EXPECT_EQ(replaced.exitCode, 2) << replaced.output;
   ASSERT_TRUE(test::fileExists(cache)) << "no cache left: " << replaced.output;
-  EXPECT_GE(io::CacheReader(cache).frameCount(), 1u);
+  EXPECT_GE(io::cache::CacheReader(cache).frameCount(), 1u);
   EXPECT_FALSE(test::fileExists(cache + ".partial"));
 }
 

@@ -95,14 +95,14 @@ TEST_F(CacheRoot, CachesWithFixedLengthStringsStillReadAndResume) {
     const std::string label = cset == H5T_CSET_ASCII ? "ASCII" : "UTF-8";
     const std::string path = dir_ + "/old" + label + ".h5";
     const WrittenRun run = writeRun(path, 3);
-    const io::CacheSummary fresh = io::CacheReader(path).summary();
+    const io::cache::CacheSummary fresh = io::cache::CacheReader(path).summary();
     makeStringsFixedLength(path, cset);
     {
       Id file(openRaw(path));
       EXPECT_EQ(stringKind(file, "scene_text"), "fixed " + label);
     }
-    const io::CacheReader reader(path);
-    const io::CacheSummary& old = reader.summary();
+    const io::cache::CacheReader reader(path);
+    const io::cache::CacheSummary& old = reader.summary();
     EXPECT_EQ(old.sceneText, run.scene.sourceText) << label;
     EXPECT_EQ(old.sceneText, fresh.sceneText) << label;
     EXPECT_EQ(old.created, fresh.created) << label;
@@ -118,20 +118,20 @@ TEST_F(CacheRoot, CachesWithFixedLengthStringsStillReadAndResume) {
   }
   // The writer reads its settings back from such a cache to append to it (resume).
   const std::string path = dir_ + "/oldASCII.h5";
-  const auto [state, last] = io::CacheReader(path).readRestart(2);
+  const auto [state, last] = io::cache::CacheReader(path).readRestart(2);
   {
-    auto writer = io::CacheWriter::append(path, 3);
+    auto writer = io::cache::CacheWriter::append(path, 3);
     writer->writeFrame(last, state);
     writer->close();
   }
-  const io::CacheReader after(path);
+  const io::cache::CacheReader after(path);
   ASSERT_EQ(after.frameCount(), 4u);
   EXPECT_TRUE(test::sameBits(last, after.readFrame(3)));
 }
 
 TEST_F(CacheRoot, SceneFieldsAreValidated) {
   auto load = [](const std::string& output) {
-    return io::parseScene(test::tinyCacheScene(0.1, 100, output), "s.json");
+    return io::scene::parseScene(test::tinyCacheScene(0.1, 100, output), "s.json");
   };
   EXPECT_EQ(load(R"("fields": ["velocity", "position", "rho"])").output.fields,
             (std::vector<std::string>{"x", "y", "z", "vx", "vy", "vz", "rho"}));
@@ -163,13 +163,13 @@ TEST_F(CacheRoot, ALongSceneFileIsKeptWhole) {
   std::string text = test::tinyCacheScene(0.1, 100);
   text.insert(1, "\"description\": \"" + description + "\",");
   const std::string path = dir_ + "/long.h5";
-  const scene::Scene scene = io::parseScene(text, path + ".json");
+  const scene::Scene scene = io::scene::parseScene(text, path + ".json");
   run::Simulation sim(scene);
-  auto writer = io::CacheWriter::create(path, scene, sim.params(), sim.boundary().particles(),
-                                        {"test", 1, {}}, 1);
+  auto writer = io::cache::CacheWriter::create(path, scene, sim.params(),
+                                               sim.boundary().particles(), {"test", 1, {}}, 1);
   writer->writeFrame(sim.fluid(), sim.runState());
   writer->close();
-  EXPECT_EQ(io::CacheReader(path).summary().sceneText, text);
+  EXPECT_EQ(io::cache::CacheReader(path).summary().sceneText, text);
 }
 
 }  // namespace

@@ -127,7 +127,7 @@ TEST(Dfsph, DivergenceSolverRemovesACompressingField) {
                "max_divergence_error": 0.01, "max_density_error": 0.01},
     "fluids": [{"type": "box", "min": [0, 0, 0], "max": [0.12, 0.12, 0.12]}]
   })");
-  run::Simulation sim(io::loadScene(scene, {}));
+  run::Simulation sim(io::scene::loadScene(scene, {}));
   Particles& p = sim.fluid();
   const float k = 0.5f;  // 1/s
   for (std::size_t i = 0; i < p.size(); ++i) {

@@ -20,15 +20,13 @@ namespace {
 
 template <class E>
 class EnumNamesTest : public ::testing::Test {};
-using AllChoices =
-    ::testing::Types<scene::LightSource, scene::LightColouring, scene::LightFilter,
-                     scene::LightPipeline, scene::LightAccumulate, scene::LightShade,
-                     scene::CollisionMethod, scene::CollisionResponse, scene::CdtCameraMode,
-                     scene::CdtPositionSource, scene::EquationOfState, scene::DensityKernel,
-                     scene::SolverModel, scene::Walls, scene::PressureSolver, scene::WallPressure,
-                     scene::SplatProjection, scene::RenderDesc::Splat, render::splat::SplatKind,
-                     io::Quality, sweep::RunStatus, scene::RainSpawn, scene::RainSampling,
-                     scene::RainOcclusion, scene::RainDraw, scene::RainFarTier>;
+using AllChoices = ::testing::Types<
+    scene::LightSource, scene::LightColouring, scene::LightFilter, scene::LightPipeline,
+    scene::LightAccumulate, scene::LightShade, scene::CollisionMethod, scene::CollisionResponse,
+    scene::CdtCameraMode, scene::CdtPositionSource, scene::EquationOfState, scene::DensityKernel,
+    scene::SolverModel, scene::Walls, scene::PressureSolver, scene::WallPressure,
+    scene::SplatProjection, scene::RenderDesc::Splat, render::splat::SplatKind, io::scene::Quality,
+    sweep::RunStatus, scene::RainSpawn, scene::RainSampling, scene::RainOcclusion, scene::RainDraw, scene::RainFarTier>;
 TYPED_TEST_SUITE(EnumNamesTest, AllChoices);
 
 TYPED_TEST(EnumNamesTest, EveryEnumeratorHasAUniqueNameThatParsesBack) {
@@ -67,7 +65,7 @@ TEST(EnumNames, TheSceneLoaderOffersExactlyTheTable) {
     "camera": {"position": [0, 0, 1], "target": [0, 0, 0]}})";
   auto message = [&](const std::string& edit) {
     try {
-      io::parseScene(scene, "s.json", {edit});
+      io::scene::parseScene(scene, "s.json", {edit});
     } catch (const InputError& e) {
       return std::string(e.what());
     }
@@ -86,7 +84,7 @@ TEST(EnumNames, TheSceneLoaderOffersExactlyTheTable) {
                                               quoted(scene::enumNames<scene::RenderDesc::Splat>()) +
                                               ", got the string \"disc\"");
   EXPECT_EQ(message("quality=perfect"), "s.json: quality: expected one of " +
-                                            quoted(scene::enumNames<io::Quality>()) +
+                                            quoted(scene::enumNames<io::scene::Quality>()) +
                                             ", got the string \"perfect\"");
   for (const std::string& name : scene::enumNames<scene::CollisionMethod>())
     EXPECT_EQ(message("collision.method=" + name), "accepted") << name;

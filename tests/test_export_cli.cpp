@@ -33,7 +33,7 @@ using test::sphsplatShell;
 class ExportCli : public test::TinyCacheSuite {};
 
 TEST_F(ExportCli, ExportWritesExactCsvAndPly) {
-  const io::CacheReader reader(cache_);
+  const io::cache::CacheReader reader(cache_);
   const Particles frame = reader.readFrame(7);
   const std::string csv = dir_ + "/f7.csv", ply = dir_ + "/f7.ply";
   auto r =
@@ -97,7 +97,7 @@ TEST_F(ExportCli, ExportNeverWritesOverTheCacheWhateverPathNamesIt) {
       "export '" + cache_ + "' --format csv --overwrite -o '" + dir_ + "/tiny.xdmf'"));
   EXPECT_EQ(sidecar.exitCode, 2) << sidecar.output;
   EXPECT_EQ(readFile(cache_), before) << "the cache was touched";
-  EXPECT_EQ(io::CacheReader(cache_).frameCount(), 11u);
+  EXPECT_EQ(io::cache::CacheReader(cache_).frameCount(), 11u);
   unlink((dir_ + "/link.h5").c_str()), unlink((dir_ + "/hard.h5").c_str());
   // `run --overwrite` never writes its cache over the scene it runs (a hard link here).
   ASSERT_EQ(link(scene_.c_str(), (dir_ + "/scene-link.h5").c_str()), 0);
@@ -134,7 +134,7 @@ TEST_F(ExportCli, ExportAsksBeforeReplacingAndNeverLeavesAHalfWrittenFile) {
   EXPECT_EQ(files, 1u) << "a temporary was left behind";
   r = runShell(sphsplatShell("export '" + cache_ + "' --frame 7 --overwrite -o '" + kept + "'"));
   EXPECT_EQ(r.exitCode, 0) << r.output;
-  EXPECT_EQ(lineCount(readFile(kept)), 1 + io::CacheReader(cache_).readFrame(7).size());
+  EXPECT_EQ(lineCount(readFile(kept)), 1 + io::cache::CacheReader(cache_).readFrame(7).size());
 }
 
 // A python3 script that reads a .vtu with meshio and writes each array's raw bytes to DIR/NAME.bin
@@ -165,7 +165,7 @@ std::string interleaved(const std::vector<float>& a, const std::vector<float>& b
 TEST_F(ExportCli, ExportVtuReadsBackExactlyThroughMeshio) {
   ASSERT_EQ(runShell("/usr/bin/python3 -c 'import meshio'").exitCode, 0)
       << "python3-meshio is missing: scripts/setup installs it";
-  const io::CacheReader reader(cache_);
+  const io::cache::CacheReader reader(cache_);
   const Particles frame = reader.readFrame(7);
   const std::string vtu = dir_ + "/f7.vtu";
   auto r = runShell(

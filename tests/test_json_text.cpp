@@ -17,7 +17,7 @@ namespace {
 // The message parseJson throws for `text` ("" if it parses).
 std::string errorOf(const std::string& text) {
   try {
-    io::parseJson(text, "x.json");
+    io::scene::parseJson(text, "x.json");
   } catch (const InputError& e) {
     return e.what();
   }
@@ -107,11 +107,11 @@ TEST(JsonText, ANulByteIsRefusedWithItsPlace) {
 }
 
 TEST(JsonText, SetValuesThatAreNotJsonAreStringsButLimitsStillHold) {
-  EXPECT_FALSE(io::parseJsonIfJson("pour", "--set name").has_value());
-  EXPECT_FALSE(io::parseJsonIfJson("[1, 2", "--set x").has_value());
-  EXPECT_EQ(*io::parseJsonIfJson("[1, 2]", "--set x"), nlohmann::json::array({1, 2}));
-  EXPECT_THROW(io::parseJsonIfJson(std::string(100, '['), "--set x"), InputError);
-  EXPECT_THROW(io::parseJsonIfJson("{\"a\": 1, \"a\": 2}", "--set x"), InputError);
+  EXPECT_FALSE(io::scene::parseJsonIfJson("pour", "--set name").has_value());
+  EXPECT_FALSE(io::scene::parseJsonIfJson("[1, 2", "--set x").has_value());
+  EXPECT_EQ(*io::scene::parseJsonIfJson("[1, 2]", "--set x"), nlohmann::json::array({1, 2}));
+  EXPECT_THROW(io::scene::parseJsonIfJson(std::string(100, '['), "--set x"), InputError);
+  EXPECT_THROW(io::scene::parseJsonIfJson("{\"a\": 1, \"a\": 2}", "--set x"), InputError);
 }
 
 TEST(MessageText, QuotesAreShortAndPrintableNumbersReadable) {

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "io/export/Png.h"
+#include "io/exports/Png.h"
 #include "tests/TestSupport.h"
 
 namespace sph {
@@ -47,7 +47,7 @@ TEST_F(LightsCli, RenderNamesTheLightsAndDrawsLitFrames) {
             std::string::npos)
       << r.output;
   int w = 0, h = 0;
-  const auto rgb = io::readPng(dir_ + "/frames/fireflies_quad_00001.png", w, h);
+  const auto rgb = io::exports::readPng(dir_ + "/frames/fireflies_quad_00001.png", w, h);
   ASSERT_EQ(w, 160);
   // A dark room (room_light 0.1) with warm spots: some pixels far brighter in red than blue.
   int warm = 0;
@@ -70,14 +70,14 @@ TEST_F(LightsCli, CompareRanksTheFiltersAgainstTheExactSum) {
   // speckles and trilinear reads both sides evenly (docs/lights.md, "Surfaces on voxel faces").
   EXPECT_GT(psnr("trilinear"), psnr("nearest") + 1.0) << r.output;
   int w = 0, h = 0;
-  io::readPng(dir_ + "/fireflies_lights_compare_00001.png", w, h);
+  io::exports::readPng(dir_ + "/fireflies_lights_compare_00001.png", w, h);
   EXPECT_GT(w, 6 * 160) << "exact + five filters side by side";
 }
 
 // The PNGs' pixels as ints (3 per pixel).
 std::vector<int> pixels(const std::string& png) {
   int w = 0, h = 0;
-  const auto rgb = io::readPng(png, w, h);
+  const auto rgb = io::exports::readPng(png, w, h);
   return std::vector<int>(rgb.begin(), rgb.end());
 }
 
@@ -159,7 +159,7 @@ TEST_F(LightsCli, ViewerShowsTheLitFrame) {
                               " --exit-after 2 --screenshot " + shot + " > /dev/null 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
   int w = 0, h = 0;
-  const auto rgb = io::readPng(shot, w, h);
+  const auto rgb = io::exports::readPng(shot, w, h);
   int warm = 0;
   for (std::size_t i = 0; i + 2 < rgb.size(); i += 3)
     warm += rgb[i] > 90 && rgb[i] > rgb[i + 2] + 30;

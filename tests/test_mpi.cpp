@@ -36,7 +36,7 @@ TEST_F(Mpi, FramesAreBitIdenticalToOneProcessForOneToFourRanks) {
     // With parallel HDF5 the ranks write each frame together, else rank 0 gathers and writes.
     const bool together =
         r.output.find(" ranks together (parallel HDF5, MPI-IO: ") != std::string::npos;
-    EXPECT_EQ(together, io::h5::haveParallel()) << r.output;
+    EXPECT_EQ(together, io::cache::h5::haveParallel()) << r.output;
     test::expectSameCache(reference_, out);
     EXPECT_TRUE(test::fileExists(dir_ + "/k" + std::to_string(k) + ".xdmf"));
   }
@@ -57,7 +57,8 @@ TEST_F(Mpi, AResumeMayChangeTheNumberOfRanks) {
   ASSERT_EQ(std::sscanf(b.output.c_str() + at,
                         "ranks read its slab of it: at most %lld of its %lld", &most, &all),
             2);
-  EXPECT_EQ(static_cast<std::size_t>(all), io::CacheReader(out).summary().frames[2].particles);
+  EXPECT_EQ(static_cast<std::size_t>(all),
+            io::cache::CacheReader(out).summary().frames[2].particles);
   EXPECT_LT(most, all / 2) << b.output;
   // and back to one plain process
   const std::string out2 = dir_ + "/resumed_plain.h5";
@@ -71,7 +72,7 @@ TEST_F(Mpi, AResumeMayChangeTheNumberOfRanks) {
   const std::string out3 = dir_ + "/resumed_between.h5";
   auto e = runShell(ranks(3, scene_, "--end 0.06 -o '" + out3 + "'"));
   ASSERT_EQ(e.exitCode, 0) << e.output;
-  EXPECT_EQ(io::CacheReader(out3).summary().frames.back().time, 0.06);
+  EXPECT_EQ(io::cache::CacheReader(out3).summary().frames.back().time, 0.06);
   auto f = runShell(ranks(2, scene_, "--resume '" + out3 + "'", ""));
   ASSERT_EQ(f.exitCode, 0) << f.output;
   EXPECT_NE(f.output.find("is written again at t = 0.075 s"), std::string::npos) << f.output;
@@ -87,7 +88,7 @@ TEST_F(Mpi, TheExactCollisionPassGivesTheSameFramesOnThreeRanks) {
   auto r = runShell(plain(scene_, exact + "-o '" + reference + "'"));
   ASSERT_EQ(r.exitCode, 0) << r.output;
   {  // the pass does change the run
-    const io::CacheReader with(reference), without(reference_);
+    const io::cache::CacheReader with(reference), without(reference_);
     ASSERT_EQ(with.frameCount(), without.frameCount());
     EXPECT_FALSE(test::sameBits(with.readFrame(2), without.readFrame(2)));
   }
@@ -111,7 +112,7 @@ TEST_F(Mpi, TheCdtCpuAndOctreePassesGiveTheSameFramesOnTwoAndThreeRanks) {
     auto r = runShell(plain(scene_, set + "-o '" + reference + "'"));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     {  // the pass does change the run
-      const io::CacheReader with(reference), without(reference_);
+      const io::cache::CacheReader with(reference), without(reference_);
       ASSERT_EQ(with.frameCount(), without.frameCount());
       const std::size_t last = with.frameCount() - 1;
       EXPECT_FALSE(test::sameBits(with.readFrame(last), without.readFrame(last)));
@@ -168,7 +169,7 @@ TEST(MpiMigration, ParticleCountAndMassAreConservedAsTheWaterCrossesFaces) {
     ASSERT_NE(at, std::string::npos) << r.output;
     const std::size_t from = r.output.rfind(", ", at) + 2;
     EXPECT_GT(std::stoull(r.output.substr(from, at - from)), 10u) << r.output;
-    const io::CacheReader cache(out);
+    const io::cache::CacheReader cache(out);
     ASSERT_GE(cache.frameCount(), 6u);
     const Particles first = cache.readFrame(0);
     ASSERT_EQ(first.size(), 400u);
@@ -262,7 +263,7 @@ TEST(MpiLost, AResumedRunCountsTheParticlesLostBeforeOnEveryRank) {
   const auto first = runShell(ranks(2, file, "--end 0.225 -o '" + out + "'"));
   ASSERT_EQ(first.exitCode, 0) << first.output;
   {
-    const io::CacheReader part(out);
+    const io::cache::CacheReader part(out);
     const auto [state, fluid] = part.readRestart(part.frameCount() - 1);
     ASSERT_GT(state.lostParticles, 0u) << "none lost before the resume";
     ASSERT_LE(state.lostParticles, 100u);
@@ -358,7 +359,7 @@ TEST_F(MpiDfsph, AResumeMayChangeTheNumberOfRanks) {
   auto c = runShell(ranks(4, collapse_, kAccurate + "--end 0.06 -o '" + out2 + "'"));
   ASSERT_EQ(c.exitCode, 0) << c.output;
   {  // the record holds a warm start (the run had one to carry)
-    const io::CacheReader part(out2);
+    const io::cache::CacheReader part(out2);
     const auto [state, fluid] = part.readRestart(part.frameCount() - 1);
     ASSERT_EQ(state.warmStart.density.size(), fluid.size());
     EXPECT_GT(*std::max_element(state.warmStart.density.begin(), state.warmStart.density.end()),
@@ -382,13 +383,13 @@ TEST(MpiRain, FramesAndDropsWrittenTogetherAreThoseOfOneProcess) {
   {
     // The water stops drops in this scene: the stored drops are not those of a rain that meets
     // the solids alone (so the cells rank 0 is sent matter).
-    const io::CacheReader reader(one);
-    scene::Scene sc = io::loadScene(file);
+    const io::cache::CacheReader reader(one);
+    scene::Scene sc = io::scene::loadScene(file);
     auto dry = rain::RainStepper::create(sc, rain::RainStepper::sceneAspect(sc));
     bool wet = false;
     for (std::size_t k = 0; k < reader.frameCount(); ++k) {
       ASSERT_GT(reader.summary().frames[k].rainDrops, 0u) << k;
-      const io::RainFrame stored = io::readRainFrame(reader, k);
+      const io::cache::RainFrame stored = io::cache::readRainFrame(reader, k);
       dry->advanceTo(stored.time, Particles{});
       wet = wet || stored.generations != dry->system().generations();
     }
@@ -399,7 +400,7 @@ TEST(MpiRain, FramesAndDropsWrittenTogetherAreThoseOfOneProcess) {
     const std::string out = dir + "/k" + std::to_string(k) + ".h5";
     const auto r = runShell(ranks(k, file, "-o '" + out + "'", "--verbose"));
     ASSERT_EQ(r.exitCode, 0) << r.output;
-    if (io::h5::haveParallel()) {
+    if (io::cache::h5::haveParallel()) {
       EXPECT_NE(r.output.find("frames written by all " + std::to_string(k) + " ranks together"),
                 std::string::npos)
           << r.output;

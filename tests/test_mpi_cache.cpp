@@ -17,7 +17,7 @@
 
 #include "io/cache/CacheReader.h"
 #include "io/cache/RainCache.h"
-#include "sim/ranks/mpi/MpiIoChoice.h"
+#include "job/distributed/mpi/MpiIoChoice.h"
 #include "sim/InputError.h"
 #include "tests/CacheTestSupport.h"
 #include "tests/MpiTestSupport.h"
@@ -39,8 +39,8 @@ TEST_F(Mpi, AKilledRankLeavesEveryFinishedFrameReadable) {
   test::mpi::waitForStatusRecorder(out);
   EXPECT_NE(r.output.find("mpirun-exit"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("mpirun-exit 0"), std::string::npos) << r.output;
-  const io::CacheReader killed(out);
-  const io::CacheReader reference(reference_);
+  const io::cache::CacheReader killed(out);
+  const io::cache::CacheReader reference(reference_);
   ASSERT_GE(killed.frameCount(), 1u);
   for (std::size_t k = 0; k < killed.frameCount() && k < reference.frameCount(); ++k)
     EXPECT_TRUE(test::sameBits(reference.readFrame(k), killed.readFrame(k))) << "frame " << k;
@@ -56,8 +56,8 @@ TEST_F(Mpi, AKilledRankZeroLeavesACacheThatResumesOnOtherRanks) {
   std::size_t kept = 0;
   double lastTime = 0;
   {
-    const io::CacheReader killed(out);
-    const io::CacheReader reference(reference_);
+    const io::cache::CacheReader killed(out);
+    const io::cache::CacheReader reference(reference_);
     kept = killed.frameCount();
     ASSERT_GE(kept, 1u);
     lastTime = killed.summary().frames.back().time;
@@ -73,7 +73,7 @@ TEST_F(Mpi, AKilledRankZeroLeavesACacheThatResumesOnOtherRanks) {
   auto resumed =
       runShell(ranks(3, scene_, std::string("--end ") + end + " --resume '" + out + "'"));
   ASSERT_EQ(resumed.exitCode, 0) << resumed.output;
-  const io::CacheReader after(out);
+  const io::cache::CacheReader after(out);
   EXPECT_GE(after.frameCount(), kept + 1);
   for (std::size_t k = 0; k < after.frameCount(); ++k) EXPECT_GT(after.readFrame(k).size(), 0u);
 }
@@ -89,7 +89,7 @@ TEST_F(Mpi, AKilledRankOfARainSceneLeavesItsFramesAndDropsReadable) {
   auto r = runShell(killOneRankMidRun(out, "tail -1"));
   test::mpi::waitForStatusRecorder(out);
   EXPECT_EQ(r.output.find("mpirun-exit 0"), std::string::npos) << r.output;
-  const io::CacheReader killed(out), one(reference);
+  const io::cache::CacheReader killed(out), one(reference);
   // How many frames a loaded machine wrote before the kill varies.
   ASSERT_GE(killed.frameCount(), 1u);
   for (std::size_t k = 0; k < killed.frameCount(); ++k) {
@@ -99,12 +99,13 @@ TEST_F(Mpi, AKilledRankOfARainSceneLeavesItsFramesAndDropsReadable) {
       EXPECT_EQ(drops, 3000u) << "frame " << k;
     }
     if (drops > 0) {
-      EXPECT_EQ(io::readRainFrame(killed, k).positions.size(), drops) << k;
+      EXPECT_EQ(io::cache::readRainFrame(killed, k).positions.size(), drops) << k;
     }
     if (k >= one.frameCount()) continue;
     EXPECT_TRUE(test::sameBits(one.readFrame(k), frame)) << "frame " << k;
     if (drops == 0) continue;
-    EXPECT_EQ(io::readRainFrame(one, k).generations, io::readRainFrame(killed, k).generations)
+    EXPECT_EQ(io::cache::readRainFrame(one, k).generations,
+              io::cache::readRainFrame(killed, k).generations)
         << "rain " << k;
   }
 }
@@ -133,8 +134,8 @@ TEST_F(Mpi, ARankKilledAtAnyWriteOfTheCacheLeavesItReadableAndResumable) {
       test::mpi::waitForStatusRecorder(out);  // a resume now would meet it: it holds the lock
       if (!test::fileExists(out)) continue;   // killed before frame 0 was in: no cache
       {
-        const io::CacheReader killed(out);
-        const io::CacheReader reference(reference_);
+        const io::cache::CacheReader killed(out);
+        const io::cache::CacheReader reference(reference_);
         for (std::size_t k = 0; k < killed.frameCount(); ++k)
           EXPECT_TRUE(test::sameBits(reference.readFrame(k), killed.readFrame(k))) << "frame " << k;
       }
@@ -219,7 +220,7 @@ TEST_F(Mpi, ReadersDuringFramesWrittenTogetherNeverFail) {
       }
       try {
         ++opens;
-        const io::CacheReader reader(out);
+        const io::cache::CacheReader reader(out);
         const std::size_t n = reader.frameCount();
         if (n < lastFrames)
           failures.push_back("frames went from " + std::to_string(lastFrames) + " to " +
@@ -237,7 +238,7 @@ TEST_F(Mpi, ReadersDuringFramesWrittenTogetherNeverFail) {
       if (!plain.empty()) ++plainFailures[plain];
     }
     ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "the run failed";
-    const io::CacheReader done(out);
+    const io::cache::CacheReader done(out);
     ASSERT_EQ(done.frameCount(), 21u);
     for (auto& [k, reads] : seen) {
       for (const Particles& p : reads)
@@ -258,31 +259,35 @@ TEST_F(Mpi, ReadersDuringFramesWrittenTogetherNeverFail) {
 }
 
 TEST(MpiIo, TheRanksWriteThroughRomioUnlessTheUserChose) {
-  // OMPIO 4.1 hides a write the disk refused, ROMIO reports it (sim/ranks/mpi/MpiIoChoice.h): the ranks ask
-  // for ROMIO when a plug-in of it is installed, and leave a choice the user made alone.
+  // OMPIO 4.1 hides a write the disk refused, ROMIO reports it (job/distributed/mpi/MpiIoChoice.h):
+  // the ranks ask for ROMIO when a plug-in of it is installed, and leave a choice the user made
+  // alone.
   const std::string dir = test::makeTempDir();
   for (const char* name : {"mca_io_ompio.so", "mca_io_romio321.so", "mca_io_romio341.so",
                            "mca_fs_romio999.so", "mca_io_romio.txt"})
     std::ofstream(dir + "/" + name) << "";
-  EXPECT_EQ(ranks::mpi::findRomioComponent({"/nonexistent", dir}), "romio341");
-  EXPECT_EQ(ranks::mpi::findRomioComponent({"/nonexistent"}), "");
+  EXPECT_EQ(job::distributed::mpi::findRomioComponent({"/nonexistent", dir}), "romio341");
+  EXPECT_EQ(job::distributed::mpi::findRomioComponent({"/nonexistent"}), "");
   std::remove((dir + "/mca_io_romio321.so").c_str());
   std::remove((dir + "/mca_io_romio341.so").c_str());
-  EXPECT_EQ(ranks::mpi::findRomioComponent({dir}), "");
+  EXPECT_EQ(job::distributed::mpi::findRomioComponent({dir}), "");
 
   const std::string installed = romioComponent();  // what ompi_info lists
-  EXPECT_EQ(ranks::mpi::findRomioComponent(ranks::mpi::componentDirectories()), installed);
+  EXPECT_EQ(
+      job::distributed::mpi::findRomioComponent(job::distributed::mpi::componentDirectories()),
+      installed);
   const char* users = std::getenv("OMPI_MCA_io");  // put back at the end
   const std::string before = users ? users : "";
   setenv("OMPI_MCA_io", "ompio", 1);
-  EXPECT_EQ(ranks::mpi::preferRomio(), "as OMPI_MCA_io says (ompio)");
+  EXPECT_EQ(job::distributed::mpi::preferRomio(), "as OMPI_MCA_io says (ompio)");
   EXPECT_STREQ(std::getenv("OMPI_MCA_io"), "ompio");
   unsetenv("OMPI_MCA_io");
   if (installed.empty()) {
-    EXPECT_EQ(ranks::mpi::preferRomio(), "OMPIO (this Open MPI has no ROMIO component that loads)");
+    EXPECT_EQ(job::distributed::mpi::preferRomio(),
+              "OMPIO (this Open MPI has no ROMIO component that loads)");
     EXPECT_EQ(std::getenv("OMPI_MCA_io"), nullptr);
   } else {
-    EXPECT_EQ(ranks::mpi::preferRomio(), "ROMIO (" + installed + ")");
+    EXPECT_EQ(job::distributed::mpi::preferRomio(), "ROMIO (" + installed + ")");
     EXPECT_EQ(std::getenv("OMPI_MCA_io"), installed);
   }
   if (users)
@@ -320,11 +325,11 @@ TEST_F(Mpi, AFullDiskOnOneRankStopsTheRunWithOneLineAndRecordsIt) {
   // own frame 0, views and statuses too) or rank 1's: mpirun ends without hanging, the failing
   // rank says so in one line (no HDF5 error stack), the cache holds frames equal to the single
   // process's and its status says it stopped (recorded by rank 0, or by the recorder rank 0
-  // starts when it cannot, job/distributed/StatusRecorder.h). Through ROMIO, which returns the error on the
-  // failing rank, where the watch of sim/ranks/mpi/FileErrorWatch.h ends a rank left waiting in a
-  // collective call after it; Open MPI's OMPIO 4.1.4 hangs inside some collective writes that
-  // fail on one rank (docs/scaling.md), so the ranks ask for ROMIO themselves: the runs here
-  // leave OMPI_MCA_io unset, as a user's would be.
+  // starts when it cannot, job/distributed/StatusRecorder.h). Through ROMIO, which returns the
+  // error on the failing rank, where the watch of job/distributed/mpi/FileErrorWatch.h ends a rank
+  // left waiting in a collective call after it; Open MPI's OMPIO 4.1.4 hangs inside some collective
+  // writes that fail on one rank (docs/scaling.md), so the ranks ask for ROMIO themselves: the runs
+  // here leave OMPI_MCA_io unset, as a user's would be.
   if (romioComponent().empty()) GTEST_SKIP() << "this Open MPI has no ROMIO component";
   const std::string before = "timeout 60";
   long counts[2] = {0, 0};
@@ -367,12 +372,12 @@ TEST_F(Mpi, AFullDiskOnOneRankStopsTheRunWithOneLineAndRecordsIt) {
       std::string status = "running";
       for (int wait = 0; wait < 100 && status.rfind("running", 0) == 0; ++wait) {
         if (wait > 0) usleep(200000);
-        status = io::CacheReader(out).summary().status;
+        status = io::cache::CacheReader(out).summary().status;
       }
       EXPECT_EQ(status.rfind("stopped: ", 0), 0u) << status;
       EXPECT_NE(status.find("; last good frame "), std::string::npos) << status;
-      const io::CacheReader cache(out);
-      const io::CacheReader reference(reference_);
+      const io::cache::CacheReader cache(out);
+      const io::cache::CacheReader reference(reference_);
       for (std::size_t k = 0; k < cache.frameCount(); ++k)
         EXPECT_TRUE(test::sameBits(reference.readFrame(k), cache.readFrame(k))) << "frame " << k;
     }

@@ -54,15 +54,15 @@ TEST(RainCache, RunStoresEveryFramesDropsAndTheSidecarAndInfoShowThem) {
   auto r = runShell(test::sphsplatShell("run " + scenePath + " --threads 2 -q -o " + cache));
   ASSERT_EQ(r.exitCode, 0) << r.output;
 
-  const io::CacheReader reader(cache);
+  const io::cache::CacheReader reader(cache);
   ASSERT_EQ(reader.frameCount(), 5u);  // 0.2 s at 20 fps
   // The drops of each frame are the stepper's at that frame's time with that frame's water.
-  const scene::Scene scene = io::loadScene(scenePath);
+  const scene::Scene scene = io::scene::loadScene(scenePath);
   auto stepper = rain::RainStepper::create(scene, rain::RainStepper::sceneAspect(scene));
   std::vector<Vec3> previous;
   for (std::size_t k = 0; k < reader.frameCount(); ++k) {
     ASSERT_EQ(reader.summary().frames[k].rainDrops, kDrops) << k;
-    const io::RainFrame stored = io::readRainFrame(reader, k);
+    const io::cache::RainFrame stored = io::cache::readRainFrame(reader, k);
     EXPECT_EQ(stored.time, reader.summary().frames[k].time);
     stepper->advanceTo(stored.time, reader.readFrame(k));
     EXPECT_TRUE(sameBits(stored.positions, stepper->system().positions())) << "frame " << k;
@@ -99,13 +99,13 @@ TEST(RainCache, ACacheWithoutRainHoldsNoneOfIt) {
   std::ofstream(scenePath) << test::tinyCacheScene(0.1, 30);
   auto r = runShell(test::sphsplatShell("run " + scenePath + " --threads 2 -q -o " + cache));
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  const io::CacheReader reader(cache);
-  for (const io::CacheFrame& f : reader.summary().frames) EXPECT_EQ(f.rainDrops, 0u);
-  EXPECT_FALSE(io::h5::hasLink(reader.file(), "Rain#0"));
+  const io::cache::CacheReader reader(cache);
+  for (const io::cache::CacheFrame& f : reader.summary().frames) EXPECT_EQ(f.rainDrops, 0u);
+  EXPECT_FALSE(io::cache::h5::hasLink(reader.file(), "Rain#0"));
   EXPECT_EQ(test::readFile(dir + "/tiny.xdmf").find("rain"), std::string::npos);
   r = runShell(test::sphsplatShell("info " + cache));
   EXPECT_EQ(r.output.find("rain"), std::string::npos) << r.output;
-  EXPECT_THROW(io::readRainFrame(reader, 0), InputError);
+  EXPECT_THROW(io::cache::readRainFrame(reader, 0), InputError);
 }
 
 // Runs `scene` (written as dir/scene.json) to 0.2 s straight (dir/straight.h5) and to 0.1 s then
@@ -125,11 +125,12 @@ void expectResumedEqualsStraight(const std::string& dir, const std::string& scen
   auto c = run("--end 0.2 --resume " + resumed);
   ASSERT_EQ(c.exitCode, 0) << c.output;
   test::expectSameCache(straight, resumed);  // fluid, resume records (the rain feed's ledger)
-  const io::CacheReader ra(straight), rb(resumed);
+  const io::cache::CacheReader ra(straight), rb(resumed);
   ASSERT_EQ(ra.frameCount(), 5u);
   ASSERT_EQ(rb.frameCount(), 5u);
   for (std::size_t k = 0; k < ra.frameCount(); ++k) {
-    const io::RainFrame x = io::readRainFrame(ra, k), y = io::readRainFrame(rb, k);
+    const io::cache::RainFrame x = io::cache::readRainFrame(ra, k),
+                               y = io::cache::readRainFrame(rb, k);
     EXPECT_TRUE(sameBits(x.positions, y.positions)) << "frame " << k;
     EXPECT_EQ(x.generations, y.generations) << "frame " << k;
   }
@@ -159,7 +160,7 @@ TEST(RainCache, AResumedFeedingRunContinuesTheFluidAndTheDropsBitForBit) {
   auto run = [&](const std::string& args) {
     return runShell(test::sphsplatShell("run " + dir + "/scene.json --threads 2 -q " + args));
   };
-  const io::CacheReader ra(straight);
+  const io::cache::CacheReader ra(straight);
   // Rain was fed both before and after the frame the resume started from.
   const rain::FeedState half = ra.readRestart(2).first.rain, end = ra.readRestart(4).first.rain;
   EXPECT_GT(half.particles, 0u);

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <iterator>
 
-#include "io/export/Png.h"
+#include "io/exports/Png.h"
 #include "tests/TestSupport.h"
 
 namespace sph {
@@ -31,7 +31,7 @@ TEST(RainCli, RenderOfTheCacheDrawsTheSameRainAsTheRun) {
   r = test::runSphsplat("render " + dir + "/rain.h5 --size 160x120 -q --out " + dir + "/replay");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   for (std::size_t f : {0, 3}) {
-    const std::string name = io::framePngName("rain_pour_quad", f);
+    const std::string name = io::exports::framePngName("rain_pour_quad", f);
     const std::string a = slurp(dir + "/run/" + name), b = slurp(dir + "/replay/" + name);
     ASSERT_FALSE(a.empty()) << name;
     EXPECT_EQ(a, b) << name;
@@ -41,7 +41,7 @@ TEST(RainCli, RenderOfTheCacheDrawsTheSameRainAsTheRun) {
                         "/rain.h5 --size 160x120 -q --frames 3 --set rain.count=1 --out " + dir +
                         "/fewer");
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  const std::string name = io::framePngName("rain_pour_quad", 3);
+  const std::string name = io::exports::framePngName("rain_pour_quad", 3);
   EXPECT_NE(slurp(dir + "/fewer/" + name), slurp(dir + "/replay/" + name));
 }
 

@@ -53,7 +53,7 @@ bool sameFluid(const Particles& a, const Particles& b) {
 }
 
 TEST(RainFeed, ConservesMassOverManyLandings) {
-  const scene::Scene scene = io::parseScene(poolScene(true), "pool.json");
+  const scene::Scene scene = io::scene::parseScene(poolScene(true), "pool.json");
   run::Simulation sim(scene);
   ASSERT_NE(sim.rainFeed(), nullptr);
   const std::size_t before = sim.fluid().size();
@@ -105,8 +105,8 @@ TEST(RainFeed, ConservesMassOverManyLandings) {
 }
 
 TEST(RainFeed, ThePoolRisesByTheLandedVolumeOverItsArea) {
-  const scene::Scene fed = io::parseScene(poolScene(true), "pool.json");
-  const scene::Scene dry = io::parseScene(poolScene(false), "pool.json");
+  const scene::Scene fed = io::scene::parseScene(poolScene(true), "pool.json");
+  const scene::Scene dry = io::scene::parseScene(poolScene(false), "pool.json");
   run::Simulation a(fed), b(dry);
   // Columns away from the walls (one support radius), searched from inside the water to above
   // anything the rain could fill in this run.
@@ -150,7 +150,7 @@ TEST(RainFeed, TheShippedSceneFillsItsPool) {
 
 TEST(RainFeed, RunsAreDeterministicAndTheSeedMatters) {
   auto run = [](int seed) {
-    run::Simulation sim(io::parseScene(poolScene(true, seed), "pool.json"));
+    run::Simulation sim(io::scene::parseScene(poolScene(true, seed), "pool.json"));
     sim.advanceTo(0.15);
     return std::make_pair(sim.fluid(), sim.runState().rain.landedDrops);
   };
@@ -164,7 +164,7 @@ TEST(RainFeed, RunsAreDeterministicAndTheSeedMatters) {
 }
 
 TEST(RainFeed, WithoutItTheRainLeavesTheFluidAsItWas) {
-  const scene::Scene dry = io::parseScene(poolScene(false), "pool.json");
+  const scene::Scene dry = io::scene::parseScene(poolScene(false), "pool.json");
   scene::Scene noRain = dry;
   noRain.rain.reset();
   run::Simulation a(dry), b(noRain);
@@ -217,7 +217,7 @@ TEST(RainFeed, LandingsAreRecordedOnlyWhenFeedingAndLieInTheWater) {
 
 std::string errorOf(const std::string& feedKeys) {
   try {
-    io::parseScene(poolScene(true, 7, feedKeys), "r.json");
+    io::scene::parseScene(poolScene(true, 7, feedKeys), "r.json");
   } catch (const InputError& e) {
     return e.what();
   }
@@ -225,7 +225,7 @@ std::string errorOf(const std::string& feedKeys) {
 }
 
 TEST(RainFeed, BadKeysAreRefusedWithOneLine) {
-  const scene::Scene s = io::parseScene(poolScene(true), "r.json");
+  const scene::Scene s = io::scene::parseScene(poolScene(true), "r.json");
   EXPECT_TRUE(s.rain->feedFluid);
   EXPECT_EQ(s.rain->dropVolume, 1e-7);
   // The default: a real 2 mm drop.

@@ -44,7 +44,7 @@ std::string errorOf(const std::string& rain, const std::string& camera = "") {
     "camera": {"position": [0, 0, 1], "target": [0, 0, 0])" +
                            camera + R"(}, "rain": )" + rain + "}";
   try {
-    io::parseScene(text, "r.json");
+    io::scene::parseScene(text, "r.json");
   } catch (const InputError& e) {
     return e.what();
   }
@@ -61,7 +61,7 @@ TEST(RainScene, KeysAreReadAndBadValuesRefusedWithOneLine) {
              "far_tier": "sums",
              "region": {"min": [-1, -1, -1], "max": [1, 1, 1]},
              "spotlight": {"position": [0, 2, 0], "colour": [1, 0, 0], "intensity": 2}}})";
-  const scene::Scene s = io::parseScene(text, "r.json");
+  const scene::Scene s = io::scene::parseScene(text, "r.json");
   ASSERT_TRUE(s.rain.has_value());
   EXPECT_EQ(s.rain->count, 500u);
   EXPECT_EQ(s.rain->far, 8.0f);
@@ -76,15 +76,15 @@ TEST(RainScene, KeysAreReadAndBadValuesRefusedWithOneLine) {
   ASSERT_EQ(s.cameraPath.size(), 2u);
   EXPECT_EQ(s.cameraPath[0].position, Vec3(0, 0, 1));  // keys default to the camera's pose
   EXPECT_EQ(s.cameraPath[1].fovYDegrees, 30.0f);
-  EXPECT_EQ(io::parseScene(R"({"solver": {"spacing": 0.01},
+  EXPECT_EQ(io::scene::parseScene(R"({"solver": {"spacing": 0.01},
     "fluids": [{"min": [0, 0, 0], "max": [0.05, 0.05, 0.05]}],
     "camera": {"position": [0, 0, 1], "target": [0, 0, 0]}, "rain": {"occlusion": "none"}})",
                            "r.json")
                 .rain->occlusion,
             scene::RainOcclusion::None);
-  EXPECT_FALSE(io::parseScene(R"({"solver": {"spacing": 0.01},
+  EXPECT_FALSE(io::scene::parseScene(R"({"solver": {"spacing": 0.01},
     "fluids": [{"min": [0, 0, 0], "max": [0.05, 0.05, 0.05]}]})",
-                              "r.json")
+                                     "r.json")
                    .rain.has_value());
 
   struct Bad {

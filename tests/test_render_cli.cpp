@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <regex>
 
-#include "io/export/Png.h"
+#include "io/exports/Png.h"
 #include "tests/TestSupport.h"
 
 namespace sph {
@@ -61,7 +61,7 @@ TEST_F(RenderCli, CompareWritesThePanelsAndTheNumbers) {
   EXPECT_GT(std::stoul(m[1]), 0u);
   EXPECT_LE(std::stod(m[3]), 100.0);
   int w = 0, h = 0;
-  const auto rgb = io::readPng(dir_ + "/dam_break_compare_00006.png", w, h);
+  const auto rgb = io::exports::readPng(dir_ + "/dam_break_compare_00006.png", w, h);
   EXPECT_GT(w, 2 * 320);  // point | quad over reference | particles
   EXPECT_GT(h, 2 * 240);  // with captions below each
 }
@@ -88,7 +88,7 @@ TEST_F(RenderCli, RenderWritesPngsAndStoresThemInTheCache) {
   ASSERT_EQ(r.exitCode, 0) << r.output;
   for (const char* kind : {"point", "quad"}) {
     for (std::size_t f : {1, 2}) {
-      const std::string name = io::framePngName(std::string("dam_break_") + kind, f);
+      const std::string name = io::exports::framePngName(std::string("dam_break_") + kind, f);
       EXPECT_TRUE(exists(dir_ + "/frames/" + name)) << name;
     }
   }
@@ -167,7 +167,7 @@ TEST_F(RenderCli, AFullDiskWhileAPictureIsWrittenIsOneLine) {
 // Fraction of pixels of a PNG that differ from its top-left pixel (the background).
 double nonBackground(const std::string& path) {
   int w = 0, h = 0;
-  const auto rgb = io::readPng(path, w, h);
+  const auto rgb = io::exports::readPng(path, w, h);
   std::size_t n = 0;
   for (std::size_t p = 0; p < static_cast<std::size_t>(w) * h; ++p) {
     n += rgb[3 * p] != rgb[0] || rgb[3 * p + 1] != rgb[1] || rgb[3 * p + 2] != rgb[2];
@@ -190,10 +190,10 @@ TEST_F(RenderCli, ViewerWindowUnderXvfbShowsTheFluidAndSwitchesModes) {
     EXPECT_GT(nonBackground(shots[k]), 0.05) << shots[k] << " is blank";
   }
   int w = 0, h = 0;
-  EXPECT_NE(io::readPng(shots[0], w, h), io::readPng(shots[1], w, h))
+  EXPECT_NE(io::exports::readPng(shots[0], w, h), io::exports::readPng(shots[1], w, h))
       << "switching the splat mode changed nothing";
   // The frame and time are drawn on the picture: a dark box with light text at the top left.
-  const std::vector<std::uint8_t> rgb = io::readPng(shots[1], w, h);
+  const std::vector<std::uint8_t> rgb = io::exports::readPng(shots[1], w, h);
   int box = 0, text = 0;
   for (int y = 8; y < 40; ++y) {
     for (int x = 8; x < 120; ++x) {

@@ -67,7 +67,7 @@ TEST(RunJob, TheStagesReportStartProgressAndEndInOrder) {
   EXPECT_EQ(seen.samples.back().time, 0.2);
   EXPECT_EQ(seen.samples.back().endTime, 0.2);
   // The nozzle adds particles: the summary counts the end's, the header the start's.
-  const io::CacheReader cache(dir + "/a.h5");
+  const io::cache::CacheReader cache(dir + "/a.h5");
   EXPECT_EQ(seen.startParticles, cache.summary().frames.front().particles);
   EXPECT_EQ(seen.endParticles, cache.summary().frames.back().particles);
   EXPECT_GT(seen.endParticles, seen.startParticles);
@@ -124,7 +124,7 @@ TEST(RunJob, AQuietRunTellsTheObserverNothing) {
   EXPECT_EQ(job::runJob(quiet, seen), job::kOk);
   EXPECT_TRUE(seen.events.empty());
   EXPECT_TRUE(seen.samples.empty());
-  EXPECT_EQ(io::CacheReader(dir + "/q.h5").summary().frames.back().time, 0.1);
+  EXPECT_EQ(io::cache::CacheReader(dir + "/q.h5").summary().frames.back().time, 0.1);
 }
 
 }  // namespace

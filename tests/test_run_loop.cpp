@@ -37,7 +37,7 @@ class RecordingSink final : public run::FrameSink {
 };
 
 scene::Scene tinyScene(double end, double fps = 100) {
-  return io::parseScene(test::tinyCacheScene(end, fps), "tiny.json");
+  return io::scene::parseScene(test::tinyCacheScene(end, fps), "tiny.json");
 }
 
 run::RunPlan planFor(const scene::Scene& scene) {
@@ -120,12 +120,13 @@ TEST(RunLoop, ABlowUpIsAnOutcomeNamingStepAndParticle) {
 // resumed from the cache ends bit for bit where the uninterrupted run does.
 TEST(RunLoop, ACrashedRunResumedFromItsCacheEqualsTheUninterruptedRun) {
   const std::string dir = test::makeTempDir();
-  const io::CacheProvenance provenance{"test", threadCount(), {}};
+  const io::cache::CacheProvenance provenance{"test", threadCount(), {}};
   auto runToEnd = [&](const std::string& path, std::size_t crashAt) {
     scene::Scene scene = tinyScene(0.1);
-    io::CacheSessionOptions options;
+    io::cache::CacheSessionOptions options;
     options.output = path;
-    std::unique_ptr<io::CacheSession> cache = io::CacheSession::prepare(options, scene);
+    std::unique_ptr<io::cache::CacheSession> cache =
+        io::cache::CacheSession::prepare(options, scene);
     run::Simulation sim(scene);
     cache->create(sim, provenance, run::plannedFrameCount(0.1, 0.01));
     cache->writeFrame(sim);
@@ -136,9 +137,9 @@ TEST(RunLoop, ACrashedRunResumedFromItsCacheEqualsTheUninterruptedRun) {
   const std::string whole = dir + "/whole.h5", crashed = dir + "/crashed.h5";
   {
     scene::Scene scene = tinyScene(0.1);
-    io::CacheSessionOptions options;
+    io::cache::CacheSessionOptions options;
     options.output = whole;
-    auto cache = io::CacheSession::prepare(options, scene);
+    auto cache = io::cache::CacheSession::prepare(options, scene);
     run::Simulation sim(scene);
     cache->create(sim, provenance, run::plannedFrameCount(0.1, 0.01));
     cache->writeFrame(sim);
@@ -147,13 +148,13 @@ TEST(RunLoop, ACrashedRunResumedFromItsCacheEqualsTheUninterruptedRun) {
     cache->close();
   }
   runToEnd(crashed, 6);  // frames 0-5 committed, then the crash
-  EXPECT_EQ(io::CacheReader(crashed).frameCount(), 7u)
+  EXPECT_EQ(io::cache::CacheReader(crashed).frameCount(), 7u)
       << "the cache sink writes frame 6 before the crashing sink sees it";
   {
     scene::Scene scene = tinyScene(0.1);
-    io::CacheSessionOptions options;
+    io::cache::CacheSessionOptions options;
     options.resume = crashed;
-    auto cache = io::CacheSession::prepare(options, scene);
+    auto cache = io::cache::CacheSession::prepare(options, scene);
     ASSERT_TRUE(cache->resuming());
     run::Simulation sim(scene);
     run::RunPlan plan = planFor(scene);
@@ -163,7 +164,7 @@ TEST(RunLoop, ACrashedRunResumedFromItsCacheEqualsTheUninterruptedRun) {
     cache->finish(sim.time());
     cache->close();
   }
-  const io::CacheReader a(whole), b(crashed);
+  const io::cache::CacheReader a(whole), b(crashed);
   ASSERT_EQ(a.frameCount(), 11u);
   ASSERT_EQ(b.frameCount(), 11u);
   for (std::size_t k = 0; k < 11; ++k) {

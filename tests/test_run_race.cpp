@@ -98,7 +98,7 @@ TEST_F(RunRace, ManySimultaneousStartsOnOneCacheLeaveOneWholeRun) {
     // is refused as any run on an existing cache is (seen once in 2026-11-25's fresh-clone run).
     expectOneWinner(ended, {"another sphsplat run is writing this cache",
                             "already exists; pass --overwrite to replace it"});
-    const io::CacheReader reader(cache);
+    const io::cache::CacheReader reader(cache);
     EXPECT_EQ(reader.frameCount(), 6u);
     EXPECT_EQ(reader.summary().status.rfind("finished", 0), 0u) << reader.summary().status;
     for (std::size_t k = 0; k < reader.frameCount(); ++k) EXPECT_GT(reader.readFrame(k).size(), 0u);
@@ -117,7 +117,7 @@ TEST_F(RunRace, SimultaneousOverwritesOfAnExistingCacheLeaveOneWholeRun) {
   const auto ended = startTogether(
       6, "run '" + scene + "' --quiet --threads 1 --overwrite -o '" + cache + "'", dir_);
   expectOneWinner(ended, {"another sphsplat run is writing this cache"});
-  const io::CacheReader reader(cache);
+  const io::cache::CacheReader reader(cache);
   EXPECT_EQ(reader.frameCount(), 6u);
   EXPECT_EQ(reader.summary().status.rfind("finished", 0), 0u);
 }
@@ -137,7 +137,7 @@ TEST_F(RunRace, RunsThatRenderShareNeitherCacheNorPictures) {
   const auto ended =
       startTogether(4, "run '" + scene + "' --quiet --threads 1 -o '" + cache + "'", dir_);
   expectOneWinner(ended, {"another sphsplat run is writing this"});
-  EXPECT_EQ(io::CacheReader(cache).frameCount(), 3u);
+  EXPECT_EQ(io::cache::CacheReader(cache).frameCount(), 3u);
   for (int f = 0; f < 3; ++f) {
     char name[64];
     std::snprintf(name, sizeof name, "/drawn_frames/tiny_point_%05d.png", f);

@@ -17,7 +17,7 @@ const char* kMinimal = R"({"solver": {"spacing": 0.01},
 // The message of the InputError that parsing `text` throws ("" if none).
 std::string errorOf(const std::string& text, const std::vector<std::string>& overrides = {}) {
   try {
-    io::parseScene(text, "bad.json", overrides);
+    io::scene::parseScene(text, "bad.json", overrides);
   } catch (const InputError& e) {
     return e.what();
   }
@@ -25,7 +25,8 @@ std::string errorOf(const std::string& text, const std::vector<std::string>& ove
 }
 
 TEST(SceneLoader, LoadsEveryShippedScene) {
-  for (const char* name : {"dam_break", "still_tank", "pour", "rain_pour", "rain_fill"}) {
+  for (const char* name :
+       {"dam_break", "still_tank", "pour", "jug_pour", "rain_pour", "rain_fill"}) {
     const scene::Scene s = test::shippedScene(name);
     EXPECT_EQ(s.name, name);
     EXPECT_GT(s.solver.spacing, 0.0f);
@@ -35,7 +36,7 @@ TEST(SceneLoader, LoadsEveryShippedScene) {
 }
 
 TEST(SceneLoader, MinimalSceneGetsDocumentedDefaults) {
-  const scene::Scene s = io::parseScene(kMinimal, "min.json");
+  const scene::Scene s = io::scene::parseScene(kMinimal, "min.json");
   EXPECT_EQ(s.name, "min");
   EXPECT_EQ(s.solver.support, 2.0f);
   EXPECT_EQ(s.solver.restDensity, 1000.0f);
@@ -76,10 +77,11 @@ TEST(SceneLoader, RenderSolidsChooseHowWallsAreDrawn) {
     text.insert(text.rfind('}'), camera + R"(, "render": )" + render);
     return text;
   };
-  EXPECT_EQ(io::parseScene(with("{}"), "s.json").render->solids, scene::RenderSolids::Points);
-  EXPECT_EQ(io::parseScene(with(R"({"solids": "opaque"})"), "s.json").render->solids,
+  EXPECT_EQ(io::scene::parseScene(with("{}"), "s.json").render->solids,
+            scene::RenderSolids::Points);
+  EXPECT_EQ(io::scene::parseScene(with(R"({"solids": "opaque"})"), "s.json").render->solids,
             scene::RenderSolids::Opaque);
-  EXPECT_EQ(io::parseScene(with(R"({"show_boundary": false})"), "s.json").render->solids,
+  EXPECT_EQ(io::scene::parseScene(with(R"({"show_boundary": false})"), "s.json").render->solids,
             scene::RenderSolids::None);
   EXPECT_NE(errorOf(with(R"({"solids": "glass"})")).find("render.solids"), std::string::npos);
 }
@@ -92,8 +94,9 @@ TEST(SceneLoader, LightsSectionIsReadAndValidated) {
     return text;
   };
   const std::string volume = R"("volume": {"min": [-1, -1, -1], "voxel_size": 0.25, "voxels": 8})";
-  EXPECT_FALSE(io::parseScene(kMinimal, "s.json").lights.has_value()) << "no section, no lights";
-  const scene::Scene s = io::parseScene(with("{" + volume + "}"), "s.json");
+  EXPECT_FALSE(io::scene::parseScene(kMinimal, "s.json").lights.has_value())
+      << "no section, no lights";
+  const scene::Scene s = io::scene::parseScene(with("{" + volume + "}"), "s.json");
   ASSERT_TRUE(s.lights);
   EXPECT_EQ(s.lights->source, scene::LightSource::Fluid);
   // Race-free by default: atomic on a GPU, cpu where GL draws in software (LightVolume decides).
@@ -102,7 +105,7 @@ TEST(SceneLoader, LightsSectionIsReadAndValidated) {
   EXPECT_EQ(s.lights->filter, scene::LightFilter::Trilinear);
   EXPECT_EQ(s.lights->voxels, (std::array<int, 3>{8, 8, 8}));
   EXPECT_FLOAT_EQ(s.lights->extent().x(), 2.0f);
-  const scene::Scene e = io::parseScene(
+  const scene::Scene e = io::scene::parseScene(
       with(R"({"source": "emitter", "emitter": {"min": [0, 0, 0], "max": [1, 1, 1], "count": 64},
                "filter": "tricubic", "tension": 0.5, "accumulate": "paper", "oversampling": 2,
                "attenuation": [1, 0.5, 2], "range": 0.7, "volume": {"min": [0, 0, 0],
@@ -114,13 +117,13 @@ TEST(SceneLoader, LightsSectionIsReadAndValidated) {
   EXPECT_EQ(e.lights->accumulate, scene::LightAccumulate::Paper);
   EXPECT_EQ(e.lights->voxels, (std::array<int, 3>{10, 12, 14}));
   EXPECT_FLOAT_EQ(e.lights->attenuation[2], 2.0f);
-  const scene::Scene c =
-      io::parseScene(with(R"({"accumulate": "cpu", "cull": false, )" + volume + "}"), "s.json");
+  const scene::Scene c = io::scene::parseScene(
+      with(R"({"accumulate": "cpu", "cull": false, )" + volume + "}"), "s.json");
   EXPECT_EQ(c.lights->accumulate, scene::LightAccumulate::Cpu);
   EXPECT_FALSE(c.lights->cull);
   // lights.shade: "auto" by default (LightVolume decides); "cpu" takes the volume onto the CPU.
   EXPECT_EQ(s.lights->shade, scene::LightShade::Auto);
-  const scene::Scene sc = io::parseScene(
+  const scene::Scene sc = io::scene::parseScene(
       with(R"({"shade": "cpu", "pipeline": "deferred", "filter": "nearest", )" + volume + "}"),
       "s.json");
   EXPECT_EQ(sc.lights->shade, scene::LightShade::Cpu);
@@ -200,7 +203,7 @@ TEST(SceneLoader, SceneWithoutFluidIsRefused) {
 
 TEST(SceneLoader, MissingAndUnreadableFilesAreRefused) {
   try {
-    io::loadScene("/nonexistent/scene.json");
+    io::scene::loadScene("/nonexistent/scene.json");
     FAIL() << "no error";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()),
@@ -215,7 +218,7 @@ TEST(SceneLoader, InvalidJsonNamesLineAndColumn) {
 }
 
 TEST(SceneLoader, OverridesEditNestedKeysAndArrays) {
-  const scene::Scene s = io::parseScene(
+  const scene::Scene s = io::scene::parseScene(
       kMinimal, "min.json", {"solver.cfl=0.2", "fluids[0].velocity=[1,0,0]", "name=custom"});
   EXPECT_EQ(s.solver.cfl, 0.2f);
   EXPECT_EQ(s.fluids[0].velocity, Vec3(1, 0, 0));
@@ -317,7 +320,7 @@ TEST(SceneLoader, HostileFilesAreRefusedBeforeTheyAreRead) {
   ASSERT_EQ(std::system(("mkdir " + dir).c_str()), 0);
   auto loadError = [](const std::string& path) {
     try {
-      io::loadScene(path);
+      io::scene::loadScene(path);
     } catch (const InputError& e) {
       return std::string(e.what());
     }

@@ -42,7 +42,7 @@ bool sameBits(float a, float b) {
 
 TEST(StartSlab, EachRankGeneratesItsSlabAndTogetherTheyHoldTheSingleProcesssFluid) {
   for (int axis = 0; axis < 3; ++axis) {
-    const scene::Scene s = io::parseScene(scene(axis), "start_slab.json");
+    const scene::Scene s = io::scene::parseScene(scene(axis), "start_slab.json");
     const run::Simulation alone(s);
     const Particles& all = alone.fluid();
     ASSERT_GT(all.size(), 300u);
@@ -119,7 +119,7 @@ TEST(StartSlab, EachRankGeneratesItsSlabAndTogetherTheyHoldTheSingleProcesssFlui
 TEST(StartSlab, AResumingRankGeneratesNoStart) {
   // A distributed resume reads each rank's part of the cache's frame (job/distributed/DistributedResume.h):
   // its Simulation is built without the starting slab it would drop, the boundary as always.
-  const scene::Scene s = io::parseScene(scene(0), "start_slab.json");
+  const scene::Scene s = io::scene::parseScene(scene(0), "start_slab.json");
   std::vector<std::size_t> fluid(2, 1), boundary(2, 0);
   std::vector<std::uint32_t> nextId(2, 1);
   test::ThreadRanks threads(2);

@@ -55,7 +55,7 @@ std::optional<StabilityError> runChecked(run::Simulation& sim, double end) {
 }
 
 scene::Scene inlineScene(const std::string& json, const std::vector<std::string>& edits = {}) {
-  return io::parseScene(json, "stress.json", edits);
+  return io::scene::parseScene(json, "stress.json", edits);
 }
 
 scene::Scene damBreak(const std::vector<std::string>& edits) {

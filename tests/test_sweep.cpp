@@ -117,7 +117,7 @@ TEST(Sweep, EveryShippedSweepFileAndEveryVariantSceneLoads) {
     const SweepSpec spec = sweep::loadSweep(entry.path().string());
     for (const sweep::SweepVariant& v : sweep::expandVariants(spec)) {
       SCOPED_TRACE(v.label + " " + v.caseLabel);
-      EXPECT_NO_THROW(io::parseScene(v.sceneText, v.scenePath, v.edits));
+      EXPECT_NO_THROW(io::scene::parseScene(v.sceneText, v.scenePath, v.edits));
     }
   }
   EXPECT_GE(files, 10);
@@ -248,10 +248,10 @@ TEST(QualityPresets, ParseAndDifferAsDocumented) {
   const std::string base =
       R"({"solver": {"spacing": 0.01}, "fluids": [{"min": [0,0,0], "max": [0.1,0.1,0.1]}]})";
   // What the factors do: the automatic speed of sound is factor x the scene's speed bound.
-  const float bound = solver::expectedMaxSpeed(io::parseScene(base, "s.json"));
-  const scene::Scene plain = io::parseScene(base, "s.json");
-  const scene::Scene fast = io::parseScene(base, "s.json", {"quality=fast"});
-  const scene::Scene accurate = io::parseScene(base, "s.json", {"quality=accurate"});
+  const float bound = solver::expectedMaxSpeed(io::scene::parseScene(base, "s.json"));
+  const scene::Scene plain = io::scene::parseScene(base, "s.json");
+  const scene::Scene fast = io::scene::parseScene(base, "s.json", {"quality=fast"});
+  const scene::Scene accurate = io::scene::parseScene(base, "s.json", {"quality=accurate"});
   EXPECT_FLOAT_EQ(plain.solver.cfl, 0.4f);
   EXPECT_FLOAT_EQ(plain.solver.soundSpeedFactor, 10.0f);
   EXPECT_FLOAT_EQ(fast.solver.cfl, 0.8f);
@@ -265,24 +265,27 @@ TEST(QualityPresets, ParseAndDifferAsDocumented) {
   EXPECT_NEAR(solver::deriveParams(plain).speedOfSound, 10 * bound, 1e-3 * bound);
   EXPECT_NEAR(solver::deriveParams(accurate).speedOfSound, 10 * bound, 1e-3 * bound);
   // The preset's solver can be overridden like any key.
-  EXPECT_EQ(
-      io::parseScene(base, "s.json", {"quality=accurate", "solver.pressure=wcsph"}).solver.pressure,
-      scene::PressureSolver::Wcsph);
+  EXPECT_EQ(io::scene::parseScene(base, "s.json", {"quality=accurate", "solver.pressure=wcsph"})
+                .solver.pressure,
+            scene::PressureSolver::Wcsph);
   // "default" is the built-in values.
-  EXPECT_FLOAT_EQ(io::parseScene(base, "s.json", {"quality=default"}).solver.cfl, plain.solver.cfl);
+  EXPECT_FLOAT_EQ(io::scene::parseScene(base, "s.json", {"quality=default"}).solver.cfl,
+                  plain.solver.cfl);
   // Explicit keys win.
-  const scene::Scene mixed = io::parseScene(base, "s.json", {"quality=fast", "solver.cfl=0.3"});
+  const scene::Scene mixed =
+      io::scene::parseScene(base, "s.json", {"quality=fast", "solver.cfl=0.3"});
   EXPECT_FLOAT_EQ(mixed.solver.cfl, 0.3f);
   EXPECT_FLOAT_EQ(mixed.solver.soundSpeedFactor, 5.0f);
   const scene::Scene explicitC =
-      io::parseScene(base, "s.json", {"quality=fast", "solver.speed_of_sound=40"});
+      io::scene::parseScene(base, "s.json", {"quality=fast", "solver.speed_of_sound=40"});
   EXPECT_FLOAT_EQ(explicitC.solver.speedOfSound, 40.0f);
 
-  EXPECT_THROW(io::parseScene(base, "s.json", {"quality=medium"}), InputError);
-  EXPECT_THROW(io::parseScene(base, "s.json",
-                              {"solver.speed_of_sound=40", "solver.speed_of_sound_factor=5"}),
+  EXPECT_THROW(io::scene::parseScene(base, "s.json", {"quality=medium"}), InputError);
+  EXPECT_THROW(io::scene::parseScene(
+                   base, "s.json", {"solver.speed_of_sound=40", "solver.speed_of_sound_factor=5"}),
                InputError);
-  EXPECT_THROW(io::parseScene(base, "s.json", {"solver.speed_of_sound_factor=0.5"}), InputError);
+  EXPECT_THROW(io::scene::parseScene(base, "s.json", {"solver.speed_of_sound_factor=0.5"}),
+               InputError);
 }
 
 }  // namespace

@@ -14,9 +14,9 @@ scene::Scene rainScene(char density, std::size_t n, std::vector<std::string> ove
   char edit[96];
   std::snprintf(edit, sizeof edit, "fluids[0].max=[%g,%.4f,%g]", a ? 0.3 : 0.6, top, a ? 0.3 : 0.6);
   overrides.insert(overrides.begin(), edit);
-  return io::loadScene(std::string(SPHSPLAT_SOURCE_DIR) +
-                           (a ? "/scenes/cdt_rain.json" : "/scenes/cdt_rain_sparse.json"),
-                       overrides);
+  return io::scene::loadScene(std::string(SPHSPLAT_SOURCE_DIR) +
+                                  (a ? "/scenes/cdt_rain.json" : "/scenes/cdt_rain_sparse.json"),
+                              overrides);
 }
 
 Snapshot takeSnapshot(char density, std::size_t n, double warm) {

@@ -30,8 +30,8 @@ const json& raw(const json& object, const std::string& key) {
 }
 
 // `scene`: a file name (relative to the sweep) or an inline scene object.
-void readScene(io::JsonReader& r, const json& object, const std::string& folder, std::string& file,
-               json& inlineScene, bool required) {
+void readScene(io::scene::JsonReader& r, const json& object, const std::string& folder,
+               std::string& file, json& inlineScene, bool required) {
   r.accept("scene");
   if (!object.contains("scene")) {
     if (required)
@@ -45,10 +45,11 @@ void readScene(io::JsonReader& r, const json& object, const std::string& folder,
     inlineScene = v;
   else
     r.fail("scene", "expected a scene file name or an inline scene object {...}, got " +
-                        io::describeJson(v));
+                        io::scene::describeJson(v));
 }
 
-std::vector<std::string> readEdits(io::JsonReader& r, const json& object, const std::string& key) {
+std::vector<std::string> readEdits(io::scene::JsonReader& r, const json& object,
+                                   const std::string& key) {
   if (object.contains(key) && object.at(key).is_array() && object.at(key).empty()) {
     r.accept(key);  // "set": [] is fine, JsonReader's string arrays are non-empty
     return {};
@@ -92,8 +93,8 @@ std::string shortValue(const json& value) {
 
 SweepSpec parseSweep(const std::string& text, const std::string& path,
                      const std::vector<std::string>& extraEdits) {
-  json doc = io::parseJson(text, path);
-  io::JsonReader root(doc, "", path);
+  json doc = io::scene::parseJson(text, path);
+  io::scene::JsonReader root(doc, "", path);
   const std::string folder = folderOf(path);
   SweepSpec s;
   s.file = path;
@@ -110,18 +111,18 @@ SweepSpec parseSweep(const std::string& text, const std::string& path,
     return nonNegativeInteger(v) && v <= maxThreadCount();
   }));
   s.endTime = root.number("end_time", 0.0, "a positive number of at most 1e6 (s)",
-                          [](double v) { return v > 0 && v <= io::kMaxEndTime; });
+                          [](double v) { return v > 0 && v <= io::scene::kMaxEndTime; });
   s.maxSteps = static_cast<std::uint64_t>(
       root.number("max_steps", 0.0, "an integer >= 0 (0 = no limit)", nonNegativeInteger));
   s.maxWallSeconds =
-      root.number("max_wall_s", 0.0, "a number >= 0 (s, 0 = no limit)", io::nonNegative);
+      root.number("max_wall_s", 0.0, "a number >= 0 (s, 0 = no limit)", io::scene::nonNegative);
   s.repeats = static_cast<int>(root.number("repeats", 1.0, "an integer in [1, 1000]", [](double v) {
     return positiveInteger(v) && v <= 1000;
   }));
 
-  std::vector<io::JsonReader> axes = root.objectArray("axes");
+  std::vector<io::scene::JsonReader> axes = root.objectArray("axes");
   for (std::size_t i = 0; i < axes.size(); ++i) {
-    io::JsonReader& a = axes[i];
+    io::scene::JsonReader& a = axes[i];
     SweepAxis axis;
     axis.key = a.string("key", std::nullopt);
     if (axis.key.empty() || axis.key.find('=') != std::string::npos)
@@ -131,16 +132,17 @@ SweepSpec parseSweep(const std::string& text, const std::string& path,
     a.accept("values");
     const json& values = doc["axes"][i].contains("values") ? doc["axes"][i]["values"] : json();
     if (!values.is_array() || values.empty()) {
-      a.fail("values", "expected a non-empty array of values, got " + io::describeJson(values));
+      a.fail("values",
+             "expected a non-empty array of values, got " + io::scene::describeJson(values));
     }
     for (const json& v : values) axis.values.push_back(v);
     a.finish();
     s.axes.push_back(std::move(axis));
   }
 
-  std::vector<io::JsonReader> cases = root.objectArray("cases");
+  std::vector<io::scene::JsonReader> cases = root.objectArray("cases");
   for (std::size_t i = 0; i < cases.size(); ++i) {
-    io::JsonReader& c = cases[i];
+    io::scene::JsonReader& c = cases[i];
     SweepCase sc;
     sc.label = c.string("label", std::nullopt);
     readScene(c, doc["cases"][i], folder, sc.scene, sc.inlineScene, false);
@@ -155,7 +157,7 @@ SweepSpec parseSweep(const std::string& text, const std::string& path,
     const json& m = doc["metrics"];
     if (!m.is_array())
       root.fail("metrics",
-                "expected an array of {\"type\": ...} objects, got " + io::describeJson(m));
+                "expected an array of {\"type\": ...} objects, got " + io::scene::describeJson(m));
     for (std::size_t i = 0; i < m.size(); ++i) {
       if (!m[i].is_object() || !m[i].contains("type") || !m[i]["type"].is_string()) {
         root.fail("metrics[" + std::to_string(i) + "]",

@@ -37,9 +37,9 @@ std::string resolve(const std::string& folder, const std::string& path) {
 //   series       write the front after every step to PREFIX-front.csv (t, T, Z)
 class SurgeFrontMetric : public SweepMetric {
  public:
-  SurgeFrontMetric(io::JsonReader& r, const std::string& folder) {
+  SurgeFrontMetric(io::scene::JsonReader& r, const std::string& folder) {
     const std::string path = resolve(folder, r.string("reference", std::nullopt));
-    maxT_ = r.number("max_T", 3.0, "a positive number (dimensionless time)", io::positive);
+    maxT_ = r.number("max_T", 3.0, "a positive number (dimensionless time)", io::scene::positive);
     fluid_ =
         static_cast<std::size_t>(r.number("fluid", 0.0, "an integer >= 0 (index in fluids[])",
                                           [](double v) { return v >= 0 && v == std::floor(v); }));
@@ -218,11 +218,11 @@ class DensityMetric : public SweepMetric {
 // first sample after `settle` seconds and the last one.
 class EnergyMetric : public SweepMetric {
  public:
-  explicit EnergyMetric(io::JsonReader& r) {
+  explicit EnergyMetric(io::scene::JsonReader& r) {
     every_ =
         static_cast<std::uint64_t>(r.number("every_steps", 100.0, "an integer >= 1",
                                             [](double v) { return v >= 1 && v == std::floor(v); }));
-    settle_ = r.number("settle", 0.0, "a number >= 0 (s)", io::nonNegative);
+    settle_ = r.number("settle", 0.0, "a number >= 0 (s)", io::scene::nonNegative);
   }
   std::vector<std::string> columns() const override {
     return {"energy_drift_pct", "rho_drift_pct"};
@@ -294,7 +294,7 @@ std::vector<std::string> metricTypes() {
 
 std::unique_ptr<SweepMetric> makeMetric(const nlohmann::json& config, const std::string& file,
                                         std::size_t index, const std::string& sweepFolder) {
-  io::JsonReader r(config, "metrics[" + std::to_string(index) + "]", file);
+  io::scene::JsonReader r(config, "metrics[" + std::to_string(index) + "]", file);
   const std::vector<std::string> types = metricTypes();
   const std::string type = r.string("type", std::nullopt, types);
   std::unique_ptr<SweepMetric> metric;

@@ -47,7 +47,7 @@ std::string folderOf(const std::string& path) {
 }
 
 scene::Scene variantScene(const SweepSpec& spec, const SweepVariant& v) {
-  scene::Scene scene = io::parseScene(v.sceneText, v.scenePath, v.edits);
+  scene::Scene scene = io::scene::parseScene(v.sceneText, v.scenePath, v.edits);
   if (spec.endTime > 0) scene.solver.endTime = spec.endTime;
   return scene;
 }

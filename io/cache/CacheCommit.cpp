@@ -11,7 +11,7 @@
 #include "io/cache/CacheWriter.h"
 #include "sim/InputError.h"
 
-namespace sph::io {
+namespace sph::io::cache {
 namespace {
 
 using h5::check;
@@ -116,4 +116,4 @@ void CacheWriter::journalHeader(hid_t object) {
   }
 }
 
-}  // namespace sph::io
+}  // namespace sph::io::cache

@@ -8,7 +8,7 @@
 
 #include "sim/InputError.h"
 
-namespace sph::io {
+namespace sph::io::cache {
 namespace {
 
 // The lock covers one byte far past any data the file will hold, not the whole file: MPI-IO
@@ -58,4 +58,4 @@ bool cacheIsLocked(const std::string& path) {
   return locked;
 }
 
-}  // namespace sph::io
+}  // namespace sph::io::cache

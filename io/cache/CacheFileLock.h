@@ -4,7 +4,7 @@
 
 #include <string>
 
-namespace sph::io {
+namespace sph::io::cache {
 
 // Takes an exclusive advisory lock (open file description lock, which HDF5's own flock()
 // ignores) on one byte of `path` far past its data (CacheFileLock.cpp says why not the whole
@@ -14,4 +14,4 @@ int lockCacheFile(const std::string& path);
 // Whether a sphsplat run holds that lock on `path` now (a run is writing it).
 bool cacheIsLocked(const std::string& path);
 
-}  // namespace sph::io
+}  // namespace sph::io::cache

@@ -191,8 +191,9 @@ std::string describeFields(const FieldSet& fields) {
   return out;
 }
 
-std::vector<Parameter> solverParameters(const scene::Scene& scene, const solver::DerivedParams& d) {
-  const scene::SolverParams& s = scene.solver;
+std::vector<Parameter> solverParameters(const sph::scene::Scene& scene,
+                                        const solver::DerivedParams& d) {
+  const sph::scene::SolverParams& s = scene.solver;
   auto number = [](const char* name, double v) { return Parameter{name, v, "", false}; };
   auto text = [](const char* name, const char* v) { return Parameter{name, 0, v, true}; };
   return {
@@ -211,22 +212,23 @@ std::vector<Parameter> solverParameters(const scene::Scene& scene, const solver:
       number("solver.boundary_layers", d.boundaryLayers),
       text("solver.eos", enumName(s.eos)),
       text("solver.density_kernel", enumName(s.densityKernel)),
-      text("solver.walls", enumName(s.noSlipWalls ? scene::Walls::NoSlip : scene::Walls::Slip)),
+      text("solver.walls",
+           enumName(s.noSlipWalls ? sph::scene::Walls::NoSlip : sph::scene::Walls::Slip)),
       text("solver.clamp_negative_pressure", s.clampNegativePressure ? "true" : "false"),
   };
 }
 
-bool isAutomaticParameter(const scene::Scene& scene, const std::string& name) {
-  const scene::SolverParams& s = scene.solver;
+bool isAutomaticParameter(const sph::scene::Scene& scene, const std::string& name) {
+  const sph::scene::SolverParams& s = scene.solver;
   if (name == "solver.stiffness") return s.stiffness <= 0;
   if (name == "solver.speed_of_sound") return s.stiffness <= 0 && s.speedOfSound <= 0;
   if (name == "solver.viscosity") return s.viscosity < 0;
   return false;
 }
 
-std::string dynamicsFingerprint(const scene::Scene& scene) {
+std::string dynamicsFingerprint(const sph::scene::Scene& scene) {
   Fingerprint f;
-  const scene::SolverParams& s = scene.solver;
+  const sph::scene::SolverParams& s = scene.solver;
   f.add(static_cast<int>(s.model)), f.add(s.spacing), f.add(s.support), f.add(s.restDensity),
       f.add(s.viscosity), f.add(s.noSlipWalls);
   f.add(static_cast<int>(s.eos)), f.add(static_cast<int>(s.densityKernel)), f.add(s.speedOfSound);
@@ -234,16 +236,16 @@ std::string dynamicsFingerprint(const scene::Scene& scene) {
       f.add(s.gravity);
   f.add(s.boundaryLayers);
   f.add(scene.domain.lo), f.add(scene.domain.hi);
-  for (const scene::FluidBlock& b : scene.fluids) {
+  for (const sph::scene::FluidBlock& b : scene.fluids) {
     f.add(static_cast<int>(b.shape)), f.add(b.lo), f.add(b.hi), f.add(b.centre), f.add(b.radius),
         f.add(b.velocity);
   }
-  for (const scene::BoundaryShape& b : scene.boundaries) {
+  for (const sph::scene::BoundaryShape& b : scene.boundaries) {
     f.add(static_cast<int>(b.kind)), f.add(b.lo), f.add(b.hi), f.add(b.openTop), f.add(b.centre),
         f.add(b.radius);
     f.add(b.height), f.add(b.point), f.add(b.normal);
   }
-  for (const scene::EmitterDesc& e : scene.emitters) {
+  for (const sph::scene::EmitterDesc& e : scene.emitters) {
     f.add(e.position), f.add(e.direction), f.add(e.radius), f.add(e.speed), f.add(e.start),
         f.add(e.stop);
     f.add(static_cast<std::uint64_t>(e.maxParticles));
@@ -252,14 +254,14 @@ std::string dynamicsFingerprint(const scene::Scene& scene) {
   // the camera that it follows, the pictures' aspect) is dynamics then. Nothing is added
   // otherwise, so caches without it keep their fingerprints.
   if (scene.rain && scene.rain->feedFluid && scene.camera) {
-    const scene::RainDesc& r = *scene.rain;
+    const sph::scene::RainDesc& r = *scene.rain;
     f.add(static_cast<std::uint64_t>(r.count)), f.add(r.near), f.add(r.far), f.add(r.fallSpeed);
     f.add(r.wind), f.add(r.seed), f.add(static_cast<int>(r.spawn)),
         f.add(static_cast<int>(r.sampling));
     f.add(r.region.lo), f.add(r.region.hi), f.add(r.dropVolume);
-    const scene::CameraDesc& c = *scene.camera;
+    const sph::scene::CameraDesc& c = *scene.camera;
     f.add(c.position), f.add(c.target), f.add(c.up), f.add(c.fovYDegrees);
-    for (const scene::CameraKey& k : scene.cameraPath)
+    for (const sph::scene::CameraKey& k : scene.cameraPath)
       f.add(k.time), f.add(k.position), f.add(k.target), f.add(k.fovYDegrees);
     f.add(rain::RainStepper::sceneAspect(scene));
   }

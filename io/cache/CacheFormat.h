@@ -139,15 +139,15 @@ struct Parameter {
 };
 // The parameters the run actually used (automatic values resolved). A resume compares them with
 // the scene it is given, to name what differs.
-std::vector<Parameter> solverParameters(const scene::Scene& scene,
+std::vector<Parameter> solverParameters(const sph::scene::Scene& scene,
                                         const solver::DerivedParams& derived);
 // True for a parameter `scene` leaves automatic, computed from the rest of the scene: the speed
 // of sound and stiffness (from the fluid's height) and the viscosity (from those).
-bool isAutomaticParameter(const scene::Scene& scene, const std::string& name);
+bool isAutomaticParameter(const sph::scene::Scene& scene, const std::string& name);
 
 // A hash of everything in a scene that changes the motion (solver, domain, fluids, boundaries,
 // emitters; not the end time nor the output section), as 16 hex digits. A resume refuses a scene
 // whose fingerprint differs from the cache's.
-std::string dynamicsFingerprint(const scene::Scene& scene);
+std::string dynamicsFingerprint(const sph::scene::Scene& scene);
 
 }  // namespace sph::io::cache

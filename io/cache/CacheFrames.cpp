@@ -8,7 +8,7 @@
 #include "io/cache/CacheWriter.h"
 #include "sim/InputError.h"
 
-namespace sph::io {
+namespace sph::io::cache {
 
 using h5::check;
 using h5::checked;
@@ -295,4 +295,4 @@ h5::Handle CacheWriter::writeVectorViews(std::size_t frame, std::size_t particle
   return group;
 }
 
-}  // namespace sph::io
+}  // namespace sph::io::cache

@@ -10,7 +10,7 @@
 
 #include "sim/InputError.h"
 
-namespace sph::io {
+namespace sph::io::cache {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'P', 'H', 'J', 'R', 'N', 'L', '1'};
@@ -133,4 +133,4 @@ void undoRepair(const JournalRepair& repair) {
   ::close(fd);
 }
 
-}  // namespace sph::io
+}  // namespace sph::io::cache

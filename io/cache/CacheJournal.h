@@ -19,7 +19,7 @@
 #include <cstdint>
 #include <string>
 
-namespace sph::io {
+namespace sph::io::cache {
 
 // Room for the record in a user block of `userBlockBytes`: the largest image it can hold.
 std::uint64_t journalCapacity(std::uint64_t userBlockBytes);
@@ -43,4 +43,4 @@ struct JournalRepair {
 bool repairFromJournal(const std::string& path, JournalRepair& repair);
 void undoRepair(const JournalRepair& repair);
 
-}  // namespace sph::io
+}  // namespace sph::io::cache

@@ -19,7 +19,7 @@
 #include "io/UserFiles.h"
 #include "sim/InputError.h"
 
-namespace sph::io {
+namespace sph::io::cache {
 namespace {
 
 using h5::checked;
@@ -348,4 +348,4 @@ std::uint64_t CacheReader::frameDataBytes() const {
   return bytes;
 }
 
-}  // namespace sph::io
+}  // namespace sph::io::cache

@@ -21,7 +21,7 @@
 #include "sim/Particles.h"
 #include "sim/run/Simulation.h"
 
-namespace sph::io {
+namespace sph::io::cache {
 
 struct CacheFrame {
   std::size_t index = 0;
@@ -116,4 +116,4 @@ class CacheReader {
   CacheSummary summary_;
 };
 
-}  // namespace sph::io
+}  // namespace sph::io::cache

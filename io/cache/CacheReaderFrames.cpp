@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace sph::io {
+namespace sph::io::cache {
 namespace {
 
 using h5::checked;
@@ -134,4 +134,4 @@ RenderedFrame CacheReader::readRenderedFrame(const std::string& renderer, std::s
   return out;
 }
 
-}  // namespace sph::io
+}  // namespace sph::io::cache

@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-namespace sph::io {
+namespace sph::io::cache {
 
 rain::FeedState CacheReader::readRainFeed(std::size_t frame) const {
   checkFrame(frame);
@@ -114,4 +114,4 @@ std::pair<run::RunState, Particles> CacheReader::readRestart(std::size_t frame,
   return {s, p};
 }
 
-}  // namespace sph::io
+}  // namespace sph::io::cache

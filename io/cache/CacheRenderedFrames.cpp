@@ -6,7 +6,7 @@
 #include "io/cache/CacheWriter.h"
 #include "sim/InputError.h"
 
-namespace sph::io {
+namespace sph::io::cache {
 
 using h5::check;
 using h5::checked;
@@ -70,4 +70,4 @@ void CacheWriter::writeRenderedFrame(const std::string& renderer, std::size_t fr
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-}  // namespace sph::io
+}  // namespace sph::io::cache

@@ -16,7 +16,7 @@
 #include "sim/InputError.h"
 #include "sim/rain/RainFeed.h"
 
-namespace sph::io {
+namespace sph::io::cache {
 namespace {
 
 bool exists(const std::string& path) {
@@ -55,7 +55,7 @@ std::string megabytes(double bytes) {
 }  // namespace
 
 std::unique_ptr<CacheSession> CacheSession::prepare(const CacheSessionOptions& flags,
-                                                    scene::Scene& scene) {
+                                                    sph::scene::Scene& scene) {
   if (flags.noCompress) scene.output.compression = 0;
   auto out = std::unique_ptr<CacheSession>(new CacheSession);
   out->overwrite_ = flags.overwrite;
@@ -161,7 +161,7 @@ void CacheSession::checkRecord(const std::string& path, const run::RunState& sta
 std::size_t CacheSession::checkResume(const run::Simulation& sim,
                                       const CacheProvenance& provenance) {
   const CacheSummary& s = reader_->summary();
-  const scene::Scene& scene = sim.scene();
+  const sph::scene::Scene& scene = sim.scene();
   if (cache::dynamicsFingerprint(scene) != s.sceneFingerprint) {
     // Name the first parameter set by the scene that differs, if one does; the automatic ones
     // (the speed of sound follows the fluid's height) only when no set one does, so that a
@@ -274,7 +274,7 @@ double CacheSession::lastFrameTime() const {
 
 void CacheSession::create(const run::Simulation& sim, const CacheProvenance& provenance,
                           std::size_t expectedFrames) {
-  const scene::Scene& scene = sim.scene();
+  const sph::scene::Scene& scene = sim.scene();
   std::string error;
   fields_ = cache::parseFields(scene.output.fields, error);
   doublePositions_ = scene.output.doublePositions;
@@ -455,4 +455,4 @@ void CacheSession::writeRenderedFrame(const std::string& renderer, std::size_t f
   writer_->writeRenderedFrame(renderer, frame, width, height, rgb);
 }
 
-}  // namespace sph::io
+}  // namespace sph::io::cache

@@ -18,7 +18,7 @@
 #include "sim/run/Simulation.h"
 #include "sim/rain/RainStepper.h"
 
-namespace sph::io {
+namespace sph::io::cache {
 
 struct CacheSessionOptions {
   std::string output;       // --output PATH
@@ -33,7 +33,7 @@ class CacheSession final : public run::FrameSink {
   // cache. Applies --no-compress to the scene's output section and, when resuming, the cache's
   // own frame rate (its frames must stay evenly spaced).
   static std::unique_ptr<CacheSession> prepare(const CacheSessionOptions& flags,
-                                               scene::Scene& scene);
+                                               sph::scene::Scene& scene);
 
   bool resuming() const { return resume_; }
   // Resume: checks that `sim`'s scene is the cache's, puts `sim` in the state of the cache's last
@@ -136,4 +136,4 @@ class CacheSession final : public run::FrameSink {
   const rain::RainStepper* rainShown_ = nullptr;
 };
 
-}  // namespace sph::io
+}  // namespace sph::io::cache

@@ -15,7 +15,7 @@
 #include "io/cache/CacheJournal.h"
 #include "sim/InputError.h"
 
-namespace sph::io {
+namespace sph::io::cache {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -56,10 +56,11 @@ unsigned rootLinkEstimate(std::size_t expectedFrames, std::size_t linksPerFrame,
 }
 
 // Root links a frame adds: Step#N, Vectors#N, Restart#N, Render#<renderer>#N, Rain#N.
-std::size_t linksPerFrame(const scene::Scene& scene) {
+std::size_t linksPerFrame(const sph::scene::Scene& scene) {
   std::size_t links = 2 + (scene.output.restart ? 1 : 0);
   if (scene.render && scene.render->toCache) {
-    const std::size_t renderers = scene.render->splat == scene::RenderDesc::Splat::Both ? 2 : 1;
+    const std::size_t renderers =
+        scene.render->splat == sph::scene::RenderDesc::Splat::Both ? 2 : 1;
     links += (renderers + static_cast<std::size_t>(scene.render->every) - 1) /
              static_cast<std::size_t>(scene.render->every);
   }
@@ -86,7 +87,8 @@ CacheWriter::~CacheWriter() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-std::unique_ptr<CacheWriter> CacheWriter::create(const std::string& path, const scene::Scene& scene,
+std::unique_ptr<CacheWriter> CacheWriter::create(const std::string& path,
+                                                 const sph::scene::Scene& scene,
                                                  const solver::DerivedParams& derived,
                                                  const solver::BoundaryParticles& boundary,
                                                  const CacheProvenance& provenance,
@@ -115,7 +117,7 @@ std::unique_ptr<CacheWriter> CacheWriter::create(const std::string& path, const 
   }
   std::unique_ptr<CacheWriter> w(new CacheWriter(path, std::move(file), lockCacheFile(path)));
   w->userBlock_ = userBlock;
-  const scene::OutputDesc& out = scene.output;
+  const sph::scene::OutputDesc& out = scene.output;
   std::string error;
   w->fields_ = cache::parseFields(out.fields, error);
   if (!error.empty()) throw InputError(path + ": output.fields: " + error);
@@ -433,4 +435,4 @@ void CacheWriter::close() {
   ::close(fd_), fd_ = -1;
 }
 
-}  // namespace sph::io
+}  // namespace sph::io::cache

@@ -23,7 +23,7 @@
 #include "sim/run/Simulation.h"
 #include "sim/ranks/Communicator.h"
 
-namespace sph::io {
+namespace sph::io::cache {
 
 // What the root records about the program and the run besides the scene.
 struct CacheProvenance {
@@ -46,7 +46,8 @@ class CacheWriter {
   // is allowed). Records the scene (its output section says which fields, the compression and
   // whether resume records are written), the resolved parameters and the boundary particles, and
   // commits. `expectedFrames` sizes the root group (see CacheWriter.cpp); more frames still work.
-  static std::unique_ptr<CacheWriter> create(const std::string& path, const scene::Scene& scene,
+  static std::unique_ptr<CacheWriter> create(const std::string& path,
+                                             const sph::scene::Scene& scene,
                                              const solver::DerivedParams& derived,
                                              const solver::BoundaryParticles& boundary,
                                              const CacheProvenance& provenance,
@@ -155,4 +156,4 @@ class CacheWriter {
   std::set<std::size_t> pointIndexes_;  // lengths of the point indexes the file holds
 };
 
-}  // namespace sph::io
+}  // namespace sph::io::cache

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cstdlib>
 
-namespace sph::io::h5 {
+namespace sph::io::cache::h5 {
 
 void silence() {
   static const bool done = [] {
@@ -198,4 +198,4 @@ H5O_type_t objectType(hid_t loc, const std::string& name) {
   return info.type;
 }
 
-}  // namespace sph::io::h5
+}  // namespace sph::io::cache::h5

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-namespace sph::io::h5 {
+namespace sph::io::cache::h5 {
 
 // A failed HDF5 call: `what` we tried, then HDF5's own innermost description.
 class Error : public std::runtime_error {
@@ -244,4 +244,4 @@ std::vector<T> readDataset(hid_t loc, const std::string& name, const Runs* runs)
   return out;
 }
 
-}  // namespace sph::io::h5
+}  // namespace sph::io::cache::h5

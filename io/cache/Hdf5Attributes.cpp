@@ -8,7 +8,7 @@
 
 #include "io/cache/Hdf5.h"
 
-namespace sph::io::h5 {
+namespace sph::io::cache::h5 {
 
 namespace {
 
@@ -188,4 +188,4 @@ std::vector<std::string> attributeNames(hid_t obj) {
   return names;
 }
 
-}  // namespace sph::io::h5
+}  // namespace sph::io::cache::h5

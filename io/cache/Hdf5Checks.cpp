@@ -14,7 +14,7 @@
 
 #include "io/cache/Hdf5FileBytes.h"
 
-namespace sph::io::h5 {
+namespace sph::io::cache::h5 {
 namespace {
 
 using detail::Damage;
@@ -276,4 +276,4 @@ Handle openCheckedGroup(hid_t loc, const std::string& name) {
   return checked(H5Gopen2(loc, name.c_str(), H5P_DEFAULT), "open the group '" + name + "'");
 }
 
-}  // namespace sph::io::h5
+}  // namespace sph::io::cache::h5

@@ -9,7 +9,7 @@
 
 #include "io/cache/Hdf5.h"
 
-namespace sph::io::h5 {
+namespace sph::io::cache::h5 {
 
 Handle createDataset(hid_t loc, const std::string& name, hid_t fileType,
                      const std::vector<hsize_t>& dims, const Storage& storage) {
@@ -136,4 +136,4 @@ void readDatasetRuns(hid_t loc, const std::string& name, hid_t memType, const Ru
         "read dataset '" + name + "'");
 }
 
-}  // namespace sph::io::h5
+}  // namespace sph::io::cache::h5

@@ -4,7 +4,7 @@
 
 #include <cstring>
 
-namespace sph::io::h5::detail {
+namespace sph::io::cache::h5::detail {
 
 HeaderMessages::HeaderMessages(const RawFile& file, std::uint64_t base, std::uint64_t address) {
   const auto start = file.read(base + address, 16);
@@ -79,4 +79,4 @@ FileOf fileOf(hid_t object) {
   return kept.file;
 }
 
-}  // namespace sph::io::h5::detail
+}  // namespace sph::io::cache::h5::detail

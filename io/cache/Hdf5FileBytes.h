@@ -18,7 +18,7 @@
 
 #include "io/cache/Hdf5.h"
 
-namespace sph::io::h5::detail {
+namespace sph::io::cache::h5::detail {
 
 // A file read by offset, every read checked against its size.
 class RawFile {
@@ -104,4 +104,4 @@ struct FileOf {
 
 FileOf fileOf(hid_t object);
 
-}  // namespace sph::io::h5::detail
+}  // namespace sph::io::cache::h5::detail

@@ -11,7 +11,7 @@
 
 #include "io/cache/Hdf5FileBytes.h"
 
-namespace sph::io::h5 {
+namespace sph::io::cache::h5 {
 namespace {
 
 using detail::Damage;
@@ -99,4 +99,4 @@ void checkHeapString(hid_t object, const std::string& name) {
   }
 }
 
-}  // namespace sph::io::h5
+}  // namespace sph::io::cache::h5

@@ -6,7 +6,7 @@
 
 #include "io/cache/Hdf5.h"
 
-namespace sph::io::h5 {
+namespace sph::io::cache::h5 {
 
 std::size_t Part::count() const {
   std::size_t n = 0;
@@ -20,7 +20,7 @@ bool haveParallel() {
   return true;
 }
 
-}  // namespace sph::io::h5
+}  // namespace sph::io::cache::h5
 
 // HDF5's MPI-IO driver sets the file's size to its end of allocation (EOA) after every flush that
 // allocated (H5FD__mpio_truncate, 1.10.8), the only MPI_File_set_size call in this program. A
@@ -42,7 +42,7 @@ extern "C" __attribute__((visibility("default"))) int MPI_File_set_size(MPI_File
   return PMPI_File_set_size(file, size > 0 ? size + kReaderMargin : 0);
 }
 
-namespace sph::io::h5 {
+namespace sph::io::cache::h5 {
 
 Handle parallelFileAccessProps() {
   Handle fapl = fileAccessProps();
@@ -96,4 +96,4 @@ std::uint64_t writeDatasetPart(hid_t, const std::string& name, hid_t, hid_t, con
 
 #endif
 
-}  // namespace sph::io::h5
+}  // namespace sph::io::cache::h5

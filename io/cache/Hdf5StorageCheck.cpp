@@ -10,7 +10,7 @@
 
 #include "io/cache/Hdf5.h"
 
-namespace sph::io::h5 {
+namespace sph::io::cache::h5 {
 
 Handle openCheckedDataset(hid_t loc, const std::string& name) {
   checkHeaders(loc, name);
@@ -92,4 +92,4 @@ Handle openCheckedDataset(hid_t loc, const std::string& name) {
   return set;
 }
 
-}  // namespace sph::io::h5
+}  // namespace sph::io::cache::h5

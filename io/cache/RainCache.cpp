@@ -4,7 +4,7 @@
 #include "io/cache/Hdf5.h"
 #include "sim/InputError.h"
 
-namespace sph::io {
+namespace sph::io::cache {
 
 using h5::check;
 using h5::checked;
@@ -71,4 +71,4 @@ RainFrame readRainFrame(const CacheReader& reader, std::size_t frame) {
   return r;
 }
 
-}  // namespace sph::io
+}  // namespace sph::io::cache

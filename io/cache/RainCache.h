@@ -12,7 +12,7 @@
 #include "io/cache/CacheWriter.h"
 #include "sim/rain/RainSystem.h"
 
-namespace sph::io {
+namespace sph::io::cache {
 
 struct RainFrame {
   double time = 0;  // s, the frame's
@@ -27,4 +27,4 @@ void writeRainFrame(CacheWriter& writer, std::size_t frame, double time,
 // The drops stored for `frame`; throws InputError if the cache has none for it.
 RainFrame readRainFrame(const CacheReader& reader, std::size_t frame);
 
-}  // namespace sph::io
+}  // namespace sph::io::cache

@@ -10,7 +10,7 @@
 #include "io/UserFiles.h"
 #include "sim/InputError.h"
 
-namespace sph::io {
+namespace sph::io::cache {
 namespace {
 
 using cache::Field;
@@ -202,4 +202,4 @@ std::string XdmfWriter::frameGrid(const CacheFrame& frame) const {
   return text + "      </Grid>\n";
 }
 
-}  // namespace sph::io
+}  // namespace sph::io::cache

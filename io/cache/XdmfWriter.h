@@ -22,7 +22,7 @@
 #include "io/cache/CacheFormat.h"
 #include "io/cache/CacheReader.h"
 
-namespace sph::io {
+namespace sph::io::cache {
 
 class XdmfWriter {
  public:
@@ -65,4 +65,4 @@ class XdmfWriter {
   std::size_t documentBytes_ = 0;  // size of the last rewrite
 };
 
-}  // namespace sph::io
+}  // namespace sph::io::cache

@@ -6,7 +6,7 @@
 
 #include "io/MessageText.h"
 
-namespace sph::io {
+namespace sph::io::scene {
 namespace {
 
 std::size_t editDistance(const std::string& a, const std::string& b) {
@@ -200,4 +200,4 @@ void JsonReader::finish() const {
   }
 }
 
-}  // namespace sph::io
+}  // namespace sph::io::scene

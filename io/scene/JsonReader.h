@@ -13,7 +13,7 @@
 #include "sim/InputError.h"
 #include "sim/Types.h"
 
-namespace sph::io {
+namespace sph::io::scene {
 
 // Every scene number is refused beyond this magnitude (docs/scene-format.md): past it a float
 // loses every digit that matters, and casts to integers or floats would overflow.
@@ -40,9 +40,9 @@ class JsonReader {
   template <class E>
   E choice(const std::string& key, std::optional<E> def) {
     const std::string name =
-        string(key, def ? std::optional<std::string>(scene::enumName(*def)) : std::nullopt,
-               scene::enumNames<E>());
-    return *scene::parseEnum<E>(name);
+        string(key, def ? std::optional<std::string>(sph::scene::enumName(*def)) : std::nullopt,
+               sph::scene::enumNames<E>());
+    return *sph::scene::parseEnum<E>(name);
   }
   bool boolean(const std::string& key, std::optional<bool> def);
   Vec3 vec3(const std::string& key, std::optional<Vec3> def, const char* expected = "3 numbers");
@@ -76,4 +76,4 @@ std::string describeJson(const nlohmann::json& v);
 bool positive(double v);
 bool nonNegative(double v);
 
-}  // namespace sph::io
+}  // namespace sph::io::scene

@@ -10,7 +10,7 @@
 #include "io/MessageText.h"
 #include "sim/InputError.h"
 
-namespace sph::io {
+namespace sph::io::scene {
 namespace {
 
 using nlohmann::json;
@@ -279,4 +279,4 @@ std::optional<json> parseJsonIfJson(const std::string& text, const std::string& 
   return parse(text, where, false);
 }
 
-}  // namespace sph::io
+}  // namespace sph::io::scene

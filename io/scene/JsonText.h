@@ -15,7 +15,7 @@
 #include <optional>
 #include <string>
 
-namespace sph::io {
+namespace sph::io::scene {
 
 constexpr int kMaxJsonDepth = 64;
 constexpr std::size_t kMaxNumberChars = 64;
@@ -34,4 +34,4 @@ std::string lineColumn(const std::string& text, std::size_t offset);
 // byte-order mark is allowed).
 void requireUtf8(const std::string& text, const std::string& where);
 
-}  // namespace sph::io
+}  // namespace sph::io::scene

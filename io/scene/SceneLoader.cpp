@@ -16,7 +16,7 @@
 #include "sim/solver/SceneSetup.h"
 #include "sim/cdt/CdtCpu.h"
 
-namespace sph::io {
+namespace sph::io::scene {
 
 std::string formatVec(const Vec3& v) {
   std::ostringstream s;
@@ -123,7 +123,7 @@ void applyOverride(json& doc, const std::string& edit, const std::string& file) 
 }
 
 // Geometric checks that need the whole scene.
-void validate(const scene::Scene& s, const std::string& file) {
+void validate(const sph::scene::Scene& s, const std::string& file) {
   auto fail = [&](const std::string& path, const std::string& msg) {
     throw InputError(file + ": " + path + ": " + msg);
   };
@@ -133,9 +133,9 @@ void validate(const scene::Scene& s, const std::string& file) {
   }
   const float dx = s.solver.spacing;
   for (std::size_t i = 0; i < s.fluids.size(); ++i) {
-    const scene::FluidBlock& f = s.fluids[i];
+    const sph::scene::FluidBlock& f = s.fluids[i];
     Aabb b;
-    if (f.shape == scene::FluidBlock::Shape::Box)
+    if (f.shape == sph::scene::FluidBlock::Shape::Box)
       b.lo = f.lo, b.hi = f.hi;
     else
       b.lo = f.centre - Vec3::Constant(f.radius), b.hi = f.centre + Vec3::Constant(f.radius);
@@ -157,9 +157,10 @@ void validate(const scene::Scene& s, const std::string& file) {
   }
   // Refuse runs that would not fit in memory before allocating anything (~100 B per particle).
   double estimate = 0;
-  for (const scene::FluidBlock& f : s.fluids) {
-    estimate += f.shape == scene::FluidBlock::Shape::Box ? (f.hi - f.lo).prod() / (dx * dx * dx)
-                                                         : 4.18879 * std::pow(f.radius / dx, 3.0);
+  for (const sph::scene::FluidBlock& f : s.fluids) {
+    estimate += f.shape == sph::scene::FluidBlock::Shape::Box
+                    ? (f.hi - f.lo).prod() / (dx * dx * dx)
+                    : 4.18879 * std::pow(f.radius / dx, 3.0);
   }
   if (!(estimate <= 2e8)) {
     fail("solver.spacing", "the fluid blocks would hold " + readableCount(estimate) +
@@ -180,13 +181,13 @@ void validate(const scene::Scene& s, const std::string& file) {
 
 }  // namespace
 
-scene::Scene parseScene(const std::string& text, const std::string& path,
-                        const std::vector<std::string>& overrides) {
+sph::scene::Scene parseScene(const std::string& text, const std::string& path,
+                             const std::vector<std::string>& overrides) {
   json doc = parseJson(text, path);
   for (const std::string& edit : overrides) applyOverride(doc, edit, path);
 
   JsonReader root(doc, "", path);
-  scene::Scene scene;
+  sph::scene::Scene scene;
   scene.sourcePath = path;
   scene.sourceText = text;
   std::string stem = path.substr(path.find_last_of('/') + 1);
@@ -228,9 +229,9 @@ scene::Scene parseScene(const std::string& text, const std::string& path,
   if (auto l = root.optionalObject("lights")) scene.lights = readLights(*l);
   if (auto c = root.optionalObject("collision")) {
     scene.collision = readCollision(*c, scene.solver);
-    const bool cdt = scene.collision->method == scene::CollisionMethod::CdtCpu ||
-                     scene.collision->method == scene::CollisionMethod::CdtGl;
-    if (cdt && scene.collision->camera != scene::CdtCameraMode::Fixed && !scene.camera) {
+    const bool cdt = scene.collision->method == sph::scene::CollisionMethod::CdtCpu ||
+                     scene.collision->method == sph::scene::CollisionMethod::CdtGl;
+    if (cdt && scene.collision->camera != sph::scene::CdtCameraMode::Fixed && !scene.camera) {
       c->fail("camera",
               "the collision camera follows the scene's camera, but the scene has no \"camera\"; "
               "add one or use \"camera\": \"fixed\" with a \"pose\"");
@@ -249,8 +250,8 @@ scene::Scene parseScene(const std::string& text, const std::string& path,
   return scene;
 }
 
-scene::Scene loadScene(const std::string& path, const std::vector<std::string>& overrides) {
+sph::scene::Scene loadScene(const std::string& path, const std::vector<std::string>& overrides) {
   return parseScene(readInputFile(path, "scene file"), path, overrides);
 }
 
-}  // namespace sph::io
+}  // namespace sph::io::scene

@@ -8,7 +8,7 @@
 #include "sim/InputError.h"
 #include "sim/scene/Scene.h"
 
-namespace sph::io {
+namespace sph::io::scene {
 
 // Longest simulated time a scene may ask for (s): solver.end_time and `run --end`.
 constexpr double kMaxEndTime = 1e6;
@@ -29,10 +29,11 @@ constexpr const char* nameOf(Quality v) {
 
 // Loads and validates `path`. `overrides` are "key.path=value" edits applied to the JSON before
 // validation (value parsed as JSON, else taken as a string), e.g. "solver.spacing=0.01".
-scene::Scene loadScene(const std::string& path, const std::vector<std::string>& overrides = {});
+sph::scene::Scene loadScene(const std::string& path,
+                            const std::vector<std::string>& overrides = {});
 
 // Same, from text already in memory; `path` is only used in messages and for the default name.
-scene::Scene parseScene(const std::string& text, const std::string& path,
-                        const std::vector<std::string>& overrides = {});
+sph::scene::Scene parseScene(const std::string& text, const std::string& path,
+                             const std::vector<std::string>& overrides = {});
 
-}  // namespace sph::io
+}  // namespace sph::io::scene

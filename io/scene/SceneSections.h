@@ -9,7 +9,7 @@
 #include "io/scene/SceneLoader.h"
 #include "sim/scene/Scene.h"
 
-namespace sph::io {
+namespace sph::io::scene {
 
 std::string formatVec(const Vec3& v);  // "[x, y, z]" for messages
 bool integerIn(double v, double lo, double hi);
@@ -19,18 +19,18 @@ void requireOrdered(JsonReader& r, const Vec3& lo, const Vec3& hi);
 // `solver` (its defaults those of the `quality` preset), `fluids[i]`, `boundaries[i]`,
 // `emitters[i]` (a nozzle at least half a particle `spacing` wide), `output`, `collision`
 // (docs/scene-format.md).
-scene::SolverParams readSolver(JsonReader r, Quality quality);
-scene::FluidBlock readFluid(JsonReader r);
-scene::BoundaryShape readBoundary(JsonReader r);
-scene::EmitterDesc readEmitter(JsonReader r, float spacing);
-scene::OutputDesc readOutput(JsonReader r);
-scene::CollisionDesc readCollision(JsonReader r, const scene::SolverParams& solver);
+sph::scene::SolverParams readSolver(JsonReader r, Quality quality);
+sph::scene::FluidBlock readFluid(JsonReader r);
+sph::scene::BoundaryShape readBoundary(JsonReader r);
+sph::scene::EmitterDesc readEmitter(JsonReader r, float spacing);
+sph::scene::OutputDesc readOutput(JsonReader r);
+sph::scene::CollisionDesc readCollision(JsonReader r, const sph::scene::SolverParams& solver);
 
 // `camera` (and its key frames into *path when given), `render`, `rain`, `lights`
 // (docs/scene-format.md).
-scene::CameraDesc readCamera(JsonReader r, scene::CameraPath* path = nullptr);
-scene::RenderDesc readRender(JsonReader r);
-scene::RainDesc readRain(JsonReader r);
-scene::LightsDesc readLights(JsonReader r);
+sph::scene::CameraDesc readCamera(JsonReader r, sph::scene::CameraPath* path = nullptr);
+sph::scene::RenderDesc readRender(JsonReader r);
+sph::scene::RainDesc readRain(JsonReader r);
+sph::scene::LightsDesc readLights(JsonReader r);
 
-}  // namespace sph::io
+}  // namespace sph::io::scene

@@ -14,7 +14,7 @@
 #include "io/scene/SceneSections.h"
 #include "sim/cdt/CdtConstants.h"
 
-namespace sph::io {
+namespace sph::io::scene {
 namespace {
 
 // Solver defaults of a `quality` preset (docs/scene-format.md, "quality"). The values come from
@@ -25,11 +25,11 @@ namespace {
 struct QualityPreset {
   double cfl;               // see SolverParams::cfl
   double soundSpeedFactor;  // see SolverParams::soundSpeedFactor
-  scene::PressureSolver pressure = scene::PressureSolver::Wcsph;
+  sph::scene::PressureSolver pressure = sph::scene::PressureSolver::Wcsph;
 };
 
 QualityPreset qualityPreset(Quality quality) {
-  const scene::SolverParams defaults;
+  const sph::scene::SolverParams defaults;
   switch (quality) {
     case Quality::Fast:
       return {0.8, 5.0};
@@ -39,7 +39,7 @@ QualityPreset qualityPreset(Quality quality) {
       // EOS this preset used to be ran the front further off (steps of up to 1 ms:
       // docs/notes/2026-11-25-dfsph-against-wcsph.md; with today's steps: docs/benchmarks.md).
       // c stays the default's: the automatic viscosity derives from it.
-      return {0.2, defaults.soundSpeedFactor, scene::PressureSolver::Dfsph};
+      return {0.2, defaults.soundSpeedFactor, sph::scene::PressureSolver::Dfsph};
     case Quality::Default:
       break;
   }
@@ -48,13 +48,13 @@ QualityPreset qualityPreset(Quality quality) {
 
 }  // namespace
 
-scene::SolverParams readSolver(JsonReader r, Quality quality) {
-  scene::SolverParams s;
+sph::scene::SolverParams readSolver(JsonReader r, Quality quality) {
+  sph::scene::SolverParams s;
   const QualityPreset preset = qualityPreset(quality);
   s.spacing =
       static_cast<float>(r.number("spacing", std::nullopt, "a positive number of at most 1000 (m)",
                                   [](double v) { return v > 0 && v <= 1e3; }));
-  s.model = r.choice("model", std::optional(scene::SolverModel::Sph));
+  s.model = r.choice("model", std::optional(sph::scene::SolverModel::Sph));
   s.support = static_cast<float>(r.number("support", 2.0,
                                           "a number in [1, 4] (kernel support radius / spacing)",
                                           [](double v) { return v >= 1 && v <= 4; }));
@@ -62,17 +62,18 @@ scene::SolverParams readSolver(JsonReader r, Quality quality) {
       static_cast<float>(r.number("rest_density", 1000.0, "a positive number (kg/m^3)", positive));
   s.viscosity =
       static_cast<float>(r.number("viscosity", -1.0, "a number >= 0 (m^2/s)", nonNegative));
-  s.noSlipWalls = r.choice("walls", std::optional(scene::Walls::NoSlip)) == scene::Walls::NoSlip;
-  s.eos = r.choice("eos", std::optional(scene::EquationOfState::Tait));
-  s.densityKernel = r.choice("density_kernel", std::optional(scene::DensityKernel::Spiky));
+  s.noSlipWalls =
+      r.choice("walls", std::optional(sph::scene::Walls::NoSlip)) == sph::scene::Walls::NoSlip;
+  s.eos = r.choice("eos", std::optional(sph::scene::EquationOfState::Tait));
+  s.densityKernel = r.choice("density_kernel", std::optional(sph::scene::DensityKernel::Spiky));
   s.pressure = r.choice("pressure", std::optional(preset.pressure));
-  const bool dfsph = s.pressure == scene::PressureSolver::Dfsph;
+  const bool dfsph = s.pressure == sph::scene::PressureSolver::Dfsph;
   for (const char* key : {"max_density_error", "max_divergence_error", "min_density_iterations",
                           "max_density_iterations", "max_divergence_iterations", "wall_pressure"}) {
     if (!dfsph && r.has(key)) r.fail(key, "only used with \"pressure\": \"dfsph\"");
   }
   if (dfsph) {
-    if (s.densityKernel != scene::DensityKernel::Spiky) {
+    if (s.densityKernel != sph::scene::DensityKernel::Spiky) {
       r.fail("density_kernel",
              "\"pressure\": \"dfsph\" needs \"spiky\" (its solvers use the exact gradient of the "
              "density sum)");
@@ -119,14 +120,15 @@ scene::SolverParams readSolver(JsonReader r, Quality quality) {
   // A preset's cfl is for its own solver; with the other one, that solver's default.
   const double cfl = preset.pressure == s.pressure ? preset.cfl
                      : dfsph                       ? kDfsphCfl
-                                                   : scene::SolverParams().cfl;
+                                                   : sph::scene::SolverParams().cfl;
   s.cfl = static_cast<float>(r.number("cfl", cfl, "a positive number", positive));
   // DFSPH's step is bound by the flow speed and gravity (sim/solver/SceneSetup.cpp, timeStep()); its cap
   // is the peer's (SPlisHSPlasH, ../shared/reference/peers.md).
-  s.maxTimeStep = static_cast<float>(r.number(
-      "max_time_step",
-      s.pressure == scene::PressureSolver::Dfsph ? scene::kDfsphMaxTimeStep : s.maxTimeStep,
-      "a positive number (s)", positive));
+  s.maxTimeStep = static_cast<float>(r.number("max_time_step",
+                                              s.pressure == sph::scene::PressureSolver::Dfsph
+                                                  ? sph::scene::kDfsphMaxTimeStep
+                                                  : s.maxTimeStep,
+                                              "a positive number (s)", positive));
   s.gravity = r.vec3("gravity", s.gravity, "3 numbers (m/s^2)");
   s.endTime = r.number("end_time", 1.0, "a positive number of at most 1e6 (s)",
                        [](double v) { return v > 0 && v <= kMaxEndTime; });
@@ -140,16 +142,16 @@ scene::SolverParams readSolver(JsonReader r, Quality quality) {
   return s;
 }
 
-scene::FluidBlock readFluid(JsonReader r) {
-  scene::FluidBlock f;
+sph::scene::FluidBlock readFluid(JsonReader r) {
+  sph::scene::FluidBlock f;
   const std::string type = r.string("type", std::string("box"), {"box", "sphere"});
   if (type == "box") {
-    f.shape = scene::FluidBlock::Shape::Box;
+    f.shape = sph::scene::FluidBlock::Shape::Box;
     f.lo = r.vec3("min", std::nullopt, "3 numbers (m)");
     f.hi = r.vec3("max", std::nullopt, "3 numbers (m)");
     requireOrdered(r, f.lo, f.hi);
   } else {
-    f.shape = scene::FluidBlock::Shape::Sphere;
+    f.shape = sph::scene::FluidBlock::Shape::Sphere;
     f.centre = r.vec3("centre", std::nullopt, "3 numbers (m)");
     f.radius =
         static_cast<float>(r.number("radius", std::nullopt, "a positive number (m)", positive));
@@ -159,31 +161,32 @@ scene::FluidBlock readFluid(JsonReader r) {
   return f;
 }
 
-scene::BoundaryShape readBoundary(JsonReader r) {
-  scene::BoundaryShape b;
+sph::scene::BoundaryShape readBoundary(JsonReader r) {
+  sph::scene::BoundaryShape b;
   const std::string type =
       r.string("type", std::nullopt, {"tank", "block", "cup", "plane", "sphere"});
   if (type == "tank" || type == "block") {
-    b.kind = type == "tank" ? scene::BoundaryShape::Kind::Tank : scene::BoundaryShape::Kind::Block;
+    b.kind = type == "tank" ? sph::scene::BoundaryShape::Kind::Tank
+                            : sph::scene::BoundaryShape::Kind::Block;
     b.lo = r.vec3("min", std::nullopt, "3 numbers (m)");
     b.hi = r.vec3("max", std::nullopt, "3 numbers (m)");
     requireOrdered(r, b.lo, b.hi);
     if (type == "tank") b.openTop = r.boolean("open_top", true);
   } else if (type == "cup") {
-    b.kind = scene::BoundaryShape::Kind::Cup;
+    b.kind = sph::scene::BoundaryShape::Kind::Cup;
     b.centre = r.vec3("centre", std::nullopt, "3 numbers (m): the centre of the cup's inner floor");
     b.radius = static_cast<float>(
         r.number("radius", std::nullopt, "a positive number (m): inner radius", positive));
     b.height = static_cast<float>(
         r.number("height", std::nullopt, "a positive number (m): wall height", positive));
   } else if (type == "plane") {
-    b.kind = scene::BoundaryShape::Kind::Plane;
+    b.kind = sph::scene::BoundaryShape::Kind::Plane;
     b.point = r.vec3("point", Vec3::Zero(), "3 numbers (m)");
     b.normal = r.vec3("normal", Vec3::UnitY(), "3 numbers, not all zero");
     if (b.normal.norm() == 0) r.fail("normal", "expected a non-zero vector, got [0, 0, 0]");
     b.normal.normalize();
   } else {
-    b.kind = scene::BoundaryShape::Kind::Sphere;
+    b.kind = sph::scene::BoundaryShape::Kind::Sphere;
     b.centre = r.vec3("centre", std::nullopt, "3 numbers (m)");
     b.radius =
         static_cast<float>(r.number("radius", std::nullopt, "a positive number (m)", positive));
@@ -192,8 +195,8 @@ scene::BoundaryShape readBoundary(JsonReader r) {
   return b;
 }
 
-scene::EmitterDesc readEmitter(JsonReader r, float spacing) {
-  scene::EmitterDesc e;
+sph::scene::EmitterDesc readEmitter(JsonReader r, float spacing) {
+  sph::scene::EmitterDesc e;
   r.string("type", std::string("nozzle"), {"nozzle"});
   e.position = r.vec3("position", std::nullopt, "3 numbers (m)");
   e.direction = r.vec3("direction", std::nullopt, "3 numbers, not all zero");
@@ -219,8 +222,8 @@ scene::EmitterDesc readEmitter(JsonReader r, float spacing) {
   return e;
 }
 
-scene::OutputDesc readOutput(JsonReader r) {
-  scene::OutputDesc o;
+sph::scene::OutputDesc readOutput(JsonReader r) {
+  sph::scene::OutputDesc o;
   o.fps = r.number("fps", o.fps, "a positive number (frames per simulated second)", positive);
   o.path = r.string("path", std::string(""));
   // The cache's per-frame datasets (docs/cache-format.md): names checked and put in canonical
@@ -244,20 +247,20 @@ scene::OutputDesc readOutput(JsonReader r) {
 }
 
 // The `collision` section (docs/scene-format.md, "collision"; DESIGN.md, "The CDT collision pass").
-scene::CollisionDesc readCollision(JsonReader r, const scene::SolverParams& solver) {
-  scene::CollisionDesc c;
-  c.method = r.choice<scene::CollisionMethod>("method", std::nullopt);
+sph::scene::CollisionDesc readCollision(JsonReader r, const sph::scene::SolverParams& solver) {
+  sph::scene::CollisionDesc c;
+  c.method = r.choice<sph::scene::CollisionMethod>("method", std::nullopt);
   c.range = static_cast<float>(
       r.number("range", 0.5 * solver.spacing, "a positive number (m)", positive));
-  c.response = r.choice("response", std::optional(scene::CollisionResponse::Separate));
-  const bool paper = c.response == scene::CollisionResponse::Paper;
+  c.response = r.choice("response", std::optional(sph::scene::CollisionResponse::Separate));
+  const bool paper = c.response == sph::scene::CollisionResponse::Paper;
   c.speedFactor = static_cast<float>(r.number("speed_factor", 0.2, "a number in [0, 1]",
                                               [](double v) { return v >= 0 && v <= 1; }));
   c.cooldown = static_cast<float>(
       r.number("cooldown", paper ? 0.05 : 0.0, "a number >= 0 (s)", nonNegative));
-  c.positionSource = r.choice(
-      "position_source",
-      std::optional(paper ? scene::CdtPositionSource::Texel : scene::CdtPositionSource::Particle));
+  c.positionSource =
+      r.choice("position_source", std::optional(paper ? sph::scene::CdtPositionSource::Texel
+                                                      : sph::scene::CdtPositionSource::Particle));
   const int resolution =
       static_cast<int>(r.number("resolution", 500.0, "an integer in [16, 8192] (texels per side)",
                                 [](double v) { return integerIn(v, 16, 8192); }));
@@ -275,12 +278,12 @@ scene::CollisionDesc readCollision(JsonReader r, const scene::SolverParams& solv
   const std::string layerCounts = "an integer in [1, " + std::to_string(cdt::kMaxLayers) + "]";
   c.layers = static_cast<int>(r.number("layers", 1.0, layerCounts.c_str(),
                                        [](double v) { return integerIn(v, 1, cdt::kMaxLayers); }));
-  c.camera = r.choice("camera", std::optional(scene::CdtCameraMode::Render));
+  c.camera = r.choice("camera", std::optional(sph::scene::CdtCameraMode::Render));
   c.offset = static_cast<float>(r.number("offset", 0.0, "a number (m, along the camera's z axis)"));
   if (auto pose = r.optionalObject("pose")) c.pose = readCamera(*pose), c.hasPose = true;
-  if (c.camera == scene::CdtCameraMode::Fixed && !c.hasPose)
+  if (c.camera == sph::scene::CdtCameraMode::Fixed && !c.hasPose)
     r.fail("pose", "missing; camera \"fixed\" needs its pose {position, target, ...}");
-  if (c.camera != scene::CdtCameraMode::Offset && r.has("offset"))
+  if (c.camera != sph::scene::CdtCameraMode::Offset && r.has("offset"))
     r.fail("offset", "only used with \"camera\": \"offset\"");
   c.octreeDepth = static_cast<int>(r.number("octree_depth", 3.0, "an integer in [1, 6]",
                                             [](double v) { return integerIn(v, 1, 6); }));
@@ -290,4 +293,4 @@ scene::CollisionDesc readCollision(JsonReader r, const scene::SolverParams& solv
   return c;
 }
 
-}  // namespace sph::io
+}  // namespace sph::io::scene

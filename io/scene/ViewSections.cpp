@@ -6,13 +6,13 @@
 #include "io/MessageText.h"
 #include "io/scene/SceneSections.h"
 
-namespace sph::io {
+namespace sph::io::scene {
 namespace {
 
 // camera.path[i]: one key frame; `previous` is the time of the key before (or none).
-scene::CameraKey readCameraKey(JsonReader r, const scene::CameraDesc& camera,
-                               std::optional<double> previous) {
-  scene::CameraKey k;
+sph::scene::CameraKey readCameraKey(JsonReader r, const sph::scene::CameraDesc& camera,
+                                    std::optional<double> previous) {
+  sph::scene::CameraKey k;
   k.time = r.number("time", std::nullopt, "a number >= 0 (s)", nonNegative);
   if (previous && !(k.time > *previous)) {
     r.fail("time", "expected a time after the previous key's (" + readableNumber(*previous) +
@@ -32,8 +32,8 @@ scene::CameraKey readCameraKey(JsonReader r, const scene::CameraDesc& camera,
 }
 
 // rain.spotlight (seed 002 section 3.2).
-scene::SpotlightDesc readSpotlight(JsonReader r) {
-  scene::SpotlightDesc l;
+sph::scene::SpotlightDesc readSpotlight(JsonReader r) {
+  sph::scene::SpotlightDesc l;
   l.position = r.vec3("position", std::nullopt, "3 numbers (m): the cone's apex");
   l.direction = r.vec3("direction", l.direction, "3 numbers, not all zero");
   if (l.direction.norm() == 0) r.fail("direction", "expected a non-zero vector, got [0, 0, 0]");
@@ -58,8 +58,8 @@ scene::SpotlightDesc readSpotlight(JsonReader r) {
 }  // namespace
 
 // `path` non-null: the top-level camera, which may carry key frames (camera.path).
-scene::CameraDesc readCamera(JsonReader r, scene::CameraPath* path) {
-  scene::CameraDesc c;
+sph::scene::CameraDesc readCamera(JsonReader r, sph::scene::CameraPath* path) {
+  sph::scene::CameraDesc c;
   c.position = r.vec3("position", std::nullopt, "3 numbers (m)");
   c.target = r.vec3("target", std::nullopt, "3 numbers (m)");
   c.up = r.vec3("up", c.up, "3 numbers, not all zero");
@@ -85,9 +85,9 @@ scene::CameraDesc readCamera(JsonReader r, scene::CameraPath* path) {
 }
 
 // The `render` section (docs/scene-format.md, "render"; docs/rendering.md).
-scene::RenderDesc readRender(JsonReader r) {
-  scene::RenderDesc d;
-  d.splat = r.choice("splat", std::optional(scene::RenderDesc::Splat::Quad));
+sph::scene::RenderDesc readRender(JsonReader r) {
+  sph::scene::RenderDesc d;
+  d.splat = r.choice("splat", std::optional(sph::scene::RenderDesc::Splat::Quad));
   auto pixels = [](double v) { return v >= 16 && v <= 8192 && v == std::floor(v); };
   d.width =
       static_cast<int>(r.number("width", d.width, "an integer in [16, 8192] (pixels)", pixels));
@@ -110,14 +110,14 @@ scene::RenderDesc readRender(JsonReader r) {
                                   [](double v) { return v >= 0.5 && v <= 4; }));
   d.perVertexDensity = r.string("vertex_density", std::string("per-vertex"),
                                 {"per-vertex", "per-particle"}) == "per-vertex";
-  d.projection = r.choice("projection", std::optional(scene::SplatProjection::Newton));
+  d.projection = r.choice("projection", std::optional(sph::scene::SplatProjection::Newton));
   d.environment = r.boolean("environment", true);
   d.alpha = static_cast<float>(
       r.number("alpha", 1.0, "a number in (0, 1]", [](double v) { return v > 0 && v <= 1; }));
   d.cullBackFaces = r.boolean("cull_back_faces", true);
-  d.solids = r.choice("solids", std::optional(scene::RenderSolids::Points));
+  d.solids = r.choice("solids", std::optional(sph::scene::RenderSolids::Points));
   // The older switch: false draws no walls.
-  if (!r.boolean("show_boundary", true)) d.solids = scene::RenderSolids::None;
+  if (!r.boolean("show_boundary", true)) d.solids = sph::scene::RenderSolids::None;
   d.directory = r.string("directory", std::string(""));
   d.toCache = r.boolean("to_cache", true);
   r.finish();
@@ -125,8 +125,8 @@ scene::RenderDesc readRender(JsonReader r) {
 }
 
 // The `rain` section (docs/scene-format.md, "rain"; docs/rain.md).
-scene::RainDesc readRain(JsonReader r) {
-  scene::RainDesc d;
+sph::scene::RainDesc readRain(JsonReader r) {
+  sph::scene::RainDesc d;
   d.count = static_cast<std::size_t>(r.number("count", static_cast<double>(d.count),
                                               "an integer in [1, 1e8] (drops)",
                                               [](double v) { return integerIn(v, 1, 1e8); }));
@@ -152,11 +152,11 @@ scene::RainDesc readRain(JsonReader r) {
   d.seed =
       static_cast<std::uint64_t>(r.number("seed", 1.0, "an integer in [0, 2^32)",
                                           [](double v) { return integerIn(v, 0, 4294967295.0); }));
-  d.spawn = r.choice("spawn", std::optional(scene::RainSpawn::View));
-  d.sampling = r.choice("sampling", std::optional(scene::RainSampling::Uniform));
-  d.occlusion = r.choice("occlusion", std::optional(scene::RainOcclusion::DepthMap));
+  d.spawn = r.choice("spawn", std::optional(sph::scene::RainSpawn::View));
+  d.sampling = r.choice("sampling", std::optional(sph::scene::RainSampling::Uniform));
+  d.occlusion = r.choice("occlusion", std::optional(sph::scene::RainOcclusion::DepthMap));
   // The baselines are the paper's comparisons, kept as it ran them.
-  if (d.spawn != scene::RainSpawn::View && r.has("occlusion"))
+  if (d.spawn != sph::scene::RainSpawn::View && r.has("occlusion"))
     r.fail("occlusion", "only used with \"spawn\": \"view\"");
   if (auto g = r.optionalObject("region")) {
     d.region.lo = g->vec3("min", std::nullopt, "3 numbers (m)");
@@ -164,18 +164,18 @@ scene::RainDesc readRain(JsonReader r) {
     requireOrdered(*g, d.region.lo, d.region.hi);
     g->finish();
   }
-  if (d.spawn == scene::RainSpawn::Region && d.region.empty())
+  if (d.spawn == sph::scene::RainSpawn::Region && d.region.empty())
     r.fail("region", "missing; spawn \"region\" needs its box {\"min\": [...], \"max\": [...]}");
-  if (d.spawn != scene::RainSpawn::Region && r.has("region"))
+  if (d.spawn != sph::scene::RainSpawn::Region && r.has("region"))
     r.fail("region", "only used with \"spawn\": \"region\"");
   d.streakLayers = static_cast<int>(r.number("streak_images", d.streakLayers,
                                              "an integer in [1, 64] (array texture layers)",
                                              [](double v) { return integerIn(v, 1, 64); }));
-  d.draw = r.choice("draw", std::optional(scene::RainDraw::Cpu));
-  d.farTier = r.choice("far_tier", std::optional(scene::RainFarTier::Lines));
+  d.draw = r.choice("draw", std::optional(sph::scene::RainDraw::Cpu));
+  d.farTier = r.choice("far_tier", std::optional(sph::scene::RainFarTier::Lines));
   // The lines take one pixel a row, so streaks up to 1 pixel wide; the sums draw wider ones as
   // several lines side by side (render/rain/StreakSums.h), up to 8.
-  if (d.farTier == scene::RainFarTier::Lines) {
+  if (d.farTier == sph::scene::RainFarTier::Lines) {
     d.lodWidth = static_cast<float>(r.number(
         "lod_width", d.lodWidth,
         "a number in [0, 1] (pixels: narrower streaks are drawn as lines; 0 = none; up to 8 with "
@@ -187,9 +187,9 @@ scene::RainDesc readRain(JsonReader r) {
         "a number in [0, 8] with \"far_tier\": \"sums\" (pixels: narrower streaks are summed)",
         [](double v) { return v >= 0 && v <= 8; }));
   }
-  if (d.lodWidth > 0 && d.draw != scene::RainDraw::Cpu)
+  if (d.lodWidth > 0 && d.draw != sph::scene::RainDraw::Cpu)
     r.fail("lod_width", "only used with \"draw\": \"cpu\"");
-  if (d.farTier != scene::RainFarTier::Lines && !(d.lodWidth > 0))
+  if (d.farTier != sph::scene::RainFarTier::Lines && !(d.lodWidth > 0))
     r.fail("far_tier", "only used with a \"lod_width\" > 0 (the streaks it draws)");
   if (auto l = r.optionalObject("spotlight")) d.spotlight = readSpotlight(*l);
   d.feedFluid = r.boolean("feed_fluid", false);
@@ -201,10 +201,10 @@ scene::RainDesc readRain(JsonReader r) {
 }
 
 // The `lights` section (docs/scene-format.md, "lights"; docs/lights.md; seed 004).
-scene::LightsDesc readLights(JsonReader r) {
-  scene::LightsDesc d;
-  d.source = r.choice("source", std::optional(scene::LightSource::Fluid));
-  if (d.source == scene::LightSource::Emitter) {
+sph::scene::LightsDesc readLights(JsonReader r) {
+  sph::scene::LightsDesc d;
+  d.source = r.choice("source", std::optional(sph::scene::LightSource::Fluid));
+  if (d.source == sph::scene::LightSource::Emitter) {
     JsonReader e = r.object("emitter");
     d.emitter.box.lo = e.vec3("min", std::nullopt, "3 numbers (m)");
     d.emitter.box.hi = e.vec3("max", std::nullopt, "3 numbers (m)");
@@ -230,11 +230,11 @@ scene::LightsDesc readLights(JsonReader r) {
   d.colour = colour("colour", d.colour);
   d.intensity = static_cast<float>(r.number("intensity", d.intensity, "a number in (0, 1000]",
                                             [](double v) { return v > 0 && v <= 1000; }));
-  d.colouring = r.choice("colour_by", std::optional(scene::LightColouring::Constant));
+  d.colouring = r.choice("colour_by", std::optional(sph::scene::LightColouring::Constant));
   d.fastColour = colour("fast_colour", d.fastColour);
   d.fastSpeed =
       static_cast<float>(r.number("fast_speed", d.fastSpeed, "a positive number (m/s)", positive));
-  if (d.colouring != scene::LightColouring::Speed) {
+  if (d.colouring != sph::scene::LightColouring::Speed) {
     for (const char* key : {"fast_colour", "fast_speed"})
       if (r.has(key)) r.fail(key, "only used with \"colour_by\": \"speed\"");
   }
@@ -281,34 +281,34 @@ scene::LightsDesc readLights(JsonReader r) {
                         readableNumber(d.range / d.voxelSize, 4) +
                         "; use a larger volume.voxel_size or a smaller range");
   }
-  d.filter = r.choice("filter", std::optional(scene::LightFilter::Trilinear));
+  d.filter = r.choice("filter", std::optional(sph::scene::LightFilter::Trilinear));
   d.tension = static_cast<float>(
       r.number("tension", 0.0, "a number in [0, 1]", [](double v) { return v >= 0 && v <= 1; }));
-  if (d.filter != scene::LightFilter::Tricubic && r.has("tension"))
+  if (d.filter != sph::scene::LightFilter::Tricubic && r.has("tension"))
     r.fail("tension", "only used with \"filter\": \"tricubic\"");
   d.oversampling = static_cast<int>(r.number("oversampling", 1.0,
                                              "an integer in [1, 4] (samples per axis; 1 = off)",
                                              [](double v) { return integerIn(v, 1, 4); }));
-  d.pipeline = r.choice("pipeline", std::optional(scene::LightPipeline::Forward));
-  d.accumulate = r.choice("accumulate", std::optional(scene::LightAccumulate::Auto));
-  d.shade = r.choice("shade", std::optional(scene::LightShade::Auto));
-  if (d.shade == scene::LightShade::Cpu) {
+  d.pipeline = r.choice("pipeline", std::optional(sph::scene::LightPipeline::Forward));
+  d.accumulate = r.choice("accumulate", std::optional(sph::scene::LightAccumulate::Auto));
+  d.shade = r.choice("shade", std::optional(sph::scene::LightShade::Auto));
+  if (d.shade == sph::scene::LightShade::Cpu) {
     // The CPU pass reads the deferred G-buffer back and samples the volume the CPU accumulated
     // (docs/lights.md, "Shading on the CPU"); what it cannot do is refused, not changed.
-    if (d.pipeline != scene::LightPipeline::Deferred)
+    if (d.pipeline != sph::scene::LightPipeline::Deferred)
       r.fail("shade",
              "\"cpu\" shades the deferred pipeline's G-buffer; expected \"pipeline\": "
              "\"deferred\" (or \"shade\": \"gl\" or \"auto\")");
-    if (d.accumulate == scene::LightAccumulate::Atomic ||
-        d.accumulate == scene::LightAccumulate::Paper)
+    if (d.accumulate == sph::scene::LightAccumulate::Atomic ||
+        d.accumulate == sph::scene::LightAccumulate::Paper)
       r.fail("shade", std::string("\"cpu\" samples the volume the CPU accumulated; expected "
                                   "\"accumulate\": \"cpu\" or \"auto\", got \"") +
                           nameOf(d.accumulate) + "\"");
-    if (d.filter == scene::LightFilter::Tricubic)
+    if (d.filter == sph::scene::LightFilter::Tricubic)
       r.fail("shade",
              "\"cpu\" filters nearest or trilinear (tricubic's 64 texels a pixel stay "
              "on the GL path); use \"shade\": \"gl\" or \"auto\"");
-    d.accumulate = scene::LightAccumulate::Cpu;  // "auto": the volume must be on the CPU
+    d.accumulate = sph::scene::LightAccumulate::Cpu;  // "auto": the volume must be on the CPU
   }
   d.cull = r.boolean("cull", true);
   d.diffuse = static_cast<float>(r.number("diffuse", d.diffuse, "a number in [0, 10]",
@@ -332,4 +332,4 @@ scene::LightsDesc readLights(JsonReader r) {
   return d;
 }
 
-}  // namespace sph::io
+}  // namespace sph::io::scene

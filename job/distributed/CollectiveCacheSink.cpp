@@ -22,7 +22,7 @@ struct Target {
   std::uint64_t lost = 0;
 };
 
-Target broadcastTarget(ranks::Communicator& ranks, const io::CacheSession* cache,
+Target broadcastTarget(ranks::Communicator& ranks, const io::cache::CacheSession* cache,
                        const run::Simulation& sim) {
   ranks::Bytes b;
   if (ranks.rank() == 0) {
@@ -44,10 +44,10 @@ Target broadcastTarget(ranks::Communicator& ranks, const io::CacheSession* cache
 }  // namespace
 
 bool writeCacheTogether() {
-  return io::h5::haveParallel();
+  return io::cache::h5::haveParallel();
 }
 
-CollectiveCacheSink::CollectiveCacheSink(ranks::Halo& halo, io::CacheSession* cache,
+CollectiveCacheSink::CollectiveCacheSink(ranks::Halo& halo, io::cache::CacheSession* cache,
                                          const scene::Scene& scene)
     : halo_(halo),
       cache_(cache),
@@ -113,7 +113,7 @@ void CollectiveCacheSink::frame(const run::Simulation& sim, std::size_t) {
     }
     std::sort(places.begin(), places.end());
   }
-  io::FrameSlice slice;
+  io::cache::FrameSlice slice;
   slice.ranks = &ranks;
   slice.part.total = halo_.globalCount(mine.size());
   for (std::uint64_t place : places) {
@@ -135,7 +135,7 @@ void CollectiveCacheSink::frame(const run::Simulation& sim, std::size_t) {
   if (cache_)
     cache_->writeFrameTogether(sim, mine, state, slice, water.get());
   else
-    io::CacheWriter::joinFrame(target.path, target.frame, mine, state, slice);
+    io::cache::CacheWriter::joinFrame(target.path, target.frame, mine, state, slice);
   disarmStatusRecorder();
   ++frames_;
   seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

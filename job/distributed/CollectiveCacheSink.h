@@ -23,7 +23,7 @@ class CollectiveCacheSink final : public run::FrameSink {
   // `cache`: rank 0's session; null on the other ranks. For a scene with rain (and a camera)
   // every rank sends rank 0 the water cells its particles occupy at each frame (not the
   // particles): rank 0 steps the drops with their union and writes them beside the frame.
-  CollectiveCacheSink(ranks::Halo& halo, io::CacheSession* cache, const scene::Scene& scene);
+  CollectiveCacheSink(ranks::Halo& halo, io::cache::CacheSession* cache, const scene::Scene& scene);
   void frame(const run::Simulation& sim, std::size_t index) override;
   // Wall time in frame() on this rank (s), finding the places included.
   double seconds() const { return seconds_; }
@@ -36,7 +36,7 @@ class CollectiveCacheSink final : public run::FrameSink {
   std::unique_ptr<rain::WaterCells> gatherWater(const Particles& fluid);
   double seconds_ = 0;
   ranks::Halo& halo_;
-  io::CacheSession* cache_;
+  io::cache::CacheSession* cache_;
   float waterCell_ = 0;  // 0: no rain
   std::uint64_t cellBytes_ = 0, frames_ = 0;
 };

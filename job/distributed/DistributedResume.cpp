@@ -17,11 +17,12 @@ constexpr std::uint64_t kChunk = std::uint64_t(1) << 20;
 // the arrays of `fields` (of x, y, z: cache::Field) read; from the resume record, with every
 // array, when the frame does not hold the positions (output.fields without them).
 template <class Visit>
-void chunks(const io::CacheReader& reader, std::size_t frame, const io::cache::FieldSet& fields,
-            std::uint64_t from, std::uint64_t to, Visit&& visit) {
+void chunks(const io::cache::CacheReader& reader, std::size_t frame,
+            const io::cache::FieldSet& fields, std::uint64_t from, std::uint64_t to,
+            Visit&& visit) {
   const bool inFrame = (reader.summary().fields & fields) == fields;
   for (std::uint64_t first = from; first < to; first += kChunk) {
-    const io::h5::Runs run{{first, std::min(kChunk, to - first)}};
+    const io::cache::h5::Runs run{{first, std::min(kChunk, to - first)}};
     visit(first,
           inFrame ? reader.readFrame(frame, fields, &run) : reader.readRestart(frame, &run).second);
   }
@@ -32,14 +33,14 @@ const std::vector<float>& coordinate(const Particles& p, int axis) {
 }
 
 // Appends the indices [first, first + count) to `runs` (ascending), joining a run it continues.
-void addToRuns(io::h5::Runs& runs, std::uint64_t first, std::uint64_t count) {
+void addToRuns(io::cache::h5::Runs& runs, std::uint64_t first, std::uint64_t count) {
   if (!runs.empty() && runs.back().first + runs.back().second == first)
     runs.back().second += count;
   else
     runs.emplace_back(first, count);
 }
 
-ranks::Bytes toBytes(const io::h5::Runs& runs) {
+ranks::Bytes toBytes(const io::cache::h5::Runs& runs) {
   ranks::Bytes b(runs.size() * 2 * sizeof(std::uint64_t));
   std::size_t at = 0;
   for (const auto& [first, count] : runs) {
@@ -49,8 +50,8 @@ ranks::Bytes toBytes(const io::h5::Runs& runs) {
   return b;
 }
 
-io::h5::Runs fromBytes(const ranks::Bytes& b) {
-  io::h5::Runs runs(b.size() / (2 * sizeof(std::uint64_t)));
+io::cache::h5::Runs fromBytes(const ranks::Bytes& b) {
+  io::cache::h5::Runs runs(b.size() / (2 * sizeof(std::uint64_t)));
   std::size_t at = 0;
   for (auto& [first, count] : runs) {
     std::memcpy(&first, b.data() + at, sizeof first), at += sizeof first;
@@ -61,8 +62,8 @@ io::h5::Runs fromBytes(const ranks::Bytes& b) {
 
 }  // namespace
 
-ResumePart readResumePart(ranks::Halo& halo, const io::CacheReader& reader, std::size_t frame,
-                          float h) {
+ResumePart readResumePart(ranks::Halo& halo, const io::cache::CacheReader& reader,
+                          std::size_t frame, float h) {
   ranks::Communicator& comm = halo.comm();
   const int ranks = comm.size(), me = comm.rank(), axis = halo.slabs().axis;
   const std::uint64_t n = reader.summary().frames.at(frame).particles;
@@ -80,7 +81,7 @@ ResumePart readResumePart(ranks::Halo& halo, const io::CacheReader& reader, std:
   });
   comm.minInPlace(lo);
   comm.maxInPlace(hi);
-  io::h5::Runs runs;
+  io::cache::h5::Runs runs;
   if (n > 0) {
     // 2. The cut the first exchange will make: its cell size and histogram of cell planes.
     const float blo[3] = {float(lo[0]), float(lo[1]), float(lo[2])};
@@ -103,9 +104,9 @@ ResumePart readResumePart(ranks::Halo& halo, const io::CacheReader& reader, std:
     // of every rank's slab and sends them to that rank (16 bytes a run: the frame is in key
     // order, grid cell by grid cell, so runs are far fewer than particles); a rank receives its
     // runs in the shares' order, ascending. No rank reads more than its share of coordinates.
-    std::vector<io::h5::Runs> found(static_cast<std::size_t>(ranks));
+    std::vector<io::cache::h5::Runs> found(static_cast<std::size_t>(ranks));
     for (std::size_t i = 0; i < share.size(); ++i) {
-      io::h5::Runs& r =
+      io::cache::h5::Runs& r =
           found[static_cast<std::size_t>(slabs.ownerOf(ranks::planeOf(share[i], inv)))];
       addToRuns(r, from + i, 1);
     }

@@ -31,7 +31,7 @@ struct ResumePart {
 
 // Collective. Sets `halo`'s first cut (Halo::startWith) and returns this rank's part of frame
 // `frame` of `reader`'s cache (its resume record). `h`: the support radius.
-ResumePart readResumePart(ranks::Halo& halo, const io::CacheReader& reader, std::size_t frame,
-                          float h);
+ResumePart readResumePart(ranks::Halo& halo, const io::cache::CacheReader& reader,
+                          std::size_t frame, float h);
 
 }  // namespace sph::job::distributed

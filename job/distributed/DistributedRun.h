@@ -1,6 +1,6 @@
 // The parts of `sphsplat run` that differ when it runs on K processes (mpirun -np K; docs/
 // scaling.md). MPI-free: the ranks are a ranks::Communicator, set by main() when an MPI starter
-// launched the process (sim/ranks/mpi/MpiCommunicator.h) and null otherwise.
+// launched the process (job/distributed/mpi/MpiCommunicator.h) and null otherwise.
 #pragma once
 
 #include <functional>
@@ -18,7 +18,8 @@ namespace sph::job::distributed {
 // The ranks of this run (null: a plain single process).
 ranks::Communicator* world();
 void setWorld(ranks::Communicator* ranks);
-// What the ranks write the cache with (sim/ranks/mpi/MpiIoChoice.h: "ROMIO (romio321)"), for the summary.
+// What the ranks write the cache with (job/distributed/mpi/MpiIoChoice.h: "ROMIO (romio321)"), for
+// the summary.
 const std::string& mpiIoChoice();
 void setMpiIoChoice(std::string choice);
 // True where messages are printed and files written: the only process, or rank 0.

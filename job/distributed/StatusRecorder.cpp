@@ -68,7 +68,7 @@ int runStatusRecorder(char** argv) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   try {
-    io::CacheSession::recordStop(argv[2], argv[3], std::strtoull(argv[5], nullptr, 10));
+    io::cache::CacheSession::recordStop(argv[2], argv[3], std::strtoull(argv[5], nullptr, 10));
   } catch (const std::exception&) {
     return 2;  // the cache keeps "running" with no run holding it: `info` reads it as killed
   }

@@ -2,13 +2,13 @@
 // one rank"). While the ranks write a frame together, a failure on any rank can leave rank 0 in
 // a collective call it never returns from, or released from the cache's MPI-IO file mid-frame;
 // mpirun then ends it. So for that stretch rank 0 keeps a recorder ready: when the run must stop
-// (its own failure, the watch of sim/ranks/mpi/FileErrorWatch.h, or mpirun's SIGTERM) it starts one, a
-// fresh `sphsplat` process that waits until rank 0 and then its launcher (mpirun, which exits
-// once every rank has) have exited, then writes "stopped: ..." into the cache as one process
-// would, through the commit protocol (io/cache/CacheSession.h, recordStop), unless the cache no longer
-// says "running" or holds more frames than this run could have written (a resume got there
-// first). A run that still stops cleanly and records its status itself tells a started recorder
-// to do nothing.
+// (its own failure, the watch of job/distributed/mpi/FileErrorWatch.h, or mpirun's SIGTERM) it
+// starts one, a fresh `sphsplat` process that waits until rank 0 and then its launcher (mpirun,
+// which exits once every rank has) have exited, then writes "stopped: ..." into the cache as one
+// process would, through the commit protocol (io/cache/CacheSession.h, recordStop), unless the
+// cache no longer says "running" or holds more frames than this run could have written (a resume
+// got there first). A run that still stops cleanly and records its status itself tells a started
+// recorder to do nothing.
 #pragma once
 
 #include <cstdint>
@@ -16,7 +16,8 @@
 
 namespace sph::job::distributed {
 
-// The hidden first argument that makes `sphsplat` a recorder (app/main.cpp, before anything else).
+// The hidden first argument that makes `sphsplat` a recorder (runIfStatusRecorder in Launch.h,
+// first thing in app/main.cpp).
 inline constexpr const char* kRecorderArgument = "--record-stopped-run";
 // The recorder's process: `argv` = {exe, kRecorderArgument, CACHE, REASON, LAUNCHER_PID,
 // MAX_FRAMES}; the pipe from rank 0 is its descriptor 3. Returns the exit code.

@@ -1,6 +1,7 @@
 // The collective operations a distributed run needs (docs/scaling.md), as an interface so sim/
-// stays free of MPI: sim/ranks/mpi/MpiCommunicator.h implements it with MPI; a single process needs none
-// (Simulation without a Halo). Every call is collective: all ranks call it, in the same order.
+// stays free of MPI: job/distributed/mpi/MpiCommunicator.h implements it with MPI; a single process
+// needs none (Simulation without a Halo). Every call is collective: all ranks call it, in the same
+// order.
 #pragma once
 
 #include <cstddef>

@@ -16,7 +16,8 @@
 // global order on every rank. The step's global sums (the gradient correction, DFSPH's error
 // means) are exact (ExactSum) and so independent of the split; max/min reductions are exact.
 //
-// MPI-free: the collectives go through ranks::Communicator (sim/ranks/mpi/MpiCommunicator.h implements it).
+// MPI-free: the collectives go through ranks::Communicator (job/distributed/mpi/MpiCommunicator.h
+// implements it).
 #pragma once
 
 #include <cmath>

@@ -22,7 +22,6 @@ ALLOWED = {
     'sim/scene': SIM,
     'sim/grid': SIM,
     'sim/ranks': SIM | {'sim/grid'},
-    'sim/ranks/mpi': SIM | {'sim/ranks'},
     'sim/solver': SIM | {'sim/scene', 'sim/grid', 'sim/ranks'},
     'sim/collision': SIM | {'sim/scene', 'sim/grid'},
     'sim/cdt': SIM | {'sim/scene', 'sim/grid', 'sim/solver', 'sim/collision'},
@@ -35,7 +34,7 @@ ALLOWED.update({
     'io': SIM,
     'io/cache': ALL_SIM | {'io'},
     'io/scene': ALL_SIM | {'io', 'io/cache'},
-    'io/export': ALL_SIM | {'io', 'io/cache'},
+    'io/exports': ALL_SIM | {'io', 'io/cache'},
     'render/gl': set(),
     'render/frame': ALL_SIM | {'render/gl'},
     'render/splat': ALL_SIM | {'render/gl', 'render/frame'},
@@ -47,10 +46,11 @@ ALLOWED.update({
     'render/compose': ALL_SIM | {'render/gl', 'render/frame', 'render/splat', 'render/solids',
                                  'render/rain', 'render/lights'},
 })
-ALL_IO = {'io', 'io/cache', 'io/scene', 'io/export'}
+ALL_IO = {'io', 'io/cache', 'io/scene', 'io/exports'}
 ALL_RENDER = {f for f in ALLOWED if f.startswith('render/')}
 ALLOWED.update({
-    'job/distributed': ALL_SIM | ALL_IO | {'sim/ranks/mpi'},
+    'job/distributed/mpi': SIM | {'sim/ranks'},
+    'job/distributed': ALL_SIM | ALL_IO | {'job/distributed/mpi'},
     'job': ALL_SIM | ALL_IO | ALL_RENDER | {'job/distributed'},
     'bench/sweep': None,  # a library of the benches and of `sphsplat bench`: anything but app/
     'app': None,          # the top: anything

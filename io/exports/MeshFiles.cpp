@@ -1,4 +1,4 @@
-#include "io/export/MeshFiles.h"
+#include "io/exports/MeshFiles.h"
 
 #include <cerrno>
 #include <charconv>
@@ -6,7 +6,7 @@
 
 #include "sim/InputError.h"
 
-namespace sph::io {
+namespace sph::io::exports {
 namespace {
 
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
@@ -109,4 +109,4 @@ void writeMeshObj(std::FILE* out, const MeshView& m, const std::string& what) {
   w.flush();
 }
 
-}  // namespace sph::io
+}  // namespace sph::io::exports

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace sph::ranks::mpi {
+namespace sph::job::distributed::mpi {
 
 // The name of an Open MPI ROMIO component ("romio321", "romio341": the name follows the ROMIO
 // release) whose plug-in (mca_io_romio*.so) is in one of `directories`; "" when none is.
@@ -26,4 +26,4 @@ std::vector<std::string> componentDirectories();
 // loads)", or the user's choice. A ROMIO plug-in is chosen only if it loads (dlopen).
 std::string preferRomio();
 
-}  // namespace sph::ranks::mpi
+}  // namespace sph::job::distributed::mpi

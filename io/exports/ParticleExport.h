@@ -16,7 +16,7 @@
 #include "io/cache/CacheFormat.h"
 #include "sim/Particles.h"
 
-namespace sph::io {
+namespace sph::io::exports {
 
 struct ExportFrame {
   const Particles* particles = nullptr;
@@ -44,4 +44,4 @@ struct PvdEntry {
 };
 void writePvd(std::FILE* out, const std::vector<PvdEntry>& entries);
 
-}  // namespace sph::io
+}  // namespace sph::io::exports

@@ -1,4 +1,4 @@
-#include "sim/ranks/mpi/FileErrorWatch.h"
+#include "job/distributed/mpi/FileErrorWatch.h"
 
 #include <mpi.h>
 #include <unistd.h>
@@ -9,7 +9,7 @@
 #include <string>
 #include <thread>
 
-namespace sph::ranks::mpi {
+namespace sph::job::distributed::mpi {
 namespace {
 
 double gGrace = 0;
@@ -59,4 +59,4 @@ void noteStopping() {
   gStopping.store(true);
 }
 
-}  // namespace sph::ranks::mpi
+}  // namespace sph::job::distributed::mpi

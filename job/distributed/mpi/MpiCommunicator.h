@@ -1,17 +1,18 @@
 // The MPI side of a distributed run (docs/scaling.md): the one place that includes <mpi.h>.
-// sim/ sees only ranks::Communicator; app/main.cpp opens an MpiSession when the process was
-// started by mpirun, and a run then decomposes the scene over the ranks (sim/ranks/Halo.h).
+// sim/ sees only ranks::Communicator; job/distributed/Launch.h opens an MpiSession when the
+// process was started by mpirun, and a run then decomposes the scene over the ranks
+// (sim/ranks/Halo.h).
 #pragma once
 
 #include <memory>
 
 #include "sim/ranks/Communicator.h"
 
-namespace sph::ranks::mpi {
+namespace sph::job::distributed::mpi {
 
-// MPI_Init_thread / MPI_Finalize around main(). app/main.cpp opens one only when an MPI starter
-// (mpirun, mpiexec) launched the process (app/MpiStarter.h): a plain `sphsplat` stays a plain
-// process.
+// MPI_Init_thread / MPI_Finalize around main(). Launch (job/distributed/Launch.h) opens one only
+// when an MPI starter (mpirun, mpiexec) launched the process (job/distributed/MpiStarter.h): a
+// plain `sphsplat` stays a plain process.
 class MpiSession {
  public:
   MpiSession(int* argc, char*** argv);
@@ -27,4 +28,4 @@ class MpiSession {
   std::unique_ptr<ranks::Communicator> world_;
 };
 
-}  // namespace sph::ranks::mpi
+}  // namespace sph::job::distributed::mpi

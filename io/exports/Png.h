@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace sph::io {
+namespace sph::io::exports {
 
 // Writes width x height RGB pixels (row 0 at the top). Throws InputError naming the path if the
 // file cannot be written.
@@ -21,4 +21,4 @@ std::vector<std::uint8_t> readPng(const std::string& path, int& width, int& heig
 // "sphsplat_view_00007.png" for `view`. Frames past 99999 get more digits.
 std::string framePngName(const std::string& stem, std::size_t frame);
 
-}  // namespace sph::io
+}  // namespace sph::io::exports

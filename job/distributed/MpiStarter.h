@@ -6,7 +6,7 @@
 
 #include <string>
 
-namespace sph::app {
+namespace sph::job::distributed {
 
 struct MpiStarter {
   bool launched = false;  // some starter's variables are set
@@ -22,4 +22,4 @@ MpiStarter mpiStarter();
 // (exit 2); empty when nothing needs refusing.
 std::string refusalWithoutMpi(const MpiStarter& starter);
 
-}  // namespace sph::app
+}  // namespace sph::job::distributed

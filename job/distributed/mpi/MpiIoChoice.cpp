@@ -1,4 +1,4 @@
-#include "sim/ranks/mpi/MpiIoChoice.h"
+#include "job/distributed/mpi/MpiIoChoice.h"
 
 #include <dlfcn.h>
 #include <mpi.h>
@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <system_error>
 
-namespace sph::ranks::mpi {
+namespace sph::job::distributed::mpi {
 
 std::string findRomioComponent(const std::vector<std::string>& directories) {
   const std::string prefix = "mca_io_", suffix = ".so";
@@ -66,4 +66,4 @@ std::string preferRomio() {
 #endif
 }
 
-}  // namespace sph::ranks::mpi
+}  // namespace sph::job::distributed::mpi

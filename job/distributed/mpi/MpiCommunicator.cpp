@@ -1,4 +1,4 @@
-#include "sim/ranks/mpi/MpiCommunicator.h"
+#include "job/distributed/mpi/MpiCommunicator.h"
 
 #include <mpi.h>
 
@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace sph::ranks::mpi {
+namespace sph::job::distributed::mpi {
 namespace {
 
 void check(int code, const char* what) {
@@ -34,7 +34,7 @@ std::vector<int> displacements(const std::vector<int>& counts) {
 }
 
 std::vector<ranks::Bytes> split(const std::vector<std::uint8_t>& all,
-                               const std::vector<int>& counts) {
+                                const std::vector<int>& counts) {
   std::vector<ranks::Bytes> out(counts.size());
   std::size_t at = 0;
   for (std::size_t r = 0; r < counts.size(); ++r) {
@@ -153,4 +153,4 @@ void MpiSession::abortAll(int code) {
   std::abort();
 }
 
-}  // namespace sph::ranks::mpi
+}  // namespace sph::job::distributed::mpi

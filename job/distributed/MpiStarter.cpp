@@ -1,8 +1,8 @@
-#include "app/MpiStarter.h"
+#include "job/distributed/MpiStarter.h"
 
 #include <cstdlib>
 
-namespace sph::app {
+namespace sph::job::distributed {
 namespace {
 
 // The variable's value as a count or rank; -1 when it is unset or not a plain number.
@@ -39,4 +39,4 @@ std::string refusalWithoutMpi(const MpiStarter& starter) {
          "mpirun (docs/scaling.md)";
 }
 
-}  // namespace sph::app
+}  // namespace sph::job::distributed

@@ -1,4 +1,4 @@
-#include "io/export/Png.h"
+#include "io/exports/Png.h"
 #include "sim/InputError.h"
 
 #include <png.h>
@@ -10,7 +10,7 @@
 
 #include "io/UserFiles.h"
 
-namespace sph::io {
+namespace sph::io::exports {
 
 std::string framePngName(const std::string& stem, std::size_t frame) {
   char digits[24];
@@ -111,4 +111,4 @@ std::vector<std::uint8_t> readPng(const std::string& path, int& width, int& heig
   return rgb;
 }
 
-}  // namespace sph::io
+}  // namespace sph::io::exports

@@ -5,7 +5,7 @@
 // the file close's barrier, the other in the metadata cache's), and mpirun would wait forever.
 #pragma once
 
-namespace sph::ranks::mpi {
+namespace sph::job::distributed::mpi {
 
 // Makes every file opened from now on report its errors here: the first one starts a watch that,
 // if this process still runs `graceSeconds` later, prints one line naming the rank and the MPI
@@ -16,4 +16,4 @@ void watchFileErrors(double graceSeconds, int exitCode, void (*beforeExit)(const
 // second line.
 void noteStopping();
 
-}  // namespace sph::ranks::mpi
+}  // namespace sph::job::distributed::mpi

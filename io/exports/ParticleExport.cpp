@@ -1,11 +1,11 @@
-#include "io/export/ParticleExport.h"
+#include "io/exports/ParticleExport.h"
 
 #include <cstdint>
 #include <cstring>
 
 #include "io/MessageText.h"
 
-namespace sph::io {
+namespace sph::io::exports {
 namespace {
 
 using cache::Field;
@@ -254,4 +254,4 @@ void writePvd(std::FILE* out, const std::vector<PvdEntry>& entries) {
   std::fprintf(out, "  </Collection>\n</VTKFile>\n");
 }
 
-}  // namespace sph::io
+}  // namespace sph::io::exports

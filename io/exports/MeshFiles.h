@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-namespace sph::io {
+namespace sph::io::exports {
 
 struct MeshView {
   const float* positions = nullptr;  // 3 per vertex
@@ -29,4 +29,4 @@ struct MeshView {
 void writeMeshPly(std::FILE* out, const MeshView& mesh, const std::string& what);
 void writeMeshObj(std::FILE* out, const MeshView& mesh, const std::string& what);
 
-}  // namespace sph::io
+}  // namespace sph::io::exports
