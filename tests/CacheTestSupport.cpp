@@ -122,6 +122,7 @@ void expectSameCache(const std::string& a, const std::string& b) {
     EXPECT_EQ(sa.rain.pending, sb.rain.pending) << k;
     EXPECT_EQ(sa.warmStart.density, sb.warmStart.density) << k;
     EXPECT_EQ(sa.warmStart.divergence, sb.warmStart.divergence) << k;
+    EXPECT_EQ(sa.warmStart.wallShare, sb.warmStart.wallShare) << k;
     ASSERT_EQ(sa.emitters.size(), sb.emitters.size());
     for (std::size_t e = 0; e < sa.emitters.size(); ++e) {
       EXPECT_EQ(sa.emitters[e].travelled, sb.emitters[e].travelled);

@@ -274,10 +274,16 @@ TEST(SceneLoader, DuplicateKeysAreRefusedWithTheirPathAndLine) {
 // Numbers are bounded by what a run can use, and the messages print them readably: unbounded,
 // output.fps = 1e308 crawled at 1e-304 s a step, and messages overflowed ("-9223372036854775808
 // particles", 300-digit limits).
-TEST(SceneLoader, WallPressureIsDfsphsChoice) {
+TEST(SceneLoader, WallPressureChoicesFollowTheSolver) {
   EXPECT_EQ(errorOf(kMinimal, {"solver.wall_pressure=none"}),
-            "bad.json: solver.wall_pressure: only used with \"pressure\": \"dfsph\"");
+            "bad.json: solver.wall_pressure: expected \"extrapolated\" or \"summation\" with "
+            "\"pressure\": \"wcsph\"");
+  EXPECT_EQ(errorOf(kMinimal, {"solver.pressure=dfsph", "solver.wall_pressure=summation"}),
+            "bad.json: solver.wall_pressure: expected \"extrapolated\" or \"none\" with "
+            "\"pressure\": \"dfsph\"");
   EXPECT_EQ(errorOf(kMinimal, {"solver.pressure=dfsph", "solver.wall_pressure=none"}), "");
+  EXPECT_EQ(errorOf(kMinimal, {"solver.wall_pressure=summation"}), "");
+  EXPECT_EQ(errorOf(kMinimal, {"solver.wall_pressure=extrapolated"}), "");
   const std::string bad = errorOf(kMinimal, {"solver.pressure=dfsph", "solver.wall_pressure=x"});
   EXPECT_NE(bad.find("solver.wall_pressure"), std::string::npos) << bad;
   EXPECT_NE(bad.find("extrapolated"), std::string::npos) << bad;

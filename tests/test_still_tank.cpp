@@ -32,19 +32,16 @@ TEST(StillTank, HydrostaticPressureAndDensityAfterSettling) {
   const double surface = count * dx * dx * dx / (0.12 * 0.12);
 
   // Settle: the initial lattice is unloaded and falls into place, and the water along the walls
-  // takes seconds to find its rest. The floor sensor's centre read over 0.75 s windows (release
-  // build, AVX-512): -1.16% from 0.75 s, -0.9% from 1.5 s, -0.71% from 2.25 s, -0.70% from 3 s,
-  // -0.74% from 3.75 s. Before 2.25 s the reading is a transient whose phase the last bits of the
-  // arithmetic move (-0.66% to -1.16% between builds there); from 2.25 s on it is the rest state.
+  // takes seconds to find its rest; the walls' correction toward the extrapolated pressure
+  // (sim/solver/WcsphWalls.cpp) follows it with a lag of 50 h / c. From 2.25 s on it is the rest
+  // state.
   sim.advanceTo(2.25);
   // WCSPH pressure is noisy step to step: the bottom layer is averaged over every step, the
-  // density over 15 frames. The bottom layer's reading depends on how the particles packed along
-  // the floor, which the arithmetic's last bits decide: -0.82% in the native build (AVX-512),
-  // -0.55% for x86-64-v3, -1.44% for x86-64-v2, where this test fails; the floor sensor reads
-  // -0.71%, -0.75% and -0.89%. WCSPH's walls push with the pressure of their own summation
-  // density, which is not the water's at their depth (docs/benchmarks.md, "Walls that hold
-  // pressure"): a wall that holds the hydrostatic pressure is the cure, as DFSPH's, not a wider
-  // bound.
+  // density over 15 frames. The walls hold the pressure the water extrapolates to them, so the
+  // bottom layer no longer depends on how the particles packed along the floor: it reads -0.50%
+  // in the native build (AVX-512); with walls of their own summation pressure it read -0.82%
+  // there and -1.44% for x86-64-v2, where this test failed (docs/benchmarks.md, "Walls that hold
+  // pressure", has every build's readings).
   double densityDeviation = 0;
   int frames = 0;
   test::StillTankFloor floor(0.12, dx);
@@ -72,7 +69,7 @@ TEST(StillTank, HydrostaticPressureAndDensityAfterSettling) {
   EXPECT_NEAR(floor.loadOverWeight(), 1.0, 0.005);
   // Beside the walls p is the weight of the water above, as in the middle (StillTankFloor.h):
   // the floor's layer along the walls and the water within 1.5 spacings of a side wall read
-  // -0.21% and +1.85% (native build). (The floor's layer in the middle reads -2.88%.)
+  // -0.75% and +0.64% (native build; the floor's layer in the middle +0.12%).
   EXPECT_NEAR(floor.pressureError(test::StillTankFloor::kFloorLayerRim), 0.0, 0.03);
   EXPECT_NEAR(floor.pressureError(test::StillTankFloor::kBesideSideWalls), 0.0, 0.03);
 

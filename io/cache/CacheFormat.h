@@ -114,10 +114,12 @@ inline std::string pointIndexName(std::size_t points) {
   return "Index#" + std::to_string(pointIndexLength(points));
 }
 
-// Datasets of a resume record beside the restart fields: DFSPH's warm start (RunState), written
-// only by DFSPH runs.
+// Datasets of a resume record beside the restart fields: the pressure solver's per-particle state
+// (RunState's warmStart), each written only by the runs that have it: DFSPH's warm start, WCSPH's
+// wall shares (solver.wall_pressure "extrapolated").
 inline constexpr const char* kWarmDensityName = "dfsph_warm_density";
 inline constexpr const char* kWarmDivergenceName = "dfsph_warm_divergence";
+inline constexpr const char* kWallShareName = "wcsph_wall_share";
 
 // x y z vx vy vz rho p id: what a scene writes unless its output section says otherwise.
 FieldSet defaultFields();

@@ -249,11 +249,12 @@ void CacheWriter::writeRestart(hid_t r, const Particles& fluid, const run::RunSt
     }
     writeField(r, field, fluid);
   }
-  // DFSPH's warm start (sim/solver/StepContext.h), in the frame's particle order: a resume without
-  // it would not continue bit-exactly.
+  // The pressure solver's per-particle state (sim/solver/StepContext.h), in the frame's particle
+  // order: a resume without it would not continue bit-exactly.
   const std::pair<const char*, const std::vector<float>*> warm[] = {
       {cache::kWarmDensityName, &state.warmStart.density},
-      {cache::kWarmDivergenceName, &state.warmStart.divergence}};
+      {cache::kWarmDivergenceName, &state.warmStart.divergence},
+      {cache::kWallShareName, &state.warmStart.wallShare}};
   for (const auto& [name, values] : warm) {
     // Together, every rank holds its part of it (or no particles at all).
     const bool mine = values->size() == fluid.size() && (!values->empty() || slice_);

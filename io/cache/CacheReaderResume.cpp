@@ -93,10 +93,11 @@ std::pair<run::RunState, Particles> CacheReader::readRestart(std::size_t frame,
       else
         p.*cache::floatMember(field) = h5::readDataset<float>(r, item, runs);
     }
-    // DFSPH's warm start, when the run had one (a WCSPH run has none).
+    // The pressure solver's per-particle state, what the run had of it.
     const std::pair<const char*, std::vector<float>*> warm[] = {
         {cache::kWarmDensityName, &s.warmStart.density},
-        {cache::kWarmDivergenceName, &s.warmStart.divergence}};
+        {cache::kWarmDivergenceName, &s.warmStart.divergence},
+        {cache::kWallShareName, &s.warmStart.wallShare}};
     for (const auto& [name, values] : warm) {
       item = name;
       if (!h5::hasLink(r, item)) continue;

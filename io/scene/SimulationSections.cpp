@@ -69,7 +69,7 @@ sph::scene::SolverParams readSolver(JsonReader r, Quality quality) {
   s.pressure = r.choice("pressure", std::optional(preset.pressure));
   const bool dfsph = s.pressure == sph::scene::PressureSolver::Dfsph;
   for (const char* key : {"max_density_error", "max_divergence_error", "min_density_iterations",
-                          "max_density_iterations", "max_divergence_iterations", "wall_pressure"}) {
+                          "max_density_iterations", "max_divergence_iterations"}) {
     if (!dfsph && r.has(key)) r.fail(key, "only used with \"pressure\": \"dfsph\"");
   }
   if (dfsph) {
@@ -92,7 +92,12 @@ sph::scene::SolverParams readSolver(JsonReader r, Quality quality) {
   s.minDensityIterations = iterations("min_density_iterations", s.minDensityIterations);
   s.maxDensityIterations = iterations("max_density_iterations", s.maxDensityIterations);
   s.maxDivergenceIterations = iterations("max_divergence_iterations", s.maxDivergenceIterations);
-  if (dfsph) s.wallPressure = r.choice("wall_pressure", std::optional(s.wallPressure));
+  s.wallPressure = r.choice("wall_pressure", std::optional(s.wallPressure));
+  if (dfsph && s.wallPressure == scene::WallPressure::Summation)
+    r.fail("wall_pressure", "expected \"extrapolated\" or \"none\" with \"pressure\": \"dfsph\"");
+  if (!dfsph && s.wallPressure == scene::WallPressure::None)
+    r.fail("wall_pressure",
+           "expected \"extrapolated\" or \"summation\" with \"pressure\": \"wcsph\"");
   if (s.minDensityIterations > s.maxDensityIterations) {
     r.fail("min_density_iterations", "expected at most max_density_iterations (" +
                                          std::to_string(s.maxDensityIterations) + ")");

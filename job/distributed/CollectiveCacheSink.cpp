@@ -105,7 +105,7 @@ void CollectiveCacheSink::frame(const run::Simulation& sim, std::size_t) {
                      [&](std::uint32_t a, std::uint32_t b) { return places[a] < places[b]; });
     std::vector<std::uint32_t> scratch;
     mine.permute(order, scratch);
-    for (std::vector<float>* v : {&state.warmStart.density, &state.warmStart.divergence}) {
+    for (std::vector<float>* v : state.warmStart.fields()) {
       if (v->size() != order.size()) continue;
       std::vector<float> sorted(v->size());
       for (std::size_t i = 0; i < order.size(); ++i) sorted[i] = (*v)[order[i]];

@@ -135,17 +135,19 @@ run::RunState broadcastRunState(ranks::Communicator& ranks, const run::RunState&
 
 void GatheringSink::frame(const run::Simulation&, std::size_t index) {
   const auto start = std::chrono::steady_clock::now();
-  // DFSPH's warm start is attached to the halo (Simulation::setHalo), density then divergence.
+  // The solver's per-particle state is attached to the halo (Simulation::setHalo), in the order
+  // of Simulation::particleState().
   std::vector<std::vector<float>> attached;
   Particles all = halo_.gather(sim_.fluid(), &attached);
   if (halo_.rank() != 0) return;
   solver::PressureWarmStart warm;
-  if (attached.size() == 2) warm.density.swap(attached[0]), warm.divergence.swap(attached[1]);
-  // The sinks see the whole fluid and its warm start (the resume record), in the order one
+  const std::vector<std::vector<float>*> slots = sim_.particleState(warm);
+  for (std::size_t k = 0; k < slots.size() && k < attached.size(); ++k) slots[k]->swap(attached[k]);
+  // The sinks see the whole fluid and its solver state (the resume record), in the order one
   // process would hold them.
   auto swapIn = [&] {
     std::swap(sim_.fluid(), all);
-    if (attached.size() == 2) std::swap(sim_.warmStart(), warm);
+    if (!slots.empty()) std::swap(sim_.warmStart(), warm);
   };
   swapIn();
   try {

@@ -18,9 +18,11 @@ namespace {
 // without and with pictures (15 and 114 MB) and cdt_rain with cdt-gl (123 MB). A fluid particle is
 // 13 arrays of 4 bytes (Particles), 5 of per-step scratch (sort order, p/rho^2, 1/rho, gradient
 // moment) and its grid slot; a boundary particle (counted as sampled, before those out of reach are
-// dropped) its position, three per-step fields and its grid slot.
-constexpr double kBytesPerFluidParticle = 76;
-constexpr double kBytesPerBoundaryParticle = 50;
+// dropped) its position, three per-step fields and its grid slot. WCSPH's walls that hold pressure
+// (sim/solver/WcsphWalls.cpp) add a share per fluid particle and a residual and a reach per
+// boundary particle, counted from the arrays: 4 and 8 bytes on the fitted 76 and 50.
+constexpr double kBytesPerFluidParticle = 80;
+constexpr double kBytesPerBoundaryParticle = 58;
 // DFSPH's on top (sim/solver/Dfsph.cpp, solver.pressure "dfsph"): 9 per-particle arrays (G, alpha,
 // source, stiffness, the two warm starts, the wall weight, the pair count, 1/rho), and every fluid
 // pair of the step stored with its V gradW and h - r (PairStore::kBytesPerPair, 20 bytes): the

@@ -77,6 +77,10 @@ solver::StepContext Simulation::context(float dt) {
   return c;
 }
 
+std::vector<std::vector<float>*> Simulation::particleState(solver::PressureWarmStart& w) const {
+  return model_->particleState(w);
+}
+
 void Simulation::setHalo(ranks::Halo* halo) {
   halo_ = halo;
   decomposition_ = halo ? haloSlab(*halo) : wholeFluid();
@@ -123,7 +127,14 @@ void Simulation::step(double limit) {
   timed(profile_, Pass::Boundaries, [&] { enforceBoundaries(c); });
   timed(profile_, Pass::Guard,
         [&] { decomposition_->guard(c, scene_, derived_.maxLostParticles, state_); });
-  if (state_.time >= tick) timed(profile_, Pass::Emit, [&] { feed_->feed(tick, fluid_, state_); });
+  if (state_.time >= tick) {
+    timed(profile_, Pass::Emit, [&] { feed_->feed(tick, fluid_, state_); });
+    // The landed water's particles start the solver's state from 0, as emitted ones do at the
+    // sort: a frame written now holds the state of every particle.
+    for (std::vector<float>* v : state_.warmStart.fields()) {
+      if (!v->empty()) v->resize(fluid_.size(), 0.0f);
+    }
+  }
   validate("the step", [&] { return solver::checkState(fluid_, state_.nextId); });
   profile_.steps += 1;
   profile_.particleSteps += fluid_.size();

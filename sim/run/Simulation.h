@@ -42,7 +42,8 @@ struct RunState {
   std::uint64_t lostParticles =
       0;  // removed for leaving the domain (SolverParams::maxLostParticles)
   std::vector<EmitterState> emitters;
-  // DFSPH's warm start, in the order of the fluid it was saved with (empty for WCSPH).
+  // The pressure solver's per-particle state (DFSPH's warm start, WCSPH's wall shares), in the
+  // order of the fluid it was saved with.
   solver::PressureWarmStart warmStart;
   rain::FeedState rain;  // rain.feed_fluid: the landed rain (all zero without)
 };
@@ -94,9 +95,12 @@ class Simulation {
   const rain::RainFeed* rainFeed() const { return feed_->rain(); }
   void restoreRain(double time, const std::vector<Vec3>& positions,
                    const std::vector<std::uint32_t>& generations);
-  // DFSPH's warm start, in the fluid's order (run state; a distributed run's frames swap in the
-  // gathered one, job/distributed/DistributedRun.h).
+  // The pressure solver's per-particle state, in the fluid's order (run state; a distributed run's
+  // frames swap in the gathered one, job/distributed/DistributedRun.h).
   solver::PressureWarmStart& warmStart() { return state_.warmStart; }
+  // The arrays of `w` that the solver carries per particle (those attached to a distributed run's
+  // halo, in the same order).
+  std::vector<std::vector<float>*> particleState(solver::PressureWarmStart& w) const;
   // What the DFSPH solvers did (zeros for WCSPH).
   const solver::PressureSolveStats& solveStats() const { return solveStats_; }
 

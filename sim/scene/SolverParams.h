@@ -90,17 +90,22 @@ constexpr const char* nameOf(PressureSolver v) {
   return nullptr;
 }
 
-// Scene key solver.wall_pressure (DFSPH): the pressure a wall's boundary particles push back with.
+// Scene key solver.wall_pressure: the pressure a wall's boundary particles push back with.
 enum class WallPressure {
-  Extrapolated,  // each boundary particle takes the pressure the fluid around it extrapolates to
-                 // it, with the hydrostatic term (Adami et al. 2012; sim/solver/DfsphWalls.cpp)
-  None,          // none of its own: a wall pair pushes with the fluid particle's stiffness alone
-                 // (Akinci et al. 2012's boundary particles as the DFSPH papers use them)
+  Extrapolated,  // the pressure the fluid around it extrapolates to it, with the hydrostatic term
+                 // (Adami et al. 2012): DFSPH's at every iteration (sim/solver/DfsphWalls.cpp),
+                 // WCSPH's as a slow correction of its own (sim/solver/WcsphWalls.cpp)
+  Summation,     // WCSPH only: the pressure of its own summation density, as a fluid particle's
+  None,          // DFSPH only: none of its own; a wall pair pushes with the fluid particle's
+                 // stiffness alone (Akinci et al. 2012's boundary particles as the DFSPH papers
+                 // use them)
 };
 constexpr const char* nameOf(WallPressure v) {
   switch (v) {
     case WallPressure::Extrapolated:
       return "extrapolated";
+    case WallPressure::Summation:
+      return "summation";
     case WallPressure::None:
       return "none";
   }

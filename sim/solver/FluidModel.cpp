@@ -3,6 +3,7 @@
 #include "sim/Assert.h"
 #include "sim/solver/DfsphWalls.h"
 #include "sim/solver/Validate.h"
+#include "sim/solver/WcsphWalls.h"
 
 namespace sph::solver {
 namespace {
@@ -12,19 +13,31 @@ void checkDensityPass(const StepContext& c) {
            [&] { return checkDensity(c.fluid, c.derived, c.solver.densityKernel); });
 }
 
-// Weakly compressible SPH: density, the equation of state, forces, symplectic Euler.
+// Weakly compressible SPH: density, the equation of state (and the walls' correction toward the
+// extrapolated pressure, WcsphWalls.cpp), forces, symplectic Euler.
 class Wcsph final : public FluidModel {
  public:
+  explicit Wcsph(bool wallsHoldPressure) : wallsHoldPressure_(wallsHoldPressure) {}
   bool usesNeighbours() const override { return true; }
   void density(StepContext& c, StepProfile& profile) override {
     timed(profile, Pass::Density, [&] { computeDensity(c); });
     checkDensityPass(c);
   }
   void forces(StepContext& c, StepProfile& profile) override {
-    timed(profile, Pass::Pressure, [&] { computePressure(c); });
+    timed(profile, Pass::Pressure, [&] {
+      computePressure(c);
+      if (wallsHoldPressure_) correctWallPressure(c);
+    });
     timed(profile, Pass::Forces, [&] { computeForces(c); });
   }
   MotionBounds integrate(StepContext& c) override { return solver::integrate(c); }
+  std::vector<std::vector<float>*> particleState(PressureWarmStart& warmStart) const override {
+    if (!wallsHoldPressure_) return {};
+    return {&warmStart.wallShare};
+  }
+
+ private:
+  bool wallsHoldPressure_;
 };
 
 // Divergence-free SPH (sim/solver/Dfsph.cpp): the density, factor and pairs from one neighbour
@@ -66,7 +79,7 @@ class GravityOnly final : public FluidModel {
 std::unique_ptr<FluidModel> makeFluidModel(const scene::SolverParams& solver) {
   if (solver.model != scene::SolverModel::Sph) return std::make_unique<GravityOnly>();
   if (solver.pressure == scene::PressureSolver::Dfsph) return std::make_unique<Dfsph>();
-  return std::make_unique<Wcsph>();
+  return std::make_unique<Wcsph>(solver.wallPressure == scene::WallPressure::Extrapolated);
 }
 
 }  // namespace sph::solver

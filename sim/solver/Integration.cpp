@@ -85,7 +85,7 @@ void compact(Particles& f, PressureWarmStart& warm, Keep&& keep) {
     field.resize(to);
   };
   f.forEachField(squeeze);
-  for (std::vector<float>* w : {&warm.density, &warm.divergence}) {
+  for (std::vector<float>* w : warm.fields()) {
     if (w->size() == n) squeeze(*w);
   }
 }

@@ -17,10 +17,11 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sim/grid/CellBatch.h"
 #include "sim/Parallel.h"
-#include "sim/solver/SphPasses.h"
+#include "sim/grid/CellBatch.h"
 #include "sim/ranks/ExactSum.h"
+#include "sim/solver/BoundaryReach.h"
+#include "sim/solver/SphPasses.h"
 
 namespace sph::solver {
 namespace {
@@ -109,8 +110,8 @@ void sortParticles(StepContext& c) {
   Particles& f = c.fluid;
   c.grid.build(f.x.data(), f.y.data(), f.z.data(), f.size(), c.derived.h, c.scratch.order);
   f.permute(c.scratch.order, c.scratch.permuteScratch);
-  // The DFSPH warm start is per particle too (new particles start from 0).
-  for (std::vector<float>* warm : {&c.warmStart.density, &c.warmStart.divergence}) {
+  // The solvers' state is per particle too (new particles start from 0).
+  for (std::vector<float>* warm : c.warmStart.fields()) {
     if (warm->empty()) continue;
     warm->resize(f.size(), 0.0f);
     std::vector<float>& out = c.scratch.pressureTerm;  // free until the pressure pass
@@ -153,33 +154,10 @@ void computeDensity(StepContext& c) {
           }
         });
     updateGradientCorrection(c);
-    if (b.size() == 0 || f.size() == 0) return;
-    // Boundary particles within reach of the fluid: the boundary cells overlapping the fluid
-    // grid's box grown by one cell. The others keep their last values; no fluid particle is close
-    // enough for those to matter (their kernel weight is exactly 0).
-    const grid::CellCoord o = grid.origin(), n = grid.dims();
-    const float cs = grid.cellSize();
-    const grid::CellCoord lo = bgrid.cellOf((o[0] - 1) * cs, (o[1] - 1) * cs, (o[2] - 1) * cs);
-    const grid::CellCoord hi =
-        bgrid.cellOf((o[0] + n[0] + 1) * cs, (o[1] + n[1] + 1) * cs, (o[2] + n[2] + 1) * cs);
-    const grid::CellCoord bo = bgrid.origin(), bn = bgrid.dims();
-    int from[3], to[3];
-    for (int a = 0; a < 3; ++a) {
-      from[a] = std::max(lo[a] - bo[a], 0);
-      to[a] = std::min(hi[a] - bo[a], bn[a] - 1);
-      if (from[a] > to[a]) return;
-    }
-    const int rowsY = to[1] - from[1] + 1, rows = rowsY * (to[2] - from[2] + 1);
-    parallelFor(static_cast<std::size_t>(rows), [&](std::size_t row) {
-      const int j = from[1] + static_cast<int>(row) % rowsY,
-                k = from[2] + static_cast<int>(row) / rowsY;
-      const std::uint32_t begin = bgrid.cellBegin(bgrid.localIndex(from[0], j, k));
-      const std::uint32_t end = bgrid.cellEnd(bgrid.localIndex(to[0], j, k));
-      for (std::uint32_t q = begin; q < end; ++q) {
-        bf.density[q] =
-            bf.staticDensity[q] + scale * kernelSum(b.x[q], b.y[q], b.z[q], grid, f.x.data(),
-                                                    f.y.data(), f.z.data(), shape);
-      }
+    forEachBoundaryParticleNearFluid(c, [&](std::uint32_t q) {
+      bf.density[q] =
+          bf.staticDensity[q] + scale * kernelSum(b.x[q], b.y[q], b.z[q], grid, f.x.data(),
+                                                  f.y.data(), f.z.data(), shape);
     });
   });
 }

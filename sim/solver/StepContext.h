@@ -4,6 +4,7 @@
 // distributed run) builds the same context around its own state.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -29,6 +30,11 @@ struct BoundaryFields {
   std::vector<float> staticDensity;  // kg/m^3
   std::vector<float> density;        // kg/m^3, this step
   std::vector<float> pressureTerm;   // p / rho^2 (m^5 / (kg s^2)), this step
+  // WCSPH's walls that hold pressure (sim/solver/WcsphWalls.cpp), this step: the pressure the
+  // fluid extrapolates to the particle less the one it pushes with (Pa), and how much fluid is
+  // within reach, sum_f W_bf / W(0) (0 where none is, and the residual means nothing).
+  std::vector<float> wallResidual;
+  std::vector<float> wallReach;
 };
 
 // Per fluid particle, rebuilt every step (not part of the state a resume needs).
@@ -76,12 +82,19 @@ struct WallStiffness {
   std::vector<float> change;               // per boundary particle: this iteration's change
 };
 
-// Per fluid particle, in the fluid's order: the DFSPH solvers' warm start (Bender & Koschier
-// 2017, sec. 4.3), the sum of each solver's stiffness values over the last step (m^2/s^2, a
-// pressure over a density). Part of what a resume needs (RunState), empty for WCSPH.
+// Per fluid particle, in the fluid's order, what the pressure solver carries from one step to the
+// next. Part of what a resume needs (RunState); each empty where the solver has none.
 struct PressureWarmStart {
+  // DFSPH's warm start (Bender & Koschier 2017, sec. 4.3): the sum of each solver's stiffness
+  // values over the last step (m^2/s^2, a pressure over a density).
   std::vector<float> density;     // constant-density solver
   std::vector<float> divergence;  // divergence-free solver
+  // WCSPH's walls that hold pressure (sim/solver/WcsphWalls.cpp): the particle's share of its
+  // walls' pressure correction (Pa).
+  std::vector<float> wallShare;
+
+  // Every array, for the code that moves, removes or stores them all alike.
+  std::array<std::vector<float>*, 3> fields() { return {&density, &divergence, &wallShare}; }
 };
 
 // What the DFSPH solvers did: the last step's iterations and the errors they stopped at
