@@ -107,7 +107,7 @@ TEST(CacheResume, ShowcasePourSceneResumesExactly) {
                                "--set solver.spacing=0.01 --set render.width=320 "
                                "--set render.height=180",
                                "0.2", "0.4");
-  const auto [state, fluid] = io::CacheReader(dir + "/resumed.h5").readRestart(5);
+  const auto [state, fluid] = io::cache::CacheReader(dir + "/resumed.h5").readRestart(5);
   ASSERT_EQ(state.warmStart.wallShare.size(), fluid.size());
   EXPECT_TRUE(std::any_of(state.warmStart.wallShare.begin(), state.warmStart.wallShare.end(),
                           [](float s) { return s != 0; }));

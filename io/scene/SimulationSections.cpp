@@ -93,9 +93,9 @@ sph::scene::SolverParams readSolver(JsonReader r, Quality quality) {
   s.maxDensityIterations = iterations("max_density_iterations", s.maxDensityIterations);
   s.maxDivergenceIterations = iterations("max_divergence_iterations", s.maxDivergenceIterations);
   s.wallPressure = r.choice("wall_pressure", std::optional(s.wallPressure));
-  if (dfsph && s.wallPressure == scene::WallPressure::Summation)
+  if (dfsph && s.wallPressure == sph::scene::WallPressure::Summation)
     r.fail("wall_pressure", "expected \"extrapolated\" or \"none\" with \"pressure\": \"dfsph\"");
-  if (!dfsph && s.wallPressure == scene::WallPressure::None)
+  if (!dfsph && s.wallPressure == sph::scene::WallPressure::None)
     r.fail("wall_pressure",
            "expected \"extrapolated\" or \"summation\" with \"pressure\": \"wcsph\"");
   if (s.minDensityIterations > s.maxDensityIterations) {
