@@ -26,7 +26,16 @@ struct Eos {
   }
 };
 
+Eos eosOf(const StepContext& c) {
+  return {c.solver.restDensity, c.derived.stiffness, c.solver.eos == scene::EquationOfState::Tait,
+          c.solver.clampNegativePressure};
+}
+
 }  // namespace
+
+float equationOfState(const StepContext& c, float rho) {
+  return eosOf(c)(rho);
+}
 
 // Equation of state for fluid and boundary particles; also caches p / rho^2 and 1 / rho, the
 // per-neighbour factors of the force pass, so that pass does no division per pair.
@@ -38,8 +47,7 @@ void computePressure(StepContext& c) {
   BoundaryFields& bf = c.boundaryFields;
   pressureTerm.resize(n);
   inverseDensity.resize(n);
-  const Eos eos{c.solver.restDensity, c.derived.stiffness,
-                c.solver.eos == scene::EquationOfState::Tait, c.solver.clampNegativePressure};
+  const Eos eos = eosOf(c);
   parallelFor(n, [&](std::size_t i) {
     const float p = eos(f.rho[i]);
     const float inv = 1.0f / f.rho[i];
@@ -47,6 +55,9 @@ void computePressure(StepContext& c) {
     inverseDensity[i] = inv;
     pressureTerm[i] = p * inv * inv;
   });
+  // Walls that hold the extrapolated pressure compute theirs with their density
+  // (correctWallPressure()).
+  if (c.solver.wallPressure == scene::WallPressure::Extrapolated) return;
   parallelFor(bf.density.size(), [&](std::size_t q) {
     const float rho = bf.density[q];
     bf.pressureTerm[q] = rho > 0 ? eos(rho) / (rho * rho) : 0.0f;

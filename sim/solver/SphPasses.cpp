@@ -154,6 +154,9 @@ void computeDensity(StepContext& c) {
           }
         });
     updateGradientCorrection(c);
+    // Walls that hold the extrapolated pressure sum their density with the rest of their
+    // neighbour sums (correctWallPressure()).
+    if (c.solver.wallPressure == scene::WallPressure::Extrapolated) return;
     forEachBoundaryParticleNearFluid(c, [&](std::uint32_t q) {
       bf.density[q] =
           bf.staticDensity[q] + scale * kernelSum(b.x[q], b.y[q], b.z[q], grid, f.x.data(),

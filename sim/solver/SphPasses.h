@@ -24,6 +24,8 @@ void computeDensity(StepContext& c);
 void updateGradientCorrection(StepContext& c);
 // Equation of state for fluid and boundary particles, and the force pass's per-particle factors.
 void computePressure(StepContext& c);
+// The scene's equation of state at density rho (kg/m^3): p (Pa), clamped as computePressure()'s.
+float equationOfState(const StepContext& c, float rho);
 // Pressure (spiky gradient), viscosity (Müller 2003), no-slip walls and gravity.
 void computeForces(StepContext& c);
 // DFSPH (sim/solver/Dfsph.cpp, sim/solver/DfsphPairs.cpp; Bender & Koschier 2015, 2017), in step order after

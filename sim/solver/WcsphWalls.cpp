@@ -38,11 +38,15 @@
 #include "sim/solver/WcsphWalls.h"
 
 #include <algorithm>
+#include <utility>
+#include <vector>
 
 #include "sim/Parallel.h"
+#include "sim/grid/CellBatch.h"
 #include "sim/ranks/Halo.h"
 #include "sim/solver/BoundaryReach.h"
 #include "sim/solver/Kernels.h"
+#include "sim/solver/SphPasses.h"
 
 namespace sph::solver {
 namespace {
@@ -68,7 +72,8 @@ void correctWallPressure(StepContext& c) {
   const float gx = g.x(), gy = g.y(), gz = g.z();
   const bool clamp = c.solver.clampNegativePressure;
   const float rate = std::min(c.dt * c.derived.speedOfSound / (kTauSteps * c.derived.h), 1.0f);
-  withDensityShape(c.solver.densityKernel, c.derived.kernels, [&](auto shape, float) {
+  withDensityShape(c.solver.densityKernel, c.derived.kernels, [&](auto shape, float factor) {
+    const float scale = factor * c.derived.mass * c.derived.densityNormalisation;
     forEachBoundaryParticleNearFluid(c, [&](std::uint32_t q) {
       const float xq = b.x[q], yq = b.y[q], zq = b.z[q];
       float weight = 0, extrapolated = 0, shares = 0;
@@ -85,31 +90,57 @@ void correctWallPressure(StepContext& c) {
             }
             weight += w, extrapolated += e, shares += s;
           });
+      // The boundary particle's summation density and its pressure (computeDensity() and
+      // computePressure() leave both to this pass), in the same arithmetic as theirs.
+      const float rho = bf.staticDensity[q] + scale * weight;
+      const float own = equationOfState(c, rho);
+      bf.density[q] = rho;
+      bf.pressureTerm[q] = rho > 0 ? own / (rho * rho) : 0.0f;
       if (!(weight > 0)) return;
-      const float rho = bf.density[q];
-      const float own = bf.pressureTerm[q] * rho * rho;  // computePressure()'s p(rho_b)
       const float p = own + shares / weight;
       bf.pressureTerm[q] = (clamp ? std::max(p, 0.0f) : p) / (rho * rho);
       const float target = extrapolated / weight;
       bf.wallResidual[q] = (clamp ? std::max(target, 0.0f) : target) - p;
       bf.wallReach[q] = weight / shape(0.0f);
     });
-    parallelFor(f.size(), [&](std::size_t i) {
-      const float xi = f.x[i], yi = f.y[i], zi = f.z[i];
-      float weight = 0, gap = 0;
-      bgrid.forEachNeighbourRange(
-          bgrid.cellOf(xi, yi, zi), [&](std::uint32_t begin, std::uint32_t end) {
+    // Each fluid particle's walls: the boundary cells around its cell, gathered once per cell
+    // (most cells have none, and their particles' shares are 0).
+    const bool sameLattice = bgrid.cellSize() == grid.cellSize();
+    const grid::CellCoord dims = grid.dims(), origin = grid.origin();
+    parallelFor(grid::rowCount(grid), [&](std::size_t row) {
+      std::vector<std::pair<std::uint32_t, std::uint32_t>> walls;
+      const int j = static_cast<int>(row % dims[1]), k = static_cast<int>(row / dims[1]);
+      for (int cx = 0; cx < dims[0]; ++cx) {
+        const std::size_t cell = grid.localIndex(cx, j, k);
+        const std::uint32_t begin = grid.cellBegin(cell), end = grid.cellEnd(cell);
+        if (begin == end) continue;
+        walls.clear();
+        auto gather = [&](std::uint32_t from, std::uint32_t to) {
+          if (from < to) walls.emplace_back(from, to);
+        };
+        for (std::uint32_t i = begin; i < end; ++i) {
+          if (!sameLattice) {  // another cell size than the fluid's: the particle's own cells
+            walls.clear();
+            bgrid.forEachNeighbourRange(bgrid.cellOf(f.x[i], f.y[i], f.z[i]), gather);
+          } else if (i == begin) {
+            bgrid.forEachNeighbourRange({origin[0] + cx, origin[1] + j, origin[2] + k}, gather);
+          }
+          const float xi = f.x[i], yi = f.y[i], zi = f.z[i];
+          float weight = 0, gap = 0;
+          for (const auto& [from, to] : walls) {
             float w = 0, r = 0;
 #pragma omp simd reduction(+ : w, r)
-            for (std::uint32_t q = begin; q < end; ++q) {
+            for (std::uint32_t q = from; q < to; ++q) {
               const float dx = xi - b.x[q], dy = yi - b.y[q], dz = zi - b.z[q];
               const float wq = bf.wallReach[q] * shape(dx * dx + dy * dy + dz * dz);
               w += wq;
               r += wq * bf.wallResidual[q];
             }
             weight += w, gap += r;
-          });
-      share[i] = weight > 0 ? share[i] + rate * (gap / weight - kPullToZero * share[i]) : 0.0f;
+          }
+          share[i] = weight > 0 ? share[i] + rate * (gap / weight - kPullToZero * share[i]) : 0.0f;
+        }
+      }
     });
   });
 }
