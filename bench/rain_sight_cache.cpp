@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
   double least = 1, mean = 0;
   std::printf("frame,time,visible,in_view\n");
   for (std::size_t k = 0; k < reader.frameCount(); ++k) {
-    const io::RainFrame drops = io::readRainFrame(reader, k);
+    const io::cache::RainFrame drops = io::cache::readRainFrame(reader, k);
     const Particles fluid = reader.readFrame(k);
     std::vector<Vec3> water;
     for (std::size_t i = 0; i < fluid.size(); ++i)
