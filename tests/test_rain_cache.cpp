@@ -150,6 +150,21 @@ TEST(RainCache, AResumedRunThatEndedBetweenFrameTimesGetsThatFramesDropsAgain) {
   expectResumedEqualsStraight(test::makeTempDir(), rainScene(0.2), "0.13");
 }
 
+// The landed rain's particles join the fluid at a tick, after the step: the solver's per-particle
+// state (DFSPH's warm start here, WCSPH's wall shares above) must cover them in the frame written
+// then, or the resumed run starts them from another state than the straight one did.
+TEST(RainCache, AResumedFeedingDfsphRunContinuesBitForBit) {
+  const std::string dir = test::makeTempDir();
+  std::string scene = rainScene(0.2, R"(, "feed_fluid": true, "drop_volume": 3.90625e-6)");
+  const std::string solver = "\"solver\": {";
+  scene.insert(scene.find(solver) + solver.size(), R"("pressure": "dfsph", )");
+  expectResumedEqualsStraight(dir, scene);
+  if (HasFatalFailure()) return;
+  const auto [state, fluid] = io::cache::CacheReader(dir + "/resumed.h5").readRestart(4);
+  EXPECT_GT(state.rain.particles, 0u);  // rain joined the fluid
+  EXPECT_EQ(state.warmStart.density.size(), fluid.size());
+}
+
 TEST(RainCache, AResumedFeedingRunContinuesTheFluidAndTheDropsBitForBit) {
   const std::string dir = test::makeTempDir();
   // A quarter of a 0.025 m particle's water per drop.
