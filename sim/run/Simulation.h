@@ -86,7 +86,8 @@ class Simulation {
   // Scale of the pressure force at the last step (1 / mean discrete gradient moment).
   float gradientCorrection() const { return gradientCorrection_; }
   // p_b / rho_b^2 (m^5 / (kg s^2)) of every boundary particle at the last step, in the order of
-  // boundary().particles(): WCSPH's wall pressure; zeros for DFSPH, whose walls hold none.
+  // boundary().particles(): the pressure the walls pushed with (zeros for DFSPH's walls "none";
+  // WCSPH's particles out of the fluid's reach keep their last value, which nothing reads).
   const std::vector<float>& boundaryPressureTerm() const { return boundaryFields_.pressureTerm; }
   const std::vector<Emitter>& emitters() const { return emitters_; }
   // rain.feed_fluid: the rain whose landed water joins the fluid at every tick (null without;

@@ -6,9 +6,10 @@
 // particle mass and, every step, get a density and a pressure of their own (the dynamic boundary
 // particles of Crespo et al. 2007, with summation density): the wall then pushes back with the
 // symmetric pressure force, which keeps the hydrostatic balance at the wall and, being the
-// gradient of the boundary's share of the internal energy, conserves energy. That is WCSPH's wall;
-// DFSPH's boundary particles take a stiffness extrapolated from the fluid instead
-// (sim/solver/DfsphWalls.cpp).
+// gradient of the boundary's share of the internal energy, conserves energy. That is WCSPH's wall
+// with solver.wall_pressure "summation"; by default its pressure is also corrected slowly toward
+// the one the fluid extrapolates to it (sim/solver/WcsphWalls.cpp). DFSPH's boundary particles
+// take a stiffness extrapolated from the fluid instead (sim/solver/DfsphWalls.cpp).
 #pragma once
 
 #include <cstddef>

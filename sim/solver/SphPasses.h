@@ -22,7 +22,8 @@ void computeDensity(StepContext& c);
 // c.gradientCorrection from the particles' gradient moments (scratch.gradientMoment), after a
 // density pass that computed them.
 void updateGradientCorrection(StepContext& c);
-// Equation of state for fluid and boundary particles, and the force pass's per-particle factors.
+// Equation of state for fluid and boundary particles (the walls that hold the extrapolated
+// pressure get theirs from correctWallPressure()), and the force pass's per-particle factors.
 void computePressure(StepContext& c);
 // The scene's equation of state at density rho (kg/m^3): p (Pa), clamped as computePressure()'s.
 float equationOfState(const StepContext& c, float rho);
