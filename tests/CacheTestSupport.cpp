@@ -54,6 +54,14 @@ std::string sphsplatBinary() {
   return sphsplatCommand();  // with the sanitizer options a sanitizer build needs (TestSupport.h)
 }
 
+std::string preloadInto(const std::string& shim) {
+#ifdef SPHSPLAT_ASAN_RUNTIME
+  return std::string("LD_PRELOAD='") + SPHSPLAT_ASAN_RUNTIME + ":" + shim + "'";
+#else
+  return "LD_PRELOAD='" + shim + "'";
+#endif
+}
+
 std::string sphsplatShell(const std::string& args) {
   return "OMP_WAIT_POLICY=PASSIVE " + sphsplatBinary() + " " + args;
 }

@@ -28,6 +28,11 @@ std::string makeTempDir();
 // The command that starts the sphsplat binary (sphsplatCommand, TestSupport.h).
 std::string sphsplatBinary();
 
+// The environment that loads the preload library `shim` (tests/KillAtWrite.cpp) into a child
+// sphsplat: LD_PRELOAD='shim', and in a sanitizer build the AddressSanitizer runtime first, which
+// it must be of the libraries a program loads.
+std::string preloadInto(const std::string& shim);
+
 // Every array present (non-empty or sized) in both, compared byte for byte.
 ::testing::AssertionResult sameBits(const Particles& expected, const Particles& actual);
 

@@ -141,14 +141,11 @@ class CacheConcurrent : public ::testing::Test {
 };
 
 TEST_F(CacheConcurrent, EveryMomentOfARenderingRunIsAStateReadersCanOpen) {
-#if defined(__SANITIZE_ADDRESS__)
-  GTEST_SKIP() << "a preload library cannot come before the AddressSanitizer runtime";
-#endif
   const std::string scene = dir_ + "/render.json", cache = dir_ + "/render.h5";
   std::ofstream(scene) << test::tinyRenderingScene(0.2, 100);
   const std::string log = dir_ + "/view.log";
-  const std::string watched = std::string("LD_PRELOAD='") + SPHSPLAT_KILL_SHIM +
-                              "' SPHSPLAT_READER_VIEW_LOG='" + log +
+  const std::string watched = test::preloadInto(SPHSPLAT_KILL_SHIM) +
+                              " SPHSPLAT_READER_VIEW_LOG='" + log +
                               "' OMP_WAIT_POLICY=PASSIVE LIBGL_ALWAYS_SOFTWARE=1 " +
                               test::sphsplatBinary() + " run '" + scene + "' --threads 1 --quiet ";
   const auto r = runShell(watched + "-o '" + cache + "'");

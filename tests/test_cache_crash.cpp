@@ -87,9 +87,6 @@ class CacheCrash : public ::testing::Test {
     dir_ = test::makeTempDir();
     scene_ = dir_ + "/tiny.json";
     std::ofstream(scene_) << test::tinyCacheScene(0.05, 100);
-#if defined(__SANITIZE_ADDRESS__)
-    return;  // the preload library cannot come before the AddressSanitizer runtime: no reference
-#endif
     const std::string countFile = dir_ + "/count", logFile = dir_ + "/writes.log";
     const auto ref = runShell(preload() + " SPHSPLAT_WRITE_COUNT_FILE='" + countFile +
                               "' SPHSPLAT_WRITE_LOG='" + logFile + "' " + run("ref.h5"));
@@ -108,7 +105,7 @@ class CacheCrash : public ::testing::Test {
   }
 
   static std::string preload() {
-    return std::string("LD_PRELOAD='") + SPHSPLAT_KILL_SHIM + "'";
+    return test::preloadInto(SPHSPLAT_KILL_SHIM);
   }
   // The command line of the run, writing `cache` in the test directory.
   static std::string run(const std::string& cache, const std::string& extra = "") {
@@ -128,9 +125,6 @@ std::vector<Particles> CacheCrash::reference_;
 std::vector<long> CacheCrash::multiPageWrites_;
 
 TEST_F(CacheCrash, KilledBeforeEveryWriteOfARunLeavesItsFramesExact) {
-#if defined(__SANITIZE_ADDRESS__)
-  GTEST_SKIP() << "a preload library cannot come before the AddressSanitizer runtime";
-#endif
   ASSERT_EQ(reference_.size(), 6u);  // 0.05 s at 100 frames/s
   ASSERT_GT(writes_, 30) << "the write counter saw too few writes to mean anything";
   std::map<std::size_t, int> framesSeen;
@@ -152,9 +146,6 @@ TEST_F(CacheCrash, KilledBeforeEveryWriteOfARunLeavesItsFramesExact) {
 }
 
 TEST_F(CacheCrash, AWriteTornAtAPageBoundaryLosesNoCommittedFrame) {
-#if defined(__SANITIZE_ADDRESS__)
-  GTEST_SKIP() << "a preload library cannot come before the AddressSanitizer runtime";
-#endif
   // SIGKILL in the middle of a write that spans pages leaves its first page written: for each
   // such write of the run, the commits' root header rewrites among them, the reader restores the
   // root header from the journal where needed and every committed frame is still there.
@@ -183,9 +174,6 @@ TEST_F(CacheCrash, AWriteTornAtAPageBoundaryLosesNoCommittedFrame) {
 }
 
 TEST_F(CacheCrash, ResumingAKilledRunGivesTheUninterruptedRun) {
-#if defined(__SANITIZE_ADDRESS__)
-  GTEST_SKIP() << "a preload library cannot come before the AddressSanitizer runtime";
-#endif
   // A few kill points across the run, each resumed to the end and compared frame by frame.
   int resumed = 0;
   for (long n = writes_ / 7; n < writes_; n += writes_ / 7) {
@@ -208,9 +196,6 @@ TEST_F(CacheCrash, ResumingAKilledRunGivesTheUninterruptedRun) {
 }
 
 TEST_F(CacheCrash, KilledBeforeEveryWriteOfAResumeThatRewritesAnOffGridFrame) {
-#if defined(__SANITIZE_ADDRESS__)
-  GTEST_SKIP() << "a preload library cannot come before the AddressSanitizer runtime";
-#endif
   // A run that ended at 0.025 s, between the frames at 0.02 and 0.03 s, leaves frame 3 off the
   // frame grid; its resume removes that frame's records and writes frame 3 again at 0.03 s.
   // Killed before each of the resume's writes, the cache holds the old frames (frame 3 the
@@ -258,9 +243,6 @@ TEST_F(CacheCrash, KilledBeforeEveryWriteOfAResumeThatRewritesAnOffGridFrame) {
 }
 
 TEST_F(CacheCrash, AWriteRefusedAtAnyMomentEndsTheRunWithOneLineAndKeepsWhatWasCommitted) {
-#if defined(__SANITIZE_ADDRESS__)
-  GTEST_SKIP() << "a preload library cannot come before the AddressSanitizer runtime";
-#endif
   // A full disk refuses one write (the preload library's ENOSPC) at each moment of a run with
   // --overwrite over an existing file: the run ends with exit 2 and one line, never a crash (HDF5
   // 1.10 keeps a file whose close failed, and closed it again at exit); before frame 0 is in,
@@ -296,9 +278,6 @@ TEST_F(CacheCrash, AWriteRefusedAtAnyMomentEndsTheRunWithOneLineAndKeepsWhatWasC
 }
 
 TEST_F(CacheCrash, RecordingAStopOfAKilledRunWritesOnlyOverItsOwnRunningStatus) {
-#if defined(__SANITIZE_ADDRESS__)
-  GTEST_SKIP() << "a preload library cannot come before the AddressSanitizer runtime";
-#endif
   // The recorder of an MPI run that stopped in a frame its ranks wrote together
   // (job/distributed/StatusRecorder.h) records "stopped" over "running", and only over the state that run
   // left: not over a resume's status, nor over a cache with more frames than it could write.
