@@ -104,9 +104,7 @@ class CacheCrash : public ::testing::Test {
         writes_, multiPageWrites_.size());
   }
 
-  static std::string preload() {
-    return test::preloadInto(SPHSPLAT_KILL_SHIM);
-  }
+  static std::string preload() { return test::preloadInto(SPHSPLAT_KILL_SHIM); }
   // The command line of the run, writing `cache` in the test directory.
   static std::string run(const std::string& cache, const std::string& extra = "") {
     return "OMP_WAIT_POLICY=PASSIVE " + test::sphsplatBinary() + " run '" + scene_ +
