@@ -15,6 +15,23 @@
 #include "sim/cdt/CdtCpu.h"
 
 namespace sph::job {
+namespace {
+
+// A step the root takes alone and may refuse (an InputError): the refusal stops every process
+// with its line and exit 2 (Processes::refuseOnAll), none being left waiting in a collective.
+template <class Step>
+void onRoot(distributed::Processes& p, Step&& step) {
+  if (p.root()) {
+    try {
+      step();
+    } catch (const InputError& e) {
+      p.refuseOnAll(e);
+    }
+  }
+  p.followRoot();
+}
+
+}  // namespace
 
 RunSample sample(const RunContext& c) {
   const double wall =
@@ -50,7 +67,7 @@ StageResult openCache(RunContext& c) {
   distributed::Processes& p = *c.processes;
   // Rank 0's checks stop every rank; prepare() may change the scene (a resume's frame rate),
   // and every rank must run the same scene.
-  p.onRoot([&] { c.cache = io::cache::CacheSession::prepare(c.request.cache, c.scene); });
+  onRoot(p, [&] { c.cache = io::cache::CacheSession::prepare(c.request.cache, c.scene); });
   p.fromRoot(c.scene.output.fps);
   p.setLockstep(true);
   // The pictures' directory is ours too before anything is written (the cache is, above).
@@ -88,7 +105,12 @@ StageResult startSimulation(RunContext& c) {
       c.observer.nothingToDo(c.cache->path(), c.cache->lastFrameTime());
       return kOk;
     }
-    const distributed::ResumeRead read = p.resume(sim, c.cache.get(), c.provenance);
+    // Rank 0 checks the cache against the scene (and notes another thread count), every process
+    // reads the frame (K processes a slab each), and rank 0 opens the cache for appending.
+    std::size_t last = 0;
+    onRoot(p, [&] { last = c.cache->checkResume(sim, c.provenance); });
+    const distributed::ResumeRead read = p.resume(sim, c.cache.get(), last);
+    onRoot(p, [&] { c.cache->finishRestore(sim); });
     c.nextFrame = read.frame + 1;
     if (!c.request.quiet) {
       RunResume r;

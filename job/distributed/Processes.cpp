@@ -15,7 +15,9 @@ class SingleProcess final : public Processes {
   bool gathersFrames() const override { return false; }
 
   void refuseUnsupported(const scene::Scene&) const override {}
-  void onRoot(const std::function<void()>& work) override { work(); }
+  // Called in the handler of `error`: it goes on as it was thrown.
+  [[noreturn]] void refuseOnAll(const InputError&) override { throw; }
+  void followRoot() override {}
   void fromRoot(double&) override {}
   bool any(bool local) override { return local; }
   std::uint64_t globalCount(std::uint64_t local) override { return local; }
@@ -29,10 +31,14 @@ class SingleProcess final : public Processes {
                              bool) override {
     return sim.fluid().size();
   }
+  // The whole frame, as CacheSession::restore reads it.
   ResumeRead resume(run::Simulation& sim, io::cache::CacheSession* cache,
-                    const io::cache::CacheProvenance& provenance) override {
+                    std::size_t frame) override {
+    auto [state, fluid] = cache->reader().readRestart(frame);
+    io::cache::CacheSession::checkRecord(cache->path(), state, sim);
+    sim.restore(state, std::move(fluid));
     ResumeRead read;
-    read.frame = cache->restore(sim, provenance);
+    read.frame = frame;
     return read;
   }
   void startStepping(run::Simulation&) override {}

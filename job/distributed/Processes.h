@@ -6,12 +6,12 @@
 #pragma once
 
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "io/cache/CacheSession.h"
+#include "sim/InputError.h"
 #include "sim/ranks/Communicator.h"
 #include "sim/run/RunLoop.h"
 #include "sim/run/Simulation.h"
@@ -60,13 +60,17 @@ class Processes {
 
   // What K processes cannot do yet, refused with one line before anything runs.
   virtual void refuseUnsupported(const scene::Scene& scene) const = 0;
-  // Runs `work` on the root; an InputError it throws is thrown on every process, so all stop
-  // with exit 2 and none is left waiting in a collective.
-  virtual void onRoot(const std::function<void()>& work) = 0;
+  // A step the root takes alone and may refuse (an InputError): the root's handler of the error
+  // calls refuseOnAll, which throws it on every process, so all stop with exit 2 and none is left
+  // waiting in a collective; every process calls followRoot() once the root went on. (Two
+  // calls rather than a callback: the root's step stays in the stage that takes it, and what it
+  // reads of the request goes no further down.)
+  [[noreturn]] virtual void refuseOnAll(const InputError& error) = 0;
+  virtual void followRoot() = 0;
   // The root's value on every process.
   virtual void fromRoot(double& value) = 0;
   // True on every process if `local` is on any (a signal seen by one rank stops all at the same
-  // step).
+  // step), and a sum over them; on K processes once the simulation is made (its halo's).
   virtual bool any(bool local) = 0;
   virtual std::uint64_t globalCount(std::uint64_t local) = 0;
   // Set once every process runs the same collectives: from then on an error on one alone ends
@@ -86,10 +90,11 @@ class Processes {
   // yet, so the root's cache tells those of the frame it continues from.
   virtual std::size_t startParticles(const run::Simulation& sim,
                                      const io::cache::CacheSession* cache, bool resumed) = 0;
-  // Restores `sim` from the root's cache (null elsewhere) once the root has checked it against
-  // the scene; the cache is then open for appending.
+  // Restores `sim` from frame `frame` of the root's cache (both known on the root; null and 0
+  // elsewhere) once the root has checked the cache against the scene (CacheSession::checkResume);
+  // the root finishes the restore (CacheSession::finishRestore).
   virtual ResumeRead resume(run::Simulation& sim, io::cache::CacheSession* cache,
-                            const io::cache::CacheProvenance& provenance) = 0;
+                            std::size_t frame) = 0;
   // Before the first step: on K processes the simulation becomes this rank's part.
   virtual void startStepping(run::Simulation& sim) = 0;
 

@@ -25,7 +25,10 @@ class RankProcesses final : public Processes {
   void refuseUnsupported(const scene::Scene& scene) const override {
     distributed::refuseUnsupported(scene, ranks_.size());
   }
-  void onRoot(const std::function<void()>& work) override { onRootAgreeing(ranks_, work); }
+  [[noreturn]] void refuseOnAll(const InputError& error) override {
+    refuseOnAllRanks(ranks_, error.what());
+  }
+  void followRoot() override { distributed::followRoot(ranks_); }
   void fromRoot(double& value) override {
     ranks::Bytes b(sizeof(double));
     std::memcpy(b.data(), &value, sizeof(double));
@@ -58,7 +61,7 @@ class RankProcesses final : public Processes {
     return cache->reader().summary().frames.at(cache->resumeFrame()).particles;
   }
   ResumeRead resume(run::Simulation& sim, io::cache::CacheSession* cache,
-                    const io::cache::CacheProvenance& provenance) override;
+                    std::size_t frame) override;
   void startStepping(run::Simulation& sim) override { sim.setHalo(halo_.get()); }
 
   std::vector<run::FrameSink*> frameSinks(run::Simulation& sim, io::cache::CacheSession* cache,
@@ -85,13 +88,10 @@ class RankProcesses final : public Processes {
   const CollectiveCacheSink* collective_ = nullptr;  // run -v: the rain's water cells
 };
 
-// Every rank reads its slab of the cache's last frame (DistributedResume.h) once rank 0 has
-// checked the cache against the scene; then rank 0 opens it for appending.
+// Every rank reads its slab of the cache's last frame (DistributedResume.h).
 ResumeRead RankProcesses::resume(run::Simulation& sim, io::cache::CacheSession* cache,
-                                 const io::cache::CacheProvenance& provenance) {
-  std::vector<std::int64_t> frame{0};
-  onRootAgreeing(
-      ranks_, [&] { frame[0] = static_cast<std::int64_t>(cache->checkResume(sim, provenance)); });
+                                 std::size_t last) {
+  std::vector<std::int64_t> frame{static_cast<std::int64_t>(last)};  // 0 but on rank 0
   ranks_.sumInPlace(frame);
   ranks::Bytes path;
   if (root()) path.assign(cache->path().begin(), cache->path().end());
@@ -109,7 +109,6 @@ ResumeRead RankProcesses::resume(run::Simulation& sim, io::cache::CacheSession* 
   std::vector<std::int64_t> read(static_cast<std::size_t>(ranks_.size()), 0);
   read[static_cast<std::size_t>(ranks_.rank())] = static_cast<std::int64_t>(sim.fluid().size());
   ranks_.sumInPlace(read);
-  onRootAgreeing(ranks_, [&] { cache->finishRestore(sim); });
   ResumeRead r;
   r.frame = static_cast<std::uint64_t>(frame[0]);
   for (std::int64_t n : read) r.totalRead += n;
