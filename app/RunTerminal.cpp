@@ -74,7 +74,8 @@ void RunTerminal::canContinue(const job::RunRequest& o, const std::string& cache
 }
 
 void RunTerminal::finished(const job::RunRequest& o, const job::RunSummary& s) {
-  if (!s.exchanges.empty()) std::printf("  %s\n", s.exchanges.c_str());
+  if (o.verbose && !s.processes.exchanges.empty())
+    std::printf("  %s\n", s.processes.exchanges.c_str());
   const run::Simulation& sim = s.sim;
   const solver::StepProfile& prof = sim.profile();
   const double wall = s.wallSeconds;
@@ -98,25 +99,25 @@ void RunTerminal::finished(const job::RunRequest& o, const job::RunSummary& s) {
               prof.steps ? 1e3 * wall / prof.steps : 0.0);
   if (o.verbose) printPassSplit(prof);
   if (!s.cacheSummary.empty()) std::printf("  %s\n", io::oneLine(s.cacheSummary).c_str());
-  if (s.framesTogether)
-    std::printf("  frames written by all %d ranks together (parallel HDF5, MPI-IO: %s)\n", s.ranks,
-                s.mpiIo.c_str());
-  if (!o.verbose || s.frameSeconds < 0) return;
-  std::printf("  frames: %.3g s on rank 0 to %s\n", s.frameSeconds,
-              s.framesTogether ? "write them together" : "gather and write them");
-  const ranks::HaloStats& hs = *s.haloStats;
-  if (s.framesTogether && hs.placesCalls > 0)
+  if (s.processes.framesTogether)
+    std::printf("  frames written by all %d ranks together (parallel HDF5, MPI-IO: %s)\n",
+                s.processes.ranks, s.processes.mpiIo.c_str());
+  if (!o.verbose || s.processes.frameSeconds < 0) return;
+  std::printf("  frames: %.3g s on rank 0 to %s\n", s.processes.frameSeconds,
+              s.processes.framesTogether ? "write them together" : "gather and write them");
+  const ranks::HaloStats& hs = *s.processes.haloStats;
+  if (s.processes.framesTogether && hs.placesCalls > 0)
     std::printf(
         "  their places (Halo::globalPlaces): %.3g ms, %llu bytes received and %llu "
         "keys sent to be placed a frame on rank 0\n",
         1e3 * hs.placesSeconds / hs.placesCalls,
         static_cast<unsigned long long>(hs.placesBytesReceived / hs.placesCalls),
         static_cast<unsigned long long>(hs.placesStrays / hs.placesCalls));
-  if (s.rainCellBytesPerFrame >= 0)
+  if (s.processes.rainCellBytesPerFrame >= 0)
     std::printf(
         "  rain: %.0f bytes of water cells received a frame on rank 0 from the other ranks "
         "(the drops meet their union; no particle is gathered)\n",
-        s.rainCellBytesPerFrame);
+        s.processes.rainCellBytesPerFrame);
 }
 
 }  // namespace sph::app

@@ -9,14 +9,11 @@
 #include <vector>
 
 #include "io/cache/CacheSession.h"
+#include "job/distributed/Processes.h"
 #include "sim/StabilityError.h"
 #include "sim/run/MemoryEstimate.h"
 #include "sim/run/RunLoop.h"
 #include "sim/run/Simulation.h"
-
-namespace sph::ranks {
-struct HaloStats;
-}
 
 namespace sph::job {
 
@@ -69,13 +66,7 @@ struct RunSummary {
   std::uint64_t particleSteps = 0;  // on all ranks
   double wallSeconds = 0;
   std::string cacheSummary;  // "" without a cache
-  int ranks = 1;
-  bool framesTogether = false;  // written by all ranks together (parallel HDF5)
-  std::string mpiIo;            // with framesTogether: the MPI-IO component
-  double frameSeconds = -1;     // K processes: rank 0's time handing frames out
-  std::string exchanges;        // K processes: what the halo exchanged
-  const ranks::HaloStats* haloStats = nullptr;
-  double rainCellBytesPerFrame = -1;  // frames written together with rain
+  distributed::Report processes;
 };
 
 // What the user is told. Every call comes from the process that speaks (rank 0 of K).

@@ -1,8 +1,7 @@
 #include "job/RunStages.h"
 
-#include <algorithm>
 #include <csignal>
-#include <cstring>
+#include <cstdio>
 
 #include "io/MessageText.h"
 #include "io/scene/SceneLoader.h"
@@ -10,18 +9,29 @@
 #include "job/Interrupt.h"
 #include "job/MachineMemory.h"
 #include "job/Version.h"
-#include "job/distributed/CollectiveCacheSink.h"
-#include "job/distributed/DistributedResume.h"
-#include "job/distributed/DistributedRun.h"
-#include "job/distributed/StatusRecorder.h"
 #include "render/cdt/CollisionSetup.h"
 #include "sim/InputError.h"
 #include "sim/Parallel.h"
 #include "sim/cdt/CdtCpu.h"
 
 namespace sph::job {
+namespace {
 
-using distributed::onRootAgreeing;
+// A step the root takes alone and may refuse (an InputError): the refusal stops every process
+// with its line and exit 2 (Processes::refuseOnAll), none being left waiting in a collective.
+template <class Step>
+void onRoot(distributed::Processes& p, Step&& step) {
+  if (p.root()) {
+    try {
+      step();
+    } catch (const InputError& e) {
+      p.refuseOnAll(e);
+    }
+  }
+  p.followRoot();
+}
+
+}  // namespace
 
 RunSample sample(const RunContext& c) {
   const double wall =
@@ -36,140 +46,86 @@ RunSample sample(const RunContext& c) {
 }
 
 void loadScene(RunContext& c) {
-  c.ranks = distributed::world();
-  c.root = distributed::isRootProcess();
-  if (!c.root) c.request.quiet = true, c.request.verbose = false;
+  c.processes = distributed::Processes::ofThisRun();
+  if (!c.processes->root()) c.request.quiet = true, c.request.verbose = false;
   c.scene = io::scene::loadScene(c.request.scene, c.request.overrides);
   if (c.request.end > 0) c.scene.solver.endTime = c.request.end;
-  if (c.ranks) distributed::refuseUnsupported(c.scene, c.ranks->size());
+  c.processes->refuseUnsupported(c.scene);
 }
 
 StageResult checkMachine(RunContext& c) {
   cdt::requireIdsInRange(c.scene);
   setThreadCount(c.request.threads);  // first: DFSPH's estimate counts a spare pair chunk a thread
   // On K processes each rank's share, the ranks of a machine together (job/MachineMemory.h).
-  c.memory = checkMemory(c.scene, c.ranks, c.ranks && !distributed::writeCacheTogether());
+  c.memory = checkMemory(c.scene, c.processes->communicator(), c.processes->gathersFrames());
   if (!c.request.check) return std::nullopt;
   if (!c.request.quiet) c.observer.checked(c.request, c.scene, c.memory);
   return kOk;
 }
 
 StageResult openCache(RunContext& c) {
-  if (!c.ranks) {
-    c.cache = io::cache::CacheSession::prepare(c.request.cache, c.scene);
-  } else {
-    // Rank 0's checks stop every rank; prepare() may change the scene (a resume's frame rate),
-    // and every rank must run the same scene.
-    onRootAgreeing(*c.ranks,
-                   [&] { c.cache = io::cache::CacheSession::prepare(c.request.cache, c.scene); });
-    ranks::Bytes fps(sizeof(double));
-    std::memcpy(fps.data(), &c.scene.output.fps, sizeof(double));
-    c.ranks->broadcastFromRoot(fps);
-    std::memcpy(&c.scene.output.fps, fps.data(), sizeof(double));
-  }
-  distributed::setLockstep(c.ranks != nullptr);
+  distributed::Processes& p = *c.processes;
+  // Rank 0's checks stop every rank; prepare() may change the scene (a resume's frame rate),
+  // and every rank must run the same scene.
+  onRoot(p, [&] { c.cache = io::cache::CacheSession::prepare(c.request.cache, c.scene); });
+  p.fromRoot(c.scene.output.fps);
+  p.setLockstep(true);
   // The pictures' directory is ours too before anything is written (the cache is, above).
   if (c.scene.render)
     c.framesLock =
         lockDirectory(RenderOutput::directoryFor(c.scene, c.cache ? c.cache->path() : ""));
   c.resumed = c.cache && c.cache->resuming();  // rank 0 knows; on K processes every rank learns
-  if (!c.ranks) return std::nullopt;
-  // Whether rank 0 resumes, before any fluid exists: a resume reads each rank's slab of the
-  // cache's last frame, so no rank generates a start that would be dropped.
   const double end = c.scene.solver.endTime;
-  std::vector<std::int64_t> resume{c.resumed ? 1 : 0, c.resumed && c.cache->lastFrameTime() >= end};
-  c.ranks->sumInPlace(resume);
-  c.resumed = resume[0] != 0;
-  if (!resume[1]) return std::nullopt;
-  if (c.root) c.observer.nothingToDo(c.cache->path(), c.cache->lastFrameTime());
+  if (!p.agreeOnResume(c.resumed, c.resumed && c.cache->lastFrameTime() >= end))
+    return std::nullopt;
+  if (p.root()) c.observer.nothingToDo(c.cache->path(), c.cache->lastFrameTime());
   return kOk;
 }
 
-namespace {
-
-// Every rank reads its slab of the cache's last frame (job/distributed/DistributedResume.h) once
-// rank 0 has checked the cache against the scene; then rank 0 opens it for appending.
-void resumeOnRanks(RunContext& c) {
-  run::Simulation& sim = *c.sim;
-  ranks::Communicator& ranks = *c.ranks;
-  std::vector<std::int64_t> frame{0};
-  onRootAgreeing(ranks, [&] {
-    frame[0] = static_cast<std::int64_t>(c.cache->checkResume(sim, c.provenance));
-  });
-  ranks.sumInPlace(frame);
-  c.nextFrame = static_cast<std::uint64_t>(frame[0]) + 1;
-  ranks::Bytes path;
-  if (c.root) path.assign(c.cache->path().begin(), c.cache->path().end());
-  ranks.broadcastFromRoot(path);
-  {
-    std::unique_ptr<io::cache::CacheReader> own;
-    if (!c.root)
-      own = std::make_unique<io::cache::CacheReader>(std::string(path.begin(), path.end()));
-    distributed::ResumePart part =
-        distributed::readResumePart(*c.halo, c.root ? c.cache->reader() : *own,
-                                    static_cast<std::size_t>(frame[0]), sim.params().h);
-    io::cache::CacheSession::checkRecord(std::string(path.begin(), path.end()), part.state, sim);
-    sim.restore(part.state, std::move(part.fluid), std::move(part.keys));
-  }
-  // Every rank's count (its reader is closed once it is in): the most any rank read.
-  std::vector<std::int64_t> read(static_cast<std::size_t>(ranks.size()), 0);
-  read[static_cast<std::size_t>(ranks.rank())] = static_cast<std::int64_t>(sim.fluid().size());
-  ranks.sumInPlace(read);
-  onRootAgreeing(ranks, [&] { c.cache->finishRestore(sim); });
-  if (c.request.quiet) return;
-  RunResume r;
-  r.distributed = true;
-  r.cachePath = c.cache->path();
-  r.frame = c.nextFrame - 1;
-  r.time = sim.time();
-  r.note = c.cache->resumeNote();
-  r.ranks = ranks.size();
-  for (std::int64_t n : read) r.totalRead += n;
-  r.mostRead = *std::max_element(read.begin(), read.end());
-  c.observer.resumed(r);
-}
-
-}  // namespace
-
 StageResult startSimulation(RunContext& c) {
-  // On K processes the slabs exist before the fluid: each rank generates only its slab of the
-  // starting fluid (sim/run/StartSlab.h), and no rank holds the whole of it; a resume starts
-  // without fluid.
+  distributed::Processes& p = *c.processes;
   const scene::Scene& scene = c.scene;
-  if (c.ranks)
-    c.halo = std::make_unique<ranks::Halo>(*c.ranks, scene.domain, scene.solver.supportRadius());
   const auto setupStart = std::chrono::steady_clock::now();
   // Samples the boundaries, once for the whole run.
-  c.sim = c.halo ? std::make_unique<run::Simulation>(
-                       scene, *c.halo,
-                       c.resumed ? run::Simulation::Start::Empty : run::Simulation::Start::Slab)
-                 : std::make_unique<run::Simulation>(scene);
+  c.sim = p.makeSimulation(scene, c.resumed);
   run::Simulation& sim = *c.sim;
   const double setupSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - setupStart).count();
   sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
-  std::size_t startParticles =
-      c.halo ? c.halo->globalCount(sim.fluid().size()) : sim.fluid().size();
-  // A distributed resume holds no fluid yet: the header tells the frame it continues from.
-  if (c.halo && c.resumed && c.root)
-    startParticles = c.cache->reader().summary().frames.at(c.cache->resumeFrame()).particles;
+  const std::size_t startParticles = p.startParticles(sim, c.cache.get(), c.resumed);
   if (!c.request.quiet)
     c.observer.started(
         {c.request, scene, sim, startParticles, c.cache.get(), setupSeconds, c.memory});
 
   c.provenance = {SPHSPLAT_VERSION_STRING, threadCount(), c.request.overrides};
-  if (c.ranks) {
-    if (c.resumed) resumeOnRanks(c);
-  } else if (c.cache && c.cache->resuming()) {
-    if (c.cache->lastFrameTime() >= scene.solver.endTime) {
+  if (c.resumed) {
+    // One process learns it here, after its header; K processes did before any fluid existed
+    // (openCache), and only rank 0 holds the cache.
+    if (c.cache && c.cache->lastFrameTime() >= scene.solver.endTime) {
       c.observer.nothingToDo(c.cache->path(), c.cache->lastFrameTime());
       return kOk;
     }
-    c.nextFrame = c.cache->restore(sim, c.provenance) + 1;
-    if (!c.request.quiet)
-      c.observer.resumed({c.cache->path(), c.nextFrame - 1, sim.time(), c.cache->resumeNote()});
+    // Rank 0 checks the cache against the scene (and notes another thread count), every process
+    // reads the frame (K processes a slab each), and rank 0 opens the cache for appending.
+    std::size_t last = 0;
+    onRoot(p, [&] { last = c.cache->checkResume(sim, c.provenance); });
+    const distributed::ResumeRead read = p.resume(sim, c.cache.get(), last);
+    onRoot(p, [&] { c.cache->finishRestore(sim); });
+    c.nextFrame = read.frame + 1;
+    if (!c.request.quiet) {
+      RunResume r;
+      r.cachePath = c.cache->path();
+      r.frame = read.frame;
+      r.time = sim.time();
+      r.note = c.cache->resumeNote();
+      r.distributed = p.distributed();
+      r.ranks = p.count();
+      r.totalRead = read.totalRead;
+      r.mostRead = read.mostRead;
+      c.observer.resumed(r);
+    }
   }
-  if (c.halo) sim.setHalo(c.halo.get());
+  p.startStepping(sim);
   installInterruptHandlers();
   return std::nullopt;
 }
@@ -178,68 +134,30 @@ void writingFailed(RunContext& c, const std::exception& e) {
   if (!c.request.quiet) c.observer.progressDone(sample(c));
   if (!c.cache) return;
   const std::string reason = std::string("writing failed: ") + e.what();
-  // Failed in a frame the ranks write together: the cache's file is released mid-frame and the
-  // other ranks may still write; the recorder writes the status once they have ended.
-  if (distributed::statusRecorderArmed()) distributed::startStatusRecorder(reason.c_str());
+  c.processes->writingFailed(reason);
   std::string kept;
   try {
     kept = c.cache->stop(reason);
-    distributed::cancelStatusRecorder();
+    c.processes->statusRecorded();
   } catch (const std::exception&) {
     kept = "the cache " + c.cache->path() + " keeps " + c.cache->framesText();
   }
   throw InputError(std::string(e.what()) + "; " + kept);
 }
 
-namespace {
-
-// On K processes: with parallel HDF5 every rank writes its part of each frame
-// (job/distributed/CollectiveCacheSink.h), else rank 0 gathers the frames and writes them.
-void setUpDistributedOutputs(RunContext& c) {
-  run::Simulation& sim = *c.sim;
-  // Rank 0 knows whether there is a cache.
-  std::vector<std::int64_t> caching{c.cache ? 1 : 0};
-  c.ranks->sumInPlace(caching);
-  c.framesTogether = caching[0] && !c.pictures && distributed::writeCacheTogether();
-  if (c.framesTogether) {
-    auto sink = std::make_unique<distributed::CollectiveCacheSink>(*c.halo, c.cache.get(), c.scene);
-    c.frameSeconds = [p = sink.get()] { return p->seconds(); };
-    c.collective = sink.get();
-    c.distributedSink = std::move(sink);
-  } else if (caching[0]) {
-    // (Without a cache no rank has a sink, the renderer being refused on K processes: nothing
-    // is gathered.)
-    auto sink = std::make_unique<distributed::GatheringSink>(*c.halo, sim, c.sinks);
-    c.frameSeconds = [p = sink.get()] { return p->seconds(); };
-    c.distributedSink = std::move(sink);
-  }
-  c.sinks.clear();
-  if (c.distributedSink) c.sinks.push_back(c.distributedSink.get());
-  if (caching[0] && !c.resumed) {
-    // Frame 0 as every later frame (each rank holds its slab of it): rank 0 creates the file
-    // under PATH.partial (its checks stop every rank), all ranks write the frame, and rank 0
-    // publishes it as PATH once the frame is committed.
-    onRootAgreeing(*c.ranks, [&] {
-      if (c.cache)
-        c.cache->create(sim, c.provenance,
-                        run::plannedFrameCount(c.plan.endTime, c.plan.frameInterval));
-    });
-    c.distributedSink->frame(sim, 0);
-  }
-}
-
-}  // namespace
-
 void setUpOutputs(RunContext& c) {
+  distributed::Processes& p = *c.processes;
   run::Simulation& sim = *c.sim;
   c.start = std::chrono::steady_clock::now();
   c.plan.endTime = c.scene.solver.endTime;
   c.plan.frameInterval = 1.0 / c.scene.output.fps;
   c.plan.nextFrame = c.nextFrame;
-  if (c.cache && !c.halo && !c.resumed) {
+  const std::size_t plannedFrames = run::plannedFrameCount(c.plan.endTime, c.plan.frameInterval);
+  // One process writes frame 0 before the pictures are set up (they show the drops its cache
+  // steps); K processes write it together, through their sinks (below).
+  if (c.cache && !c.resumed && !p.distributed()) {
     try {
-      c.cache->create(sim, c.provenance,
-                      run::plannedFrameCount(c.plan.endTime, c.plan.frameInterval));
+      c.cache->create(sim, c.provenance, plannedFrames);
       c.cache->writeFrame(sim);
     } catch (const std::exception& e) {
       writingFailed(c, e);
@@ -256,16 +174,18 @@ void setUpOutputs(RunContext& c) {
       throw;
     }
   }
-  if (c.cache) c.sinks.push_back(c.cache.get());
-  if (c.pictures) c.sinks.push_back(c.pictures.get());
-  if (c.halo) setUpDistributedOutputs(c);
+  std::vector<run::FrameSink*> local;
+  if (c.cache) local.push_back(c.cache.get());
+  if (c.pictures) local.push_back(c.pictures.get());
+  c.sinks = p.frameSinks(sim, c.cache.get(), c.scene, std::move(local), c.resumed, c.provenance,
+                         plannedFrames);
 }
 
 StageResult runTheFrames(RunContext& c) {
+  distributed::Processes& p = *c.processes;
   run::Simulation& sim = *c.sim;
-  c.plan.stopRequested = [] { return interruptSignal() != 0; };
   // Every rank stops at the same step when any of them is told to.
-  if (c.halo) c.plan.stopRequested = [&c] { return c.halo->any(interruptSignal() != 0); };
+  c.plan.stopRequested = [&p] { return p.any(interruptSignal() != 0); };
   if (!c.request.quiet)
     c.plan.afterStep = [&](const run::Simulation&) { c.observer.progress(sample(c)); };
   run::RunOutcome outcome;
@@ -278,29 +198,30 @@ StageResult runTheFrames(RunContext& c) {
   if (outcome.blowUp) {
     const StabilityError& e = *outcome.blowUp;
     if (!c.request.quiet) c.observer.progressDone(sample(c));
-    distributed::setLockstep(false);  // every rank has the same error; rank 0 tells it
-    if (!c.root) return kBlowUp;
+    p.setLockstep(false);  // every rank has the same error; rank 0 tells it
+    if (!p.root()) return kBlowUp;
     c.observer.blewUp(c.request, e, c.plan, outcome);
     if (c.cache) {
       char reason[96];
       std::snprintf(reason, sizeof reason, "numerical blow-up at step %llu, t = %.6g s",
                     static_cast<unsigned long long>(e.step), e.time);
       c.observer.cacheStopped(c.cache->stop(reason));
-      distributed::cancelStatusRecorder();
+      p.statusRecorded();
     }
     return kBlowUp;
   }
   if (!c.request.quiet) c.observer.progressDone(sample(c));
   int signal = interruptSignal();
-  // A distributed run stops when any rank was signalled (mpirun forwards SIGINT and SIGTERM).
-  if (!signal && c.halo && outcome.end == run::RunOutcome::End::Stopped) signal = SIGTERM;
+  // A distributed run stops when any rank was signalled (mpirun forwards SIGINT and SIGTERM);
+  // one process stops only when it was.
+  if (!signal && outcome.end == run::RunOutcome::End::Stopped) signal = SIGTERM;
   if (!signal) return std::nullopt;
-  distributed::setLockstep(false);
-  if (!c.root) return 128 + signal;
+  p.setLockstep(false);
+  if (!p.root()) return 128 + signal;
   c.observer.interrupted(c.request, signal, sim.time());
   if (c.cache) {
     c.observer.cacheStopped(c.cache->stop(std::string("interrupted by ") + signalName(signal)));
-    distributed::cancelStatusRecorder();  // started by the signal during a frame written together
+    p.statusRecorded();  // started by the signal during a frame written together
     // A resume needs the same scene, edits, end and (for bit-exactness) threads.
     c.observer.canContinue(c.request, c.cache->path());
   }
@@ -308,6 +229,7 @@ StageResult runTheFrames(RunContext& c) {
 }
 
 void finish(RunContext& c) {
+  distributed::Processes& p = *c.processes;
   run::Simulation& sim = *c.sim;
   if (c.cache) {
     try {
@@ -316,26 +238,16 @@ void finish(RunContext& c) {
       writingFailed(c, e);
       throw;
     }
-    distributed::cancelStatusRecorder();
+    p.statusRecorded();
   }
   RunSummary s(sim);
-  s.endParticles = c.halo ? c.halo->globalCount(sim.fluid().size()) : sim.fluid().size();
+  s.endParticles = p.globalCount(sim.fluid().size());
   // A distributed run's throughput counts every rank's particles.
-  s.particleSteps =
-      c.halo ? c.halo->globalCount(sim.profile().particleSteps) : sim.profile().particleSteps;
-  if (c.halo && c.request.verbose)
-    s.exchanges = distributed::describeExchanges(*c.halo, sim.profile());
+  s.particleSteps = p.globalCount(sim.profile().particleSteps);
   s.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - c.start).count();
   if (!c.request.quiet) {
     if (c.cache) s.cacheSummary = c.cache->summary(s.wallSeconds);
-    s.ranks = c.ranks ? c.ranks->size() : 1;
-    s.framesTogether = c.framesTogether;
-    if (c.framesTogether) s.mpiIo = distributed::mpiIoChoice();
-    if (c.frameSeconds) s.frameSeconds = c.frameSeconds();
-    if (c.halo) s.haloStats = &c.halo->stats();
-    if (c.collective && c.scene.rain && c.collective->frames() > 0)
-      s.rainCellBytesPerFrame =
-          static_cast<double>(c.collective->cellBytesReceived()) / c.collective->frames();
+    s.processes = p.report(sim, c.scene);
     c.observer.finished(c.request, s);
   }
   if (c.cache) {
@@ -347,7 +259,7 @@ void finish(RunContext& c) {
                        c.cache->framesText() + ", its run finished");
     }
   }
-  distributed::setLockstep(false);
+  p.setLockstep(false);
 }
 
 }  // namespace sph::job

@@ -12,49 +12,39 @@
 #include "io/cache/CacheSession.h"
 #include "job/RenderOutput.h"
 #include "job/RunJob.h"
-#include "sim/ranks/Communicator.h"
-#include "sim/ranks/Halo.h"
+#include "job/distributed/Processes.h"
 #include "sim/run/MemoryEstimate.h"
 #include "sim/run/RunLoop.h"
 #include "sim/run/Simulation.h"
 
 namespace sph::job {
 
-namespace distributed {
-class CollectiveCacheSink;
-}
-
 struct RunContext {
   RunContext(const RunRequest& r, RunObserver& o) : request(r), observer(o) {}
   RunRequest request;  // quiet and not verbose on every rank but 0
   RunObserver& observer;
   // On K processes (mpirun -np K; docs/scaling.md) every rank runs the stages; rank 0 alone
-  // speaks and writes the cache.
-  ranks::Communicator* ranks = nullptr;
-  bool root = true;
+  // speaks and writes the cache. Made first, it outlives what it was handed (the simulation,
+  // the cache, the sinks).
+  std::unique_ptr<distributed::Processes> processes;
   scene::Scene scene;
   run::MemoryEstimate memory;
   std::unique_ptr<io::cache::CacheSession> cache;
   io::OutputLock framesLock;
   bool resumed = false;  // every rank knows
-  std::unique_ptr<ranks::Halo> halo;
   std::unique_ptr<run::Simulation> sim;
   std::uint64_t nextFrame = 1;  // the initial state is frame 0
   io::cache::CacheProvenance provenance;
   std::chrono::steady_clock::time_point start;  // of the stepping
   std::unique_ptr<RenderOutput> pictures;
   std::vector<run::FrameSink*> sinks;
-  std::unique_ptr<run::FrameSink> distributedSink;
-  std::function<double()> frameSeconds;  // rank 0's time handing frames out (run -v)
-  bool framesTogether = false;
-  const distributed::CollectiveCacheSink* collective = nullptr;  // run -v: the rain's water cells
   run::RunPlan plan;
 };
 
 using StageResult = std::optional<int>;  // an exit code ends the run
 
-// The scene with the request's --set and --end; on K processes, refused if it asks for what a
-// distributed run cannot do.
+// The processes the run runs on; the scene with the request's --set and --end, refused on K
+// processes if it asks for what a distributed run cannot do.
 void loadScene(RunContext& c);
 // The CDT's id range and the machine's memory: a scene past either stops here with one line
 // naming the key to change. Ends a --check.

@@ -86,23 +86,40 @@ void refuseUnsupported(const scene::Scene& scene, int ranks) {
   }
 }
 
-void onRootAgreeing(ranks::Communicator& ranks, const std::function<void()>& work) {
-  ranks::Bytes message;
-  if (ranks.rank() == 0) {
-    try {
-      work();
-    } catch (const InputError& e) {
-      const std::string text = e.what();
-      message.assign(text.begin(), text.end());
-      if (message.empty()) message.push_back(' ');
-    }
-  }
+namespace {
+
+// Rank 0's refusal (empty: it went on) on every rank, thrown there if it refused.
+void shareRefusal(ranks::Communicator& ranks, ranks::Bytes message) {
   ranks.broadcastFromRoot(message);
   if (message.empty()) return;
   // Every rank stops here with the same error: told once by rank 0 and exit 2, not K times with
   // an abort, whether or not the ranks were already in lockstep.
   setLockstep(false);
   throw InputError(std::string(message.begin(), message.end()));
+}
+
+}  // namespace
+
+void refuseOnAllRanks(ranks::Communicator& ranks, const std::string& what) {
+  ranks::Bytes message(what.begin(), what.end());
+  if (message.empty()) message.push_back(' ');
+  shareRefusal(ranks, std::move(message));
+  throw InputError(what);  // not reached: a refusal is thrown by shareRefusal
+}
+
+void followRoot(ranks::Communicator& ranks) {
+  shareRefusal(ranks, {});
+}
+
+void onRootAgreeing(ranks::Communicator& ranks, const std::function<void()>& work) {
+  if (ranks.rank() == 0) {
+    try {
+      work();
+    } catch (const InputError& e) {
+      refuseOnAllRanks(ranks, e.what());
+    }
+  }
+  followRoot(ranks);
 }
 
 run::RunState broadcastRunState(ranks::Communicator& ranks, const run::RunState& state) {

@@ -36,6 +36,11 @@ void refuseUnsupported(const scene::Scene& scene, int ranks);
 // Runs `work` on rank 0 only; if it throws an InputError every rank throws it (so all stop with
 // exit 2 and none is left waiting in a collective).
 void onRootAgreeing(ranks::Communicator& ranks, const std::function<void()>& work);
+// onRootAgreeing in two calls, for a caller that runs rank 0's work itself: rank 0's handler of
+// the InputError `what` throws it on every rank; every rank calls followRoot() once rank 0 went
+// on (it throws rank 0's error where rank 0 refused).
+[[noreturn]] void refuseOnAllRanks(ranks::Communicator& ranks, const std::string& what);
+void followRoot(ranks::Communicator& ranks);
 
 // Rank 0's run state (time, step, emitters: a resume) on every rank.
 run::RunState broadcastRunState(ranks::Communicator& ranks, const run::RunState& state);
