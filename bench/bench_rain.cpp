@@ -1,8 +1,9 @@
 // View-dependent rain (seed 002; docs/benchmarks.md, "View-dependent rain"): the cost per frame of
 // the drops' update (move + respawn, CPU, OpenMP), of drawing their streaks (rain.draw "cpu" and
 // "triangles", llvmpipe, 960x540, no water) for 10k, 100k and 1M drops, of the spotlight's hard
-// and soft cone edge, and of whole frames (update + draw) for 1k to 1M drops and each spawn model;
-// the update also with a tray and a cup in the way.
+// and soft cone edge, and of whole frames (update + draw) for 1k to 1M drops and each spawn model,
+// at the scene defaults (RainFrameDefault) and at equal drops seen (RainFrameSeen, the paper's
+// Fig. 8 as its claim reads); the update also with a tray and a cup in the way.
 // The camera pans 90 degrees a second at 30 fps, so drops leave the view and are respawned as in a
 // real path. The paper's claims measured (the budget in view along camera paths, Table 1's random
 // number methods) are bench_rain_paper.cpp, built into the same program.
