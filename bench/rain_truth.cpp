@@ -11,9 +11,12 @@
 // over the reference's. With `--crops DIR`: DIR/truth_<drops>_crops.png, a 160 x 90 crop of the
 // frame's centre from the reference (top left), the exact streaks (top right), the sums at
 // lod_width 8 (bottom left) and the lines at 1 (bottom right), each enlarged 3x. `--spotlight`:
-// bench_rain's red cone (RainDraw/.../1) lights part of the rain.
+// bench_rain's red cone (RainDraw/.../1) lights part of the rain. `--sorted`: the reference
+// draws the drops farthest first, as light through them composes; the ways draw them as the run
+// has them, in no order of depth (the exact path blends in drop order, the sums put the far tier
+// behind the rest and lose the order within it).
 //
-// usage: rain_truth [--drops N[,N...]] [--scale S] [--spotlight] [--crops DIR]
+// usage: rain_truth [--drops N[,N...]] [--scale S] [--spotlight] [--sorted] [--crops DIR]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -72,7 +75,7 @@ void writeCrops(const std::string& path, const std::vector<const std::vector<dou
 int main(int argc, char** argv) {
   std::vector<std::size_t> counts{50000, 200000, 1000000};
   int scale = 4;
-  bool spotlight = false;
+  bool spotlight = false, sorted = false;
   std::string crops;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -86,11 +89,15 @@ int main(int argc, char** argv) {
       scale = std::atoi(argv[++i]);
     } else if (a == "--spotlight") {
       spotlight = true;
+    } else if (a == "--sorted") {
+      sorted = true;
     } else if (a == "--crops" && i + 1 < argc) {
       crops = argv[++i];
     } else {
       std::fprintf(
-          stderr, "usage: rain_truth [--drops N[,N...]] [--scale S] [--spotlight] [--crops DIR]\n");
+          stderr,
+          "usage: rain_truth [--drops N[,N...]] [--scale S] [--spotlight] [--sorted] [--crops "
+          "DIR]\n");
       return 2;
     }
   }
@@ -109,10 +116,28 @@ int main(int argc, char** argv) {
       l.colour = Vec3(1, 0.2f, 0.2f);
       d.spotlight = l;
     }
-    rain::RainSystem drops(d, bench::kAspect);
-    drops.reset(bench::cameraAtFrame(0));
+    rain::RainSystem system(d, bench::kAspect);
+    system.reset(bench::cameraAtFrame(0));
+    // The reference's drops: the run's order, or farthest first with --sorted.
+    std::vector<Vec3> positions = system.positions();
+    std::vector<std::uint8_t> layers = system.layers();
+    if (sorted) {
+      const Vec3 eye = bench::cameraAtFrame(0).position;
+      std::vector<std::size_t> order(positions.size());
+      for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+      std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return (positions[a] - eye).squaredNorm() > (positions[b] - eye).squaredNorm();
+      });
+      std::vector<Vec3> p(order.size());
+      std::vector<std::uint8_t> l(order.size());
+      for (std::size_t i = 0; i < order.size(); ++i)
+        p[i] = positions[order[i]], l[i] = layers[order[i]];
+      positions.swap(p), layers.swap(l);
+    }
+    const render::rain::StreakDrops drops = test::truth::dropsOf(system);
     const std::vector<double> reference =
-        test::truth::reference(d, drops, camera, kWidth, kHeight, scale, unlit, background);
+        test::truth::reference(d, render::rain::StreakDrops{&positions, &layers, system.velocity()},
+                               camera, kWidth, kHeight, scale, unlit, background);
     const std::vector<double> referenceBlocks = test::truth::blocks(reference, kWidth, kHeight);
     const double referenceLight = test::truth::light(reference, background);
     std::vector<std::vector<double>> frames;
@@ -127,9 +152,9 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
     }
     if (!crops.empty())
-      writeCrops(
-          crops + "/truth_" + std::to_string(count) + (spotlight ? "_spot" : "") + "_crops.png",
-          {&reference, &frames[0], &frames[5], &frames[1]});
+      writeCrops(crops + "/truth_" + std::to_string(count) + (spotlight ? "_spot" : "") +
+                     (sorted ? "_sorted" : "") + "_crops.png",
+                 {&reference, &frames[0], &frames[5], &frames[1]});
   }
   return 0;
 }

@@ -21,18 +21,21 @@
 
 namespace sph::test::truth {
 
-// `drops` drawn with `d`'s settings at width x height over a frame of one colour (sRGB-encoded
-// bytes), box-filtered scale x scale to one: RGB values in [0, 255], row 0 at the bottom,
-// (width / scale) x (height / scale) pixels.
-inline std::vector<double> frame(const scene::RainDesc& d, const rain::RainSystem& drops,
+// The drops of `r` as the rasteriser takes them.
+inline render::rain::StreakDrops dropsOf(const rain::RainSystem& r) {
+  return render::rain::StreakDrops{&r.positions(), &r.layers(), r.velocity()};
+}
+
+// `drops` drawn, in their order, with `d`'s settings at width x height over a frame of one colour
+// (sRGB-encoded bytes), box-filtered scale x scale to one: RGB values in [0, 255], row 0 at the
+// bottom, (width / scale) x (height / scale) pixels.
+inline std::vector<double> frame(const scene::RainDesc& d, const render::rain::StreakDrops& drops,
                                  const scene::CameraFrame& camera, int width, int height, int scale,
                                  const Vec3& unlit, const std::uint8_t background[3]) {
   // RainRenderer's streak images: 16 x 64 texels.
   render::rain::StreakRaster raster(
       d, render::rain::generateStreakImages(d.streakLayers, 16, 64, d.seed));
-  raster.draw(render::rain::StreakView{camera, width, height},
-              render::rain::StreakDrops{&drops.positions(), &drops.layers(), drops.velocity()},
-              unlit, nullptr);
+  raster.draw(render::rain::StreakView{camera, width, height}, drops, unlit, nullptr);
   std::vector<std::uint8_t> rgba(4 * static_cast<std::size_t>(width) * height);
   for (std::size_t p = 0; p < rgba.size() / 4; ++p) {
     for (int k = 0; k < 3; ++k) rgba[4 * p + k] = background[k];
@@ -51,7 +54,7 @@ inline std::vector<double> frame(const scene::RainDesc& d, const rain::RainSyste
 }
 
 // The true picture: the exact streaks (rain.lod_width 0) at `scale` x the resolution, filtered.
-inline std::vector<double> reference(scene::RainDesc d, const rain::RainSystem& drops,
+inline std::vector<double> reference(scene::RainDesc d, const render::rain::StreakDrops& drops,
                                      const scene::CameraFrame& camera, int width, int height,
                                      int scale, const Vec3& unlit,
                                      const std::uint8_t background[3]) {

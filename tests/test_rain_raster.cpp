@@ -247,13 +247,13 @@ TEST(StreakRaster, TheDefaultIsCloserToTheTruePictureThanTheExactStreaks) {
     sph::rain::RainSystem drops(d, kAspect);
     drops.reset(camera());
     const scene::CameraFrame c = cameraFrame(camera(), kAspect);
-    const std::vector<double> truth =
-        test::truth::reference(d, drops, c, kWidth, kHeight, 4, unlit, background);
-    const std::vector<double> exact =
-        test::truth::frame(d, drops, c, kWidth, kHeight, 1, unlit, background);
+    const std::vector<double> truth = test::truth::reference(d, test::truth::dropsOf(drops), c,
+                                                             kWidth, kHeight, 4, unlit, background);
+    const std::vector<double> exact = test::truth::frame(d, test::truth::dropsOf(drops), c, kWidth,
+                                                         kHeight, 1, unlit, background);
     d.lodWidth = scene::RainDesc{}.lodWidth, d.farTier = scene::RainDesc{}.farTier;
-    const std::vector<double> lod =
-        test::truth::frame(d, drops, c, kWidth, kHeight, 1, unlit, background);
+    const std::vector<double> lod = test::truth::frame(d, test::truth::dropsOf(drops), c, kWidth,
+                                                       kHeight, 1, unlit, background);
     const double psnrExact = test::truth::psnr(exact, truth),
                  psnrLod = test::truth::psnr(lod, truth);
     const double lightRatio =
