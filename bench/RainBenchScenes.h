@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "sim/rain/RainSystem.h"
 #include "sim/scene/Camera.h"
 #include "sim/scene/RainDesc.h"
 #include "sim/scene/Solid.h"
@@ -46,6 +47,21 @@ inline scene::RainDesc desc(std::int64_t count, std::int64_t spawn) {
   d.spawn = static_cast<scene::RainSpawn>(spawn);
   d.region.lo = Vec3(-5, -1, -5), d.region.hi = Vec3(5, 4, 5);
   return d;
+}
+
+// The drops of `r` inside the rain camera's frustum near..far for `camera` (the drops a frame
+// draws where nothing is in the way), from the general camera maths (sim/scene/Camera.h), not the
+// rain's own test.
+inline std::size_t dropsInFrustum(const rain::RainSystem& r, const scene::CameraDesc& camera,
+                                  const scene::RainDesc& d) {
+  const scene::Frustum frustum = scene::viewFrustum(camera, kAspect, d.near, d.far);
+  std::size_t in = 0;
+  for (const Vec3& p : r.positions()) {
+    bool inside = true;
+    for (int k = 0; k < 6; ++k) inside = inside && frustum.distance(k, p) >= 0;
+    in += inside;
+  }
+  return in;
 }
 
 }  // namespace sph::bench

@@ -61,14 +61,7 @@ void RainInView(benchmark::State& state) {
     for (int f = 1; f <= 30; ++f) {
       const scene::CameraDesc c = pathCamera(path, f);
       r.update(c, 1.0f / 30);
-      // From the general camera maths (sim/scene/Camera.h), not the rain's own test.
-      const scene::Frustum frustum = scene::viewFrustum(c, kAspect, d.near, d.far);
-      std::size_t in = 0;
-      for (const Vec3& p : r.positions()) {
-        bool inside = true;
-        for (int k = 0; k < 6; ++k) inside = inside && frustum.distance(k, p) >= 0;
-        in += inside;
-      }
+      const std::size_t in = bench::dropsInFrustum(r, c, d);
       minShare = std::min(minShare, static_cast<double>(in) / static_cast<double>(r.size()));
       minDensity = std::min(minDensity, static_cast<double>(in) / frustumVolume(c, d));
     }

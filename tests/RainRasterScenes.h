@@ -33,6 +33,7 @@ inline scene::RainDesc desc(std::size_t count, scene::RainDraw draw) {
   d.wind = Vec3(2, 0, 0);
   d.seed = 7;
   d.draw = draw;
+  d.lodWidth = 0;  // every streak exact, the triangles' picture; the level of detail's tests set it
   scene::SpotlightDesc l;
   l.position = Vec3(-0.8f, 4, 2), l.height = 5, l.baseRadius = 2;
   l.colour = Vec3(1, 0.3f, 0.1f), l.softEdge = 0.3f;

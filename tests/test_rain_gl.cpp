@@ -177,6 +177,11 @@ TEST_P(RainGl, AStreakLiesAlongTheProjectedVelocity) {
 TEST_P(RainGl, DropsInTheConeTakeTheLightsColourTheOthersDoNot) {
   scene::RainDesc d = desc(200, GetParam());
   d.dropWidth = 0.015f;
+  // The exact streaks, whose centre pixel takes the streak image's core: the default sums draw
+  // these 4-10 pixel wide streaks with the image's mean along them, fainter at the centre, and
+  // only ~40% of the lit drops' centre pixels pass the red test below (docs/rain.md, "The
+  // default": near, wide streaks are where the sums lose).
+  d.lodWidth = 0;
   scene::SpotlightDesc l;
   l.position = Vec3(-1.5f, 4, 2);
   l.direction = -Vec3::UnitY();

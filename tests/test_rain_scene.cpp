@@ -86,6 +86,28 @@ TEST(RainScene, KeysAreReadAndBadValuesRefusedWithOneLine) {
     "fluids": [{"min": [0, 0, 0], "max": [0.05, 0.05, 0.05]}]})",
                                      "r.json")
                    .rain.has_value());
+  // How the streaks are drawn by default: the sums at lod_width 8 on the CPU; each tier's widest
+  // when only the tier is named; every streak exact with lod_width 0 or with the triangles.
+  struct Drawing {
+    const char* rain;
+    float lodWidth;
+    scene::RainFarTier farTier;
+  };
+  for (const Drawing& w : std::initializer_list<Drawing>{
+           {"{}", 8, scene::RainFarTier::Sums},
+           {R"({"far_tier": "lines"})", 1, scene::RainFarTier::Lines},
+           {R"({"lod_width": 0})", 0, scene::RainFarTier::Sums},
+           {R"({"lod_width": 0.5, "far_tier": "lines"})", 0.5f, scene::RainFarTier::Lines},
+           {R"({"draw": "triangles"})", 0, scene::RainFarTier::Sums},
+       }) {
+    const std::string scene = R"({"solver": {"spacing": 0.01},
+    "fluids": [{"min": [0, 0, 0], "max": [0.05, 0.05, 0.05]}],
+    "camera": {"position": [0, 0, 1], "target": [0, 0, 0]}, "rain": )" +
+                              std::string(w.rain) + "}";
+    const scene::Scene parsed = io::scene::parseScene(scene, "r.json");
+    EXPECT_EQ(parsed.rain->lodWidth, w.lodWidth) << w.rain;
+    EXPECT_EQ(parsed.rain->farTier, w.farTier) << w.rain;
+  }
 
   struct Bad {
     const char* rain;
@@ -108,10 +130,16 @@ TEST(RainScene, KeysAreReadAndBadValuesRefusedWithOneLine) {
             "r.json: rain.spotlight.base_radius:"},
            {R"({"spotlight": {"position": [0, 1, 0], "colour": [2, 0, 0]}})",
             "r.json: rain.spotlight.colour:"},
-           {R"({"lod_width": 1.5})", "r.json: rain.lod_width: expected a number in [0, 1]"},
+           {R"({"lod_width": 9})",
+            "r.json: rain.lod_width: expected a number in [0, 8] with \"far_tier\": \"sums\""},
+           {R"({"lod_width": 1.5, "far_tier": "lines"})",
+            "r.json: rain.lod_width: expected a number in [0, 1]"},
            {R"({"lod_width": 0.5, "draw": "triangles"})", "r.json: rain.lod_width: only used"},
            {R"({"lod_width": 1, "far_tier": "slabs"})", "r.json: rain.far_tier:"},
-           {R"({"far_tier": "sums"})", "r.json: rain.far_tier: only used with a \"lod_width\" > 0"},
+           {R"({"far_tier": "sums", "lod_width": 0})",
+            "r.json: rain.far_tier: only used with a \"lod_width\" > 0"},
+           {R"({"far_tier": "lines", "draw": "triangles"})",
+            "r.json: rain.far_tier: only used with \"draw\": \"cpu\""},
            {R"({"far_tier": "sums", "lod_width": 9})",
             "r.json: rain.lod_width: expected a number in [0, 8] with \"far_tier\": \"sums\""},
            {R"({"far_tier": "lines", "lod_width": 2})",

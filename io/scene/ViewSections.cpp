@@ -172,25 +172,34 @@ sph::scene::RainDesc readRain(JsonReader r) {
                                              "an integer in [1, 64] (array texture layers)",
                                              [](double v) { return integerIn(v, 1, 64); }));
   d.draw = r.choice("draw", std::optional(sph::scene::RainDraw::Cpu));
-  d.farTier = r.choice("far_tier", std::optional(sph::scene::RainFarTier::Lines));
-  // The lines take one pixel a row, so streaks up to 1 pixel wide; the sums draw wider ones as
-  // several lines side by side (render/rain/StreakSums.h), up to 8.
-  if (d.farTier == sph::scene::RainFarTier::Lines) {
-    d.lodWidth = static_cast<float>(r.number(
-        "lod_width", d.lodWidth,
-        "a number in [0, 1] (pixels: narrower streaks are drawn as lines; 0 = none; up to 8 with "
-        "\"far_tier\": \"sums\")",
-        [](double v) { return v >= 0 && v <= 1; }));
+  // The far tier is the CPU rasteriser's: with "triangles" every streak is its two triangles.
+  if (d.draw != sph::scene::RainDraw::Cpu) {
+    if (r.has("far_tier")) r.fail("far_tier", "only used with \"draw\": \"cpu\"");
+    if (r.number("lod_width", 0.0, "a number in [0, 8] (pixels)",
+                 [](double v) { return v >= 0 && v <= 8; }) > 0)
+      r.fail("lod_width", "only used with \"draw\": \"cpu\"");
+    d.lodWidth = 0;
   } else {
-    d.lodWidth = static_cast<float>(r.number(
-        "lod_width", d.lodWidth,
-        "a number in [0, 8] with \"far_tier\": \"sums\" (pixels: narrower streaks are summed)",
-        [](double v) { return v >= 0 && v <= 8; }));
+    d.farTier = r.choice("far_tier", std::optional(d.farTier));
+    // Each tier's widest is its default: the lines take one pixel a row, so streaks up to 1 pixel
+    // wide; the sums draw wider ones as several lines side by side (render/rain/StreakSums.h), up
+    // to 8. 0 draws every streak exact.
+    if (d.farTier == sph::scene::RainFarTier::Lines) {
+      d.lodWidth = static_cast<float>(r.number(
+          "lod_width", 1.0,
+          "a number in [0, 1] (pixels: narrower streaks are drawn as lines; 0 = none; up to 8 with "
+          "\"far_tier\": \"sums\")",
+          [](double v) { return v >= 0 && v <= 1; }));
+    } else {
+      d.lodWidth = static_cast<float>(r.number(
+          "lod_width", d.lodWidth,
+          "a number in [0, 8] with \"far_tier\": \"sums\" (pixels: narrower streaks are summed; "
+          "0 = none, every streak exact)",
+          [](double v) { return v >= 0 && v <= 8; }));
+    }
+    if (r.has("far_tier") && !(d.lodWidth > 0))
+      r.fail("far_tier", "only used with a \"lod_width\" > 0 (the streaks it draws)");
   }
-  if (d.lodWidth > 0 && d.draw != sph::scene::RainDraw::Cpu)
-    r.fail("lod_width", "only used with \"draw\": \"cpu\"");
-  if (d.farTier != sph::scene::RainFarTier::Lines && !(d.lodWidth > 0))
-    r.fail("far_tier", "only used with a \"lod_width\" > 0 (the streaks it draws)");
   if (auto l = r.optionalObject("spotlight")) d.spotlight = readSpotlight(*l);
   d.feedFluid = r.boolean("feed_fluid", false);
   // Up to a cubic metre: a "drop" that stands for many, to show the fill in a short run.
