@@ -26,6 +26,20 @@ inline render::rain::StreakDrops dropsOf(const rain::RainSystem& r) {
   return render::rain::StreakDrops{&r.positions(), &r.layers(), r.velocity()};
 }
 
+// Means of scale x scale pixels of a width x height RGB image.
+inline std::vector<double> boxFiltered(const std::vector<double>& rgb, int width, int height,
+                                       int scale) {
+  const int w = width / scale, h = height / scale;
+  std::vector<double> out(3 * static_cast<std::size_t>(w) * h, 0.0);
+  for (int y = 0; y < h * scale; ++y)
+    for (int x = 0; x < w * scale; ++x)
+      for (int k = 0; k < 3; ++k)
+        out[3 * (static_cast<std::size_t>(y / scale) * w + x / scale) + k] +=
+            rgb[3 * (static_cast<std::size_t>(y) * width + x) + k];
+  for (double& v : out) v /= scale * scale;
+  return out;
+}
+
 // `drops` drawn, in their order, with `d`'s settings at width x height over a frame of one colour
 // (sRGB-encoded bytes), box-filtered scale x scale to one: RGB values in [0, 255], row 0 at the
 // bottom, (width / scale) x (height / scale) pixels.
@@ -42,15 +56,10 @@ inline std::vector<double> frame(const scene::RainDesc& d, const render::rain::S
     rgba[4 * p + 3] = 255;
   }
   render::rain::composeOver(raster.layer(), rgba);
-  const int w = width / scale, h = height / scale;
-  std::vector<double> out(3 * static_cast<std::size_t>(w) * h, 0.0);
-  for (int y = 0; y < h * scale; ++y)
-    for (int x = 0; x < w * scale; ++x)
-      for (int k = 0; k < 3; ++k)
-        out[3 * (static_cast<std::size_t>(y / scale) * w + x / scale) + k] +=
-            rgba[4 * (static_cast<std::size_t>(y) * width + x) + k];
-  for (double& v : out) v /= scale * scale;
-  return out;
+  std::vector<double> rgb(3 * rgba.size() / 4);
+  for (std::size_t p = 0; p < rgba.size() / 4; ++p)
+    for (int k = 0; k < 3; ++k) rgb[3 * p + k] = rgba[4 * p + k];
+  return boxFiltered(rgb, width, height, scale);
 }
 
 // The true picture: the exact streaks (rain.lod_width 0) at `scale` x the resolution, filtered.
@@ -71,14 +80,7 @@ inline double psnr(const std::vector<double>& a, const std::vector<double>& b) {
 
 // Means of 4 x 4 pixels of a width x height RGB image: the picture at a scale of a few pixels.
 inline std::vector<double> blocks(const std::vector<double>& rgb, int width, int height) {
-  const int w = width / 4, h = height / 4;
-  std::vector<double> out(3 * static_cast<std::size_t>(w) * h, 0.0);
-  for (int y = 0; y < h * 4; ++y)
-    for (int x = 0; x < w * 4; ++x)
-      for (int k = 0; k < 3; ++k)
-        out[3 * (static_cast<std::size_t>(y / 4) * w + x / 4) + k] +=
-            rgb[3 * (static_cast<std::size_t>(y) * width + x) + k] / 16;
-  return out;
+  return boxFiltered(rgb, width, height, 4);
 }
 
 // The streaks' light: the summed distance of the values from the background's.
