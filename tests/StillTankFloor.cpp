@@ -87,12 +87,13 @@ void StillTankFloor::readProfile(const Particles& p, double mass, double g) {
   const double top = p.size() ? p.y[order_[0]] : 0, weightScale = mass * g / (width_ * width_);
   const double depth =
       static_cast<double>(p.size()) * spacing_ * spacing_ * spacing_ / (width_ * width_);
-  double topSum = 0;
+  double topSum = 0, stepSpeed = 0, meanVy = 0;
   int topCount = 0;
   for (std::size_t rank = 0; rank < order_.size(); ++rank) {
     const std::uint32_t i = order_[rank];
     const double x = p.x[i], y = p.y[i], z = p.z[i];
-    maxSpeed_ = std::max(maxSpeed_, static_cast<double>(p.velocity(i).norm()));
+    stepSpeed = std::max(stepSpeed, static_cast<double>(p.velocity(i).norm()));
+    meanVy += p.vy[i];
     if (y > top - spacing_) topSum += y, ++topCount;
     const bool centre = x > lo && x < hi && z > lo && z < hi;
     const bool besideWall = std::min({x, z, width_ - x, width_ - z}) < rim;
@@ -104,6 +105,14 @@ void StillTankFloor::readProfile(const Particles& p, double mass, double g) {
     if (y < spacing_) add(centre ? kFloorLayerCentre : kFloorLayerRim);
     if (midDepth && besideWall) add(kBesideSideWalls);
     if (midDepth && centre) add(kCentreColumns);
+  }
+  maxSpeed_ = std::max(maxSpeed_, stepSpeed);
+  meanVy = p.size() ? std::fabs(meanVy) / static_cast<double>(p.size()) : 0;
+  largestHeave_ = std::max(largestHeave_, meanVy);
+  if (meanVy > kHeave) {
+    ++heaveSteps_;
+  } else {
+    quietMaxSpeed_ = std::max(quietMaxSpeed_, stepSpeed);
   }
   lastTop_ = topCount ? topSum / topCount : 0;
   depth_ = depth;
@@ -121,11 +130,14 @@ void StillTankFloor::print(const char* solver, double expected, bool profile) co
   std::printf(
       "%s p against the weight above: floor layer centre %+.2f%%, rim %+.2f%%; beside the side "
       "walls %+.2f%%, centre columns %+.2f%% (20-80%% of the depth); bottom layer against rho0 g "
-      "(d - its height) %+.2f%%; top speed %.4f m/s; top layer %.4f -> %.4f m\n",
+      "(d - its height) %+.2f%%; top speed %.4f m/s; top layer %.4f -> %.4f m\n"
+      "%s heave: %d of %d steps with the fluid's mean vertical speed over %.3f m/s (largest "
+      "%.4f m/s); top speed on the other steps %.4f m/s\n",
       solver, 100 * pressureError(kFloorLayerCentre), 100 * pressureError(kFloorLayerRim),
       100 * pressureError(kBesideSideWalls), 100 * pressureError(kCentreColumns),
       100 * (bottomLayerPressure() / (expected / depth_ * (depth_ - bottomLayerHeight())) - 1),
-      maxSpeed(), firstTopHeight(), lastTopHeight());
+      maxSpeed(), firstTopHeight(), lastTopHeight(), solver, heaveSteps(), steps(), kHeave,
+      largestHeave(), quietMaxSpeed());
 }
 
 }  // namespace sph::test

@@ -51,6 +51,13 @@ class StillTankFloor {
   // The largest speed of any particle over the reading (m/s), and the mean height of the top
   // layer (the particles within one spacing of the highest) at the first and the last step (m).
   double maxSpeed() const { return maxSpeed_; }
+  // The whole fluid rising or falling together: the steps whose mean vertical velocity is over
+  // kHeave (m/s) in size, the largest such mean, and the largest speed of any particle on the
+  // other steps (what moves when the tank does not heave).
+  static constexpr double kHeave = 0.005;
+  int heaveSteps() const { return heaveSteps_; }
+  double largestHeave() const { return largestHeave_; }
+  double quietMaxSpeed() const { return quietMaxSpeed_; }
   double firstTopHeight() const { return firstTop_; }
   double lastTopHeight() const { return lastTop_; }
   // One line: the readings against the floor's `expected` pressure (Pa), named `solver`; and
@@ -64,7 +71,8 @@ class StillTankFloor {
   double centre_ = 0, floor_ = 0, total_ = 0, bottomPressure_ = 0, bottomHeight_ = 0;
   double pressure_[kRegions] = {}, expected_[kRegions] = {};
   double maxSpeed_ = 0, firstTop_ = 0, lastTop_ = 0, depth_ = 0;
-  int steps_ = 0;
+  double largestHeave_ = 0, quietMaxSpeed_ = 0;
+  int steps_ = 0, heaveSteps_ = 0;
   std::vector<double> centreReadings_;  // every step's
   std::vector<std::uint32_t> order_;  // the fluid by height, highest first (readProfile())
 };
