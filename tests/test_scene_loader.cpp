@@ -289,6 +289,17 @@ TEST(SceneLoader, WallPressureChoicesFollowTheSolver) {
   EXPECT_NE(bad.find("extrapolated"), std::string::npos) << bad;
 }
 
+TEST(SceneLoader, DensityRelaxationIsAShareOfOneForDfsphOnly) {
+  EXPECT_EQ(io::scene::parseScene(kMinimal, "s.json").solver.densityRelaxation, 1.0f);
+  EXPECT_EQ(errorOf(kMinimal, {"solver.pressure=dfsph", "solver.density_relaxation=0.5"}), "");
+  EXPECT_EQ(errorOf(kMinimal, {"solver.pressure=dfsph", "solver.density_relaxation=0"}),
+            "bad.json: solver.density_relaxation: expected a number in (0, 1], got 0");
+  EXPECT_EQ(errorOf(kMinimal, {"solver.pressure=dfsph", "solver.density_relaxation=1.5"}),
+            "bad.json: solver.density_relaxation: expected a number in (0, 1], got 1.5");
+  EXPECT_EQ(errorOf(kMinimal, {"solver.density_relaxation=0.5"}),
+            "bad.json: solver.density_relaxation: only used with \"pressure\": \"dfsph\"");
+}
+
 TEST(SceneLoader, NumbersHaveSaneRangesAndReadableMessages) {
   auto set = [](const std::string& edit) { return errorOf(kMinimal, {edit}); };
   EXPECT_EQ(set("output.fps=1e308"),

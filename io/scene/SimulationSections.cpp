@@ -69,7 +69,8 @@ sph::scene::SolverParams readSolver(JsonReader r, Quality quality) {
   s.pressure = r.choice("pressure", std::optional(preset.pressure));
   const bool dfsph = s.pressure == sph::scene::PressureSolver::Dfsph;
   for (const char* key : {"max_density_error", "max_divergence_error", "min_density_iterations",
-                          "max_density_iterations", "max_divergence_iterations"}) {
+                          "max_density_iterations", "max_divergence_iterations",
+                          "density_relaxation"}) {
     if (!dfsph && r.has(key)) r.fail(key, "only used with \"pressure\": \"dfsph\"");
   }
   if (dfsph) {
@@ -92,6 +93,9 @@ sph::scene::SolverParams readSolver(JsonReader r, Quality quality) {
   s.minDensityIterations = iterations("min_density_iterations", s.minDensityIterations);
   s.maxDensityIterations = iterations("max_density_iterations", s.maxDensityIterations);
   s.maxDivergenceIterations = iterations("max_divergence_iterations", s.maxDivergenceIterations);
+  s.densityRelaxation =
+      static_cast<float>(r.number("density_relaxation", s.densityRelaxation, "a number in (0, 1]",
+                                  [](double v) { return v > 0 && v <= 1; }));
   s.wallPressure = r.choice("wall_pressure", std::optional(s.wallPressure));
   if (dfsph && s.wallPressure == sph::scene::WallPressure::Summation)
     r.fail("wall_pressure", "expected \"extrapolated\" or \"none\" with \"pressure\": \"dfsph\"");

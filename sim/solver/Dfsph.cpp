@@ -232,13 +232,16 @@ void solveDensity(StepContext& c) {
   Particles& f = c.fluid;
   StepScratch& s = c.scratch;
   const float rho0 = c.solver.restDensity;
-  const float invRho0 = 1.0f / rho0, dt = c.dt, invDt2 = 1.0f / (c.dt * c.dt);
+  // Each increment is the relaxation's share of the particle's full correction (at 1, the
+  // papers' solve, bit for bit).
+  const float invRho0 = 1.0f / rho0, dt = c.dt,
+              relaxedInvDt2 = c.solver.densityRelaxation / (c.dt * c.dt);
   const auto [iterations, error] = jacobiSolve(
       c, c.warmStart.density, c.solver.maxDensityError * 0.01, c.solver.minDensityIterations,
       c.solver.maxDensityIterations, true, [&](std::uint32_t i, float rate) {
         const float e = std::max(f.rho[i] * invRho0 + dt * rate - 1.0f, 0.0f);
         s.source[i] = e;
-        s.stiffness[i] = s.factor[i] * e * invDt2;
+        s.stiffness[i] = s.factor[i] * e * relaxedInvDt2;
       });
   c.solveStats.densityIterations = iterations;
   c.solveStats.densityError = static_cast<float>(100 * error);
