@@ -50,9 +50,19 @@ int main(int argc, char** argv) {
   const double expected = rho0 * scene.solver.gravity.norm() * depth;
   sim.advanceTo(settle);
   sph::test::StillTankFloor floor(width, dx);
+  const auto before = sim.solveStats();
   floor.advanceTo(sim, end);
+  const auto after = sim.solveStats();
   std::printf("%s, tank %.3g m square, %zu particles, depth %.4f m, read %g-%g s:\n  ",
               solver.c_str(), width, sim.fluid().size(), depth, settle, end);
   floor.print(solver.c_str(), expected, true);
+  if (after.steps > before.steps) {
+    const double steps = static_cast<double>(after.steps - before.steps);
+    std::printf(
+        "%s iterations a step: density %.2f, divergence %.2f\n", solver.c_str(),
+        static_cast<double>(after.totalDensityIterations - before.totalDensityIterations) / steps,
+        static_cast<double>(after.totalDivergenceIterations - before.totalDivergenceIterations) /
+            steps);
+  }
   return 0;
 }

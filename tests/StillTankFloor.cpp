@@ -92,7 +92,9 @@ void StillTankFloor::readProfile(const Particles& p, double mass, double g) {
   for (std::size_t rank = 0; rank < order_.size(); ++rank) {
     const std::uint32_t i = order_[rank];
     const double x = p.x[i], y = p.y[i], z = p.z[i];
-    stepSpeed = std::max(stepSpeed, static_cast<double>(p.velocity(i).norm()));
+    const double speed = p.velocity(i).norm();
+    stepSpeed = std::max(stepSpeed, speed);
+    if (speed > kStill) ++fastParticleSteps_, fastIds_.insert(p.id[i]);
     meanVy += p.vy[i];
     if (y > top - spacing_) topSum += y, ++topCount;
     const bool centre = x > lo && x < hi && z > lo && z < hi;
@@ -132,12 +134,14 @@ void StillTankFloor::print(const char* solver, double expected, bool profile) co
       "walls %+.2f%%, centre columns %+.2f%% (20-80%% of the depth); bottom layer against rho0 g "
       "(d - its height) %+.2f%%; top speed %.4f m/s; top layer %.4f -> %.4f m\n"
       "%s heave: %d of %d steps with the fluid's mean vertical speed over %.3f m/s (largest "
-      "%.4f m/s); top speed on the other steps %.4f m/s\n",
+      "%.4f m/s); top speed on the other steps %.4f m/s; over %.3f m/s: %lld particle-steps, "
+      "%zu particles\n",
       solver, 100 * pressureError(kFloorLayerCentre), 100 * pressureError(kFloorLayerRim),
       100 * pressureError(kBesideSideWalls), 100 * pressureError(kCentreColumns),
       100 * (bottomLayerPressure() / (expected / depth_ * (depth_ - bottomLayerHeight())) - 1),
       maxSpeed(), firstTopHeight(), lastTopHeight(), solver, heaveSteps(), steps(), kHeave,
-      largestHeave(), quietMaxSpeed());
+      largestHeave(), quietMaxSpeed(), kStill, static_cast<long long>(fastParticleSteps()),
+      fastParticles());
 }
 
 }  // namespace sph::test

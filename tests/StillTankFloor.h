@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <set>
 #include <vector>
 
 #include "sim/run/Simulation.h"
@@ -58,6 +59,11 @@ class StillTankFloor {
   int heaveSteps() const { return heaveSteps_; }
   double largestHeave() const { return largestHeave_; }
   double quietMaxSpeed() const { return quietMaxSpeed_; }
+  // How much moves faster than kStill (m/s): the particle-steps over it, and the particles that
+  // ever were (a single fast particle is the top speed; these say whether it is one or many).
+  static constexpr double kStill = 0.01;
+  std::int64_t fastParticleSteps() const { return fastParticleSteps_; }
+  std::size_t fastParticles() const { return fastIds_.size(); }
   double firstTopHeight() const { return firstTop_; }
   double lastTopHeight() const { return lastTop_; }
   // One line: the readings against the floor's `expected` pressure (Pa), named `solver`; and
@@ -73,6 +79,8 @@ class StillTankFloor {
   double maxSpeed_ = 0, firstTop_ = 0, lastTop_ = 0, depth_ = 0;
   double largestHeave_ = 0, quietMaxSpeed_ = 0;
   int steps_ = 0, heaveSteps_ = 0;
+  std::int64_t fastParticleSteps_ = 0;
+  std::set<std::uint32_t> fastIds_;
   std::vector<double> centreReadings_;  // every step's
   std::vector<std::uint32_t> order_;  // the fluid by height, highest first (readProfile())
 };
