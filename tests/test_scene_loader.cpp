@@ -289,8 +289,20 @@ TEST(SceneLoader, WallPressureChoicesFollowTheSolver) {
   EXPECT_NE(bad.find("extrapolated"), std::string::npos) << bad;
 }
 
-TEST(SceneLoader, DensityRelaxationIsAShareOfOneForDfsphOnly) {
-  EXPECT_EQ(io::scene::parseScene(kMinimal, "s.json").solver.densityRelaxation, 1.0f);
+TEST(SceneLoader, DensityRelaxationAndWarmStartAreSharesForDfsphOnly) {
+  const scene::SolverParams defaults = io::scene::parseScene(kMinimal, "s.json").solver;
+  EXPECT_EQ(defaults.densityRelaxation, 0.5f);
+  EXPECT_EQ(defaults.densityWarmStart, 0.8f);
+  EXPECT_EQ(errorOf(kMinimal, {"solver.pressure=dfsph", "solver.density_relaxation=1",
+                               "solver.density_warm_start=0.5"}),
+            "");
+  EXPECT_EQ(errorOf(kMinimal, {"solver.pressure=dfsph", "solver.density_warm_start=0"}), "");
+  EXPECT_EQ(errorOf(kMinimal, {"solver.pressure=dfsph", "solver.density_warm_start=1"}),
+            "bad.json: solver.density_warm_start: expected a number in [0, 1), got 1");
+  EXPECT_EQ(errorOf(kMinimal, {"solver.pressure=dfsph", "solver.density_warm_start=-0.1"}),
+            "bad.json: solver.density_warm_start: expected a number in [0, 1), got -0.1");
+  EXPECT_EQ(errorOf(kMinimal, {"solver.density_warm_start=0.5"}),
+            "bad.json: solver.density_warm_start: only used with \"pressure\": \"dfsph\"");
   EXPECT_EQ(errorOf(kMinimal, {"solver.pressure=dfsph", "solver.density_relaxation=0.5"}), "");
   EXPECT_EQ(errorOf(kMinimal, {"solver.pressure=dfsph", "solver.density_relaxation=0"}),
             "bad.json: solver.density_relaxation: expected a number in (0, 1], got 0");

@@ -22,8 +22,9 @@
 // dt Ds/Dt is at most max_divergence_error. Constant-density solver (Algorithm 3): with the
 // predicted s*_i = s_i + dt Ds_i/Dt, k_i = alpha_i max(s*_i - 1, 0) / dt^2, until the mean
 // s*_i - 1 is at most max_density_error. Both are Jacobi iterations (every k from the same
-// velocities, then every velocity from the same k's) warm-started with half the last step's sums
-// (jacobiSolve() says why half).
+// velocities, then every velocity from the same k's) warm-started with a share of the last
+// step's sums (jacobiSolve() says why a share); the constant-density solver applies a share of
+// each increment (solver.density_relaxation, solveDensity() says why).
 //
 // The neighbours do not move within a step, so computeDfsphDensityAndFactor() (DfsphPairs.cpp)
 // stores every fluid pair with its V_j gradW_ij once (StepScratch::pairRows), and each Jacobi
@@ -166,12 +167,12 @@ void changeWalls(StepContext& c, std::vector<float>& warm, bool hydrostatic) {
 
 // A Jacobi solve: warm start from `warm` (which then collects this step's sum), then iterations
 // of source and velocity passes until `error()` (a fraction) is at most `tolerance` after at
-// least `minIterations`, or `maxIterations`. `rate(i, rate)` sets source[i] and stiffness[i].
-// Returns the iterations and the error reached.
+// least `minIterations`, or `maxIterations`. The warm start is `warmShare` of the last sum.
+// `rate(i, rate)` sets source[i] and stiffness[i]. Returns the iterations and the error reached.
 template <class Rate>
-std::pair<int, double> jacobiSolve(StepContext& c, std::vector<float>& warm, double tolerance,
-                                   int minIterations, int maxIterations, bool acceleration,
-                                   Rate&& rate) {
+std::pair<int, double> jacobiSolve(StepContext& c, std::vector<float>& warm, float warmShare,
+                                   double tolerance, int minIterations, int maxIterations,
+                                   bool acceleration, Rate&& rate) {
   // The density solver is the one that holds the fluid up: the walls' hydrostatic term is its.
   const bool hydrostatic = acceleration;
   if (wallsHoldPressure(c)) startWallSolve(c);
@@ -181,9 +182,11 @@ std::pair<int, double> jacobiSolve(StepContext& c, std::vector<float>& warm, dou
   s.stiffness.resize(n);
   warm.resize(n, 0.0f);  // new particles start from 0
   if (anyWarm(c, warm)) {
-    // Half the last step's sum: every iteration adds a non-negative stiffness (only compression
-    // is corrected), so a full warm start could only grow from step to step, never relax.
-    std::transform(warm.begin(), warm.end(), s.stiffness.begin(), [](float k) { return 0.5f * k; });
+    // A share of the last step's sum, not all of it: every iteration adds a non-negative
+    // stiffness (only compression is corrected), so a start from the whole sum could only grow
+    // from step to step, never relax. The share left out is what the iterations rebuild.
+    std::transform(warm.begin(), warm.end(), s.stiffness.begin(),
+                   [warmShare](float k) { return warmShare * k; });
     std::fill(warm.begin(), warm.end(), 0.0f);
     changeWalls(c, warm, hydrostatic);
     velocityPass(c, warm, acceleration);
@@ -214,7 +217,7 @@ void solveDivergence(StepContext& c) {
   StepScratch& s = c.scratch;
   const float invDt = 1.0f / c.dt, dt = c.dt;
   const auto [iterations, error] =
-      jacobiSolve(c, c.warmStart.divergence, c.solver.maxDivergenceError * 0.01, 1,
+      jacobiSolve(c, c.warmStart.divergence, 0.5f, c.solver.maxDivergenceError * 0.01, 1,
                   c.solver.maxDivergenceIterations, false, [&](std::uint32_t i, float rate) {
                     const float r = std::max(rate, 0.0f);
                     s.source[i] = dt * r;
@@ -232,17 +235,23 @@ void solveDensity(StepContext& c) {
   Particles& f = c.fluid;
   StepScratch& s = c.scratch;
   const float rho0 = c.solver.restDensity;
-  // Each increment is the relaxation's share of the particle's full correction (at 1, the
-  // papers' solve, bit for bit).
+  // Each increment is the relaxation's share of the particle's full correction. With all of it
+  // (the papers' solve) the increments overshoot: a step's long solve throws the fluid up, the
+  // next finds nothing compressed and stops at its least iterations holding only the warm start,
+  // and a still tank heaves (the whole fluid falling and thrown back at cm/s). Half of it damps
+  // the overshoot, as IISPH's relaxed Jacobi does; its slower convergence is paid back by
+  // starting from more of the last step's sum (density_warm_start), which a relaxed solve
+  // tolerates. The measurements behind both defaults: docs/scene-format.md.
   const float invRho0 = 1.0f / rho0, dt = c.dt,
               relaxedInvDt2 = c.solver.densityRelaxation / (c.dt * c.dt);
-  const auto [iterations, error] = jacobiSolve(
-      c, c.warmStart.density, c.solver.maxDensityError * 0.01, c.solver.minDensityIterations,
-      c.solver.maxDensityIterations, true, [&](std::uint32_t i, float rate) {
-        const float e = std::max(f.rho[i] * invRho0 + dt * rate - 1.0f, 0.0f);
-        s.source[i] = e;
-        s.stiffness[i] = s.factor[i] * e * relaxedInvDt2;
-      });
+  const auto [iterations, error] =
+      jacobiSolve(c, c.warmStart.density, c.solver.densityWarmStart,
+                  c.solver.maxDensityError * 0.01, c.solver.minDensityIterations,
+                  c.solver.maxDensityIterations, true, [&](std::uint32_t i, float rate) {
+                    const float e = std::max(f.rho[i] * invRho0 + dt * rate - 1.0f, 0.0f);
+                    s.source[i] = e;
+                    s.stiffness[i] = s.factor[i] * e * relaxedInvDt2;
+                  });
   c.solveStats.densityIterations = iterations;
   c.solveStats.densityError = static_cast<float>(100 * error);
   c.solveStats.totalDensityIterations += static_cast<std::uint64_t>(iterations);
