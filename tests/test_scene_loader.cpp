@@ -291,10 +291,10 @@ TEST(SceneLoader, WallPressureChoicesFollowTheSolver) {
 
 TEST(SceneLoader, DensityRelaxationAndWarmStartAreSharesForDfsphOnly) {
   const scene::SolverParams defaults = io::scene::parseScene(kMinimal, "s.json").solver;
-  EXPECT_EQ(defaults.densityRelaxation, 0.5f);
-  EXPECT_EQ(defaults.densityWarmStart, 0.8f);
-  EXPECT_EQ(errorOf(kMinimal, {"solver.pressure=dfsph", "solver.density_relaxation=1",
-                               "solver.density_warm_start=0.5"}),
+  EXPECT_EQ(defaults.densityRelaxation, 1.0f);
+  EXPECT_EQ(defaults.densityWarmStart, 0.5f);
+  EXPECT_EQ(errorOf(kMinimal, {"solver.pressure=dfsph", "solver.density_relaxation=0.5",
+                               "solver.density_warm_start=0.8"}),
             "");
   EXPECT_EQ(errorOf(kMinimal, {"solver.pressure=dfsph", "solver.density_warm_start=0"}), "");
   EXPECT_EQ(errorOf(kMinimal, {"solver.pressure=dfsph", "solver.density_warm_start=1"}),

@@ -235,13 +235,13 @@ void solveDensity(StepContext& c) {
   Particles& f = c.fluid;
   StepScratch& s = c.scratch;
   const float rho0 = c.solver.restDensity;
-  // Each increment is the relaxation's share of the particle's full correction. With all of it
-  // (the papers' solve) the increments overshoot: a step's long solve throws the fluid up, the
-  // next finds nothing compressed and stops at its least iterations holding only the warm start,
-  // and a still tank heaves (the whole fluid falling and thrown back at cm/s). Half of it damps
-  // the overshoot, as IISPH's relaxed Jacobi does; its slower convergence is paid back by
-  // starting from more of the last step's sum (density_warm_start), which a relaxed solve
-  // tolerates. The measurements behind both defaults: docs/scene-format.md.
+  // Each increment is the relaxation's share of the particle's full correction (at 1, the
+  // papers' solve, bit for bit). With all of it the increments overshoot: a step's long solve
+  // throws the fluid up, the next finds nothing compressed and stops at its least iterations
+  // holding only the warm start, and a still tank heaves (the whole fluid falling and thrown
+  // back at cm/s). Half of it damps the overshoot, as IISPH's relaxed Jacobi does, for more
+  // iterations, which starting from more of the last step's sum (density_warm_start) gives back
+  // in a still tank; what each costs a dam break: docs/scene-format.md.
   const float invRho0 = 1.0f / rho0, dt = c.dt,
               relaxedInvDt2 = c.solver.densityRelaxation / (c.dt * c.dt);
   const auto [iterations, error] =
