@@ -104,12 +104,13 @@ TEST(Dfsph, StillTankHoldsDensityAtALargeStep) {
 // iterations holds up only the warm start, the whole fluid falls, and the next step throws it
 // back up (0.6-1.8 s: 16 of 418 steps with the mean vertical speed over 5 mm/s, the largest
 // 19 mm/s). Half of each increment from 0.8 of the last sum, the still scenes' setting
-// (docs/scene-format.md), damps the overshoot that starts it (docs/notes/2026-11-29-dfsph-walls.md).
+// (docs/scene-format.md), damps the overshoot that starts it
+// (docs/notes/2026-11-29-dfsph-walls.md).
 TEST(Dfsph, TheRelaxedSolveKeepsTheSettledStillTankFromHeaving) {
   const scene::Scene scene = test::shippedScene(
-      "still_tank", {"fluids[0].max=[0.12,0.3,0.12]", "boundaries[0].max=[0.12,0.4,0.12]",
-                     "solver.pressure=dfsph", "solver.density_relaxation=0.5",
-                     "solver.density_warm_start=0.8"});
+      "still_tank",
+      {"fluids[0].max=[0.12,0.3,0.12]", "boundaries[0].max=[0.12,0.4,0.12]",
+       "solver.pressure=dfsph", "solver.density_relaxation=0.5", "solver.density_warm_start=0.8"});
   ASSERT_EQ(scene.solver.densityRelaxation, 0.5f);
   ASSERT_EQ(scene.solver.densityWarmStart, 0.8f);
   run::Simulation sim(scene);
