@@ -1,7 +1,8 @@
-// Packing a particle's candidates into its row of pairs (the DFSPH factor pass,
-// sim/solver/DfsphPairs.cpp): the candidates inside the support (h - r > 0: not the particle itself, not
-// the padding) are copied from the batch `t` (fields x, y, z of V gradW, then h - r) with their
-// index bits to the row's arrays, in their order, and the count returned: the particle's pairs.
+// Packing a particle's boundary candidates into its row of wall pairs (the DFSPH factor pass,
+// sim/solver/DfsphPairs.cpp; its fluid pairs are selected before the kernel instead,
+// SupportSelection.h): the candidates inside the support (h - r > 0: not the padding) are copied
+// from the batch `t` (fields x, y, z of V gradW, then h - r) with their index bits to the row's
+// arrays, in their order, and the count returned.
 //
 // `padded` candidates (a multiple of kBatchLanes, the batch's arrays cache-line aligned); the row
 // has room for `padded` values. Data movement only, so both versions store the same pairs

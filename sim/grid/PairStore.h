@@ -1,14 +1,14 @@
-// Where DFSPH keeps the fluid pairs of a step (StepScratch::pairs; sim/solver/DfsphPairs.h says what a
-// pair holds): rows of grid cells, each filled by one thread, laid end to end in that thread's
-// chunks. The memory follows the step's need: a chunk no row used in a pass is given back at its
-// end, so a run holds about its largest step's pairs plus a spare chunk a thread, where a vector
-// per row kept twice the largest need each row ever had: at the impact of the peer's dam break
-// at 1M particles that held 2.5x what MemoryEstimate counted
+// Where DFSPH keeps the fluid pairs of a step (StepScratch::pairs; sim/solver/DfsphPairs.h says
+// what a pair holds): rows of grid cells, each filled by one thread, laid end to end in that
+// thread's chunks. The memory follows the step's need: a chunk no row used in a pass is given back
+// at its end, so a run holds about its largest step's pairs plus a spare chunk a thread, where a
+// vector per row kept twice the largest need each row ever had: at the impact of the peer's dam
+// break at 1M particles that held 2.5x what MemoryEstimate counted
 // (docs/notes/2026-11-26-dfsph-peer-dam-break.md, "Pairs that follow the need").
 //
 // Every row starts on a cache line of its chunk, so a particle's pairs have the same offset from
-// one whatever the thread count or the chunk a row falls in: the simd loops over them peel the
-// same way and their sums keep their bits.
+// one whatever the thread count or the chunk a row falls in (the passes over them no longer need
+// it for their bits, being scalar loops: sim/solver/DfsphPairs.h).
 #pragma once
 
 #include <algorithm>

@@ -101,7 +101,6 @@ void sourcePass(StepContext& c, Source&& source) {
   const float* vz = f.vz.data();
   forEachParticlePairs(c, [&](std::uint32_t i, const PairSpan& p) {
     float sum = 0;
-#pragma omp simd reduction(+ : sum)
     for (std::uint32_t q = 0; q < p.count; ++q) {
       const std::uint32_t j = p.index[q];
       sum += vx[j] * p.gx[q] + vy[j] * p.gy[q] + vz[j] * p.gz[q];
@@ -131,7 +130,6 @@ void velocityPass(StepContext& c, std::vector<float>& warm, bool acceleration) {
     warm[i] += ki;
   };
   auto fluidSum = [&](const PairSpan& p, float& ax, float& ay, float& az) {
-#pragma omp simd reduction(+ : ax, ay, az)
     for (std::uint32_t q = 0; q < p.count; ++q) {
       const float kj = k[p.index[q]];
       ax += kj * p.gx[q], ay += kj * p.gy[q], az += kj * p.gz[q];

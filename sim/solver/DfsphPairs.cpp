@@ -1,23 +1,19 @@
-// The neighbour passes of a DFSPH step that are not the pressure solvers (sim/solver/Dfsph.cpp):
+// computeDfsphDensityAndFactor(), the DFSPH step's one neighbour search: the summation density
+// (seed 003, eq. (1), spiky kernel), Bender & Koschier's per-particle factor (2017, eq. 9;
+// Dfsph.cpp gives the notation) and the fluid pairs with V_j gradW_ij and h - r_ij, stored for the
+// passes after it (StepScratch::pairs). One pass where WCSPH's density pass and a separate factor
+// pass each searched the neighbours.
 //
-// - computeDfsphDensityAndFactor(), the step's one neighbour search: the summation density (seed
-//   003, eq. (1), spiky kernel), Bender & Koschier's per-particle factor (2017, eq. 9; Dfsph.cpp
-//   gives the notation) and the fluid pairs with V_j gradW_ij and h - r_ij, stored for the passes
-//   after it (StepScratch::pairs). One pass where WCSPH's density pass and a separate factor
-//   pass each searched the neighbours.
-// - computeDfsphViscosity(), the non-pressure forces of DFSPH (viscosity, no-slip walls, gravity)
-//   as a gather over the stored pairs: the same terms as computeForces() (SphPasses.cpp) without
-//   its pressure terms, which DFSPH's solvers replace.
-//
-// Built with -ffast-math like SphPasses.cpp (sim/CMakeLists.txt), under the same rules: the
-// search runs in cell-range loops of forEachCellWithCandidates and the gathers per particle over
-// its own pairs (DfsphPairs.h), both the same whatever the thread count.
+// Built with -ffast-math like SphPasses.cpp (sim/solver/CMakeLists.txt), under the same rules: the
+// search runs in cell-range loops of forEachCellWithCandidates, the same whatever the thread
+// count.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
 #include "sim/solver/DfsphPairs.h"
 #include "sim/grid/PairPacking.h"
+#include "sim/grid/SupportSelection.h"
 #include "sim/solver/SphPasses.h"
 
 namespace sph::solver {
@@ -49,25 +45,27 @@ float latticeDenominator(const StepContext& c) {
   return static_cast<float>(sum);
 }
 
-// A particle's sums over its fluid candidates (padded lanes add 0), and each candidate's V gradW
-// and h - r into `out` (fields x, y, z, h - r). A plain function with unaliased pointers: as a
-// loop inside the pass's lambda, GCC 12 left it scalar.
+// A particle's sums over its candidates inside the support (`in`, grid/SupportSelection.h; the
+// padding lanes add 0), and each one's V gradW and h - r into `out` (fields x, y, z, h - r). A
+// plain function with unaliased pointers: as a loop inside the pass's lambda, GCC 12 left it
+// scalar.
 struct FluidSums {
   float gx, gy, gz, squares, cubes, moment;
 };
-FluidSums fluidCandidates(float xi, float yi, float zi, std::size_t padded,
-                          const float* __restrict fx, const float* __restrict fy,
-                          const float* __restrict fz, SpikyPairShape spiky, float g,
-                          grid::CandidateBatch<4>& out) {
+FluidSums fluidPairs(const grid::SupportSelection& in, SpikyPairShape spiky, float g,
+                     grid::CandidateBatch<4>& out) {
+  const float* __restrict ox = in.field[0].data();
+  const float* __restrict oy = in.field[1].data();
+  const float* __restrict oz = in.field[2].data();
+  const float* __restrict d2 = in.field[3].data();
   float* __restrict tx = out.field[0].data();
   float* __restrict ty = out.field[1].data();
   float* __restrict tz = out.field[2].data();
   float* __restrict th = out.field[3].data();
   float gx = 0, gy = 0, gz = 0, squares = 0, cubes = 0, moment = 0;
 #pragma omp simd reduction(+ : gx, gy, gz, squares, cubes, moment)
-  for (std::size_t j = 0; j < padded; ++j) {
-    const float dx = xi - fx[j], dy = yi - fy[j], dz = zi - fz[j];
-    const float r2 = dx * dx + dy * dy + dz * dz;
+  for (std::size_t j = 0; j < in.padded; ++j) {
+    const float dx = ox[j], dy = oy[j], dz = oz[j], r2 = d2[j];
     const float invR = spiky.inverseDistance(r2);
     const float hr = spiky.hMinusR(r2, invR);
     const float wj = hr * hr * invR;
@@ -79,6 +77,16 @@ FluidSums fluidCandidates(float xi, float yi, float zi, std::size_t padded,
     moment += wj * r2;  // (h - r)^2 r
   }
   return {gx, gy, gz, squares, cubes, moment};
+}
+
+// The first `count` pairs of fluidPairs() into the row, with their index bits.
+void storePairs(std::size_t count, const grid::SupportSelection& in,
+                const grid::CandidateBatch<4>& pairs, const grid::PairStore::Row& to) {
+  std::memcpy(to.index, in.field[4].data(), count * sizeof(std::uint32_t));
+  std::memcpy(to.gx, pairs.field[0].data(), count * sizeof(float));
+  std::memcpy(to.gy, pairs.field[1].data(), count * sizeof(float));
+  std::memcpy(to.gz, pairs.field[2].data(), count * sizeof(float));
+  std::memcpy(to.hr, pairs.field[3].data(), count * sizeof(float));
 }
 
 // The same over the boundary candidates: sum (h - r)^2 / r (x_i - x_b), sum (h - r)^3, sum
@@ -167,8 +175,10 @@ void computeDfsphDensityAndFactor(StepContext& c) {
   // turns their stiffness into a pressure (solveDensity()) as WCSPH's force is scaled.
   const float momentScale = -c.derived.kernels.spikyGradFactor * c.derived.mass /
                             c.solver.restDensity / 3;
-  // Per thread: each candidate's V gradW_ij and h - r (0 outside the support), before the
-  // candidates inside the support are packed into the row.
+  // Per thread: the candidates inside the support, and their V gradW_ij and h - r before they
+  // are copied into the row; the same for the boundary candidates (0 outside the support), before
+  // those inside are packed into the row of wall pairs.
+  std::vector<grid::SupportSelection> inside(threadCount());
   std::vector<grid::CandidateBatch<4>> gradients(threadCount()), wallGradients(threadCount());
   grid::forEachCellWithCandidates<4, 4>(
       c.grid, {f.x.data(), f.y.data(), f.z.data(), s.indexBits.data()}, c.boundary.grid(),
@@ -176,6 +186,8 @@ void computeDfsphDensityAndFactor(StepContext& c) {
       [&](std::size_t row, std::uint32_t begin, std::uint32_t end,
           const grid::CandidateBatch<4>& fb, const grid::CandidateBatch<4>& bb) {
         const int thread = threadIndex();
+        grid::SupportSelection& in = inside[thread];
+        in.resize(fb.padded + grid::kBatchLanes);
         grid::CandidateBatch<4>& t = gradients[thread];
         t.resize(fb.padded);
         grid::CandidateBatch<4>& tw = wallGradients[thread];
@@ -183,15 +195,17 @@ void computeDfsphDensityAndFactor(StepContext& c) {
         const float* fx = fb.field[0].data();
         const float* fy = fb.field[1].data();
         const float* fz = fb.field[2].data();
+        const float* bits = fb.field[3].data();
         for (std::uint32_t i = begin; i < end; ++i) {
           const float xi = f.x[i], yi = f.y[i], zi = f.z[i];
-          const FluidSums sums = fluidCandidates(xi, yi, zi, fb.padded, fx, fy, fz, spiky, g, t);
+          // The pairs: the candidates inside the support.
+          const std::size_t count =
+              grid::selectInside(xi, yi, zi, spiky.h2, fb.padded, fx, fy, fz, bits, in);
+          const FluidSums sums = fluidPairs(in, spiky, g, t);
           float gx = sums.gx, gy = sums.gy, gz = sums.gz;
           const float squares = sums.squares, cubes = sums.cubes;
-          // The pairs: the candidates inside the support.
-          const grid::PairStore::Row to = s.pairs.room(row, thread, fb.padded);
-          const std::uint32_t count =
-              packPairs(fb.padded, fb.field[3].data(), t, {to.index, to.gx, to.gy, to.gz, to.hr});
+          const grid::PairStore::Row to = s.pairs.room(row, thread, count);
+          storePairs(count, in, t, to);
           s.pairs.add(row, thread, count);
           s.pairCount[i] = count;
           const BoundarySums wall =
@@ -220,38 +234,6 @@ void computeDfsphDensityAndFactor(StepContext& c) {
   s.pairs.end();
   if (wallPairs) s.wallPairs.end();
   updateGradientCorrection(c);
-}
-
-// a_i = nu (rho0 / rho_i) [sum_j m / rho_j (v_j - v_i) lapW_visc - (no-slip) sum_b m / rho0 v_i
-// lapW_visc] + g, computeForces()'s viscosity, wall and gravity terms (Müller 2003), over the
-// stored pairs.
-void computeDfsphViscosity(StepContext& c) {
-  Particles& f = c.fluid;
-  const StepScratch& s = c.scratch;
-  const Kernels& kern = c.derived.kernels;
-  const float viscScale =
-      c.derived.viscosity * c.solver.restDensity * c.derived.mass * kern.viscLapFactor;
-  const Vec3 g = c.solver.gravity;
-  const float noSlip = c.solver.noSlipWalls ? 1.0f / c.solver.restDensity : 0.0f;
-  const float* vx = f.vx.data();
-  const float* vy = f.vy.data();
-  const float* vz = f.vz.data();
-  const float* invRho = s.inverseDensity.data();
-  forEachParticlePairs(c, [&](std::uint32_t i, const PairSpan& p) {
-    const float vxi = vx[i], vyi = vy[i], vzi = vz[i];
-    float ax = 0, ay = 0, az = 0;
-#pragma omp simd reduction(+ : ax, ay, az)
-    for (std::uint32_t q = 0; q < p.count; ++q) {
-      const std::uint32_t j = p.index[q];
-      const float w = invRho[j] * p.hr[q];
-      ax += w * (vx[j] - vxi), ay += w * (vy[j] - vyi), az += w * (vz[j] - vzi);
-    }
-    // No-slip: the viscosity term with the wall at rest (v_b = 0, rho_b = rho0).
-    const float drag = noSlip * s.wallWeight[i];
-    ax -= drag * vxi, ay -= drag * vyi, az -= drag * vzi;
-    const float visc = viscScale * invRho[i];
-    f.ax[i] = visc * ax + g.x(), f.ay[i] = visc * ay + g.y(), f.az[i] = visc * az + g.z();
-  });
 }
 
 }  // namespace sph::solver

@@ -1,6 +1,7 @@
-// DFSPH's stored fluid pairs (StepScratch::pairs, sim/grid/PairStore.h): the per-step neighbour list
-// that computeDfsphDensityAndFactor() builds and every other DFSPH pass walks (sim/solver/DfsphPairs.cpp,
-// sim/solver/Dfsph.cpp). Internal to those files, which are built with -ffast-math.
+// DFSPH's stored fluid pairs (StepScratch::pairs, sim/grid/PairStore.h): the per-step neighbour
+// list that computeDfsphDensityAndFactor() builds (sim/solver/DfsphPairs.cpp) and every other DFSPH
+// pass walks (sim/solver/Dfsph.cpp, DfsphViscosity.cpp). Internal to those files, which are built
+// with -ffast-math.
 #pragma once
 
 #include <cstdint>
@@ -27,12 +28,10 @@ struct PairSpan {
 };
 
 // forEachParticlePairs() calls body(i, pairs) for every fluid particle, in parallel by rows of
-// cells, with its pairs of this step. Each particle's pairs start at the same offset from a cache
-// line whatever the thread count, so the simd loops over them peel the same way and the sums keep
-// their bits. On K processes with slabs across x a row holds only the rank's part, so the offsets
-// differ from the single process's; the release build's loops do not peel (with every row shifted
-// by 5 floats a run kept its bits, 2026-11-26), and tests/test_mpi.cpp (MpiDfsph, slabs across x)
-// would see it if a compiler or -march did.
+// cells, with its pairs of this step. The passes over them are scalar loops (sim/solver/
+// CMakeLists.txt says why) that sum each particle's pairs in their stored order, so the sums keep
+// their bits wherever a row lands in memory, whatever the thread count, and on K processes with
+// slabs across x, where a row holds only the rank's part (tests/test_mpi.cpp, MpiDfsph).
 template <bool kWalls, class Body>
 void forEachParticlePairRows(const StepContext& c, Body& body) {
   const StepScratch& s = c.scratch;
