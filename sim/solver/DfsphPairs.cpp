@@ -89,9 +89,9 @@ void storePairs(std::size_t count, const grid::SupportSelection& in,
   std::memcpy(to.hr, pairs.field[3].data(), count * sizeof(float));
 }
 
-// The same over the boundary candidates: sum (h - r)^2 / r (x_i - x_b), sum (h - r)^3, sum
-// (h - r) and sum (h - r)^2 r; with kStorePairs, each candidate's V gradW and h - r into `out` as fluidCandidates()
-// does (the wall pairs of DfsphWalls.cpp).
+// The same over all the boundary candidates (those outside the support add 0): sum (h - r)^2 / r
+// (x_i - x_b), sum (h - r)^3, sum (h - r) and sum (h - r)^2 r; with kStorePairs, each candidate's
+// V gradW and h - r into `out` as fluidPairs() does (the wall pairs of DfsphWalls.cpp).
 struct BoundarySums {
   float gx, gy, gz, cubes, weight, moment;
 };
