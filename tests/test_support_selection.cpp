@@ -89,15 +89,19 @@ void expectSelected(const Selected& expected, std::size_t count, const grid::Sup
     ASSERT_EQ(expected.dz[q], out.field[2][q]) << which << " candidate " << q;
     ASSERT_NEAR(expected.r2[q], out.field[3][q], 1e-6f * kH * kH) << which << " candidate " << q;
   }
-  for (std::size_t q = count; q < out.padded; ++q) {  // padding: outside, adds nothing
-    for (int f = 0; f < 5; ++f) ASSERT_EQ(out.field[f][q], 0.0f) << which << " padding " << q;
+  for (std::size_t q = count; q < out.padded; ++q) {  // padding: +0 bits, outside, adds nothing
+    for (int f = 0; f < 5; ++f) {
+      std::uint32_t bits;
+      std::memcpy(&bits, &out.field[f][q], sizeof bits);
+      ASSERT_EQ(bits, 0u) << which << " padding " << q << " of field " << f;
+    }
   }
 }
 
 template <class Select>
 void checkVersion(const Batch& t, const Selected& expected, Select&& select, const char* which) {
   grid::SupportSelection out;
-  out.resize(t.b.padded + grid::kBatchLanes);
+  out.resize(t.b.padded);
   for (auto& f : out.field) std::fill(f.begin(), f.end(), -7.0f);  // no help from a clean buffer
   const std::size_t count =
       select(t.centre[0], t.centre[1], t.centre[2], kH * kH, t.b.padded, t.b.field[0].data(),
@@ -129,28 +133,37 @@ TEST(SupportSelection, BothVersionsKeepTheCandidatesInsideTheSupportInTheirOrder
 }
 
 // A candidate at the particle's own place (r = 0) is never its neighbour, nor is one exactly on
-// the support's edge.
-TEST(SupportSelection, LeavesOutTheParticleItselfAndTheEdge) {
+// the support's edge; one just inside it is. Every version built here.
+template <class Select>
+void checkEdges(Select&& select, const char* which) {
   grid::CandidateBatch<4> b;
   b.resize(grid::kBatchLanes);
-  const float at[3][3] = {{0, 0, 0}, {kH, 0, 0}, {0.5f * kH, 0, 0}};
-  for (int j = 0; j < 3; ++j) {
-    for (int a = 0; a < 3; ++a) b.field[a][j] = at[j][a];
+  const float at[4] = {0.0f, kH, 0.5f * kH, std::nextafter(kH, 0.0f)};
+  for (int j = 0; j < 4; ++j) {
+    b.field[0][j] = at[j], b.field[1][j] = 0, b.field[2][j] = 0;
     const std::uint32_t bits = 100u + j;
     std::memcpy(&b.field[3][j], &bits, sizeof bits);
   }
-  b.count = 3;
+  b.count = 4;
   b.pad();
   grid::SupportSelection out;
-  out.resize(b.padded + grid::kBatchLanes);
-  const std::size_t count =
-      grid::selectInside(0, 0, 0, kH * kH, b.padded, b.field[0].data(), b.field[1].data(),
-                         b.field[2].data(), b.field[3].data(), out);
-  ASSERT_EQ(count, 1u);
-  std::uint32_t bits;
-  std::memcpy(&bits, &out.field[4][0], sizeof bits);
-  EXPECT_EQ(bits, 102u);
-  EXPECT_EQ(out.field[0][0], -0.5f * kH);
+  out.resize(b.padded);
+  const std::size_t count = select(0, 0, 0, kH * kH, b.padded, b.field[0].data(), b.field[1].data(),
+                                   b.field[2].data(), b.field[3].data(), out);
+  ASSERT_EQ(count, 2u) << which;
+  std::uint32_t bits[2];
+  std::memcpy(bits, out.field[4].data(), sizeof bits);
+  EXPECT_EQ(bits[0], 102u) << which;
+  EXPECT_EQ(bits[1], 103u) << which;
+  EXPECT_EQ(out.field[0][0], -0.5f * kH) << which;
+}
+
+TEST(SupportSelection, LeavesOutTheParticleItselfAndTheEdge) {
+  checkEdges(grid::selectInsideScalar, "scalar");
+  checkEdges(grid::selectInside, "the build's choice");
+#if SPHSPLAT_SELECT_SUPPORT_AVX512
+  checkEdges(grid::selectInsideAvx512, "AVX-512");
+#endif
 }
 
 }  // namespace

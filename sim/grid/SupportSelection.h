@@ -48,7 +48,8 @@ inline SelectionFields fieldsOf(SupportSelection& out) {
 
 // The candidates of `padded` (fields x, y, z and index bits; a multiple of kBatchLanes) within
 // sqrt(h2) of (xi, yi, zi), itself left out, into `out`, which must have room for `padded`
-// values and kBatchLanes more.
+// values. A candidate just inside the edge may still read h - r <= 0 where the kernel is evaluated
+// with a reciprocal square-root estimate (-ffast-math): it stays a pair, of weight ~0.
 inline std::size_t selectInsideScalar(float xi, float yi, float zi, float h2, std::size_t padded,
                                       const float* __restrict fx, const float* __restrict fy,
                                       const float* __restrict fz, const float* __restrict bits,

@@ -32,9 +32,10 @@
 // the time a pass on the peer's dam break: docs/notes/2026-11-25-dfsph-against-wcsph.md, "The
 // peer's dam break: time to solution, and the Jacobi passes over stored pairs").
 //
-// Built with -ffast-math like SphPasses.cpp (sim/CMakeLists.txt), under the same rules: every
-// per-particle computation runs in a cell-range loop of forEachCellWithCandidates (the same split
-// whatever the thread count), and the error means are exact sums.
+// Built with -ffast-math like SphPasses.cpp but without the vectoriser (sim/solver/CMakeLists.txt
+// says why), under the same rules: every per-particle computation runs in a loop over rows of
+// cells (the same split whatever the thread count) and sums its pairs in their stored order, and
+// the error means are exact sums.
 //
 // On K processes (docs/scaling.md) the fluid holds this rank's particles and two cell planes of
 // ghosts beyond each face of its slab, so the pairs of the first plane's ghosts are complete and

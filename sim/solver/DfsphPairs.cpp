@@ -187,7 +187,7 @@ void computeDfsphDensityAndFactor(StepContext& c) {
           const grid::CandidateBatch<4>& fb, const grid::CandidateBatch<4>& bb) {
         const int thread = threadIndex();
         grid::SupportSelection& in = inside[thread];
-        in.resize(fb.padded + grid::kBatchLanes);
+        in.resize(fb.padded);
         grid::CandidateBatch<4>& t = gradients[thread];
         t.resize(fb.padded);
         grid::CandidateBatch<4>& tw = wallGradients[thread];
