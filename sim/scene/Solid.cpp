@@ -205,9 +205,12 @@ float Solid::segmentEntry(const Vec3& a, const Vec3& b) const {
 }
 
 bool keepOutside(const Solid& solid, const Vec3& xOld, Vec3& xNew, Vec3& v, float step) {
-  const float dNew = solid.distance(xNew);
   const Vec3 travel = xNew - xOld;
   const float length = travel.norm();
+  // A non-finite move is a blown-up run, which the step's guard reports; marching it would
+  // never end.
+  if (!std::isfinite(length)) return false;
+  const float dNew = solid.distance(xNew);
   // distance() never overestimates the distance, so a particle farther from the solid than it
   // travelled cannot have touched it: the common case costs one distance evaluation.
   if (dNew > length) return false;
@@ -221,21 +224,31 @@ bool keepOutside(const Solid& solid, const Vec3& xOld, Vec3& xNew, Vec3& v, floa
     if (vn < 0) v -= vn * n;
     return true;
   }
-  // March along the segment at `step` so a wall thicker than 2 steps cannot be jumped over.
-  const int samples = std::max(1, static_cast<int>(std::ceil(length / step)));
-  float tOut = 0.0f, tIn = -1.0f;
-  for (int k = 1; k <= samples; ++k) {
-    const float t = static_cast<float>(k) / samples;
-    if (solid.distance(xOld + t * travel) < 0.0f) {
-      tIn = t;
-      break;
+  float tOut = 0.0f;
+  if (length > kMarchSteps * step) {
+    // Farther in one step than the march is meant for (the step's bound keeps a particle within
+    // about a spacing; this one was thrown by a solver blowing up): cut the segment exactly.
+    // Marching it took minutes a particle.
+    const float entry = solid.segmentEntry(xOld, xNew);
+    if (entry > 1.0f) return false;
+    tOut = entry;
+  } else {
+    // March along the segment at `step` so a wall thicker than 2 steps cannot be jumped over.
+    const int samples = std::max(1, static_cast<int>(std::ceil(length / step)));
+    float tIn = -1.0f;
+    for (int k = 1; k <= samples; ++k) {
+      const float t = static_cast<float>(k) / samples;
+      if (solid.distance(xOld + t * travel) < 0.0f) {
+        tIn = t;
+        break;
+      }
+      tOut = t;
     }
-    tOut = t;
-  }
-  if (tIn < 0.0f) return false;
-  for (int it = 0; it < 24; ++it) {  // bisect the entry point to float precision
-    const float t = 0.5f * (tOut + tIn);
-    (solid.distance(xOld + t * travel) < 0.0f ? tIn : tOut) = t;
+    if (tIn < 0.0f) return false;
+    for (int it = 0; it < 24; ++it) {  // bisect the entry point to float precision
+      const float t = 0.5f * (tOut + tIn);
+      (solid.distance(xOld + t * travel) < 0.0f ? tIn : tOut) = t;
+    }
   }
   const Vec3 entry = xOld + tOut * travel;
   const Vec3 n = solid.normal(entry, eps);

@@ -37,7 +37,9 @@ class Solid {
 
 // Moves a particle that went from xOld to xNew into a solid back to where it entered, and
 // removes the velocity component pointing into the solid. Returns true if it acted.
-// `step` is the search resolution along the segment (m), at most half the wall thickness.
+// `step` is the search resolution along the segment (m), at most half the wall thickness. A
+// move longer than kMarchSteps steps (a particle thrown by a blow-up) is cut exactly instead.
+constexpr float kMarchSteps = 64;
 bool keepOutside(const Solid& solid, const Vec3& xOld, Vec3& xNew, Vec3& v, float step);
 
 // The part of an infinite plane shape (BoundaryShape::Kind::Plane) the domain casts onto it: its
