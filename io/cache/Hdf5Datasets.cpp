@@ -2,12 +2,16 @@
 // virtual column views, and reading 1-D numeric ones whole or in runs, each opened through
 // openCheckedDataset (Hdf5StorageCheck.cpp) so that a damaged shape or layout is refused before
 // anything is allocated by it.
+#include <zlib.h>
+
 #include <algorithm>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "io/cache/Hdf5.h"
+#include "sim/Parallel.h"
 
 namespace sph::io::cache::h5 {
 
@@ -42,12 +46,87 @@ Handle createDataset(hid_t loc, const std::string& name, hid_t fileType,
       "create " + label);
 }
 
+namespace {
+
+// One chunk as HDF5's filters leave it: `count` elements of `size` bytes from `in`, zeros after
+// them up to `chunk` elements (an edge chunk is filtered at full size, padded as the library
+// pads it), byte-shuffled (byte b of element e to b * chunk + e: H5Z's shuffle filter) and
+// deflated (a zlib stream, H5Z's deflate filter: compress2 at `level`). Empty if zlib failed
+// (it runs inside a parallel loop, which an exception must not leave).
+std::vector<Bytef> filteredChunk(const unsigned char* in, std::size_t count, std::size_t size,
+                                 std::size_t chunk, int level) {
+  std::vector<Bytef> shuffled(chunk * size, 0);
+  for (std::size_t e = 0; e < count; ++e)
+    for (std::size_t b = 0; b < size; ++b) shuffled[b * chunk + e] = in[e * size + b];
+  uLongf length = compressBound(static_cast<uLong>(shuffled.size()));
+  std::vector<Bytef> out(length);
+  if (compress2(out.data(), &length, shuffled.data(), static_cast<uLong>(shuffled.size()), level) !=
+      Z_OK)
+    length = 0;
+  out.resize(length);
+  return out;
+}
+
+// Writes `count` values to the 1-D dataset `set` (created by createDataset with the shuffle and
+// deflate filters) chunk by chunk, the chunks filtered on all threads first. H5Dwrite filters a
+// dataset's chunks one after another on the calling thread: deflate was most of a frame's
+// write (docs/benchmarks.md, "Writing the cache"), and the simulation waits for it. The file
+// holds the same bytes as H5Dwrite would write (tests/test_cache_format.cpp,
+// ChunksDeflatedOnAllThreadsAreHdf5sOwn).
+void writeFilteredChunks(hid_t set, const void* data, std::size_t count, std::size_t size,
+                         std::size_t chunk, int level, const std::string& name) {
+  const std::size_t chunks = (count + chunk - 1) / chunk;
+  std::vector<std::vector<Bytef>> filtered(chunks);
+  const auto* bytes = static_cast<const unsigned char*>(data);
+  parallelForDynamic(chunks, 1, [&](std::size_t c) {
+    const std::size_t first = c * chunk;
+    filtered[c] =
+        filteredChunk(bytes + first * size, std::min(chunk, count - first), size, chunk, level);
+  });
+  for (std::size_t c = 0; c < chunks; ++c) {
+    if (filtered[c].empty())
+      throw Error("write dataset '" + name + "'", "zlib could not deflate it");
+    const hsize_t offset[1] = {static_cast<hsize_t>(c * chunk)};
+    check(H5Dwrite_chunk(set, H5P_DEFAULT, 0, offset, filtered[c].size(), filtered[c].data()),
+          "write dataset '" + name + "'");
+  }
+}
+
+// The chunk length of the 1-D dataset `set` if it is chunked with exactly the shuffle and deflate
+// filters createDataset sets, else 0.
+hsize_t shuffleDeflateChunk(hid_t set) {
+  Handle dcpl = checked(H5Dget_create_plist(set), "read a dataset's creation properties");
+  if (H5Pget_layout(dcpl.get()) != H5D_CHUNKED || H5Pget_nfilters(dcpl.get()) != 2) return 0;
+  const H5Z_filter_t expected[2] = {H5Z_FILTER_SHUFFLE, H5Z_FILTER_DEFLATE};
+  for (unsigned f = 0; f < 2; ++f) {
+    unsigned flags = 0;
+    std::size_t values = 0;
+    if (H5Pget_filter2(dcpl.get(), f, &flags, &values, nullptr, 0, nullptr, nullptr) != expected[f])
+      return 0;
+  }
+  hsize_t chunk[1] = {0};
+  if (H5Pget_chunk(dcpl.get(), 1, chunk) != 1) return 0;
+  return chunk[0];
+}
+
+}  // namespace
+
 std::uint64_t writeDataset(hid_t loc, const std::string& name, hid_t memType, hid_t fileType,
                            const void* data, std::size_t count, const Storage& storage) {
   Handle set = createDataset(loc, name, fileType, {static_cast<hsize_t>(count)}, storage);
-  if (count > 0)
+  // Values whose memory layout is the file's (native little-endian types on this CPU) and more
+  // than one chunk of them: filtered here on all threads. Otherwise HDF5 converts and filters.
+  const hsize_t chunk = count > 0 && storage.deflateLevel > 0 && !storage.collective &&
+                                H5Tequal(memType, fileType) > 0
+                            ? shuffleDeflateChunk(set.get())
+                            : 0;
+  if (chunk > 0 && count > chunk) {
+    writeFilteredChunks(set.get(), data, count, H5Tget_size(fileType),
+                        static_cast<std::size_t>(chunk), storage.deflateLevel, name);
+  } else if (count > 0) {
     check(H5Dwrite(set.get(), memType, H5S_ALL, H5S_ALL, H5P_DEFAULT, data),
           "write dataset '" + name + "'");
+  }
   // Flushing compresses and writes the chunks now, before the frame's commit.
   check(H5Dflush(set.get()), "write dataset '" + name + "'");
   const std::uint64_t bytes = H5Dget_storage_size(set.get());
