@@ -70,7 +70,7 @@ std::vector<Bytef> filteredChunk(const unsigned char* in, std::size_t count, std
 // Writes `count` values to the 1-D dataset `set` (created by createDataset with the shuffle and
 // deflate filters) chunk by chunk, the chunks filtered on all threads first. H5Dwrite filters a
 // dataset's chunks one after another on the calling thread: deflate was most of a frame's
-// write (docs/benchmarks.md, "Writing the cache"), and the simulation waits for it. The file
+// write (docs/benchmarks.md, "HDF5 cache"), and the simulation waits for it. The file
 // holds the same bytes as H5Dwrite would write (tests/test_cache_format.cpp,
 // ChunksDeflatedOnAllThreadsAreHdf5sOwn).
 void writeFilteredChunks(hid_t set, const void* data, std::size_t count, std::size_t size,
