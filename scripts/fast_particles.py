@@ -6,9 +6,17 @@ high output.fps to see between steps) and prints per frame the speed percentiles
 fastest particles where they are (distance to each of a box tank's walls), how many fluid
 neighbours and boundary particles lie within the kernel support, and their density.
 
+The same for the peer (SPlisHSPlasH): a directory of its VTK export (`"enableVTKExport": true`,
+`"particleAttributes": "velocity;id"`), whose frame K is at (K - 1) / FPS s; it has no boundary
+particles or density to show.
+
     scripts/fast_particles.py CACHE.h5 --tank -2 0 -0.75 2 3 0.75 --support 0.04 [--top 5]
+    scripts/fast_particles.py --peer-vtk OUT/vtk --fps 100 --tank ... --support 0.04
 """
 import argparse
+import glob
+import os
+import re
 
 import h5py
 import numpy as np
@@ -21,42 +29,88 @@ def frames(f):
         yield f[k]
 
 
+def cache_frames(path):
+    """Per frame: time, step, positions, velocities, ids, densities; and the boundary particles."""
+    with h5py.File(path, "r") as f:
+        b = f["Boundary"]
+        boundary = np.stack([b["x"][:], b["y"][:], b["z"][:]], axis=1)
+        for g in frames(f):
+            x = np.stack([g["x"][:], g["y"][:], g["z"][:]], axis=1)
+            v = np.stack([g["vx"][:], g["vy"][:], g["vz"][:]], axis=1)
+            yield (g.attrs["TimeValue"], int(g.attrs["step"]), x, v, g["id"][:], g["rho"][:],
+                   boundary)
+
+
+def vtk_array(data, header, width, kind):
+    """The array after `header` (a regular expression naming its count) in a legacy binary VTK
+    file: big-endian, `width` values a point."""
+    m = re.search(header, data)
+    if not m:
+        return None
+    n = int(m.group(1))
+    return np.frombuffer(data, dtype=">" + kind, count=width * n, offset=m.end()).reshape(n, width)
+
+
+def peer_frames(directory, fps):
+    """The peer's VTK export, frame by frame, in the shape of cache_frames (no step, density or
+    boundary)."""
+    def number(path):
+        return int(re.findall(r"_(\d+)\.vtk$", path)[0])
+    paths = sorted(glob.glob(os.path.join(directory, "ParticleData_Fluid_*.vtk")), key=number)
+    if not paths:
+        raise SystemExit(f"{directory}: no ParticleData_Fluid_*.vtk files")
+    for path in paths:
+        data = open(path, "rb").read()
+        x = vtk_array(data, rb"POINTS (\d+) float\n", 3, "f4")
+        v = vtk_array(data, rb"velocity 3 (\d+) float\n", 3, "f4")
+        if x is None or v is None:
+            raise SystemExit(f"{path}: expected POINTS and a 'velocity' field (particleAttributes)")
+        m = re.search(rb"SCALARS id unsigned_int 1\nLOOKUP_TABLE \w+\n", data)
+        ids = (np.frombuffer(data, dtype=">u4", count=len(x), offset=m.end()) if m
+               else np.arange(len(x)))  # without "id" in particleAttributes: the file's order
+        yield (number(path) - 1) / fps, None, x.astype(float), v.astype(float), ids, None, None
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("cache")
+    ap.add_argument("cache", nargs="?", help="a sphsplat cache (or --peer-vtk)")
+    ap.add_argument("--peer-vtk", metavar="DIR", help="the peer's VTK export directory instead")
+    ap.add_argument("--fps", type=float, help="the peer's dataExportFPS (with --peer-vtk)")
     ap.add_argument("--tank", type=float, nargs=6, required=True, metavar="LO/HI",
                     help="the tank's inner box: xlo ylo zlo xhi yhi zhi (m)")
     ap.add_argument("--support", type=float, required=True, help="kernel support h (m)")
     ap.add_argument("--top", type=int, default=5, help="fastest particles described per frame")
     ap.add_argument("--from-time", type=float, default=0.0)
     a = ap.parse_args()
+    if (a.cache is None) == (a.peer_vtk is None):
+        ap.error("give either a cache or --peer-vtk DIR")
+    if a.peer_vtk and not a.fps:
+        ap.error("--peer-vtk needs --fps (the peer's dataExportFPS)")
     lo, hi = np.array(a.tank[:3]), np.array(a.tank[3:])
-    with h5py.File(a.cache, "r") as f:
-        b = f["Boundary"]
-        btree = cKDTree(np.stack([b["x"][:], b["y"][:], b["z"][:]], axis=1))
-        last_step = None
-        for g in frames(f):
-            t, step = g.attrs["TimeValue"], int(g.attrs["step"])
-            steps = "" if last_step is None else f"{step - last_step:3d}"
-            last_step = step
-            if t < a.from_time:
-                continue
-            x = np.stack([g["x"][:], g["y"][:], g["z"][:]], axis=1)
-            v = np.stack([g["vx"][:], g["vy"][:], g["vz"][:]], axis=1)
-            s = np.linalg.norm(v, axis=1)
-            q = np.percentile(s, [50, 99, 99.9])
-            print(f"t {t:.3f} step {step:5d} (+{steps}) speed median {q[0]:.2f} p99 {q[1]:.2f} "
-                  f"p99.9 {q[2]:.2f} max {s.max():.2f} m/s; >4.4 m/s: {(s > 4.4).sum()}")
-            tree = cKDTree(x)
-            for i in np.argsort(s)[::-1][: a.top]:
-                d = np.concatenate([x[i] - lo, hi - x[i]])  # to the walls x-, y-, z-, x+, y+, z+
-                near = [n for n, di in zip(["x-", "y-", "z-", "x+", "y+", "z+"], d) if di < a.support]
-                nf = len(tree.query_ball_point(x[i], a.support)) - 1
-                nb = len(btree.query_ball_point(x[i], a.support))
-                print(f"   id {g['id'][i]:7d} at ({x[i][0]:+.3f}, {x[i][1]:.3f}, {x[i][2]:+.3f}) "
-                      f"v ({v[i][0]:+.2f}, {v[i][1]:+.2f}, {v[i][2]:+.2f}) |v| {s[i]:.2f}; walls "
-                      f"within h: {','.join(near) or '-'}; {nf} fluid, {nb} boundary neighbours; "
-                      f"rho {g['rho'][i]:.0f}")
+    source = peer_frames(a.peer_vtk, a.fps) if a.peer_vtk else cache_frames(a.cache)
+    btree, last_step = None, None
+    for t, step, x, v, ids, rho, boundary in source:
+        if boundary is not None and btree is None:
+            btree = cKDTree(boundary)
+        steps = "" if last_step is None or step is None else f" (+{step - last_step:3d})"
+        last_step = step
+        if t < a.from_time - 1e-9:
+            continue
+        s = np.linalg.norm(v, axis=1)
+        q = np.percentile(s, [50, 99, 99.9])
+        at = f" step {step:5d}{steps}" if step is not None else ""
+        print(f"t {t:.3f}{at} speed median {q[0]:.2f} p99 {q[1]:.2f} "
+              f"p99.9 {q[2]:.2f} max {s.max():.2f} m/s; >4.4 m/s: {(s > 4.4).sum()}")
+        tree = cKDTree(x)
+        for i in np.argsort(s)[::-1][: a.top]:
+            d = np.concatenate([x[i] - lo, hi - x[i]])  # to the walls x-, y-, z-, x+, y+, z+
+            near = [n for n, di in zip(["x-", "y-", "z-", "x+", "y+", "z+"], d) if di < a.support]
+            nf = len(tree.query_ball_point(x[i], a.support)) - 1
+            walls = (f"{len(btree.query_ball_point(x[i], a.support))} boundary neighbours; "
+                     f"rho {rho[i]:.0f}" if btree is not None else "the peer's walls are a map")
+            print(f"   id {ids[i]:7d} at ({x[i][0]:+.3f}, {x[i][1]:.3f}, {x[i][2]:+.3f}) "
+                  f"v ({v[i][0]:+.2f}, {v[i][1]:+.2f}, {v[i][2]:+.2f}) |v| {s[i]:.2f}; walls "
+                  f"within h: {','.join(near) or '-'}; {nf} fluid, {walls}")
 
 
 if __name__ == "__main__":
