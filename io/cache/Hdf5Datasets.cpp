@@ -15,6 +15,22 @@
 
 namespace sph::io::cache::h5 {
 
+namespace {
+
+// The first axis of the chunks createDataset gives a dataset of shape `dims` whose elements take
+// `elementBytes`: the whole extent, cut to at most storage.chunkBytes; 0 for a contiguous one
+// (no compression, or empty: a chunk must fit the extent).
+hsize_t chunkRows(const std::vector<hsize_t>& dims, std::size_t elementBytes,
+                  const Storage& storage) {
+  hsize_t elements = 1;
+  for (hsize_t d : dims) elements *= d;
+  if (storage.deflateLevel <= 0 || elements == 0) return 0;
+  const hsize_t rowBytes = elementBytes * (elements / dims[0]);
+  return std::max<hsize_t>(1, std::min<hsize_t>(dims[0], storage.chunkBytes / rowBytes));
+}
+
+}  // namespace
+
 Handle createDataset(hid_t loc, const std::string& name, hid_t fileType,
                      const std::vector<hsize_t>& dims, const Storage& storage) {
   const std::string label =
@@ -22,13 +38,10 @@ Handle createDataset(hid_t loc, const std::string& name, hid_t fileType,
   Handle space = checked(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
                          "create a dataspace");
   Handle dcpl = checked(H5Pcreate(H5P_DATASET_CREATE), "create a dataset creation property list");
-  hsize_t elements = 1;
-  for (hsize_t d : dims) elements *= d;
-  // An empty dataset cannot be chunked (a chunk must fit the extent); it stays contiguous.
-  if (storage.deflateLevel > 0 && elements > 0) {
+  const hsize_t rows = chunkRows(dims, H5Tget_size(fileType), storage);
+  if (rows > 0) {
     std::vector<hsize_t> chunk = dims;
-    const hsize_t rowBytes = H5Tget_size(fileType) * (elements / dims[0]);
-    chunk[0] = std::max<hsize_t>(1, std::min<hsize_t>(dims[0], storage.chunkBytes / rowBytes));
+    chunk[0] = rows;
     check(H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()),
           "set the chunks of " + label);
     check(H5Pset_shuffle(dcpl.get()), "set the shuffle filter of " + label);
@@ -92,23 +105,6 @@ void writeFilteredChunks(hid_t set, const void* data, std::size_t count, std::si
   }
 }
 
-// The chunk length of the 1-D dataset `set` if it is chunked with exactly the shuffle and deflate
-// filters createDataset sets, else 0.
-hsize_t shuffleDeflateChunk(hid_t set) {
-  Handle dcpl = checked(H5Dget_create_plist(set), "read a dataset's creation properties");
-  if (H5Pget_layout(dcpl.get()) != H5D_CHUNKED || H5Pget_nfilters(dcpl.get()) != 2) return 0;
-  const H5Z_filter_t expected[2] = {H5Z_FILTER_SHUFFLE, H5Z_FILTER_DEFLATE};
-  for (unsigned f = 0; f < 2; ++f) {
-    unsigned flags = 0;
-    std::size_t values = 0;
-    if (H5Pget_filter2(dcpl.get(), f, &flags, &values, nullptr, 0, nullptr, nullptr) != expected[f])
-      return 0;
-  }
-  hsize_t chunk[1] = {0};
-  if (H5Pget_chunk(dcpl.get(), 1, chunk) != 1) return 0;
-  return chunk[0];
-}
-
 }  // namespace
 
 std::uint64_t writeDataset(hid_t loc, const std::string& name, hid_t memType, hid_t fileType,
@@ -116,13 +112,11 @@ std::uint64_t writeDataset(hid_t loc, const std::string& name, hid_t memType, hi
   Handle set = createDataset(loc, name, fileType, {static_cast<hsize_t>(count)}, storage);
   // Values whose memory layout is the file's (native little-endian types on this CPU) and more
   // than one chunk of them: filtered here on all threads. Otherwise HDF5 converts and filters.
-  const hsize_t chunk = count > 0 && storage.deflateLevel > 0 && !storage.collective &&
-                                H5Tequal(memType, fileType) > 0
-                            ? shuffleDeflateChunk(set.get())
-                            : 0;
-  if (chunk > 0 && count > chunk) {
-    writeFilteredChunks(set.get(), data, count, H5Tget_size(fileType),
-                        static_cast<std::size_t>(chunk), storage.deflateLevel, name);
+  const std::size_t size = H5Tget_size(fileType);
+  const hsize_t chunk = chunkRows({static_cast<hsize_t>(count)}, size, storage);
+  if (chunk > 0 && count > chunk && !storage.collective && H5Tequal(memType, fileType) > 0) {
+    writeFilteredChunks(set.get(), data, count, size, static_cast<std::size_t>(chunk),
+                        storage.deflateLevel, name);
   } else if (count > 0) {
     check(H5Dwrite(set.get(), memType, H5S_ALL, H5S_ALL, H5P_DEFAULT, data),
           "write dataset '" + name + "'");
