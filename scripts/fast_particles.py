@@ -17,6 +17,7 @@ import argparse
 import glob
 import os
 import re
+import sys
 
 import h5py
 import numpy as np
@@ -31,7 +32,13 @@ def frames(f):
 
 def cache_frames(path):
     """Per frame: time, step, positions, velocities, ids, densities; and the boundary particles."""
-    with h5py.File(path, "r") as f:
+    try:
+        f = h5py.File(path, "r")
+    except OSError as e:
+        fail(f"{path}: not a readable HDF5 cache ({e})")
+    with f:
+        if "Boundary" not in f:
+            fail(f"{path}: no 'Boundary' group: not a sphsplat cache")
         b = f["Boundary"]
         boundary = np.stack([b["x"][:], b["y"][:], b["z"][:]], axis=1)
         for g in frames(f):
@@ -41,6 +48,12 @@ def cache_frames(path):
                    boundary)
 
 
+def fail(message):
+    """Bad input: one line, exit 2."""
+    print(f"fast_particles.py: {message}", file=sys.stderr)
+    sys.exit(2)
+
+
 def vtk_array(data, header, width, kind):
     """The array after `header` (a regular expression naming its count) in a legacy binary VTK
     file: big-endian, `width` values a point."""
@@ -48,6 +61,8 @@ def vtk_array(data, header, width, kind):
     if not m:
         return None
     n = int(m.group(1))
+    if len(data) < m.end() + width * n * 4:
+        return None  # cut short
     return np.frombuffer(data, dtype=">" + kind, count=width * n, offset=m.end()).reshape(n, width)
 
 
@@ -58,15 +73,16 @@ def peer_frames(directory, fps):
         return int(re.findall(r"_(\d+)\.vtk$", path)[0])
     paths = sorted(glob.glob(os.path.join(directory, "ParticleData_Fluid_*.vtk")), key=number)
     if not paths:
-        raise SystemExit(f"{directory}: no ParticleData_Fluid_*.vtk files")
+        fail(f"{directory}: no ParticleData_Fluid_*.vtk files")
     for path in paths:
         data = open(path, "rb").read()
         x = vtk_array(data, rb"POINTS (\d+) float\n", 3, "f4")
         v = vtk_array(data, rb"velocity 3 (\d+) float\n", 3, "f4")
         if x is None or v is None:
-            raise SystemExit(f"{path}: expected POINTS and a 'velocity' field (particleAttributes)")
+            fail(f"{path}: expected whole POINTS and 'velocity' arrays (particleAttributes)")
         m = re.search(rb"SCALARS id unsigned_int 1\nLOOKUP_TABLE \w+\n", data)
-        ids = (np.frombuffer(data, dtype=">u4", count=len(x), offset=m.end()) if m
+        whole = m and len(data) >= m.end() + 4 * len(x)
+        ids = (np.frombuffer(data, dtype=">u4", count=len(x), offset=m.end()) if whole
                else np.arange(len(x)))  # without "id" in particleAttributes: the file's order
         yield (number(path) - 1) / fps, None, x.astype(float), v.astype(float), ids, None, None
 
