@@ -312,6 +312,21 @@ TEST(SceneLoader, DensityRelaxationAndWarmStartAreSharesForDfsphOnly) {
             "bad.json: solver.density_relaxation: only used with \"pressure\": \"dfsph\"");
 }
 
+TEST(SceneLoader, DensityMomentumAfterIsAnIterationCountForDfsphOnly) {
+  const auto dfsph = [](const std::string& edit) {
+    return io::scene::parseScene(kMinimal, "s.json", {"solver.pressure=dfsph", edit}).solver;
+  };
+  EXPECT_EQ(io::scene::parseScene(kMinimal, "s.json").solver.densityMomentumAfter, 4);
+  EXPECT_EQ(dfsph("solver.density_momentum_after=0").densityMomentumAfter, 0);
+  EXPECT_EQ(dfsph("solver.density_momentum_after=100").densityMomentumAfter, 100);
+  EXPECT_EQ(errorOf(kMinimal, {"solver.pressure=dfsph", "solver.density_momentum_after=2.5"}),
+            "bad.json: solver.density_momentum_after: expected an integer in [0, 10000], got 2.5");
+  EXPECT_EQ(errorOf(kMinimal, {"solver.pressure=dfsph", "solver.density_momentum_after=-1"}),
+            "bad.json: solver.density_momentum_after: expected an integer in [0, 10000], got -1");
+  EXPECT_EQ(errorOf(kMinimal, {"solver.density_momentum_after=8"}),
+            "bad.json: solver.density_momentum_after: only used with \"pressure\": \"dfsph\"");
+}
+
 TEST(SceneLoader, NumbersHaveSaneRangesAndReadableMessages) {
   auto set = [](const std::string& edit) { return errorOf(kMinimal, {edit}); };
   EXPECT_EQ(set("output.fps=1e308"),

@@ -70,7 +70,7 @@ sph::scene::SolverParams readSolver(JsonReader r, Quality quality) {
   const bool dfsph = s.pressure == sph::scene::PressureSolver::Dfsph;
   for (const char* key : {"max_density_error", "max_divergence_error", "min_density_iterations",
                           "max_density_iterations", "max_divergence_iterations",
-                          "density_relaxation", "density_warm_start"}) {
+                          "density_relaxation", "density_warm_start", "density_momentum_after"}) {
     if (!dfsph && r.has(key)) r.fail(key, "only used with \"pressure\": \"dfsph\"");
   }
   if (dfsph) {
@@ -99,6 +99,9 @@ sph::scene::SolverParams readSolver(JsonReader r, Quality quality) {
   s.densityWarmStart =
       static_cast<float>(r.number("density_warm_start", s.densityWarmStart, "a number in [0, 1)",
                                   [](double v) { return v >= 0 && v < 1; }));
+  s.densityMomentumAfter = static_cast<int>(
+      r.number("density_momentum_after", s.densityMomentumAfter, "an integer in [0, 10000]",
+               [](double v) { return integerIn(v, 0, 10000); }));
   s.wallPressure = r.choice("wall_pressure", std::optional(s.wallPressure));
   if (dfsph && s.wallPressure == sph::scene::WallPressure::Summation)
     r.fail("wall_pressure", "expected \"extrapolated\" or \"none\" with \"pressure\": \"dfsph\"");

@@ -133,6 +133,10 @@ struct SolverParams {
   // quiets a still tank but runs a fine dam break's front ahead).
   float densityRelaxation = 1.0f;
   float densityWarmStart = 0.5f;
+  // The constant-density solver's iterations of the papers' Jacobi before it turns to a relaxed
+  // Jacobi with momentum (sim/solver/Dfsph.cpp, solveDensity()); at max_density_iterations or
+  // more, the papers' solve throughout.
+  int densityMomentumAfter = 4;
   int maxDensityIterations = 100;   // caps: a step that hits one goes on with the error it has
   int maxDivergenceIterations = 100;
   WallPressure wallPressure = WallPressure::Extrapolated;

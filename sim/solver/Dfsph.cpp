@@ -24,7 +24,8 @@
 // s*_i - 1 is at most max_density_error. Both are Jacobi iterations (every k from the same
 // velocities, then every velocity from the same k's) warm-started with a share of the last
 // step's sums (jacobiSolve() says why a share); the constant-density solver applies a share of
-// each increment (solver.density_relaxation, solveDensity() says why).
+// each increment (solver.density_relaxation), and past its first iterations turns to a relaxed
+// Jacobi with momentum whose increments may take back the step's own (solveDensity() says why).
 //
 // The neighbours do not move within a step, so computeDfsphDensityAndFactor() (DfsphPairs.cpp)
 // stores every fluid pair with its V_j gradW_ij once (StepScratch::pairRows), and each Jacobi
@@ -166,8 +167,9 @@ void changeWalls(StepContext& c, std::vector<float>& warm, bool hydrostatic) {
 
 // A Jacobi solve: warm start from `warm` (which then collects this step's sum), then iterations
 // of source and velocity passes until `error()` (a fraction) is at most `tolerance` after at
-// least `minIterations`, or `maxIterations`. The warm start is `warmShare` of the last sum.
-// `rate(i, rate)` sets source[i] and stiffness[i]. Returns the iterations and the error reached.
+// least `minIterations`, or `maxIterations`. The warm start is `warmShare` of the last sum, and
+// stays in scratch.solveStart. `rate(i, rate, iteration)` sets source[i] and stiffness[i] (which
+// holds the last iteration's until then). Returns the iterations and the error reached.
 template <class Rate>
 std::pair<int, double> jacobiSolve(StepContext& c, std::vector<float>& warm, float warmShare,
                                    double tolerance, int minIterations, int maxIterations,
@@ -192,12 +194,13 @@ std::pair<int, double> jacobiSolve(StepContext& c, std::vector<float>& warm, flo
   } else {
     std::fill(warm.begin(), warm.end(), 0.0f);
   }
+  s.solveStart.assign(warm.begin(), warm.end());
   int iterations = 0;
   double error = 0;
   while (true) {
     // The ghosts' velocities as their owners have them now (distributed runs).
     if (c.halo) c.halo->refreshGhosts({&c.fluid.vx, &c.fluid.vy, &c.fluid.vz});
-    sourcePass(c, rate);
+    sourcePass(c, [&](std::uint32_t i, float r) { rate(i, r, iterations); });
     error = meanOverFluid(c, s.source);
     if ((error <= tolerance && iterations >= minIterations) || iterations >= maxIterations) break;
     changeWalls(c, warm, hydrostatic);
@@ -217,7 +220,7 @@ void solveDivergence(StepContext& c) {
   const float invDt = 1.0f / c.dt, dt = c.dt;
   const auto [iterations, error] =
       jacobiSolve(c, c.warmStart.divergence, 0.5f, c.solver.maxDivergenceError * 0.01, 1,
-                  c.solver.maxDivergenceIterations, false, [&](std::uint32_t i, float rate) {
+                  c.solver.maxDivergenceIterations, false, [&](std::uint32_t i, float rate, int) {
                     const float r = std::max(rate, 0.0f);
                     s.source[i] = dt * r;
                     s.stiffness[i] = s.factor[i] * r * invDt;
@@ -230,27 +233,52 @@ void solveDivergence(StepContext& c) {
 // Constant-density solver on the velocities after the non-pressure forces (2017, Algorithm 3);
 // the pressure acceleration is added to a, and for output p_i, the pressure that gives the same
 // force in the WCSPH formula as both solvers' stiffness of this step.
+//
+// Its first density_momentum_after iterations are the papers' (at density_relaxation 1, bit for
+// bit): each increment alpha_i max(e_i, 0) / dt^2, never negative, so an increment that
+// overshoots stays. A flow that moves is held within 2-4 of them. Water at rest is not: the warm
+// start leaves part of the column's weight to rebuild, the overshoot of a long solve throws the
+// column up, the next step finds nothing compressed and holds only its warm start, and a still
+// tank heaves (the whole fluid falling and thrown back at cm/s). So a step that needs more
+// iterations goes on with increments of either sign, which may take back what this step's
+// iterations added but not the warm start. At the full share those diverge (Jacobi's iteration
+// on this system has modes past -1: the tests' still tank blew up at its second step), at half
+// the share they converge but slowly (66 iterations a step), and a momentum of the last
+// increment wins that back: a second-order Richardson iteration (Frankel 1950),
+//   k_i = 0.7 alpha_i e_i / dt^2 + 0.5 k_i(last iteration),   sum of this step's k_i >= 0.
+// The tests' still tank over 3-10 s then has no heave and takes 25.6 iterations a step against
+// the papers' 31.6 (heave in 96 of 2437 steps), and none either with steps bound to 2 ms (the
+// papers': 850 of 3500). Shares 0.5 and 0.8 took 19 iterations at gravity's step but let the
+// 2 ms tank heave (docs/notes/2026-11-30-dfsph-momentum.md). The mean error that stops the solve
+// is the papers' in every iteration, over compressed particles only.
 void solveDensity(StepContext& c) {
   Particles& f = c.fluid;
   StepScratch& s = c.scratch;
   const float rho0 = c.solver.restDensity;
-  // Each increment is the relaxation's share of the particle's full correction (at 1, the
-  // papers' solve, bit for bit). With all of it the increments overshoot: a step's long solve
-  // throws the fluid up, the next finds nothing compressed and stops at its least iterations
-  // holding only the warm start, and a still tank heaves (the whole fluid falling and thrown
-  // back at cm/s). Half of it damps the overshoot, as IISPH's relaxed Jacobi does, for more
-  // iterations, which starting from more of the last step's sum (density_warm_start) gives back
-  // in a still tank; what each costs a dam break: docs/scene-format.md.
-  const float invRho0 = 1.0f / rho0, dt = c.dt,
-              relaxedInvDt2 = c.solver.densityRelaxation / (c.dt * c.dt);
-  const auto [iterations, error] =
-      jacobiSolve(c, c.warmStart.density, c.solver.densityWarmStart,
-                  c.solver.maxDensityError * 0.01, c.solver.minDensityIterations,
-                  c.solver.maxDensityIterations, true, [&](std::uint32_t i, float rate) {
-                    const float e = std::max(f.rho[i] * invRho0 + dt * rate - 1.0f, 0.0f);
-                    s.source[i] = e;
-                    s.stiffness[i] = s.factor[i] * e * relaxedInvDt2;
-                  });
+  constexpr float kMomentumShare = 0.7f, kMomentum = 0.5f;
+  const int plainIterations = c.solver.densityMomentumAfter;
+  // Each plain increment is the relaxation's share of the particle's full correction (at 1, the
+  // papers'). Half of it also damps the overshoot, as IISPH's relaxed Jacobi does, for more
+  // iterations; what it costs a dam break: docs/scene-format.md.
+  const float invRho0 = 1.0f / rho0, dt = c.dt, invDt2 = 1.0f / (c.dt * c.dt),
+              relaxedInvDt2 = c.solver.densityRelaxation * invDt2,
+              momentumInvDt2 = kMomentumShare * invDt2;
+  const std::vector<float>& sum = c.warmStart.density;
+  const auto [iterations, error] = jacobiSolve(
+      c, c.warmStart.density, c.solver.densityWarmStart, c.solver.maxDensityError * 0.01,
+      c.solver.minDensityIterations, c.solver.maxDensityIterations, true,
+      [&](std::uint32_t i, float rate, int iteration) {
+        const float e = f.rho[i] * invRho0 + dt * rate - 1.0f;
+        const float compression = std::max(e, 0.0f);
+        s.source[i] = compression;
+        if (iteration < plainIterations) {
+          s.stiffness[i] = s.factor[i] * compression * relaxedInvDt2;
+          return;
+        }
+        const float momentum = iteration > plainIterations ? kMomentum * s.stiffness[i] : 0.0f;
+        const float added = sum[i] - s.solveStart[i];  // this step's iterations so far
+        s.stiffness[i] = std::max(s.factor[i] * e * momentumInvDt2 + momentum, -added);
+      });
   c.solveStats.densityIterations = iterations;
   c.solveStats.densityError = static_cast<float>(100 * error);
   c.solveStats.totalDensityIterations += static_cast<std::uint64_t>(iterations);

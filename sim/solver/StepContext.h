@@ -48,6 +48,7 @@ struct StepScratch {
   // running solve and the stiffness of its last iteration (m^2/s^2).
   std::vector<float> gradientSumX, gradientSumY, gradientSumZ;
   std::vector<float> factor, source, stiffness;
+  std::vector<float> solveStart;  // each particle's warm start of the running solve (m^2/s^2)
   // sum over boundary neighbours of h - r (m): the no-slip wall drag of computeDfsphViscosity().
   std::vector<float> wallWeight;
   // DFSPH's fluid pairs, found once a step by computeDfsphDensityAndFactor() and read by every
