@@ -131,8 +131,8 @@ TEST(Dfsph, TheStillTankHoldsItsHeightAndStaysStillToTenSeconds) {
 }
 
 // The still scenes' setting (docs/scene-format.md): half of each increment from 0.8 of the last
-// sum. It holds the settled tank as still as the default, or stiller in this tank
-// (docs/notes/2026-11-30-dfsph-momentum.md; in a wider one it sloshes).
+// sum. It holds the settled tank about as still as the default does, in half its density
+// iterations (docs/notes/2026-11-30-dfsph-momentum.md).
 TEST(Dfsph, TheRelaxedSolveKeepsTheSettledStillTankFromHeaving) {
   const scene::Scene scene = test::shippedScene(
       "still_tank",
