@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Where a DFSPH run's fastest particles are, frame by frame (issue 15, the step count).
+"""Where a DFSPH run's fastest particles are, frame by frame (what sets the step count).
 
 The CFL step of "dfsph" follows the largest speed of the fluid; this reads a cache (written with a
 high output.fps to see between steps) and prints per frame the speed percentiles, and for the

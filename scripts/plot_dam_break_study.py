@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The dam-break front study of issue 15 (docs/benchmarks.md, "The dam-break front: convergence,
+"""The dam-break front study (docs/benchmarks.md, "The dam-break front: convergence,
 gate, walls and viscosity"): reads the output folders of the sweeps
 bench/sweeps/dam_break_{convergence,walls_viscosity,gate}.json (each NAME.csv and the
 variant-N-front.csv series the surge_front metric's `series` option writes) and writes
