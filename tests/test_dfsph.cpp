@@ -35,18 +35,36 @@ double compressionRateAt(const Particles& p, std::size_t i, const solver::Derive
   return sum;
 }
 
+// The tests' still tank: scenes/still_tank.json narrowed to 0.12 m square (0.3 m of water,
+// 4,320 particles), with `more` edits.
+scene::Scene narrowStillTank(std::vector<std::string> more) {
+  more.insert(more.begin(), {"fluids[0].max=[0.12,0.3,0.12]", "boundaries[0].max=[0.12,0.4,0.12]"});
+  return test::shippedScene("still_tank", more);
+}
+
+// The same tank under DFSPH, read by the floor sensor from `settle` to `end` (s), its readings
+// printed under `name`.
+test::StillTankFloor readDfsphStillTank(const std::vector<std::string>& more, double settle,
+                                        double end, const char* name) {
+  std::vector<std::string> set = {"solver.pressure=dfsph"};
+  set.insert(set.end(), more.begin(), more.end());
+  const scene::Scene scene = narrowStillTank(set);
+  run::Simulation sim(scene);
+  sim.advanceTo(settle);
+  test::StillTankFloor floor(0.12, scene.solver.spacing);
+  floor.advanceTo(sim, end);
+  floor.print(name, scene.solver.restDensity * 9.81 * 0.3, true);
+  return floor;
+}
+
 TEST(Dfsph, StillTankHoldsDensityAtALargeStep) {
-  const std::vector<std::string> narrow = {"fluids[0].max=[0.12,0.3,0.12]",
-                                           "boundaries[0].max=[0.12,0.4,0.12]"};
-  std::vector<std::string> dfsph = narrow;
-  dfsph.push_back("solver.pressure=dfsph");
-  const scene::Scene scene = test::shippedScene("still_tank", dfsph);
+  const scene::Scene scene = narrowStillTank({"solver.pressure=dfsph"});
   run::Simulation sim(scene);
   const std::size_t count = sim.fluid().size();
   const double dx = scene.solver.spacing, rho0 = scene.solver.restDensity, g = 9.81;
   const double surface = count * dx * dx * dx / (0.12 * 0.12);
   // WCSPH's step for the same tank at rest: the largest it ever takes.
-  const scene::Scene wcsph = test::shippedScene("still_tank", narrow);
+  const scene::Scene wcsph = narrowStillTank({});
   const float wcsphStep = solver::timeStep(wcsph, solver::deriveParams(wcsph), 0, 0);
 
   // Settle: the initial lattice is unloaded and falls into place; until ~0.6 s the walls still
@@ -117,14 +135,7 @@ TEST(Dfsph, StillTankHoldsDensityAtALargeStep) {
 // (density_momentum_after=100) heaves in 449 of these 1741 steps at up to 50 cm/s on the native
 // build and in 109 at 5.6 cm/s on x86-64-v2 (docs/notes/2026-11-30-dfsph-momentum.md).
 TEST(Dfsph, TheStillTankHoldsItsHeightAndStaysStillToTenSeconds) {
-  const scene::Scene scene = test::shippedScene(
-      "still_tank", {"fluids[0].max=[0.12,0.3,0.12]", "boundaries[0].max=[0.12,0.4,0.12]",
-                     "solver.pressure=dfsph"});
-  run::Simulation sim(scene);
-  sim.advanceTo(5.0);
-  test::StillTankFloor floor(0.12, scene.solver.spacing);
-  floor.advanceTo(sim, 10.0);
-  floor.print("dfsph, 5-10 s", scene.solver.restDensity * 9.81 * 0.3, true);
+  const test::StillTankFloor floor = readDfsphStillTank({}, 5.0, 10.0, "dfsph, 5-10 s");
   EXPECT_EQ(floor.heaveSteps(), 0);
   EXPECT_LT(floor.maxSpeed(), 0.02);
   EXPECT_NEAR(floor.lastTopHeight(), floor.firstTopHeight(), 0.001);
@@ -134,17 +145,12 @@ TEST(Dfsph, TheStillTankHoldsItsHeightAndStaysStillToTenSeconds) {
 // sum. It holds the settled tank about as still as the default does, in half its density
 // iterations (docs/notes/2026-11-30-dfsph-momentum.md).
 TEST(Dfsph, TheRelaxedSolveKeepsTheSettledStillTankFromHeaving) {
-  const scene::Scene scene = test::shippedScene(
-      "still_tank",
-      {"fluids[0].max=[0.12,0.3,0.12]", "boundaries[0].max=[0.12,0.4,0.12]",
-       "solver.pressure=dfsph", "solver.density_relaxation=0.5", "solver.density_warm_start=0.8"});
+  const std::vector<std::string> relaxed = {"solver.density_relaxation=0.5",
+                                            "solver.density_warm_start=0.8"};
+  const scene::Scene scene = narrowStillTank({"solver.pressure=dfsph", relaxed[0], relaxed[1]});
   ASSERT_EQ(scene.solver.densityRelaxation, 0.5f);
   ASSERT_EQ(scene.solver.densityWarmStart, 0.8f);
-  run::Simulation sim(scene);
-  sim.advanceTo(0.6);
-  test::StillTankFloor floor(0.12, scene.solver.spacing);
-  floor.advanceTo(sim, 1.8);
-  floor.print("dfsph, relaxed", scene.solver.restDensity * 9.81 * 0.3, true);
+  const test::StillTankFloor floor = readDfsphStillTank(relaxed, 0.6, 1.8, "dfsph, relaxed");
   // Measured: no step over 5 mm/s, the largest mean 0.8 mm/s. At rest the mean is 0.
   EXPECT_EQ(floor.heaveSteps(), 0);
   EXPECT_LT(floor.largestHeave(), 0.002);
