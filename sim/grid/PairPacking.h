@@ -1,11 +1,11 @@
-// Packing a particle's boundary candidates into its row of wall pairs (the DFSPH factor pass,
-// sim/solver/DfsphPairs.cpp; its fluid pairs are selected before the kernel instead,
+// Packing a particle's boundary candidates before they become its wall pairs (the DFSPH factor
+// pass, sim/solver/DfsphPairs.cpp; its fluid pairs are selected before the kernel instead,
 // SupportSelection.h): the candidates inside the support (h - r > 0: not the padding) are copied
-// from the batch `t` (fields x, y, z of V gradW, then h - r) with their index bits to the row's
-// arrays, in their order, and the count returned.
+// from the batch `t` (fields x, y, z of V gradW, then h - r) with their index bits to the arrays
+// of `to`, in their order, and the count returned.
 //
-// `padded` candidates (a multiple of kBatchLanes, the batch's arrays cache-line aligned); the row
-// has room for `padded` values. Data movement only, so both versions store the same pairs
+// `padded` candidates (a multiple of kBatchLanes, the batch's arrays cache-line aligned); the
+// arrays have room for `padded` values. Data movement only, so both versions store the same pairs
 // (tests/test_pair_packing.cpp holds them to it on this machine whichever one the build picks):
 // with AVX-512 each 8 lanes are compressed in a register and stored whole (the lanes past the
 // count are overwritten by the next particle's pairs), which took this loop from 42% to ~10% of

@@ -6,9 +6,12 @@
 // break at 1M particles that held 2.5x what MemoryEstimate counted
 // (docs/notes/2026-11-26-dfsph-peer-dam-break.md, "Pairs that follow the need").
 //
+// A pair is one 16-byte record, its index and V gradW, so a pass over the pairs streams one array
+// and takes each pair with one load (sim/solver/DfsphPairs.h); its h - r, which only the
+// viscosity reads, lies in an array of its own.
+//
 // Every row starts on a cache line of its chunk, so a particle's pairs have the same offset from
-// one whatever the thread count or the chunk a row falls in (the passes over them no longer need
-// it for their bits, being scalar loops: sim/solver/DfsphPairs.h).
+// one whatever the thread count or the chunk a row falls in.
 #pragma once
 
 #include <algorithm>
@@ -22,6 +25,13 @@
 
 namespace sph::grid {
 
+// One stored pair: the neighbour's index and V gradW (1/m). Lane 0 of the record read as four
+// floats is the index's bits, lanes 1-3 the gradient.
+struct alignas(16) PairRecord {
+  std::uint32_t index;
+  float gx, gy, gz;
+};
+
 class PairStore {
  public:
   // Pairs a chunk holds (20 bytes each: 2.6 MB); a row that needs more gets a chunk twice its
@@ -30,8 +40,8 @@ class PairStore {
 
   // One row's pairs: `used` of them from each pointer.
   struct Row {
-    std::uint32_t* index = nullptr;
-    float *gx = nullptr, *gy = nullptr, *gz = nullptr, *hr = nullptr;
+    PairRecord* pair = nullptr;
+    float* hr = nullptr;
     std::size_t used = 0;
   };
 
@@ -55,8 +65,7 @@ class PairStore {
     if (p.start + p.used + n > p.chunk->capacity) moveRow(a, p, p.used + n);
     const std::size_t at = p.start + p.used;
     Chunk& c = *p.chunk;
-    return {c.index.get() + at, c.gx.get() + at, c.gy.get() + at,
-            c.gz.get() + at,    c.hr.get() + at, 0};
+    return {c.pair.get() + at, c.hr.get() + at, 0};
   }
   // The row holds `count` more pairs (written at what room() returned).
   void add(std::size_t row, int thread, std::size_t count) {
@@ -76,8 +85,7 @@ class PairStore {
     const Placed& p = rows_[r];
     if (!p.chunk) return {};
     const Chunk& c = *p.chunk;
-    return {c.index.get() + p.start, c.gx.get() + p.start, c.gy.get() + p.start,
-            c.gz.get() + p.start,    c.hr.get() + p.start, p.used};
+    return {c.pair.get() + p.start, c.hr.get() + p.start, p.used};
   }
   // Pairs stored by the last pass, and the bytes the store holds now.
   std::size_t pairs() const {
@@ -92,10 +100,11 @@ class PairStore {
     }
     return n;
   }
-  static constexpr std::size_t kBytesPerPair = sizeof(std::uint32_t) + 4 * sizeof(float);
+  static constexpr std::size_t kBytesPerPair = sizeof(PairRecord) + sizeof(float);
 
  private:
-  static constexpr std::size_t kLine = 64 / sizeof(float);  // values a cache line holds
+  // Rows start on a multiple of this many pairs: a cache line of h - r, four of records.
+  static constexpr std::size_t kLine = 64 / sizeof(float);
 
   struct FreeDelete {
     void operator()(void* p) const { std::free(p); }
@@ -108,15 +117,10 @@ class PairStore {
   }
   struct Chunk {
     explicit Chunk(std::size_t n)
-        : capacity(n),
-          index(lineAligned<std::uint32_t>(n)),
-          gx(lineAligned<float>(n)),
-          gy(lineAligned<float>(n)),
-          gz(lineAligned<float>(n)),
-          hr(lineAligned<float>(n)) {}
+        : capacity(n), pair(lineAligned<PairRecord>(n)), hr(lineAligned<float>(n)) {}
     std::size_t capacity;
-    std::unique_ptr<std::uint32_t[], FreeDelete> index;
-    std::unique_ptr<float[], FreeDelete> gx, gy, gz, hr;
+    std::unique_ptr<PairRecord[], FreeDelete> pair;
+    std::unique_ptr<float[], FreeDelete> hr;
   };
   // One thread's chunks; it fills chunks[current] up to fill. On a cache line of its own: every
   // particle's pairs move `fill`, and neighbouring threads' arenas would share a line.
@@ -142,10 +146,7 @@ class PairStore {
     Chunk& to = *a.chunks[a.current];
     const Chunk& from = *p.chunk;
     const std::size_t s = p.start, u = p.used;
-    std::memcpy(to.index.get(), from.index.get() + s, u * sizeof(std::uint32_t));
-    std::memcpy(to.gx.get(), from.gx.get() + s, u * sizeof(float));
-    std::memcpy(to.gy.get(), from.gy.get() + s, u * sizeof(float));
-    std::memcpy(to.gz.get(), from.gz.get() + s, u * sizeof(float));
+    std::memcpy(to.pair.get(), from.pair.get() + s, u * sizeof(PairRecord));
     std::memcpy(to.hr.get(), from.hr.get() + s, u * sizeof(float));
     p.chunk = &to, p.start = 0;
   }

@@ -24,7 +24,8 @@ namespace {
 constexpr double kBytesPerFluidParticle = 80;
 constexpr double kBytesPerBoundaryParticle = 58;
 // DFSPH's on top (sim/solver/Dfsph.cpp, solver.pressure "dfsph"): 9 per-particle arrays (G, alpha,
-// source, stiffness, the two warm starts, the wall weight, the pair count, 1/rho), and every fluid
+// source, stiffness, the two warm starts, the wall weight, the pair count, 1/rho) and the packed
+// velocity (16 bytes), and every fluid
 // pair of the step stored with its V gradW and h - r (PairStore::kBytesPerPair, 20 bytes): the
 // neighbours of a particle inside the rest lattice (26 at support 2 spacings) times a margin for
 // compression and the unused ends of the store's chunks, plus two chunks a thread (the one it
@@ -34,7 +35,7 @@ constexpr double kBytesPerBoundaryParticle = 58;
 // (1.6e4 and 5.9e4 fluid particles, 37 and 75 MB; 1.05x and 1.00x), 2026-11-26, 2 threads. Before
 // the store followed the step's need (a vector a row, kept at twice the most it ever held) those
 // two impact runs peaked at 73 and 106 MB, 2.0x and 1.4x.
-constexpr double kDfsphBytesPerParticleArrays = 36;
+constexpr double kDfsphBytesPerParticleArrays = 52;
 constexpr double kDfsphPairMargin = 1.15;
 
 // Lattice points within the support of one (0 < r < h, in spacings): a particle's fluid pairs.

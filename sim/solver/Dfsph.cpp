@@ -46,6 +46,7 @@
 // its particles and ghosts (Halo::attach), and every decision (the warm start, when to stop) is
 // taken from global sums, exact, so every rank iterates as the single process does.
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "sim/solver/DfsphPairs.h"
@@ -98,17 +99,11 @@ template <class Source>
 void sourcePass(StepContext& c, Source&& source) {
   Particles& f = c.fluid;
   const StepScratch& s = c.scratch;
-  const float* vx = f.vx.data();
-  const float* vy = f.vy.data();
-  const float* vz = f.vz.data();
+  const Float4* v = packVelocities(c);
   forEachParticlePairs(c, [&](std::uint32_t i, const PairSpan& p) {
-    float sum = 0;
-    for (std::uint32_t q = 0; q < p.count; ++q) {
-      const std::uint32_t j = p.index[q];
-      sum += vx[j] * p.gx[q] + vy[j] * p.gy[q] + vz[j] * p.gz[q];
-    }
-    const float rate =
-        vx[i] * s.gradientSumX[i] + vy[i] * s.gradientSumY[i] + vz[i] * s.gradientSumZ[i] - sum;
+    const Float4 sum = weightedPairSum(p, [v](std::uint32_t j) { return v[j]; });
+    const float rate = f.vx[i] * s.gradientSumX[i] + f.vy[i] * s.gradientSumY[i] +
+                       f.vz[i] * s.gradientSumZ[i] - (sum[1] + sum[2] + sum[3]);
     source(i, rate);
   });
 }
@@ -122,38 +117,26 @@ void velocityPass(StepContext& c, std::vector<float>& warm, bool acceleration) {
   const StepScratch& s = c.scratch;
   const float* k = s.stiffness.data();
   const float dt = c.dt;
-  auto apply = [&](std::uint32_t i, float ax, float ay, float az) {
+  auto apply = [&](std::uint32_t i, Float4 a) {  // a: sum_j V_j k_j gradW_ij in lanes 1-3
     const float ki = k[i];
-    const float px = -(ki * s.gradientSumX[i] + ax);
-    const float py = -(ki * s.gradientSumY[i] + ay);
-    const float pz = -(ki * s.gradientSumZ[i] + az);
+    const float px = -(ki * s.gradientSumX[i] + a[1]);
+    const float py = -(ki * s.gradientSumY[i] + a[2]);
+    const float pz = -(ki * s.gradientSumZ[i] + a[3]);
     f.vx[i] += dt * px, f.vy[i] += dt * py, f.vz[i] += dt * pz;
     if (acceleration) f.ax[i] += px, f.ay[i] += py, f.az[i] += pz;
     warm[i] += ki;
   };
-  auto fluidSum = [&](const PairSpan& p, float& ax, float& ay, float& az) {
-    for (std::uint32_t q = 0; q < p.count; ++q) {
-      const float kj = k[p.index[q]];
-      ax += kj * p.gx[q], ay += kj * p.gy[q], az += kj * p.gz[q];
-    }
-  };
+  auto fluidStiffness = [k](std::uint32_t j) { return k[j]; };
   if (!wallsHoldPressure(c)) {
     forEachParticlePairs(c, [&](std::uint32_t i, const PairSpan& p) {
-      float ax = 0, ay = 0, az = 0;
-      fluidSum(p, ax, ay, az);
-      apply(i, ax, ay, az);
+      apply(i, weightedPairSum(p, fluidStiffness));
     });
     return;
   }
   const float* kb = c.walls.change.data();
   forEachParticlePairsAndWalls(c, [&](std::uint32_t i, const PairSpan& p, const PairSpan& w) {
-    float ax = 0, ay = 0, az = 0;
-    fluidSum(p, ax, ay, az);
-    for (std::uint32_t q = 0; q < w.count; ++q) {
-      const float kw = kb[w.index[q]];
-      ax += kw * w.gx[q], ay += kw * w.gy[q], az += kw * w.gz[q];
-    }
-    apply(i, ax, ay, az);
+    apply(i, weightedPairSum(p, fluidStiffness) +
+                 weightedPairSum(w, [kb](std::uint32_t b) { return kb[b]; }));
   });
 }
 

@@ -46,22 +46,22 @@ float latticeDenominator(const StepContext& c) {
 }
 
 // A particle's sums over its candidates inside the support (`in`, grid/SupportSelection.h; the
-// padding lanes add 0), and each one's V gradW and h - r into `out` (fields x, y, z, h - r). A
-// plain function with unaliased pointers: as a loop inside the pass's lambda, GCC 12 left it
-// scalar.
+// padding lanes add 0), and each one's record (index bits and V gradW) and h - r into the row `to`,
+// which must have room for in.padded pairs. A plain function with unaliased pointers: as a loop
+// inside the pass's lambda, GCC 12 left it scalar.
 struct FluidSums {
   float gx, gy, gz, squares, cubes, moment;
 };
 FluidSums fluidPairs(const grid::SupportSelection& in, SpikyPairShape spiky, float g,
-                     grid::CandidateBatch<4>& out) {
+                     const grid::PairStore::Row& to) {
   const float* __restrict ox = in.field[0].data();
   const float* __restrict oy = in.field[1].data();
   const float* __restrict oz = in.field[2].data();
   const float* __restrict d2 = in.field[3].data();
-  float* __restrict tx = out.field[0].data();
-  float* __restrict ty = out.field[1].data();
-  float* __restrict tz = out.field[2].data();
-  float* __restrict th = out.field[3].data();
+  const float* __restrict bits = in.field[4].data();
+  static_assert(sizeof(grid::PairRecord) == 4 * sizeof(float));
+  float* __restrict record = reinterpret_cast<float*>(to.pair);
+  float* __restrict th = to.hr;
   float gx = 0, gy = 0, gz = 0, squares = 0, cubes = 0, moment = 0;
 #pragma omp simd reduction(+ : gx, gy, gz, squares, cubes, moment)
   for (std::size_t j = 0; j < in.padded; ++j) {
@@ -70,7 +70,9 @@ FluidSums fluidPairs(const grid::SupportSelection& in, SpikyPairShape spiky, flo
     const float hr = spiky.hMinusR(r2, invR);
     const float wj = hr * hr * invR;
     th[j] = hr;
-    tx[j] = g * wj * dx, ty[j] = g * wj * dy, tz[j] = g * wj * dz;
+    record[4 * j] = bits[j];
+    record[4 * j + 1] = g * wj * dx, record[4 * j + 2] = g * wj * dy,
+                   record[4 * j + 3] = g * wj * dz;
     gx += wj * dx, gy += wj * dy, gz += wj * dz;
     squares += wj * wj * r2;
     cubes += hr * hr * hr;
@@ -79,19 +81,36 @@ FluidSums fluidPairs(const grid::SupportSelection& in, SpikyPairShape spiky, flo
   return {gx, gy, gz, squares, cubes, moment};
 }
 
-// The first `count` pairs of fluidPairs() into the row, with their index bits.
-void storePairs(std::size_t count, const grid::SupportSelection& in,
-                const grid::CandidateBatch<4>& pairs, const grid::PairStore::Row& to) {
-  std::memcpy(to.index, in.field[4].data(), count * sizeof(std::uint32_t));
-  std::memcpy(to.gx, pairs.field[0].data(), count * sizeof(float));
-  std::memcpy(to.gy, pairs.field[1].data(), count * sizeof(float));
-  std::memcpy(to.gz, pairs.field[2].data(), count * sizeof(float));
-  std::memcpy(to.hr, pairs.field[3].data(), count * sizeof(float));
-}
+// A particle's wall pairs as packPairs() leaves them, field by field (room for `padded`
+// candidates: it writes whole batches of lanes), and storeRecords(), which makes them the row's
+// records in whole blocks of 8 (no remainder loop): the fields must be readable, and the row have
+// room, up to recordsWritten().
+struct PackedWallPairs {
+  std::vector<std::uint32_t> index;
+  std::vector<float> gx, gy, gz, hr;
+  void resize(std::size_t padded) {
+    if (index.size() >= padded) return;
+    index.resize(padded), gx.resize(padded), gy.resize(padded), gz.resize(padded);
+    hr.resize(padded);
+  }
+  static constexpr std::size_t kBlock = 8;
+  static std::size_t recordsWritten(std::size_t count) {
+    return (count + kBlock - 1) / kBlock * kBlock;
+  }
+  void storeRecords(std::size_t count, const grid::PairStore::Row& to) const {
+    const float* __restrict bits = reinterpret_cast<const float*>(index.data());
+    const float* __restrict x = gx.data(), * __restrict y = gy.data(), * __restrict z = gz.data();
+    const float* __restrict h = hr.data();
+    float* __restrict record = reinterpret_cast<float*>(to.pair);
+    for (std::size_t q0 = 0; q0 < count; q0 += kBlock) {
+      for (std::size_t q = q0; q < q0 + kBlock; ++q) {
+        record[4 * q] = bits[q], record[4 * q + 1] = x[q], record[4 * q + 2] = y[q];
+        record[4 * q + 3] = z[q], to.hr[q] = h[q];
+      }
+    }
+  }
+};
 
-// The same over all the boundary candidates (those outside the support add 0): sum (h - r)^2 / r
-// (x_i - x_b), sum (h - r)^3, sum (h - r) and sum (h - r)^2 r; with kStorePairs, each candidate's
-// V gradW and h - r into `out` as fluidPairs() does (the wall pairs of DfsphWalls.cpp).
 struct BoundarySums {
   float gx, gy, gz, cubes, weight, moment;
 };
@@ -175,11 +194,12 @@ void computeDfsphDensityAndFactor(StepContext& c) {
   // turns their stiffness into a pressure (solveDensity()) as WCSPH's force is scaled.
   const float momentScale = -c.derived.kernels.spikyGradFactor * c.derived.mass /
                             c.solver.restDensity / 3;
-  // Per thread: the candidates inside the support, and their V gradW_ij and h - r before they
-  // are copied into the row; the same for the boundary candidates (0 outside the support), before
-  // those inside are packed into the row of wall pairs.
+  // Per thread: the candidates inside the support (whose records fluidPairs() writes into the
+  // row); the boundary candidates' V gradW_ib and h - r (0 outside the support), and those inside
+  // packed, before they become the row's wall records.
   std::vector<grid::SupportSelection> inside(threadCount());
-  std::vector<grid::CandidateBatch<4>> gradients(threadCount()), wallGradients(threadCount());
+  std::vector<grid::CandidateBatch<4>> wallGradients(threadCount());
+  std::vector<PackedWallPairs> wallPacking(threadCount());
   grid::forEachCellWithCandidates<4, 4>(
       c.grid, {f.x.data(), f.y.data(), f.z.data(), s.indexBits.data()}, c.boundary.grid(),
       {b.x.data(), b.y.data(), b.z.data(), boundaryBits.data()}, h,
@@ -188,8 +208,6 @@ void computeDfsphDensityAndFactor(StepContext& c) {
         const int thread = threadIndex();
         grid::SupportSelection& in = inside[thread];
         in.resize(fb.padded);
-        grid::CandidateBatch<4>& t = gradients[thread];
-        t.resize(fb.padded);
         grid::CandidateBatch<4>& tw = wallGradients[thread];
         if (wallPairs) tw.resize(bb.padded);
         const float* fx = fb.field[0].data();
@@ -201,20 +219,24 @@ void computeDfsphDensityAndFactor(StepContext& c) {
           // The pairs: the candidates inside the support.
           const std::size_t count =
               grid::selectInside(xi, yi, zi, spiky.h2, fb.padded, fx, fy, fz, bits, in);
-          const FluidSums sums = fluidPairs(in, spiky, g, t);
+          const grid::PairStore::Row to = s.pairs.room(row, thread, in.padded);
+          const FluidSums sums = fluidPairs(in, spiky, g, to);
           float gx = sums.gx, gy = sums.gy, gz = sums.gz;
           const float squares = sums.squares, cubes = sums.cubes;
-          const grid::PairStore::Row to = s.pairs.room(row, thread, count);
-          storePairs(count, in, t, to);
           s.pairs.add(row, thread, count);
           s.pairCount[i] = count;
           const BoundarySums wall =
               wallPairs ? boundaryCandidates<true>(xi, yi, zi, bb, spiky, g, tw)
                         : boundaryCandidates<false>(xi, yi, zi, bb, spiky, g, tw);
           if (wallPairs) {
-            const grid::PairStore::Row wto = s.wallPairs.room(row, thread, bb.padded);
-            const std::uint32_t walls = packPairs(bb.padded, bb.field[3].data(), tw,
-                                                  {wto.index, wto.gx, wto.gy, wto.gz, wto.hr});
+            PackedWallPairs& packed = wallPacking[thread];
+            packed.resize(bb.padded);
+            const std::uint32_t walls =
+                packPairs(bb.padded, bb.field[3].data(), tw,
+                          {packed.index.data(), packed.gx.data(), packed.gy.data(),
+                           packed.gz.data(), packed.hr.data()});
+            packed.storeRecords(
+                walls, s.wallPairs.room(row, thread, PackedWallPairs::recordsWritten(walls)));
             s.wallPairs.add(row, thread, walls);
             s.wallPairCount[i] = walls;
           }

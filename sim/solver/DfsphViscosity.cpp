@@ -20,23 +20,19 @@ void computeDfsphViscosity(StepContext& c) {
       c.derived.viscosity * c.solver.restDensity * c.derived.mass * kern.viscLapFactor;
   const Vec3 g = c.solver.gravity;
   const float noSlip = c.solver.noSlipWalls ? 1.0f / c.solver.restDensity : 0.0f;
-  const float* vx = f.vx.data();
-  const float* vy = f.vy.data();
-  const float* vz = f.vz.data();
+  const Float4* v = packVelocities(c);
   const float* invRho = s.inverseDensity.data();
   forEachParticlePairs(c, [&](std::uint32_t i, const PairSpan& p) {
-    const float vxi = vx[i], vyi = vy[i], vzi = vz[i];
-    float ax = 0, ay = 0, az = 0;
+    const Float4 vi = v[i];
+    Float4 a = {0, 0, 0, 0};
     for (std::uint32_t q = 0; q < p.count; ++q) {
-      const std::uint32_t j = p.index[q];
-      const float w = invRho[j] * p.hr[q];
-      ax += w * (vx[j] - vxi), ay += w * (vy[j] - vyi), az += w * (vz[j] - vzi);
+      const std::uint32_t j = p.pair[q].index;
+      a += (invRho[j] * p.hr[q]) * (v[j] - vi);
     }
     // No-slip: the viscosity term with the wall at rest (v_b = 0, rho_b = rho0).
-    const float drag = noSlip * s.wallWeight[i];
-    ax -= drag * vxi, ay -= drag * vyi, az -= drag * vzi;
+    a -= (noSlip * s.wallWeight[i]) * vi;
     const float visc = viscScale * invRho[i];
-    f.ax[i] = visc * ax + g.x(), f.ay[i] = visc * ay + g.y(), f.az[i] = visc * az + g.z();
+    f.ax[i] = visc * a[1] + g.x(), f.ay[i] = visc * a[2] + g.y(), f.az[i] = visc * a[3] + g.z();
   });
 }
 

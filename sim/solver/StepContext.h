@@ -49,6 +49,8 @@ struct StepScratch {
   std::vector<float> gradientSumX, gradientSumY, gradientSumZ;
   std::vector<float> factor, source, stiffness;
   std::vector<float> solveStart;  // each particle's warm start of the running solve (m^2/s^2)
+  // Each particle's velocity as {0, vx, vy, vz} (m/s), packed for DFSPH's source passes.
+  std::vector<std::array<float, 4>> packedVelocity;
   // sum over boundary neighbours of h - r (m): the no-slip wall drag of computeDfsphViscosity().
   std::vector<float> wallWeight;
   // DFSPH's fluid pairs, found once a step by computeDfsphDensityAndFactor() and read by every
