@@ -20,6 +20,11 @@
 #include <utility>
 #include <vector>
 
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+#include <immintrin.h>
+#define SPHSPLAT_APPEND_NEAR_AVX512 1
+#endif
+
 #include "sim/Assert.h"
 #include "sim/grid/NeighbourGrid.h"
 #include "sim/Parallel.h"
@@ -56,6 +61,78 @@ struct CacheLineAllocator {
 constexpr float kFarAway = 1e15f;
 constexpr std::size_t kBatchLanes = 16;  // a multiple of every SIMD width we build for
 
+// The candidates of [begin, end) (fields `src`, x, y, z first) within sqrt(reach2) of the box
+// [lo, hi], copied in their order to `to`, which has room for end - begin + 8 values; returns how
+// many. Data movement and one distance test: both versions keep the same candidates, but for one
+// whose distance rounds to the bound itself (tests/test_append_near.cpp holds them to it on this
+// machine whichever one the build picks).
+//
+// Without a branch: the scalar one copies every candidate and advances past those kept, as a
+// quarter of them mispredicted (docs/notes/2026-11-26-dfsph-peer-dam-break.md, "A cheaper
+// density-and-factor pass"). With AVX-512 each 8 are tested in a register and compressed: the
+// loop had become 9% of the DFSPH step, and DFSPH's factor pass went from 23 to 17 ms a step
+// (docs/notes/2026-11-30-dfsph-step-cost.md, "The candidates compressed").
+template <int N>
+std::size_t appendNearScalar(const std::array<const float*, N>& src, std::uint32_t begin,
+                             std::uint32_t end, const float lo[3], const float hi[3], float reach2,
+                             const std::array<float*, N>& to) {
+  std::size_t at = 0;
+  for (std::uint32_t q = begin; q < end; ++q) {
+    float d2 = 0;
+    for (int a = 0; a < 3; ++a) {
+      const float v = src[a][q];
+      const float d = std::max(std::max(lo[a] - v, v - hi[a]), 0.0f);
+      d2 += d * d;
+    }
+    for (int f = 0; f < N; ++f) to[f][at] = src[f][q];
+    at += d2 >= reach2 ? 0 : 1;  // the same test as a branch would make, NaN included
+  }
+  return at;
+}
+
+#if SPHSPLAT_APPEND_NEAR_AVX512
+template <int N>
+std::size_t appendNearAvx512(const std::array<const float*, N>& src, std::uint32_t begin,
+                             std::uint32_t end, const float lo[3], const float hi[3], float reach2,
+                             const std::array<float*, N>& to) {
+  const __m256 zero = _mm256_setzero_ps(), bound = _mm256_set1_ps(reach2);
+  std::size_t at = 0;
+  for (std::uint32_t q = begin; q < end; q += 8) {
+    const __mmask8 live =
+        end - q >= 8 ? __mmask8{0xFF} : static_cast<__mmask8>((1u << (end - q)) - 1);
+    __m256 value[N];
+    for (int f = 0; f < N; ++f) value[f] = _mm256_maskz_loadu_ps(live, src[f] + q);
+    __m256 d2 = zero;
+    for (int a = 0; a < 3; ++a) {
+      // maxps returns its second operand when either is NaN: a NaN coordinate stays NaN here, as
+      // in the scalar version, and the candidate is kept.
+      const __m256 outside = _mm256_max_ps(_mm256_sub_ps(value[a], _mm256_set1_ps(hi[a])),
+                                           _mm256_sub_ps(_mm256_set1_ps(lo[a]), value[a]));
+      const __m256 d = _mm256_max_ps(zero, outside);
+      d2 = _mm256_add_ps(d2, _mm256_mul_ps(d, d));
+    }
+    // Kept: not d2 >= reach2 (NaN kept, as the scalar test does), among the live lanes.
+    const __mmask8 keep = _mm256_mask_cmp_ps_mask(live, d2, bound, _CMP_NGE_UQ);
+    for (int f = 0; f < N; ++f)
+      _mm256_storeu_ps(to[f] + at, _mm256_maskz_compress_ps(keep, value[f]));
+    at += static_cast<std::size_t>(__builtin_popcount(keep));
+  }
+  return at;
+}
+#endif
+
+// The version the build's CPU flags allow.
+template <int N>
+std::size_t appendNearCandidates(const std::array<const float*, N>& src, std::uint32_t begin,
+                                 std::uint32_t end, const float lo[3], const float hi[3],
+                                 float reach2, const std::array<float*, N>& to) {
+#if SPHSPLAT_APPEND_NEAR_AVX512
+  return appendNearAvx512<N>(src, begin, end, lo, hi, reach2, to);
+#else
+  return appendNearScalar<N>(src, begin, end, lo, hi, reach2, to);
+#endif
+}
+
 template <int N>
 struct CandidateBatch {
   std::array<std::vector<float, CacheLineAllocator<float>>, N> field;  // field[0..2]: x, y, z
@@ -67,27 +144,13 @@ struct CandidateBatch {
   void resize(std::size_t n) { reserve(n); }
   // Appends those of [begin, end) whose position lies within sqrt(reach2) of the box [lo, hi]:
   // the candidates some particle of the cell can actually reach. At support 2 spacings this drops
-  // the far corners of the 27-cell block, about a quarter of it. Without a branch: every
-  // candidate is copied and the count advances past those kept, as a quarter of them mispredicted
-  // (this loop was 28% of DFSPH's density-and-factor pass:
-  // docs/notes/2026-11-26-dfsph-peer-dam-break.md, "A cheaper density-and-factor pass").
+  // the far corners of the 27-cell block, about a quarter of it (appendNearCandidates() below).
   void appendNear(const std::array<const float*, N>& src, std::uint32_t begin, std::uint32_t end,
                   const float lo[3], const float hi[3], float reach2) {
     reserve(count + (end - begin) + kBatchLanes);
     std::array<float*, N> to;
-    for (int f = 0; f < N; ++f) to[f] = field[f].data();
-    std::size_t at = count;
-    for (std::uint32_t q = begin; q < end; ++q) {
-      float d2 = 0;
-      for (int a = 0; a < 3; ++a) {
-        const float v = src[a][q];
-        const float d = std::max(std::max(lo[a] - v, v - hi[a]), 0.0f);
-        d2 += d * d;
-      }
-      for (int f = 0; f < N; ++f) to[f][at] = src[f][q];
-      at += d2 >= reach2 ? 0 : 1;  // the same test as a branch would make, NaN included
-    }
-    count = at;
+    for (int f = 0; f < N; ++f) to[f] = field[f].data() + count;
+    count += appendNearCandidates<N>(src, begin, end, lo, hi, reach2, to);
   }
   // Pads to a multiple of kBatchLanes: positions far away, every other field 0.
   void pad() {
