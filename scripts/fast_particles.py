@@ -12,6 +12,14 @@ particles or density to show.
 
     scripts/fast_particles.py CACHE.h5 --tank -2 0 -0.75 2 3 0.75 --support 0.04 [--top 5]
     scripts/fast_particles.py --peer-vtk OUT/vtk --fps 100 --tank ... --support 0.04
+
+With --summary FROM TO, one line for the frames in [FROM, TO] s instead, how still water is: the
+fastest particle, how many particles were ever over --over m/s, the largest mean vertical speed
+(the whole fluid heaving) and the height of the top 5% of particles at the first and last frame.
+Read the same way from both programs' frames, so a still tank can be compared with the peer's:
+
+    scripts/fast_particles.py CACHE.h5 --summary 5 10
+    scripts/fast_particles.py --peer-vtk OUT/vtk --fps 50 --summary 5 10
 """
 import argparse
 import glob
@@ -87,14 +95,38 @@ def peer_frames(directory, fps):
         yield (number(path) - 1) / fps, None, x.astype(float), v.astype(float), ids, None, None
 
 
+def summary(source, t0, t1, over):
+    """One line: how still the frames in [t0, t1] are (the module's docstring)."""
+    count, fastest, heave, ever, heights = 0, 0.0, 0.0, set(), []
+    for t, _, x, v, ids, _, _ in source:
+        if t < t0 - 1e-6 or t > t1 + 1e-6:
+            continue
+        s = np.linalg.norm(v, axis=1)
+        count += 1
+        fastest = max(fastest, float(s.max()))
+        heave = max(heave, abs(float(v[:, 1].mean())))
+        ever.update(ids[s > over].tolist())
+        heights.append(float(np.sort(x[:, 1])[-max(1, len(x) // 20):].mean()))
+    if count == 0:
+        fail(f"no frame between {t0} and {t1} s")
+    print(f"{count} frames, {t0:g}-{t1:g} s: fastest particle {100 * fastest:.2f} cm/s, "
+          f"{len(ever)} particles ever over {100 * over:g} cm/s, largest mean vertical speed "
+          f"{1000 * heave:.2f} mm/s, top 5% of the particles at {heights[0]:.4f} -> "
+          f"{heights[-1]:.4f} m")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("cache", nargs="?", help="a sphsplat cache (or --peer-vtk)")
     ap.add_argument("--peer-vtk", metavar="DIR", help="the peer's VTK export directory instead")
     ap.add_argument("--fps", type=float, help="the peer's dataExportFPS (with --peer-vtk)")
-    ap.add_argument("--tank", type=float, nargs=6, required=True, metavar="LO/HI",
+    ap.add_argument("--tank", type=float, nargs=6, metavar="LO/HI",
                     help="the tank's inner box: xlo ylo zlo xhi yhi zhi (m)")
-    ap.add_argument("--support", type=float, required=True, help="kernel support h (m)")
+    ap.add_argument("--support", type=float, help="kernel support h (m)")
+    ap.add_argument("--summary", type=float, nargs=2, metavar=("FROM", "TO"),
+                    help="one line on how still the frames in [FROM, TO] s are")
+    ap.add_argument("--over", type=float, default=0.01,
+                    help="the speed --summary counts particles over (m/s, default 0.01)")
     ap.add_argument("--top", type=int, default=5, help="fastest particles described per frame")
     ap.add_argument("--from-time", type=float, default=0.0)
     a = ap.parse_args()
@@ -102,8 +134,13 @@ def main():
         ap.error("give either a cache or --peer-vtk DIR")
     if a.peer_vtk and not a.fps:
         ap.error("--peer-vtk needs --fps (the peer's dataExportFPS)")
-    lo, hi = np.array(a.tank[:3]), np.array(a.tank[3:])
     source = peer_frames(a.peer_vtk, a.fps) if a.peer_vtk else cache_frames(a.cache)
+    if a.summary:
+        summary(source, a.summary[0], a.summary[1], a.over)
+        return
+    if a.tank is None or a.support is None:
+        ap.error("--tank and --support are needed (or --summary FROM TO)")
+    lo, hi = np.array(a.tank[:3]), np.array(a.tank[3:])
     btree, last_step = None, None
     for t, step, x, v, ids, rho, boundary in source:
         if boundary is not None and btree is None:
