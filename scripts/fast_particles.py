@@ -29,7 +29,6 @@ import sys
 
 import h5py
 import numpy as np
-from scipy.spatial import cKDTree
 
 
 def frames(f):
@@ -95,6 +94,12 @@ def peer_frames(directory, fps):
         yield (number(path) - 1) / fps, None, x.astype(float), v.astype(float), ids, None, None
 
 
+def within(points, centre, radius):
+    """How many of `points` lie within `radius` of `centre` (a few particles a frame: a plain
+    scan, no spatial index to build)."""
+    return int((np.sum((points - centre) ** 2, axis=1) <= radius * radius).sum())
+
+
 def summary(source, t0, t1, over):
     """One line: how still the frames in [t0, t1] are (the module's docstring)."""
     count, fastest, heave, ever, heights = 0, 0.0, 0.0, set(), []
@@ -141,10 +146,8 @@ def main():
     if a.tank is None or a.support is None:
         ap.error("--tank and --support are needed (or --summary FROM TO)")
     lo, hi = np.array(a.tank[:3]), np.array(a.tank[3:])
-    btree, last_step = None, None
+    last_step = None
     for t, step, x, v, ids, rho, boundary in source:
-        if boundary is not None and btree is None:
-            btree = cKDTree(boundary)
         steps = "" if last_step is None or step is None else f" (+{step - last_step:3d})"
         last_step = step
         if t < a.from_time - 1e-9:
@@ -154,13 +157,12 @@ def main():
         at = f" step {step:5d}{steps}" if step is not None else ""
         print(f"t {t:.3f}{at} speed median {q[0]:.2f} p99 {q[1]:.2f} "
               f"p99.9 {q[2]:.2f} max {s.max():.2f} m/s; >4.4 m/s: {(s > 4.4).sum()}")
-        tree = cKDTree(x)
         for i in np.argsort(s)[::-1][: a.top]:
             d = np.concatenate([x[i] - lo, hi - x[i]])  # to the walls x-, y-, z-, x+, y+, z+
             near = [n for n, di in zip(["x-", "y-", "z-", "x+", "y+", "z+"], d) if di < a.support]
-            nf = len(tree.query_ball_point(x[i], a.support)) - 1
-            walls = (f"{len(btree.query_ball_point(x[i], a.support))} boundary neighbours; "
-                     f"rho {rho[i]:.0f}" if btree is not None else "the peer's walls are a map")
+            nf = within(x, x[i], a.support) - 1
+            walls = (f"{within(boundary, x[i], a.support)} boundary neighbours; "
+                     f"rho {rho[i]:.0f}" if boundary is not None else "the peer's walls are a map")
             print(f"   id {ids[i]:7d} at ({x[i][0]:+.3f}, {x[i][1]:.3f}, {x[i][2]:+.3f}) "
                   f"v ({v[i][0]:+.2f}, {v[i][1]:+.2f}, {v[i][2]:+.2f}) |v| {s[i]:.2f}; walls "
                   f"within h: {','.join(near) or '-'}; {nf} fluid, {walls}")
