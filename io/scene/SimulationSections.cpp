@@ -68,9 +68,10 @@ sph::scene::SolverParams readSolver(JsonReader r, Quality quality) {
   s.densityKernel = r.choice("density_kernel", std::optional(sph::scene::DensityKernel::Spiky));
   s.pressure = r.choice("pressure", std::optional(preset.pressure));
   const bool dfsph = s.pressure == sph::scene::PressureSolver::Dfsph;
-  for (const char* key : {"max_density_error", "max_divergence_error", "min_density_iterations",
-                          "max_density_iterations", "max_divergence_iterations",
-                          "density_relaxation", "density_warm_start", "density_momentum_after"}) {
+  for (const char* key :
+       {"max_density_error", "max_divergence_error", "min_density_iterations",
+        "max_density_iterations", "max_divergence_iterations", "density_relaxation",
+        "density_warm_start", "density_momentum_after", "viscosity_form"}) {
     if (!dfsph && r.has(key)) r.fail(key, "only used with \"pressure\": \"dfsph\"");
   }
   if (dfsph) {
@@ -102,6 +103,7 @@ sph::scene::SolverParams readSolver(JsonReader r, Quality quality) {
   s.densityMomentumAfter = static_cast<int>(
       r.number("density_momentum_after", s.densityMomentumAfter, "an integer in [0, 10000]",
                [](double v) { return integerIn(v, 0, 10000); }));
+  s.viscosityForm = r.choice("viscosity_form", std::optional(s.viscosityForm));
   s.wallPressure = r.choice("wall_pressure", std::optional(s.wallPressure));
   if (dfsph && s.wallPressure == sph::scene::WallPressure::Summation)
     r.fail("wall_pressure", "expected \"extrapolated\" or \"none\" with \"pressure\": \"dfsph\"");

@@ -74,6 +74,23 @@ constexpr const char* nameOf(Walls v) {
   return nullptr;
 }
 
+// Scene key solver.viscosity_form: how a pair of DFSPH particles shares the viscosity.
+enum class ViscosityForm {
+  Laplacian,  // Müller et al. 2003's Laplacian of the velocity: every relative motion of the pair,
+              // shear included
+  Monaghan,   // Monaghan 1992's form as the DFSPH papers' peer writes it: the pair's approach or
+              // separation along the line between them only, so shear passes undamped
+};
+constexpr const char* nameOf(ViscosityForm v) {
+  switch (v) {
+    case ViscosityForm::Laplacian:
+      return "laplacian";
+    case ViscosityForm::Monaghan:
+      return "monaghan";
+  }
+  return nullptr;
+}
+
 // Scene key solver.pressure: what makes the fluid incompressible.
 enum class PressureSolver {
   Wcsph,  // weakly compressible: an equation of state, step bound by the speed of sound
@@ -146,6 +163,10 @@ struct SolverParams {
   float viscosity = -1.0f;      // m^2/s, kinematic viscosity of the Müller Laplacian term;
                                 // < 0 = automatic: 0.002 h c, i.e. Monaghan's artificial
                                 // viscosity alpha = 0.02 (nu = alpha h c / 10)
+  // DFSPH only. Monaghan's form takes kMonaghanShare times `viscosity` between fluid particles
+  // (alpha 0.05 with the automatic one); no-slip walls drag with `viscosity` in either form.
+  ViscosityForm viscosityForm = ViscosityForm::Laplacian;
+  static constexpr float kMonaghanShare = 2.5f;
   bool noSlipWalls = true;      // walls drag the fluid with the same viscosity (v_wall = 0)
   EquationOfState eos = EquationOfState::Tait;
   DensityKernel densityKernel = DensityKernel::Spiky;

@@ -9,9 +9,50 @@
 
 namespace sph::solver {
 
+namespace {
+
+// Monaghan's form between fluid particles, as the peer (SPlisHSPlasH's "Standard" viscosity)
+// writes it: a_i = 10 nu' sum_j m / rho_j (v_ij . x_ij) / (r^2 + 0.01 h^2) gradW_ij, nu' =
+// kMonaghanShare nu, plus the Laplacian form's no-slip wall drag. Only a pair's approach or
+// separation along x_ij is damped, so shear flows past it, and a still tank's slow creep (the
+// packing settling) is damped by a viscosity 2.5 times the automatic one without the friction
+// that slows a dam break's front (docs/notes/2026-11-30-dfsph-momentum.md). The record R_j = V_j
+// gradW_ij = g (h - r)^2 / r x_ij (DfsphPairs.h) gives x_ij back: v_ij . x_ij = (v_ij . R_j) r /
+// (g (h - r)^2), so the pass reads no positions.
+void monaghanViscosity(StepContext& c, const Float4* v) {
+  Particles& f = c.fluid;
+  const StepScratch& s = c.scratch;
+  const float h = c.derived.h, h2 = h * h;
+  const float nu = scene::SolverParams::kMonaghanShare * c.derived.viscosity;
+  const float scale = 10.0f * nu * c.solver.restDensity / dfsphGradientScale(c);
+  const float wallScale =
+      c.derived.viscosity * c.solver.restDensity * c.derived.mass * c.derived.kernels.viscLapFactor;
+  const Vec3 g = c.solver.gravity;
+  const float noSlip = c.solver.noSlipWalls ? 1.0f / c.solver.restDensity : 0.0f;
+  const float* invRho = s.inverseDensity.data();
+  forEachParticlePairs(c, [&](std::uint32_t i, const PairSpan& p) {
+    const Float4 vi = v[i];
+    Float4 a = {0, 0, 0, 0};
+    for (std::uint32_t q = 0; q < p.count; ++q) {
+      const Float4 record = loadRecord(p.pair[q]);
+      const Float4 t = (vi - v[p.pair[q].index]) * record;
+      // A pair at the support's edge can be stored with h - r = 0 and a zero record (the
+      // selection and the kernel round r^2 differently on some builds): it adds nothing.
+      const float hr = p.hr[q], r = h - hr, denominator = hr * hr * (r * r + 0.01f * h2);
+      const float approach = denominator > 0 ? (t[1] + t[2] + t[3]) * r / denominator : 0.0f;
+      a += (invRho[p.pair[q].index] * approach) * record;
+    }
+    a *= scale;
+    a -= (wallScale * invRho[i] * noSlip * s.wallWeight[i]) * vi;
+    f.ax[i] = a[1] + g.x(), f.ay[i] = a[2] + g.y(), f.az[i] = a[3] + g.z();
+  });
+}
+
+}  // namespace
+
 // a_i = nu (rho0 / rho_i) [sum_j m / rho_j (v_j - v_i) lapW_visc - (no-slip) sum_b m / rho0 v_i
 // lapW_visc] + g, computeForces()'s viscosity, wall and gravity terms (Müller 2003), over the
-// stored pairs.
+// stored pairs; or Monaghan's form between fluid particles (solver.viscosity_form).
 void computeDfsphViscosity(StepContext& c) {
   Particles& f = c.fluid;
   const StepScratch& s = c.scratch;
@@ -21,6 +62,7 @@ void computeDfsphViscosity(StepContext& c) {
   const Vec3 g = c.solver.gravity;
   const float noSlip = c.solver.noSlipWalls ? 1.0f / c.solver.restDensity : 0.0f;
   const Float4* v = packVelocities(c);
+  if (c.solver.viscosityForm == scene::ViscosityForm::Monaghan) return monaghanViscosity(c, v);
   const float* invRho = s.inverseDensity.data();
   forEachParticlePairs(c, [&](std::uint32_t i, const PairSpan& p) {
     const Float4 vi = v[i];
