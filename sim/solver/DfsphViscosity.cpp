@@ -18,32 +18,30 @@ namespace {
 // packing settling) is damped by a viscosity 2.5 times the automatic one without the friction
 // that slows a dam break's front (docs/notes/2026-11-30-dfsph-momentum.md). The record R_j = V_j
 // gradW_ij = g (h - r)^2 / r x_ij (DfsphPairs.h) gives x_ij back: v_ij . x_ij = (v_ij . R_j) r /
-// (g (h - r)^2), so the pass reads no positions.
-void monaghanViscosity(StepContext& c, const Float4* v) {
+// (g (h - r)^2), so the pass reads no positions. `viscScale`, `noSlip` and `g`: the wall drag's
+// factors and gravity, as computeDfsphViscosity() has them.
+void monaghanViscosity(StepContext& c, const Float4* v, float viscScale, float noSlip, Vec3 g) {
   Particles& f = c.fluid;
   const StepScratch& s = c.scratch;
   const float h = c.derived.h, h2 = h * h;
   const float nu = scene::SolverParams::kMonaghanShare * c.derived.viscosity;
   const float scale = 10.0f * nu * c.solver.restDensity / dfsphGradientScale(c);
-  const float wallScale =
-      c.derived.viscosity * c.solver.restDensity * c.derived.mass * c.derived.kernels.viscLapFactor;
-  const Vec3 g = c.solver.gravity;
-  const float noSlip = c.solver.noSlipWalls ? 1.0f / c.solver.restDensity : 0.0f;
   const float* invRho = s.inverseDensity.data();
   forEachParticlePairs(c, [&](std::uint32_t i, const PairSpan& p) {
     const Float4 vi = v[i];
     Float4 a = {0, 0, 0, 0};
     for (std::uint32_t q = 0; q < p.count; ++q) {
+      const std::uint32_t j = p.pair[q].index;
       const Float4 record = loadRecord(p.pair[q]);
-      const Float4 t = (vi - v[p.pair[q].index]) * record;
+      const Float4 t = (vi - v[j]) * record;
       // A pair at the support's edge can be stored with h - r = 0 and a zero record (the
       // selection and the kernel round r^2 differently on some builds): it adds nothing.
       const float hr = p.hr[q], r = h - hr, denominator = hr * hr * (r * r + 0.01f * h2);
       const float approach = denominator > 0 ? (t[1] + t[2] + t[3]) * r / denominator : 0.0f;
-      a += (invRho[p.pair[q].index] * approach) * record;
+      a += (invRho[j] * approach) * record;
     }
     a *= scale;
-    a -= (wallScale * invRho[i] * noSlip * s.wallWeight[i]) * vi;
+    a -= (viscScale * invRho[i] * noSlip * s.wallWeight[i]) * vi;
     f.ax[i] = a[1] + g.x(), f.ay[i] = a[2] + g.y(), f.az[i] = a[3] + g.z();
   });
 }
@@ -62,7 +60,8 @@ void computeDfsphViscosity(StepContext& c) {
   const Vec3 g = c.solver.gravity;
   const float noSlip = c.solver.noSlipWalls ? 1.0f / c.solver.restDensity : 0.0f;
   const Float4* v = packVelocities(c);
-  if (c.solver.viscosityForm == scene::ViscosityForm::Monaghan) return monaghanViscosity(c, v);
+  if (c.solver.viscosityForm == scene::ViscosityForm::Monaghan)
+    return monaghanViscosity(c, v, viscScale, noSlip, g);
   const float* invRho = s.inverseDensity.data();
   forEachParticlePairs(c, [&](std::uint32_t i, const PairSpan& p) {
     const Float4 vi = v[i];
