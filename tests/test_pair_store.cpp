@@ -22,7 +22,7 @@ void fill(grid::PairStore& s, std::size_t row, int thread, std::size_t n, std::s
     for (std::size_t q = 0; q < take; ++q) {
       const auto v = static_cast<std::uint32_t>(done + q + 1000 * row);
       to.pair[q] = {v, static_cast<float>(v), -static_cast<float>(v), 0.5f * static_cast<float>(v)};
-      to.hr[q] = 2.0f * static_cast<float>(v);
+      to.weight[q] = 2.0f * static_cast<float>(v);
     }
     s.add(row, thread, take);
     done += take;
@@ -33,12 +33,12 @@ void expectRow(const grid::PairStore& s, std::size_t row, std::size_t n) {
   const grid::PairStore::Row r = s.row(row);
   ASSERT_EQ(r.used, n) << "row " << row;
   EXPECT_EQ(reinterpret_cast<std::uintptr_t>(r.pair) % 64, 0u) << "row " << row;
-  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(r.hr) % 64, 0u) << "row " << row;
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(r.weight) % 64, 0u) << "row " << row;
   for (std::size_t q = 0; q < n; ++q) {
     const auto v = static_cast<std::uint32_t>(q + 1000 * row);
     const grid::PairRecord& p = r.pair[q];
     if (p.index != v || p.gx != static_cast<float>(v) || p.gy != -static_cast<float>(v) ||
-        p.gz != 0.5f * static_cast<float>(v) || r.hr[q] != 2.0f * static_cast<float>(v)) {
+        p.gz != 0.5f * static_cast<float>(v) || r.weight[q] != 2.0f * static_cast<float>(v)) {
       ADD_FAILURE() << "row " << row << " pair " << q << " changed";
       return;
     }

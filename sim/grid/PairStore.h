@@ -7,8 +7,8 @@
 // (docs/notes/2026-11-26-dfsph-peer-dam-break.md, "Pairs that follow the need").
 //
 // A pair is one 16-byte record, its index and V gradW, so a pass over the pairs streams one array
-// and takes each pair with one load (sim/solver/DfsphPairs.h); its h - r, which only the
-// viscosity reads, lies in an array of its own.
+// and takes each pair with one load (sim/solver/DfsphPairs.h); its weight (a float the passes
+// that need one read: h - r, or the viscosity's own factor) lies in an array of its own.
 //
 // Every row starts on a cache line of its chunk, so a particle's pairs have the same offset from
 // one whatever the thread count or the chunk a row falls in.
@@ -41,7 +41,7 @@ class PairStore {
   // One row's pairs: `used` of them from each pointer.
   struct Row {
     PairRecord* pair = nullptr;
-    float* hr = nullptr;
+    float* weight = nullptr;
     std::size_t used = 0;
   };
 
@@ -65,7 +65,7 @@ class PairStore {
     if (p.start + p.used + n > p.chunk->capacity) moveRow(a, p, p.used + n);
     const std::size_t at = p.start + p.used;
     Chunk& c = *p.chunk;
-    return {c.pair.get() + at, c.hr.get() + at, 0};
+    return {c.pair.get() + at, c.weight.get() + at, 0};
   }
   // The row holds `count` more pairs (written at what room() returned).
   void add(std::size_t row, int thread, std::size_t count) {
@@ -85,7 +85,7 @@ class PairStore {
     const Placed& p = rows_[r];
     if (!p.chunk) return {};
     const Chunk& c = *p.chunk;
-    return {c.pair.get() + p.start, c.hr.get() + p.start, p.used};
+    return {c.pair.get() + p.start, c.weight.get() + p.start, p.used};
   }
   // Pairs stored by the last pass, and the bytes the store holds now.
   std::size_t pairs() const {
@@ -117,10 +117,10 @@ class PairStore {
   }
   struct Chunk {
     explicit Chunk(std::size_t n)
-        : capacity(n), pair(lineAligned<PairRecord>(n)), hr(lineAligned<float>(n)) {}
+        : capacity(n), pair(lineAligned<PairRecord>(n)), weight(lineAligned<float>(n)) {}
     std::size_t capacity;
     std::unique_ptr<PairRecord[], FreeDelete> pair;
-    std::unique_ptr<float[], FreeDelete> hr;
+    std::unique_ptr<float[], FreeDelete> weight;
   };
   // One thread's chunks; it fills chunks[current] up to fill. On a cache line of its own: every
   // particle's pairs move `fill`, and neighbouring threads' arenas would share a line.
@@ -147,7 +147,7 @@ class PairStore {
     const Chunk& from = *p.chunk;
     const std::size_t s = p.start, u = p.used;
     std::memcpy(to.pair.get(), from.pair.get() + s, u * sizeof(PairRecord));
-    std::memcpy(to.hr.get(), from.hr.get() + s, u * sizeof(float));
+    std::memcpy(to.weight.get(), from.weight.get() + s, u * sizeof(float));
     p.chunk = &to, p.start = 0;
   }
 

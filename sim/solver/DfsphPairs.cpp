@@ -46,14 +46,19 @@ float latticeDenominator(const StepContext& c) {
 }
 
 // A particle's sums over its candidates inside the support (`in`, grid/SupportSelection.h; the
-// padding lanes add 0), and each one's record (index bits and V gradW) and h - r into the row `to`,
-// which must have room for in.padded pairs. A plain function with unaliased pointers: as a loop
-// inside the pass's lambda, GCC 12 left it scalar.
+// padding lanes add 0), and each one's record (index bits and V gradW) and viscosity weight into
+// the row `to`, which must have room for in.padded pairs: h - r for the Laplacian form, or with
+// kMonaghan r / ((h - r)^2 (r^2 + softening)), the factor Monaghan's form puts on v_ij . R_j
+// (DfsphViscosity.cpp), 0 for a pair stored at the support's edge. Divided here, vectorised, where
+// the viscosity pass would divide once a pair in a scalar loop (twice the Laplacian's time). A
+// plain function with unaliased pointers: as a loop inside the pass's lambda, GCC 12 left it
+// scalar.
 struct FluidSums {
   float gx, gy, gz, squares, cubes, moment;
 };
+template <bool kMonaghan>
 FluidSums fluidPairs(const grid::SupportSelection& in, SpikyPairShape spiky, float g,
-                     const grid::PairStore::Row& to) {
+                     float softening, const grid::PairStore::Row& to) {
   const float* __restrict ox = in.field[0].data();
   const float* __restrict oy = in.field[1].data();
   const float* __restrict oz = in.field[2].data();
@@ -61,7 +66,7 @@ FluidSums fluidPairs(const grid::SupportSelection& in, SpikyPairShape spiky, flo
   const float* __restrict bits = in.field[4].data();
   static_assert(sizeof(grid::PairRecord) == 4 * sizeof(float));
   float* __restrict record = reinterpret_cast<float*>(to.pair);
-  float* __restrict th = to.hr;
+  float* __restrict th = to.weight;
   float gx = 0, gy = 0, gz = 0, squares = 0, cubes = 0, moment = 0;
 #pragma omp simd reduction(+ : gx, gy, gz, squares, cubes, moment)
   for (std::size_t j = 0; j < in.padded; ++j) {
@@ -69,7 +74,12 @@ FluidSums fluidPairs(const grid::SupportSelection& in, SpikyPairShape spiky, flo
     const float invR = spiky.inverseDistance(r2);
     const float hr = spiky.hMinusR(r2, invR);
     const float wj = hr * hr * invR;
-    th[j] = hr;
+    if constexpr (kMonaghan) {
+      const float r = spiky.h - hr, denominator = hr * hr * (r * r + softening);
+      th[j] = denominator > 0 ? r / denominator : 0.0f;
+    } else {
+      th[j] = hr;
+    }
     record[4 * j] = bits[j];
     record[4 * j + 1] = g * wj * dx, record[4 * j + 2] = g * wj * dy,
                    record[4 * j + 3] = g * wj * dz;
@@ -105,7 +115,7 @@ struct PackedWallPairs {
     for (std::size_t q0 = 0; q0 < count; q0 += kBlock) {
       for (std::size_t q = q0; q < q0 + kBlock; ++q) {
         record[4 * q] = bits[q], record[4 * q + 1] = x[q], record[4 * q + 2] = y[q];
-        record[4 * q + 3] = z[q], to.hr[q] = h[q];
+        record[4 * q + 3] = z[q], to.weight[q] = h[q];
       }
     }
   }
@@ -177,6 +187,8 @@ void computeDfsphDensityAndFactor(StepContext& c) {
   }
   const float h = c.derived.h;
   const SpikyPairShape spiky{h, h * h};
+  const bool monaghan = c.solver.viscosityForm == scene::ViscosityForm::Monaghan;
+  const float softening = kMonaghanSoftening * h * h;
   const float g = dfsphGradientScale(c);
   // rho = densityScale sum (h - r)^3, the particle itself (r = 0, which the pair shape leaves
   // out) included: SpikyShape with the spiky factor (the scene loader requires the spiky density
@@ -220,7 +232,8 @@ void computeDfsphDensityAndFactor(StepContext& c) {
           const std::size_t count =
               grid::selectInside(xi, yi, zi, spiky.h2, fb.padded, fx, fy, fz, bits, in);
           const grid::PairStore::Row to = s.pairs.room(row, thread, in.padded);
-          const FluidSums sums = fluidPairs(in, spiky, g, to);
+          const FluidSums sums = monaghan ? fluidPairs<true>(in, spiky, g, softening, to)
+                                          : fluidPairs<false>(in, spiky, g, softening, to);
           float gx = sums.gx, gy = sums.gy, gz = sums.gz;
           const float squares = sums.squares, cubes = sums.cubes;
           s.pairs.add(row, thread, count);

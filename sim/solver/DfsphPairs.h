@@ -21,11 +21,15 @@ inline float dfsphGradientScale(const StepContext& c) {
          c.solver.restDensity;
 }
 
-// One particle's pairs: `count` records (the neighbour j and V_j gradW_ij, 1/m) and h - r_ij (m),
-// contiguous.
+// Monaghan's viscosity keeps r^2 + kMonaghanSoftening h^2 from 0 (DfsphViscosity.cpp).
+constexpr float kMonaghanSoftening = 0.01f;
+
+// One particle's pairs: `count` records (the neighbour j and V_j gradW_ij, 1/m) and each pair's
+// viscosity weight, contiguous: h - r_ij (m), or with Monaghan's form its own factor
+// (DfsphPairs.cpp, fluidPairs()); a wall pair's is h - r_ib.
 struct PairSpan {
   const grid::PairRecord* pair;
-  const float* hr;
+  const float* weight;
   std::uint32_t count;
 };
 
@@ -85,11 +89,11 @@ void forEachParticlePairRows(const StepContext& c, Body& body) {
     if constexpr (kWalls) w = s.wallPairs.row(row);
     for (std::uint32_t i = begin; i < end; ++i) {
       const std::uint32_t count = s.pairCount[i];
-      const PairSpan pairs{r.pair + at, r.hr + at, count};
+      const PairSpan pairs{r.pair + at, r.weight + at, count};
       at += count;
       if constexpr (kWalls) {
         const std::uint32_t walls = s.wallPairCount[i];
-        body(i, pairs, PairSpan{w.pair + atWall, w.hr + atWall, walls});
+        body(i, pairs, PairSpan{w.pair + atWall, w.weight + atWall, walls});
         atWall += walls;
       } else {
         body(i, pairs);

@@ -18,12 +18,12 @@ namespace {
 // packing settling) is damped by a viscosity 2.5 times the automatic one without the friction
 // that slows a dam break's front (docs/notes/2026-11-30-dfsph-momentum.md). The record R_j = V_j
 // gradW_ij = g (h - r)^2 / r x_ij (DfsphPairs.h) gives x_ij back: v_ij . x_ij = (v_ij . R_j) r /
-// (g (h - r)^2), so the pass reads no positions. `viscScale`, `noSlip` and `g`: the wall drag's
+// (g (h - r)^2), so the pass reads no positions; the factor pass stored each pair's r / ((h -
+// r)^2 (r^2 + 0.01 h^2)) as its viscosity weight. `viscScale`, `noSlip` and `g`: the wall drag's
 // factors and gravity, as computeDfsphViscosity() has them.
 void monaghanViscosity(StepContext& c, const Float4* v, float viscScale, float noSlip, Vec3 g) {
   Particles& f = c.fluid;
   const StepScratch& s = c.scratch;
-  const float h = c.derived.h, h2 = h * h;
   const float nu = scene::SolverParams::kMonaghanShare * c.derived.viscosity;
   const float scale = 10.0f * nu * c.solver.restDensity / dfsphGradientScale(c);
   const float* invRho = s.inverseDensity.data();
@@ -32,12 +32,12 @@ void monaghanViscosity(StepContext& c, const Float4* v, float viscScale, float n
     Float4 a = {0, 0, 0, 0};
     for (std::uint32_t q = 0; q < p.count; ++q) {
       const std::uint32_t j = p.pair[q].index;
-      const Float4 record = loadRecord(p.pair[q]);
+      // Lane 0 holds j's bits, a denormal float for j < 2^23: multiplied into the sum it made
+      // every pair a slow denormal operation (3x the pass's time on Zen 5). Zero it.
+      Float4 record = loadRecord(p.pair[q]);
+      record[0] = 0.0f;
       const Float4 t = (vi - v[j]) * record;
-      // A pair at the support's edge can be stored with h - r = 0 and a zero record (the
-      // selection and the kernel round r^2 differently on some builds): it adds nothing.
-      const float hr = p.hr[q], r = h - hr, denominator = hr * hr * (r * r + 0.01f * h2);
-      const float approach = denominator > 0 ? (t[1] + t[2] + t[3]) * r / denominator : 0.0f;
+      const float approach = (t[1] + t[2] + t[3]) * p.weight[q];
       a += (invRho[j] * approach) * record;
     }
     a *= scale;
@@ -68,7 +68,7 @@ void computeDfsphViscosity(StepContext& c) {
     Float4 a = {0, 0, 0, 0};
     for (std::uint32_t q = 0; q < p.count; ++q) {
       const std::uint32_t j = p.pair[q].index;
-      a += (invRho[j] * p.hr[q]) * (v[j] - vi);
+      a += (invRho[j] * p.weight[q]) * (v[j] - vi);
     }
     // No-slip: the viscosity term with the wall at rest (v_b = 0, rho_b = rho0).
     a -= (noSlip * s.wallWeight[i]) * vi;

@@ -52,7 +52,7 @@ void findWallNeighbours(StepContext& c) {
       std::size_t at = 0;
       for (std::uint32_t i = begin; i < end; ++i) {
         for (std::uint32_t q = 0; q < s.wallPairCount[i]; ++q, ++at)
-          visit(i, r.pair[at].index, r.hr[at]);
+          visit(i, r.pair[at].index, r.weight[at]);
       }
     }
   };
