@@ -25,7 +25,7 @@ using AllChoices = ::testing::Types<
     scene::LightAccumulate, scene::LightShade, scene::CollisionMethod, scene::CollisionResponse,
     scene::CdtCameraMode, scene::CdtPositionSource, scene::EquationOfState, scene::DensityKernel,
     scene::SolverModel, scene::Walls, scene::PressureSolver, scene::WallPressure,
-    scene::ViscosityForm, scene::SplatProjection, scene::RenderDesc::Splat,
+    scene::ViscosityForm, scene::DensitySolve, scene::SplatProjection, scene::RenderDesc::Splat,
     render::splat::SplatKind, io::scene::Quality, sweep::RunStatus, scene::RainSpawn,
     scene::RainSampling, scene::RainOcclusion, scene::RainDraw, scene::RainFarTier>;
 TYPED_TEST_SUITE(EnumNamesTest, AllChoices);

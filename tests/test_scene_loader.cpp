@@ -327,6 +327,21 @@ TEST(SceneLoader, DensityMomentumAfterIsAnIterationCountForDfsphOnly) {
             "bad.json: solver.density_momentum_after: only used with \"pressure\": \"dfsph\"");
 }
 
+TEST(SceneLoader, DensitySolveIsIncrementsOrProjectedForDfsphOnly) {
+  const auto dfsph = [](const std::string& edit) {
+    return io::scene::parseScene(kMinimal, "s.json", {"solver.pressure=dfsph", edit}).solver;
+  };
+  EXPECT_EQ(io::scene::parseScene(kMinimal, "s.json").solver.densitySolve,
+            scene::DensitySolve::Increments);
+  EXPECT_EQ(dfsph("solver.density_solve=projected").densitySolve, scene::DensitySolve::Projected);
+  EXPECT_EQ(dfsph("solver.density_solve=increments").densitySolve, scene::DensitySolve::Increments);
+  const std::string bad = errorOf(kMinimal, {"solver.pressure=dfsph", "solver.density_solve=cg"});
+  EXPECT_NE(bad.find("solver.density_solve"), std::string::npos) << bad;
+  EXPECT_NE(bad.find("projected"), std::string::npos) << bad;
+  EXPECT_EQ(errorOf(kMinimal, {"solver.density_solve=projected"}),
+            "bad.json: solver.density_solve: only used with \"pressure\": \"dfsph\"");
+}
+
 TEST(SceneLoader, NumbersHaveSaneRangesAndReadableMessages) {
   auto set = [](const std::string& edit) { return errorOf(kMinimal, {edit}); };
   EXPECT_EQ(set("output.fps=1e308"),

@@ -62,9 +62,9 @@ TEST(ViscosityForm, IsRefusedWithWcsph) {
 
 // The tests' still tank (0.12 m square, 0.3 m of water, 4,320 particles) over 5-10 s. With the
 // Laplacian form its packing creeps at 0.7-4.4 cm/s, 0-76 particles ever over 1 cm/s, chaotically
-// (tests/test_dfsph.cpp); Monaghan's form at 2.5 times the automatic viscosity read 0.99-1.24
-// cm/s and 0-4 particles at four gravities, with the floor's pressure within 1.3% of the weight
-// above it; at G = 9.81, 0.77-1.68 cm/s and 0-12 particles on the x86-64-v2, x86-64-v3 and
+// (tests/test_dfsph.cpp); Monaghan's form at 2.5 times the automatic viscosity read 0.24-2.35
+// cm/s and 0-12 particles at five gravities, with the floor's pressure within 1.3% of the weight
+// above it; at G = 9.81, 0.90-2.03 cm/s and 0-11 particles on the x86-64-v2, x86-64-v3 and
 // sanitize builds. The bound is a hundredth of the particles: the Laplacian's 51 and 21 fail it.
 TEST(ViscosityForm, MonaghansFormHoldsTheStillTanksCreepToAFewParticles) {
   const scene::Scene scene = test::shippedScene(

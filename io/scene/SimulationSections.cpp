@@ -71,7 +71,7 @@ sph::scene::SolverParams readSolver(JsonReader r, Quality quality) {
   for (const char* key :
        {"max_density_error", "max_divergence_error", "min_density_iterations",
         "max_density_iterations", "max_divergence_iterations", "density_relaxation",
-        "density_warm_start", "density_momentum_after", "viscosity_form"}) {
+        "density_warm_start", "density_momentum_after", "density_solve", "viscosity_form"}) {
     if (!dfsph && r.has(key)) r.fail(key, "only used with \"pressure\": \"dfsph\"");
   }
   if (dfsph) {
@@ -103,6 +103,7 @@ sph::scene::SolverParams readSolver(JsonReader r, Quality quality) {
   s.densityMomentumAfter = static_cast<int>(
       r.number("density_momentum_after", s.densityMomentumAfter, "an integer in [0, 10000]",
                [](double v) { return integerIn(v, 0, 10000); }));
+  s.densitySolve = r.choice("density_solve", std::optional(s.densitySolve));
   s.viscosityForm = r.choice("viscosity_form", std::optional(s.viscosityForm));
   s.wallPressure = r.choice("wall_pressure", std::optional(s.wallPressure));
   if (dfsph && s.wallPressure == sph::scene::WallPressure::Summation)

@@ -91,6 +91,23 @@ constexpr const char* nameOf(ViscosityForm v) {
   return nullptr;
 }
 
+// Scene key solver.density_solve: how DFSPH's constant-density solver iterates
+// (sim/solver/Dfsph.cpp, solveDensity()).
+enum class DensitySolve {
+  Increments,  // the papers' Jacobi: increments that only add, on top of a warm start that stays
+  Projected,   // a relaxed Jacobi with momentum on the whole stiffness, kept >= 0: it may give the
+               // warm start back where the flow no longer needs it
+};
+constexpr const char* nameOf(DensitySolve v) {
+  switch (v) {
+    case DensitySolve::Increments:
+      return "increments";
+    case DensitySolve::Projected:
+      return "projected";
+  }
+  return nullptr;
+}
+
 // Scene key solver.pressure: what makes the fluid incompressible.
 enum class PressureSolver {
   Wcsph,  // weakly compressible: an equation of state, step bound by the speed of sound
@@ -154,6 +171,7 @@ struct SolverParams {
   // Jacobi with momentum (sim/solver/Dfsph.cpp, solveDensity()); at max_density_iterations or
   // more, the papers' solve throughout.
   int densityMomentumAfter = 4;
+  DensitySolve densitySolve = DensitySolve::Increments;
   int maxDensityIterations = 100;   // caps: a step that hits one goes on with the error it has
   int maxDivergenceIterations = 100;
   WallPressure wallPressure = WallPressure::Extrapolated;

@@ -234,18 +234,30 @@ void solveDivergence(StepContext& c) {
 // papers': 850 of 3500). Shares 0.5 and 0.8 took 19 iterations at gravity's step but let the
 // 2 ms tank heave (docs/notes/2026-11-30-dfsph-momentum.md). The mean error that stops the solve
 // is the papers' in every iteration, over compressed particles only.
+//
+// The increments that only add keep the warm start wherever the flow no longer needs it (a sheet
+// leaving a wall), so a fuller warm start, which saves the iterations a longer step needs, pushes
+// the water: at 0.8 the 117k-particle dam break ran its front 10% ahead or blew up. With
+// solver.density_solve "projected" every iteration is the momentum form at half the share,
+//   k_i = 0.5 alpha_i e_i / dt^2 + 0.5 k_i(last iteration),   this step's whole sum >= 0,
+// a projected Jacobi on the whole stiffness, which may take the warm start back (as the peer's
+// solve may: SPlisHSPlasH's TimeStepDFSPH.cpp, at a share of 0.5). At 0.7 the still tank stirred
+// at 14 cm/s, at 0.9 the dam break blew up; without the momentum it took 7.7 iterations a step
+// where it takes 4.7 (docs/notes/2026-11-30-dfsph-larger-steps.md).
 void solveDensity(StepContext& c) {
   Particles& f = c.fluid;
   StepScratch& s = c.scratch;
   const float rho0 = c.solver.restDensity;
-  constexpr float kMomentumShare = 0.7f, kMomentum = 0.5f;
-  const int plainIterations = c.solver.densityMomentumAfter;
+  constexpr float kMomentumShare = 0.7f, kMomentum = 0.5f, kProjectedShare = 0.5f;
+  const bool projected = c.solver.densitySolve == scene::DensitySolve::Projected;
+  // The first iteration of the momentum form: the projected solve's from the start.
+  const int plainIterations = projected ? 0 : c.solver.densityMomentumAfter;
   // Each plain increment is the relaxation's share of the particle's full correction (at 1, the
   // papers'). Half of it also damps the overshoot, as IISPH's relaxed Jacobi does, for more
   // iterations; what it costs a dam break: docs/scene-format.md.
   const float invRho0 = 1.0f / rho0, dt = c.dt, invDt2 = 1.0f / (c.dt * c.dt),
               relaxedInvDt2 = c.solver.densityRelaxation * invDt2,
-              momentumInvDt2 = kMomentumShare * invDt2;
+              momentumInvDt2 = (projected ? kProjectedShare : kMomentumShare) * invDt2;
   const std::vector<float>& sum = c.warmStart.density;
   const auto [iterations, error] = jacobiSolve(
       c, c.warmStart.density, c.solver.densityWarmStart, c.solver.maxDensityError * 0.01,
@@ -259,7 +271,8 @@ void solveDensity(StepContext& c) {
           return;
         }
         const float momentum = iteration > plainIterations ? kMomentum * s.stiffness[i] : 0.0f;
-        const float added = sum[i] - s.solveStart[i];  // this step's iterations so far
+        // What the iteration may take back: this step's iterations so far, or all of it.
+        const float added = projected ? sum[i] : sum[i] - s.solveStart[i];
         s.stiffness[i] = std::max(s.factor[i] * e * momentumInvDt2 + momentum, -added);
       });
   c.solveStats.densityIterations = iterations;

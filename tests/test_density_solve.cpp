@@ -1,0 +1,87 @@
+// DFSPH's two constant-density solves (solver.density_solve, sim/solver/Dfsph.cpp, solveDensity()):
+// the papers' increments, which only add to the warm start, and a projected Jacobi on the whole
+// stiffness, which may give the warm start back where the flow no longer needs it.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "sim/Parallel.h"
+#include "sim/run/Simulation.h"
+#include "tests/StillTankFloor.h"
+#include "tests/TestSupport.h"
+
+namespace sph {
+namespace {
+
+// The dam break at 0.1 s (the column collapsing) restarted with four times the stiffness its last
+// step applied as the warm start, far more than the flow needs; one step with `solve` and a warm
+// start of 0.8. Returns how many particles ended the step's constant-density solve holding less
+// than the warm start they were given (0.8 of the inflated sum), and how many were given one.
+std::pair<int, int> particlesThatGaveTheWarmStartBack(const char* solve) {
+  setThreadCount(2);
+  const std::vector<std::string> set = {"solver.pressure=dfsph", "solver.spacing=0.0146",
+                                        "solver.density_warm_start=0.8",
+                                        std::string("solver.density_solve=") + solve};
+  run::Simulation first(test::shippedScene("dam_break", set));
+  first.advanceTo(0.1);
+  run::RunState state = first.runState();
+  const Particles fluid = first.fluid();
+  std::unordered_map<std::uint32_t, float> given;  // by particle id
+  for (std::size_t i = 0; i < fluid.size(); ++i) {
+    state.warmStart.density[i] *= 4;
+    given[fluid.id[i]] = 0.8f * state.warmStart.density[i];
+  }
+  run::Simulation sim(test::shippedScene("dam_break", set));
+  sim.restore(state, fluid);
+  sim.step();
+  const std::vector<float>& sum = sim.runState().warmStart.density;  // this step's stiffness
+  const Particles& after = sim.fluid();
+  int gaveBack = 0, warmed = 0;
+  for (std::size_t i = 0; i < after.size(); ++i) {
+    const float start = given.at(after.id[i]);
+    if (start <= 0) continue;
+    ++warmed;
+    if (sum[i] < 0.999f * start) ++gaveBack;
+  }
+  return {gaveBack, warmed};
+}
+
+TEST(DensitySolve, ProjectedGivesBackAWarmStartTheFlowDoesNotNeed) {
+  const auto [keptIncrements, warmedIncrements] = particlesThatGaveTheWarmStartBack("increments");
+  const auto [gaveBack, warmed] = particlesThatGaveTheWarmStartBack("projected");
+  std::printf("warm start given back: increments %d of %d, projected %d of %d particles\n",
+              keptIncrements, warmedIncrements, gaveBack, warmed);
+  ASSERT_GT(warmed, 300);        // of its 800 particles, those under pressure
+  EXPECT_EQ(keptIncrements, 0);  // increments only add to it
+  EXPECT_GT(gaveBack, warmed / 2);
+}
+
+// The tests' still tank (tests/test_viscosity_form.cpp) over 5-10 s with the settings the projected
+// solve is for: a warm start of 0.8 and Monaghan's viscosity. The papers' increments with the same
+// warm start stir it at 4.7 cm/s, 3,987 of its 4,320 particles over 1 cm/s, and heave in 12 steps
+// (docs/notes/2026-11-30-dfsph-larger-steps.md); the projected solve never heaved and read
+// 0.40-2.56 cm/s with 0-4 particles over 1 cm/s at G = 9.80, 9.81, 9.82 and on the x86-64-v2,
+// x86-64-v3 and sanitize builds, but 2.47 cm/s and 99 particles at G = 9.815 (the creep is
+// chaotic). So the bound is on what the solve is for, no heave and a tenth of the particles, which
+// the increments' 3,987 fail; the 1 cm/s the issue asks for is not met by either.
+TEST(DensitySolve, ProjectedHoldsTheStillTankWithAFullerWarmStart) {
+  const scene::Scene scene = test::shippedScene(
+      "still_tank", {"fluids[0].max=[0.12,0.3,0.12]", "boundaries[0].max=[0.12,0.4,0.12]",
+                     "solver.pressure=dfsph", "solver.viscosity_form=monaghan",
+                     "solver.density_warm_start=0.8", "solver.density_solve=projected"});
+  run::Simulation sim(scene);
+  sim.advanceTo(5.0);
+  test::StillTankFloor floor(0.12, scene.solver.spacing);
+  floor.advanceTo(sim, 10.0);
+  floor.print("dfsph, projected, warm start 0.8, 5-10 s", scene.solver.restDensity * 9.81 * 0.3,
+              true);
+  EXPECT_EQ(floor.heaveSteps(), 0);
+  EXPECT_NEAR(floor.lastTopHeight(), floor.firstTopHeight(), 0.001);
+  constexpr std::size_t kParticles = 12 * 30 * 12;
+  EXPECT_LE(floor.fastParticles(), kParticles / 10);
+}
+
+}  // namespace
+}  // namespace sph
