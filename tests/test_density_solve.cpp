@@ -67,20 +67,12 @@ TEST(DensitySolve, ProjectedGivesBackAWarmStartTheFlowDoesNotNeed) {
 // chaotic). So the bound is on what the solve is for, no heave and a tenth of the particles, which
 // the increments' 3,987 fail; the 1 cm/s the issue asks for is not met by either.
 TEST(DensitySolve, ProjectedHoldsTheStillTankWithAFullerWarmStart) {
-  const scene::Scene scene = test::shippedScene(
-      "still_tank", {"fluids[0].max=[0.12,0.3,0.12]", "boundaries[0].max=[0.12,0.4,0.12]",
-                     "solver.pressure=dfsph", "solver.viscosity_form=monaghan",
-                     "solver.density_warm_start=0.8", "solver.density_solve=projected"});
-  run::Simulation sim(scene);
-  sim.advanceTo(5.0);
-  test::StillTankFloor floor(0.12, scene.solver.spacing);
-  floor.advanceTo(sim, 10.0);
-  floor.print("dfsph, projected, warm start 0.8, 5-10 s", scene.solver.restDensity * 9.81 * 0.3,
-              true);
-  EXPECT_EQ(floor.heaveSteps(), 0);
-  EXPECT_NEAR(floor.lastTopHeight(), floor.firstTopHeight(), 0.001);
+  const test::StillTankFloor floor =
+      test::readDfsphStillTank({"solver.viscosity_form=monaghan", "solver.density_warm_start=0.8",
+                                "solver.density_solve=projected"},
+                               5.0, 10.0, "dfsph, projected, warm start 0.8, 5-10 s");
   constexpr std::size_t kParticles = 12 * 30 * 12;
-  EXPECT_LE(floor.fastParticles(), kParticles / 10);
+  test::expectStillTank(floor, kParticles / 10);
 }
 
 }  // namespace

@@ -35,36 +35,14 @@ double compressionRateAt(const Particles& p, std::size_t i, const solver::Derive
   return sum;
 }
 
-// The tests' still tank: scenes/still_tank.json narrowed to 0.12 m square (0.3 m of water,
-// 4,320 particles), with `more` edits.
-scene::Scene narrowStillTank(std::vector<std::string> more) {
-  more.insert(more.begin(), {"fluids[0].max=[0.12,0.3,0.12]", "boundaries[0].max=[0.12,0.4,0.12]"});
-  return test::shippedScene("still_tank", more);
-}
-
-// The same tank under DFSPH, read by the floor sensor from `settle` to `end` (s), its readings
-// printed under `name`.
-test::StillTankFloor readDfsphStillTank(const std::vector<std::string>& more, double settle,
-                                        double end, const char* name) {
-  std::vector<std::string> set = {"solver.pressure=dfsph"};
-  set.insert(set.end(), more.begin(), more.end());
-  const scene::Scene scene = narrowStillTank(set);
-  run::Simulation sim(scene);
-  sim.advanceTo(settle);
-  test::StillTankFloor floor(0.12, scene.solver.spacing);
-  floor.advanceTo(sim, end);
-  floor.print(name, scene.solver.restDensity * 9.81 * 0.3, true);
-  return floor;
-}
-
 TEST(Dfsph, StillTankHoldsDensityAtALargeStep) {
-  const scene::Scene scene = narrowStillTank({"solver.pressure=dfsph"});
+  const scene::Scene scene = test::narrowStillTank({"solver.pressure=dfsph"});
   run::Simulation sim(scene);
   const std::size_t count = sim.fluid().size();
   const double dx = scene.solver.spacing, rho0 = scene.solver.restDensity, g = 9.81;
   const double surface = count * dx * dx * dx / (0.12 * 0.12);
   // WCSPH's step for the same tank at rest: the largest it ever takes.
-  const scene::Scene wcsph = narrowStillTank({});
+  const scene::Scene wcsph = test::narrowStillTank({});
   const float wcsphStep = solver::timeStep(wcsph, solver::deriveParams(wcsph), 0, 0);
 
   // Settle: the initial lattice is unloaded and falls into place; until ~0.6 s the walls still
@@ -140,7 +118,7 @@ TEST(Dfsph, StillTankHoldsDensityAtALargeStep) {
 // and a tenth of the particles ever over 1 cm/s, which a slosh or a heave passes
 // (docs/notes/2026-11-30-dfsph-momentum.md, "The creep").
 TEST(Dfsph, TheStillTankHoldsItsHeightWithoutHeavingToTenSeconds) {
-  const test::StillTankFloor floor = readDfsphStillTank({}, 5.0, 10.0, "dfsph, 5-10 s");
+  const test::StillTankFloor floor = test::readDfsphStillTank({}, 5.0, 10.0, "dfsph, 5-10 s");
   EXPECT_EQ(floor.heaveSteps(), 0);
   EXPECT_NEAR(floor.lastTopHeight(), floor.firstTopHeight(), 0.001);
   constexpr std::size_t kParticles = 12 * 30 * 12;  // the tank's lattice at spacing 0.01 m
@@ -153,10 +131,11 @@ TEST(Dfsph, TheStillTankHoldsItsHeightWithoutHeavingToTenSeconds) {
 TEST(Dfsph, TheRelaxedSolveKeepsTheSettledStillTankFromHeaving) {
   const std::vector<std::string> relaxed = {"solver.density_relaxation=0.5",
                                             "solver.density_warm_start=0.8"};
-  const scene::Scene scene = narrowStillTank({"solver.pressure=dfsph", relaxed[0], relaxed[1]});
+  const scene::Scene scene =
+      test::narrowStillTank({"solver.pressure=dfsph", relaxed[0], relaxed[1]});
   ASSERT_EQ(scene.solver.densityRelaxation, 0.5f);
   ASSERT_EQ(scene.solver.densityWarmStart, 0.8f);
-  const test::StillTankFloor floor = readDfsphStillTank(relaxed, 0.6, 1.8, "dfsph, relaxed");
+  const test::StillTankFloor floor = test::readDfsphStillTank(relaxed, 0.6, 1.8, "dfsph, relaxed");
   // Measured: no step over 5 mm/s, the largest mean 0.8 mm/s. At rest the mean is 0.
   EXPECT_EQ(floor.heaveSteps(), 0);
   EXPECT_LT(floor.largestHeave(), 0.002);

@@ -67,18 +67,10 @@ TEST(ViscosityForm, IsRefusedWithWcsph) {
 // above it; at G = 9.81, 0.90-2.03 cm/s and 0-11 particles on the x86-64-v2, x86-64-v3 and
 // sanitize builds. The bound is a hundredth of the particles: the Laplacian's 51 and 21 fail it.
 TEST(ViscosityForm, MonaghansFormHoldsTheStillTanksCreepToAFewParticles) {
-  const scene::Scene scene = test::shippedScene(
-      "still_tank", {"fluids[0].max=[0.12,0.3,0.12]", "boundaries[0].max=[0.12,0.4,0.12]",
-                     "solver.pressure=dfsph", "solver.viscosity_form=monaghan"});
-  run::Simulation sim(scene);
-  sim.advanceTo(5.0);
-  test::StillTankFloor floor(0.12, scene.solver.spacing);
-  floor.advanceTo(sim, 10.0);
-  floor.print("dfsph, monaghan, 5-10 s", scene.solver.restDensity * 9.81 * 0.3, true);
-  EXPECT_EQ(floor.heaveSteps(), 0);
-  EXPECT_NEAR(floor.lastTopHeight(), floor.firstTopHeight(), 0.001);
+  const test::StillTankFloor floor = test::readDfsphStillTank({"solver.viscosity_form=monaghan"},
+                                                              5.0, 10.0, "dfsph, monaghan, 5-10 s");
   constexpr std::size_t kParticles = 12 * 30 * 12;
-  EXPECT_LE(floor.fastParticles(), kParticles / 100);
+  test::expectStillTank(floor, kParticles / 100);
 }
 
 }  // namespace
