@@ -5,10 +5,8 @@
 // one step to the next, and frames a fixed number of steps apart would see one phase only).
 #pragma once
 
-#include <cstddef>
 #include <cstdint>
 #include <set>
-#include <string>
 #include <vector>
 
 #include "sim/run/Simulation.h"
@@ -86,18 +84,5 @@ class StillTankFloor {
   std::vector<double> centreReadings_;  // every step's
   std::vector<std::uint32_t> order_;  // the fluid by height, highest first (readProfile())
 };
-
-// The tests' still tank: scenes/still_tank.json narrowed to 0.12 m square (0.3 m of water,
-// 4,320 particles), with `more` edits.
-scene::Scene narrowStillTank(std::vector<std::string> more);
-
-// That tank under DFSPH (with `more` edits), read by the floor sensor from `settle` to `end` (s),
-// its readings printed under `name`.
-StillTankFloor readDfsphStillTank(const std::vector<std::string>& more, double settle, double end,
-                                  const char* name);
-
-// The tank read by `floor` stayed at rest: no heave, its surface within 1 mm, at most `fast`
-// particles ever over 1 cm/s (of its 4,320).
-void expectStillTank(const StillTankFloor& floor, std::size_t fast);
 
 }  // namespace sph::test

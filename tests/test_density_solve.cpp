@@ -9,7 +9,7 @@
 
 #include "sim/Parallel.h"
 #include "sim/run/Simulation.h"
-#include "tests/StillTankFloor.h"
+#include "tests/StillTankRuns.h"
 #include "tests/TestSupport.h"
 
 namespace sph {

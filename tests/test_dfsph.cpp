@@ -8,10 +8,10 @@
 #include <cstdio>
 
 #include "io/scene/SceneLoader.h"
-#include "sim/run/Observables.h"
 #include "sim/Parallel.h"
+#include "sim/run/Observables.h"
 #include "sim/run/Simulation.h"
-#include "tests/StillTankFloor.h"
+#include "tests/StillTankRuns.h"
 #include "tests/TestSupport.h"
 
 namespace sph {

@@ -8,7 +8,7 @@
 
 #include "sim/InputError.h"
 #include "sim/run/Simulation.h"
-#include "tests/StillTankFloor.h"
+#include "tests/StillTankRuns.h"
 #include "tests/TestSupport.h"
 
 namespace sph {
