@@ -243,7 +243,7 @@ void solveDivergence(StepContext& c) {
 // a projected Jacobi on the whole stiffness, which may take the warm start back (as the peer's
 // solve may: SPlisHSPlasH's TimeStepDFSPH.cpp, at a share of 0.5). At 0.7 the still tank stirred
 // at 14 cm/s, at 0.9 the dam break blew up; without the momentum it took 7.7 iterations a step
-// where it takes 4.7 (docs/notes/2026-11-30-dfsph-larger-steps.md).
+// where it takes 4.5 (docs/notes/2026-11-30-dfsph-larger-steps.md).
 void solveDensity(StepContext& c) {
   Particles& f = c.fluid;
   StepScratch& s = c.scratch;
