@@ -81,17 +81,19 @@ TEST_F(MpiDfsph, TheMomentumIterationsAreThoseOfOneProcess) {
   // its own last stiffness and this step's sum, the ghosts' too: with walls that hold pressure
   // (the ghosts' stiffness sent by their owners) and with walls that hold none (computed where
   // they are). The projected solve too, which reads the whole sum, warm start included.
-  for (const std::string walls : {"extrapolated", "none", "extrapolated projected"}) {
-    SCOPED_TRACE(walls);
-    const bool projected = walls.find("projected") != std::string::npos;
-    const std::string set =
-        kAccurate + "--set solver.density_momentum_after=0 --set solver.wall_pressure=" +
-        walls.substr(0, walls.find(' ')) +
-        (projected ? " --set solver.density_solve=projected --set solver.density_warm_start=0.8 "
-                   : " ");
-    const std::string label = projected ? "projected" : walls;
-    const std::string one = dir_ + "/momentum_" + label + "_1.h5",
-                      many = dir_ + "/momentum_" + label + "_3.h5";
+  struct Variant {
+    const char* label;
+    const char* set;
+  };
+  for (const Variant& v : {Variant{"extrapolated", "--set solver.wall_pressure=extrapolated "},
+                           Variant{"none", "--set solver.wall_pressure=none "},
+                           Variant{"projected",
+                                   "--set solver.density_solve=projected "
+                                   "--set solver.density_warm_start=0.8 "}}) {
+    SCOPED_TRACE(v.label);
+    const std::string set = kAccurate + "--set solver.density_momentum_after=0 " + v.set;
+    const std::string one = dir_ + "/momentum_" + v.label + "_1.h5",
+                      many = dir_ + "/momentum_" + v.label + "_3.h5";
     const auto a = runShell(plain(collapse_, set + "-o '" + one + "'"));
     ASSERT_EQ(a.exitCode, 0) << a.output;
     const auto b = runShell(ranks(3, collapse_, set + "-o '" + many + "'"));
