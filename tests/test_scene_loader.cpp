@@ -342,6 +342,26 @@ TEST(SceneLoader, DensitySolveIsIncrementsOrProjectedForDfsphOnly) {
             "bad.json: solver.density_solve: only used with \"pressure\": \"dfsph\"");
 }
 
+TEST(SceneLoader, DfsphLeastIterationsMayBeZeroItsCapsNot) {
+  const auto dfsph = [](const std::string& edit) {
+    return io::scene::parseScene(kMinimal, "s.json", {"solver.pressure=dfsph", edit}).solver;
+  };
+  EXPECT_EQ(dfsph("solver.cfl=0.2").minDivergenceIterations, 1);
+  EXPECT_EQ(dfsph("solver.min_divergence_iterations=0").minDivergenceIterations, 0);
+  EXPECT_EQ(dfsph("solver.min_density_iterations=0").minDensityIterations, 0);
+  EXPECT_EQ(
+      errorOf(kMinimal, {"solver.pressure=dfsph", "solver.min_divergence_iterations=-1"}),
+      "bad.json: solver.min_divergence_iterations: expected an integer in [0, 10000], got -1");
+  EXPECT_EQ(errorOf(kMinimal, {"solver.pressure=dfsph", "solver.max_divergence_iterations=0"}),
+            "bad.json: solver.max_divergence_iterations: expected an integer in [1, 10000], got 0");
+  EXPECT_EQ(errorOf(kMinimal, {"solver.pressure=dfsph", "solver.min_divergence_iterations=5",
+                               "solver.max_divergence_iterations=3"}),
+            "bad.json: solver.min_divergence_iterations: expected at most "
+            "max_divergence_iterations (3)");
+  EXPECT_EQ(errorOf(kMinimal, {"solver.min_divergence_iterations=0"}),
+            "bad.json: solver.min_divergence_iterations: only used with \"pressure\": \"dfsph\"");
+}
+
 TEST(SceneLoader, NumbersHaveSaneRangesAndReadableMessages) {
   auto set = [](const std::string& edit) { return errorOf(kMinimal, {edit}); };
   EXPECT_EQ(set("output.fps=1e308"),

@@ -68,10 +68,10 @@ sph::scene::SolverParams readSolver(JsonReader r, Quality quality) {
   s.densityKernel = r.choice("density_kernel", std::optional(sph::scene::DensityKernel::Spiky));
   s.pressure = r.choice("pressure", std::optional(preset.pressure));
   const bool dfsph = s.pressure == sph::scene::PressureSolver::Dfsph;
-  for (const char* key :
-       {"max_density_error", "max_divergence_error", "min_density_iterations",
-        "max_density_iterations", "max_divergence_iterations", "density_relaxation",
-        "density_warm_start", "density_momentum_after", "density_solve", "viscosity_form"}) {
+  for (const char* key : {"max_density_error", "max_divergence_error", "min_density_iterations",
+                          "min_divergence_iterations", "max_density_iterations",
+                          "max_divergence_iterations", "density_relaxation", "density_warm_start",
+                          "density_momentum_after", "density_solve", "viscosity_form"}) {
     if (!dfsph && r.has(key)) r.fail(key, "only used with \"pressure\": \"dfsph\"");
   }
   if (dfsph) {
@@ -85,15 +85,21 @@ sph::scene::SolverParams readSolver(JsonReader r, Quality quality) {
     return static_cast<float>(r.number(key, fallback, "a number in (0, 10] (%)",
                                        [](double v) { return v > 0 && v <= 10; }));
   };
-  auto iterations = [&](const char* key, int fallback) {
+  // The least iterations may be 0, the caps not.
+  auto least = [&](const char* key, int fallback) {
+    return static_cast<int>(r.number(key, fallback, "an integer in [0, 10000]",
+                                     [](double v) { return integerIn(v, 0, 10000); }));
+  };
+  auto cap = [&](const char* key, int fallback) {
     return static_cast<int>(r.number(key, fallback, "an integer in [1, 10000]",
                                      [](double v) { return integerIn(v, 1, 10000); }));
   };
   s.maxDensityError = percent("max_density_error", s.maxDensityError);
   s.maxDivergenceError = percent("max_divergence_error", s.maxDivergenceError);
-  s.minDensityIterations = iterations("min_density_iterations", s.minDensityIterations);
-  s.maxDensityIterations = iterations("max_density_iterations", s.maxDensityIterations);
-  s.maxDivergenceIterations = iterations("max_divergence_iterations", s.maxDivergenceIterations);
+  s.minDensityIterations = least("min_density_iterations", s.minDensityIterations);
+  s.minDivergenceIterations = least("min_divergence_iterations", s.minDivergenceIterations);
+  s.maxDensityIterations = cap("max_density_iterations", s.maxDensityIterations);
+  s.maxDivergenceIterations = cap("max_divergence_iterations", s.maxDivergenceIterations);
   s.densityRelaxation =
       static_cast<float>(r.number("density_relaxation", s.densityRelaxation, "a number in (0, 1]",
                                   [](double v) { return v > 0 && v <= 1; }));
@@ -114,6 +120,10 @@ sph::scene::SolverParams readSolver(JsonReader r, Quality quality) {
   if (s.minDensityIterations > s.maxDensityIterations) {
     r.fail("min_density_iterations", "expected at most max_density_iterations (" +
                                          std::to_string(s.maxDensityIterations) + ")");
+  }
+  if (s.minDivergenceIterations > s.maxDivergenceIterations) {
+    r.fail("min_divergence_iterations", "expected at most max_divergence_iterations (" +
+                                            std::to_string(s.maxDivergenceIterations) + ")");
   }
   if (r.has("speed_of_sound") && r.has("stiffness")) {
     r.fail("stiffness", "give either speed_of_sound or stiffness, not both");

@@ -160,6 +160,9 @@ struct SolverParams {
   float maxDensityError = 0.05f;    // %
   float maxDivergenceError = 0.1f;  // %
   int minDensityIterations = 2;     // the constant-density solver's lower bound
+  // The divergence-free solver's: at 0 a step whose warm start already meets the error takes no
+  // iteration (one source pass checks it), where the papers always take one.
+  int minDivergenceIterations = 1;
   // The constant-density solver's Jacobi iterations (docs/scene-format.md): the share of each
   // increment that is applied, in (0, 1] (1 is the papers', every particle's full correction; half
   // damps the overshoot that makes a still tank heave), and the share of the last step's stiffness

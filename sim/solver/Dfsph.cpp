@@ -202,8 +202,9 @@ void solveDivergence(StepContext& c) {
   StepScratch& s = c.scratch;
   const float invDt = 1.0f / c.dt, dt = c.dt;
   const auto [iterations, error] =
-      jacobiSolve(c, c.warmStart.divergence, 0.5f, c.solver.maxDivergenceError * 0.01, 1,
-                  c.solver.maxDivergenceIterations, false, [&](std::uint32_t i, float rate, int) {
+      jacobiSolve(c, c.warmStart.divergence, 0.5f, c.solver.maxDivergenceError * 0.01,
+                  c.solver.minDivergenceIterations, c.solver.maxDivergenceIterations, false,
+                  [&](std::uint32_t i, float rate, int) {
                     const float r = std::max(rate, 0.0f);
                     s.source[i] = dt * r;
                     s.stiffness[i] = s.factor[i] * r * invDt;
