@@ -259,8 +259,39 @@ TEST(QualityPresets, ParseAndDifferAsDocumented) {
   EXPECT_EQ(accurate.solver.pressure, scene::PressureSolver::Dfsph);
   EXPECT_EQ(plain.solver.pressure, scene::PressureSolver::Wcsph);
   EXPECT_EQ(fast.solver.pressure, scene::PressureSolver::Wcsph);
-  EXPECT_FLOAT_EQ(accurate.solver.cfl, 0.2f);
+  EXPECT_FLOAT_EQ(accurate.solver.cfl, 0.3f);
   EXPECT_FLOAT_EQ(accurate.solver.soundSpeedFactor, 10.0f);
+  // Its DFSPH solve for those steps (io/scene/SimulationSections.cpp, accurateDfsph()), against
+  // the plain DFSPH's.
+  const scene::SolverParams dfsph =
+      io::scene::parseScene(base, "s.json", {"solver.pressure=dfsph"}).solver;
+  EXPECT_FLOAT_EQ(dfsph.cfl, 0.2f);
+  EXPECT_FLOAT_EQ(accurate.solver.densityWarmStart, 0.8f);
+  EXPECT_FLOAT_EQ(dfsph.densityWarmStart, 0.5f);
+  EXPECT_EQ(accurate.solver.densitySolve, scene::DensitySolve::Projected);
+  EXPECT_EQ(dfsph.densitySolve, scene::DensitySolve::Increments);
+  EXPECT_EQ(accurate.solver.viscosityForm, scene::ViscosityForm::Monaghan);
+  EXPECT_EQ(dfsph.viscosityForm, scene::ViscosityForm::Laplacian);
+  EXPECT_EQ(accurate.solver.minDivergenceIterations, 0);
+  EXPECT_EQ(dfsph.minDivergenceIterations, 1);
+  EXPECT_EQ(accurate.solver.minDensityIterations, 1);
+  EXPECT_EQ(dfsph.minDensityIterations, 2);
+  EXPECT_FLOAT_EQ(accurate.solver.maxDensityError, 0.045f);
+  EXPECT_FLOAT_EQ(dfsph.maxDensityError, 0.05f);
+  // Each of them a key the scene may give.
+  const scene::SolverParams given =
+      io::scene::parseScene(
+          base, "s.json",
+          {"quality=accurate", "solver.density_warm_start=0.5", "solver.density_solve=increments",
+           "solver.viscosity_form=laplacian", "solver.min_divergence_iterations=1",
+           "solver.min_density_iterations=2", "solver.max_density_error=0.05"})
+          .solver;
+  EXPECT_FLOAT_EQ(given.densityWarmStart, 0.5f);
+  EXPECT_EQ(given.densitySolve, scene::DensitySolve::Increments);
+  EXPECT_EQ(given.viscosityForm, scene::ViscosityForm::Laplacian);
+  EXPECT_EQ(given.minDivergenceIterations, 1);
+  EXPECT_EQ(given.minDensityIterations, 2);
+  EXPECT_FLOAT_EQ(given.maxDensityError, 0.05f);
   EXPECT_NEAR(solver::deriveParams(fast).speedOfSound, 5 * bound, 1e-3 * bound);
   EXPECT_NEAR(solver::deriveParams(plain).speedOfSound, 10 * bound, 1e-3 * bound);
   EXPECT_NEAR(solver::deriveParams(accurate).speedOfSound, 10 * bound, 1e-3 * bound);
