@@ -123,10 +123,20 @@ std::vector<double> readDoubleArrayAttribute(hid_t obj, const std::string& name)
 std::vector<std::uint64_t> readUintArrayAttribute(hid_t obj, const std::string& name);
 std::vector<std::string> attributeNames(hid_t obj);
 
+// The deflate level written with zlib's run-length strategy (Storage::deflateLevel).
+constexpr int kRunLengthLevel = 1;
+
 // How a dataset is stored. Chunked datasets get the byte shuffle before deflate (it groups the
 // bytes of equal significance, which is what makes float arrays compress).
 struct Storage {
-  int deflateLevel = 0;              // 0 = no compression
+  // 0 = no compression; 2-9 zlib's levels; 1 (kRunLengthLevel) zlib's run-length strategy where
+  // writeDataset deflates the chunks itself (the 1-D datasets one process writes, every frame
+  // field; HDF5's own filter, which writes the others, takes 1 as zlib's level 1).
+  // After the byte shuffle most of a float field's bytes are mantissa noise, in which deflate's
+  // search for matches finds nothing: the run-length strategy spends no time on it and keeps the
+  // runs of the exponent bytes: the peer's dam break's frames 2.2x faster than level 4 for 8%
+  // more bytes (docs/benchmarks.md, "HDF5 cache"). Every zlib reader decodes either.
+  int deflateLevel = 0;
   // Upper bound of one chunk (bytes). 128 KiB: a frame's field of 117,649 floats is 4 chunks,
   // which writeDataset deflates on 4 threads at once; 0.9% larger than one chunk of it.
   std::size_t chunkBytes = 128 << 10;

@@ -64,19 +64,27 @@ namespace {
 // One chunk as HDF5's filters leave it: `count` elements of `size` bytes from `in`, zeros after
 // them up to `chunk` elements (an edge chunk is filtered at full size, padded as the library
 // pads it), byte-shuffled (byte b of element e to b * chunk + e: H5Z's shuffle filter) and
-// deflated (a zlib stream, H5Z's deflate filter: compress2 at `level`). Empty if zlib failed
-// (it runs inside a parallel loop, which an exception must not leave).
+// deflated (a zlib stream, which H5Z's deflate filter reads). Levels 2-9 as H5Z's filter writes
+// them (compress2 at `level`); level 1 with zlib's run-length strategy (matches of distance 1
+// only, Storage::deflateLevel says why). Empty if zlib failed (it runs inside a parallel loop,
+// which an exception must not leave).
 std::vector<Bytef> filteredChunk(const unsigned char* in, std::size_t count, std::size_t size,
                                  std::size_t chunk, int level) {
   std::vector<Bytef> shuffled(chunk * size, 0);
   for (std::size_t e = 0; e < count; ++e)
     for (std::size_t b = 0; b < size; ++b) shuffled[b * chunk + e] = in[e * size + b];
-  uLongf length = compressBound(static_cast<uLong>(shuffled.size()));
-  std::vector<Bytef> out(length);
-  if (compress2(out.data(), &length, shuffled.data(), static_cast<uLong>(shuffled.size()), level) !=
-      Z_OK)
-    length = 0;
-  out.resize(length);
+  std::vector<Bytef> out(compressBound(static_cast<uLong>(shuffled.size())));
+  z_stream z{};
+  // compress2() is deflateInit() at `level`, the default strategy, window 15 and memory level 8.
+  const int strategy = level == kRunLengthLevel ? Z_RLE : Z_DEFAULT_STRATEGY;
+  if (deflateInit2(&z, level, Z_DEFLATED, 15, 8, strategy) != Z_OK) return {};
+  z.next_in = shuffled.data();
+  z.avail_in = static_cast<uInt>(shuffled.size());
+  z.next_out = out.data();
+  z.avail_out = static_cast<uInt>(out.size());
+  const bool done = deflate(&z, Z_FINISH) == Z_STREAM_END;
+  out.resize(done ? z.total_out : 0);
+  deflateEnd(&z);
   return out;
 }
 
@@ -110,11 +118,11 @@ void writeFilteredChunks(hid_t set, const void* data, std::size_t count, std::si
 std::uint64_t writeDataset(hid_t loc, const std::string& name, hid_t memType, hid_t fileType,
                            const void* data, std::size_t count, const Storage& storage) {
   Handle set = createDataset(loc, name, fileType, {static_cast<hsize_t>(count)}, storage);
-  // Values whose memory layout is the file's (native little-endian types on this CPU) and more
-  // than one chunk of them: filtered here on all threads. Otherwise HDF5 converts and filters.
+  // Values whose memory layout is the file's (native little-endian types on this CPU): filtered
+  // here, the chunks on all threads. Otherwise HDF5 converts and filters.
   const std::size_t size = H5Tget_size(fileType);
   const hsize_t chunk = chunkRows({static_cast<hsize_t>(count)}, size, storage);
-  if (chunk > 0 && count > chunk && !storage.collective && H5Tequal(memType, fileType) > 0) {
+  if (chunk > 0 && !storage.collective && H5Tequal(memType, fileType) > 0) {
     writeFilteredChunks(set.get(), data, count, size, static_cast<std::size_t>(chunk),
                         storage.deflateLevel, name);
   } else if (count > 0) {

@@ -62,7 +62,7 @@ struct OutputDesc {
   // Per-frame datasets, canonical names (x y z vx vy vz ax ay az rho p collide_time id); the
   // loader expands "position", "velocity", "acceleration". Only these are written.
   std::vector<std::string> fields = {"x", "y", "z", "vx", "vy", "vz", "rho", "p", "id"};
-  int compression = 4;           // deflate level 0-9 (0 = none), with the byte shuffle filter
+  int compression = 1;           // deflate level 0-9 (0 = none; 1 run-length), byte shuffle first
   bool restart = true;           // record each frame's resume state (what fields lack of it)
   bool doublePositions = false;  // x, y, z stored as float64 (converted from the solver's float32)
 };
