@@ -54,7 +54,7 @@ QualityPreset qualityPreset(Quality quality) {
 // viscosity; a divergence solve that may skip a step's iteration and a density solve that may
 // stop after one; and a threshold of 0.045%, which holds the compression measured on the state
 // itself, not only the solver's prediction of it, to the peer's 0.05%. On the peer's dam break
-// 0.23x the peer's wall time, where the settings before read 0.35x; still tank, fronts and
+// about 0.24x the peer's wall time, where the settings before read 0.35x; still tank, fronts and
 // compression: docs/notes/2026-11-30-dfsph-accurate-preset.md.
 void accurateDfsph(sph::scene::SolverParams& s) {
   s.densityWarmStart = 0.8f;
