@@ -43,8 +43,16 @@ int info(const InfoOptions& o) {
   std::printf("%s: sphsplat cache (format %lld, written by sphsplat %s, created %s)\n",
               s.path.c_str(), static_cast<long long>(s.formatVersion), s.programVersion.c_str(),
               s.created.c_str());
+  // The overrides are stored a line each: said as the command line gave them.
+  std::string overrides;
+  for (std::size_t from = 0; from < s.sceneOverrides.size();) {
+    const std::size_t end = std::min(s.sceneOverrides.find('\n', from), s.sceneOverrides.size());
+    overrides +=
+        (overrides.empty() ? ", --set " : " --set ") + s.sceneOverrides.substr(from, end - from);
+    from = end + 1;
+  }
   std::printf("  scene      %s (%s)%s\n", s.sceneName.c_str(), s.scenePath.c_str(),
-              s.sceneOverrides.empty() ? "" : (", --set " + s.sceneOverrides).c_str());
+              overrides.c_str());
   std::printf("  status     %s\n", describeStatus(s).c_str());
   if (n == 0) {
     std::printf("  frames     none complete\n");

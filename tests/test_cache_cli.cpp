@@ -45,6 +45,21 @@ TEST_F(CacheCli, RunWritesTheCacheAndSaysWhere) {
   }
 }
 
+// The scene's --set edits, stored a line each, are said on the scene's line as given.
+TEST_F(CacheCli, InfoSaysEveryOverrideOnTheScenesLine) {
+  const std::string path = dir_ + "/two_sets.h5";
+  const auto run = runShell(sphsplat("run '" + scene_ + "' --threads 1 --set solver.cfl=0.3 " +
+                                     "--set output.compression=2 -o '" + path + "'"));
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  const auto r = runShell(sphsplat("info '" + path + "'"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("scene      tiny (" + scene_ +
+                          "), --set solver.cfl=0.3 --set output.compression=2\n"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("deflate 2 + shuffle"), std::string::npos) << r.output;
+}
+
 TEST_F(CacheCli, InfoDescribesTheCache) {
   const auto r = runShell(sphsplat("info '" + cache_ + "' --frames"));
   ASSERT_EQ(r.exitCode, 0) << r.output;
