@@ -43,14 +43,9 @@ int info(const InfoOptions& o) {
   std::printf("%s: sphsplat cache (format %lld, written by sphsplat %s, created %s)\n",
               s.path.c_str(), static_cast<long long>(s.formatVersion), s.programVersion.c_str(),
               s.created.c_str());
-  // The overrides are stored a line each: said as the command line gave them.
-  std::string overrides;
-  for (std::size_t from = 0; from < s.sceneOverrides.size();) {
-    const std::size_t end = std::min(s.sceneOverrides.find('\n', from), s.sceneOverrides.size());
-    overrides +=
-        (overrides.empty() ? ", --set " : " --set ") + s.sceneOverrides.substr(from, end - from);
-    from = end + 1;
-  }
+  std::string overrides;  // as the command line gave them
+  for (const std::string& edit : io::cache::sceneEdits(s))
+    overrides += (overrides.empty() ? ", --set " : " --set ") + edit;
   std::printf("  scene      %s (%s)%s\n", s.sceneName.c_str(), s.scenePath.c_str(),
               overrides.c_str());
   std::printf("  status     %s\n", describeStatus(s).c_str());

@@ -39,11 +39,7 @@ void checkPositions(const std::vector<float>& x, const std::vector<float>& y,
 
 scene::Scene sceneOfCache(const io::cache::CacheSummary& summary,
                           const std::vector<std::string>& extraEdits) {
-  std::vector<std::string> edits;
-  std::istringstream lines(summary.sceneOverrides);
-  for (std::string line; std::getline(lines, line);) {
-    if (!line.empty()) edits.push_back(line);
-  }
+  std::vector<std::string> edits = io::cache::sceneEdits(summary);
   edits.insert(edits.end(), extraEdits.begin(), extraEdits.end());
   try {
     return io::scene::parseScene(summary.sceneText, summary.scenePath, edits);

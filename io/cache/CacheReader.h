@@ -56,6 +56,9 @@ struct CacheSummary {
   bool repaired = false;
 };
 
+// The scene's --set edits the run was given (stored a line each in sceneOverrides), in order.
+std::vector<std::string> sceneEdits(const CacheSummary& summary);
+
 // Frame numbers (ascending) in words for messages and `info`: "31 frames (0-30)",
 // "4 frames (0-30, every 10 frames)", "3 frames (1, 4, 9)", "no frame".
 std::string describeFrames(const std::vector<std::size_t>& frames);

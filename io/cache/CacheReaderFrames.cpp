@@ -19,6 +19,17 @@ std::string frameRange(std::size_t frames) {
 
 }  // namespace
 
+std::vector<std::string> sceneEdits(const CacheSummary& summary) {
+  std::vector<std::string> edits;
+  const std::string& text = summary.sceneOverrides;
+  for (std::size_t from = 0; from < text.size();) {
+    const std::size_t end = std::min(text.find('\n', from), text.size());
+    if (end > from) edits.push_back(text.substr(from, end - from));
+    from = end + 1;
+  }
+  return edits;
+}
+
 std::string describeFrames(const std::vector<std::size_t>& frames) {
   const std::size_t n = frames.size();
   if (n == 0) return "no frame";
