@@ -17,6 +17,8 @@
 #include <set>
 #include <vector>
 
+#include <omp.h>
+
 #include "sim/grid/NeighbourGrid.h"
 #include "sim/ranks/ExactSum.h"
 #include "sim/ranks/Halo.h"
@@ -131,6 +133,25 @@ TEST(ExactSum, AddAllIsAddOneByOne) {
   every.normalise(), all.normalise();
   EXPECT_EQ(every.digits(), all.digits());
   EXPECT_NE(every.digits(), one.digits());  // the skipped values did count for something
+  // Long arrays are summed on every thread (a sum per exponent each): the same digits with any
+  // number of threads, and from inside a parallel region, where it sums on one.
+  const int threads = omp_get_max_threads();
+  for (int t : {1, 2, 3, 7}) {
+    omp_set_num_threads(t);
+    ExactSum split;
+    split.addAll(v.data(), v.size(), skip.data());
+    split.normalise();
+    EXPECT_EQ(split.digits(), one.digits()) << t << " threads";
+  }
+  omp_set_num_threads(threads);
+  ExactSum nested;
+#pragma omp parallel num_threads(2)
+  {
+#pragma omp single
+    nested.addAll(v.data(), v.size(), skip.data());
+  }
+  nested.normalise();
+  EXPECT_EQ(nested.digits(), one.digits());
   // Subnormals are exact too (add() once shifted their significand by a negative count).
   ExactSum tiny;
   tiny.add(std::numeric_limits<float>::denorm_min()), tiny.add(1e-40f), tiny.add(1e-40f);

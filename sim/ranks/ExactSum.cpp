@@ -6,6 +6,8 @@
 #include <utility>
 #include <vector>
 
+#include <omp.h>
+
 namespace sph::ranks {
 
 namespace {
@@ -23,6 +25,8 @@ std::uint32_t exponentOf(std::uint32_t bits) {
 int shiftOf(std::uint32_t e) {
   return e == 0 ? 0 : static_cast<int>(e) - 1;
 }
+// Below this many values one thread sums faster than a parallel region starts.
+constexpr std::size_t kThreadedLength = 1 << 15;
 
 }  // namespace
 
@@ -52,16 +56,35 @@ void ExactSum::addShifted(std::int64_t value, int shift) {
 
 void ExactSum::addAll(const float* v, std::size_t n, const std::uint8_t* skip) {
   // One integer sum per exponent (2^39 significands of 2^24 fit in 63 bits), then 256 shifts.
-  std::array<std::int64_t, 256> byExponent{};
-  for (std::size_t i = 0; i < n; ++i) {
-    if (skip && skip[i]) continue;
-    std::uint32_t bits;
-    std::memcpy(&bits, &v[i], sizeof bits);
-    const std::uint32_t e = exponentOf(bits);
-    byExponent[e] += significand(bits, e);
+  // A long array (DFSPH's error, whose mean follows each of its passes) on every thread, a sum
+  // per exponent each: integer sums, so how the array is split changes nothing.
+  using ByExponent = std::array<std::int64_t, 256>;
+  auto sumRange = [&](std::size_t from, std::size_t to, ByExponent& byExponent) {
+    for (std::size_t i = from; i < to; ++i) {
+      if (skip && skip[i]) continue;
+      std::uint32_t bits;
+      std::memcpy(&bits, &v[i], sizeof bits);
+      const std::uint32_t e = exponentOf(bits);
+      byExponent[e] += significand(bits, e);
+    }
+  };
+  ByExponent total{};
+  const int threads = n >= kThreadedLength && !omp_in_parallel() ? omp_get_max_threads() : 1;
+  if (threads == 1) {
+    sumRange(0, n, total);
+  } else {
+    std::vector<ByExponent> parts(static_cast<std::size_t>(threads), ByExponent{});
+#pragma omp parallel num_threads(threads)
+    {
+      const auto t = static_cast<std::size_t>(omp_get_thread_num());
+      const std::size_t count = static_cast<std::size_t>(omp_get_num_threads());
+      sumRange(n * t / count, n * (t + 1) / count, parts[t]);
+    }
+    for (const ByExponent& part : parts)
+      for (std::size_t e = 0; e < total.size(); ++e) total[e] += part[e];
   }
   for (std::uint32_t e = 0; e < 256; ++e)
-    if (byExponent[e] != 0) addShifted(byExponent[e], shiftOf(e));
+    if (total[e] != 0) addShifted(total[e], shiftOf(e));
 }
 
 void ExactSum::merge(const Digits& other) {
