@@ -20,6 +20,11 @@ Read the same way from both programs' frames, so a still tank can be compared wi
 
     scripts/fast_particles.py CACHE.h5 --summary 5 10
     scripts/fast_particles.py --peer-vtk OUT/vtk --fps 50 --summary 5 10
+
+With --tank and --spacing too, a second line says where those particles were at their fastest: in
+the floor's layer, beside a side wall or elsewhere (the still tank's creep is its floor layer's):
+
+    scripts/fast_particles.py CACHE.h5 --summary 5 10 --over 0.005 --tank 0 0 0 0.12 0.4 0.12 --spacing 0.01
 """
 import argparse
 import glob
@@ -100,9 +105,19 @@ def within(points, centre, radius):
     return int((np.sum((points - centre) ** 2, axis=1) <= radius * radius).sum())
 
 
-def summary(source, t0, t1, over):
-    """One line: how still the frames in [t0, t1] are (the module's docstring)."""
-    count, fastest, heave, ever, heights = 0, 0.0, 0.0, set(), []
+def region(x, lo, hi, spacing):
+    """Where a particle of a box tank is: in the floor's layer (within one spacing of the floor),
+    beside a side wall (within one spacing of one), or elsewhere."""
+    if x[1] - lo[1] < spacing:
+        return "floor layer"
+    side = min(x[0] - lo[0], hi[0] - x[0], x[2] - lo[2], hi[2] - x[2])
+    return "beside a side wall" if side < spacing else "elsewhere"
+
+
+def summary(source, t0, t1, over, tank=None, spacing=None):
+    """One line: how still the frames in [t0, t1] are (the module's docstring); with a tank and
+    its spacing a second: where the particles over `over` were at their fastest."""
+    count, fastest, heave, ever, heights = 0, 0.0, 0.0, {}, []
     for t, _, x, v, ids, _, _ in source:
         if t < t0 - 1e-6 or t > t1 + 1e-6:
             continue
@@ -110,7 +125,9 @@ def summary(source, t0, t1, over):
         count += 1
         fastest = max(fastest, float(s.max()))
         heave = max(heave, abs(float(v[:, 1].mean())))
-        ever.update(ids[s > over].tolist())
+        for i in np.nonzero(s > over)[0]:
+            if ids[i] not in ever or s[i] > ever[ids[i]][0]:
+                ever[ids[i]] = (float(s[i]), x[i].copy())
         heights.append(float(np.sort(x[:, 1])[-max(1, len(x) // 20):].mean()))
     if count == 0:
         fail(f"no frame between {t0} and {t1} s")
@@ -118,6 +135,13 @@ def summary(source, t0, t1, over):
           f"{len(ever)} particles ever over {100 * over:g} cm/s, largest mean vertical speed "
           f"{1000 * heave:.2f} mm/s, top 5% of the particles at {heights[0]:.4f} -> "
           f"{heights[-1]:.4f} m")
+    if tank is None or not ever:
+        return
+    lo, hi = np.array(tank[:3]), np.array(tank[3:])
+    places = [region(at, lo, hi, spacing) for _, at in ever.values()]
+    counts = ", ".join(f"{places.count(r)} {r}" for r in
+                       ("floor layer", "beside a side wall", "elsewhere"))
+    print(f"  where they were at their fastest (one spacing, {spacing:g} m): {counts}")
 
 
 def main():
@@ -132,6 +156,9 @@ def main():
                     help="one line on how still the frames in [FROM, TO] s are")
     ap.add_argument("--over", type=float, default=0.01,
                     help="the speed --summary counts particles over (m/s, default 0.01)")
+    ap.add_argument("--spacing", type=float,
+                    help="with --summary and --tank: the particle spacing (m), the thickness of "
+                         "the floor's layer and of the water beside the side walls")
     ap.add_argument("--top", type=int, default=5, help="fastest particles described per frame")
     ap.add_argument("--from-time", type=float, default=0.0)
     a = ap.parse_args()
@@ -141,7 +168,9 @@ def main():
         ap.error("--peer-vtk needs --fps (the peer's dataExportFPS)")
     source = peer_frames(a.peer_vtk, a.fps) if a.peer_vtk else cache_frames(a.cache)
     if a.summary:
-        summary(source, a.summary[0], a.summary[1], a.over)
+        if (a.tank is None) != (a.spacing is None):
+            ap.error("--summary places the fast particles with both --tank and --spacing")
+        summary(source, a.summary[0], a.summary[1], a.over, a.tank, a.spacing)
         return
     if a.tank is None or a.support is None:
         ap.error("--tank and --support are needed (or --summary FROM TO)")
