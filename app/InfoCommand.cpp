@@ -72,15 +72,14 @@ int info(const InfoOptions& o) {
   }
   if (n == 0)
     std::printf("  size       %sB\n", humanCount(static_cast<double>(s.fileBytes)).c_str());
-  std::printf("  fields     %s (float%s, id uint32), %s\n",
-              io::cache::describeFields(s.fields).c_str(),
-              s.doublePositions ? "32; x y z float64" : "32",
-              s.compression > 0
-                  ? ("deflate " + std::to_string(s.compression) +
-                     (s.compression == io::cache::h5::kRunLengthLevel ? " (run-length)" : "") +
-                     " + shuffle")
-                        .c_str()
-                  : "uncompressed");
+  std::printf(
+      "  fields     %s (float%s, id uint32), %s\n", io::cache::describeFields(s.fields).c_str(),
+      s.doublePositions ? "32; x y z float64" : "32",
+      // The level only: at level 1 one process deflates with zlib's run-length strategy,
+      // the ranks of an MPI run writing together with HDF5's level 1, and the cache does
+      // not record which wrote a dataset.
+      s.compression > 0 ? ("deflate " + std::to_string(s.compression) + " + shuffle").c_str()
+                        : "uncompressed");
   const auto resumable = std::count_if(s.frames.begin(), s.frames.end(),
                                        [](const io::cache::CacheFrame& f) { return f.hasRestart; });
   std::printf("  resume     %s\n",

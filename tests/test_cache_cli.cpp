@@ -68,8 +68,7 @@ TEST_F(CacheCli, InfoDescribesTheCache) {
            "status     finished at t = 0.1 s",
            "frames     11 (Step#0 - Step#10), t = 0 - 0.1 s at 100 frames/s",
            "particles  96 - 98 fluid per frame (98 in the last), ",
-           "fields     x y z vx vy vz rho p id (float32, id uint32), deflate 1 (run-length) + "
-           "shuffle",
+           "fields     x y z vx vy vz rho p id (float32, id uint32), deflate 1 + shuffle",
            "resume     11 frames have a resume record", "solver     ", "spacing 0.025",
            "rendered   none", "ParaView   paraview " + dir_ + "/tiny.xdmf",
            "bytes per particle per frame"}) {
