@@ -25,6 +25,13 @@ std::string tinyRenderingScene(double endTime, double fps);
 // A fresh empty directory under /tmp, removed after a passing run (makeTempDirectory).
 std::string makeTempDir();
 
+// A suite whose tests each write into a fresh directory of their own, dir_ (makeTempDir()).
+class TempDirTest : public ::testing::Test {
+ protected:
+  void SetUp() override { dir_ = makeTempDir(); }
+  std::string dir_;
+};
+
 // The command that starts the sphsplat binary (sphsplatCommand, TestSupport.h).
 std::string sphsplatBinary();
 

@@ -21,11 +21,7 @@ namespace {
 
 using test::Id;
 
-class CacheChunks : public ::testing::Test {
- protected:
-  void SetUp() override { dir_ = test::makeTempDir(); }
-  std::string dir_;
-};
+class CacheChunks : public test::TempDirTest {};
 
 // writeDataset deflates a dataset's chunks on all threads and hands them to HDF5 filtered: the
 // file must hold exactly what HDF5's own filters would have written (shuffle, then deflate; the

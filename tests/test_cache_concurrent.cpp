@@ -134,11 +134,7 @@ class RawReader {
   std::string error_, newestStep_, newestPicture_;
 };
 
-class CacheConcurrent : public ::testing::Test {
- protected:
-  void SetUp() override { dir_ = test::makeTempDir(); }
-  std::string dir_;
-};
+class CacheConcurrent : public test::TempDirTest {};
 
 TEST_F(CacheConcurrent, EveryMomentOfARenderingRunIsAStateReadersCanOpen) {
   const std::string scene = dir_ + "/render.json", cache = dir_ + "/render.h5";

@@ -38,11 +38,7 @@ using test::stringKind;
 using test::writeRun;
 using test::WrittenRun;
 
-class CacheFormat : public ::testing::Test {
- protected:
-  void SetUp() override { dir_ = test::makeTempDir(); }
-  std::string dir_;
-};
+class CacheFormat : public test::TempDirTest {};
 
 TEST_F(CacheFormat, FramesAndResumeRecordsReadBackBitForBit) {
   const std::string path = dir_ + "/roundtrip.h5";

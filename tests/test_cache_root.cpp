@@ -27,11 +27,7 @@ using test::stringKind;
 using test::writeRun;
 using test::WrittenRun;
 
-class CacheRoot : public ::testing::Test {
- protected:
-  void SetUp() override { dir_ = test::makeTempDir(); }
-  std::string dir_;
-};
+class CacheRoot : public test::TempDirTest {};
 
 TEST_F(CacheRoot, H5pyReadsTheRootStringsAsText) {
   // What a Python user meets: /usr/bin/python3 with h5py (scripts/setup installs it).
