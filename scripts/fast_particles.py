@@ -162,6 +162,8 @@ def main():
     ap.add_argument("--top", type=int, default=5, help="fastest particles described per frame")
     ap.add_argument("--from-time", type=float, default=0.0)
     a = ap.parse_args()
+    if sys.stdout is None:  # started with standard output closed: what it prints would be lost
+        fail("standard output is closed: nowhere to print the frames")
     if (a.cache is None) == (a.peer_vtk is None):
         ap.error("give either a cache or --peer-vtk DIR")
     if a.peer_vtk and not a.fps:
@@ -170,6 +172,8 @@ def main():
     if a.summary:
         if (a.tank is None) != (a.spacing is None):
             ap.error("--summary places the fast particles with both --tank and --spacing")
+        if a.spacing is not None and not a.spacing > 0:
+            ap.error(f"--spacing must be a length > 0 m, not {a.spacing:g}")
         summary(source, a.summary[0], a.summary[1], a.over, a.tank, a.spacing)
         return
     if a.tank is None or a.support is None:
@@ -198,4 +202,11 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+        sys.stdout.flush()
+    except BrokenPipeError:  # the reader stopped early (| head): nothing more is wanted
+        sys.stderr.close()  # Python's flush at exit would print a traceback otherwise
+        sys.exit(0)
+    except OSError as e:  # writing the lines failed (a full disk)
+        fail(f"cannot write the output: {e.strerror}")
