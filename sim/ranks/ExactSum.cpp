@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include <omp.h>
+#include "sim/Parallel.h"
 
 namespace sph::ranks {
 
@@ -69,19 +69,15 @@ void ExactSum::addAll(const float* v, std::size_t n, const std::uint8_t* skip) {
     }
   };
   ByExponent total{};
-  const int threads = n >= kThreadedLength && !omp_in_parallel() ? omp_get_max_threads() : 1;
-  if (threads == 1) {
+  const std::size_t parts = n >= kThreadedLength ? static_cast<std::size_t>(threadCount()) : 1;
+  if (parts == 1) {
     sumRange(0, n, total);
   } else {
-    std::vector<ByExponent> parts(static_cast<std::size_t>(threads), ByExponent{});
-#pragma omp parallel num_threads(threads)
-    {
-      const auto t = static_cast<std::size_t>(omp_get_thread_num());
-      const std::size_t count = static_cast<std::size_t>(omp_get_num_threads());
-      sumRange(n * t / count, n * (t + 1) / count, parts[t]);
-    }
-    for (const ByExponent& part : parts)
-      for (std::size_t e = 0; e < total.size(); ++e) total[e] += part[e];
+    std::vector<ByExponent> part(parts, ByExponent{});
+    parallelFor(parts,
+                [&](std::size_t p) { sumRange(n * p / parts, n * (p + 1) / parts, part[p]); });
+    for (const ByExponent& sums : part)
+      for (std::size_t e = 0; e < total.size(); ++e) total[e] += sums[e];
   }
   for (std::uint32_t e = 0; e < 256; ++e)
     if (total[e] != 0) addShifted(total[e], shiftOf(e));

@@ -27,7 +27,7 @@ class ExactSum {
   void add(float value);
   // Adds v[i] for every i < n with skip[i] == 0 (every i without `skip`), exactly, as add() would
   // one by one, in a third of the time: by exponent first, one integer addition a value; a long
-  // array on every thread (outside a parallel region), to the same digits.
+  // array on every thread, to the same digits.
   void addAll(const float* v, std::size_t n, const std::uint8_t* skip = nullptr);
   // Adds another sum (a thread's, a rank's) exactly.
   void merge(const Digits& other);
