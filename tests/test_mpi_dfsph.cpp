@@ -104,6 +104,21 @@ TEST_F(MpiDfsph, TheMomentumIterationsAreThoseOfOneProcess) {
   }
 }
 
+TEST_F(MpiDfsph, TheWarmStartForWaterAtRestIsDecidedForTheWholeFluid) {
+  // A pool at rest stepped at 1.5 ms, far under gravity's bound, with a block falling into one end:
+  // the constant-density solver's warm start is lowered while most of the fluid is slow (Dfsph.cpp,
+  // densityWarmShare()), a count over every rank. The rank that holds the falling block is mostly
+  // fast, the others slow: each must take the whole fluid's decision.
+  const std::string pool = dir_ + "/restpool.json";
+  std::ofstream(pool) << R"({"solver": {"spacing": 0.015, "end_time": 0.1, "max_time_step": 0.0015},
+    "fluids": [{"type": "box", "min": [0, 0, 0], "max": [0.3, 0.15, 0.06]},
+               {"type": "box", "min": [0, 0.2, 0], "max": [0.09, 0.3, 0.06],
+                "velocity": [0, -2, 0]}],
+    "boundaries": [{"type": "tank", "min": [0, 0, 0], "max": [0.3, 0.35, 0.06]}],
+    "output": {"fps": 50}})";
+  expectRanksMatchOneProcess(pool, 3, "restpool");
+}
+
 TEST_F(MpiDfsph, AGatheredFrameZeroHasNoWarmStartYet) {
   // A scene with rain, frame 0 included: gathered to rank 0 in a build with the serial HDF5
   // library, where before the first exchange DFSPH's warm start exists on no rank and the gather
