@@ -97,9 +97,10 @@ bool anyWarm(const StepContext& c, const std::vector<float>& warm) {
 bool mostlySlow(const StepContext& c, float speed) {
   const Particles& f = c.fluid;
   const float limit = speed * speed;
-  std::int64_t slow = 0, count = 0;
-  for (std::size_t i = 0; i < f.size(); ++i) {
-    if (!owned(c, i)) continue;
+  std::int64_t slow = 0, count = 0;  // integer sums: the same whatever the split between threads
+#pragma omp parallel for reduction(+ : slow, count) schedule(static)
+  for (long long i = 0; i < static_cast<long long>(f.size()); ++i) {
+    if (!owned(c, static_cast<std::size_t>(i))) continue;
     const float v2 = f.vx[i] * f.vx[i] + f.vy[i] * f.vy[i] + f.vz[i] * f.vz[i];
     slow += v2 < limit ? 1 : 0;
     ++count;

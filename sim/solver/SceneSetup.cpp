@@ -103,13 +103,13 @@ float timeStep(const scene::Scene& scene, const DerivedParams& d, float maxSpeed
   // Monaghan's form (DfsphViscosity.cpp) is explicit too, and stiffer than the Laplacian at close
   // range: its weight r / (r^2 + 0.01 h^2) meets the spiky gradient, which does not vanish as r
   // goes to 0. At nu' = 0.01 m^2/s (the peer's own viscosity) and h = 0.02 m the still tank blew
-  // up within 0.6 s at steps of 1.7-2.5 ms and held at 1.6 ms, 0.04 h^2 / nu'; 0.03 keeps a
+  // up within 0.6 s at steps of 1.7-2.5 ms and ran at 1.6 ms, 0.04 h^2 / nu'; 0.03 keeps a
   // quarter of margin. At the automatic viscosity it never binds (5.7 ms at spacing 0.01 m,
   // where gravity's bound is 2.9 ms).
   if (s.pressure == scene::PressureSolver::Dfsph &&
       s.viscosityForm == scene::ViscosityForm::Monaghan && d.viscosity > 0) {
-    const float share = scene::SolverParams::kMonaghanShare * d.viscosity;
-    dt = std::min(dt, 0.03f * d.h * d.h / share);
+    const float monaghanViscosity = scene::SolverParams::kMonaghanShare * d.viscosity;
+    dt = std::min(dt, 0.03f * d.h * d.h / monaghanViscosity);
   }
   return std::min(dt, s.maxTimeStep);
 }
