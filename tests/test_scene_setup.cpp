@@ -108,7 +108,8 @@ TEST(SceneSetup, ParticleBudgetCountsANozzleDiscWithoutBuildingIt) {
   s.solver.endTime = s.emitters[0].start;  // no time to travel: the budget is two layers
   for (const float radius : {0.0025f, 0.005f, 0.0071f, 0.012f, 0.02f, 0.0333f, 0.1f}) {
     s.emitters[0].radius = radius;
-    const std::size_t layer = run::Emitter(s.emitters[0], s.solver.spacing).layer().size();
+    const std::size_t layer =
+        run::Emitter(s.emitters[0], s.solver.spacing, 2 * s.solver.spacing).layer().size();
     const std::uint64_t budget = solver::particleBudget(s).emitters[0];
     EXPECT_GE(budget, 2 * layer) << "radius " << radius;
     EXPECT_LE(budget, 2 * layer + 8) << "radius " << radius;

@@ -2,10 +2,12 @@
 
 #include <cmath>
 
+#include "sim/Parallel.h"
+
 namespace sph::run {
 
-Emitter::Emitter(const scene::EmitterDesc& desc, float spacing)
-    : desc_(desc), spacing_(spacing), direction_(desc.direction.normalized()) {
+Emitter::Emitter(const scene::EmitterDesc& desc, float spacing, float support)
+    : desc_(desc), spacing_(spacing), support_(support), direction_(desc.direction.normalized()) {
   const Vec3 helper = std::abs(direction_.x()) < 0.9f ? Vec3::UnitX() : Vec3::UnitZ();
   const Vec3 t1 = direction_.cross(helper).normalized(), t2 = direction_.cross(t1);
   // Lattice points (including the centre) within the radius.
@@ -21,7 +23,7 @@ Emitter::Emitter(const scene::EmitterDesc& desc, float spacing)
 
 std::size_t Emitter::emit(double time, double dt, Particles& fluid, std::uint32_t& nextId,
                           float restDensity) {
-  if (layer_.empty() || time <= desc_.start || time - dt >= desc_.stop) return 0;
+  if (!pouring(time, dt)) return 0;
   const double active = std::min(time, desc_.stop) - std::max(time - dt, desc_.start);
   if (!state_.started) {
     state_.started = true;
@@ -45,6 +47,25 @@ std::size_t Emitter::emit(double time, double dt, Particles& fluid, std::uint32_
     state_.emitted += layer_.size();
   }
   return added;
+}
+
+bool Emitter::pouring(double time, double dt) const {
+  if (layer_.empty() || time <= desc_.start || time - dt >= desc_.stop) return false;
+  return !desc_.maxParticles || state_.emitted + layer_.size() <= desc_.maxParticles;
+}
+
+void Emitter::guide(double time, double dt, Particles& fluid) const {
+  if (!pouring(time, dt)) return;
+  const Vec3 velocity = desc_.speed * direction_;
+  const float reach = desc_.radius + 0.5f * spacing_;
+  parallelFor(fluid.size(), [&](std::size_t i) {
+    const Vec3 d = fluid.position(i) - desc_.position;
+    const float along = d.dot(direction_);
+    if (along < -spacing_ || along > support_) return;
+    if ((d - along * direction_).squaredNorm() > reach * reach) return;
+    fluid.setVelocity(i, velocity);
+    fluid.ax[i] = 0, fluid.ay[i] = 0, fluid.az[i] = 0;
+  });
 }
 
 }  // namespace sph::run

@@ -45,7 +45,7 @@ void Simulation::setUp(ranks::Halo* start, Start what) {
     state_.nextId = static_cast<std::uint32_t>(fluid_.size());
   }
   for (const scene::EmitterDesc& e : scene_.emitters)
-    emitters_.emplace_back(e, scene_.solver.spacing);
+    emitters_.emplace_back(e, scene_.solver.spacing, derived_.h);
   state_.maxAcceleration = scene_.solver.gravity.norm();
   for (std::size_t i = 0; i < fluid_.size(); ++i) {
     state_.maxSpeed = std::max(state_.maxSpeed, fluid_.velocity(i).norm());
@@ -115,6 +115,7 @@ void Simulation::step(double limit) {
   model_->density(c, profile_);                             // Density or Factor
   model_->forces(c, profile_);  // Pressure, Forces (and DFSPH's Divergence)
   decomposition_->afterForces(fluid_, profile_, neighbours);  // Exchange
+  for (const Emitter& e : emitters_) e.guide(state_.time + dt, dt, fluid_);
   timed(profile_, Pass::Integrate, [&] {
     const solver::MotionBounds bounds = model_->integrate(c);
     state_.maxSpeed = bounds.maxSpeed, state_.maxAcceleration = bounds.maxAcceleration;
