@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <set>
+#include <vector>
 
 #include "sim/run/Emitter.h"
 
@@ -59,35 +60,69 @@ TEST(Emitter, StopsAtItsParticleCap) {
 
 // Particles at the nozzle (0, 1, 0) pouring down at 2 m/s, the disc 0.02 m, spacing 0.01 m, the
 // support 0.02 m: the pipe's end is the cylinder of radius 0.025 m from y = 1.01 down to 0.98.
+// `guided(e)` says which of them guide() sets to the nozzle's velocity (and zero acceleration).
+const std::vector<Vec3> kInside = {
+    {0, 1, 0}, {0.024f, 0.99f, 0}, {0, 1.009f, 0}, {0, 0.981f, 0.01f}};
+const std::vector<Vec3> kOutside = {{0.026f, 0.99f, 0}, {0, 1.011f, 0}, {0, 0.979f, 0}};
+
+std::vector<bool> guided(const run::Emitter& e) {
+  const Vec3 kick(0.3f, 0.5f, -0.2f), gravity(0.1f, -9.81f, 0.2f);
+  Particles fluid;
+  std::uint32_t id = 0;
+  for (const auto* points : {&kInside, &kOutside})
+    for (const Vec3& x : *points) fluid.append(x, kick, id++, 1000.0f);
+  for (std::size_t i = 0; i < fluid.size(); ++i)
+    fluid.ax[i] = gravity.x(), fluid.ay[i] = gravity.y(), fluid.az[i] = gravity.z();
+  e.guide(fluid);
+  std::vector<bool> held;
+  for (std::size_t i = 0; i < fluid.size(); ++i) {
+    const Vec3 a(fluid.ax[i], fluid.ay[i], fluid.az[i]);
+    if (fluid.velocity(i) == Vec3(0, -2, 0) && a == Vec3::Zero()) {
+      held.push_back(true);
+    } else {
+      EXPECT_EQ(fluid.velocity(i), kick) << "particle " << i;
+      EXPECT_EQ(a, gravity) << "particle " << i;
+      held.push_back(false);
+    }
+  }
+  return held;
+}
+
 TEST(Emitter, HoldsThePipesEndAtTheNozzlesVelocityWhilePouring) {
   run::Emitter e(nozzle(), 0.01f, 0.02f);
-  Particles fluid;
-  const Vec3 kick(0.3f, 0.5f, -0.2f);
-  const std::vector<Vec3> inside = {
-      {0, 1, 0}, {0.024f, 0.99f, 0}, {0, 1.009f, 0}, {0, 0.981f, 0.01f}};
-  const std::vector<Vec3> outside = {{0.026f, 0.99f, 0}, {0, 1.011f, 0}, {0, 0.979f, 0}};
-  std::uint32_t id = 0;
-  for (const Vec3& x : inside) fluid.append(x, kick, id++, 1000.0f);
-  for (const Vec3& x : outside) fluid.append(x, kick, id++, 1000.0f);
-  for (std::size_t i = 0; i < fluid.size(); ++i) fluid.ax[i] = 1, fluid.ay[i] = -9.81f;
+  Particles jet;
+  std::uint32_t nextId = 0;
+  const std::vector<bool> none(kInside.size() + kOutside.size(), false);
+  std::vector<bool> inside = none;
+  for (std::size_t i = 0; i < kInside.size(); ++i) inside[i] = true;
 
-  Particles before = fluid;
-  e.guide(0.05, 0.001, before);  // not pouring yet (start 0.1 s): nothing held
-  for (std::size_t i = 0; i < before.size(); ++i) EXPECT_EQ(before.velocity(i), kick);
+  EXPECT_EQ(guided(e), none);  // before any step
+  e.emit(0.05, 0.001, jet, nextId, 1000.0f);
+  EXPECT_EQ(guided(e), none);  // before its start (0.1 s)
+  e.emit(0.2, 0.001, jet, nextId, 1000.0f);
+  EXPECT_EQ(guided(e), inside);
+  e.emit(0.6005, 0.001, jet, nextId, 1000.0f);  // the step that crosses its stop (0.6 s)
+  EXPECT_EQ(guided(e), inside);
+  e.emit(0.6015, 0.001, jet, nextId, 1000.0f);
+  EXPECT_EQ(guided(e), none);
+}
 
-  e.guide(0.2, 0.001, fluid);
-  for (std::size_t i = 0; i < inside.size(); ++i) {
-    EXPECT_EQ(fluid.velocity(i), Vec3(0, -2, 0)) << "particle " << i;
-    EXPECT_EQ(fluid.ay[i], 0.0f) << "particle " << i;
+// A nozzle spent by its cap holds its pipe's end through the step that releases the last layer,
+// and not after it.
+TEST(Emitter, HoldsThePipesEndUntilTheStepAfterItsLastLayer) {
+  scene::EmitterDesc d = nozzle();
+  d.maxParticles = 13 * 3;
+  run::Emitter e(d, 0.01f, 0.02f);
+  Particles jet;
+  std::uint32_t nextId = 0;
+  int s = 100;
+  while (jet.size() < d.maxParticles) {
+    e.emit(++s * 1e-3, 1e-3, jet, nextId, 1000.0f);
+    EXPECT_TRUE(guided(e)[0]) << "step " << s;
   }
-  for (std::size_t i = inside.size(); i < fluid.size(); ++i) {
-    EXPECT_EQ(fluid.velocity(i), kick) << "particle " << i;
-    EXPECT_EQ(fluid.ay[i], -9.81f) << "particle " << i;
-  }
-  Particles after = fluid;
-  for (std::size_t i = 0; i < after.size(); ++i) after.setVelocity(i, kick);
-  e.guide(0.7, 0.001, after);  // stopped at 0.6 s
-  for (std::size_t i = 0; i < after.size(); ++i) EXPECT_EQ(after.velocity(i), kick);
+  e.emit(++s * 1e-3, 1e-3, jet, nextId, 1000.0f);
+  EXPECT_EQ(jet.size(), d.maxParticles);
+  EXPECT_FALSE(guided(e)[0]);
 }
 
 }  // namespace

@@ -23,7 +23,9 @@ Emitter::Emitter(const scene::EmitterDesc& desc, float spacing, float support)
 
 std::size_t Emitter::emit(double time, double dt, Particles& fluid, std::uint32_t& nextId,
                           float restDensity) {
-  if (!pouring(time, dt)) return 0;
+  const bool open = !layer_.empty() && time > desc_.start && time - dt < desc_.stop;
+  pouring_ = open && !(desc_.maxParticles && state_.emitted + layer_.size() > desc_.maxParticles);
+  if (!open) return 0;
   const double active = std::min(time, desc_.stop) - std::max(time - dt, desc_.start);
   if (!state_.started) {
     state_.started = true;
@@ -49,13 +51,8 @@ std::size_t Emitter::emit(double time, double dt, Particles& fluid, std::uint32_
   return added;
 }
 
-bool Emitter::pouring(double time, double dt) const {
-  if (layer_.empty() || time <= desc_.start || time - dt >= desc_.stop) return false;
-  return !desc_.maxParticles || state_.emitted + layer_.size() <= desc_.maxParticles;
-}
-
-void Emitter::guide(double time, double dt, Particles& fluid) const {
-  if (!pouring(time, dt)) return;
+void Emitter::guide(Particles& fluid) const {
+  if (!pouring_) return;
   const Vec3 velocity = desc_.speed * direction_;
   const float reach = desc_.radius + 0.5f * spacing_;
   parallelFor(fluid.size(), [&](std::size_t i) {

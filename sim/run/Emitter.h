@@ -30,14 +30,15 @@ class Emitter {
   std::size_t emit(double time, double dt, Particles& fluid, std::uint32_t& nextId,
                    float restDensity);
 
-  // Over the same step as emit(): while the nozzle pours, sets the velocity of every particle in
-  // the pipe's end (the disc's cylinder, from one spacing behind the disc to one support ahead of
-  // it) to the nozzle's, and its acceleration to 0, so that the step moves it at that velocity.
-  // Without it the newest layers are free, and a disturbance that reaches them grows: a layer
-  // released one spacing behind a slowed one overlaps it, the pressure throws the pair apart, one
-  // of them backwards out of the nozzle (the jug pour under DFSPH lost a hundred particles a
-  // second that way, beside the cup).
-  void guide(double time, double dt, Particles& fluid) const;
+  // After emit() for the same step, if the nozzle poured in it (within its window and not yet
+  // spent when the step began; ahead of the pressure, so the pipe's end holds while its last layer
+  // leaves): sets the velocity of every particle in the pipe's end (the disc's cylinder, from one
+  // spacing behind the disc to one support ahead of it) to the nozzle's, and its acceleration to 0,
+  // so that the step moves it at that velocity. Without it the newest layers are free, and a
+  // disturbance that reaches them grows: a layer released one spacing behind a slowed one overlaps
+  // it, the pressure throws the pair apart, one of them backwards out of the nozzle (the jug pour
+  // under DFSPH lost a hundred particles a second that way, beside the cup).
+  void guide(Particles& fluid) const;
 
   const EmitterState& state() const { return state_; }
   void setState(const EmitterState& s) { state_ = s; }
@@ -47,13 +48,12 @@ class Emitter {
 
  private:
   scene::EmitterDesc desc_;
-  bool pouring(double time, double dt) const;
-
   float spacing_;
   float support_;
   Vec3 direction_;
   std::vector<Vec3> layer_;
   EmitterState state_;
+  bool pouring_ = false;  // emit()'s step poured: set by every emit(), so not part of the state
 };
 
 }  // namespace sph::run

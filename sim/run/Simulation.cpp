@@ -115,9 +115,11 @@ void Simulation::step(double limit) {
   model_->density(c, profile_);                             // Density or Factor
   model_->forces(c, profile_);  // Pressure, Forces (and DFSPH's Divergence)
   decomposition_->afterForces(fluid_, profile_, neighbours);  // Exchange
-  timed(profile_, Pass::Emit, [&] {
-    for (const Emitter& e : emitters_) e.guide(state_.time + dt, dt, fluid_);
-  });
+  if (neighbours) {  // the pipe's end holds against the pressure; gravity-only particles feel none
+    timed(profile_, Pass::Emit, [&] {
+      for (const Emitter& e : emitters_) e.guide(fluid_);
+    });
+  }
   timed(profile_, Pass::Integrate, [&] {
     const solver::MotionBounds bounds = model_->integrate(c);
     state_.maxSpeed = bounds.maxSpeed, state_.maxAcceleration = bounds.maxAcceleration;
