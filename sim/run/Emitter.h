@@ -31,13 +31,13 @@ class Emitter {
                    float restDensity);
 
   // After emit() for the same step, if the nozzle poured in it (within its window and not yet
-  // spent when the step began; ahead of the pressure, so the pipe's end holds while its last layer
-  // leaves): sets the velocity of every particle in the pipe's end (the disc's cylinder, from one
+  // spent when the step began, so the pipe's end still holds in the step that releases the last
+  // layer): sets the velocity of every particle in the pipe's end (the disc's cylinder, from one
   // spacing behind the disc to one support ahead of it) to the nozzle's, and its acceleration to 0,
   // so that the step moves it at that velocity. Without it the newest layers are free, and a
   // disturbance that reaches them grows: a layer released one spacing behind a slowed one overlaps
   // it, the pressure throws the pair apart, one of them backwards out of the nozzle (the jug pour
-  // under DFSPH lost a hundred particles a second that way, beside the cup).
+  // under DFSPH spilled a hundred particles a second that way, beside its cup).
   void guide(Particles& fluid) const;
 
   const EmitterState& state() const { return state_; }
