@@ -113,23 +113,20 @@ bool mostlySlow(const StepContext& c, float speed) {
   return 2 * slow > count;
 }
 
-// The constant-density solver's warm start share for this step. The share of the weight it leaves
+// The constant-density solver's warm start share for this step. The part of the weight it leaves
 // out must compress the fluid past the stopping threshold within the step for the iterations to
 // see a column at rest at all: (1 - share) g dt^2 / dx > max_density_error. Where it does not,
 // each step stops at its first iteration, a push the warm start carries on is repeated at its
 // share, and the column heaves as a whole, which compresses only the layer at the floor and so
-// stays under the mean threshold: the accurate preset's 0.8 heaved the tests' still tank at steps
-// of 1.5 ms (2,714 of 3,334 steps, up to 8.5 cm/s) and 1 ms, near the edges this gives (1.51 ms at
-// 0.8, 0.96 ms at 0.5). So for water mostly at rest (slower than 0.1 m/s: a heave's cm/s, not a
-// flow's) the share is held twice clear of it; 1.5 times held those steps but not a tank at twice
-// the viscosity, stepped at 1.9 ms (Monaghan's bound, SceneSetup.cpp). The papers' increments,
-// which cannot take a step's warm start back within the step, need three times: held twice clear,
-// the default's share (0.5 kept at 1.5 ms, 0.29 at 1.2 ms) heaved the tank at 1.2-1.6 ms. Three
-// times with the projected solve too moved the 117k dam break, whose step falls that short while
-// most of its column is still at rest. Not for a flow: the peer's
-// dam break's steps are as short against gravity's (its warm start alone met the threshold in 152
-// of its 205 steps), but its flow compresses what gravity does not, and the same bound there cost
-// it 16% of its time; with the rest condition every dam break measured is bit for bit the same
+// stays under the mean threshold (the accurate preset's 0.8 heaved the tests' still tank at steps
+// of 1.5 ms). So for water mostly at rest (slower than 0.1 m/s: a heave's cm/s, not a flow's) the
+// share is held clear of that edge: twice for the projected solve (1.5 times let a tank at twice
+// the viscosity heave; three times moved the 117k dam break, whose step falls that short while
+// most of its column is still at rest), three times for the papers' increments, which cannot take
+// a step's warm start back within the step (twice let the default's 0.5 heave at 1.2-1.6 ms). Not
+// for a flow: the peer's dam break's steps are as short against gravity's bound, but its flow
+// compresses what gravity does not, and the same bound there cost it 16% of its time; with the
+// rest condition every dam break measured is bit for bit the same
 // (docs/notes/2026-12-01-still-tank-limits.md).
 float densityWarmShare(const StepContext& c) {
   const float share = c.solver.densityWarmStart;
