@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Measure what each skip of a scene saves (docs/benchmarks.md, "What a scene skips").
 
     scripts/bench_skips.py [--build build/release] [--out results/skips] [--threads 1]

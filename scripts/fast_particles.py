@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Where a DFSPH run's fastest particles are, frame by frame (what sets the step count).
 
 The CFL step of "dfsph" follows the largest speed of the fluid; this reads a cache (written with a

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """The dam-break front study (docs/benchmarks.md, "The dam-break front: convergence,
 gate, walls and viscosity"): reads the output folders of the sweeps
 bench/sweeps/dam_break_{convergence,walls_viscosity,gate}.json (each NAME.csv and the
@@ -14,7 +14,7 @@ variant-N-front.csv series the surge_front metric's `series` option writes) and 
     plot_dam_break_study.py DIR [DIR ...] --out docs/bench/dam_break_study
 
 The front between steps is linear (steps are 0.2-4 ms; the front moves 2-3 mm a ms). Needs numpy
-and matplotlib (Debian: run with /usr/bin/python3).
+and matplotlib (Debian's, which scripts/setup installs for /usr/bin/python3).
 """
 import argparse
 import csv

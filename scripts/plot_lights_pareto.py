@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Time against error of the particle-light volume's settings, with the Pareto front.
 
     LIBGL_ALWAYS_SOFTWARE=1 build/release/bench/bench_lights filters --repeat 2 > filters.txt

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Plot what build/release/bench/rain_sampling prints (rain.sampling: ours against eq. (7)).
 
     build/release/bench/rain_sampling > rain_sampling.csv

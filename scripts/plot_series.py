@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Plot the energy series a `sphsplat bench` energy metric writes (variant-N-energy.csv).
 
     plot_series.py variant-0-energy.csv OUT.png [--settle 2.0] [--title TEXT]

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """The pressure through the still tank's column, both solvers (docs/benchmarks.md, "Bottom
 pressure of DFSPH"): the p of each cache's frames from --from on, by layers one spacing thick,
 in the centre columns (x and z in the middle half of the tank) and near the side walls apart.

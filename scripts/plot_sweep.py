@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Plot a `sphsplat bench` sweep: wall time against error, Pareto front marked.
 
     plot_sweep.py SWEEP.csv OUT.png --x wall_s --y front_rms_pct [--log-y] [--axis dx --axis cfl ...]
@@ -6,8 +6,8 @@
 Colour follows the first axis, marker shape the second, the fill the third (filled, hollow, pale;
 if the sweep has them). The Pareto front of the two plotted columns is joined by a line.
 Variants the guard stopped (or that timed out) have no error: they are drawn as red crosses along
-the top edge at the wall time they ran for. Needs matplotlib (Debian: python3-matplotlib; run it
-with /usr/bin/python3 where the `python3` on PATH lacks it).
+the top edge at the wall time they ran for. Needs matplotlib (Debian's python3-matplotlib, which
+scripts/setup installs for /usr/bin/python3, the interpreter named above).
 """
 import argparse
 import csv
