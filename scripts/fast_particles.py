@@ -188,8 +188,9 @@ def main():
         s = np.linalg.norm(v, axis=1)
         q = np.percentile(s, [50, 99, 99.9])
         at = f" step {step:5d}{steps}" if step is not None else ""
-        print(f"t {t:.3f}{at} speed median {q[0]:.2f} p99 {q[1]:.2f} "
-              f"p99.9 {q[2]:.2f} max {s.max():.2f} m/s; >4.4 m/s: {(s > 4.4).sum()}")
+        # Three figures, not two decimals: a still tank's speeds are mm/s
+        print(f"t {t:.3f}{at} speed median {q[0]:.3g} p99 {q[1]:.3g} "
+              f"p99.9 {q[2]:.3g} max {s.max():.3g} m/s; >4.4 m/s: {(s > 4.4).sum()}")
         for i in np.argsort(s)[::-1][: a.top]:
             d = np.concatenate([x[i] - lo, hi - x[i]])  # to the walls x-, y-, z-, x+, y+, z+
             near = [n for n, di in zip(["x-", "y-", "z-", "x+", "y+", "z+"], d) if di < a.support]
@@ -197,7 +198,7 @@ def main():
             walls = (f"{within(boundary, x[i], a.support)} boundary neighbours; "
                      f"rho {rho[i]:.0f}" if boundary is not None else "the peer's walls are a map")
             print(f"   id {ids[i]:7d} at ({x[i][0]:+.3f}, {x[i][1]:.3f}, {x[i][2]:+.3f}) "
-                  f"v ({v[i][0]:+.2f}, {v[i][1]:+.2f}, {v[i][2]:+.2f}) |v| {s[i]:.2f}; walls "
+                  f"v ({v[i][0]:+.3g}, {v[i][1]:+.3g}, {v[i][2]:+.3g}) |v| {s[i]:.3g}; walls "
                   f"within h: {','.join(near) or '-'}; {nf} fluid, {walls}")
 
 
