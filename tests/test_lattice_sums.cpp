@@ -105,5 +105,23 @@ TEST(LatticeGradientMoment, TendsToOneForAWideSupport) {
   EXPECT_LT(latticeGradientMoment(solver::Kernels(2.0f * kDx), kDx, volume), 0.97);
 }
 
+// DFSPH's Jacobi eigenvalue (LatticeSums.h). With only the six nearest neighbours in the support,
+// g_j = s e_j for the six unit offsets: |sum g sin(q . e)|^2 = 4 s^2 (sin^2 q_x + sin^2 q_y +
+// sin^2 q_z), at most 12 s^2 at q = pi / (2 dx) on each axis, over sum |g|^2 = 6 s^2: 2.
+TEST(LatticeJacobiEigenvalue, SixNeighboursGiveTwo) {
+  EXPECT_NEAR(latticeJacobiEigenvalue(solver::Kernels(1.2f * kDx), kDx), 2.0, 1e-9);
+}
+
+// Against a search over [0, pi / dx]^3 at 96 intervals an axis, in numpy (2026-12-01): 2.8207
+// at 2 spacings, 6.7249 at 3, 14.426 at 4. The function's coarser grid reads a little below.
+TEST(LatticeJacobiEigenvalue, GrowsWithTheSupport) {
+  const double expected[][2] = {{2.0, 2.8207}, {3.0, 6.7249}, {4.0, 14.426}};
+  for (const auto& [support, lambda] : expected) {
+    const double read = latticeJacobiEigenvalue(solver::Kernels(float(support) * kDx), kDx);
+    EXPECT_LE(read, lambda * 1.0001) << support << " spacings";
+    EXPECT_GE(read, lambda * 0.998) << support << " spacings";
+  }
+}
+
 }  // namespace
 }  // namespace sph

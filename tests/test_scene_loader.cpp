@@ -289,6 +289,15 @@ TEST(SceneLoader, WallPressureChoicesFollowTheSolver) {
   EXPECT_NE(bad.find("extrapolated"), std::string::npos) << bad;
 }
 
+// A support under 1.5 spacings leaves a particle at rest its six nearest neighbours or none.
+TEST(SceneLoader, SupportHoldsMoreThanTheNearestNeighbours) {
+  EXPECT_EQ(errorOf(kMinimal, {"solver.support=1.5"}), "");
+  EXPECT_EQ(errorOf(kMinimal, {"solver.support=4"}), "");
+  EXPECT_EQ(errorOf(kMinimal, {"solver.support=1.2"}),
+            "bad.json: solver.support: expected a number in [1.5, 4] (kernel support radius / "
+            "spacing), got 1.2");
+}
+
 TEST(SceneLoader, DensityRelaxationAndWarmStartAreSharesForDfsphOnly) {
   const scene::SolverParams defaults = io::scene::parseScene(kMinimal, "s.json").solver;
   EXPECT_EQ(defaults.densityRelaxation, 1.0f);

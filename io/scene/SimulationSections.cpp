@@ -74,9 +74,11 @@ sph::scene::SolverParams readSolver(JsonReader r, Quality quality) {
       static_cast<float>(r.number("spacing", std::nullopt, "a positive number of at most 1000 (m)",
                                   [](double v) { return v > 0 && v <= 1e3; }));
   s.model = r.choice("model", std::optional(sph::scene::SolverModel::Sph));
+  // Below 1.5 spacings a particle of the rest lattice sees its six nearest neighbours or none: the
+  // still tank then collapsed by a fifth under WCSPH (1.2) and blew up under DFSPH (1-1.4).
   s.support = static_cast<float>(r.number("support", 2.0,
-                                          "a number in [1, 4] (kernel support radius / spacing)",
-                                          [](double v) { return v >= 1 && v <= 4; }));
+                                          "a number in [1.5, 4] (kernel support radius / spacing)",
+                                          [](double v) { return v >= 1.5 && v <= 4; }));
   s.restDensity =
       static_cast<float>(r.number("rest_density", 1000.0, "a positive number (kg/m^3)", positive));
   s.viscosity =

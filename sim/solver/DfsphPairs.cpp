@@ -202,6 +202,7 @@ void computeDfsphDensityAndFactor(StepContext& c) {
   // neighbourhood's value leaves every particle with half a neighbourhood or more (the free
   // surface) untouched and under-corrects only spray.
   const float floor = 0.25f * latticeDenominator(c);
+  const float jacobiStep = c.derived.jacobiStep;  // 1 up to a support of 2 spacings
   // The gradient moment K_i (SphPasses.cpp, computeDensity()): not used by the solvers, but it
   // turns their stiffness into a pressure (solveDensity()) as WCSPH's force is scaled.
   const float momentScale = -c.derived.kernels.spikyGradFactor * c.derived.mass /
@@ -263,7 +264,7 @@ void computeDfsphDensityAndFactor(StepContext& c) {
           gx = g * (gx + bx), gy = g * (gy + by), gz = g * (gz + bz);
           s.gradientSumX[i] = gx, s.gradientSumY[i] = gy, s.gradientSumZ[i] = gz;
           const float denominator = gx * gx + gy * gy + gz * gz + g * g * squares;
-          s.factor[i] = 1.0f / std::max(denominator, floor);
+          s.factor[i] = jacobiStep / std::max(denominator, floor);
         }
       });
   s.pairs.end();

@@ -57,6 +57,10 @@ DerivedParams deriveParams(const scene::Scene& scene) {
       static_cast<float>(1.0 / (cell * latticeKernelSum(d.kernels, s.densityKernel, s.spacing)));
   d.gradientCorrection =
       static_cast<float>(1.0 / latticeGradientMoment(d.kernels, s.spacing, cell));
+  if (s.pressure == scene::PressureSolver::Dfsph && s.support > 2.0f) {
+    const double atTwo = latticeJacobiEigenvalue(Kernels(2.0f * s.spacing), s.spacing);
+    d.jacobiStep = static_cast<float>(atTwo / latticeJacobiEigenvalue(d.kernels, s.spacing));
+  }
   const float gamma = s.eos == scene::EquationOfState::Tait ? 7.0f : 1.0f;
   if (s.stiffness > 0) {
     d.stiffness = s.stiffness;

@@ -25,6 +25,13 @@ struct DerivedParams {
   // 4.6% excess pressure to hold its weight. A constant factor keeps the force conservative (of the
   // scaled internal energy).
   float gradientCorrection = 1;
+  // DFSPH: the share of each Jacobi increment the solvers apply (it scales alpha_i,
+  // DfsphPairs.cpp). A pass multiplies the error's part of wave vector q by 1 - lambda(q), and the
+  // lattice's largest lambda grows with the support (LatticeSums.h): 2.82 at 2 spacings, where the
+  // solves are measured, 6.72 at 3, where they diverged within the first step (the still tank
+  // at 2.6-4 spacings). Above 2 spacings the share is lambda(2) / lambda(support), so no mode is
+  // amplified more than at 2; at 2 and below it is 1.
+  float jacobiStep = 1;
   float speedOfSound = 0;              // m/s
   float viscosity = 0;                 // m^2/s, resolved (automatic if the scene left it out)
   float stiffness = 0;                 // Tait B (Pa) or linear k (m^2/s^2)
