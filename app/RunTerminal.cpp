@@ -46,6 +46,29 @@ Progress& RunTerminal::bar() {
   return *progress_;
 }
 
+void RunTerminal::settling(const job::RunSample& s) {
+  if (!settling_)
+    settling_ = std::make_unique<Progress>(Progress::detect(false), label_ + " settling");
+  settling_->update(s);
+}
+
+void RunTerminal::settled(const job::RunSample& s, double wallSeconds) {
+  if (settling_) settling_->finish(s);
+  std::printf(
+      "  settled for %g s (scene key settle) in %llu steps, %s; the run starts there at "
+      "t = 0\n",
+      s.endTime, static_cast<unsigned long long>(s.steps), humanSeconds(wallSeconds).c_str());
+  std::fflush(stdout);
+}
+
+void RunTerminal::blewUpSettling(const StabilityError& e) {
+  if (settling_) settling_->finish({});
+  std::fprintf(stderr,
+               "sphsplat: %s, while the fluid settled before t = 0 (scene key settle); "
+               "nothing was written\n",
+               io::oneLine(e.what()).c_str());
+}
+
 void RunTerminal::progress(const job::RunSample& s) {
   bar().update(s);
 }

@@ -17,6 +17,9 @@ class RunTerminal final : public job::RunObserver {
   void nothingToDo(const std::string& cachePath, double time) override;
   void started(const job::RunStart& s) override;
   void resumed(const job::RunResume& r) override;
+  void settling(const job::RunSample& s) override;
+  void settled(const job::RunSample& s, double wallSeconds) override;
+  void blewUpSettling(const StabilityError& e) override;
   void progress(const job::RunSample& s) override;
   void progressDone(const job::RunSample& s) override;
   void blewUp(const job::RunRequest& o, const StabilityError& e, const run::RunPlan& plan,
@@ -30,6 +33,7 @@ class RunTerminal final : public job::RunObserver {
   Progress& bar();
   std::string label_;  // the scene's name
   std::unique_ptr<Progress> progress_;
+  std::unique_ptr<Progress> settling_;  // the scene's `settle`, before the run's own bar
 };
 
 }  // namespace sph::app

@@ -44,6 +44,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   sph::run::Simulation sim(scene);
+  if (scene.settle > 0) sim.settle(scene.settle);  // KEY settle=S: read from S + SETTLE
   const double dx = scene.solver.spacing, rho0 = scene.solver.restDensity;
   // The depth of the water at rest density: its volume over the floor.
   const double depth = static_cast<double>(sim.fluid().size()) * dx * dx * dx / (width * width);

@@ -11,6 +11,7 @@ int runJob(const RunRequest& request, RunObserver& observer) {
   if (StageResult end = checkMachine(c)) return *end;
   if (StageResult end = openCache(c)) return *end;
   if (StageResult end = startSimulation(c)) return *end;
+  if (StageResult end = settleTheFluid(c)) return *end;
   setUpOutputs(c);
   if (StageResult end = runTheFrames(c)) return *end;
   finish(c);

@@ -79,6 +79,12 @@ class RunObserver {
   virtual void nothingToDo(const std::string& /*cachePath*/, double /*time*/) {}
   virtual void started(const RunStart&) {}
   virtual void resumed(const RunResume&) {}
+  // The scene's `settle`, before frame 0: after every settling step (its time runs to the
+  // settle time) and once when the fluid has settled (`wallSeconds` it took); a blow-up while
+  // settling (nothing is written).
+  virtual void settling(const RunSample&) {}
+  virtual void settled(const RunSample&, double /*wallSeconds*/) {}
+  virtual void blewUpSettling(const StabilityError&) {}
   // After every step (cheap to receive), and once at the end of the stepping.
   virtual void progress(const RunSample&) {}
   virtual void progressDone(const RunSample&) {}

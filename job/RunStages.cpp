@@ -130,6 +130,45 @@ StageResult startSimulation(RunContext& c) {
   return std::nullopt;
 }
 
+StageResult settleTheFluid(RunContext& c) {
+  if (c.resumed || !(c.scene.settle > 0)) return std::nullopt;
+  distributed::Processes& p = *c.processes;
+  run::Simulation& sim = *c.sim;
+  c.start = std::chrono::steady_clock::now();
+  const auto settlingSample = [&c] {
+    RunSample s = sample(c);
+    s.endTime = c.scene.settle;
+    return s;
+  };
+  RunSample last = settlingSample();  // the settling's, before the clock starts again
+  const auto afterStep = [&](const run::Simulation&) {
+    last = settlingSample();
+    if (!c.request.quiet) c.observer.settling(last);
+  };
+  bool settled = false;
+  try {
+    settled = sim.settle(c.scene.settle, afterStep, [&p] { return p.any(interruptSignal() != 0); });
+  } catch (const StabilityError& e) {
+    p.setLockstep(false);  // every rank has the same error; rank 0 tells it
+    if (p.root()) c.observer.blewUpSettling(e);
+    return kBlowUp;
+  }
+  if (!settled) {
+    const int signal = interruptSignal() ? interruptSignal() : SIGTERM;
+    p.setLockstep(false);
+    if (!p.root()) return 128 + signal;
+    c.observer.interrupted(c.request, signal, sim.time());
+    c.observer.cacheStopped("nothing was written: the fluid was settling (scene key settle)");
+    return 128 + signal;
+  }
+  if (!c.request.quiet) {
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - c.start).count();
+    c.observer.settled(last, wall);
+  }
+  return std::nullopt;
+}
+
 void writingFailed(RunContext& c, const std::exception& e) {
   if (!c.request.quiet) c.observer.progressDone(sample(c));
   if (!c.cache) return;

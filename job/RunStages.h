@@ -54,6 +54,9 @@ StageResult checkMachine(RunContext& c);
 StageResult openCache(RunContext& c);
 // The simulation, from the scene's start or the cache's last frame; the collision pass.
 StageResult startSimulation(RunContext& c);
+// The scene's `settle` for a run that starts from its scene (not a resume): the fluid settles
+// and the clock starts again at 0. Ends a blow-up or an interrupt, before anything is written.
+StageResult settleTheFluid(RunContext& c);
 // Frame 0 in the cache and the first picture; where every later frame goes.
 void setUpOutputs(RunContext& c);
 // Steps to the end, a frame at each output time. Ends a blow-up or an interrupt.

@@ -63,6 +63,16 @@ TEST(CacheResume, TwoSecondsEqualOneSecondResumedToTwo) {
   checkResumeEqualsStraightRun(dir, scene, "", "1", "2");
 }
 
+// A resume goes on from the cache's frame: it does not settle the fluid again.
+TEST(CacheResume, ASettledRunResumesExactly) {
+  const std::string dir = test::makeTempDir();
+  const std::string scene = dir + "/tiny.json";
+  std::ofstream(scene) << test::tinyCacheScene(0.4, 30);
+  checkResumeEqualsStraightRun(dir, scene, "--set settle=0.2", "0.2", "0.4");
+  const io::cache::CacheReader straight(dir + "/straight.h5");
+  EXPECT_EQ(straight.summary().frames.front().time, 0.0);
+}
+
 TEST(CacheResume, PositionsOnlyCacheStillResumesExactly) {
   const std::string dir = test::makeTempDir();
   const std::string scene = dir + "/tiny.json";

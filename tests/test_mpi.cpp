@@ -43,6 +43,16 @@ TEST_F(Mpi, FramesAreBitIdenticalToOneProcessForOneToFourRanks) {
   }
 }
 
+// Settling (the scene's `settle`) steps every rank as one process steps, nothing released.
+TEST_F(Mpi, ASettledStartIsTheSameOnTwoRanks) {
+  const std::string one = dir_ + "/settled1.h5", two = dir_ + "/settled2.h5";
+  auto a = runShell(plain(scene_, "--set settle=0.05 --end 0.05 -o '" + one + "'"));
+  ASSERT_EQ(a.exitCode, 0) << a.output;
+  auto b = runShell(ranks(2, scene_, "--set settle=0.05 --end 0.05 -o '" + two + "'"));
+  ASSERT_EQ(b.exitCode, 0) << b.output;
+  test::expectSameCache(one, two);
+}
+
 TEST_F(Mpi, AResumeMayChangeTheNumberOfRanks) {
   const std::string out = dir_ + "/resumed.h5";
   // Ends on frame times (2 x 1/40 s).

@@ -298,6 +298,13 @@ TEST(SceneLoader, SupportHoldsMoreThanTheNearestNeighbours) {
             "spacing), got 1.2");
 }
 
+TEST(SceneLoader, SettleIsSecondsBeforeTheStart) {
+  EXPECT_EQ(io::scene::parseScene(kMinimal, "s.json").settle, 0.0);
+  EXPECT_EQ(errorOf(kMinimal, {"settle=20"}), "");
+  EXPECT_EQ(errorOf(kMinimal, {"settle=-1"}),
+            "bad.json: settle: expected a number of seconds in [0, 1e4], got -1");
+}
+
 TEST(SceneLoader, DensityRelaxationAndWarmStartAreSharesForDfsphOnly) {
   const scene::SolverParams defaults = io::scene::parseScene(kMinimal, "s.json").solver;
   EXPECT_EQ(defaults.densityRelaxation, 1.0f);

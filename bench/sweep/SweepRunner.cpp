@@ -123,6 +123,7 @@ VariantResult runOnce(const SweepSpec& spec, const SweepVariant& v, const scene:
   const Clock::time_point setupStart = Clock::now();
   run::Simulation sim(scene);
   sim.setCollisionPass(render::cdt::makeCollisionPass(scene));
+  if (scene.settle > 0) sim.settle(scene.settle);  // counted with the setup
   r.setupSeconds = seconds(setupStart, Clock::now());
   r.particles = sim.fluid().size();
   r.boundaryParticles = sim.boundary().particles().size();

@@ -201,6 +201,8 @@ sph::scene::Scene parseScene(const std::string& text, const std::string& path,
   scene.description = root.string("description", std::string(""));
   const Quality quality = root.choice("quality", std::optional(Quality::Default));
   scene.solver = readSolver(root.object("solver"), quality);
+  scene.settle = root.number("settle", 0.0, "a number of seconds in [0, 1e4]",
+                             [](double v) { return v >= 0 && v <= 1e4; });
   for (JsonReader& f : root.objectArray("fluids")) scene.fluids.push_back(readFluid(f));
   for (JsonReader& b : root.objectArray("boundaries")) scene.boundaries.push_back(readBoundary(b));
   for (JsonReader& e : root.objectArray("emitters"))

@@ -104,18 +104,19 @@ double Simulation::stepSize(double limit) const {
 
 void Simulation::step(double limit) {
   // A feed (the rain that lands in the water) acts at its ticks: the step lands on the next one.
-  const double tick = feed_->nextTick(state_.time);
+  const double tick = settling_ ? limit : feed_->nextTick(state_.time);
   const double dt = stepSize(std::min(limit, tick));
   solver::StepContext c = context(static_cast<float>(dt));
   const bool neighbours = model_->usesNeighbours();
   using solver::Pass, solver::timed;
 
-  timed(profile_, Pass::Emit, [&] { emitParticles(dt); });
+  if (!settling_) timed(profile_, Pass::Emit, [&] { emitParticles(dt); });
   decomposition_->findNeighbours(c, profile_, neighbours);  // Sort (and Exchange)
   model_->density(c, profile_);                             // Density or Factor
   model_->forces(c, profile_);  // Pressure, Forces (and DFSPH's Divergence)
   decomposition_->afterForces(fluid_, profile_, neighbours);  // Exchange
-  if (neighbours) {  // the pipe's end holds against the pressure; gravity-only particles feel none
+  // The pipe's end holds against the pressure; gravity-only particles feel none.
+  if (neighbours && !settling_) {
     timed(profile_, Pass::Emit, [&] {
       for (const Emitter& e : emitters_) e.guide(fluid_);
     });
@@ -128,11 +129,11 @@ void Simulation::step(double limit) {
   state_.time += dt;
   state_.step += 1;
   state_.lastDt = c.dt;
-  timed(profile_, Pass::Collide, [&] { collide(c.dt); });
+  if (!settling_) timed(profile_, Pass::Collide, [&] { collide(c.dt); });
   timed(profile_, Pass::Boundaries, [&] { enforceBoundaries(c); });
   timed(profile_, Pass::Guard,
         [&] { decomposition_->guard(c, scene_, derived_.maxLostParticles, state_); });
-  if (state_.time >= tick) {
+  if (!settling_ && state_.time >= tick) {
     timed(profile_, Pass::Emit, [&] { feed_->feed(tick, fluid_, state_); });
     // The landed water's particles start the solver's state from 0, as emitted ones do at the
     // sort: a frame written now holds the state of every particle.
@@ -147,6 +148,25 @@ void Simulation::step(double limit) {
 
 void Simulation::advanceTo(double t) {
   while (state_.time < t) step(t);
+}
+
+bool Simulation::settle(double seconds, const std::function<void(const Simulation&)>& afterStep,
+                        const std::function<bool()>& stop) {
+  settling_ = true;
+  struct Done {
+    bool& flag;
+    ~Done() { flag = false; }
+  } done{settling_};  // a blow-up leaves the simulation as it was, settling or not
+  while (state_.time < seconds) {
+    if (stop && stop()) return false;
+    step(seconds);
+    if (afterStep) afterStep(*this);
+  }
+  state_.time = 0;
+  state_.step = 0;
+  profile_ = solver::StepProfile{};
+  solveStats_ = solver::PressureSolveStats{};
+  return true;
 }
 
 void Simulation::emitParticles(double dt) {

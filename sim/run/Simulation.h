@@ -69,6 +69,14 @@ class Simulation {
   void step(double limit = 1e300);
   // Steps until time() == t exactly.
   void advanceTo(double t);
+  // The scene's `settle`: steps the starting fluid for `seconds` with nothing added (no emitters,
+  // no rain joining it, no collision pass), then starts the clock again: time() and stepCount()
+  // read 0, the profile and the solve statistics are cleared, the particles and the solver's
+  // state are the settled ones. `afterStep` (if set) follows each step; `stop` (if set) is asked
+  // before each and true ends the settling early, with the clock left running (returns false).
+  bool settle(double seconds, const std::function<void(const Simulation&)>& afterStep = {},
+              const std::function<bool()>& stop = {});
+  bool settling() const { return settling_; }
 
   double time() const { return state_.time; }
   std::uint64_t stepCount() const { return state_.step; }
@@ -150,6 +158,7 @@ class Simulation {
   std::unique_ptr<solver::FluidModel> model_;
   std::unique_ptr<Decomposition> decomposition_;
   ranks::Halo* halo_ = nullptr;  // a distributed run's halo; null alone
+  bool settling_ = false;        // within settle(): nothing joins the fluid
   // A distributed run's keys of the fluid (sim/ranks/Halo.h, adopt), handed to setHalo(): a slab
   // start's ids, a resumed slab's indices in the frame; empty when the fluid is whole (0, 1, ...).
   std::vector<std::uint64_t> startKeys_;

@@ -74,6 +74,9 @@ struct Scene {
   std::string sourceText;  // its full text (recorded in caches)
   SolverParams solver;
   Aabb domain;  // particles leaving it are removed; too many stop the run
+  // s the starting fluid settles before t = 0, nothing joining it (run::Simulation::settle): a
+  // fluid block's lattice is not water at rest, and takes seconds to become it.
+  double settle = 0;
   std::vector<FluidBlock> fluids;
   std::vector<BoundaryShape> boundaries;
   std::vector<EmitterDesc> emitters;
