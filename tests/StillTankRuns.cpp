@@ -18,6 +18,7 @@ StillTankFloor readDfsphStillTank(const std::vector<std::string>& more, double s
   set.insert(set.end(), more.begin(), more.end());
   const scene::Scene scene = narrowStillTank(set);
   run::Simulation sim(scene);
+  if (scene.settle > 0) sim.settle(scene.settle);  // the scene key; `settle` counts after it
   sim.advanceTo(settle);
   StillTankFloor floor(0.12, scene.solver.spacing);
   floor.advanceTo(sim, end);

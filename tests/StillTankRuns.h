@@ -17,7 +17,8 @@ namespace sph::test {
 scene::Scene narrowStillTank(std::vector<std::string> more);
 
 // That tank under DFSPH (with `more` edits), read by the floor sensor from `settle` to `end` (s),
-// its readings printed under `name`.
+// its readings printed under `name`. An edit settle=S settles it first (the scene key: the clock
+// then starts again at 0).
 StillTankFloor readDfsphStillTank(const std::vector<std::string>& more, double settle, double end,
                                   const char* name);
 
