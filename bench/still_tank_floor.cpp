@@ -3,7 +3,7 @@
 // them carries more than its share, so the centre reads low by an amount that shrinks as the
 // tank widens). The sensor is the tests' (tests/StillTankFloor.h).
 //
-//   still_tank_floor WIDTH [SOLVER [SETTLE END [KEY=VALUE...]]]
+//   still_tank_floor WIDTH [SOLVER [FROM END [KEY=VALUE...]]]   (read over FROM-END s)
 //   e.g. still_tank_floor 0.4 dfsph 0.3 0.9 solver.wall_pressure=none
 #include <cstdio>
 #include <cstdlib>
@@ -17,17 +17,17 @@
 
 int main(int argc, char** argv) {
   if (argc < 2 || argc == 4) {
-    std::fprintf(stderr, "usage: %s WIDTH [wcsph|dfsph [SETTLE END [KEY=VALUE...]]]  (m, s)\n",
+    std::fprintf(stderr, "usage: %s WIDTH [wcsph|dfsph [FROM END [KEY=VALUE...]]]  (m, s)\n",
                  argv[0]);
     return 2;
   }
   const double width = std::atof(argv[1]);
   const std::string solver = argc > 2 ? argv[2] : "dfsph";
-  const double settle = argc > 4 ? std::atof(argv[3]) : 0.3;
+  const double from = argc > 4 ? std::atof(argv[3]) : 0.3;
   const double end = argc > 4 ? std::atof(argv[4]) : 0.9;
-  if (!(width > 0.04) || !(settle >= 0) || !(end > settle) ||
+  if (!(width > 0.04) || !(from >= 0) || !(end > from) ||
       (solver != "wcsph" && solver != "dfsph")) {
-    std::fprintf(stderr, "%s: WIDTH must be > 0.04 m, SOLVER wcsph or dfsph, END > SETTLE >= 0\n",
+    std::fprintf(stderr, "%s: WIDTH must be > 0.04 m, SOLVER wcsph or dfsph, END > FROM >= 0\n",
                  argv[0]);
     return 2;
   }
@@ -44,18 +44,18 @@ int main(int argc, char** argv) {
     return 2;
   }
   sph::run::Simulation sim(scene);
-  if (scene.settle > 0) sim.settle(scene.settle);  // KEY settle=S: read from S + SETTLE
+  if (scene.settle > 0) sim.settle(scene.settle);  // the scene key settle=S: FROM counts after it
   const double dx = scene.solver.spacing, rho0 = scene.solver.restDensity;
   // The depth of the water at rest density: its volume over the floor.
   const double depth = static_cast<double>(sim.fluid().size()) * dx * dx * dx / (width * width);
   const double expected = rho0 * scene.solver.gravity.norm() * depth;
-  sim.advanceTo(settle);
+  sim.advanceTo(from);
   sph::test::StillTankFloor floor(width, dx);
   const auto before = sim.solveStats();
   floor.advanceTo(sim, end);
   const auto after = sim.solveStats();
   std::printf("%s, tank %.3g m square, %zu particles, depth %.4f m, read %g-%g s:\n  ",
-              solver.c_str(), width, sim.fluid().size(), depth, settle, end);
+              solver.c_str(), width, sim.fluid().size(), depth, from, end);
   floor.print(solver.c_str(), expected, true);
   if (after.steps > before.steps) {
     const double steps = static_cast<double>(after.steps - before.steps);

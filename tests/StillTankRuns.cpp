@@ -12,14 +12,14 @@ scene::Scene narrowStillTank(std::vector<std::string> more) {
   return shippedScene("still_tank", more);
 }
 
-StillTankFloor readDfsphStillTank(const std::vector<std::string>& more, double settle, double end,
+StillTankFloor readDfsphStillTank(const std::vector<std::string>& more, double from, double end,
                                   const char* name) {
   std::vector<std::string> set = {"solver.pressure=dfsph"};
   set.insert(set.end(), more.begin(), more.end());
   const scene::Scene scene = narrowStillTank(set);
   run::Simulation sim(scene);
-  if (scene.settle > 0) sim.settle(scene.settle);  // the scene key; `settle` counts after it
-  sim.advanceTo(settle);
+  if (scene.settle > 0) sim.settle(scene.settle);  // the scene key; `from` counts after it
+  sim.advanceTo(from);
   StillTankFloor floor(0.12, scene.solver.spacing);
   floor.advanceTo(sim, end);
   floor.print(name, scene.solver.restDensity * 9.81 * 0.3, true);

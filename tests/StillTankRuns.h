@@ -16,10 +16,10 @@ namespace sph::test {
 // 4,320 particles), with `more` edits.
 scene::Scene narrowStillTank(std::vector<std::string> more);
 
-// That tank under DFSPH (with `more` edits), read by the floor sensor from `settle` to `end` (s),
+// That tank under DFSPH (with `more` edits), read by the floor sensor from `from` to `end` (s),
 // its readings printed under `name`. An edit settle=S settles it first (the scene key: the clock
 // then starts again at 0).
-StillTankFloor readDfsphStillTank(const std::vector<std::string>& more, double settle, double end,
+StillTankFloor readDfsphStillTank(const std::vector<std::string>& more, double from, double end,
                                   const char* name);
 
 // The tank read by `floor` stayed at rest: no heave, its surface within 1 mm, at most `fast`
