@@ -98,19 +98,17 @@ TEST(DensitySolve, ThePapersIncrementsHoldTheStillTankAtHalfOfGravitysStep) {
   EXPECT_NEAR(floor.lastTopHeight(), floor.firstTopHeight(), 0.001);
 }
 
-// The kernel's support is a scene parameter (1-4 spacings), and at 3 and 4 spacings both solves
-// diverged within the first step of the still tank (particles at 1e25 m/s): a Jacobi pass
-// multiplies a part of the error by 1 - lambda, and the lattice's largest lambda grows with the
-// support (LatticeSums.h). With each increment scaled to keep it at 2 spacings' (DerivedParams::
-// jacobiStep) the tank settles: its floor holds the weight, its surface its height.
-TEST(DensitySolve, ConvergesAtWiderSupports) {
-  for (const char* support : {"3", "4"}) {
-    const std::string name = std::string("dfsph, support ") + support;
-    const test::StillTankFloor floor = test::readDfsphStillTank(
-        {std::string("solver.support=") + support}, 0.5, 0.8, name.c_str());
-    EXPECT_NEAR(floor.floorPressure(), 1000 * 9.81 * 0.3, 0.01 * 1000 * 9.81 * 0.3) << name;
-    EXPECT_NEAR(floor.lastTopHeight(), floor.firstTopHeight(), 0.001) << name;
-  }
+// The kernel's support is a scene parameter (1.5-4 spacings), and at 2.6-4 spacings both solves
+// diverged within the first steps of the still tank (at 3: particles at 1e25 m/s after one): a
+// Jacobi pass multiplies a part of the error by 1 - lambda, and the lattice's largest lambda grows
+// with the support (LatticeSums.h). With each increment scaled to keep it at 2 spacings'
+// (DerivedParams::jacobiStep) the tank settles: its floor holds the weight, its surface its height
+// (at 4 spacings too, read over 0.5-0.8 s: docs/notes/2026-12-01-settled-start.md).
+TEST(DensitySolve, ConvergesAtThreeSpacingsSupport) {
+  const test::StillTankFloor floor =
+      test::readDfsphStillTank({"solver.support=3"}, 0.2, 0.4, "dfsph, support 3");
+  EXPECT_NEAR(floor.floorPressure(), 1000 * 9.81 * 0.3, 0.01 * 1000 * 9.81 * 0.3);
+  EXPECT_NEAR(floor.lastTopHeight(), floor.firstTopHeight(), 0.001);
 }
 
 }  // namespace
